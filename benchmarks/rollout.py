@@ -1,0 +1,87 @@
+"""Cost per physics step: bare ``mj_step`` against our closed-loop rollout.
+
+Both run in this one process, on the same model (stainless steel, forward
+hopping, 1e-4 s) and the same trajectory. The closed loop runs first in
+chunks of --chunk steps, keeping MuJoCo's full state at each chunk's start
+and every control it applied. The bare loop then replays each chunk open
+loop from its saved state, calling ``mj_step`` from compiled code (no
+Python per step), so it walks the closed loop's own trajectory. Runs
+alternate, best of --repeats each. The last line is the ratio.
+
+    python benchmarks/rollout.py [--seconds 10] [--repeats 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import mujoco
+import numba
+import numpy as np
+
+from mat_hopper.sim import MJ_STEP, RolloutRunner, SimSettings, simulate
+
+SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
+
+
+@numba.njit(cache=True)
+def bare_loop(step, m_ptr, d_ptr, ctrl, controls):
+    for i in range(controls.shape[0]):
+        for k in range(controls.shape[1]):
+            ctrl[k] = controls[i, k]
+        step(m_ptr, d_ptr)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--seconds", type=float, default=10.0, help="simulated seconds per run")
+    p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--chunk", type=int, default=1000, help="steps replayed from one saved state")
+    p.add_argument("--design", default="SS")
+    p.add_argument("--behaviour", default="forward")
+    a = p.parse_args(argv)
+    dt = 1e-4
+    settings = SimSettings(duration_s=a.seconds, timestep_s=dt, transient_s=0.0)
+
+    # The closed loop's trajectory: states at chunk starts, controls at every step.
+    logged = RolloutRunner(a.design, a.behaviour, SimSettings(
+        duration_s=a.seconds, timestep_s=dt, transient_s=0.0, record_rate_hz=1.0 / dt))
+    m = logged.hopper.model
+    size = mujoco.mj_stateSize(m, SPEC)
+    starts = []
+    while not logged.done:
+        s = np.empty(size)
+        mujoco.mj_getState(m, logged.data, s, SPEC)
+        starts.append(s)
+        logged.advance(a.chunk)
+    controls = np.ascontiguousarray(logged.result().actuator_force / m.actuator_gear[:, 0])
+    n = len(controls)
+    d = mujoco.MjData(m)
+
+    def run_bare():
+        t0 = time.perf_counter()
+        for c, s in enumerate(starts):
+            mujoco.mj_setState(m, d, s, SPEC)
+            bare_loop(MJ_STEP, m._address, d._address, d.ctrl, controls[c * a.chunk:(c + 1) * a.chunk])
+        return time.perf_counter() - t0
+
+    def run_ours():
+        t0 = time.perf_counter()
+        simulate(a.design, a.behaviour, settings=settings)
+        return time.perf_counter() - t0
+
+    run_bare(); run_ours()  # compile and warm up
+    bare, ours = [], []
+    for _ in range(a.repeats):
+        bare.append(run_bare())
+        ours.append(run_ours())
+    b_us, o_us = min(bare) / n * 1e6, min(ours) / n * 1e6
+    print(f"design={a.design} behaviour={a.behaviour} steps={n} timestep={dt:g}s chunk={a.chunk}")
+    print(f"bare mj_step:        {b_us:.2f} us/step (best of {a.repeats})")
+    print(f"closed-loop rollout: {o_us:.2f} us/step (best of {a.repeats}, model build and recording included)")
+    print(f"ratio={o_us / b_us:.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,16 @@
+"""mat-hopper: materials matter, in a simulated one-legged hopper.
+
+The executable companion to Schulz, Ahmad & Tucker, "Materials Matter:
+Investigating Functional Advantages of Bio-Inspired Materials via Simulated
+Robotic Hopping" (ICRA 2025).
+"""
+
+__version__ = "0.1.0"
+
+from .materials import CATALOGUE, LegDesign, Material, material, parse_design  # noqa: E402
+from .behaviours import Behaviour, behaviour  # noqa: E402
+from .control import ControllerSettings  # noqa: E402
+from .sim import Rollout, SimSettings, simulate  # noqa: E402
+
+__all__ = ["CATALOGUE", "LegDesign", "Material", "material", "parse_design", "Behaviour",
+           "behaviour", "ControllerSettings", "Rollout", "SimSettings", "simulate", "__version__"]

@@ -1,0 +1,161 @@
+"""The four behaviours as desired paths of simulated time, plus your own.
+
+A :class:`Behaviour` is a desired planar path of the base, x(t), y(t) in m,
+with its velocity, on flat ground or on a ramp. The paths are evaluated in
+the compiled rollout loop, so they are encoded as a kind and a few numbers:
+
+- ``line``: x = x0 + v t cos(h), y = y0 + v t sin(h) (static: v = 0);
+- ``circle``: radius r about the origin at speed v, x = r cos(v t / r),
+  y = r sin(v t / r);
+- ``table``: your own path, sampled on a uniform time grid and interpolated
+  linearly (hold the last point after the end). Build it with
+  :meth:`Behaviour.from_function` (any Python callable t -> (x, y)) or
+  :meth:`Behaviour.from_samples`.
+
+Example, a figure-eight of your own::
+
+    fig8 = Behaviour.from_function(
+        "figure8", lambda t: (0.3 * np.sin(0.1 * t), 0.15 * np.sin(0.2 * t)),
+        duration=60.0)
+    simulate(design, fig8)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numba
+import numpy as np
+
+from . import reference as ref
+
+PATH_LINE, PATH_CIRCLE, PATH_TABLE = 0, 1, 2
+_PATH_CODES = {"line": PATH_LINE, "circle": PATH_CIRCLE, "table": PATH_TABLE}
+BEHAVIOUR_NAMES = ("static", "forward", "ramp", "circle")
+
+
+@dataclass(frozen=True, eq=False)
+class Behaviour:
+    """A desired path and the terrain it is hopped on.
+
+    speed_m_s: commanded speed (m/s); radius_m: circle radius (m);
+    heading_rad: direction of a line path; ramp_grade_deg: None for flat
+    ground, else the ramp's pitch in degrees (2 deg = 3.5 % grade);
+    start_xy_m: where the base starts (m).
+    """
+
+    name: str
+    path: str = "line"
+    speed_m_s: float = 0.0
+    radius_m: float = ref.CIRCLE_RADIUS
+    heading_rad: float = 0.0
+    ramp_grade_deg: float | None = None
+    start_xy_m: tuple[float, float] = (0.0, 0.0)
+    table_dt_s: float = 0.0
+    table_xy_m: np.ndarray = field(default_factory=lambda: np.zeros((1, 2)))
+
+    def __post_init__(self):
+        if self.path not in _PATH_CODES:
+            raise ValueError(f"path must be one of {', '.join(_PATH_CODES)}, got {self.path!r}")
+        for fname in ("speed_m_s", "radius_m", "heading_rad"):
+            if not math.isfinite(float(getattr(self, fname))):
+                raise ValueError(f"{fname} must be finite, got {getattr(self, fname)!r}")
+        if self.speed_m_s < 0:
+            raise ValueError(f"speed_m_s must be >= 0 m/s, got {self.speed_m_s!r}")
+        if self.path == "circle" and not self.radius_m > 0:
+            raise ValueError(f"radius_m must be > 0 m, got {self.radius_m!r}")
+        if self.ramp_grade_deg is not None and not (0.0 <= float(self.ramp_grade_deg) < 30.0):
+            raise ValueError(f"ramp_grade_deg must be in [0, 30) deg, got {self.ramp_grade_deg!r}")
+        table = np.ascontiguousarray(self.table_xy_m, dtype=np.float64)
+        if table.ndim != 2 or table.shape[1] != 2 or not np.all(np.isfinite(table)):
+            raise ValueError("table_xy_m must be a finite (n, 2) array of x, y in m")
+        object.__setattr__(self, "table_xy_m", table)
+        if self.path == "table" and not self.table_dt_s > 0:
+            raise ValueError(f"table_dt_s must be > 0 s, got {self.table_dt_s!r}")
+
+    # -- encoding for the compiled loop --
+    @property
+    def path_code(self) -> int:
+        return _PATH_CODES[self.path]
+
+    @property
+    def path_params(self) -> np.ndarray:
+        return np.array([self.speed_m_s, self.radius_m, self.heading_rad,
+                         self.start_xy_m[0], self.start_xy_m[1], self.table_dt_s])
+
+    def desired(self, t: float) -> tuple[float, float, float, float]:
+        """Desired (x, y, vx, vy) in m and m/s at simulated time t (s)."""
+        return desired_state(float(t), self.path_code, self.path_params, self.table_xy_m)
+
+    def key(self) -> dict:
+        """Every setting that changes a result, for cache keys and tables."""
+        d = {"name": self.name, "path": self.path, "speed_m_s": self.speed_m_s,
+             "radius_m": self.radius_m, "heading_rad": self.heading_rad,
+             "ramp_grade_deg": self.ramp_grade_deg, "start_xy_m": list(self.start_xy_m)}
+        if self.path == "table":
+            d["table_dt_s"] = self.table_dt_s
+            d["table_sha"] = __import__("hashlib").sha256(self.table_xy_m.tobytes()).hexdigest()[:16]
+        return d
+
+    # -- constructors --
+    @classmethod
+    def from_samples(cls, name: str, dt_s: float, xy_m, *, ramp_grade_deg: float | None = None) -> "Behaviour":
+        """Your own path from positions (n, 2) in m sampled every dt_s seconds from t = 0."""
+        xy = np.asarray(xy_m, dtype=np.float64)
+        start = (float(xy[0, 0]), float(xy[0, 1])) if xy.ndim == 2 and len(xy) else (0.0, 0.0)
+        return cls(name, "table", ramp_grade_deg=ramp_grade_deg, start_xy_m=start,
+                   table_dt_s=float(dt_s), table_xy_m=xy)
+
+    @classmethod
+    def from_function(cls, name: str, fn: Callable[[float], tuple[float, float]], duration: float,
+                      dt_s: float = 1e-3, *, ramp_grade_deg: float | None = None) -> "Behaviour":
+        """Your own path from a Python function t (s) -> (x, y) (m), sampled every dt_s."""
+        if not duration > 0:
+            raise ValueError(f"duration must be > 0 s, got {duration!r}")
+        ts = np.arange(int(math.ceil(duration / dt_s)) + 1) * dt_s
+        xy = np.array([fn(float(t)) for t in ts], dtype=np.float64).reshape(len(ts), 2)
+        return cls.from_samples(name, dt_s, xy, ramp_grade_deg=ramp_grade_deg)
+
+
+def behaviour(name: str, *, speed_m_s: float = ref.SPEED_M_S, radius_m: float = ref.CIRCLE_RADIUS,
+              grade_deg: float = ref.RAMP_GRADE_DEG) -> Behaviour:
+    """One of the paper's behaviours (static, forward, ramp, circle) by name."""
+    if isinstance(name, Behaviour):
+        return name
+    key = str(name).strip().lower()
+    if key == "static":
+        return Behaviour("static", "line", 0.0)
+    if key == "forward":
+        return Behaviour("forward", "line", speed_m_s)
+    if key == "ramp":
+        return Behaviour("ramp", "line", speed_m_s, ramp_grade_deg=grade_deg)
+    if key == "circle":
+        return Behaviour("circle", "circle", speed_m_s, radius_m=radius_m,
+                         start_xy_m=(radius_m, 0.0))
+    raise ValueError(f"unknown behaviour {name!r}; accepted: {', '.join(BEHAVIOUR_NAMES)}")
+
+
+@numba.njit(cache=True)
+def desired_state(t, kind, params, table):
+    """Desired base (x, y, vx, vy) in m, m/s at time t (s); compiled and plain."""
+    speed, radius, heading, x0, y0, table_dt = params[0], params[1], params[2], params[3], params[4], params[5]
+    if kind == PATH_CIRCLE:
+        w = speed / radius
+        c, s = math.cos(w * t), math.sin(w * t)
+        return radius * c, radius * s, -speed * s, speed * c
+    if kind == PATH_TABLE:
+        n = table.shape[0]
+        u = t / table_dt
+        i = int(math.floor(u))
+        if i >= n - 1:
+            return table[n - 1, 0], table[n - 1, 1], 0.0, 0.0
+        if i < 0:
+            return table[0, 0], table[0, 1], 0.0, 0.0
+        f = u - i
+        dx = table[i + 1, 0] - table[i, 0]
+        dy = table[i + 1, 1] - table[i, 1]
+        return table[i, 0] + f * dx, table[i, 1] + f * dy, dx / table_dt, dy / table_dt
+    vx, vy = speed * math.cos(heading), speed * math.sin(heading)
+    return x0 + vx * t, y0 + vy * t, vx, vy

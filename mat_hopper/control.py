@@ -1,0 +1,209 @@
+"""The Raibert-style hopping controller of the reference hopper.
+
+One readable scalar controller, :func:`controller_step`, evaluated every
+physics step. It is compiled by numba for the fast rollout loop; its plain
+Python original (``controller_step.py_func``) runs the same arithmetic for
+tests and debugging, and both give the same trajectory.
+
+Three parts (paper section IV-B, spec "Controller"):
+
+- stance/flight state machine with a phase lock, which also adapts the
+  thrust once per hop from the last hop height;
+- foot placement in flight: a hip PD towards the inverse kinematics of the
+  foot position that brings the base to the desired velocity;
+- attitude correction in stance: hip torques against body roll and pitch;
+- thrust: a constant force on the foot spring while rising in stance.
+
+Hip controls are before the actuator gear (600): torque = gear x control.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import NamedTuple
+
+import numba
+import numpy as np
+
+from . import reference as ref
+
+FLIGHT, STANCE = 0, 1
+NO_EVENT, TOUCHDOWN, LIFTOFF = 0, 1, 2
+
+# Controller state (float64 array): indices, named.
+S_PHASE = 0          # FLIGHT or STANCE
+S_T_SWITCH = 1       # s, time of the last phase switch
+S_THRUST = 2         # N, current thrust F
+S_Z_MAX = 3          # m, highest base z since the last touchdown
+S_LAST_HEIGHT = 4    # m, last hop height (nan before the first)
+S_LIFTOFFS = 5       # count of lift-offs so far
+S_TOUCHDOWNS = 6     # count of touchdowns so far
+STATE_SIZE = 7
+
+# Controller outputs (float64 array): controls, then hip targets for logging.
+O_HIP_Y, O_HIP_X, O_THRUST = 0, 1, 2              # actuator controls
+O_TARGET_Y, O_TARGET_X = 3, 4                     # rad, IK hip targets
+O_TARGET_RATE_Y, O_TARGET_RATE_X = 5, 6           # rad/s
+OUT_SIZE = 7
+
+
+class Gains(NamedTuple):
+    """ControllerSettings as the compiled code sees them (floats)."""
+
+    phase_lock_s: float
+    thrust_start_n: float
+    thrust_adapt_gain: float
+    hop_height_target_m: float
+    thrust_min_rise_speed: float
+    velocity_gain_desired: float
+    velocity_gain_position: float
+    velocity_limit_m_s: float
+    stance_duration_s: float
+    foot_placement_gain: float
+    leg_length_m: float
+    flight_kp: float
+    flight_kd: float
+    stance_kp: float
+    stance_kd: float
+
+
+@dataclass(frozen=True)
+class ControllerSettings:
+    """Every gain of the controller; defaults are the reference hopper's.
+
+    Hip gains are per rad (rad/s) before the gear; forces in N; speeds m/s.
+    """
+
+    phase_lock_s: float = ref.PHASE_LOCK_S
+    thrust_start_n: float = ref.THRUST_START_N
+    thrust_adapt_gain: float = ref.THRUST_ADAPT_GAIN
+    hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
+    thrust_min_rise_speed: float = ref.THRUST_MIN_RISE_SPEED
+    velocity_gain_desired: float = ref.VELOCITY_GAIN_DESIRED
+    velocity_gain_position: float = ref.VELOCITY_GAIN_POSITION
+    velocity_limit_m_s: float = ref.VELOCITY_LIMIT
+    stance_duration_s: float = ref.STANCE_DURATION_S
+    foot_placement_gain: float = ref.FOOT_PLACEMENT_GAIN
+    leg_length_m: float = ref.LEG_LENGTH_CONTROLLER
+    flight_kp: float = ref.FLIGHT_KP
+    flight_kd: float = ref.FLIGHT_KD
+    stance_kp: float = ref.STANCE_KP
+    stance_kd: float = ref.STANCE_KD
+
+    def __post_init__(self):
+        for name, value in asdict(self).items():
+            if not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ValueError(f"controller setting {name} must be a finite number, got {value!r}")
+        if self.leg_length_m <= 0:
+            raise ValueError(f"leg_length_m must be > 0 m, got {self.leg_length_m!r}")
+
+    def gains(self) -> Gains:
+        return Gains(*(float(v) for v in asdict(self).values()))
+
+
+def initial_state(settings: ControllerSettings) -> np.ndarray:
+    """Fresh controller state: in flight, no switch yet, thrust at its start."""
+    s = np.zeros(STATE_SIZE)
+    s[S_PHASE] = FLIGHT
+    s[S_T_SWITCH] = -np.inf
+    s[S_THRUST] = settings.thrust_start_n
+    s[S_Z_MAX] = -np.inf
+    s[S_LAST_HEIGHT] = np.nan
+    return s
+
+
+@numba.njit(cache=True)
+def euler_zyx(quat):
+    """Roll, pitch, yaw (rad) of a quaternion (w, x, y, z), Z-Y-X convention."""
+    w, x, y, z = quat[0], quat[1], quat[2], quat[3]
+    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    sp = 2.0 * (w * y - z * x)
+    sp = min(1.0, max(-1.0, sp))
+    pitch = math.asin(sp)
+    yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return roll, pitch, yaw
+
+
+@numba.njit(cache=True)
+def _clamp(v, limit):
+    return min(limit, max(-limit, v))
+
+
+@numba.njit(cache=True)
+def update_phase(t, touch, z, vz, g, state):
+    """Advance the stance/flight state machine; adapt thrust at touchdown.
+
+    Returns NO_EVENT, TOUCHDOWN or LIFTOFF."""
+    if z > state[S_Z_MAX]:
+        state[S_Z_MAX] = z
+    if t - state[S_T_SWITCH] < g.phase_lock_s:
+        return NO_EVENT
+    if state[S_PHASE] == FLIGHT and touch > 0.0 and vz < 0.0:
+        state[S_PHASE] = STANCE
+        state[S_T_SWITCH] = t
+        state[S_TOUCHDOWNS] += 1.0
+        if state[S_LIFTOFFS] > 0.0:       # the very first touchdown adapts nothing
+            height = state[S_Z_MAX]
+            state[S_LAST_HEIGHT] = height
+            state[S_THRUST] += g.thrust_adapt_gain * (g.hop_height_target_m - height)
+        state[S_Z_MAX] = z
+        return TOUCHDOWN
+    if state[S_PHASE] == STANCE and touch == 0.0 and vz > 0.0:
+        state[S_PHASE] = FLIGHT
+        state[S_T_SWITCH] = t
+        state[S_LIFTOFFS] += 1.0
+        return LIFTOFF
+    return NO_EVENT
+
+
+@numba.njit(cache=True)
+def controller_step(t, touch, pos, quat, gyro, vel, hip_angle, hip_rate, desired, g, state, out):
+    """One control update at time t (s).
+
+    touch: ground force at the toe (N); pos, vel: base position (m) and
+    velocity (m/s), world frame; quat: base orientation (w, x, y, z); gyro:
+    base angular velocity (rad/s, body frame: roll, pitch, yaw rates);
+    hip_angle, hip_rate: (hip_y, hip_x) in rad, rad/s; desired: (x, y, vx,
+    vy) of the path in m, m/s. Writes controls and hip targets into out;
+    returns the state machine's event.
+    """
+    event = update_phase(t, touch, pos[2], vel[2], g, state)
+    roll, pitch, yaw = euler_zyx(quat)
+    roll_rate, pitch_rate = gyro[0], gyro[1]
+
+    # World -> yaw-aligned base frame.
+    c, s = math.cos(yaw), math.sin(yaw)
+    ex, ey = desired[0] - pos[0], desired[1] - pos[1]
+    off_x, off_y = c * ex + s * ey, -s * ex + c * ey
+    vdx, vdy = c * desired[2] + s * desired[3], -s * desired[2] + c * desired[3]
+    vx, vy = c * vel[0] + s * vel[1], -s * vel[0] + c * vel[1]
+
+    # Velocity to aim for, then the foot placement that reaches it.
+    aim_x = _clamp(g.velocity_gain_desired * vdx + g.velocity_gain_position * off_x, g.velocity_limit_m_s)
+    aim_y = _clamp(g.velocity_gain_desired * vdy + g.velocity_gain_position * off_y, g.velocity_limit_m_s)
+    foot_x = vx * g.stance_duration_s / 2.0 + g.foot_placement_gain * (vx - aim_x)
+    foot_y = vy * g.stance_duration_s / 2.0 + g.foot_placement_gain * (vy - aim_y)
+
+    # Inverse kinematics, corrected for body attitude.
+    target_y = -math.atan(foot_x / g.leg_length_m) - pitch
+    target_x = math.atan(foot_y / g.leg_length_m) - roll
+    target_rate_y = -pitch_rate
+    target_rate_x = -roll_rate
+
+    if touch > 0.0:   # stance: attitude correction through the hips
+        u_y = g.stance_kp * pitch + g.stance_kd * pitch_rate
+        u_x = g.stance_kp * roll + g.stance_kd * roll_rate
+    else:             # flight: PD to the foot placement targets
+        u_y = -g.flight_kp * (hip_angle[0] - target_y) - g.flight_kd * (hip_rate[0] - target_rate_y)
+        u_x = -g.flight_kp * (hip_angle[1] - target_x) - g.flight_kd * (hip_rate[1] - target_rate_x)
+    thrust = state[S_THRUST] if (touch > 0.0 and vel[2] > g.thrust_min_rise_speed) else 0.0
+
+    out[O_HIP_Y] = u_y
+    out[O_HIP_X] = u_x
+    out[O_THRUST] = thrust
+    out[O_TARGET_Y] = target_y
+    out[O_TARGET_X] = target_x
+    out[O_TARGET_RATE_Y] = target_rate_y
+    out[O_TARGET_RATE_X] = target_rate_x
+    return event

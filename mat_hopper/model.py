@@ -1,0 +1,234 @@
+"""Leg design -> MuJoCo model of the reference hopper, built in memory.
+
+Geometry follows ``reference.py`` (the authors' hopper): a 15 kg base on six
+unactuated joints, a two-axis hip, a stub, N material segments and a sprung
+foot. Each material segment straddles its axial spring ``mat_spring_i``:
+half of its mass above the spring, half below. Density sets the capsules'
+mass (porosity through mass); modulus sets the spring's stiffness. A rigid
+material has no spring at all (the paper's MD leg).
+
+Nothing is written to disk: :func:`build_spec` returns an ``MjSpec`` (to
+edit further, e.g. for rendering) and :func:`build_model` compiles it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import mujoco
+import numpy as np
+
+from . import reference as ref
+from .materials import DEFAULT_CONVENTION, LegDesign, check_convention, spring_stiffness
+
+BASE_JOINTS = ("base_x", "base_y", "base_z", "base_roll", "base_pitch", "base_yaw")
+HIP_JOINTS = ("hip_y", "hip_x")
+ACTUATORS = ("hip_y", "hip_x", "thrust")
+SENSORS = ("touch", "base_pos", "base_quat", "base_gyro", "base_linvel", "hip_torque", "base_acc")
+
+
+class Layout(NamedTuple):
+    """Addresses into qpos/qvel/sensordata/ctrl, looked up by name (ints)."""
+
+    base_qpos: int        # first of the 6 base joints in qpos (x, y, z, roll, pitch, yaw)
+    base_dof: int         # same in qvel / qacc
+    hip_y_qpos: int
+    hip_x_qpos: int
+    hip_y_dof: int
+    hip_x_dof: int
+    touch: int            # sensordata addresses
+    base_pos: int
+    base_quat: int
+    base_gyro: int
+    base_linvel: int
+    base_acc: int
+    act_hip_y: int        # actuator indices
+    act_hip_x: int
+    act_thrust: int
+
+
+@dataclass(frozen=True, eq=False)
+class HopperModel:
+    """A compiled hopper: the MjModel plus what built it."""
+
+    model: mujoco.MjModel
+    design: LegDesign
+    convention: str
+    ramp_grade_deg: float | None
+    timestep: float
+    layout: Layout
+    spring_stiffness_n_m: tuple[float, ...]   # per segment; 0 for rigid
+
+    @property
+    def total_mass_kg(self) -> float:
+        return float(self.model.body_subtreemass[0])
+
+
+def _check_timestep(timestep) -> float:
+    try:
+        dt = float(timestep)
+    except (TypeError, ValueError):
+        raise ValueError(f"timestep must be a number > 0 s, got {timestep!r}") from None
+    if not (math.isfinite(dt) and 0 < dt <= 0.1):
+        raise ValueError(f"timestep must be in (0, 0.1] s, got {timestep!r}")
+    return dt
+
+
+def ramp_pose(grade_deg: float) -> tuple[np.ndarray, np.ndarray]:
+    """Centre (m) and quaternion of the ramp box pitched up by grade_deg.
+
+    The box's top face meets the ground at x = 0 (the spec's centre z of
+    -0.03 m is this rounded: -0.0302 m at 2 deg)."""
+    a = math.radians(grade_deg)
+    hx, _, hz = ref.RAMP_HALF_SIZE
+    cz = -(hz - ref.RAMP_CENTER_X * math.sin(a)) / math.cos(a)
+    quat = np.array([math.cos(-a / 2), 0.0, math.sin(-a / 2), 0.0])
+    return np.array([ref.RAMP_CENTER_X, 0.0, cz]), quat
+
+
+def _capsule(body, name, z0, z1, radius, *, density=None, mass=None, rgba=None):
+    g = body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CAPSULE,
+                      fromto=[0, 0, z0, 0, 0, z1], size=[radius, 0, 0])
+    if mass is not None:
+        g.mass = mass
+    else:
+        g.density = density
+    if rgba is not None:
+        g.rgba = rgba
+    return g
+
+
+def _slide(body, name, stiffness, damping, *, limit=None):
+    j = body.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, -1])
+    j.stiffness[0] = stiffness
+    j.damping[0] = damping
+    if limit is None:
+        j.limited = mujoco.mjtLimited.mjLIMITED_FALSE
+    else:
+        j.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+        j.range = [-limit, limit]
+    return j
+
+
+def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
+               timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION) -> mujoco.MjSpec:
+    """The hopper with this leg as an editable ``MjSpec`` (not compiled)."""
+    if not isinstance(design, LegDesign):
+        raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
+    check_convention(convention)
+    dt = _check_timestep(timestep)
+    n = design.n_segments
+    half = ref.MATERIAL_LENGTH / n / 2.0          # m, each half of a segment
+
+    spec = mujoco.MjSpec()
+    spec.modelname = f"hopper_{design.name}"
+    spec.compiler.degree = False
+    opt = spec.option
+    opt.timestep = dt
+    opt.solver = mujoco.mjtSolver.mjSOL_NEWTON
+    opt.iterations = ref.SOLVER_ITERATIONS
+    opt.tolerance = ref.SOLVER_TOLERANCE
+    opt.jacobian = mujoco.mjtJacobian.mjJAC_DENSE
+    opt.cone = mujoco.mjtCone.mjCONE_PYRAMIDAL
+    # Divergence is a result we detect and report: never silently reset.
+    opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_AUTORESET
+    spec.default.joint.damping[0] = ref.JOINT_DAMPING_DEFAULT
+    spec.default.joint.armature = 0.0
+    spec.default.geom.contype = 0
+    spec.default.geom.conaffinity = 0
+
+    world = spec.worldbody
+    world.add_light(name="sun", pos=[0, 0, 6], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL)
+    world.add_geom(name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1],
+                   contype=1, conaffinity=1, condim=ref.FOOT_CONDIM, rgba=[0.85, 0.85, 0.82, 1])
+    if ramp_grade_deg is not None:
+        pos, quat = ramp_pose(float(ramp_grade_deg))
+        world.add_geom(name="ramp", type=mujoco.mjtGeom.mjGEOM_BOX, size=list(ref.RAMP_HALF_SIZE),
+                       pos=pos, quat=quat, friction=list(ref.RAMP_FRICTION), contype=1,
+                       conaffinity=1, condim=ref.FOOT_CONDIM, rgba=[0.55, 0.6, 0.7, 1])
+
+    base = world.add_body(name="base", pos=[0, 0, ref.BASE_START_Z])
+    for name, jtype, axis in zip(BASE_JOINTS, ["slide"] * 3 + ["hinge"] * 3, np.vstack([np.eye(3)] * 2)):
+        j = base.add_joint(name=name, axis=axis, limited=mujoco.mjtLimited.mjLIMITED_FALSE,
+                           type=mujoco.mjtJoint.mjJNT_SLIDE if jtype == "slide" else mujoco.mjtJoint.mjJNT_HINGE)
+        j.damping[0] = 0.0
+    r, h = ref.BASE_CAPSULE_RADIUS, ref.BASE_CAPSULE_HALF_LENGTH
+    for name, a in (("base_capsule_x", [h, 0, 0]), ("base_capsule_y", [0, h, 0])):
+        base.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CAPSULE, size=[r, 0, 0],
+                      fromto=[-a[0], -a[1], 0, a[0], a[1], 0], mass=ref.BASE_CAPSULE_MASS,
+                      rgba=[0.3, 0.3, 0.35, 1])
+    base.add_site(name="imu", pos=[0, 0, 0])
+
+    leg = base.add_body(name="leg", pos=[0, 0, 0])
+    hip_range = math.radians(ref.HIP_RANGE_DEG)
+    for name, axis in (("hip_y", [0, 1, 0]), ("hip_x", [1, 0, 0])):
+        j = leg.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=axis,
+                          limited=mujoco.mjtLimited.mjLIMITED_TRUE, range=[-hip_range, hip_range])
+        j.stiffness[0] = ref.HIP_STIFFNESS
+        j.damping[0] = ref.HIP_DAMPING
+    leg.add_site(name="hip", pos=[0, 0, 0])
+    _capsule(leg, "stub", 0.0, -ref.STUB_LENGTH, ref.STUB_RADIUS, density=ref.STUB_DENSITY,
+             rgba=[0.4, 0.4, 0.45, 1])
+
+    # Each material segment: upper half in the parent, spring, lower half in the child.
+    parent, top = leg, -ref.STUB_LENGTH
+    for i, mat in enumerate(design.segments, start=1):
+        rho = mat.density_kg_m3
+        _capsule(parent, f"seg{i}_upper", top, top - half, ref.MATERIAL_RADIUS, density=rho)
+        child = parent.add_body(name=f"seg{i}", pos=[0, 0, top - half])
+        if not mat.rigid:
+            k = spring_stiffness(mat.modulus_gpa, convention, n)
+            _slide(child, f"mat_spring_{i}", k, ref.JOINT_DAMPING_DEFAULT)
+        _capsule(child, f"seg{i}_lower", 0.0, -half, ref.MATERIAL_RADIUS, density=rho)
+        parent, top = child, -half
+
+    _capsule(parent, "foot_upper", top, top - ref.FOOT_UPPER_LENGTH, ref.MATERIAL_RADIUS,
+             density=ref.FOOT_UPPER_DENSITY, rgba=[0.4, 0.4, 0.45, 1])
+    foot = parent.add_body(name="foot", pos=[0, 0, top - ref.FOOT_UPPER_LENGTH])
+    _slide(foot, "spring", ref.FOOT_SPRING_STIFFNESS, ref.FOOT_SPRING_DAMPING, limit=ref.FOOT_SPRING_RANGE)
+    g = _capsule(foot, "foot", 0.0, -ref.FOOT_LENGTH, ref.FOOT_RADIUS, mass=ref.FOOT_MASS,
+                 rgba=[0.15, 0.15, 0.15, 1])
+    g.contype, g.conaffinity, g.condim = 1, 1, ref.FOOT_CONDIM
+    foot.add_site(name="toe", pos=[0, 0, -ref.FOOT_LENGTH], size=[ref.TOE_SITE_RADIUS, 0, 0])
+
+    for name, joint, gear in (("hip_y", "hip_y", ref.HIP_GEAR), ("hip_x", "hip_x", ref.HIP_GEAR),
+                              ("thrust", "spring", 1.0)):
+        a = spec.add_actuator(name=name, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        a.set_to_motor()
+        a.gear[0] = gear
+        a.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+
+    S, O = mujoco.mjtSensor, mujoco.mjtObj
+    spec.add_sensor(name="touch", type=S.mjSENS_TOUCH, objtype=O.mjOBJ_SITE, objname="toe")
+    spec.add_sensor(name="base_pos", type=S.mjSENS_FRAMEPOS, objtype=O.mjOBJ_XBODY, objname="base")
+    spec.add_sensor(name="base_quat", type=S.mjSENS_FRAMEQUAT, objtype=O.mjOBJ_XBODY, objname="base")
+    spec.add_sensor(name="base_gyro", type=S.mjSENS_GYRO, objtype=O.mjOBJ_SITE, objname="imu")
+    spec.add_sensor(name="base_linvel", type=S.mjSENS_FRAMELINVEL, objtype=O.mjOBJ_XBODY, objname="base")
+    spec.add_sensor(name="hip_torque", type=S.mjSENS_TORQUE, objtype=O.mjOBJ_SITE, objname="hip")
+    spec.add_sensor(name="base_acc", type=S.mjSENS_ACCELEROMETER, objtype=O.mjOBJ_SITE, objname="imu")
+    return spec
+
+
+def layout_of(model: mujoco.MjModel) -> Layout:
+    """Look every address the controller needs up by name."""
+    jq = lambda n: int(model.joint(n).qposadr[0])
+    jd = lambda n: int(model.joint(n).dofadr[0])
+    sa = lambda n: int(model.sensor(n).adr[0])
+    act = lambda n: int(model.actuator(n).id)
+    return Layout(jq("base_x"), jd("base_x"), jq("hip_y"), jq("hip_x"), jd("hip_y"), jd("hip_x"),
+                  sa("touch"), sa("base_pos"), sa("base_quat"), sa("base_gyro"), sa("base_linvel"),
+                  sa("base_acc"), act("hip_y"), act("hip_x"), act("thrust"))
+
+
+def build_model(design: LegDesign, *, ramp_grade_deg: float | None = None,
+                timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION) -> HopperModel:
+    """Compile the hopper for this leg, terrain (flat or ramp), time step (s)
+    and stiffness convention."""
+    spec = build_spec(design, ramp_grade_deg=ramp_grade_deg, timestep=timestep, convention=convention)
+    model = spec.compile()
+    stiffness = tuple(0.0 if m.rigid else spring_stiffness(m.modulus_gpa, convention, design.n_segments)
+                      for m in design.segments)
+    return HopperModel(model, design, convention, ramp_grade_deg, float(timestep), layout_of(model),
+                       stiffness)
