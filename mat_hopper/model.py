@@ -38,6 +38,8 @@ class Layout(NamedTuple):
     hip_x_qpos: int
     hip_y_dof: int
     hip_x_dof: int
+    spring_qpos: int      # the foot spring (the thrust actuator's joint)
+    spring_dof: int
     touch: int            # sensordata addresses
     base_pos: int
     base_quat: int
@@ -218,7 +220,7 @@ def layout_of(model: mujoco.MjModel) -> Layout:
     sa = lambda n: int(model.sensor(n).adr[0])
     act = lambda n: int(model.actuator(n).id)
     return Layout(jq("base_x"), jd("base_x"), jq("hip_y"), jq("hip_x"), jd("hip_y"), jd("hip_x"),
-                  sa("touch"), sa("base_pos"), sa("base_quat"), sa("base_gyro"), sa("base_linvel"),
+                  jq("spring"), jd("spring"), sa("touch"), sa("base_pos"), sa("base_quat"), sa("base_gyro"), sa("base_linvel"),
                   sa("base_acc"), act("hip_y"), act("hip_x"), act("thrust"))
 
 

@@ -48,7 +48,7 @@ CHANNELS = (
     "hip_y", "hip_x", "hip_y_rate", "hip_x_rate",
     "hip_y_target", "hip_x_target", "hip_y_target_rate", "hip_x_target_rate",
     "force_hip_y", "force_hip_x", "force_thrust",
-    "touch", "phase", "thrust_setting",
+    "touch", "phase", "thrust_setting", "foot_spring", "foot_spring_rate",
 )
 C = {name: i for i, name in enumerate(CHANNELS)}
 N_CHANNELS = len(CHANNELS)
@@ -122,11 +122,12 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, qpos, qvel, qacc, ctrl, sensordata,
             events[n_ev, 1] = event
             events[n_ev, 2] = state[S_LAST_HEIGHT]
             n_ev += 1
+        foot, foot_rate = qpos[lay.spring_qpos], qvel[lay.spring_dof]
         step2(m_ptr, d_ptr)
         bad = _diverged(qpos, qacc, qacc_limit)
         if i % every == 0 or bad:
             if n_rec < rec.shape[0]:
-                r = rec[n_rec]
+                r = rec[n_rec]      # columns in CHANNELS order (tests/test_sim.py checks)
                 r[0] = t
                 for k in range(3):
                     r[1 + k] = sensordata[lay.base_pos + k]
@@ -144,6 +145,8 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, qpos, qvel, qacc, ctrl, sensordata,
                 r[30] = sensordata[lay.touch]
                 r[31] = state[S_PHASE]
                 r[32] = state[S_THRUST]
+                r[33] = foot
+                r[34] = foot_rate
                 if n_rec < qpos_rec.shape[0]:
                     qpos_rec[n_rec, :] = qpos
                 n_rec += 1

@@ -1,0 +1,105 @@
+"""``mat-hopper simulate``: one design, one behaviour, a per-hop summary."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+
+import pandas as pd
+
+from . import reference as ref
+from .behaviours import BEHAVIOUR_NAMES, behaviour
+from .materials import CONVENTIONS, LegDesign, parse_design
+from .metrics import METRICS, hop_table, run_summary
+
+
+def _floats(text: str, field: str) -> list[float | None]:
+    out = []
+    for part in text.split(","):
+        part = part.strip()
+        if part.lower() in ("rigid", "inf"):
+            out.append(None)
+            continue
+        try:
+            out.append(float(part))
+        except ValueError:
+            raise ValueError(f"{field} must be comma-separated numbers, got {text!r}") from None
+    return out
+
+
+def design_from_args(args) -> LegDesign:
+    """--design NAME, or --density/--modulus lists (g/cm^3, GPa)."""
+    if args.density is not None or args.modulus is not None:
+        if args.density is None or args.modulus is None:
+            raise ValueError("--density and --modulus go together (one value per segment)")
+        dens = _floats(args.density, "--density")
+        if any(d is None for d in dens):
+            raise ValueError("--density must be numbers in g/cm^3 (> 0)")
+        return LegDesign.from_properties(dens, _floats(args.modulus, "--modulus"))
+    return parse_design(args.design, n_segments=args.segments)
+
+
+def write_csv_atomic(frame: pd.DataFrame, path: str) -> None:
+    """Write a CSV so that readers never see half a file."""
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".csv")
+    try:
+        with os.fdopen(fd, "w") as f:
+            frame.to_csv(f, index=False)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def add_sim_arguments(p: argparse.ArgumentParser) -> None:
+    """Design and run options shared by commands that simulate one design."""
+    p.add_argument("--design", default="SS",
+                   help="material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec")
+    p.add_argument("--density", help="per-segment densities, g/cm^3, e.g. 1.39,4.43,8")
+    p.add_argument("--modulus", help="per-segment moduli, GPa (or 'rigid'), e.g. 70,70,70")
+    p.add_argument("--segments", type=int, default=ref.REFERENCE_SEGMENTS,
+                   help="segments for a single-material design (default 3)")
+    p.add_argument("--behaviour", "--behavior", dest="behaviour", default="forward",
+                   help=f"one of {', '.join(BEHAVIOUR_NAMES)}")
+    p.add_argument("--timestep", type=float, default=ref.TIMESTEP_S, help="physics time step, s")
+    p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
+
+
+def cmd_simulate(args) -> int:
+    from .sim import SimSettings, simulate
+    design = design_from_args(args)
+    beh = behaviour(args.behaviour)
+    settings = SimSettings(duration_s=args.duration, timestep_s=args.timestep,
+                           transient_s=args.transient, convention=args.convention)
+    rollout = simulate(design, beh, settings=settings)
+    hops = hop_table(rollout)
+    s = run_summary(rollout)
+    print(f"{design.name} on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
+          f"convention={settings.convention}, mass {rollout.total_mass_kg:.2f} kg")
+    if not rollout.stable:
+        print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s")
+    print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
+    if len(hops):
+        desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
+        print(desc.to_string(float_format=lambda v: f"{v:.4g}"))
+        print(f"energy {s['energy_j']:.1f} J, cost of transport {s['cost_of_transport']:.3g}")
+    if args.csv:
+        write_csv_atomic(hops, args.csv)
+        print(f"wrote {len(hops)} rows to {args.csv}")
+    return 0 if rollout.stable else 1
+
+
+def register_cli(sub) -> None:
+    p = sub.add_parser("simulate", help="simulate one design on one behaviour, print a per-hop summary",
+                       description="Simulate one leg design on one behaviour and summarize its hop cycles.")
+    add_sim_arguments(p)
+    p.add_argument("--duration", type=float, default=ref.DURATION_S, help="simulated seconds (60)")
+    p.add_argument("--transient", type=float, default=ref.TRANSIENT_S,
+                   help="seconds before the first scored hop cycle (20)")
+    p.add_argument("--csv", help="write the per-hop table (one row per scored hop cycle) here")
+    p.set_defaults(func=cmd_simulate)

@@ -1,0 +1,181 @@
+"""Per-hop metrics, run summaries and comparisons against a baseline.
+
+A hop cycle runs from one lift-off (the state machine's stance-to-flight
+switch) to the next. Cycles that start before the transient (20 s by
+default) are not scored. Per cycle, from the rollout's samples (1 kHz):
+
+- ``hop_height_m``: max base z (m);
+- ``tracking_error_m``: mean planar distance base - desired path (m);
+- ``jerk_m_s3``: mean |d^3 z / dt^3| of the base (m/s^3), the time
+  derivative of the base's vertical acceleration at the record rate;
+- ``power_w``: mean norm of the hip actuators' real mechanical power,
+  ||(tau_y qdot_y, tau_x qdot_x)|| (W), tau after the gear;
+- ``power_paper_w``: the authors' formula, labelled as such: the hip_y
+  *flight* PD command (before the gear, also in stance) times each hip rate;
+- ``energy_j``: integral of |tau qdot| of all three actuators (J).
+
+Comparisons (:func:`compare`) give the percent change of means against a
+baseline design, a two-sided Mann-Whitney U test with Holm correction
+across the comparisons, and the rank-biserial effect size. Hop cycles of
+one deterministic run are not independent samples: read p-values as a
+description, and use replicate runs for inference.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from . import reference as ref
+from .sim import C, Rollout
+
+METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
+ALL_METRICS = METRICS + ("power_paper_w", "energy_j")
+GRAVITY = 9.81
+
+
+def _segment_means(values: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    csum = np.concatenate([[0.0], np.cumsum(values)])
+    return (csum[ends] - csum[starts]) / np.maximum(ends - starts, 1)
+
+
+def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray:
+    """(start, end) times in s of the scored hop cycles, lift-off to lift-off."""
+    transient = rollout.settings.transient_s if transient_s is None else float(transient_s)
+    lo = rollout.liftoff_times_s
+    if len(lo) < 2:
+        return np.zeros((0, 2))
+    cyc = np.column_stack([lo[:-1], lo[1:]])
+    return cyc[cyc[:, 0] >= transient]
+
+
+def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFrame:
+    """One row per scored hop cycle, with every metric (see module doc)."""
+    cycles = hop_cycles(rollout, transient_s)
+    d = rollout.data
+    t = d[:, C["t"]]
+    cols = ["design", "behaviour", "convention", "hop", "t_start_s", "t_end_s", *ALL_METRICS]
+    if len(cycles) == 0 or len(t) < 4:
+        return pd.DataFrame(columns=cols)
+    dt_rec = float(np.median(np.diff(t)))
+    i0 = np.searchsorted(t, cycles[:, 0])
+    i1 = np.searchsorted(t, cycles[:, 1])
+    keep = i1 > i0
+    cycles, i0, i1 = cycles[keep], i0[keep], i1[keep]
+
+    z = d[:, C["z"]]
+    err = np.hypot(d[:, C["x"]] - d[:, C["x_des"]], d[:, C["y"]] - d[:, C["y_des"]])
+    jerk = np.abs(np.gradient(d[:, C["az"]], dt_rec))
+    p_y = d[:, C["force_hip_y"]] * d[:, C["hip_y_rate"]]
+    p_x = d[:, C["force_hip_x"]] * d[:, C["hip_x_rate"]]
+    power = np.hypot(p_y, p_x)
+    g = rollout.settings.controller
+    u_flight = (-g.flight_kp * (d[:, C["hip_y"]] - d[:, C["hip_y_target"]])
+                - g.flight_kd * (d[:, C["hip_y_rate"]] - d[:, C["hip_y_target_rate"]]))
+    power_paper = np.hypot(u_flight * d[:, C["hip_y_rate"]], u_flight * d[:, C["hip_x_rate"]])
+    p_abs = np.abs(p_y) + np.abs(p_x) + np.abs(d[:, C["force_thrust"]] * d[:, C["foot_spring_rate"]])
+
+    heights = np.array([z[a:b].max() for a, b in zip(i0, i1)])
+    out = pd.DataFrame({
+        "design": rollout.design.name,
+        "behaviour": rollout.behaviour.name,
+        "convention": rollout.settings.convention,
+        "hop": np.arange(len(cycles)),
+        "t_start_s": cycles[:, 0],
+        "t_end_s": cycles[:, 1],
+        "hop_height_m": heights,
+        "tracking_error_m": _segment_means(err, i0, i1),
+        "jerk_m_s3": _segment_means(jerk, i0, i1),
+        "power_w": _segment_means(power, i0, i1),
+        "power_paper_w": _segment_means(power_paper, i0, i1),
+        "energy_j": _segment_means(p_abs, i0, i1) * (i1 - i0) * dt_rec,
+    })
+    return out[cols]
+
+
+def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
+    """One run in a line: outcome, means of the per-hop metrics, energy (J)
+    and cost of transport (energy / (m g distance), nan without travel)."""
+    hops = hop_table(rollout, transient_s)
+    out = {"design": rollout.design.name, "behaviour": rollout.behaviour.name,
+           "convention": rollout.settings.convention, "stable": rollout.stable,
+           "diverged_at_s": rollout.diverged_at_s, "n_hops": len(hops),
+           "total_mass_kg": rollout.total_mass_kg}
+    for m in ALL_METRICS:
+        out[f"mean_{m}"] = float(hops[m].mean()) if len(hops) else np.nan
+    energy = float(hops["energy_j"].sum()) if len(hops) else np.nan
+    out["energy_j"] = energy
+    if len(hops):
+        t = rollout.time
+        a, b = np.searchsorted(t, [hops["t_start_s"].iloc[0], hops["t_end_s"].iloc[-1]])
+        b = min(b, len(t) - 1)
+        dist = float(np.hypot(*np.diff(rollout.base_pos[[a, b], :2], axis=0)[0]))
+        out["distance_m"] = dist
+        out["cost_of_transport"] = energy / (rollout.total_mass_kg * GRAVITY * dist) if dist > 1e-3 else np.nan
+    else:
+        out["distance_m"] = np.nan
+        out["cost_of_transport"] = np.nan
+    return out
+
+
+def summarize(hops: pd.DataFrame, by=("design", "behaviour"), metrics=METRICS) -> pd.DataFrame:
+    """Mean, median and IQR of each metric per group, tidy (one row per
+    group and metric)."""
+    rows = []
+    for key, g in hops.groupby(list(by), sort=False):
+        key = key if isinstance(key, tuple) else (key,)
+        for m in metrics:
+            v = g[m].to_numpy(float)
+            q1, q3 = np.percentile(v, [25, 75]) if len(v) else (np.nan, np.nan)
+            rows.append({**dict(zip(by, key)), "metric": m, "n": len(v), "mean": v.mean() if len(v) else np.nan,
+                         "median": np.median(v) if len(v) else np.nan, "iqr": q3 - q1})
+    return pd.DataFrame(rows)
+
+
+def holm(pvalues) -> np.ndarray:
+    """Holm-Bonferroni adjusted p-values (same order as given)."""
+    p = np.asarray(pvalues, dtype=float)
+    out = np.full_like(p, np.nan)
+    ok = np.isfinite(p)
+    idx = np.argsort(p[ok])
+    m = ok.sum()
+    adj = np.maximum.accumulate((m - np.arange(m)) * p[ok][idx])
+    vals = np.empty(m)
+    vals[idx] = np.minimum(adj, 1.0)
+    out[ok] = vals
+    return out
+
+
+def compare(hops: pd.DataFrame, baseline: str, *, by: str = "behaviour", metrics=METRICS,
+            alpha: float = 0.05) -> pd.DataFrame:
+    """Every design against `baseline`, per `by` group and metric.
+
+    Columns: percent change of means, Mann-Whitney U (two-sided), raw and
+    Holm-adjusted p (over all rows), rank-biserial effect size in [-1, 1]
+    (positive: the design's values tend to be larger), and significance."""
+    if baseline not in set(hops["design"]):
+        raise ValueError(f"baseline {baseline!r} not among the designs: {sorted(set(hops['design']))}")
+    rows = []
+    for group, g in hops.groupby(by, sort=False):
+        base = g[g["design"] == baseline]
+        for design, dg in g.groupby("design", sort=False):
+            if design == baseline:
+                continue
+            for m in metrics:
+                a, b = dg[m].to_numpy(float), base[m].to_numpy(float)
+                mean_a, mean_b = (a.mean() if len(a) else np.nan), (b.mean() if len(b) else np.nan)
+                pct = 100.0 * (mean_a - mean_b) / abs(mean_b) if mean_b else np.nan
+                if len(a) and len(b) and not (np.ptp(np.concatenate([a, b])) == 0):
+                    u, p = stats.mannwhitneyu(a, b, alternative="two-sided")
+                    effect = 2.0 * u / (len(a) * len(b)) - 1.0
+                else:
+                    u, p, effect = np.nan, np.nan if not (len(a) and len(b)) else 1.0, 0.0
+                rows.append({by: group, "design": design, "baseline": baseline, "metric": m,
+                             "n": len(a), "n_baseline": len(b), "mean": mean_a, "mean_baseline": mean_b,
+                             "pct_change": pct, "u": u, "p": p, "effect_size": effect})
+    out = pd.DataFrame(rows)
+    if len(out):
+        out["p_holm"] = holm(out["p"].to_numpy())
+        out["significant"] = out["p_holm"] < alpha
+    return out
