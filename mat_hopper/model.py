@@ -34,6 +34,7 @@ class Layout(NamedTuple):
 
     base_qpos: int        # first of the 6 base joints in qpos (x, y, z, roll, pitch, yaw)
     base_dof: int         # same in qvel / qacc
+    base_body: int        # body id of the base (for pushes)
     hip_y_qpos: int
     hip_x_qpos: int
     hip_y_dof: int
@@ -219,7 +220,7 @@ def layout_of(model: mujoco.MjModel) -> Layout:
     jd = lambda n: int(model.joint(n).dofadr[0])
     sa = lambda n: int(model.sensor(n).adr[0])
     act = lambda n: int(model.actuator(n).id)
-    return Layout(jq("base_x"), jd("base_x"), jq("hip_y"), jq("hip_x"), jd("hip_y"), jd("hip_x"),
+    return Layout(jq("base_x"), jd("base_x"), int(model.body("base").id), jq("hip_y"), jq("hip_x"), jd("hip_y"), jd("hip_x"),
                   jq("spring"), jd("spring"), sa("touch"), sa("base_pos"), sa("base_quat"), sa("base_gyro"), sa("base_linvel"),
                   sa("base_acc"), act("hip_y"), act("hip_x"), act("thrust"))
 

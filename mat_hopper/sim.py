@@ -36,6 +36,7 @@ from .control import (OUT_SIZE, S_LAST_HEIGHT, S_THRUST, S_PHASE, ControllerSett
                       controller_step, initial_state, LIFTOFF, TOUCHDOWN, euler_zyx)
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention, parse_design
 from .model import HopperModel, build_model
+from .perturbations import NO_PUSH, Perturbation
 
 DEFAULT_RECORD_RATE_HZ = 1000.0
 
@@ -85,17 +86,23 @@ def _diverged(qpos, qacc, limit):
 
 @numba.njit(cache=True)
 def rollout_loop(step1, step2, m_ptr, d_ptr, qpos, qvel, qacc, ctrl, sensordata, actuator_force,
-                 lay, gains, path_kind, path_params, path_table, state, step0, n_steps, dt, every,
-                 qacc_limit, rec, qpos_rec, events):
+                 xfrc_applied, lay, gains, path_kind, path_params, path_table, state, step0, n_steps,
+                 dt, every, qacc_limit, push, noise, noise_every, rec, qpos_rec, events):
     """The closed loop for physics steps step0 .. step0 + n_steps - 1. Fills
     rec (samples x channels) every `every` steps and events (time, kind, hop
     height); qpos_rec (samples x nq, or 0 rows) gets the joint positions
-    after the step, for rendering. Returns (samples recorded, events recorded, step of divergence
+    after the step, for rendering. push = [t0, t1, fx, fy] (N) on the base;
+    noise rows (position m, velocity m/s) are added to the controller's
+    readings, one row per noise_every steps. Returns (samples recorded, events recorded, step of divergence
     or -1)."""
     out = np.zeros(OUT_SIZE)
     hip_angle = np.zeros(2)
     hip_rate = np.zeros(2)
     desired = np.zeros(4)
+    pos = np.zeros(3)
+    vel = np.zeros(3)
+    noisy = noise_every < n_steps + step0
+    pushing = xfrc_applied[lay.base_body, 0] != 0.0 or xfrc_applied[lay.base_body, 1] != 0.0
     n_rec = 0
     n_ev = 0
     for i in range(step0, step0 + n_steps):
@@ -107,8 +114,18 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, qpos, qvel, qacc, ctrl, sensordata,
         hip_rate[1] = qvel[lay.hip_x_dof]
         dx, dy, dvx, dvy = desired_state(t, path_kind, path_params, path_table)
         desired[0], desired[1], desired[2], desired[3] = dx, dy, dvx, dvy
-        pos = sensordata[lay.base_pos:lay.base_pos + 3]
-        vel = sensordata[lay.base_linvel:lay.base_linvel + 3]
+        for k in range(3):
+            pos[k] = sensordata[lay.base_pos + k]
+            vel[k] = sensordata[lay.base_linvel + k]
+        if noisy:
+            nrow = noise[min(i // noise_every, noise.shape[0] - 1)]
+            for k in range(3):
+                pos[k] += nrow[k]
+                vel[k] += nrow[3 + k]
+        if (push[0] <= t < push[1]) != pushing:
+            pushing = not pushing
+            xfrc_applied[lay.base_body, 0] = push[2] if pushing else 0.0
+            xfrc_applied[lay.base_body, 1] = push[3] if pushing else 0.0
         quat = sensordata[lay.base_quat:lay.base_quat + 4]
         gyro = sensordata[lay.base_gyro:lay.base_gyro + 3]
         touch = sensordata[lay.touch]
@@ -172,6 +189,7 @@ class SimSettings:
     convention: str = DEFAULT_CONVENTION
     record_rate_hz: float = DEFAULT_RECORD_RATE_HZ
     controller: ControllerSettings = field(default_factory=ControllerSettings)
+    perturbation: Perturbation | None = None
 
     def __post_init__(self):
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
@@ -191,6 +209,8 @@ class SimSettings:
         check_convention(self.convention)
         if not isinstance(self.controller, ControllerSettings):
             raise ValueError("controller must be a ControllerSettings")
+        if self.perturbation is not None and not isinstance(self.perturbation, Perturbation):
+            raise ValueError("perturbation must be a Perturbation or None")
 
     @property
     def record_every(self) -> int:
@@ -329,15 +349,20 @@ def _as_design(design) -> LegDesign:
     raise ValueError(f"design must be a LegDesign or a design name, got {design!r}")
 
 
-def prepare(design, behaviour, settings: SimSettings) -> tuple[HopperModel, mujoco.MjData]:
-    """Model and initial data for a rollout (start pose per the behaviour)."""
+def prepare(design, behaviour, settings: SimSettings, start_xy_offset=(0.0, 0.0),
+            start_tilt=(0.0, 0.0)) -> tuple[HopperModel, mujoco.MjData]:
+    """Model and initial data for a rollout: start pose per the behaviour,
+    plus an optional offset (m) and roll/pitch tilt (rad)."""
     design = _as_design(design)
     beh = get_behaviour(behaviour)
     hm = build_model(design, ramp_grade_deg=beh.ramp_grade_deg, timestep=settings.timestep_s,
                      convention=settings.convention)
     data = mujoco.MjData(hm.model)
-    data.qpos[hm.layout.base_qpos + 0] = beh.start_xy_m[0]
-    data.qpos[hm.layout.base_qpos + 1] = beh.start_xy_m[1]
+    b = hm.layout.base_qpos       # base joints: x, y, z, roll, pitch, yaw
+    data.qpos[b + 0] = beh.start_xy_m[0] + start_xy_offset[0]
+    data.qpos[b + 1] = beh.start_xy_m[1] + start_xy_offset[1]
+    data.qpos[b + 3] = start_tilt[0]
+    data.qpos[b + 4] = start_tilt[1]
     mujoco.mj_forward(hm.model, data)
     return hm, data
 
@@ -353,7 +378,12 @@ class RolloutRunner:
         self.design = _as_design(design)
         self.behaviour = get_behaviour(behaviour)
         self.settings = settings
-        self.hopper, self.data = prepare(self.design, self.behaviour, settings)
+        p = settings.perturbation
+        if p is None:
+            offset, tilt, self._push, self._noise, self._noise_every = (0.0, 0.0), (0.0, 0.0), NO_PUSH, np.zeros((1, 6)), 1 << 60
+        else:
+            offset, tilt, self._push, self._noise, self._noise_every = p.draw(settings.duration_s, settings.timestep_s)
+        self.hopper, self.data = prepare(self.design, self.behaviour, settings, offset, tilt)
         n_rec = settings.n_steps // settings.record_every + 2
         self._rec = np.zeros((n_rec, N_CHANNELS))
         self._qpos = np.zeros((n_rec if record_qpos else 0, self.hopper.model.nq))
@@ -380,9 +410,10 @@ class RolloutRunner:
         d, hm, beh = self.data, self.hopper, self.behaviour
         n_rec, n_ev, bad = rollout_loop(
             MJ_STEP1, MJ_STEP2, hm.model._address, d._address, d.qpos, d.qvel, d.qacc, d.ctrl,
-            d.sensordata, d.actuator_force, hm.layout, self._gains, beh.path_code,
+            d.sensordata, d.actuator_force, d.xfrc_applied, hm.layout, self._gains, beh.path_code,
             beh.path_params, beh.table_xy_m, self._state, self.step, n, self.settings.timestep_s,
-            self.settings.record_every, ref.DIVERGENCE_QACC, self._rec[self._n_rec:],
+            self.settings.record_every, ref.DIVERGENCE_QACC, self._push, self._noise,
+            self._noise_every, self._rec[self._n_rec:],
             self._qpos[self._n_rec:], self._events[self._n_ev:])
         self._n_rec += n_rec
         self._n_ev += n_ev
@@ -404,7 +435,7 @@ def simulate(design, behaviour, duration: float = ref.DURATION_S, timestep: floa
              transient: float = ref.TRANSIENT_S, convention: str = DEFAULT_CONVENTION,
              controller: ControllerSettings | None = None,
              record_rate_hz: float = DEFAULT_RECORD_RATE_HZ, record_qpos: bool = False,
-             settings: SimSettings | None = None) -> Rollout:
+             perturbation: Perturbation | None = None, settings: SimSettings | None = None) -> Rollout:
     """Run a design on a behaviour for `duration` simulated seconds.
 
     design: a LegDesign or a name (``"SS"``, ``"PVC-Ti-SS"``, ``"rho-inc"``);
@@ -413,11 +444,11 @@ def simulate(design, behaviour, duration: float = ref.DURATION_S, timestep: floa
     not scored; the run must outlast it); convention ``"paper"`` or
     ``"axial"``; record_rate_hz: samples per simulated second (1 kHz);
     record_qpos: also keep all joint positions (``Rollout.qpos``) for
-    rendering. Pass ``settings`` to give all of these at once.
+    rendering; perturbation: seeded disturbances for replicates. Pass ``settings`` to give all of these at once.
     Divergence never raises: see :attr:`Rollout.stable`.
     """
     if settings is None:
         settings = SimSettings(duration_s=duration, timestep_s=timestep, transient_s=transient,
                                convention=convention, record_rate_hz=record_rate_hz,
-                               controller=controller or ControllerSettings())
+                               controller=controller or ControllerSettings(), perturbation=perturbation)
     return RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()
