@@ -1,0 +1,46 @@
+import math
+
+import numpy as np
+import pytest
+
+from mat_hopper.behaviours import Behaviour, behaviour
+
+
+def test_paper_paths():
+    assert behaviour("static").desired(10.0) == (0.0, 0.0, 0.0, 0.0)
+    x, y, vx, vy = behaviour("forward").desired(20.0)
+    assert (x, y, vx, vy) == pytest.approx((1.0, 0.0, 0.05, 0.0))
+    r = behaviour("ramp")
+    assert r.ramp_grade_deg == 2.0 and r.desired(20.0)[0] == pytest.approx(1.0)
+    c = behaviour("circle")
+    assert c.start_xy_m == (0.5, 0.0)
+    x, y, vx, vy = c.desired(10.0)
+    assert (x, y) == pytest.approx((0.5 * math.cos(1.0), 0.5 * math.sin(1.0)))
+    assert math.hypot(vx, vy) == pytest.approx(0.05)
+
+
+def test_parameters():
+    assert behaviour("forward", speed_m_s=0.1).desired(1.0)[0] == pytest.approx(0.1)
+    assert behaviour("ramp", grade_deg=4.0).ramp_grade_deg == 4.0
+    assert behaviour("circle", radius_m=1.0).desired(0.0)[0] == pytest.approx(1.0)
+
+
+def test_custom_path_from_function_is_interpolated():
+    b = Behaviour.from_function("wave", lambda t: (0.05 * t, 0.1 * math.sin(t)), duration=10.0, dt_s=1e-3)
+    x, y, vx, vy = b.desired(2.0005)
+    assert x == pytest.approx(0.100025) and y == pytest.approx(0.1 * math.sin(2.0005), abs=1e-7)
+    assert vx == pytest.approx(0.05)
+    # after its end the path holds its last point
+    assert b.desired(50.0)[2:] == (0.0, 0.0)
+    assert b.key()["table_sha"] != Behaviour.from_function("w2", lambda t: (0, 0), 10.0).key()["table_sha"]
+
+
+def test_bad_behaviours():
+    with pytest.raises(ValueError, match="unknown behaviour 'hop'.*static, forward, ramp, circle"):
+        behaviour("hop")
+    with pytest.raises(ValueError, match="speed_m_s"):
+        behaviour("forward", speed_m_s=-1)
+    with pytest.raises(ValueError, match="radius_m"):
+        behaviour("circle", radius_m=0)
+    with pytest.raises(ValueError, match="table_xy_m"):
+        Behaviour.from_samples("bad", 1e-3, np.array([[0.0, np.nan]]))

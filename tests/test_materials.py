@@ -1,0 +1,77 @@
+import math
+
+import pytest
+
+from mat_hopper import reference as ref
+from mat_hopper.materials import (CATALOGUE, LegDesign, Material, bulk_density, material, paper_designs,
+                                  parse_design, porosity, spring_stiffness)
+
+
+def test_paper_convention_pinned():
+    assert spring_stiffness(4.0, "paper") == pytest.approx(3.77e6, rel=1e-3)
+    assert spring_stiffness(193.0, "paper") == pytest.approx(1.819e8, rel=1e-3)
+    assert ref.PAPER_STIFFNESS_PER_GPA == pytest.approx(9.4248e5, rel=1e-4)
+
+
+def test_axial_convention_is_EA_over_L():
+    area = math.pi * 0.025**2
+    assert spring_stiffness(193.0, "axial", 3) == pytest.approx(193e9 * area / 0.1)
+    assert spring_stiffness(193.0, "axial", 3) == pytest.approx(3.79e9, rel=1e-2)
+    # Shorter segments are stiffer.
+    assert spring_stiffness(70.0, "axial", 6) == pytest.approx(2 * spring_stiffness(70.0, "axial", 3))
+
+
+def test_porosity_roundtrip():
+    assert porosity(1.0, 2.0) == pytest.approx(0.5)
+    assert porosity(8.0, 8.0) == 0.0
+    assert bulk_density(porosity(1.39, 1.9), 1.9) == pytest.approx(1.39)
+    with pytest.raises(ValueError, match="porosity"):
+        bulk_density(1.0, 2.0)
+    with pytest.raises(ValueError, match="exceeds"):
+        porosity(3.0, 2.0)
+
+
+def test_catalogue_has_paper_materials_and_sources():
+    for name, (rho, e) in ref.MONO_MATERIALS.items():
+        m = material(name.lower())
+        assert (m.density_g_cm3, m.modulus_gpa) == (rho, e)
+    assert material("MD").rigid
+    assert len(CATALOGUE) >= 9
+    assert all(m.source for m in CATALOGUE.values())
+
+
+@pytest.mark.parametrize("density", [0, -1, float("nan"), float("inf"), "x"])
+def test_bad_density(density):
+    with pytest.raises(ValueError, match="density.*g/cm\\^3"):
+        Material("bad", density, 10.0)
+
+
+@pytest.mark.parametrize("modulus", [-1, float("nan"), 0])
+def test_bad_modulus(modulus):
+    with pytest.raises(ValueError, match="modulus.*GPa"):
+        Material("bad", 1.0, modulus)
+
+
+def test_bad_names():
+    with pytest.raises(ValueError, match="unknown material 'unobtainium'.*accepted"):
+        parse_design("unobtainium")
+    with pytest.raises(ValueError, match="convention"):
+        spring_stiffness(10, "beam")
+    with pytest.raises(ValueError, match="at least 1 segment"):
+        LegDesign(())
+    with pytest.raises(ValueError, match="n_segments"):
+        LegDesign.mono("SS", 0)
+    with pytest.raises(ValueError, match="one value per segment"):
+        LegDesign.from_properties([1, 2, 3], [1, 2])
+
+
+def test_design_forms():
+    assert parse_design("ss").densities_g_cm3 == (8.0, 8.0, 8.0)
+    g = parse_design("PVC-Ti-SS")
+    assert g.name == "PVC-Ti-SS" and g.moduli_gpa == (4.0, 120.0, 193.0)
+    assert parse_design("rho-inc").densities_g_cm3 == (1.39, 4.43, 8.0)
+    assert parse_design("RHO-DEC").densities_g_cm3 == (8.0, 4.43, 1.39)
+    assert parse_design("rho-inc").moduli_gpa == (70.0, 70.0, 70.0)
+    assert LegDesign.from_properties([1.39, 4.43, 8], [70]).moduli_gpa == (70.0,) * 3
+    assert LegDesign.mono("Al", 5).n_segments == 5
+    assert set(paper_designs()) == {"MD", "PVC", "Al", "Ti", "SS", "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC"}

@@ -1,0 +1,72 @@
+import mujoco
+import numpy as np
+import pytest
+
+from mat_hopper import reference as ref
+from mat_hopper.materials import LegDesign, parse_design
+from mat_hopper.model import build_model
+
+
+def test_reference_masses():
+    assert build_model(parse_design("MD")).total_mass_kg == pytest.approx(ref.MASS_MD_KG, abs=0.005)
+    assert build_model(parse_design("SS")).total_mass_kg == pytest.approx(ref.MASS_SS_KG, abs=0.005)
+
+
+def test_material_mass_independent_of_segment_count():
+    # 0.3 m of material at 1 g/cm^3: capsule end caps add mass per segment,
+    # so compare the end-cap-free part: cylinder mass scales exactly with length.
+    m3 = build_model(LegDesign.mono("SS", 3)).total_mass_kg
+    m6 = build_model(LegDesign.mono("SS", 6)).total_mass_kg
+    r = ref.MATERIAL_RADIUS
+    cap = 4 / 3 * np.pi * r**3 * 8000.0      # one sphere (two hemispheres) per capsule
+    assert m6 - m3 == pytest.approx(6 * cap, rel=1e-6)   # 12 vs 6 half-capsules
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5])
+def test_geometry_any_segment_count(n):
+    hm = build_model(LegDesign.mono("Ti", n))
+    m, d = hm.model, mujoco.MjData(hm.model)
+    mujoco.mj_forward(m, d)
+    toe = d.site("toe").xpos
+    assert toe[2] == pytest.approx(ref.BASE_START_Z - 0.6)      # hip to toe 0.6 m
+    assert [m.joint(f"mat_spring_{i}").type for i in range(1, n + 1)] == [mujoco.mjtJoint.mjJNT_SLIDE] * n
+    assert len(hm.spring_stiffness_n_m) == n
+
+
+def test_rigid_leg_has_no_material_springs():
+    m = build_model(parse_design("MD")).model
+    names = [m.joint(i).name for i in range(m.njnt)]
+    assert not any(n.startswith("mat_spring") for n in names)
+    assert "spring" in names and "hip_y" in names
+
+
+def test_stiffness_damping_and_options():
+    hm = build_model(parse_design("SS"), timestep=2e-4)
+    m = hm.model
+    j = m.joint("mat_spring_2")
+    assert m.jnt_stiffness[j.id] == pytest.approx(1.819e8, rel=1e-3)
+    assert m.dof_damping[j.dofadr[0]] == 1.0
+    assert m.opt.timestep == 2e-4
+    assert m.opt.iterations == 50 and m.opt.tolerance == 1e-10
+    assert m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET
+    assert list(m.actuator_gear[:, 0]) == [600.0, 600.0, 1.0]
+    assert m.jnt_range[m.joint("hip_y").id][1] == pytest.approx(np.radians(70))
+
+
+def test_ramp_only_when_asked():
+    flat = build_model(parse_design("SS")).model
+    ramp = build_model(parse_design("SS"), ramp_grade_deg=2.0).model
+    with pytest.raises(KeyError):
+        flat.geom("ramp")
+    g = ramp.geom("ramp")
+    # Top face rises 3.5 % per m in x.
+    d = mujoco.MjData(ramp)
+    mujoco.mj_forward(ramp, d)
+    normal = d.geom_xmat[g.id].reshape(3, 3)[:, 2]
+    assert -normal[0] / normal[2] == pytest.approx(0.0349, abs=2e-4)
+
+
+@pytest.mark.parametrize("dt", [0, -1e-4, float("nan"), 1.0])
+def test_bad_timestep(dt):
+    with pytest.raises(ValueError, match="timestep"):
+        build_model(parse_design("SS"), timestep=dt)
