@@ -113,3 +113,19 @@ STABILITY_DENSITY_RANGE = (1.39, 8.0)    # g/cm^3, log-spaced
 STABILITY_MODULUS_RANGE = (4.0, 340.0)   # GPa, log-spaced
 STABILITY_TIMESTEP_RANGE = (1e-3, 1e-5)  # s, 20 log-spaced tries
 STABILITY_TEST_DURATION_S = 2.0          # s of static hopping per try
+
+# --- The paper's quantitative claims (spec: "The paper's quantitative claims")
+# Percent changes are of means against a baseline design (negative: lower).
+DYNAMIC_BEHAVIOURS = ("forward", "ramp", "circle")   # the paper's behaviours 2-4
+CLAIM_HOP_HEIGHT_M = 1.0                 # every design's mean hop height
+CLAIM_SS_TRACKING_PCT = -55.0            # SS vs MD, at least this on every behaviour
+CLAIM_SS_POWER_MAX_PCT = 193.0           # SS vs MD, the largest increase (dynamic behaviours)
+CLAIM_LOW_MODULUS_GPA = 9.0              # moduli <= this track worse than ...
+CLAIM_HIGH_MODULUS_GPA = 20.0            # ... moduli >= this
+CLAIM_RAMP_RHO_INC_TRACKING_PCT = -82.0  # ramp, rho-inc vs MD
+CLAIM_RAMP_RHO_INC_POWER_PCT = 123.0
+CLAIM_RAMP_SS_TRACKING_PCT = -72.0       # ramp, SS vs MD
+CLAIM_RAMP_SS_POWER_PCT = 193.0
+CLAIM_HEADLINE_TRACKING_PCT = -35.0      # ramp, rho-inc vs SS (the abstract)
+CLAIM_HEADLINE_POWER_PCT = -23.0
+CLAIM_STABLE_TIMESTEP_S = {"PVC": 1e-3, "Al": 1e-4, "SS": 1e-4}   # about, per material
