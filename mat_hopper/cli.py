@@ -14,6 +14,7 @@ import sys
 # Modules that contribute subcommands (each defines register_cli(subparsers)).
 COMMAND_MODULES = (
     "mat_hopper.cli_simulate",
+    "mat_hopper.cli_reproduce",
 )
 
 

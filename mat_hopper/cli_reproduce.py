@@ -1,0 +1,204 @@
+"""``mat-hopper reproduce``: the paper's four experiments, end to end.
+
+Runs the chosen experiments under one profile (cached, resumable, in
+parallel; see :mod:`mat_hopper.runner`), writes their tables as CSV into
+the output folder (default ``results/<profile>/``), then the figures and
+the claims table through :mod:`mat_hopper.plots` and
+:mod:`mat_hopper.claims`. Tables (see :func:`reproduce`):
+
+- ``exp{1,2,3}_hops.csv``: one row per scored hop cycle of every run;
+- ``exp{1,2,3}_runs.csv``: one row per run (outcome, means, energy);
+- ``stability.csv``: one row per design of the map; ``stability_tries.csv``:
+  every try; ``stability_agreement.csv``: analytic estimate vs measured.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+
+import pandas as pd
+
+from .cli_simulate import write_csv_atomic
+from .experiments import (EXPERIMENT_NAMES, PROFILE_ENV, PROFILES, check_replicates, get_experiment,
+                          get_profile, parse_experiments)
+from .runner import CACHE_ENV, DEFAULT_CACHE_DIR, Runner, check_workers
+
+
+@dataclass
+class Reproduction:
+    """What :func:`reproduce` made: tables by name (the CSV file names
+    without .csv), files written, wall seconds per experiment (for the
+    log and benchmarks; never part of a table), failed task counts."""
+
+    profile: str
+    out_dir: str
+    tables: dict = field(default_factory=dict)
+    files: list = field(default_factory=list)
+    wall_s: dict = field(default_factory=dict)
+    failed: dict = field(default_factory=dict)
+    computed: dict = field(default_factory=dict)
+    notes: list = field(default_factory=list)
+
+
+def default_out_dir(profile_name: str) -> str:
+    return os.path.join("results", profile_name)
+
+
+def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, workers: int | None = None,
+              scheduler=None, replicates: int = 0, cache_dir: str | None = None, progress: bool = True,
+              figures: bool = True, log=print) -> Reproduction:
+    """Run experiments (names or '1,2,3,stability'; default all) under a
+    profile (name or Profile; default $MAT_HOPPER_PROFILE or paper), write
+    their tables into out_dir, then figures and claims. Every input is
+    checked before any work starts."""
+    prof = get_profile(profile)
+    names = parse_experiments(experiments if experiments is None or isinstance(experiments, str)
+                              else ",".join(experiments))
+    replicates = check_replicates(replicates)
+    check_workers(workers)
+    out_dir = out_dir or default_out_dir(prof.name)
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise ValueError(f"--out {out_dir!r} exists and is not a folder")
+    plan = {n: get_experiment(n) for n in names}
+    tasks = {n: e.tasks(prof, replicates) for n, e in plan.items()}
+    os.makedirs(out_dir, exist_ok=True)
+    rep = Reproduction(prof.name, out_dir)
+    log(f"profile {prof.name}: {prof.duration_s:g} s runs, transient {prof.transient_s:g} s, "
+        f"dt {prof.timestep_s:g} s; stability grid {prof.stability_grid_size}x{prof.stability_grid_size}; "
+        f"replicates {replicates}; out {out_dir}")
+    with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as runner:
+        for name in names:
+            t0 = time.perf_counter()
+            res = runner.run(tasks[name], desc=name)
+            wall = time.perf_counter() - t0
+            rep.wall_s[name] = wall
+            rep.failed[name] = res.n_failed
+            rep.computed[name] = res.n_computed
+            if name == "stability":
+                from .stability import agreement
+                made = {"stability": res.summary, "stability_tries": res.tables,
+                        "stability_agreement": agreement(res.summary)}
+            else:
+                made = {f"{name}_hops": res.tables, f"{name}_runs": res.summary}
+            for tname, frame in made.items():
+                path = os.path.join(out_dir, f"{tname}.csv")
+                write_csv_atomic(frame, path)
+                rep.tables[tname] = frame
+                rep.files.append(path)
+            log(f"{name}: {res.n_tasks} tasks ({res.n_unique} unique): {res.n_cached} cached, "
+                f"{res.n_computed - res.n_failed} computed, {res.n_failed} failed in {wall:.1f} s wall")
+            if res.n_failed:
+                bad = res.summary[res.summary["status"] == "failed"]
+                for row in bad.head(5).itertuples():
+                    log(f"  failed: {row.design} {getattr(row, 'behaviour', '')}: {row.error}")
+    if "stability_agreement" in rep.tables:
+        a = dict(zip(rep.tables["stability_agreement"]["quantity"], rep.tables["stability_agreement"]["value"]))
+        log("stability, analytic 2/w_max vs measured: " + ", ".join(
+            f"{k} {a[k]:.3g}" for k in ("median_ratio_measured_to_analytic", "loglog_pearson_r",
+                                        "fraction_within_factor_2") if k in a))
+    if figures:
+        t0 = time.perf_counter()
+        rep.files += _figures_and_claims(rep, log)
+        rep.wall_s["figures"] = time.perf_counter() - t0
+    return rep
+
+
+def _figures_and_claims(rep: Reproduction, log) -> list:
+    """Figures and claims through part B's modules (plots, claims)."""
+    files = []
+    try:
+        from . import plots
+    except ImportError as e:
+        plots = None
+        rep.notes.append(f"figures skipped: mat_hopper.plots not available ({e})")
+    if plots is not None:
+        if hasattr(plots, "write_figures"):
+            files += [str(p) for p in plots.write_figures(rep.tables, rep.out_dir)]
+        else:
+            files += _basic_figures(plots, rep)
+    try:
+        from . import claims
+    except ImportError as e:
+        claims = None
+        rep.notes.append(f"claims table skipped: mat_hopper.claims not available ({e})")
+    if claims is not None:
+        hops = _concat([rep.tables.get(f"{e}_hops") for e in ("exp1", "exp2", "exp3")])
+        runs = _concat([rep.tables.get(f"{e}_runs") for e in ("exp1", "exp2", "exp3")])
+        stab = rep.tables.get("stability")
+        conventions = sorted({str(c) for t in (hops, runs, stab) if t is not None and "convention" in t
+                              for c in t["convention"].dropna()})
+        table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions) or ("paper",))
+        files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
+        rep.tables["claims"] = table
+    for n in rep.notes:
+        log(n)
+    if files:
+        log(f"figures and claims: {len(files)} files in {rep.out_dir}")
+    return files
+
+
+def _concat(frames) -> pd.DataFrame | None:
+    frames = [f for f in frames if f is not None and len(f)]
+    return pd.concat(frames, ignore_index=True) if frames else None
+
+
+def _basic_figures(plots, rep: Reproduction) -> list:
+    """The paper's figures from the tables there are (fallback while
+    plots.write_figures does not exist)."""
+    t = rep.tables
+    fig_dir = os.path.join(rep.out_dir, "figures")
+    made = []
+
+    def save(fig, stem):
+        made.extend(str(p) for p in plots.save_figure(fig, os.path.join(fig_dir, stem)))
+
+    if "exp1_hops" in t and len(t["exp1_hops"]):
+        save(plots.figure4_mono(t["exp1_hops"]), "fig4_mono")
+    if "exp2_hops" in t and len(t["exp2_hops"]):
+        base = t["exp1_hops"] if "exp1_hops" in t and len(t["exp1_hops"]) else None
+        save(plots.figure4_sweeps(t["exp2_hops"], base), "fig4_sweeps")
+    if "exp3_hops" in t and len(t["exp3_hops"]):
+        save(plots.figure5_gradients(t["exp3_hops"]), "fig5_gradients")
+    if "stability" in t and len(t["stability"]):
+        save(plots.stability_figure(t["stability"], convention=rep.tables["stability"]["convention"].iloc[0]),
+             "stability_map")
+    return made
+
+
+def cmd_reproduce(args) -> int:
+    profile = get_profile(args.profile)
+    if args.workers is not None and args.scheduler:
+        raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
+    rep = reproduce(profile, args.experiments, args.out, workers=args.workers, scheduler=args.scheduler,
+                    replicates=args.replicates, cache_dir=args.cache, progress=not args.no_progress,
+                    figures=not args.no_figures)
+    total = sum(rep.wall_s.values())
+    print(f"wrote {len(rep.files)} files to {rep.out_dir} in {total:.1f} s wall "
+          f"({', '.join(f'{k} {v:.1f} s' for k, v in rep.wall_s.items())})")
+    n_failed = sum(rep.failed.values())
+    if n_failed:
+        print(f"{n_failed} tasks failed (see the status and error columns); rerun to retry them", file=sys.stderr)
+        return 1
+    return 0
+
+
+def register_cli(sub) -> None:
+    p = sub.add_parser("reproduce", help="run the paper's experiments, write tables, figures and claims",
+                       description=(__doc__ or "").split("\n\n")[1] if __doc__ else None)
+    p.add_argument("--profile", default=None,
+                   help=f"{' or '.join(PROFILES)} (default ${PROFILE_ENV}, else paper)")
+    p.add_argument("--experiments", default="1,2,3,stability",
+                   help="comma-separated: 1, 2, 3, stability (default all four)")
+    p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
+    p.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
+    p.add_argument("--out", default=None, help="output folder (default results/<profile>/)")
+    p.add_argument("--replicates", type=int, default=0,
+                   help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default 0)")
+    p.add_argument("--cache", default=None,
+                   help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})")
+    p.add_argument("--no-figures", action="store_true", help="tables only")
+    p.add_argument("--no-progress", action="store_true", help="no progress bars")
+    p.set_defaults(func=cmd_reproduce)

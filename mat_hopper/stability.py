@@ -1,0 +1,324 @@
+"""The largest stable time step of a design, measured and estimated.
+
+Measured (the spec's criterion). A time step is *stable* for a design when
+2 s of static hopping at that step (transient 0) end with no NaN or inf,
+every |qacc| <= 1e6 and the base above 0.1 m: :attr:`Rollout.upright`.
+
+- :func:`largest_stable_timestep`: log-scale search in [1e-6, 1e-2] s.
+  Bracket from above: try 1e-2 s, then steps a factor sqrt(10) smaller,
+  until one is stable (unstable tries are cheap: most diverge within a few
+  steps; stable ones cost 2 s / dt steps, so we never try a step much
+  smaller than needed). Then bisect in log space between the last unstable
+  and the first stable step until they are within a factor `tolerance`
+  (1.25) or `max_iter` (10) bisection tries are spent. Result: the bracket
+  [dt_stable_s, dt_unstable_s].
+  Assumption: stability is monotone in the time step between the bracket's
+  ends (every step below a stable one is stable). It need not be: the
+  criterion includes the controller's outcome (base above 0.1 m), which
+  can fail at one step and pass at a larger one. The search finds the
+  first stable step from above on its coarse ladder, so a stable island
+  above the first unstable step is missed, and an unstable pocket inside
+  the final bracket is not seen.
+- :func:`spec_scan`: the spec's own protocol, the first stable step of 20
+  log-spaced steps from 1e-3 down to 1e-5 s (nan if none). Beside the
+  bisection it tests the monotonicity assumption: when both are monotone
+  the scan's answer lies in [dt_stable / 1.28, dt_unstable).
+
+Estimated. :func:`spring_chain_wmax`: the leg along its axis is a chain of
+lumped masses joined by springs: the base with the stub and the upper half
+of segment 1 (one body in MuJoCo, the hips do not move axially); the lower
+half of segment i with the upper half of segment i+1; the last lower half
+with the foot's upper capsule; the foot (0.5 kg) below the foot spring
+(8000 N/m). The masses are read from the compiled MjModel (per body),
+the stiffnesses from its joints; a rigid segment merges its bodies. Its
+highest natural frequency w_max solves K v = w^2 M v
+(``scipy.linalg.eigh(K, M)``, free-free). MuJoCo's Euler integrator treats
+joint damping implicitly but springs explicitly (semi-implicit Euler), and
+that is stable for w dt < 2: the estimate is dt < 2 / w_max.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+import scipy.linalg
+
+from . import reference as ref
+from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
+from .runner import design_key, hash_key, versions
+
+DT_MAX_S = 1e-2
+DT_MIN_S = 1e-6
+BRACKET_FACTOR = math.sqrt(10.0)
+DEFAULT_TOLERANCE = 1.25
+DEFAULT_MAX_ITER = 10
+SPEC_SCAN_N = 20
+
+
+# ---------------------------------------------------------------------------
+# one try
+
+
+def try_timestep(design: LegDesign, timestep_s: float, *, duration_s: float = ref.STABILITY_TEST_DURATION_S,
+                 convention: str = DEFAULT_CONVENTION) -> dict:
+    """Static hopping for duration_s at timestep_s (transient 0): a dict
+    with dt_s, stable (no divergence), upright (the spec's criterion),
+    diverged_at_s (nan if none) and final_base_z_m."""
+    from .sim import C, SimSettings, simulate
+    settings = SimSettings(duration_s=duration_s, timestep_s=timestep_s, transient_s=0.0, convention=convention)
+    r = simulate(design, "static", settings=settings)
+    return {"dt_s": float(timestep_s), "stable": bool(r.stable), "upright": bool(r.upright),
+            "diverged_at_s": math.nan if r.stable else float(r.diverged_at_s),
+            "final_base_z_m": float(r.data[-1, C["z"]]) if len(r.data) else math.nan}
+
+
+def _check_range(dt_min, dt_max, tolerance, max_iter):
+    if not (0 < dt_min < dt_max <= 0.1):
+        raise ValueError(f"time step range must satisfy 0 < dt_min < dt_max <= 0.1 s, got [{dt_min}, {dt_max}]")
+    if not tolerance > 1:
+        raise ValueError(f"tolerance must be a factor > 1 (e.g. 1.25), got {tolerance!r}")
+    if int(max_iter) < 0:
+        raise ValueError(f"max_iter must be >= 0, got {max_iter!r}")
+
+
+def largest_stable_timestep(design: LegDesign, *, dt_min: float = DT_MIN_S, dt_max: float = DT_MAX_S,
+                            tolerance: float = DEFAULT_TOLERANCE, max_iter: int = DEFAULT_MAX_ITER,
+                            duration_s: float = ref.STABILITY_TEST_DURATION_S,
+                            convention: str = DEFAULT_CONVENTION, tries: list | None = None) -> tuple[float, float]:
+    """(dt_stable_s, dt_unstable_s): the largest stable step found and the
+    smallest unstable step above it (see module doc). dt_unstable_s is nan
+    when dt_max itself is stable; dt_stable_s is nan when nothing down to
+    dt_min is. Every try is appended to `tries` (dicts) if given."""
+    _check_range(dt_min, dt_max, tolerance, max_iter)
+    tries = [] if tries is None else tries
+
+    def ok(dt, method):
+        r = try_timestep(design, dt, duration_s=duration_s, convention=convention)
+        r["method"] = method
+        tries.append(r)
+        return r["upright"]
+
+    lo, hi = math.nan, math.nan
+    dt = dt_max
+    while dt >= dt_min * (1 - 1e-12):
+        if ok(dt, "bracket"):
+            lo = dt
+            break
+        hi = dt
+        dt = max(dt / BRACKET_FACTOR, dt_min) if dt > dt_min * (1 + 1e-12) else 0.0
+    if math.isnan(lo) or math.isnan(hi):
+        return lo, hi
+    for _ in range(int(max_iter)):
+        if hi / lo <= tolerance:
+            break
+        mid = math.sqrt(lo * hi)
+        if ok(mid, "bisect"):
+            lo = mid
+        else:
+            hi = mid
+    return lo, hi
+
+
+def spec_scan(design: LegDesign, *, first: float = ref.STABILITY_TIMESTEP_RANGE[0],
+              last: float = ref.STABILITY_TIMESTEP_RANGE[1], n: int = SPEC_SCAN_N,
+              duration_s: float = ref.STABILITY_TEST_DURATION_S, convention: str = DEFAULT_CONVENTION,
+              tries: list | None = None) -> float:
+    """The spec's protocol: the first stable of n log-spaced steps from
+    `first` down to `last` (s); nan when none is stable."""
+    tries = [] if tries is None else tries
+    for dt in np.geomspace(first, last, int(n)):
+        r = try_timestep(design, float(dt), duration_s=duration_s, convention=convention)
+        r["method"] = "spec"
+        tries.append(r)
+        if r["upright"]:
+            return float(dt)
+    return math.nan
+
+
+def scan_consistent(dt_stable: float, dt_unstable: float, dt_spec: float, *,
+                    first: float = ref.STABILITY_TIMESTEP_RANGE[0], last: float = ref.STABILITY_TIMESTEP_RANGE[1],
+                    n: int = SPEC_SCAN_N) -> bool:
+    """Whether the spec scan's answer fits the bisection's bracket if
+    stability were monotone in the step: no ladder step >= dt_unstable is
+    stable, and no ladder step <= dt_stable is passed over."""
+    ladder = np.geomspace(first, last, int(n))
+    eps = 1e-9
+    if math.isnan(dt_stable):
+        return math.isnan(dt_spec)
+    below = ladder[ladder <= dt_stable * (1 + eps)]
+    if math.isnan(dt_spec):
+        return len(below) == 0
+    if not math.isnan(dt_unstable) and dt_spec >= dt_unstable * (1 - eps):
+        return False
+    return not len(below) or dt_spec >= below[0] * (1 - eps)
+
+
+# ---------------------------------------------------------------------------
+# analytic estimate
+
+
+def spring_chain_wmax(masses_kg, stiffnesses_n_m) -> float:
+    """Highest natural frequency (rad/s) of a free-free chain of masses
+    (kg) joined in series by springs (N/m; len(masses) - 1 of them)."""
+    m = np.asarray(masses_kg, dtype=float)
+    k = np.asarray(stiffnesses_n_m, dtype=float)
+    if m.ndim != 1 or len(m) < 2 or len(k) != len(m) - 1:
+        raise ValueError(f"a chain needs n >= 2 masses and n - 1 springs, got {len(m)} and {len(k)}")
+    if not (np.all(m > 0) and np.all(k > 0) and np.all(np.isfinite(k))):
+        raise ValueError("masses (kg) and stiffnesses (N/m) must be finite and > 0")
+    K = np.zeros((len(m), len(m)))
+    for i, ki in enumerate(k):
+        K[i, i] += ki
+        K[i + 1, i + 1] += ki
+        K[i, i + 1] -= ki
+        K[i + 1, i] -= ki
+    w2 = scipy.linalg.eigh(K, np.diag(m), eigvals_only=True)
+    return float(math.sqrt(max(w2.max(), 0.0)))
+
+
+def leg_chain(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[list[float], list[float]]:
+    """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
+    the compiled model: base + leg body, segment bodies (merged across
+    rigid segments), foot; springs in between, foot spring last."""
+    from .model import build_model
+    check_convention(convention)
+    m = build_model(design, convention=convention).model
+    mass = lambda name: float(m.body_mass[m.body(name).id])
+    masses = [mass("base") + mass("leg")]
+    springs = []
+    for i, seg in enumerate(design.segments, start=1):
+        if seg.rigid:
+            masses[-1] += mass(f"seg{i}")
+        else:
+            springs.append(float(m.jnt_stiffness[m.joint(f"mat_spring_{i}").id]))
+            masses.append(mass(f"seg{i}"))
+    springs.append(float(m.jnt_stiffness[m.joint("spring").id]))
+    masses.append(mass("foot"))
+    return masses, springs
+
+
+def estimate_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[float, float]:
+    """(w_max rad/s, 2 / w_max s): the explicit-spring stability limit."""
+    w = spring_chain_wmax(*leg_chain(design, convention))
+    return w, 2.0 / w
+
+
+# ---------------------------------------------------------------------------
+# the task
+
+
+@dataclass(frozen=True, eq=False)
+class StabilitySpec:
+    """Stable-time-step measurement of one design (a runner task).
+
+    duration_s of static hopping per try; bisection in [dt_min, dt_max] s
+    to `tolerance` in at most `max_iter` tries; `scan`: also run the spec's
+    20-step protocol."""
+
+    design: LegDesign
+    duration_s: float = ref.STABILITY_TEST_DURATION_S
+    dt_min: float = DT_MIN_S
+    dt_max: float = DT_MAX_S
+    tolerance: float = DEFAULT_TOLERANCE
+    max_iter: int = DEFAULT_MAX_ITER
+    scan: bool = True
+    convention: str = DEFAULT_CONVENTION
+    labels: dict = field(default_factory=dict)
+
+    kind = "stability"
+
+    def __post_init__(self):
+        _check_range(self.dt_min, self.dt_max, self.tolerance, self.max_iter)
+        if not self.duration_s > 0:
+            raise ValueError(f"duration_s must be > 0 s, got {self.duration_s!r}")
+        check_convention(self.convention)
+
+    def key_dict(self) -> dict:
+        return {"kind": self.kind, "design": design_key(self.design), "duration_s": self.duration_s,
+                "dt_min": self.dt_min, "dt_max": self.dt_max, "tolerance": self.tolerance,
+                "max_iter": int(self.max_iter), "bracket_factor": BRACKET_FACTOR, "scan": bool(self.scan),
+                "scan_range": list(ref.STABILITY_TIMESTEP_RANGE), "scan_n": SPEC_SCAN_N,
+                "criterion": [ref.DIVERGENCE_QACC, ref.STABLE_MIN_BASE_Z],
+                "convention": self.convention, "versions": versions()}
+
+    def key(self) -> str:
+        return f"{self.kind}-{hash_key(self.key_dict())}"
+
+    def default_labels(self) -> dict:
+        d = self.design
+        return {"design": d.name, "density_g_cm3": d.densities_g_cm3[0] if d.n_segments else math.nan,
+                "modulus_gpa": d.moduli_gpa[0]}
+
+    def compute(self) -> tuple[pd.DataFrame, dict]:
+        """(every try as a table, the design's summary: max_stable_timestep_s,
+        unstable_timestep_s, spec_timestep_s, analytic_timestep_s, ...)."""
+        tries: list[dict] = []
+        lo, hi = largest_stable_timestep(self.design, dt_min=self.dt_min, dt_max=self.dt_max,
+                                         tolerance=self.tolerance, max_iter=self.max_iter,
+                                         duration_s=self.duration_s, convention=self.convention, tries=tries)
+        n_search = len(tries)
+        dt_spec = spec_scan(self.design, duration_s=self.duration_s, convention=self.convention,
+                            tries=tries) if self.scan else math.nan
+        masses, springs = leg_chain(self.design, self.convention)
+        w = spring_chain_wmax(masses, springs)
+        est = 2.0 / w
+        consistent = scan_consistent(lo, hi, dt_spec) if self.scan else True
+        summary = {
+            "n_segments": self.design.n_segments,
+            "max_stable_timestep_s": lo, "unstable_timestep_s": hi, "n_tries": n_search,
+            "spec_timestep_s": dt_spec, "n_spec_tries": len(tries) - n_search,
+            "scan_consistent": bool(consistent),
+            "w_max_rad_s": w, "analytic_timestep_s": est,
+            "ratio_measured_to_analytic": lo / est if not math.isnan(lo) else math.nan,
+            "max_material_spring_n_m": max(springs[:-1]) if len(springs) > 1 else math.nan,
+            "lightest_mass_kg": min(masses), "status": "ok" if not math.isnan(lo) else "unstable",
+        }
+        return pd.DataFrame(tries, columns=["method", "dt_s", "stable", "upright", "diverged_at_s",
+                                            "final_base_z_m"]), summary
+
+
+def stability_grid(size: int = ref.STABILITY_GRID_SIZE) -> tuple[np.ndarray, np.ndarray]:
+    """The spec's map axes: densities (g/cm^3) and moduli (GPa), log-spaced
+    over the spec's ranges and rounded to 0.1, `size` values each."""
+    size = int(size)
+    if size < 1:
+        raise ValueError(f"stability grid size must be >= 1, got {size!r}")
+    if size == 1:
+        return (np.array([round(math.sqrt(np.prod(ref.STABILITY_DENSITY_RANGE)), 1)]),
+                np.array([round(math.sqrt(np.prod(ref.STABILITY_MODULUS_RANGE)), 1)]))
+    d = np.round(np.geomspace(*ref.STABILITY_DENSITY_RANGE, size), 1)
+    e = np.round(np.geomspace(*ref.STABILITY_MODULUS_RANGE, size), 1)
+    return d, e
+
+
+def agreement(table: pd.DataFrame) -> pd.DataFrame:
+    """How well the analytic 2 / w_max predicts the measured map, over the
+    designs with a measured step: log-log Pearson r and least-squares slope
+    of log(measured) on log(analytic), median and range of measured /
+    analytic, the fractions within a factor 2 and with the analytic value
+    inside the measured bracket [max_stable, unstable), and the fraction
+    where the spec scan fits the bracket. Columns: quantity, value."""
+    meas, est = table["max_stable_timestep_s"], table["analytic_timestep_s"]
+    ok = table[np.isfinite(meas) & np.isfinite(est)]
+    n = len(ok)
+    rows = {"n_designs": float(len(table)), "n_measured": float(n)}
+    if n >= 1:
+        lo = ok["max_stable_timestep_s"].to_numpy(float)
+        hi = ok["unstable_timestep_s"].to_numpy(float)
+        an = ok["analytic_timestep_s"].to_numpy(float)
+        ratio = lo / an
+        rows.update({"median_ratio_measured_to_analytic": float(np.median(ratio)),
+                     "min_ratio": float(ratio.min()), "max_ratio": float(ratio.max()),
+                     "fraction_within_factor_2": float(np.mean((ratio >= 0.5) & (ratio <= 2.0))),
+                     "fraction_analytic_in_bracket": float(np.mean((lo <= an) & (~np.isfinite(hi) | (an < hi))))})
+    if n >= 3:
+        x, y = np.log(ok["analytic_timestep_s"].to_numpy(float)), np.log(ok["max_stable_timestep_s"].to_numpy(float))
+        if np.ptp(x) > 0 and np.ptp(y) > 0:
+            rows["loglog_pearson_r"] = float(np.corrcoef(x, y)[0, 1])
+            rows["loglog_slope"] = float(np.polyfit(x, y, 1)[0])
+    if "scan_consistent" in table and len(table):
+        rows["fraction_scan_consistent"] = float(table["scan_consistent"].astype(bool).mean())
+    return pd.DataFrame({"quantity": list(rows), "value": list(rows.values())})
