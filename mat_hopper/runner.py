@@ -445,21 +445,25 @@ def _label_frame(labels: dict, frame: pd.DataFrame) -> pd.DataFrame:
 
 
 def _assemble(tasks, keys, results, errors) -> tuple[pd.DataFrame, pd.DataFrame]:
-    frames, rows = [], []
+    frames, rows, empty = [], [], None
     for t, k in zip(tasks, keys):
         labels = {**t.labels, **{c: v for c, v in t.default_labels().items() if c not in t.labels}}
         if k in results:
             table, summary = results[k]
-            if len(table):
+            if len(table) or empty is None:
                 f = _label_frame(labels, table)
                 f["key"] = k
-                frames.append(f)
+                if len(f):
+                    frames.append(f)
+                else:
+                    empty = f       # keeps the columns when no task has a row
             row = {**labels, **{c: v for c, v in summary.items() if c not in labels}, "error": ""}
         else:
             row = {**labels, "status": FAILED, "error": errors.get(k, "not computed")}
         row["key"] = k
         rows.append(row)
-    tables = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    tables = (pd.concat(frames, ignore_index=True) if frames
+              else empty.reset_index(drop=True) if empty is not None else pd.DataFrame())
     summary = pd.DataFrame(rows)
     if "status" in summary.columns:
         cols = [c for c in summary.columns if c not in ("status", "error", "key")]

@@ -102,13 +102,14 @@ def largest_stable_timestep(design: LegDesign, *, dt_min: float = DT_MIN_S, dt_m
         return r["upright"]
 
     lo, hi = math.nan, math.nan
-    dt = dt_max
+    dt, k = dt_max, 0
     while dt >= dt_min * (1 - 1e-12):
         if ok(dt, "bracket"):
             lo = dt
             break
         hi = dt
-        dt = max(dt / BRACKET_FACTOR, dt_min) if dt > dt_min * (1 + 1e-12) else 0.0
+        k += 1
+        dt = max(float(f"{dt_max / BRACKET_FACTOR ** k:.12g}"), dt_min) if dt > dt_min * (1 + 1e-12) else 0.0
     if math.isnan(lo) or math.isnan(hi):
         return lo, hi
     for _ in range(int(max_iter)):
