@@ -15,6 +15,7 @@ import sys
 COMMAND_MODULES = (
     "mat_hopper.cli_simulate",
     "mat_hopper.cli_reproduce",
+    "mat_hopper.optimize",
 )
 
 

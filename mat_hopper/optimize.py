@@ -1,0 +1,572 @@
+"""Design optimizer: Optuna multi-objective search over per-segment materials.
+
+Searches leg designs (per-segment density and modulus, or catalogue
+materials: :mod:`mat_hopper.optimize_space`) for low tracking error and
+low hip power under a hop-height and a stability constraint
+(:mod:`mat_hopper.optimize_objective`). Every study starts from the
+paper's designs SS, rho-inc and PVC-Ti-SS (enqueued first).
+
+Command line::
+
+    mat-hopper optimize --study NAME --trials 200 [--behaviour ramp] [--segments 3]
+        [--space continuous|catalogue|KIND,KIND,...] [--workers 2] [--storage URL]
+        [--sampler tpe|nsga2|gp] [--seed 0] [--profile paper|quick]
+    mat-hopper optimize --report NAME      # Pareto front, hypervolume, importances, CSV
+    mat-hopper optimize --study NAME --replay TRIAL [--render]
+
+``--trials N`` is the study's size: the run stops once the study holds N
+finished trials (complete, or failed with an error in the evaluation);
+re-running the same command resumes an interrupted study and does
+nothing for a finished one. Trials whose worker died are failed and
+re-enqueued; their retries count, they do not.
+
+Storage (:mod:`mat_hopper.optimize_storage`): by default one SQLite file
+per study, ``studies/<name>.db``; ``--storage postgresql://...`` for many
+machines (run the same command on each; give each machine its own
+``--seed``); ``--storage journal:///shared/path/x.log`` for a shared file
+system. ``--workers N`` starts N worker processes on this machine
+(default 2, one per core), all against the same storage.
+
+Samplers: multi-objective TPE (default; multivariate, constant liar so
+parallel workers do not propose the same point), NSGA-II
+(``nsga2``, population 50) or Optuna's GP sampler (``gp``, needs PyTorch).
+All see the constraints, which each trial sets with
+``Trial.set_constraint`` (Optuna 5's replacement of ``constraints_func``). Each worker's sampler seed is
+derived from ``--seed``, the worker's index and the study's size when the
+run started, so one worker on a fresh study is exactly reproducible.
+
+Watch a study live with optuna-dashboard (``pip install optuna-dashboard``,
+not a dependency)::
+
+    optuna-dashboard sqlite:///studies/NAME.db          # default storage
+    optuna-dashboard postgresql://USER@HOST:5432/DB     # shared storage
+
+then open http://127.0.0.1:8080/. See docs/optimizer.md.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import multiprocessing as mp
+import os
+import signal
+import sys
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+import optuna
+from optuna.trial import TrialState
+
+from .optimize_objective import (CONSTRAINTS, OBJECTIVES, PROFILES, Objective, evaluate, profile as get_profile)
+from .optimize_space import KINDS, SearchSpace
+from .optimize_storage import (ERROR_ATTR, PAPER_ATTR, WORKER_ATTR, check_study_name, default_url,
+                               open_storage, recover_dead, redact, worker_identity)
+
+SAMPLERS = ("tpe", "nsga2", "gp")
+DEFAULT_WORKERS = 2
+CONFIG_ATTR = "mat_hopper_config"
+CONFIG_VERSION = 1
+POLL_S = 0.5
+
+
+# --- settings ---------------------------------------------------------------
+
+@dataclass(frozen=True)
+class StudyConfig:
+    """What a study is: its name, search space and objective. Stored in the
+    study (user attr ``mat_hopper_config``); resuming checks it."""
+
+    name: str
+    space: SearchSpace = field(default_factory=SearchSpace)
+    objective: Objective = field(default_factory=Objective)
+
+    def __post_init__(self):
+        check_study_name(self.name)
+        if not isinstance(self.space, SearchSpace):
+            raise ValueError("space must be a SearchSpace")
+        if not isinstance(self.objective, Objective):
+            raise ValueError("objective must be an Objective")
+
+    def key(self) -> dict:
+        return {"version": CONFIG_VERSION, "space": self.space.key(), "objective": self.objective.key()}
+
+    @classmethod
+    def from_key(cls, name: str, key: dict) -> "StudyConfig":
+        return cls(name, SearchSpace.from_key(key["space"]), Objective.from_key(key["objective"]))
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """How to run a study: target size (trials), local worker processes,
+    sampler and seed, storage URL (None: studies_dir/<name>.db), heartbeat
+    interval and grace period (s, RDB storages), retries per trial of a
+    dead worker, progress bar."""
+
+    trials: int = 200
+    workers: int = DEFAULT_WORKERS
+    sampler: str = "tpe"
+    seed: int = 0
+    storage: str | None = None
+    studies_dir: str = "studies"
+    heartbeat_s: int = 10
+    grace_s: int = 60
+    max_retry: int = 3
+    progress: bool = True
+
+    def __post_init__(self):
+        for name, lo in (("trials", 1), ("workers", 1), ("max_retry", 0)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < lo:
+                raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
+        if self.workers > 256:
+            raise ValueError(f"workers must be in [1, 256], got {self.workers}")
+        s = str(self.sampler).strip().lower()
+        if s not in SAMPLERS:
+            raise ValueError(f"unknown sampler {self.sampler!r}; accepted: {', '.join(SAMPLERS)}")
+        object.__setattr__(self, "sampler", s)
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"seed must be an integer >= 0, got {self.seed!r}")
+
+    def storage_url(self, study_name: str) -> str:
+        if self.storage:
+            return self.storage
+        os.makedirs(self.studies_dir, exist_ok=True)
+        return default_url(study_name, self.studies_dir)
+
+    def open(self, study_name: str):
+        return open_storage(self.storage_url(study_name), heartbeat_s=self.heartbeat_s,
+                            grace_s=self.grace_s, max_retry=self.max_retry)
+
+
+# --- samplers and constraints ---------------------------------------------
+
+def check_sampler(name: str) -> str:
+    name = str(name).strip().lower()
+    if name not in SAMPLERS:
+        raise ValueError(f"unknown sampler {name!r}; accepted: {', '.join(SAMPLERS)}")
+    if name == "gp" and importlib.util.find_spec("torch") is None:
+        raise ValueError("--sampler gp needs PyTorch, which is not installed "
+                         "(pip install torch, the CPU build is enough); use tpe or nsga2")
+    return name
+
+
+def make_sampler(name: str, seed: int):
+    """A seeded multi-objective sampler. Constraints reach it through
+    ``Trial.set_constraint`` (Optuna 5 deprecated ``constraints_func``)."""
+    name = check_sampler(name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        if name == "tpe":
+            return optuna.samplers.TPESampler(seed=seed, multivariate=True, constant_liar=True)
+        if name == "nsga2":
+            return optuna.samplers.NSGAIISampler(seed=seed)
+        return optuna.samplers.GPSampler(seed=seed)
+
+
+def worker_seed(seed: int, n_existing: int, index: int) -> int:
+    """Sampler seed of one worker: from the run's seed, the study's size
+    when the run started and the worker's index (so resumed runs and
+    parallel workers do not repeat each other's random proposals)."""
+    return int(np.random.SeedSequence([seed, n_existing, index]).generate_state(1)[0])
+
+
+# --- studies ----------------------------------------------------------------
+
+def _quiet() -> None:
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+
+
+def study_exists(name: str, storage) -> bool:
+    try:
+        storage.get_study_id_from_name(name)
+        return True
+    except KeyError:
+        return False
+
+
+def stored_config(name: str, storage) -> StudyConfig | None:
+    """The config a study was created with, or None (no such study, or not ours)."""
+    if not study_exists(name, storage):
+        return None
+    attrs = storage.get_study_user_attrs(storage.get_study_id_from_name(name))
+    key = attrs.get(CONFIG_ATTR)
+    return StudyConfig.from_key(name, key) if key else None
+
+
+def _differences(a: dict, b: dict, prefix: str = "") -> list[str]:
+    out = []
+    for k in sorted(set(a) | set(b)):
+        va, vb = a.get(k), b.get(k)
+        if isinstance(va, dict) and isinstance(vb, dict):
+            out += _differences(va, vb, f"{prefix}{k}.")
+        elif va != vb:
+            out.append(f"{prefix}{k}: study has {va!r}, asked {vb!r}")
+    return out
+
+
+def create_or_load(config: StudyConfig, storage, sampler=None) -> optuna.Study:
+    """The study `config.name` in `storage`: created with the paper's designs
+    enqueued first, or loaded and checked against `config` (ValueError on
+    a mismatch)."""
+    _quiet()
+    study = optuna.create_study(study_name=config.name, storage=storage, sampler=sampler,
+                                directions=["minimize"] * len(OBJECTIVES), load_if_exists=True)
+    stored = study.user_attrs.get(CONFIG_ATTR)
+    if stored is None:
+        study.set_user_attr(CONFIG_ATTR, config.key())
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+            study.set_metric_names(list(OBJECTIVES))
+        for name, params in config.space.seeds():
+            study.enqueue_trial(params, user_attrs={PAPER_ATTR: name}, skip_if_exists=True)
+    elif stored != config.key():
+        diff = _differences(stored, config.key())
+        raise ValueError(f"study {config.name!r} exists with other settings ({'; '.join(diff)}); "
+                         "use a new --study name or the study's own settings")
+    return study
+
+
+def counts(study) -> tuple[int, int]:
+    """(finished, running): finished = complete, or failed by an error in
+    the evaluation (a trial of a dead worker is retried, not counted)."""
+    done = running = 0
+    for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE, TrialState.FAIL, TrialState.RUNNING)):
+        if t.state == TrialState.RUNNING:
+            running += 1
+        elif t.state == TrialState.COMPLETE or ERROR_ATTR in t.user_attrs:
+            done += 1
+    return done, running
+
+
+# --- the objective, in a worker -------------------------------------------
+
+def _finite(x):
+    return None if x is None or (isinstance(x, float) and not math.isfinite(x)) else x
+
+
+class TrialObjective:
+    """Optuna objective: a design from the space, simulated and scored.
+    Sets the constraints (``hop_height``, ``unstable``; <= 0 feasible) and
+    stores worker, feasibility, hop height, design text and
+    per-behaviour results as trial user attrs."""
+
+    def __init__(self, config: StudyConfig, identity: dict | None = None, tick=None):
+        self.config = config
+        self.identity = identity or worker_identity()
+        self.tick = tick
+
+    def __call__(self, trial) -> tuple[float, float]:
+        trial.set_user_attr(WORKER_ATTR, self.identity)
+        try:
+            design = self.config.space.suggest(trial)
+            ev = evaluate(design, self.config.objective, tick=self.tick)
+        except Exception as e:
+            trial.set_user_attr(ERROR_ATTR, f"{type(e).__name__}: {e}"[:500])
+            raise
+        rows = [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour]
+        for name, value in zip(CONSTRAINTS, ev.constraints):
+            trial.set_constraint(name, value)
+        trial.set_user_attr("feasible", ev.feasible)
+        trial.set_user_attr("hop_height_m", _finite(ev.hop_height_m))
+        trial.set_user_attr("design", design.name)
+        trial.set_user_attr("result", {"per_behaviour": rows, "total_mass_kg": ev.total_mass_kg,
+                                       "simulated_s": ev.simulated_s})
+        return ev.values
+
+
+def _claim(tickets, study, target: int) -> bool:
+    """Take one trial from this run's budget, unless the study (other
+    machines included) already has enough finished or running."""
+    with tickets.get_lock():
+        if tickets.value <= 0:
+            return False
+        tickets.value -= 1
+    done, running = counts(study)
+    if done + running >= target:
+        with tickets.get_lock():
+            tickets.value += 1
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class _Job:
+    name: str
+    config_key: dict
+    options: RunOptions
+    url: str
+    seed: int
+    target: int
+
+
+def _worker_main(job: _Job, tickets, conn) -> None:
+    """One worker process: claim, run one trial, repeat; report what it told."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)       # the coordinator handles Ctrl-C
+    _quiet()
+    o = job.options
+    storage = open_storage(job.url, heartbeat_s=o.heartbeat_s, grace_s=o.grace_s, max_retry=o.max_retry)
+    study = optuna.load_study(study_name=job.name, storage=storage, sampler=make_sampler(o.sampler, job.seed))
+    objective = TrialObjective(StudyConfig.from_key(job.name, job.config_key))
+    told = []
+    record = lambda s, t: told.append((t.number, t.state.name))
+    while _claim(tickets, study, job.target):
+        study.optimize(objective, n_trials=1, catch=(Exception,), callbacks=[record])
+    conn.send({"pid": os.getpid(), "seed": job.seed, "told": told})
+    conn.close()
+
+
+# --- the coordinator ---------------------------------------------------------
+
+@dataclass
+class RunResult:
+    """What a run did. worker_reports: one dict per worker that exited
+    normally (pid, seed, told = [(trial number, state)]); dead_workers:
+    (pid, exit code) of the others; recovered: trials failed and
+    re-enqueued because their worker died."""
+
+    study: str
+    url: str
+    target: int
+    done: int
+    running: int
+    worker_reports: list = field(default_factory=list)
+    dead_workers: list = field(default_factory=list)
+    recovered: list = field(default_factory=list)
+
+    @property
+    def finished(self) -> bool:
+        return self.done >= self.target
+
+
+def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunResult:
+    """Run `config`'s study until it holds options.trials finished trials,
+    with options.workers local worker processes (see the module doc).
+    Bad settings or an unreachable storage raise ValueError before any work."""
+    check_sampler(options.sampler)
+    url = options.storage_url(config.name)
+    storage = options.open(config.name)
+    study = create_or_load(config, storage)
+    recovered = recover_dead(study, max_retry=options.max_retry, reason="worker of an earlier run died")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        optuna.storages.fail_stale_trials(study)
+    done, running = counts(study)
+    result = RunResult(config.name, redact(url), options.trials, done, running, recovered=recovered)
+    budget = options.trials - done - running
+    if budget <= 0:
+        return result
+
+    # fork: workers start at once with everything imported (spawn re-imports
+    # mujoco, numba and optuna: seconds per worker). Children never touch the
+    # parent's connections; they open their own storage.
+    ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+    tickets = ctx.Value("i", budget)
+    n_existing = len(study.get_trials(deepcopy=False))
+    live: dict[int, tuple] = {}
+    spawned = 0
+
+    def spawn(n):
+        nonlocal spawned
+        for _ in range(n):
+            job = _Job(config.name, config.key(), options, url,
+                       worker_seed(options.seed, n_existing, spawned), options.trials)
+            parent_end, child_end = ctx.Pipe(duplex=False)
+            p = ctx.Process(target=_worker_main, args=(job, tickets, child_end), daemon=True,
+                            name=f"mat-hopper-worker-{spawned}")
+            p.start()
+            child_end.close()
+            live[p.pid] = (p, parent_end)
+            spawned += 1
+
+    def reap():
+        for pid, (p, conn) in list(live.items()):
+            if conn.poll():
+                try:
+                    result.worker_reports.append(conn.recv())
+                except EOFError:
+                    pass
+            if p.is_alive():
+                continue
+            p.join()
+            if conn.poll():
+                try:
+                    result.worker_reports.append(conn.recv())
+                except EOFError:
+                    pass
+            del live[pid]
+            if p.exitcode != 0:
+                result.dead_workers.append((pid, p.exitcode))
+                lost = recover_dead(study, pids={pid}, max_retry=options.max_retry,
+                                    reason=f"worker exited with code {p.exitcode}")
+                result.recovered += lost
+                with tickets.get_lock():
+                    tickets.value += len(lost)
+
+    spawn(min(options.workers, budget))
+    from tqdm.auto import tqdm
+    bar = tqdm(total=options.trials, initial=min(done, options.trials), unit="trial", desc=config.name,
+               disable=not options.progress, dynamic_ncols=True, file=sys.stderr, mininterval=1.0)
+    max_spawn = options.workers + options.workers * (options.max_retry + 1)
+    told_before, recovered_before = 0, len(result.recovered)
+    try:
+        while True:
+            reap()
+            done, running = counts(study)
+            bar.n = min(done, options.trials)
+            bar.set_postfix(running=running, dead=len(result.dead_workers), refresh=False)
+            bar.refresh()
+            if not live:
+                told = sum(len(r["told"]) for r in result.worker_reports)
+                progress = told > told_before or len(result.recovered) > recovered_before
+                told_before, recovered_before = told, len(result.recovered)
+                if done < options.trials and tickets.value > 0 and spawned < max_spawn and progress:
+                    spawn(min(options.workers, tickets.value))
+                    continue
+                break
+            time.sleep(POLL_S)
+    except KeyboardInterrupt:
+        for p, _ in live.values():
+            p.terminate()
+        for p, _ in live.values():
+            p.join(10)
+        recover_dead(study, pids=set(live), max_retry=options.max_retry, reason="interrupted")
+        raise
+    finally:
+        bar.close()
+    result.done, result.running = counts(study)
+    return result
+
+
+# --- command line ------------------------------------------------------------
+
+def _pair(text, flag):
+    if text is None:
+        return None
+    parts = [p for p in str(text).split(",") if p.strip()]
+    if len(parts) != 2:
+        raise ValueError(f"{flag} must be MIN,MAX, got {text!r}")
+    try:
+        return tuple(float(p) for p in parts)
+    except ValueError:
+        raise ValueError(f"{flag} must be two numbers MIN,MAX, got {text!r}") from None
+
+
+def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
+    """Study settings from the command line; options left out take the
+    stored study's values (resuming) or the defaults (new study)."""
+    base = stored or StudyConfig(args.study)
+    sp, ob = base.space, base.objective
+    n = args.segments if args.segments is not None else sp.n_segments
+    kinds = args.space if args.space is not None else (sp.kinds if n == sp.n_segments else sp.kinds[0])
+    if isinstance(kinds, str) and kinds.strip().lower() in ("mix", "mixed"):
+        raise ValueError(f"--space mix: give one kind per segment, e.g. catalogue,continuous,continuous "
+                         f"(kinds: {', '.join(KINDS)})")
+    space = SearchSpace(
+        n_segments=n, kinds=kinds,
+        density_g_cm3=_pair(args.density_bounds, "--density-bounds") or sp.density_g_cm3,
+        modulus_gpa=_pair(args.modulus_bounds, "--modulus-bounds") or sp.modulus_gpa,
+        materials=args.materials if args.materials is not None else sp.materials)
+    objective = Objective(
+        behaviours=args.behaviour if args.behaviour is not None else ob.behaviours,
+        profile=get_profile(args.profile) if args.profile is not None else ob.profile,
+        convention=args.convention if args.convention is not None else ob.convention,
+        hop_height_target_m=ob.hop_height_target_m, hop_height_tolerance_m=ob.hop_height_tolerance_m)
+    return StudyConfig(args.study, space, objective)
+
+
+def _options_from_args(args, trials: int = 1) -> RunOptions:
+    return RunOptions(trials=trials, workers=args.workers, sampler=args.sampler, seed=args.seed,
+                      storage=args.storage, studies_dir=args.studies_dir, progress=not args.no_progress)
+
+
+def open_existing(name: str, args):
+    """Storage holding an existing study `name` (ValueError if none)."""
+    check_study_name(name)
+    options = _options_from_args(args)
+    if not args.storage:
+        path = os.path.join(args.studies_dir, f"{name}.db")
+        if not os.path.exists(path):
+            raise ValueError(f"no study {name!r}: {path} does not exist (give --storage URL for a shared study)")
+    storage = options.open(name)
+    if not study_exists(name, storage):
+        raise ValueError(f"no study {name!r} in {redact(options.storage_url(name))}")
+    return storage
+
+
+def cmd_optimize(args) -> int:
+    if args.report or args.replay is not None:
+        from .optimize_report import cmd_report, cmd_replay
+        name = args.report or args.study
+        if not name:
+            raise ValueError("--replay TRIAL needs --study NAME (or --report NAME)")
+        storage = open_existing(name, args)
+        if args.replay is not None:
+            return cmd_replay(name, storage, args)
+        return cmd_report(name, storage, args)
+    if not args.study:
+        raise ValueError("give --study NAME (or --report NAME)")
+    if args.trials is None or args.trials < 1:
+        raise ValueError(f"--trials must be an integer >= 1, got {args.trials!r}")
+    options = _options_from_args(args, args.trials)
+    check_sampler(options.sampler)
+    config_from_args(args, None)              # bad settings fail here, before any file is made
+    storage = options.open(args.study)
+    config = config_from_args(args, stored_config(args.study, storage))
+    del storage
+    res = run_study(config, options)
+    print(f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
+          + (f", {res.running} still running elsewhere" if res.running else ""))
+    if res.dead_workers:
+        print(f"{len(res.dead_workers)} worker(s) died (pid, exit code): {res.dead_workers}; "
+              f"trials failed and re-queued: {res.recovered}")
+    print(f"report: mat-hopper optimize --report {res.study}"
+          + (f" --storage '{res.url}'" if args.storage else ""))
+    if not res.finished and not res.running:
+        print("the study is short of its target: run the same command again to resume", file=sys.stderr)
+        return 1
+    return 0
+
+
+def register_cli(sub) -> None:
+    p = sub.add_parser(
+        "optimize", help="search leg designs with Optuna (multi-objective, resumable, parallel)",
+        description="Search per-segment densities and moduli (or catalogue materials) for low tracking "
+                    "error and hip power, hop height 1 +- 0.05 m and stable runs. Starts from the "
+                    "paper's SS, rho-inc and PVC-Ti-SS designs.")
+    p.add_argument("--study", help="study name (letters, digits, _ . -); resumes if it exists")
+    p.add_argument("--trials", type=int, default=200, help="study size: finished trials to reach (200)")
+    p.add_argument("--behaviour", "--behavior", dest="behaviour",
+                   help="behaviour, or comma-separated behaviours (objectives averaged), default ramp")
+    p.add_argument("--segments", type=int, help="segments per leg (default 3)")
+    p.add_argument("--space", help="continuous (default), catalogue, or one kind per segment, e.g. "
+                                   "catalogue,continuous,continuous")
+    p.add_argument("--density-bounds", help="MIN,MAX g/cm^3 for continuous segments (default 0.9,20)")
+    p.add_argument("--modulus-bounds", help="MIN,MAX GPa for continuous segments (default 0.1,1000)")
+    p.add_argument("--materials", help="catalogue choices, comma-separated (default: all with a modulus)")
+    p.add_argument("--profile", help=f"run profile: {' or '.join(PROFILES)} (default paper: 60 s runs, "
+                                     "20 s transient, 1e-4 s step; quick: 8 s, 3 s)")
+    p.add_argument("--convention", help="stiffness convention: paper (default) or axial")
+    p.add_argument("--workers", type=int, default=DEFAULT_WORKERS, help="worker processes here (2)")
+    p.add_argument("--storage", help="Optuna storage URL (default sqlite:///STUDIES_DIR/NAME.db); "
+                                     "postgresql://USER@HOST:PORT/DB or journal:///PATH for shared studies")
+    p.add_argument("--studies-dir", default="studies", help="folder of the default SQLite files (studies)")
+    p.add_argument("--sampler", default="tpe", help=f"one of {', '.join(SAMPLERS)} (tpe)")
+    p.add_argument("--seed", type=int, default=0, help="sampler seed (0)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
+    p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
+    p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")
+    p.add_argument("--render", action="store_true", help="with --replay: also render it (mat_hopper.render)")
+    p.set_defaults(func=cmd_optimize)
+
+
+def _main(argv=None) -> int:
+    from .cli import main
+    return main(["optimize", *(sys.argv[1:] if argv is None else argv)])
+
+
+if __name__ == "__main__":
+    sys.exit(_main())
