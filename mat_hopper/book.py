@@ -1,0 +1,626 @@
+"""Small helpers for the executable book (``notebooks/``).
+
+The book's chapters are notebooks of narrative over library calls; what a
+chapter computes that is not a result of its own module lives here, with
+tests (``tests/test_book.py``):
+
+- where things are: :func:`repo_root` (walks up to the ``pyproject.toml``
+  of mat-hopper, so a notebook runs from its own folder, the repository
+  root or anywhere below it), :func:`setup` (one call at the top of every
+  chapter: root, profile, cache folder, figure format);
+- the profile of the build: ``MAT_HOPPER_PROFILE`` (``paper`` or
+  ``quick``) chooses it for the whole book, :func:`profile_table` sets it
+  beside the paper's protocol;
+- small tables and figures of the early chapters: the designs
+  (:func:`designs_figure`), porosity of the density sweeps
+  (:func:`sweep_porosity_table`), masses from densities
+  (:func:`mass_table`), the two stiffness conventions and their stable
+  time steps (:func:`stiffness_table`, :func:`convention_stability`,
+  :func:`convention_figure`), one rollout's controller signals
+  (:func:`controller_figure`);
+- the results chapters: :func:`run_experiments` (the reproduction, cached
+  under ``results/``), percent changes against a baseline
+  (:func:`pct_change_table`) and the paper's claims beside ours, chapter
+  by chapter (:func:`chapter_claims`).
+
+Units: densities g/cm^3, moduli GPa, stiffness N/m, masses kg, times s.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from . import reference as ref
+from .experiments import PROFILE_ENV, PROFILES, Profile, get_profile
+from .materials import CONVENTIONS, LegDesign, Material, material, paper_designs, spring_stiffness
+from .runner import CACHE_ENV, DEFAULT_CACHE_DIR
+
+PROJECT_NAME = "mat-hopper"
+
+
+# ---------------------------------------------------------------------------
+# where things are
+
+
+def _is_root(folder: Path) -> bool:
+    f = folder / "pyproject.toml"
+    if not f.is_file():
+        return False
+    try:
+        text = f.read_text(encoding="utf-8")
+    except OSError:
+        return False
+    return f'name = "{PROJECT_NAME}"' in text
+
+
+def repo_root(start: str | os.PathLike | None = None) -> Path:
+    """The repository root: the nearest folder at or above `start` (default
+    the current folder) whose pyproject.toml names mat-hopper; failing
+    that, the one above this package's source (an editable install)."""
+    here = Path(start if start is not None else os.getcwd()).resolve()
+    for folder in (here, *here.parents):
+        if _is_root(folder):
+            return folder
+    pkg = Path(__file__).resolve().parent
+    for folder in pkg.parents:
+        if _is_root(folder):
+            return folder
+    raise ValueError(f"no mat-hopper repository (pyproject.toml naming {PROJECT_NAME}) at or above {here} "
+                     f"nor above {pkg}")
+
+
+@dataclass(frozen=True)
+class Book:
+    """What a chapter needs to know: the repository root, the profile of
+    the build, the result cache and the reproduction's output folder."""
+
+    root: Path
+    profile: Profile
+    cache_dir: Path
+    out_dir: Path
+
+    def describe(self) -> str:
+        p = self.profile
+        return (f"profile {p.name}: {p.duration_s:g} s runs at dt = {p.timestep_s:g} s,\n"
+                f"hop cycles after {p.transient_s:g} s scored, stiffness convention {p.convention}")
+
+
+def setup(profile: str | Profile | None = None, *, chdir: bool = True, figure_format: str = "retina") -> Book:
+    """Prepare a chapter: find the repository root (and make it the current
+    folder, so relative paths are the repository's), pick the profile
+    (argument, else $MAT_HOPPER_PROFILE, else paper), point the result
+    cache at ``<root>/results/cache`` unless $MAT_HOPPER_CACHE says
+    otherwise, and, inside IPython, show matplotlib figures inline as PNG
+    (``retina``: twice the pixels) or SVG."""
+    root = repo_root()
+    prof = get_profile(profile)
+    cache = Path(os.environ.get(CACHE_ENV) or root / DEFAULT_CACHE_DIR)
+    if not cache.is_absolute():
+        cache = root / cache
+    os.environ[CACHE_ENV] = str(cache)
+    if chdir:
+        os.chdir(root)
+    _inline_figures(figure_format)
+    return Book(root, prof, cache, root / "results" / prof.name)
+
+
+def _inline_figures(fmt: str) -> None:
+    if fmt not in ("png", "retina", "svg"):
+        raise ValueError(f"figure_format must be png, retina or svg, got {fmt!r}")
+    try:
+        from IPython import get_ipython
+    except ImportError:        # pragma: no cover (IPython is a dependency of the book only)
+        return
+    if get_ipython() is None:
+        return
+    import warnings
+    with warnings.catch_warnings():     # tqdm.auto warns once, on import, when ipywidgets is missing;
+        warnings.simplefilter("ignore")  # the book shows no progress bars (progress=False everywhere)
+        import tqdm.auto  # noqa: F401
+    from matplotlib_inline.backend_inline import set_matplotlib_formats
+    set_matplotlib_formats(fmt)
+
+
+def show(frame: pd.DataFrame, formats: dict | None = None, *, index: bool = False, na_rep: str = "–",
+         precision: int = 4):
+    """A table for the page: pandas Styler with floats to `precision`
+    significant digits (``formats``: column -> format string or callable,
+    e.g. ``{"porosity": "{:+.0%}"}``), missing values as `na_rep`, and the
+    row index hidden unless `index`."""
+    def number(v):
+        if isinstance(v, (bool, np.bool_)):
+            return str(v)
+        if isinstance(v, (int, np.integer)):
+            return f"{v:d}"
+        if isinstance(v, (float, np.floating)):
+            return f"{v:.{precision}g}"
+        return str(v)
+    st = frame.style.format(number, na_rep=na_rep)
+    if formats:
+        st = st.format({k: v for k, v in formats.items() if k in frame.columns}, na_rep=na_rep)
+    return st if index else st.hide(axis="index")
+
+
+# ---------------------------------------------------------------------------
+# the profile
+
+
+_PROFILE_FIELDS = (
+    ("duration_s", "run length (s of simulated time)"),
+    ("transient_s", "transient, hop cycles before it not scored (s)"),
+    ("timestep_s", "physics time step (s)"),
+    ("record_rate_hz", "recorded samples per simulated second (Hz)"),
+    ("convention", "modulus-to-stiffness convention"),
+    ("stability_grid_size", "stable-time-step map: designs per axis"),
+    ("stability_duration_s", "stable-time-step map: static hopping per try (s)"),
+)
+
+
+def profile_table(profile: str | Profile | None = None) -> pd.DataFrame:
+    """The profile's settings beside the paper's protocol (the ``paper``
+    profile): columns setting, meaning, this build, paper."""
+    prof = get_profile(profile)
+    paper = PROFILES["paper"]
+    rows = [{"setting": f, "meaning": m, "this build": getattr(prof, f), "paper": getattr(paper, f)}
+            for f, m in _PROFILE_FIELDS]
+    return pd.DataFrame(rows)
+
+
+def environment_table() -> pd.DataFrame:
+    """Versions that change results (mat-hopper, MuJoCo) and the profile
+    variable as set, one row each (columns item, value)."""
+    from .runner import versions
+    v = versions()
+    rows = [("mat-hopper", v["mat_hopper"]), ("MuJoCo", v["mujoco"]),
+            (f"${PROFILE_ENV}", os.environ.get(PROFILE_ENV) or "(unset: paper)")]
+    return pd.DataFrame(rows, columns=["item", "value"])
+
+
+# ---------------------------------------------------------------------------
+# designs and materials
+
+
+def design_table(designs: dict[str, LegDesign] | None = None) -> pd.DataFrame:
+    """One row per design and segment (1 nearest the base): design,
+    segment, material, density_g_cm3, modulus_gpa (nan: rigid)."""
+    designs = paper_designs() if designs is None else designs
+    rows = []
+    for name, d in designs.items():
+        for i, m in enumerate(d.segments, start=1):
+            rows.append({"design": name, "segment": i, "material": m.name, "density_g_cm3": m.density_g_cm3,
+                         "modulus_gpa": np.nan if m.modulus_gpa is None else m.modulus_gpa})
+    return pd.DataFrame(rows)
+
+
+def designs_figure(designs: dict[str, LegDesign] | None = None):
+    """The legs side by side: one column of segments per design (segment 1
+    at the top, nearest the base), coloured by density (left panel) and by
+    modulus (right panel, grey: rigid), both on log colour scales."""
+    from matplotlib import rc_context
+    from matplotlib.colors import LogNorm
+    from matplotlib.figure import Figure
+
+    from .plots import STYLE, design_label
+    t = design_table(designs)
+    names = list(dict.fromkeys(t["design"]))
+    n_seg = int(t["segment"].max())
+    with rc_context({**STYLE, "axes.grid": False}):
+        fig = Figure(figsize=(9.0, 3.0), layout="constrained")
+        axes = fig.subplots(1, 2)
+        for ax, col, label, cmap in ((axes[0], "density_g_cm3", "Density (g/cm³)", "cividis"),
+                                     (axes[1], "modulus_gpa", "Modulus (GPa)", "viridis")):
+            grid = np.full((n_seg, len(names)), np.nan)
+            for r in t.itertuples():
+                grid[r.segment - 1, names.index(r.design)] = getattr(r, col)
+            vals = grid[np.isfinite(grid)]
+            norm = LogNorm(vmin=vals.min(), vmax=vals.max())
+            ax.set_facecolor("#bbbbbb")
+            mesh = ax.pcolormesh(np.arange(len(names) + 1), np.arange(n_seg + 1), np.ma.masked_invalid(grid),
+                                 norm=norm, cmap=cmap, edgecolors="white", linewidth=1.5)
+            for (i, j), v in np.ndenumerate(grid):
+                txt = "rigid" if not np.isfinite(v) else f"{v:g}"
+                light = np.isfinite(v) and norm(v) < 0.5
+                ax.text(j + 0.5, i + 0.5, txt, ha="center", va="center", fontsize=7,
+                        color="white" if light else "black")
+            ax.set_xticks(np.arange(len(names)) + 0.5)
+            ax.set_xticklabels([design_label(n) for n in names], rotation=45, ha="right")
+            ax.set_yticks(np.arange(n_seg) + 0.5)
+            ax.set_yticklabels([f"segment {i}" for i in range(1, n_seg + 1)])
+            ax.invert_yaxis()
+            ax.set_title(label + ", base at the top, foot at the bottom")
+            cb = fig.colorbar(mesh, ax=ax, pad=0.01, fraction=0.05)
+            cb.ax.minorticks_off()
+            cb.set_ticks([v for v in (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000) if vals.min() <= v <= vals.max()])
+            cb.ax.yaxis.set_major_formatter("{x:g}")
+    return fig
+
+
+def sweep_porosity_table() -> pd.DataFrame:
+    """The density sweeps of experiment 2 read as porosity of the base
+    material: for each sweep density rho_b, Phi = 1 - rho_b / rho_s with
+    rho_s the base material's own density. Phi < 0 marks a density above
+    the solid's: no porosity reaches it, it needs a denser material.
+    Columns: base, density_g_cm3, porosity, reachable_by_porosity."""
+    rows = []
+    for base, sweeps in ref.SWEEPS.items():
+        rho_s = ref.MONO_MATERIALS[base][0]
+        for rho in sweeps["density"]:
+            phi = 1.0 - rho / rho_s
+            rows.append({"base": base, "density_g_cm3": float(rho), "porosity": phi,
+                         "reachable_by_porosity": bool(phi >= 0)})
+    return pd.DataFrame(rows)
+
+
+def _capsule_volume_m3(radius_m: float, length_m: float) -> float:
+    return math.pi * radius_m**2 * length_m + 4.0 / 3.0 * math.pi * radius_m**3
+
+
+def mass_table(designs: dict[str, LegDesign] | None = None) -> pd.DataFrame:
+    """Mass from density, per design: the capsule mass of each material
+    segment (kg; two half capsules, end caps included, m = rho V) and the
+    whole robot's mass as MuJoCo computes it from the compiled model (kg).
+    Columns: design, densities_g_cm3, segment_masses_kg, leg_material_kg,
+    total_mass_kg."""
+    from .model import build_model
+    designs = paper_designs() if designs is None else designs
+    rows = []
+    for name, d in designs.items():
+        half = ref.MATERIAL_LENGTH / d.n_segments / 2.0
+        v_half = _capsule_volume_m3(ref.MATERIAL_RADIUS, half)
+        seg = [2.0 * v_half * m.density_kg_m3 for m in d.segments]
+        rows.append({"design": name, "densities_g_cm3": "/".join(f"{x:g}" for x in d.densities_g_cm3),
+                     "segment_masses_kg": "/".join(f"{x:.3f}" for x in seg), "leg_material_kg": sum(seg),
+                     "total_mass_kg": build_model(d).total_mass_kg})
+    return pd.DataFrame(rows)
+
+
+def segment_xml(design: LegDesign | str, segment: int = 1, convention: str = "paper") -> str:
+    """The MJCF lines that make one material segment of a design: its upper
+    half capsule, the child body, the axial spring joint (none for a rigid
+    material) and the lower half capsule, as MuJoCo writes the model."""
+    from .materials import parse_design
+    from .model import build_spec
+    d = parse_design(design) if isinstance(design, str) else design
+    if not 1 <= int(segment) <= d.n_segments:
+        raise ValueError(f"segment must be in 1..{d.n_segments}, got {segment!r}")
+    i = int(segment)
+    keys = (f'name="seg{i}_upper"', f'<body name="seg{i}"', f'name="mat_spring_{i}"', f'name="seg{i}_lower"')
+    lines = [ln for ln in build_spec(d, convention=convention).to_xml().splitlines() if any(k in ln for k in keys)]
+    indent = min(len(ln) - len(ln.lstrip()) for ln in lines)
+    return "\n".join(ln[indent:] for ln in lines)
+
+
+def stiffness_table(names=("PVC", "Al", "Ti", "SS"), n_segments: int = ref.REFERENCE_SEGMENTS) -> pd.DataFrame:
+    """Spring stiffness (N/m) of one segment under each convention, per
+    catalogue material: columns material, modulus_gpa, k_paper_n_m,
+    k_axial_n_m, axial_over_paper."""
+    rows = []
+    for n in names:
+        m = material(n)
+        if m.rigid:
+            raise ValueError(f"material {n} is rigid: it has no spring")
+        kp = spring_stiffness(m.modulus_gpa, "paper", n_segments)
+        ka = spring_stiffness(m.modulus_gpa, "axial", n_segments)
+        rows.append({"material": m.name, "modulus_gpa": m.modulus_gpa, "k_paper_n_m": kp, "k_axial_n_m": ka,
+                     "axial_over_paper": ka / kp})
+    return pd.DataFrame(rows)
+
+
+def convention_tasks(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
+                     conventions=CONVENTIONS) -> list:
+    """Stable-time-step measurements (runner tasks, cached) of the
+    mono-material legs under each convention, with the profile's try
+    length, tolerance and tries (no 20-step spec scan)."""
+    from .stability import StabilitySpec
+    prof = get_profile(profile)
+    out = []
+    for conv in conventions:
+        for n in names:
+            d = LegDesign.mono(n)
+            labels = {"experiment": "conventions", "profile": prof.name, "convention": conv, "design": d.name}
+            out.append(StabilitySpec(d, duration_s=prof.stability_duration_s, tolerance=prof.stability_tolerance,
+                                     max_iter=prof.stability_max_iter, scan=False, convention=conv,
+                                     labels=labels))
+    return out
+
+
+def convention_stability(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
+                         conventions=CONVENTIONS, *, cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+    """Largest stable time step per material and convention: measured (the
+    bracket [max_stable_timestep_s, unstable_timestep_s] of
+    :mod:`mat_hopper.stability`) and estimated (analytic_timestep_s, 2 /
+    w_max of the leg's spring chain), one row each, with the stiffest
+    material spring (material_spring_n_m; nan for the rigid MD leg)."""
+    from .runner import FAILED, run_grid
+    res = run_grid(convention_tasks(names, profile, conventions), cache_dir, workers=workers, progress=False,
+                   desc="conventions")
+    s = res.summary
+    if (s["status"] == FAILED).any():
+        bad = s[s["status"] == FAILED]
+        raise RuntimeError("stability measurement failed: " + "; ".join(
+            f"{r.design} ({r.convention}): {r.error}" for r in bad.itertuples()))
+    keep = ["design", "convention", "max_material_spring_n_m", "analytic_timestep_s", "max_stable_timestep_s",
+            "unstable_timestep_s"]
+    out = s[keep].rename(columns={"max_material_spring_n_m": "material_spring_n_m"})
+    return out.reset_index(drop=True)
+
+
+def convention_figure(table: pd.DataFrame):
+    """Two panels per material, both conventions side by side: the material
+    spring's stiffness (N/m) and the largest stable time step (s; bar:
+    measured, with its bracket; marker: the estimate 2 / w_max), log
+    scales. table: from :func:`convention_stability`."""
+    from matplotlib import rc_context
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from .plots import STYLE
+    need = ("design", "convention", "material_spring_n_m", "analytic_timestep_s", "max_stable_timestep_s",
+            "unstable_timestep_s")
+    missing = [c for c in need if c not in table.columns]
+    if missing:
+        raise ValueError(f"convention_figure needs columns {missing}")
+    designs = list(dict.fromkeys(table["design"]))
+    convs = [c for c in CONVENTIONS if c in set(table["convention"])]
+    colours = {"paper": "#0173b2", "axial": "#de8f05"}
+    w = 0.8 / max(len(convs), 1)
+    with rc_context(STYLE):
+        fig = Figure(figsize=(9.0, 3.4), layout="constrained")
+        ax_k, ax_dt = fig.subplots(1, 2)
+        for ci, conv in enumerate(convs):
+            sub = table[table["convention"] == conv].set_index("design").reindex(designs)
+            x = np.arange(len(designs)) - 0.4 + w * (ci + 0.5)
+            k = sub["material_spring_n_m"].to_numpy(float)
+            ok = np.isfinite(k)
+            ax_k.bar(x[ok], k[ok], w * 0.9, color=colours.get(conv), label=conv)
+            lo = sub["max_stable_timestep_s"].to_numpy(float)
+            hi = sub["unstable_timestep_s"].to_numpy(float)
+            ok = np.isfinite(lo)
+            ax_dt.bar(x[ok], lo[ok], w * 0.9, color=colours.get(conv), alpha=0.85)
+            both = ok & np.isfinite(hi)
+            ax_dt.vlines(x[both], lo[both], hi[both], color="black", lw=1.0)
+            ax_dt.plot(x, sub["analytic_timestep_s"].to_numpy(float), "D", ms=4.5, color="black",
+                       markerfacecolor="white", zorder=4)
+        for ax in (ax_k, ax_dt):
+            ax.set_yscale("log")
+            ax.set_xticks(np.arange(len(designs)))
+            ax.set_xticklabels(designs)
+            ax.grid(False, axis="x")
+        for i, d in enumerate(designs):
+            if d in table["design"].values and table.loc[table["design"] == d, "material_spring_n_m"].isna().all():
+                ax_k.text(i, 0.02, "rigid:\nno spring", transform=ax_k.get_xaxis_transform(), ha="center",
+                          va="bottom", fontsize=7, color="#555555")
+        k_all = table["material_spring_n_m"].to_numpy(float)
+        if np.isfinite(k_all).any():
+            ax_k.set_ylim(np.nanmin(k_all) / 5, np.nanmax(k_all) * 2)
+        dt_all = table[["max_stable_timestep_s", "analytic_timestep_s"]].to_numpy(float)
+        if np.isfinite(dt_all).any():
+            ax_dt.set_ylim(np.nanmin(dt_all) / 3, np.nanmax(dt_all) * 3)
+        ax_k.set_ylabel("Material spring stiffness (N/m)")
+        ax_dt.set_ylabel("Largest stable time step (s)")
+        ax_dt.axhline(ref.TIMESTEP_S, color="#555555", lw=0.8, ls=":")
+        ax_dt.text(1.0, ref.TIMESTEP_S, " paper's dt", transform=ax_dt.get_yaxis_transform(), va="center",
+                   ha="left", fontsize=7, color="#555555")
+        handles = [Patch(color=colours.get(c), label=f"{c} convention") for c in convs]
+        handles += [Line2D([], [], color="black", lw=1.0, label="measured bracket (stable to unstable)"),
+                    Line2D([], [], ls="none", marker="D", ms=4.5, color="black", markerfacecolor="white",
+                           label="estimate 2/ω_max")]
+        fig.legend(handles=handles, loc="outside upper center", ncols=len(handles))
+    return fig
+
+
+# ---------------------------------------------------------------------------
+# the hopper and its controller
+
+
+_JOINT_TYPES = {0: "free", 1: "ball", 2: "slide", 3: "hinge"}
+
+
+def joint_table(design: LegDesign | str = "SS", convention: str = "paper") -> pd.DataFrame:
+    """Every joint of the compiled hopper, from the base down: name, type
+    (slide m, hinge rad), stiffness (N/m or N m/rad), damping, range (nan:
+    unlimited), the body it moves."""
+    from .materials import parse_design
+    from .model import build_model
+    d = parse_design(design) if isinstance(design, str) else design
+    m = build_model(d, convention=convention).model
+    rows = []
+    for j in range(m.njnt):
+        jt = m.joint(j)
+        limited = bool(m.jnt_limited[j])
+        lo, hi = (float(m.jnt_range[j, 0]), float(m.jnt_range[j, 1])) if limited else (np.nan, np.nan)
+        rows.append({"joint": jt.name, "type": _JOINT_TYPES.get(int(m.jnt_type[j]), str(m.jnt_type[j])),
+                     "body": m.body(int(m.jnt_bodyid[j])).name, "stiffness": float(m.jnt_stiffness[j]),
+                     "damping": float(m.dof_damping[m.jnt_dofadr[j]]), "range_low": lo, "range_high": hi})
+    return pd.DataFrame(rows)
+
+
+def gains_table(settings=None) -> pd.DataFrame:
+    """The controller's settings (defaults: the reference hopper's), one
+    row each: setting, value (units in the names: _s, _n, _m, _m_s; hip
+    gains per rad before the 600:1 gear)."""
+    from dataclasses import asdict
+
+    from .control import ControllerSettings
+    settings = ControllerSettings() if settings is None else settings
+    return pd.DataFrame([{"setting": k, "value": v} for k, v in asdict(settings).items()])
+
+
+# ---------------------------------------------------------------------------
+# one rollout, up close
+
+
+def controller_figure(rollout, window_s: tuple[float, float] | None = None):
+    """The controller at work in one rollout: left, the whole run (hop
+    apex heights against the 1 m target, the adaptive thrust setting F,
+    tracking error); right, a short window (default: 1.5 s after the
+    transient) with stance shaded: base height, thrust force on the foot
+    spring, hip pitch angle against its target, base x against the
+    desired x. Times are simulated seconds."""
+    from matplotlib import rc_context
+    from matplotlib.figure import Figure
+
+    from .plots import STYLE
+    from .sim import C
+    d = rollout.data
+    if len(d) < 2:
+        raise ValueError("controller_figure: the rollout recorded fewer than 2 samples")
+    t = d[:, C["t"]]
+    if window_s is None:
+        t0 = min(rollout.settings.transient_s, max(float(t[-1]) - 1.5, 0.0))
+        window_s = (t0, t0 + 1.5)
+    w0, w1 = float(window_s[0]), float(window_s[1])
+    if not w1 > w0:
+        raise ValueError(f"window_s must be (start, end) with end > start s, got {window_s!r}")
+    sel = (t >= w0) & (t <= w1)
+    err = np.hypot(d[:, C["x"]] - d[:, C["x_des"]], d[:, C["y"]] - d[:, C["y_des"]])
+    from .control import TOUCHDOWN
+    ev = rollout.events[rollout.events[:, 1] == TOUCHDOWN]
+    apex_t, apex_h = ev[:, 0], ev[:, 2]        # the controller's hop height, logged at each touchdown
+    ok = np.isfinite(apex_h)
+    stance = d[:, C["phase"]] > 0.5
+    transient = rollout.settings.transient_s
+    with rc_context(STYLE):
+        fig = Figure(figsize=(10.0, 7.0), layout="constrained")
+        axes = fig.subplots(4, 2, sharex="col")
+        # left: whole run
+        a = axes[0, 0]
+        a.plot(apex_t[ok], apex_h[ok], ".", ms=3, color="#0173b2")
+        a.axhline(ref.HOP_HEIGHT_TARGET, color="black", lw=0.8, ls="--")
+        a.set_ylabel("Hop apex (m)")
+        a.set_title(f"{rollout.design.name}, {rollout.behaviour.name} hopping: the whole run")
+        axes[1, 0].plot(t, d[:, C["thrust_setting"]], color="#d55e00", lw=1.0)
+        axes[1, 0].set_ylabel("Thrust setting F (N)")
+        axes[2, 0].plot(t, np.degrees(d[:, C["hip_y"]]), color="#029e73", lw=0.6)
+        axes[2, 0].set_ylabel("Hip pitch (deg)")
+        axes[3, 0].plot(t, err * 1e3, color="#cc78bc", lw=0.8)
+        axes[3, 0].set_ylabel("Tracking error (mm)")
+        axes[3, 0].set_xlabel("Simulated time (s)")
+        for a in axes[:, 0]:
+            if transient > 0:
+                a.axvspan(0, transient, color="black", alpha=0.06, lw=0)
+            a.axvspan(w0, w1, color="#de8f05", alpha=0.25, lw=0)
+        # right: the window
+        tw = t[sel]
+        axes[0, 1].plot(tw, d[sel, C["z"]], color="#0173b2", lw=1.2, label="base z")
+        axes[0, 1].axhline(ref.HOP_HEIGHT_TARGET, color="black", lw=0.8, ls="--", label="target apex")
+        axes[0, 1].set_ylabel("Base height (m)")
+        axes[0, 1].set_title(f"{w1 - w0:g} s up close (stance shaded)")
+        axes[0, 1].legend(loc="lower right")
+        axes[1, 1].plot(tw, d[sel, C["force_thrust"]], color="#d55e00", lw=1.2)
+        axes[1, 1].set_ylabel("Thrust force (N)")
+        axes[2, 1].plot(tw, np.degrees(d[sel, C["hip_y"]]), color="#029e73", lw=1.2, label="angle")
+        axes[2, 1].plot(tw, np.degrees(d[sel, C["hip_y_target"]]), color="black", lw=0.9, ls="--",
+                        label="flight target")
+        axes[2, 1].set_ylabel("Hip pitch (deg)")
+        axes[2, 1].legend(loc="lower right")
+        axes[3, 1].plot(tw, d[sel, C["x"]], color="#cc78bc", lw=1.2, label="base x")
+        axes[3, 1].plot(tw, d[sel, C["x_des"]], color="black", lw=0.9, ls="--", label="desired x")
+        axes[3, 1].set_ylabel("x (m)")
+        axes[3, 1].set_xlabel("Simulated time (s)")
+        axes[3, 1].legend(loc="lower right")
+        st = stance[sel]
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], st.astype(int), [0]])))
+        for a in axes[:, 1]:
+            for s0, s1 in zip(edges[::2], edges[1::2]):
+                a.axvspan(tw[s0], tw[min(s1, len(tw) - 1)], color="black", alpha=0.08, lw=0)
+            a.set_xlim(w0, w1)
+    return fig
+
+
+# ---------------------------------------------------------------------------
+# the results chapters
+
+
+def run_experiments(book: Book | None, experiments: str, *, replicates: int = 0, workers: int | None = None,
+                    quiet: bool = False) -> dict[str, pd.DataFrame]:
+    """Run (or load from the cache) experiments ('1', '2', '3',
+    'stability', comma-separated) under the book's profile with
+    :func:`mat_hopper.cli_reproduce.reproduce`, which also writes their
+    tables to ``results/<profile>/``. Returns the tables by name
+    (``exp1_hops``, ``exp1_runs``, ..., ``stability``,
+    ``stability_agreement``). A task that raised (not a diverged run: that
+    is a result) raises RuntimeError. Prints one line per experiment (runs
+    computed now / loaded from the cache) unless quiet."""
+    from .cli_reproduce import reproduce
+    book = setup(chdir=False, figure_format="retina") if book is None else book
+    rep = reproduce(book.profile, experiments, str(book.out_dir), workers=workers, replicates=replicates,
+                    cache_dir=str(book.cache_dir), progress=False, figures=False, log=lambda *a, **k: None)
+    failed = {k: v for k, v in rep.failed.items() if v}
+    if failed:
+        raise RuntimeError(f"tasks failed in {failed}; see the error column of the runs tables in {book.out_dir}")
+    if not quiet:
+        for name, n in rep.computed.items():
+            runs = rep.tables.get(f"{name}_runs", rep.tables.get(name))
+            total = len(runs) if runs is not None else n
+            print(f"{name} ({book.profile.name} profile): {total} tasks, {n} computed now, "
+                  f"the rest loaded from {os.path.relpath(book.cache_dir, book.root)}/")
+    return rep.tables
+
+
+def pct_change_table(hops: pd.DataFrame, metric: str, baseline: str = "MD", *, designs=None,
+                     behaviours=None) -> pd.DataFrame:
+    """Percent change of the mean of `metric` against `baseline` (same
+    behaviour, unperturbed runs), designs as rows and behaviours as
+    columns (from :func:`mat_hopper.stats.summary_table`)."""
+    from . import stats
+    from .plots import order_behaviours, order_designs
+    s = stats.summary_table(hops, metrics=(metric,), baseline=baseline)
+    if designs is not None:
+        s = s[s["design"].isin(designs)]
+    if behaviours is not None:
+        s = s[s["behaviour"].isin(behaviours)]
+    s = s[s["design"] != baseline]
+    t = s.pivot_table(index="design", columns="behaviour", values="pct_change_mean", aggfunc="first")
+    t = t.reindex(index=order_designs(designs or t.index), columns=order_behaviours(behaviours or t.columns))
+    t.columns.name = f"{metric}: % vs {baseline}"
+    return t
+
+
+CHAPTER_CLAIMS = {
+    "mono": ("hop_height", "tracking_all_beat_md", "tracking_ss_55", "power_higher_dynamic", "power_ss_max"),
+    "one_property": ("density_over_modulus", "low_modulus_tracks_worse"),
+    "gradients": ("ramp_rho_inc_tracking", "ramp_rho_inc_power", "ramp_ss_tracking", "ramp_ss_power",
+                  "headline_tracking", "headline_power"),
+    "stability": ("timestep_materials", "timestep_trend"),
+}
+
+
+def _concat(tables: dict, suffix: str) -> pd.DataFrame | None:
+    frames = [t for name, t in sorted(tables.items()) if name.startswith("exp") and name.endswith(suffix)
+              and t is not None and len(t)]
+    return pd.concat(frames, ignore_index=True) if frames else None
+
+
+def claims_for(tables: dict, chapter: str | None = None, *, conventions=None,
+               columns=("claim", "paper", "ours", "verdict")) -> pd.DataFrame:
+    """The paper's claims beside ours (:func:`mat_hopper.claims.claims_table`)
+    from a reproduction's tables (``exp*_hops``, ``exp*_runs``,
+    ``stability``), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
+    (None). conventions: default those present in the tables. columns:
+    which to keep (None: all)."""
+    from . import claims
+    if chapter is not None and chapter not in CHAPTER_CLAIMS:
+        raise ValueError(f"chapter must be one of {', '.join(CHAPTER_CLAIMS)} or None, got {chapter!r}")
+    hops, runs, stab = _concat(tables, "_hops"), _concat(tables, "_runs"), tables.get("stability")
+    if conventions is None:
+        present = set()
+        for t in (hops, runs, stab):
+            if t is not None and "convention" in t.columns:
+                present |= set(t["convention"].dropna().astype(str))
+        conventions = [c for c in CONVENTIONS if c in present] or ["paper"]
+    table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions))
+    if chapter is not None:
+        ids = CHAPTER_CLAIMS[chapter]
+        table = table[table["claim_id"].isin(ids)]
+        table = table.assign(_o=table["claim_id"].map({c: i for i, c in enumerate(ids)})).sort_values(
+            ["_o", "convention"], kind="stable").drop(columns="_o")
+    table = table.reset_index(drop=True)
+    return table if columns is None else table[[c for c in columns if c in table.columns]]

@@ -1,0 +1,135 @@
+# Chapter 1 of the book: the question, how to read and rerun the book.
+# Source of notebooks/01-introduction.ipynb (python scripts/make_notebooks.py).
+
+# %% [markdown]
+# # Introduction
+#
+# Most robots are built from aluminium, stainless steel and 3D-printed
+# plastic, and simulated as rigid bodies. Nature builds differently: bone
+# has a porous core inside a dense shell, and the tissue between bone,
+# tendon and muscle is graded, its stiffness and density changing
+# gradually along the limb. The paper this book reproduces, *Materials
+# Matter* (Schulz, Ahmad & Tucker, ICRA 2025), asks whether such material
+# properties change how well a robot does its job, and answers it with a
+# simulated one-legged hopper whose leg is made of three material
+# segments.
+#
+# Two properties of a segment are varied:
+#
+# - its **density** (g/cm³), which a designer can lower by making the
+#   material porous; in the simulation it sets the segment's mass;
+# - its **elastic modulus** (GPa), which sets the stiffness of an axial
+#   spring inside the segment.
+#
+# The hopper hops in place, forward, up a ramp and around a circle, and
+# every hop cycle is scored by hip power, tracking error (how far the
+# body is from where it should be), jerk and hop height. The paper's
+# headline: hopping up a ramp, a leg whose density increases from hip to
+# foot tracks its path 35 % better with 23 % less power than a leg of
+# stainless steel.
+#
+# This book rebuilds the study from the authors' published numbers, runs
+# it, and sets our results beside the paper's claims. Where the authors'
+# code has defects we say so, follow a documented convention, and measure
+# what the defect changes (chapter 10).
+
+# %% [markdown]
+# ## How to read this book
+#
+# Every chapter is a notebook: a few sentences, then a call into the
+# `mat_hopper` library, then what it returned. Nothing in the text is
+# typed-in data: tables and figures are computed when the book is built,
+# from simulations run for the build or loaded from the cache of an earlier
+# one. The paper's numbers (its model, controller, protocol and claims)
+# live in one module, `mat_hopper/reference.py`, and the chapters read
+# them from there.
+#
+# Each chapter starts by calling `book.setup()`: it finds the repository
+# (so a notebook runs from wherever Jupyter was started), chooses the
+# profile of the build and points the result cache at `results/cache`.
+
+# %%
+from mat_hopper import book
+
+b = book.setup()
+print(b.describe())
+book.show(book.environment_table())
+
+# %% [markdown]
+# ## Profiles: the paper's protocol, or a quick look
+#
+# One setting, the environment variable `MAT_HOPPER_PROFILE`, chooses the
+# run lengths for the whole book:
+#
+# - `paper` (the default): the paper's protocol, 60 s of simulated time per
+#   run at a 1e-4 s time step, hop cycles after the first 20 s scored, and
+#   a 20 x 20 stable-time-step map;
+# - `quick`: the same model, controller and designs with 12 s runs (cycles
+#   after 4 s scored) and a 4 x 4 map. CI builds this one. Its numbers are
+#   noisier and closer to the start-up transient; they are not the paper's
+#   protocol, and the claims table says which profile it was computed on.
+#
+# This build's profile beside the paper's protocol:
+
+# %%
+book.show(book.profile_table(b.profile))
+
+# %% [markdown]
+# ## Rerunning it
+#
+# From a fresh clone, one command sets everything up and builds the book:
+#
+# ```bash
+# make book                  # the paper's protocol, into _build/html/index.html
+# make book PROFILE=quick    # the short version (what CI builds)
+# ```
+#
+# which runs, after the setup,
+#
+# ```bash
+# MAT_HOPPER_PROFILE=paper .venv/bin/jupyter-book build . -W -n --keep-going
+# ```
+#
+# Every notebook is executed on every build; a cell that raises fails the
+# build. The simulations themselves are cached: one file per run in
+# `results/cache/`, named by a hash of every setting that changes the
+# result (design, behaviour, duration, time step, stiffness convention,
+# controller gains, the versions of mat-hopper and MuJoCo). A second build
+# therefore only re-reads results and redraws figures. Delete
+# `results/cache/` to recompute everything.
+#
+# To work with one chapter, open it in Jupyter with the repository's
+# environment (the kernel is `Python 3 (ipykernel)` of `.venv`) and run it
+# top to bottom:
+#
+# ```bash
+# .venv/bin/jupyter lab notebooks/06-mono-materials.ipynb
+# ```
+#
+# The experiments also run without the book, from the command line
+# (`.venv/bin/mat-hopper reproduce --profile quick`), and every function
+# the chapters call is importable from Python. The notebooks are stored
+# without outputs and generated from `notebooks/src/*.py`
+# (`python scripts/make_notebooks.py`): edit those sources.
+
+# %% [markdown]
+# ## The designs
+#
+# The paper compares nine legs. Five are mono-materials: the rigid
+# *MuJoCo default* leg (MD: density 1 g/cm³ and no springs at all, the
+# usual rigid-body model), PVC, aluminium (Al), titanium (Ti) and stainless
+# steel (SS). Four are functional gradients: density increasing from hip
+# to foot (ρ-inc) or decreasing (ρ-dec), both at 70 GPa throughout, and
+# the three materials PVC, Ti and SS stacked in either order. Segment 1 is
+# the one nearest the body.
+
+# %%
+book.designs_figure()
+
+# %% [markdown]
+# The remaining chapters follow the paper: what the materials are
+# (chapter 2), how a density and a modulus become a MuJoCo model
+# (chapter 3), the hopper and its controller (chapter 4), the numerical
+# price of stiff springs (chapter 5), the three experiments (chapters 6 to
+# 8), a design optimizer that goes past the paper (chapter 9), and the
+# reproduction report (chapter 10).

@@ -1,0 +1,71 @@
+# Chapter 2 of the book: the materials (Ashby chart, porosity and density, the catalogue).
+# Source of notebooks/02-materials.ipynb (python scripts/make_notebooks.py).
+
+# %% [markdown]
+# # Materials
+#
+# Material scientists compare materials on an **Ashby chart**: one
+# property against another on log-log axes, where materials of one class
+# (metals, ceramics, polymers, natural materials) gather in a region of
+# their own. The paper uses the density-modulus chart to choose the range
+# of its designs: the class of metals and ceramics, and the class of
+# polymers and natural composites. The chart below is drawn from our
+# catalogue: the paper's four materials (bold), a few natural and technical
+# ones for context, the two class regions and the bounds of the design
+# space.
+
+# %%
+from mat_hopper import book, materials, plots
+
+b = book.setup()
+plots.ashby_figure()
+
+# %% [markdown]
+# The paper's materials sit in two clusters: PVC among the polymers (light
+# and soft, 4 GPa), aluminium, titanium and stainless steel among the
+# metals (70-193 GPa). Natural materials span the gap between them:
+# cortical bone is about as dense as PVC but four times stiffer, tendon is
+# lighter and softer still.
+#
+# ## The catalogue
+#
+# Every material the library knows, with the source of its numbers. The
+# paper's five come from the authors' code; the others are typical
+# mid-range values from Ashby's handbook and from Wegst & Ashby's survey of
+# natural materials. A rigid material (MD, the simulator's default) has no
+# modulus.
+
+# %%
+book.show(plots.catalogue_table())
+
+# %% [markdown]
+# ## Porosity and density
+#
+# A porous material is a solid with holes. Its bulk density ρ_b is what
+# the leg weighs per volume; its porosity is the fraction of the volume
+# that is empty:
+#
+# $$ \Phi = 1 - \frac{\rho_b}{\rho_s}, $$
+#
+# with ρ_s the density of the solid itself. For a segment of fixed size,
+# mass scales with bulk density, so in the simulation porosity enters only
+# through mass (chapter 3). Bone is the model: trabecular (spongy) bone is
+# cortical bone with most of its volume empty. With our catalogue's
+# numbers:
+
+# %%
+trabecular = materials.material("TrabecularBone").density_g_cm3
+cortical = materials.material("CorticalBone").density_g_cm3
+phi = materials.porosity(trabecular, cortical)
+print(f"trabecular bone ({trabecular} g/cm³) as porous cortical bone ({cortical} g/cm³): porosity {phi:.0%}")
+print(f"titanium at 50 % porosity: {materials.bulk_density(0.5, materials.material('Ti').density_g_cm3):.2f} g/cm³")
+
+# %% [markdown]
+# Experiment 2 (chapter 7) varies density around each base material while
+# keeping its modulus. Read as porosity of that material, only the sweep
+# points below the solid's own density are reachable by making it porous;
+# the points above it (negative porosity) stand for a denser material of
+# the same stiffness, not for a porous one.
+
+# %%
+book.show(book.sweep_porosity_table(), {"porosity": "{:+.0%}"})

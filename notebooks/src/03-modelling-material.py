@@ -1,0 +1,122 @@
+# Chapter 3 of the book: modelling material in MuJoCo (mass from density, springs from modulus).
+# Source of notebooks/03-modelling-material.ipynb (python scripts/make_notebooks.py).
+
+# %% [markdown]
+# # Modelling material in MuJoCo
+#
+# MuJoCo simulates rigid bodies. The paper gives a rigid-body simulator
+# two material properties with two simple devices: **density becomes
+# mass**, and **modulus becomes a spring**. Each of the leg's material
+# segments is a capsule of radius 2.5 cm and length 10 cm, cut in two
+# halves with an axial spring between them, so that half of the segment's
+# mass sits above its spring and half below. This chapter builds the
+# models and looks at what the two devices do.
+
+# %%
+from mat_hopper import book, reference as ref
+
+b = book.setup()
+print(book.segment_xml("SS", segment=1))
+
+# %% [markdown]
+# Above: one stainless-steel segment as MuJoCo sees it. The upper half
+# capsule belongs to the body above; the child body `seg1` holds the
+# axial slide joint `mat_spring_1` (its stiffness from the modulus) and
+# the lower half capsule. The rigid MD leg has the same capsules and no
+# spring joints at all:
+
+# %%
+print(book.segment_xml("MD", segment=1))
+
+# %% [markdown]
+# ## Mass from density
+#
+# Given a density, MuJoCo computes each capsule's mass as m = ρV, end caps
+# included. The material segments' masses, and the whole robot's mass as
+# the compiled model reports it (15 kg of it is the body):
+
+# %%
+masses = book.mass_table()
+book.show(masses, {"leg_material_kg": "{:.3f}", "total_mass_kg": "{:.2f}"})
+
+# %%
+by_name = masses.set_index("design")["total_mass_kg"]
+print(f"MD: {by_name['MD']:.2f} kg (the authors' model: {ref.MASS_MD_KG} kg); "
+      f"SS: {by_name['SS']:.2f} kg (theirs: {ref.MASS_SS_KG} kg)")
+
+# %% [markdown]
+# The gradients all weigh the same: they use the same three densities in
+# different orders. Whatever separates them in chapter 8 is the order, not
+# the amount, of material.
+#
+# ## Springs from modulus: two conventions
+#
+# The paper converts a modulus E into a spring stiffness with the beam
+# formula k = 3EI/L³. Its code, however, puts in E as the bare number of
+# GPa (193 for steel, not 193e9 Pa), the second moment of area as
+# I = π r · 4 (for I = π r⁴ / 4) and L = 0.01 m (the segments are 0.1 m
+# long). The net effect is a constant: 9.42e5 N/m per GPa, whatever the
+# segment's size. We keep this as the **paper** convention, so that our
+# results can be compared with the paper's, and offer the physical one
+# beside it:
+#
+# - `paper`: k = 9.42e5 N/m per GPa (the authors' conversion, as their
+#   code computes it);
+# - `axial`: k = E A / L, the axial stiffness of a rod of cross-section
+#   A = π r² and length L (0.1 m for three segments).
+#
+# Both are linear in E, so they differ by one factor:
+
+# %%
+springs = book.stiffness_table()
+print(f"axial / paper: {springs['axial_over_paper'].iloc[0]:.1f} times stiffer, for every material")
+book.show(springs, {"axial_over_paper": "{:.1f}"}, precision=3)
+
+# %% [markdown]
+# ## What stiffness costs: the stable time step
+#
+# A stiff spring between small masses vibrates fast, and an integrator
+# that steps over a vibration blows up. MuJoCo's default (semi-implicit
+# Euler) integrator treats joint damping implicitly but springs
+# explicitly; for a mass-spring chain it is stable while ω Δt < 2, with ω
+# the chain's highest natural frequency. The leg along its axis is such a
+# chain: the body with the top half of segment 1, the halves of adjacent
+# segments joined, the foot below the foot spring. Its highest frequency
+# ω_max comes from the generalized eigenproblem K v = ω² M v with the
+# masses and stiffnesses of the compiled model, and gives the estimate
+# Δt < 2 / ω_max.
+#
+# We also measure the largest stable step: static hopping at a given step
+# counts as stable when it ends without NaN, without any acceleration
+# above 1e6 and with the body above 0.1 m (the paper's criterion). The
+# search starts at 1e-2 s, steps down until a run survives, then bisects
+# (chapter 5 has the details). Both conventions, every mono-material:
+
+# %%
+steps = book.convention_stability(profile=b.profile)
+book.show(steps, precision=3)
+
+# %%
+book.convention_figure(steps)
+
+# %%
+paper_conv = steps[steps["convention"] == "paper"].set_index("design")
+for name, claimed in ref.CLAIM_STABLE_TIMESTEP_S.items():
+    print(f"{name:>3} (paper convention): stable up to {paper_conv.loc[name, 'max_stable_timestep_s']:.1e} s, "
+          f"estimate {paper_conv.loc[name, 'analytic_timestep_s']:.1e} s; the paper: about {claimed:.0e} s")
+
+# %% [markdown]
+# Under the paper's convention the measured limits of the metals lie near
+# the paper's own time step of 1e-4 s (dotted line), and PVC, the softest,
+# allows the largest step. Wherever a material spring sets the limit, the
+# chain estimate lands close to the measurement. The physical `axial`
+# springs are about twenty times stiffer, so the stable step shrinks by
+# roughly the square root of that: the metals then need steps well below
+# 1e-4 s, and the paper's time step makes them diverge. The rigid MD leg
+# has no material springs; its limit is set by the rest of the model (foot
+# spring, contact, controller), which the chain estimate, seeing only the
+# soft foot spring, does not capture.
+#
+# Everything in chapters 5 to 9 uses the `paper` convention, as the
+# paper's results do. Chapter 10 measures what the `axial` convention
+# changes, at a time step where it is stable.
