@@ -22,6 +22,7 @@ Set ``NUMBA_DISABLE_JIT=1`` to run the very same loop as plain Python.
 from __future__ import annotations
 
 import ctypes
+import logging
 import math
 import os
 from dataclasses import dataclass, field
@@ -67,6 +68,18 @@ def _libmujoco():
 
 
 _LIB = _libmujoco()
+_log = logging.getLogger("mat_hopper.mujoco")
+
+
+def _route_mujoco_warnings() -> None:
+    """Send MuJoCo's warnings to logging instead of stderr and a
+    MUJOCO_LOG.TXT in the working folder. Divergence is detected and
+    reported by the rollout itself; a user's own handler is left alone."""
+    if mujoco.get_mju_user_warning() is None:
+        mujoco.set_mju_user_warning(lambda msg: _log.debug("MuJoCo: %s", msg))
+
+
+_route_mujoco_warnings()
 _STEP_PROTO = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
 MJ_STEP = _STEP_PROTO(("mj_step", _LIB))
 MJ_STEP1 = _STEP_PROTO(("mj_step1", _LIB))
