@@ -24,7 +24,8 @@ in a task is not (it becomes a ``failed`` row with the error text, and the
 next run tries again).
 
 Parallelism. Local processes (``concurrent.futures.ProcessPoolExecutor``,
-forkserver context; numba's on-disk cache makes worker start cheap), all
+forkserver context whose server preloads :mod:`mat_hopper._warmup`, so
+workers start with MuJoCo, numba's compiled loop and pyarrow loaded), all
 cores by default; or a Dask cluster (``scheduler``: an address or a
 ``distributed.Client``). The parent process is the only writer of the
 cache. Output tables are in grid order whatever the completion order, and
@@ -326,8 +327,14 @@ class Runner:
 
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
-            method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
-            self._pool = ProcessPoolExecutor(self.n_workers, mp_context=multiprocessing.get_context(method))
+            if "forkserver" in multiprocessing.get_all_start_methods():
+                ctx = multiprocessing.get_context("forkserver")
+                # workers fork from a server that already loaded everything (no effect
+                # if this process's forkserver is already running)
+                ctx.set_forkserver_preload(["mat_hopper._warmup"])
+            else:                    # pragma: no cover (not Linux)
+                ctx = multiprocessing.get_context("spawn")
+            self._pool = ProcessPoolExecutor(self.n_workers, mp_context=ctx)
         return self._pool
 
     def _get_client(self):
