@@ -13,8 +13,9 @@ of the stable-time-step map.
 Cache. One parquet file per result, ``<cache_dir>/<key>.parquet``, named by
 a SHA-256 hash of the key dict (every setting: design with per-segment
 density and modulus, behaviour, duration, time step, transient, record
-rate, stiffness convention, controller gains, perturbation, and the
-versions of mat-hopper and MuJoCo). The summary and the key dict ride in
+rate, stiffness convention, controller gains, perturbation; the versions
+of mat-hopper and MuJoCo, and a digest of the source of the modules that
+make results, so an edited simulation never reuses old results). The summary and the key dict ride in
 the file's metadata, so a result is one file, written atomically (temp
 file in the same folder, then ``os.replace``): a reader sees the whole file
 or none. Temp files (``.tmp-*``) are never read. A run killed half-way
@@ -35,6 +36,7 @@ and Dask runs give identical tables.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
@@ -69,12 +71,30 @@ OK, DIVERGED, FALLEN, FAILED = "ok", "diverged", "fallen", "failed"
 # keys
 
 
+# Modules whose code makes or summarises a result: their source is part of every key.
+RESULT_MODULES = ("reference", "materials", "model", "control", "behaviours", "sim", "perturbations", "metrics",
+                  "stability", "runner")
+
+
+@functools.lru_cache(maxsize=1)
+def source_digest() -> str:
+    """SHA-256 (short) of the source of :data:`RESULT_MODULES`: any edit to
+    the physics, controller, metrics or this runner invalidates the cache."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    h = hashlib.sha256()
+    for name in RESULT_MODULES:
+        with open(os.path.join(here, f"{name}.py"), "rb") as f:
+            h.update(name.encode() + b"\0" + f.read())
+    return h.hexdigest()[:16]
+
+
 def versions() -> dict:
-    """Versions that change results: mat-hopper and MuJoCo."""
+    """What besides the settings changes results: mat-hopper's version and
+    source, and MuJoCo's version."""
     import mujoco
 
     from . import __version__
-    return {"mat_hopper": __version__, "mujoco": mujoco.__version__}
+    return {"mat_hopper": __version__, "source": source_digest(), "mujoco": mujoco.__version__}
 
 
 def design_key(design: LegDesign) -> dict:

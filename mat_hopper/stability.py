@@ -21,8 +21,7 @@ every |qacc| <= 1e6 and the base above 0.1 m: :attr:`Rollout.upright`.
   the final bracket is not seen.
 - :func:`spec_scan`: the spec's own protocol, the first stable step of 20
   log-spaced steps from 1e-3 down to 1e-5 s (nan if none). Beside the
-  bisection it tests the monotonicity assumption: when both are monotone
-  the scan's answer lies in [dt_stable / 1.28, dt_unstable).
+  bisection it tests the monotonicity assumption (:func:`scan_consistent`).
 
 Estimated. :func:`spring_chain_wmax`: the leg along its axis is a chain of
 lumped masses joined by springs: the base with the stub and the upper half
@@ -34,7 +33,18 @@ the stiffnesses from its joints; a rigid segment merges its bodies. Its
 highest natural frequency w_max solves K v = w^2 M v
 (``scipy.linalg.eigh(K, M)``, free-free). MuJoCo's Euler integrator treats
 joint damping implicitly but springs explicitly (semi-implicit Euler), and
-that is stable for w dt < 2: the estimate is dt < 2 / w_max.
+that is stable for w dt < 2: the estimate is dt < 2 / w_max
+(``analytic_timestep_s``).
+
+A second limit, not the material's. The controller's stance attitude
+feedback is a rate gain on the base's roll and pitch, applied explicitly
+(computed from the state at the start of the step): a damper of
+c = stance_kd x gear = 1 x 600 N m s/rad on the base's inertia about a
+horizontal axis through the hip, I ~ 0.127 kg m^2. Explicit damping is
+stable for dt < 2 I / c ~ 4.2e-4 s (``controller_timestep_s``), whatever
+the leg's material: soft, heavy legs, whose spring limit lies above it, hit
+this one instead (the measured map plateaus there).
+``combined_timestep_s`` is the smaller of the two.
 """
 
 from __future__ import annotations
@@ -201,6 +211,26 @@ def leg_chain(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[
     return masses, springs
 
 
+def controller_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
+                        stance_kd: float = ref.STANCE_KD, gear: float = ref.HIP_GEAR) -> float:
+    """2 I / (stance_kd gear) in s: the explicit limit of the stance rate
+    feedback, I (kg m^2) the base's smallest moment of inertia about a
+    horizontal axis through its origin (the hip), from the compiled model."""
+    import mujoco
+    from .model import build_model
+    m = build_model(design, convention=convention).model
+    b = m.body("base").id
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, m.body_iquat[b])
+    rot = rot.reshape(3, 3)
+    inertia = rot @ np.diag(m.body_inertia[b]) @ rot.T          # about the base COM, world axes at rest
+    offset = m.body_ipos[b]
+    mass = m.body_mass[b]
+    parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))   # to the hip (base origin)
+    inertia = inertia + parallel
+    return 2.0 * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
+
+
 def estimate_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[float, float]:
     """(w_max rad/s, 2 / w_max s): the explicit-spring stability limit."""
     w = spring_chain_wmax(*leg_chain(design, convention))
@@ -266,6 +296,7 @@ class StabilitySpec:
         masses, springs = leg_chain(self.design, self.convention)
         w = spring_chain_wmax(masses, springs)
         est = 2.0 / w
+        ctrl = controller_timestep(self.design, self.convention)
         consistent = scan_consistent(lo, hi, dt_spec) if self.scan else True
         summary = {
             "n_segments": self.design.n_segments,
@@ -274,6 +305,7 @@ class StabilitySpec:
             "scan_consistent": bool(consistent),
             "w_max_rad_s": w, "analytic_timestep_s": est,
             "ratio_measured_to_analytic": lo / est if not math.isnan(lo) else math.nan,
+            "controller_timestep_s": ctrl, "combined_timestep_s": min(est, ctrl),
             "max_material_spring_n_m": max(springs[:-1]) if len(springs) > 1 else math.nan,
             "lightest_mass_kg": min(masses), "status": "ok" if not math.isnan(lo) else "unstable",
         }
@@ -295,31 +327,47 @@ def stability_grid(size: int = ref.STABILITY_GRID_SIZE) -> tuple[np.ndarray, np.
     return d, e
 
 
+ESTIMATES = {"spring": "analytic_timestep_s", "combined": "combined_timestep_s"}
+
+
 def agreement(table: pd.DataFrame) -> pd.DataFrame:
-    """How well the analytic 2 / w_max predicts the measured map, over the
-    designs with a measured step: log-log Pearson r and least-squares slope
-    of log(measured) on log(analytic), median and range of measured /
-    analytic, the fractions within a factor 2 and with the analytic value
-    inside the measured bracket [max_stable, unstable), and the fraction
-    where the spec scan fits the bracket. Columns: quantity, value."""
-    meas, est = table["max_stable_timestep_s"], table["analytic_timestep_s"]
+    """How well each estimate predicts the measured map: ``spring`` (2 /
+    w_max, analytic_timestep_s) and ``combined`` (the smaller of it and the
+    controller limit), over the designs with a measured step: log-log
+    Pearson r and least-squares slope of log(measured) on log(estimate),
+    median and range of measured / estimate, the fractions within a factor
+    2 and with the estimate inside the measured bracket [max_stable,
+    unstable); and the fraction where the spec scan fits the bracket.
+    Columns: estimate, quantity, value."""
+    rows = []
+    for name, col in ESTIMATES.items():
+        if col not in table.columns:
+            continue
+        for q, v in _agreement_one(table, col).items():
+            rows.append({"estimate": name, "quantity": q, "value": v})
+    if "scan_consistent" in table and len(table):
+        rows.append({"estimate": "spec scan", "quantity": "fraction_scan_consistent",
+                     "value": float(table["scan_consistent"].astype(bool).mean())})
+    return pd.DataFrame(rows, columns=["estimate", "quantity", "value"])
+
+
+def _agreement_one(table: pd.DataFrame, col: str) -> dict:
+    meas, est = table["max_stable_timestep_s"].astype(float), table[col].astype(float)
     ok = table[np.isfinite(meas) & np.isfinite(est)]
     n = len(ok)
     rows = {"n_designs": float(len(table)), "n_measured": float(n)}
     if n >= 1:
         lo = ok["max_stable_timestep_s"].to_numpy(float)
         hi = ok["unstable_timestep_s"].to_numpy(float)
-        an = ok["analytic_timestep_s"].to_numpy(float)
+        an = ok[col].to_numpy(float)
         ratio = lo / an
-        rows.update({"median_ratio_measured_to_analytic": float(np.median(ratio)),
+        rows.update({"median_ratio_measured_to_estimate": float(np.median(ratio)),
                      "min_ratio": float(ratio.min()), "max_ratio": float(ratio.max()),
                      "fraction_within_factor_2": float(np.mean((ratio >= 0.5) & (ratio <= 2.0))),
-                     "fraction_analytic_in_bracket": float(np.mean((lo <= an) & (~np.isfinite(hi) | (an < hi))))})
+                     "fraction_estimate_in_bracket": float(np.mean((lo <= an) & (~np.isfinite(hi) | (an < hi))))})
     if n >= 3:
-        x, y = np.log(ok["analytic_timestep_s"].to_numpy(float)), np.log(ok["max_stable_timestep_s"].to_numpy(float))
+        x, y = np.log(ok[col].to_numpy(float)), np.log(ok["max_stable_timestep_s"].to_numpy(float))
         if np.ptp(x) > 0 and np.ptp(y) > 0:
             rows["loglog_pearson_r"] = float(np.corrcoef(x, y)[0, 1])
             rows["loglog_slope"] = float(np.polyfit(x, y, 1)[0])
-    if "scan_consistent" in table and len(table):
-        rows["fraction_scan_consistent"] = float(table["scan_consistent"].astype(bool).mean())
-    return pd.DataFrame({"quantity": list(rows), "value": list(rows.values())})
+    return rows

@@ -10,7 +10,7 @@ import pytest
 from mat_hopper import reference as ref
 from mat_hopper.materials import LegDesign, parse_design, spring_stiffness
 from mat_hopper.model import build_model
-from mat_hopper.stability import (StabilitySpec, agreement, estimate_timestep, largest_stable_timestep, leg_chain,
+from mat_hopper.stability import (StabilitySpec, agreement, controller_timestep, estimate_timestep, largest_stable_timestep, leg_chain,
                                   scan_consistent, spring_chain_wmax, try_timestep)
 
 
@@ -87,12 +87,29 @@ def test_stability_task_summary_and_agreement():
     assert s["max_stable_timestep_s"] <= s["analytic_timestep_s"] * 2
     assert s["ratio_measured_to_analytic"] == pytest.approx(s["max_stable_timestep_s"] / s["analytic_timestep_s"])
     assert task.key() != StabilitySpec(task.design, duration_s=0.5, tolerance=1.25, scan=False).key()
+    assert s["combined_timestep_s"] == min(s["analytic_timestep_s"], s["controller_timestep_s"])
     table = pd.DataFrame({"max_stable_timestep_s": [1e-4, 2e-4, 4e-4, np.nan],
                           "unstable_timestep_s": [1.2e-4, 2.4e-4, 5e-4, 1e-6],
                           "analytic_timestep_s": [1.1e-4, 2.2e-4, 4.4e-4, 1e-4],
+                          "combined_timestep_s": [1.1e-4, 2.2e-4, 3e-4, 1e-4],
                           "scan_consistent": [True, True, False, True]})
-    a = dict(zip(*agreement(table).to_dict("list").values()))
-    assert a["n_designs"] == 4 and a["n_measured"] == 3
-    assert a["loglog_pearson_r"] == pytest.approx(1.0) and a["loglog_slope"] == pytest.approx(1.0)
-    assert a["median_ratio_measured_to_analytic"] == pytest.approx(1 / 1.1)
-    assert a["fraction_analytic_in_bracket"] == 1.0 and a["fraction_scan_consistent"] == 0.75
+    ag = agreement(table)
+    a = {(e, q): v for e, q, v in ag[["estimate", "quantity", "value"]].itertuples(index=False)}
+    assert a["spring", "n_designs"] == 4 and a["spring", "n_measured"] == 3
+    assert a["spring", "loglog_pearson_r"] == pytest.approx(1.0) and a["spring", "loglog_slope"] == pytest.approx(1.0)
+    assert a["spring", "median_ratio_measured_to_estimate"] == pytest.approx(1 / 1.1)
+    assert a["spring", "fraction_estimate_in_bracket"] == 1.0
+    assert a["combined", "fraction_estimate_in_bracket"] == pytest.approx(2 / 3)
+    assert a["spec scan", "fraction_scan_consistent"] == 0.75
+
+
+def test_controller_limit_is_the_base_inertia_over_the_stance_rate_gain():
+    """2 I / (K_d gear), material-independent: the plateau of soft, heavy legs."""
+    ss, soft = parse_design("SS"), LegDesign.from_properties([20.0] * 3, [4.0] * 3)
+    limit = controller_timestep(ss)
+    assert limit == pytest.approx(controller_timestep(soft))
+    m = build_model(ss).model
+    assert limit == pytest.approx(2 * min(m.body_inertia[m.body("base").id]) / (ref.STANCE_KD * ref.HIP_GEAR))
+    assert estimate_timestep(soft)[1] > 1.5 * limit          # the spring limit lies above: this one binds
+    assert try_timestep(soft, 0.8 * limit, duration_s=1.0)["upright"]
+    assert not try_timestep(soft, 1.5 * limit, duration_s=1.0)["upright"]
