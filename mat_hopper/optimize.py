@@ -52,6 +52,7 @@ import multiprocessing as mp
 import os
 import signal
 import sys
+import threading
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -59,6 +60,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import optuna
 from optuna.trial import TrialState
+from tqdm.std import tqdm
 
 from .optimize_objective import (CONSTRAINTS, OBJECTIVES, PROFILES, Objective, evaluate, profile as get_profile)
 from .optimize_space import KINDS, SearchSpace
@@ -68,8 +70,9 @@ from .optimize_storage import (ERROR_ATTR, PAPER_ATTR, WORKER_ATTR, check_study_
 SAMPLERS = ("tpe", "nsga2", "gp")
 DEFAULT_WORKERS = 2
 CONFIG_ATTR = "mat_hopper_config"
+RESULT_ATTR = "result"
 CONFIG_VERSION = 1
-POLL_S = 0.5
+POLL_S = 1.0
 
 
 # --- settings ---------------------------------------------------------------
@@ -250,8 +253,9 @@ def _finite(x):
 class TrialObjective:
     """Optuna objective: a design from the space, simulated and scored.
     Sets the constraints (``hop_height``, ``unstable``; <= 0 feasible) and
-    stores worker, feasibility, hop height, design text and
-    per-behaviour results as trial user attrs."""
+    two user attrs (each one database write): ``worker`` at the start, and
+    ``result`` (feasible, hop height m, design text, mass kg, simulated s,
+    per-behaviour rows) at the end."""
 
     def __init__(self, config: StudyConfig, identity: dict | None = None, tick=None):
         self.config = config
@@ -269,11 +273,9 @@ class TrialObjective:
         rows = [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour]
         for name, value in zip(CONSTRAINTS, ev.constraints):
             trial.set_constraint(name, value)
-        trial.set_user_attr("feasible", ev.feasible)
-        trial.set_user_attr("hop_height_m", _finite(ev.hop_height_m))
-        trial.set_user_attr("design", design.name)
-        trial.set_user_attr("result", {"per_behaviour": rows, "total_mass_kg": ev.total_mass_kg,
-                                       "simulated_s": ev.simulated_s})
+        trial.set_user_attr(RESULT_ATTR, {
+            "feasible": ev.feasible, "hop_height_m": _finite(ev.hop_height_m), "design": design.name,
+            "total_mass_kg": ev.total_mass_kg, "simulated_s": ev.simulated_s, "per_behaviour": rows})
         return ev.values
 
 
@@ -320,6 +322,20 @@ def _worker_main(job: _Job, tickets, conn) -> None:
 
 # --- the coordinator ---------------------------------------------------------
 
+def _start_method() -> str:
+    """fork when this process has no other thread (workers start at once,
+    with everything imported; they never touch the parent's connections and
+    open their own storage); else spawn, which re-imports MuJoCo, numba and
+    Optuna in every worker (seconds) but is safe beside threads."""
+    if "fork" in mp.get_all_start_methods() and threading.active_count() == 1:
+        return "fork"
+    return "spawn"
+
+
+class _Bar(tqdm):
+    monitor_interval = 0       # no monitor thread: we refresh it ourselves, and fork stays safe
+
+
 @dataclass
 class RunResult:
     """What a run did. worker_reports: one dict per worker that exited
@@ -335,6 +351,7 @@ class RunResult:
     worker_reports: list = field(default_factory=list)
     dead_workers: list = field(default_factory=list)
     recovered: list = field(default_factory=list)
+    start_method: str = ""
 
     @property
     def finished(self) -> bool:
@@ -359,10 +376,8 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
     if budget <= 0:
         return result
 
-    # fork: workers start at once with everything imported (spawn re-imports
-    # mujoco, numba and optuna: seconds per worker). Children never touch the
-    # parent's connections; they open their own storage.
-    ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+    result.start_method = _start_method()
+    ctx = mp.get_context(result.start_method)
     tickets = ctx.Value("i", budget)
     n_existing = len(study.get_trials(deepcopy=False))
     live: dict[int, tuple] = {}
@@ -406,8 +421,7 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
                     tickets.value += len(lost)
 
     spawn(min(options.workers, budget))
-    from tqdm.auto import tqdm
-    bar = tqdm(total=options.trials, initial=min(done, options.trials), unit="trial", desc=config.name,
+    bar = _Bar(total=options.trials, initial=min(done, options.trials), unit="trial", desc=config.name,
                disable=not options.progress, dynamic_ncols=True, file=sys.stderr, mininterval=1.0)
     max_spawn = options.workers + options.workers * (options.max_retry + 1)
     told_before, recovered_before = 0, len(result.recovered)

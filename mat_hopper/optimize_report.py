@@ -38,7 +38,7 @@ from optuna.trial import TrialState
 
 from .cli_simulate import write_csv_atomic
 from .materials import LegDesign, paper_designs
-from .optimize import CONFIG_ATTR, StudyConfig, _quiet
+from .optimize import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
 from .optimize_objective import CONSTRAINTS, OBJECTIVES, evaluate
 from .optimize_space import describe, resample
 from .optimize_storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
@@ -64,10 +64,12 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
     space = config.space
     for t in sorted(study.get_trials(deepcopy=False), key=lambda t: t.number):
         ua = t.user_attrs
+        res = ua.get(RESULT_ATTR) or {}
         row = {"trial": t.number, "state": t.state.name, "paper_design": ua.get(PAPER_ATTR, ""),
-               "design": ua.get("design", ""), "feasible": bool(ua.get("feasible", False)),
+               "design": res.get("design", ""), "feasible": bool(res.get("feasible", False)),
                "tracking_error_m": np.nan, "power_w": np.nan,
-               "hop_height_m": ua.get("hop_height_m") if ua.get("hop_height_m") is not None else np.nan}
+               "hop_height_m": res.get("hop_height_m") if res.get("hop_height_m") is not None else np.nan,
+               "total_mass_kg": res.get("total_mass_kg", np.nan)}
         if t.state == TrialState.COMPLETE and t.values is not None:
             row.update(dict(zip(OBJECTIVES, t.values)))
         c = t.constraints

@@ -5,11 +5,15 @@ Storage choices (``--storage``):
 - default: one SQLite file per study, ``studies/<name>.db`` under the
   current folder (``--studies-dir`` moves it). SQLite allows one writer at
   a time; the file is switched to WAL mode (readers never block the
-  writer) and every connection waits up to 60 s for the lock, which is
+  writer; commits are not fsynced one by one, ``synchronous=NORMAL``: a
+  power cut may lose the last trials, never corrupt the file) and every
+  connection waits up to 60 s for the lock, which is
   ample for a few local workers whose trials last seconds and write a few
-  rows each. It keeps Optuna's heartbeat (below), which the journal file
-  backend lacks; that is why it is the default for ``--workers N`` on one
-  machine.
+  rows each. Every transaction begins with BEGIN IMMEDIATE: SQLite has no
+  row locks, and without it two workers could both take the same enqueued
+  (WAITING) trial. It keeps Optuna's heartbeat (below), which the journal
+  file backend lacks; that is why it is the default for ``--workers N`` on
+  one machine.
 - any SQLAlchemy/Optuna RDB URL, e.g.
   ``postgresql://USER:PASSWORD@HOST:5432/DB``: the way to run many workers
   on many machines (every machine runs the same ``mat-hopper optimize``
@@ -134,12 +138,34 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-            return optuna.storages.RDBStorage(
+            storage = optuna.storages.RDBStorage(
                 url, engine_kwargs=engine_kwargs, heartbeat_interval=heartbeat_s, grace_period=grace_s,
                 heartbeat_stale_trial_callback=RetryStaleTrial(max_retry))
+        if parsed.get_backend_name() == "sqlite":
+            _sqlite_immediate(storage.engine)
+        return storage
     except (sqlalchemy.exc.SQLAlchemyError, ImportError, OSError) as e:
         msg = str(getattr(e, "orig", None) or e).strip().splitlines()
         raise ValueError(f"cannot reach storage {redact(url)}: {msg[0] if msg else type(e).__name__}") from None
+
+
+def _sqlite_immediate(engine) -> None:
+    """Begin every SQLite transaction with BEGIN IMMEDIATE (take the write
+    lock first). SQLite has no SELECT ... FOR UPDATE, so without this two
+    workers can both read a WAITING trial and both set it RUNNING: both
+    would run the same enqueued trial. PostgreSQL and MySQL lock the row."""
+    from sqlalchemy import event
+
+    def on_connect(dbapi_connection, record):
+        dbapi_connection.isolation_level = None       # the driver leaves BEGIN to us
+        dbapi_connection.execute("PRAGMA synchronous=NORMAL")   # WAL: no fsync per commit
+
+    def on_begin(connection):
+        connection.exec_driver_sql("BEGIN IMMEDIATE")
+
+    event.listen(engine, "connect", on_connect)
+    event.listen(engine, "begin", on_begin)
+    engine.dispose()                                  # pooled connections predate the hooks
 
 
 def _sqlite_wal(path: str) -> None:

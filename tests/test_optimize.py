@@ -224,6 +224,7 @@ def _check_run(res, trials, url, name, workers):
     """Every trial recorded once: COMPLETE trials = the union of what the
     workers told, nobody told a trial twice, no trial is left running."""
     ts, _ = _trials(url, name)
+    assert res.dead_workers == []
     told = [n for r in res.worker_reports for n, state in r["told"]]
     assert len(told) == len(set(told))
     complete = [t.number for t in ts if t.state == TrialState.COMPLETE]
@@ -247,7 +248,7 @@ def test_sqlite_study_two_workers_paper_designs_first_report_replay(tmp_path, mo
     assert ts[1].params["seg1_density_g_cm3"] == 1.39 and ts[0].params["seg3_modulus_gpa"] == 193.0
     for t in ts:
         assert set(t.constraints) == {"hop_height", "unstable"}
-        assert t.user_attrs["feasible"] == all(v <= 0 for v in t.constraints.values())
+        assert t.user_attrs["result"]["feasible"] == all(v <= 0 for v in t.constraints.values())
     # running again with the same target does nothing; a larger one resumes
     again = run_study(tiny_config(name), opts)
     assert again.worker_reports == [] and again.done == 7
@@ -273,6 +274,25 @@ def test_sqlite_study_two_workers_paper_designs_first_report_replay(tmp_path, mo
     assert "matches the stored values exactly" in capsys.readouterr().out
     assert main(["optimize", "--report", name, "--out", str(tmp_path / "r2")]) == 0
     assert (tmp_path / "r2" / "pareto.png").exists()
+
+
+@pytest.mark.parametrize("kind", ["sqlite", "journal"])
+def test_each_enqueued_trial_is_taken_by_one_worker(kind, tmp_path):
+    """Two workers popping queued (WAITING) trials at once: SQLite has no row
+    locks (we begin transactions IMMEDIATE), the journal appends under a
+    file lock. A trial run twice would kill a worker (cannot tell a
+    finished trial) and show up in the told lists."""
+    name = f"race-{kind}"
+    url = f"sqlite:///{tmp_path}/{name}.db" if kind == "sqlite" else f"journal:///{tmp_path}/{name}.log"
+    config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("blink", duration_s=0.2, transient_s=0.1)))
+    study = create_or_load(config, open_storage(url))
+    rng = np.random.default_rng(0)
+    for _ in range(17):
+        study.enqueue_trial({f"seg{i}_{p}": float(rng.uniform(1.0, 9.0)) for i in (1, 2, 3)
+                             for p in ("density_g_cm3", "modulus_gpa")})
+    res = run_study(config, RunOptions(trials=22, workers=2, storage=url, progress=False))
+    assert res.dead_workers == [] and res.finished
+    _check_run(res, 22, url, name, workers=2)
 
 
 def test_seeded_single_worker_is_deterministic(tmp_path):
@@ -302,7 +322,7 @@ def test_diverging_and_failing_designs_never_crash_the_study(tmp_path):
     done = [t for t in ts if t.state == TrialState.COMPLETE]
     assert len(done) == 5
     for t in done:       # a 20 ms step diverges for every design: infeasible, finite, recorded
-        assert t.constraints["unstable"] == 1.0 and not t.user_attrs["feasible"]
+        assert t.constraints["unstable"] == 1.0 and not t.user_attrs["result"]["feasible"]
         assert all(np.isfinite(t.values))
     with pytest.raises(ValueError, match="exists with other settings"):
         create_or_load(StudyConfig("div", SearchSpace(), TINY_OBJ), storage)
