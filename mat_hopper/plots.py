@@ -21,6 +21,8 @@ them leaks nothing; Jupyter shows a returned figure as usual.
 - :func:`ashby_figure`: density against modulus (log-log) of the catalogue,
   the paper's two material classes as shaded regions, and the design
   bounds.
+- :func:`write_figures`: all of them from a reproduction's tables, into
+  ``<out_dir>/figures/``.
 """
 
 from __future__ import annotations
@@ -42,7 +44,8 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 from . import reference as ref
 from . import stats as _stats
 from .behaviours import BEHAVIOUR_NAMES
-from .materials import CATALOGUE
+from .materials import CATALOGUE, CONVENTIONS
+from .optimize_space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA
 
 # --- style -------------------------------------------------------------------
 
@@ -109,8 +112,8 @@ CLASS_REGIONS = {
                                         "classes": ("polymer", "natural"), "colour": "#029e73"},
 }
 # Design bounds of the material search (paper, Fig. 2 B: about 0.9-20 g/cm^3
-# and 0.1-1000 GPa).
-DESIGN_BOUNDS = {"density_g_cm3": (0.9, 20.0), "modulus_gpa": (0.1, 1000.0)}
+# and 0.1-1000 GPa): the optimizer's own (mat_hopper.optimize_space).
+DESIGN_BOUNDS = {"density_g_cm3": DENSITY_BOUNDS_G_CM3, "modulus_gpa": MODULUS_BOUNDS_GPA}
 
 
 def _new_figure(width_in: float, height_in: float) -> Figure:
@@ -207,7 +210,7 @@ def save_figure(fig: Figure, path_stem, *, formats=("png", "svg"), dpi: int = DP
         meta = {"Software": None} if fmt == "png" else {"Date": None} if fmt == "svg" else {"CreationDate": None}
         try:
             with rc_context({"svg.hashsalt": STYLE["svg.hashsalt"], "svg.fonttype": STYLE["svg.fonttype"]}):
-                fig.savefig(tmp, format=fmt, dpi=dpi, metadata=meta, bbox_inches="tight", pad_inches=0.05)
+                fig.savefig(tmp, format=fmt, dpi=dpi, metadata=meta)
             os.replace(tmp, target)
         except BaseException:
             if os.path.exists(tmp):
@@ -228,35 +231,43 @@ def _grouped_boxes(ax, table, metric, groups, designs, *, group_col="behaviour",
     tops used."""
     n = max(len(designs), 1)
     w = width / n
+    cells = {k: v.to_numpy(float) * factor for k, v in table.groupby([group_col, "design"], sort=False)[metric]}
+    pts = ({k: v.to_numpy(float) * factor for k, v in points.groupby([group_col, "design"], sort=False)[metric]}
+           if points is not None and len(points) else {})
     tops = []
-    for gi, g in enumerate(groups):
-        sub = table[table[group_col] == g]
-        for di, d in enumerate(designs):
-            v = sub.loc[sub["design"] == d, metric].to_numpy(float) * factor
+    for di, d in enumerate(designs):
+        colour = design_colour(d, di)
+        data, positions, dot_x, dot_y = [], [], [], []
+        for gi, g in enumerate(groups):
+            v = cells.get((g, d), np.array([]))
             v = v[np.isfinite(v)]
             if len(v) == 0:
                 continue
             pos = gi - width / 2 + w * (di + 0.5)
-            colour = design_colour(d, di)
-            ax.boxplot([v], positions=[pos], widths=w * 0.8, patch_artist=True, manage_ticks=False,
-                       boxprops=dict(facecolor=colour, edgecolor="#333333", linewidth=0.6),
-                       medianprops=dict(color="black", linewidth=1.0),
-                       whiskerprops=dict(color="#333333", linewidth=0.6),
-                       capprops=dict(color="#333333", linewidth=0.6),
-                       flierprops=dict(marker="o", markersize=1.5, markerfacecolor=colour,
-                                       markeredgecolor="none", alpha=0.6))
+            data.append(v)
+            positions.append(pos)
             top = float(v.max())
-            if points is not None and len(points):
-                p = points.loc[(points[group_col] == g) & (points["design"] == d), metric].to_numpy(float) * factor
-                p = p[np.isfinite(p)]
-                if len(p):
-                    jitter = (np.arange(len(p)) - (len(p) - 1) / 2) * (w * 0.5 / max(len(p), 1))
-                    ax.plot(pos + jitter, p, "o", ms=2.2, color="black", alpha=0.8, zorder=3)
-                    top = max(top, float(p.max()))
+            p = pts.get((g, d), np.array([]))
+            p = p[np.isfinite(p)]
+            if len(p):
+                dot_x.extend(pos + (np.arange(len(p)) - (len(p) - 1) / 2) * (w * 0.5 / len(p)))
+                dot_y.extend(p)
+                top = max(top, float(p.max()))
             tops.append(top)
             if stars and (g, d) in stars:
                 ax.annotate("*", xy=(pos, top), xytext=(0, 0.5), textcoords="offset points",
                             ha="center", va="bottom", fontsize=11, fontweight="bold")
+        if not data:
+            continue
+        ax.boxplot(data, positions=positions, widths=w * 0.8, patch_artist=True, manage_ticks=False,
+                   boxprops=dict(facecolor=colour, edgecolor="#333333", linewidth=0.6),
+                   medianprops=dict(color="black", linewidth=1.0),
+                   whiskerprops=dict(color="#333333", linewidth=0.6),
+                   capprops=dict(color="#333333", linewidth=0.6),
+                   flierprops=dict(marker="o", markersize=1.5, markerfacecolor=colour,
+                                   markeredgecolor="none", alpha=0.6))
+        if dot_x:
+            ax.plot(dot_x, dot_y, "o", ms=2.2, color="black", alpha=0.8, zorder=3, gid="replicate-means")
     ax.set_xticks(range(len(groups)))
     ax.set_xticklabels([BEHAVIOUR_LABELS.get(g, g) for g in groups])
     ax.set_xlim(-0.5, len(groups) - 0.5)
@@ -274,7 +285,22 @@ def _stars(comparison: pd.DataFrame | None, metric: str, by: str = "behaviour") 
     return set(zip(c[by], c["design"]))
 
 
-def _legend_designs(fig, designs, note: str | None = None, points: bool = False):
+def _dropped_note(bad: pd.DataFrame, designs, behaviours) -> str | None:
+    """'not shown: SS forward, ramp (unstable at dt=1e-4 s)' for unusable runs."""
+    if bad is None or len(bad) == 0:
+        return None
+    b = bad[bad["design"].isin(designs) & bad["behaviour"].isin(behaviours)]
+    if len(b) == 0:
+        return None
+    parts = []
+    for d in order_designs(b["design"].unique()):
+        g = b[b["design"] == d]
+        why = g["why"].iloc[0].split(",")[0]
+        parts.append(f"{design_label(d)} {', '.join(order_behaviours(g['behaviour'].unique()))} ({why})")
+    return "not shown: " + "; ".join(parts)
+
+
+def _legend_designs(fig, designs, note: str | None = None, points: bool = False, dropped: str | None = None):
     handles = [Patch(facecolor=design_colour(d, i), edgecolor="#333333", linewidth=0.6, label=design_label(d))
                for i, d in enumerate(designs)]
     if note:
@@ -282,6 +308,8 @@ def _legend_designs(fig, designs, note: str | None = None, points: bool = False)
     if points:
         handles.append(Line2D([], [], linestyle="none", marker="o", markersize=3, color="black",
                               label="replicate means (boxes: their hop cycles)"))
+    if dropped:
+        handles.append(Line2D([], [], linestyle="none", marker="x", markersize=5, color="#555555", label=dropped))
     fig.legend(handles=handles, loc="outside upper center", ncols=len(handles), handlelength=1.2,
                columnspacing=1.2)
 
@@ -330,9 +358,12 @@ def figure4_mono(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
     summaries: hop cycles of runs that diverged, fell or failed are left
     out (:func:`mat_hopper.stats.drop_unusable`)."""
     _require(hops, ("design", "behaviour", *metrics), "figure4_mono")
-    hops = _stats.drop_unusable(hops, _stats.unusable_runs(runs))
-    designs = order_designs(designs or [d for d in ("MD", "PVC", "Al", "Ti", "SS") if d in set(hops["design"])])
+    bad = _stats.unusable_runs(runs)
+    designs = order_designs(designs or [d for d in ("MD", "PVC", "Al", "Ti", "SS")
+                                        if d in set(hops["design"]) | set(bad["design"])])
     behaviours = order_behaviours(behaviours or hops["behaviour"].unique())
+    dropped = _dropped_note(bad, designs, behaviours)
+    hops = _stats.drop_unusable(hops, bad)
     table = _one_experiment(hops, designs, behaviours)
     if len(table) == 0:
         raise ValueError("figure4_mono: no rows for the requested designs and behaviours")
@@ -352,8 +383,9 @@ def figure4_mono(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
                 plain_log_ticks(ax.yaxis)
             ax.set_ylabel(ylabel)
             _panel_label(ax, "ABCDEFGH"[i])
-        _legend_designs(fig, designs, _basis_note(comparison, baseline, alpha) if comparison is not None else None,
-                        points=means is not None)
+        _legend_designs(fig, [d for d in designs if d in set(drawn["design"])],
+                        _basis_note(comparison, baseline, alpha) if comparison is not None else None,
+                        points=means is not None, dropped=dropped)
     return fig
 
 
@@ -369,9 +401,11 @@ def figure5_gradients(hops: pd.DataFrame, comparison: pd.DataFrame | None = None
     (experiment 1); each design is taken from one experiment and all are
     compared as one family. runs: as in :func:`figure4_mono`."""
     _require(hops, ("design", "behaviour", *metrics), "figure5_gradients")
-    hops = _stats.drop_unusable(hops, _stats.unusable_runs(runs))
     all_designs = order_designs([d for p in panels for d in p])
     behaviours = order_behaviours(behaviours or hops["behaviour"].unique())
+    bad = _stats.unusable_runs(runs)
+    dropped = _dropped_note(bad, all_designs, behaviours)
+    hops = _stats.drop_unusable(hops, bad)
     table = _one_experiment(hops, all_designs, behaviours)
     if len(table) == 0:
         raise ValueError("figure5_gradients: no rows for the requested designs and behaviours")
@@ -403,7 +437,7 @@ def figure5_gradients(hops: pd.DataFrame, comparison: pd.DataFrame | None = None
                     ax.tick_params(labelbottom=False)
         _legend_designs(fig, [d for d in all_designs if d in present],
                         _basis_note(comparison, baseline, alpha) if comparison is not None else None,
-                        points=means is not None)
+                        points=means is not None, dropped=dropped)
     return fig
 
 
@@ -597,7 +631,7 @@ def _edges(centres: np.ndarray) -> np.ndarray:
     return np.exp(np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]]))
 
 
-MEASURED_COLUMNS = ("max_stable_timestep_s", "dt_stable_s", "dt_spec_s")
+MEASURED_COLUMNS = ("max_stable_timestep_s", "dt_stable_s", "spec_timestep_s", "dt_spec_s")
 ANALYTIC_COLUMNS = ("analytic_timestep_s", "dt_estimate_s")
 
 
@@ -610,10 +644,10 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
 
     stab: one row per grid point: density_g_cm3, modulus_gpa, a measured
     step (`measured`, default the first present of
-    :data:`MEASURED_COLUMNS`: max_stable_timestep_s, dt_stable_s from
-    :mod:`mat_hopper.stability`'s bisection, dt_spec_s from the spec's
-    20-step scan) and the estimate (`analytic`, default
-    analytic_timestep_s or dt_estimate_s); materials: catalogue names
+    :data:`MEASURED_COLUMNS`: max_stable_timestep_s, the bisection of
+    :mod:`mat_hopper.stability`; pass ``measured="spec_timestep_s"`` for
+    the spec's 20-step scan) and the estimate (`analytic`, default
+    analytic_timestep_s); materials: catalogue names
     marked on the map; convention: keep the rows of this convention (when
     the table has a convention column) and name it in the title."""
     if "convention" in stab.columns:
@@ -662,7 +696,8 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
             ax.pcolormesh(xe, ye, np.ma.masked_where(~unstable, np.ones_like(measured)), cmap="Greys", vmin=0,
                           vmax=4, hatch="///", shading="flat", edgecolor="#777777", linewidth=0)
         cb = fig.colorbar(mesh, ax=ax, pad=0.02)
-        cb.set_label("Largest stable time step, measured (s)" + (" (spec scan)" if measured == "dt_spec_s" else ""))
+        cb.set_label("Largest stable time step, measured (s)" + (" (spec scan)" if "spec" in measured else ""))
+        plain_log_ticks(cb.ax.yaxis)
         if len(an_ok) and len(rho) > 1 and len(mod) > 1:
             lo, hi = math.floor(math.log10(an_ok.min()) * 2) / 2, math.ceil(math.log10(an_ok.max()) * 2) / 2
             levels = 10 ** np.arange(lo, hi + 0.01, 0.5)
@@ -688,8 +723,7 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
             ax.plot(m.density_g_cm3, m.modulus_gpa, "o", ms=6, markerfacecolor="white", markeredgecolor="black")
             ax.annotate(m.name, (m.density_g_cm3, m.modulus_gpa), xytext=(5, 4), textcoords="offset points",
                         fontsize=8, color="white", fontweight="bold")
-        title = "Measured (colour), analytic 2/ω_max (dashed)"
-        ax.set_title(title + (f", {convention} convention" if convention else ""))
+        ax.set_title("Largest stable time step" + (f", {convention} convention" if convention else ""))
         _panel_label(ax, "A")
         handles = [Line2D([], [], color="black", ls="--", lw=0.9, label="analytic 2/ω_max")]
         if unstable.any():
@@ -795,3 +829,72 @@ def ashby_figure(materials: pd.DataFrame | None = None, *, regions=None, bounds=
         ax.legend(handles=handles, loc="upper left", frameon=True, fontsize=7.5, title="material class",
                   title_fontsize=8)
     return fig
+
+
+# --- all figures of a reproduction -------------------------------------------------------
+
+
+def _concat_tables(frames) -> pd.DataFrame | None:
+    frames = [f for f in frames if f is not None and len(f)]
+    return pd.concat(frames, ignore_index=True) if frames else None
+
+
+def _of_convention(t: pd.DataFrame | None, convention: str) -> pd.DataFrame | None:
+    if t is None or "convention" not in t.columns:
+        return t if convention == "paper" else None
+    t = t[t["convention"] == convention]
+    return t if len(t) else None
+
+
+def write_figures(tables: dict, out_dir, *, rollouts=None, basis: str = "auto", formats=("png", "svg"),
+                  dpi: int = DPI) -> list[Path]:
+    """Every figure the tables allow, as PNG and SVG in ``<out_dir>/figures/``.
+
+    tables: a reproduction's tables by name (``exp1_hops``, ``exp1_runs``,
+    ``exp2_hops``, ``exp2_runs``, ``exp3_hops``, ``exp3_runs``,
+    ``stability``; any may be missing: its figures are skipped). Files:
+    ``fig4_mono``, ``fig4_sweeps``, ``fig5_gradients`` (stars on hop
+    cycles, the paper's test) and, when the runs have replicates and basis
+    is ``auto`` or ``replicates``, ``fig4_mono_replicates`` and
+    ``fig5_gradients_replicates`` (basis ``hops`` or ``replicates``: only
+    those); ``stability_map``; ``ashby``;
+    ``fig5_timeseries`` when `rollouts` (Rollout objects of forward and
+    ramp hopping) are given. A convention other than ``paper`` gets its
+    name as a suffix (``fig4_mono_axial``). Returns the paths written."""
+    if basis not in ("auto", "hops", "replicates"):
+        raise ValueError(f"basis must be one of auto, hops, replicates; got {basis!r}")
+    fig_dir = Path(out_dir) / "figures"
+    written: list[Path] = []
+
+    def save(fig, stem):
+        written.extend(save_figure(fig, fig_dir / stem, formats=formats, dpi=dpi))
+
+    get = tables.get
+    runs_all = _concat_tables([get("exp1_runs"), get("exp2_runs"), get("exp3_runs")])
+    for conv in CONVENTIONS:
+        sfx = "" if conv == "paper" else f"_{conv}"
+        runs = _of_convention(runs_all, conv)
+        e1, e2, e3 = (_of_convention(get(f"exp{i}_hops"), conv) for i in (1, 2, 3))
+        reps = any(t is not None and _stats.has_replicates(t) for t in (e1, e3))
+        bases = {"hops": ["hops"], "replicates": ["replicates"] if reps else [],
+                 "auto": ["hops", "replicates"] if reps else ["hops"]}[basis]
+        for b in bases:
+            tail = "" if b == "hops" else "_replicates"
+            if e1 is not None:
+                save(figure4_mono(e1, basis=b, runs=runs), f"fig4_mono{tail}{sfx}")
+            grad = _concat_tables([e1, e3])
+            if e3 is not None and grad is not None:
+                save(figure5_gradients(grad, basis=b, runs=runs), f"fig5_gradients{tail}{sfx}")
+        if e2 is not None:
+            base = _concat_tables([e1, e3])
+            if base is not None:
+                base = base[(base["design"] == "MD") & (base["behaviour"] == "forward")]
+            save(figure4_sweeps(e2, base if base is not None and len(base) else None, runs=runs),
+                 f"fig4_sweeps{sfx}")
+        stab = _of_convention(get("stability"), conv)
+        if stab is not None:
+            save(stability_figure(stab, convention=conv), f"stability_map{sfx}")
+    if rollouts:
+        save(figure5_timeseries(rollouts), "fig5_timeseries")
+    save(ashby_figure(), "ashby")
+    return written
