@@ -58,6 +58,7 @@ import pandas as pd
 
 from . import reference as ref
 from . import stats as _stats
+from .stats import seconds
 from .behaviours import BEHAVIOUR_NAMES
 from .materials import CATALOGUE, CONVENTIONS
 
@@ -346,7 +347,10 @@ def _claim_pct(design, metric, paper_pct, baseline="MD", behaviour="ramp", exps=
             return _missing_or_untestable(ctx, [baseline, design], [behaviour], exps)
         r = rows.iloc[0]
         verdict = match_percent(float(r["pct_change"]), paper_pct)
-        return Outcome(_pct(r["pct_change"]), verdict, _ci_detail(rows))
+        ours = _pct(r["pct_change"])
+        if np.isfinite(r.get("ci_low", np.nan)):
+            ours += f" (95 % CI {r['ci_low']:+.0f} to {r['ci_high']:+.0f} %)"
+        return Outcome(ours, verdict, _ci_detail(rows))
     return evaluate
 
 
@@ -447,7 +451,7 @@ def _claim_timestep_materials(ctx: _Context) -> Outcome:
     ordered = all(np.isfinite(v) for v in found.values()) and \
         found["PVC"] > max(v for k, v in found.items() if k != "PVC")
     verdict = HOLDS if all(close) else PARTLY if (any(close) or ordered) else FAILS
-    ours = ", ".join(f"{k} {v:.1e} s" if np.isfinite(v) else f"{k} none stable" for k, v in found.items())
+    ours = ", ".join(f"{k} {seconds(v)} s" if np.isfinite(v) else f"{k} none stable" for k, v in found.items())
     return Outcome(ours, verdict, f"measured column {col}; nearest grid points: " + "; ".join(notes))
 
 
@@ -521,7 +525,7 @@ CLAIMS: tuple[Claim, ...] = (
           _pct(ref.CLAIM_HEADLINE_POWER_PCT), _PCT_RULE,
           _claim_pct("rho-inc", "power_w", ref.CLAIM_HEADLINE_POWER_PCT, baseline="SS")),
     Claim("timestep_materials", "Stable time step: PVC about 1e-3 s, Al and SS about 1e-4 s",
-          ", ".join(f"{k} {v:.0e} s" for k, v in ref.CLAIM_STABLE_TIMESTEP_S.items()),
+          ", ".join(f"{k} {seconds(v)} s" for k, v in ref.CLAIM_STABLE_TIMESTEP_S.items()),
           f"every material within a factor {10 ** TIMESTEP_TOL_DECADES:.0f} of the paper's: holds; some, or PVC's the largest: "
           "partly", _claim_timestep_materials),
     Claim("timestep_trend", "Stable time step log-linear in density and modulus; light or stiff need smaller steps",
@@ -583,7 +587,8 @@ def claims_table(hops: pd.DataFrame | None, runs: pd.DataFrame | None = None,
                 out = Outcome("not run", NOT_RUN, f"no {conv}-convention hopping results")
             else:
                 out = claim.evaluate(ctx)
-            used = "" if is_stab or out.verdict in (NOT_RUN, NOT_TESTABLE) else _basis_used(ctx, claim)
+            used = ("" if out.verdict in (NOT_RUN, NOT_TESTABLE) else
+                    "stability map" if is_stab else _basis_used(ctx, claim))
             rows.append({"claim_id": claim.claim_id, "claim": claim.claim, "paper": claim.paper, "ours": out.ours,
                          "verdict": out.verdict, "convention": conv, "basis": used, "detail": out.detail,
                          "rule": claim.rule})
@@ -609,7 +614,7 @@ def _md_cell(x) -> str:
     return s.replace("|", "\\|").replace("\n", " ")
 
 
-def to_markdown(table: pd.DataFrame, columns=("claim", "convention", "paper", "ours", "verdict")) -> str:
+def to_markdown(table: pd.DataFrame, columns=("claim", "convention", "paper", "ours", "verdict", "basis")) -> str:
     """The claims as a markdown table (one row per claim and convention),
     the rules listed below it."""
     cols = [c for c in columns if c in table.columns]

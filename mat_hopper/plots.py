@@ -633,6 +633,8 @@ def _edges(centres: np.ndarray) -> np.ndarray:
 
 MEASURED_COLUMNS = ("max_stable_timestep_s", "dt_stable_s", "spec_timestep_s", "dt_spec_s")
 ANALYTIC_COLUMNS = ("analytic_timestep_s", "dt_estimate_s")
+ANALYTIC_LABELS = {"analytic_timestep_s": "2/ω_max", "dt_estimate_s": "2/ω_max",
+                   "combined_timestep_s": "min(2/ω_max, controller limit)"}
 
 
 def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"), convention: str | None = None,
@@ -647,7 +649,8 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
     :data:`MEASURED_COLUMNS`: max_stable_timestep_s, the bisection of
     :mod:`mat_hopper.stability`; pass ``measured="spec_timestep_s"`` for
     the spec's 20-step scan) and the estimate (`analytic`, default
-    analytic_timestep_s); materials: catalogue names
+    analytic_timestep_s; ``analytic="combined_timestep_s"`` adds the
+    controller limit); materials: catalogue names
     marked on the map; convention: keep the rows of this convention (when
     the table has a convention column) and name it in the title."""
     if "convention" in stab.columns:
@@ -661,6 +664,7 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
     measured = measured or next((c for c in MEASURED_COLUMNS if c in stab.columns), MEASURED_COLUMNS[0])
     analytic = analytic or next((c for c in ANALYTIC_COLUMNS if c in stab.columns), ANALYTIC_COLUMNS[0])
     _require(stab, ("density_g_cm3", "modulus_gpa", measured, analytic), "stability_figure")
+    an_label = ANALYTIC_LABELS.get(analytic, "")
     stab = stab.rename(columns={measured: "_measured", analytic: "_analytic"})[
         ["density_g_cm3", "modulus_gpa", "_measured", "_analytic"]].rename(
         columns={"_measured": "max_stable_timestep_s", "_analytic": "analytic_timestep_s"})
@@ -725,7 +729,7 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
                         fontsize=8, color="white", fontweight="bold")
         ax.set_title("Largest stable time step" + (f", {convention} convention" if convention else ""))
         _panel_label(ax, "A")
-        handles = [Line2D([], [], color="black", ls="--", lw=0.9, label="analytic 2/ω_max")]
+        handles = [Line2D([], [], color="black", ls="--", lw=0.9, label=f"analytic {an_label}")]
         if unstable.any():
             handles.append(Patch(facecolor="#dddddd", hatch="///", edgecolor="#777777", label="no tried step stable"))
         ax.legend(handles=handles, loc="lower right", frameon=True, fontsize=7)
@@ -743,7 +747,7 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
         ax2.set_xlim(lims)
         ax2.set_ylim(lims)
         ax2.set_aspect("equal")
-        ax2.set_xlabel("Analytic estimate 2/ω_max (s)")
+        ax2.set_xlabel(f"Analytic estimate {an_label} (s)")
         ax2.set_ylabel("Measured largest stable step (s)")
         ax2.grid(True, which="major", alpha=0.3)
         ax2.legend(loc="upper left")
