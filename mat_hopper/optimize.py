@@ -65,7 +65,7 @@ from tqdm.std import tqdm
 from .optimize_objective import (CONSTRAINTS, OBJECTIVES, PROFILES, Objective, evaluate, profile as get_profile)
 from .optimize_space import KINDS, SearchSpace
 from .optimize_storage import (ERROR_ATTR, PAPER_ATTR, WORKER_ATTR, check_study_name, default_url,
-                               open_storage, recover_dead, redact, worker_identity)
+                               open_storage, recover_dead, redact, storage_file, worker_identity)
 
 SAMPLERS = ("tpe", "nsga2", "gp")
 DEFAULT_WORKERS = 2
@@ -316,8 +316,11 @@ def _worker_main(job: _Job, tickets, conn) -> None:
     record = lambda s, t: told.append((t.number, t.state.name))
     while _claim(tickets, study, job.target):
         study.optimize(objective, n_trials=1, catch=(Exception,), callbacks=[record])
-    conn.send({"pid": os.getpid(), "seed": job.seed, "told": told})
-    conn.close()
+    try:
+        conn.send({"pid": os.getpid(), "seed": job.seed, "told": told})
+        conn.close()
+    except OSError:          # the coordinator is gone; the study has everything
+        pass
 
 
 # --- the coordinator ---------------------------------------------------------
@@ -417,8 +420,8 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
                 lost = recover_dead(study, pids={pid}, max_retry=options.max_retry,
                                     reason=f"worker exited with code {p.exitcode}")
                 result.recovered += lost
-                with tickets.get_lock():
-                    tickets.value += len(lost)
+                with tickets.get_lock():   # its ticket back (the storage check in _claim still caps the total)
+                    tickets.value += max(1, len(lost))
 
     spawn(min(options.workers, budget))
     bar = _Bar(total=options.trials, initial=min(done, options.trials), unit="trial", desc=config.name,
@@ -504,6 +507,10 @@ def open_existing(name: str, args):
         path = os.path.join(args.studies_dir, f"{name}.db")
         if not os.path.exists(path):
             raise ValueError(f"no study {name!r}: {path} does not exist (give --storage URL for a shared study)")
+    else:
+        path = storage_file(args.storage)
+        if path and not os.path.exists(path):
+            raise ValueError(f"no study {name!r}: {path} does not exist")
     storage = options.open(name)
     if not study_exists(name, storage):
         raise ValueError(f"no study {name!r} in {redact(options.storage_url(name))}")

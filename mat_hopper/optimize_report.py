@@ -275,9 +275,9 @@ def plot_importances(imp: pd.DataFrame, path: str, title: str) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, len(OBJECTIVES), figsize=(9, 3.8), sharey=False)
+    fig, axes = plt.subplots(1, len(OBJECTIVES), figsize=(10, 3.8), sharey=False, layout="constrained")
     for ax, obj in zip(np.atleast_1d(axes), OBJECTIVES):
-        d = imp[imp["objective"] == obj].sort_values("importance") if len(imp) else imp
+        d = imp[imp["objective"] == obj].sort_values(["importance", "param"]) if len(imp) else imp
         if len(d):
             ax.barh(d["param"], d["importance"], color="tab:blue")
         ax.set_title(obj, fontsize=9)

@@ -88,6 +88,20 @@ def _journal_path(url: str) -> str:
     return rest
 
 
+def storage_file(url: str) -> str | None:
+    """The local file of a sqlite or journal URL (absolute), else None."""
+    if url.startswith("journal:"):
+        return os.path.abspath(_journal_path(url))
+    try:
+        from sqlalchemy.engine import make_url
+        u = make_url(url)
+    except Exception:
+        return None
+    if u.get_backend_name() == "sqlite" and u.database and u.database != ":memory:":
+        return os.path.abspath(u.database)
+    return None
+
+
 def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retry: int = 3):
     """An Optuna storage for `url`, checked to be reachable (ValueError, one
     line, if not). See the module doc for the accepted URLs."""
