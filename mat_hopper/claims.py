@@ -40,9 +40,11 @@ Rules (thresholds are module constants):
 
 Comparisons are those of :mod:`mat_hopper.stats` on the ``basis`` chosen
 (``auto``: replicate means where every design and behaviour has
-replicates, else the paper's hop cycles of the unperturbed run); the
-Holm family is one experiment (experiments 1 and 3 together for the
-gradient claims).
+replicates, else the paper's hop cycles of the unperturbed run; the
+``basis`` column says which); the Holm family is one metric within one
+experiment (experiments 1 and 3 together for the gradient claims). Hop
+cycles of runs that diverged, fell over or failed are never used
+(:func:`mat_hopper.stats.drop_unusable`).
 """
 
 from __future__ import annotations

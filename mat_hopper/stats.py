@@ -41,7 +41,7 @@ Round-off. Values smaller in magnitude than ``ROUNDOFF_ATOL`` (1e-9 in SI
 units: 1 nm, 1 nW) count as exactly zero in every comparison. Unperturbed
 static hopping gives MD a tracking error of 1e-17 m (round-off) and SS
 exactly 0.0 m; compared as they are, a rank test calls that difference
-"significant" (p = 3e-6 over 14 hop cycles).
+"significant" (p = 3e-6 over 13 and 14 hop cycles of 14 s runs).
 
 Test power with few replicates: with n replicates per design the smallest
 two-sided Mann-Whitney p is 2 / C(2n, n) (n = 5: 0.0079; n = 6: 0.0022;
