@@ -33,6 +33,7 @@ from .sim import C, Rollout
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
 ALL_METRICS = METRICS + ("power_paper_w", "energy_j")
 GRAVITY = 9.81
+ROUNDOFF = 1e-12      # relative spread below which a metric's values count as equal
 
 
 def _segment_means(values: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
@@ -166,7 +167,11 @@ def compare(hops: pd.DataFrame, baseline: str, *, by: str = "behaviour", metrics
                 a, b = dg[m].to_numpy(float), base[m].to_numpy(float)
                 mean_a, mean_b = (a.mean() if len(a) else np.nan), (b.mean() if len(b) else np.nan)
                 pct = 100.0 * (mean_a - mean_b) / abs(mean_b) if mean_b else np.nan
-                if len(a) and len(b) and not (np.ptp(np.concatenate([a, b])) == 0):
+                pooled = np.concatenate([a, b])
+                # Round-off spread (e.g. 1e-17 m of lateral drift in symmetric
+                # in-place hopping) is no difference: treat it as ties.
+                tied = len(pooled) == 0 or np.ptp(pooled) <= ROUNDOFF * max(np.abs(pooled).max(), 1.0)
+                if len(a) and len(b) and not tied:
                     u, p = stats.mannwhitneyu(a, b, alternative="two-sided")
                     effect = 2.0 * u / (len(a) * len(b)) - 1.0
                 else:

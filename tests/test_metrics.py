@@ -73,3 +73,10 @@ def test_summarize_is_tidy(rollout):
     s = summarize(hop_table(rollout))
     assert set(s.metric) == {"hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w"}
     assert {"mean", "median", "iqr", "n"} <= set(s.columns)
+
+
+def test_compare_ignores_round_off_differences():
+    rows = [{"design": "MD", "behaviour": "static", "tracking_error_m": v} for v in np.full(20, 1e-17)]
+    rows += [{"design": "SS", "behaviour": "static", "tracking_error_m": 0.0} for _ in range(20)]
+    row = compare(pd.DataFrame(rows), "MD", metrics=("tracking_error_m",)).iloc[0]
+    assert row["p"] == 1.0 and not row["significant"]
