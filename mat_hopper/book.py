@@ -128,23 +128,54 @@ def _inline_figures(fmt: str) -> None:
 
 
 def show(frame: pd.DataFrame, formats: dict | None = None, *, index: bool = False, na_rep: str = "–",
-         precision: int = 4):
+         precision: int = 4, decimals: int | None = None, pattern: str | None = None):
     """A table for the page: pandas Styler with floats to `precision`
-    significant digits (``formats``: column -> format string or callable,
-    e.g. ``{"porosity": "{:+.0%}"}``), missing values as `na_rep`, and the
-    row index hidden unless `index`."""
+    significant digits, or to `decimals` places when given (``formats``:
+    column -> format string or callable, e.g. ``{"porosity": "{:+.0%}"}``;
+    `pattern`: one format string for every float, e.g. ``"{:+.0f} %"``),
+    missing values as `na_rep`, and the row index hidden unless `index`."""
     def number(v):
         if isinstance(v, (bool, np.bool_)):
             return str(v)
         if isinstance(v, (int, np.integer)):
             return f"{v:d}"
         if isinstance(v, (float, np.floating)):
-            return f"{v:.{precision}g}"
+            if not np.isfinite(v):
+                return na_rep
+            if pattern is not None:
+                return pattern.format(v)
+            return f"{v:.{decimals}f}" if decimals is not None else f"{v:.{precision}g}"
         return str(v)
     st = frame.style.format(number, na_rep=na_rep)
     if formats:
         st = st.format({k: v for k, v in formats.items() if k in frame.columns}, na_rep=na_rep)
     return st if index else st.hide(axis="index")
+
+
+BUILD_FLAGS = ("-W", "-n", "--keep-going")   # warnings (a failed cell among them) fail the build
+
+
+def build_command(source: str | os.PathLike | None = None, *, path_output: str | os.PathLike | None = None,
+                  toc: str | os.PathLike | None = None) -> list[str]:
+    """The command line that builds the book (run it with
+    $MAT_HOPPER_PROFILE set): the jupyter-book beside this interpreter (the
+    venv's, so notebooks run on the venv's Python), warnings as errors,
+    nitpicky, keep going to report every problem, then fail. The HTML goes
+    to ``<path_output or source>/_build/html``."""
+    import shutil
+    import sys
+    exe = Path(sys.executable).parent / "jupyter-book"
+    if not exe.exists():
+        found = shutil.which("jupyter-book")
+        if found is None:
+            raise ValueError("jupyter-book is not installed beside this Python nor on PATH")
+        exe = Path(found)
+    cmd = [str(exe), "build", str(source if source is not None else repo_root()), *BUILD_FLAGS]
+    if path_output is not None:
+        cmd += ["--path-output", str(path_output)]
+    if toc is not None:
+        cmd += ["--toc", str(toc)]
+    return cmd
 
 
 # ---------------------------------------------------------------------------
@@ -565,14 +596,21 @@ def run_experiments(book: Book | None, experiments: str, *, replicates: int = 0,
     return rep.tables
 
 
+BASELINE_FLOOR = 1e-9   # SI units: a baseline mean smaller than this is round-off, not a value
+
+
 def pct_change_table(hops: pd.DataFrame, metric: str, baseline: str = "MD", *, designs=None,
-                     behaviours=None) -> pd.DataFrame:
+                     behaviours=None, floor: float = BASELINE_FLOOR) -> pd.DataFrame:
     """Percent change of the mean of `metric` against `baseline` (same
     behaviour, unperturbed runs), designs as rows and behaviours as
-    columns (from :func:`mat_hopper.stats.summary_table`)."""
+    columns (from :func:`mat_hopper.stats.summary_table`). Where the
+    baseline's mean is below `floor` in magnitude (SI units; e.g. the
+    tracking error of hopping in place, zero up to round-off) the change
+    is nan: a percentage of nothing means nothing."""
     from . import stats
     from .plots import order_behaviours, order_designs
     s = stats.summary_table(hops, metrics=(metric,), baseline=baseline)
+    s = s.assign(pct_change_mean=s["pct_change_mean"].where(s["mean_baseline"].abs() >= floor))
     if designs is not None:
         s = s[s["design"].isin(designs)]
     if behaviours is not None:
@@ -582,6 +620,113 @@ def pct_change_table(hops: pd.DataFrame, metric: str, baseline: str = "MD", *, d
     t = t.reindex(index=order_designs(designs or t.index), columns=order_behaviours(behaviours or t.columns))
     t.columns.name = f"{metric}: % vs {baseline}"
     return t
+
+
+def outcome_table(runs: pd.DataFrame) -> pd.DataFrame:
+    """How each run ended, designs as rows and behaviours as columns: "ok,
+    N hops" (N scored hop cycles), "fell" (the body ended below 0.1 m),
+    "diverged at T s" (numerical blow-up, simulated time) or "failed"
+    (an error; see the runs table). Unperturbed runs only."""
+    from .plots import order_behaviours, order_designs
+    need = ("design", "behaviour", "status")
+    missing = [c for c in need if c not in runs.columns]
+    if missing:
+        raise ValueError(f"outcome_table needs columns {missing}")
+    r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs
+
+    def cell(row) -> str:
+        st = row["status"]
+        if st == "ok":
+            return f"ok, {int(row['n_hops'])} hops" if "n_hops" in row and pd.notna(row["n_hops"]) else "ok"
+        if st == "diverged" and pd.notna(row.get("diverged_at_s", np.nan)):
+            return f"diverged at {row['diverged_at_s']:.2f} s"
+        return str(st)
+    t = r.assign(outcome=r.apply(cell, axis=1)).pivot_table(index="design", columns="behaviour", values="outcome",
+                                                            aggfunc="first")
+    t = t.reindex(index=order_designs(t.index), columns=order_behaviours(t.columns))
+    t.columns.name = None
+    return t
+
+
+def metric_table(hops: pd.DataFrame, metric: str, stat: str = "mean", *, scale: float = 1.0) -> pd.DataFrame:
+    """`stat` (mean or median) of `metric` over the scored hop cycles of
+    the unperturbed runs, times `scale` (e.g. 1e3 for mm), designs as rows
+    and behaviours as columns."""
+    from . import stats
+    from .plots import order_behaviours, order_designs
+    if stat not in ("mean", "median"):
+        raise ValueError(f"stat must be mean or median, got {stat!r}")
+    s = stats.summary_table(hops, metrics=(metric,), baseline=None)
+    t = s.pivot_table(index="design", columns="behaviour", values=stat, aggfunc="first") * scale
+    t = t.reindex(index=order_designs(t.index), columns=order_behaviours(t.columns))
+    t.columns.name = None
+    return t
+
+
+def sweep_spans(hops: pd.DataFrame, metric: str = "tracking_error_m") -> pd.DataFrame:
+    """Experiment 2, one row per base material and swept property: the
+    smallest and largest mean of `metric` over the sweep's points (mean
+    over each point's scored hop cycles, unperturbed runs), their span,
+    and the property values where they occur. Columns sweep_base,
+    sweep_property, n_points, min, at_min, max, at_max, span."""
+    need = ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa", metric)
+    missing = [c for c in need if c not in hops.columns]
+    if missing:
+        raise ValueError(f"sweep_spans needs columns {missing}")
+    h = hops[hops["replicate"] == -1] if "replicate" in hops.columns else hops
+    rows = []
+    for (base, prop), g in h.groupby(["sweep_base", "sweep_property"], sort=False):
+        col = "density_g_cm3" if prop == "density" else "modulus_gpa"
+        means = g.groupby(col)[metric].mean()
+        rows.append({"sweep_base": base, "sweep_property": prop, "n_points": len(means),
+                     "min": means.min(), "at_min": means.idxmin(), "max": means.max(), "at_max": means.idxmax(),
+                     "span": means.max() - means.min()})
+    return pd.DataFrame(rows)
+
+
+ORDER_PAIRS = (("rho-inc", "rho-dec"), ("PVC-Ti-SS", "SS-Ti-PVC"))
+
+
+def order_effect(hops: pd.DataFrame, pairs=ORDER_PAIRS, metrics=("tracking_error_m", "power_w", "jerk_m_s3"),
+                 alpha: float = 0.05) -> pd.DataFrame:
+    """Does segment order matter? For each pair of designs made of the same
+    segments in opposite orders: the percent change of the second's mean
+    against the first's, per behaviour and metric, with the Mann-Whitney U
+    test on hop cycles (unperturbed runs; Holm over each pair's
+    behaviours and metrics). Columns pair, behaviour, metric, pct_change,
+    p_holm, significant."""
+    from . import stats
+    frames = []
+    for first, second in pairs:
+        sub = hops[hops["design"].isin([first, second])]
+        if not {first, second} <= set(sub["design"]):
+            raise ValueError(f"order_effect: designs {first} and {second} must both be in the table")
+        if "experiment" in sub.columns:
+            sub = sub.assign(experiment="+".join(sorted(set(sub["experiment"].astype(str)))))
+        res = stats.compare_hops(sub, baseline=first, metrics=metrics, alpha=alpha)
+        res = res[res["design"] == second].assign(pair=f"{second} vs {first}")
+        frames.append(res[["pair", "behaviour", "metric", "pct_change", "p_holm", "significant"]])
+    return pd.concat(frames, ignore_index=True)
+
+
+def starred(table: pd.DataFrame, rows=("pair", "metric"), column: str = "behaviour", value: str = "pct_change",
+            flag: str = "significant") -> pd.DataFrame:
+    """A tidy comparison as a wide table for the page: `value` (a percent
+    change) as "+12 %" with a star where `flag` is true, `rows` as the
+    index and `column` values as columns ("–" where nan)."""
+    from .plots import order_behaviours
+
+    def cell(r) -> str:
+        v = r[value]
+        if not np.isfinite(v):
+            return "–"
+        return f"{v:+.0f} %" + (" *" if bool(r[flag]) else "")
+    t = table.assign(_cell=table.apply(cell, axis=1))
+    out = t.pivot_table(index=list(rows), columns=column, values="_cell", aggfunc="first", sort=False)
+    if column == "behaviour":
+        out = out[order_behaviours(out.columns)]
+    out.columns.name = None
+    return out
 
 
 CHAPTER_CLAIMS = {
@@ -624,3 +769,90 @@ def claims_for(tables: dict, chapter: str | None = None, *, conventions=None,
             ["_o", "convention"], kind="stable").drop(columns="_o")
     table = table.reset_index(drop=True)
     return table if columns is None else table[[c for c in columns if c in table.columns]]
+
+
+# ---------------------------------------------------------------------------
+# whole rollouts (time series, gait tiles), cached
+
+
+SERIES_PREFIX = "series-"
+
+
+def _series_settings(profile: Profile, record_rate_hz: float | None):
+    from dataclasses import replace
+    s = profile.sim_settings()
+    return s if record_rate_hz is None else replace(s, record_rate_hz=float(record_rate_hz))
+
+
+def _series_path(cache_dir: Path, spec, record_qpos: bool) -> Path:
+    return cache_dir / f"{SERIES_PREFIX}{spec.key()[len(spec.kind) + 1:]}{'-qpos' if record_qpos else ''}.npz"
+
+
+def _series_compute(spec, record_qpos: bool) -> dict:
+    from .sim import simulate
+    r = simulate(spec.design, spec.behaviour, settings=spec.settings, record_qpos=record_qpos)
+    out = {"data": r.data, "events": r.events, "diverged_step": np.array(r.diverged_step),
+           "total_mass_kg": np.array(r.total_mass_kg), "spring_stiffness_n_m": np.array(r.spring_stiffness_n_m)}
+    if record_qpos:
+        out["qpos"] = r.qpos
+    return out
+
+
+def _series_store(path: Path, arrays: dict) -> None:
+    import tempfile
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=".npz")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            np.savez_compressed(f, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def rollouts(designs, behaviours, profile: str | Profile | None = None, *, record_rate_hz: float | None = None,
+             record_qpos: bool = False, cache_dir=None, workers: int | None = None) -> list:
+    """Whole rollouts (:class:`~mat_hopper.sim.Rollout`) of every design
+    (names or LegDesigns) on every behaviour under the profile's settings,
+    for time series and gait tiles. record_rate_hz: samples per simulated
+    second (default the profile's); record_qpos: keep joint positions (for
+    rendering). Each rollout is cached as one compressed .npz in the result
+    cache (``series-<key>.npz``, the runner's key of the same run), written
+    atomically; missing ones run in parallel (all cores by default).
+    Returned in design-major order."""
+    from concurrent.futures import ProcessPoolExecutor
+    import multiprocessing
+
+    from .behaviours import behaviour as get_behaviour
+    from .materials import parse_design
+    from .runner import RunSpec, check_workers, default_workers
+    from .sim import Rollout
+    prof = get_profile(profile)
+    settings = _series_settings(prof, record_rate_hz)
+    cache = Path(cache_dir or os.environ.get(CACHE_ENV) or DEFAULT_CACHE_DIR).resolve()
+    specs = [RunSpec(parse_design(d) if isinstance(d, str) else d,
+                     get_behaviour(bh) if isinstance(bh, str) else bh, settings)
+             for d in designs for bh in behaviours]
+    if not specs:
+        raise ValueError("rollouts: give at least one design and one behaviour")
+    paths = [_series_path(cache, s, record_qpos) for s in specs]
+    todo = [i for i, p in enumerate(paths) if not p.is_file()]
+    n = min(len(todo), check_workers(workers) or default_workers())
+    if n > 1:
+        method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+        with ProcessPoolExecutor(n, mp_context=multiprocessing.get_context(method)) as pool:
+            futures = {i: pool.submit(_series_compute, specs[i], record_qpos) for i in todo}
+            for i, fut in futures.items():
+                _series_store(paths[i], fut.result())
+    else:
+        for i in todo:
+            _series_store(paths[i], _series_compute(specs[i], record_qpos))
+    out = []
+    for s, p in zip(specs, paths):
+        with np.load(p) as z:
+            out.append(Rollout(s.design, s.behaviour, s.settings, z["data"], z["events"], int(z["diverged_step"]),
+                               float(z["total_mass_kg"]), tuple(z["spring_stiffness_n_m"].tolist()),
+                               z["qpos"] if record_qpos else None))
+    return out

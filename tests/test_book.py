@@ -1,0 +1,368 @@
+"""The executable book: its helpers (mat_hopper/book.py), its notebooks
+(clean, in sync with notebooks/src), and the quick book built for real:
+every chapter's page exists, holds its figures, and no cell failed."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import nbformat
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from mat_hopper import book, reference as ref
+from mat_hopper.experiments import PROFILES, Profile
+from mat_hopper.materials import LegDesign, spring_stiffness
+
+from synthetic_results import results
+
+ROOT = Path(__file__).resolve().parent.parent
+NOTEBOOKS = ROOT / "notebooks"
+
+# Figures each chapter must show (at least), by notebook name.
+MIN_FIGURES = {
+    "01-introduction": 1,          # the designs
+    "02-materials": 1,             # Ashby chart
+    "03-modelling-material": 1,    # conventions: stiffness and stable step
+    "04-hopper-controller": 1,     # one rollout (and the rendered model once render.py is in)
+    "05-numerical-stability": 1,   # the stable-time-step map
+    "06-mono-materials": 1,        # power, jerk, tracking error
+    "07-one-property": 1,          # sweeps
+    "08-gradients": 2,             # gradients, time series (and gait tiles once render.py is in)
+    "09-optimizing-gradients": 1,  # the Pareto front
+    "10-reproduction-report": 1,   # a defect measured
+}
+
+
+def toc_files() -> list[str]:
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
+    files = []
+    for part in toc.get("parts", [{"chapters": toc.get("chapters", [])}]):
+        files += [c["file"] for c in part["chapters"]]
+    return files
+
+
+# ---------------------------------------------------------------------------
+# helpers
+
+
+def test_repo_root_from_anywhere(tmp_path):
+    assert book.repo_root(ROOT / "notebooks" / "src") == ROOT
+    assert book.repo_root(ROOT / "mat_hopper") == ROOT
+    # outside the repository: falls back to the one above the package
+    assert book.repo_root(tmp_path) == ROOT
+    # a pyproject.toml of another project is not ours
+    (tmp_path / "pyproject.toml").write_text('[project]\nname = "other"\n')
+    assert book.repo_root(tmp_path) == ROOT
+
+
+def test_setup_sets_cache_and_profile(monkeypatch, tmp_path):
+    monkeypatch.delenv("MAT_HOPPER_CACHE", raising=False)
+    monkeypatch.setenv("MAT_HOPPER_PROFILE", "quick")
+    monkeypatch.chdir(tmp_path)
+    b = book.setup(chdir=False)
+    assert b.profile.name == "quick" and b.root == ROOT
+    assert b.cache_dir == ROOT / "results" / "cache"
+    assert os.environ["MAT_HOPPER_CACHE"] == str(ROOT / "results" / "cache")
+    assert b.out_dir == ROOT / "results" / "quick"
+    assert os.getcwd() == str(tmp_path)
+    assert "12 s runs" in b.describe()
+    monkeypatch.setenv("MAT_HOPPER_PROFILE", "nope")
+    with pytest.raises(ValueError, match="profile"):
+        book.setup(chdir=False)
+    with pytest.raises(ValueError, match="figure_format"):
+        book.setup("quick", chdir=False, figure_format="jpeg")
+
+
+def test_profile_table_sets_build_beside_paper():
+    t = book.profile_table("quick").set_index("setting")
+    assert t.loc["duration_s", "this build"] == PROFILES["quick"].duration_s
+    assert t.loc["duration_s", "paper"] == ref.DURATION_S
+    assert t.loc["stability_grid_size", "paper"] == ref.STABILITY_GRID_SIZE
+    env = book.environment_table().set_index("item")["value"]
+    assert env["MuJoCo"] and env["mat-hopper"]
+
+
+def test_show_formats_and_hides_index():
+    st = book.show(pd.DataFrame({"a": [1.23456, np.nan], "b": ["x", "y"]}), decimals=2)
+    html = st.to_html()
+    assert "1.23" in html and "–" in html and "1.2346" not in html
+    assert "1.2 %" in book.show(pd.DataFrame({"a": [1.23]}), pattern="{:.1f} %").to_html()
+
+
+def test_designs_and_porosity():
+    t = book.design_table()
+    assert set(t["design"]) >= {"MD", "SS", "rho-inc", "SS-Ti-PVC"}
+    inc = t[t["design"] == "rho-inc"].sort_values("segment")
+    assert tuple(inc["density_g_cm3"]) == ref.GRADIENT_DENSITIES
+    assert t.loc[t["design"] == "MD", "modulus_gpa"].isna().all()
+    fig = book.designs_figure()
+    assert len(fig.axes) == 4          # two panels, two colour bars
+    p = book.sweep_porosity_table()
+    assert len(p) == sum(len(s["density"]) for s in ref.SWEEPS.values())
+    ti = p[(p["base"] == "Ti") & np.isclose(p["density_g_cm3"], 2.0)].iloc[0]
+    assert math.isclose(ti["porosity"], 1 - 2.0 / 4.43)
+    assert (p["reachable_by_porosity"] == (p["porosity"] >= 0)).all()
+
+
+def test_masses_match_the_authors_model():
+    m = book.mass_table().set_index("design")
+    assert abs(m.loc["MD", "total_mass_kg"] - ref.MASS_MD_KG) < 0.01
+    assert abs(m.loc["SS", "total_mass_kg"] - ref.MASS_SS_KG) < 0.01
+    # the gradients hold the same material in different orders
+    assert np.isclose(m.loc["rho-inc", "leg_material_kg"], m.loc["rho-dec", "leg_material_kg"])
+    # m = rho V: SS segments weigh 8 times MD's
+    assert np.isclose(m.loc["SS", "leg_material_kg"], 8 * m.loc["MD", "leg_material_kg"])
+
+
+def test_stiffness_conventions_and_segment_xml():
+    s = book.stiffness_table().set_index("material")
+    assert np.isclose(s.loc["SS", "k_paper_n_m"], 193 * ref.PAPER_STIFFNESS_PER_GPA)
+    axial = 193e9 * math.pi * ref.MATERIAL_RADIUS**2 / (ref.MATERIAL_LENGTH / 3)
+    assert np.isclose(s.loc["SS", "k_axial_n_m"], axial)
+    assert np.allclose(s["axial_over_paper"], s["axial_over_paper"].iloc[0])
+    with pytest.raises(ValueError, match="rigid"):
+        book.stiffness_table(("MD",))
+    xml = book.segment_xml("SS", 2)
+    assert 'name="mat_spring_2"' in xml and 'density="8000"' in xml and "seg2_lower" in xml
+    assert "stiffness" in xml and "mat_spring" not in book.segment_xml("MD", 1)
+    with pytest.raises(ValueError, match="segment"):
+        book.segment_xml("SS", 4)
+
+
+def test_joint_and_gains_tables():
+    j = book.joint_table("SS").set_index("joint")
+    assert np.isclose(j.loc["mat_spring_1", "stiffness"], spring_stiffness(193.0))
+    assert j.loc["spring", "stiffness"] == ref.FOOT_SPRING_STIFFNESS
+    assert j.loc["hip_y", "type"] == "hinge" and np.isclose(j.loc["hip_y", "range_high"], math.radians(70))
+    assert "mat_spring_1" not in book.joint_table("MD")["joint"].values
+    g = book.gains_table().set_index("setting")["value"]
+    assert g["thrust_adapt_gain"] == ref.THRUST_ADAPT_GAIN
+
+
+TINY = Profile("tiny", 0.6, 0.1, 1e-4, 1, 0.3, stability_tolerance=2.0, stability_max_iter=3)
+
+
+def test_convention_stability_measures_both_conventions(tmp_path):
+    t = book.convention_stability(("MD", "SS"), TINY, cache_dir=tmp_path, workers=1)
+    assert len(t) == 4 and set(t["convention"]) == {"paper", "axial"}
+    ss = t[t["design"] == "SS"].set_index("convention")
+    # the physical springs are about 20x stiffer: a smaller stable step
+    assert ss.loc["axial", "material_spring_n_m"] > 10 * ss.loc["paper", "material_spring_n_m"]
+    assert ss.loc["axial", "analytic_timestep_s"] < ss.loc["paper", "analytic_timestep_s"]
+    assert ss.loc["axial", "max_stable_timestep_s"] < ss.loc["paper", "max_stable_timestep_s"]
+    assert t.loc[t["design"] == "MD", "material_spring_n_m"].isna().all()
+    fig = book.convention_figure(t)
+    assert len(fig.axes) == 2
+    again = book.convention_stability(("MD", "SS"), TINY, cache_dir=tmp_path, workers=1)
+    pd.testing.assert_frame_equal(t, again)
+
+
+def test_rollouts_are_cached_bit_identical(tmp_path):
+    from mat_hopper import simulate
+    rs = book.rollouts(["SS"], ["forward", "ramp"], TINY, record_rate_hz=500, cache_dir=tmp_path, workers=1)
+    assert [r.behaviour.name for r in rs] == ["forward", "ramp"]
+    files = sorted(tmp_path.glob("series-*.npz"))
+    assert len(files) == 2
+    again = book.rollouts(["SS"], ["forward", "ramp"], TINY, record_rate_hz=500, cache_dir=tmp_path, workers=1)
+    fresh = simulate("SS", "ramp", settings=book._series_settings(TINY, 500))
+    for r in (again[1], rs[1]):
+        assert np.array_equal(r.data, fresh.data)
+        assert np.array_equal(r.events, fresh.events, equal_nan=True)
+        assert r.diverged_step == fresh.diverged_step and r.total_mass_kg == fresh.total_mass_kg
+    assert rs[1].settings.record_rate_hz == 500
+    fig = book.controller_figure(rs[0], window_s=(0.2, 0.5))
+    assert len(fig.axes) == 8
+    with pytest.raises(ValueError, match="window_s"):
+        book.controller_figure(rs[0], window_s=(0.5, 0.2))
+    with pytest.raises(ValueError, match="at least one"):
+        book.rollouts([], ["ramp"], TINY, cache_dir=tmp_path)
+
+
+# --- results-chapter tables, on synthetic results with known answers ---------
+
+
+@pytest.fixture(scope="module")
+def synthetic():
+    return results(n=20)
+
+
+def test_pct_change_and_metric_tables(synthetic):
+    hops, _ = synthetic
+    exp1 = hops[hops["experiment"] == "exp1"]
+    t = book.pct_change_table(exp1, "tracking_error_m")
+    assert list(t.index) == ["PVC", "Al", "Ti", "SS"]
+    assert list(t.columns) == ["static", "forward", "ramp", "circle"]
+    assert abs(t.loc["SS", "ramp"] - (0.028 / 0.10 - 1) * 100) < 3     # set by construction (3 % noise)
+    zero = exp1.assign(tracking_error_m=np.where(exp1["design"] == "MD", 1e-17, exp1["tracking_error_m"]))
+    assert book.pct_change_table(zero, "tracking_error_m").isna().all().all()   # % of round-off: none
+    vs_ss = book.pct_change_table(hops[hops["experiment"] == "exp3"], "power_w", baseline="SS")
+    assert "SS" not in vs_ss.index and abs(vs_ss.loc["rho-inc", "ramp"] - (2.23 / 2.93 - 1) * 100) < 3
+    m = book.metric_table(exp1, "hop_height_m")
+    assert ((m - 1.0).abs() < 0.01).all().all()
+    mm = book.metric_table(exp1, "tracking_error_m", "median", scale=1e3)
+    assert abs(mm.loc["MD", "forward"] - 100) < 5
+    with pytest.raises(ValueError, match="stat"):
+        book.metric_table(exp1, "power_w", "max")
+
+
+def test_outcome_table():
+    runs = pd.DataFrame({"design": ["SS", "SS", "MD"], "behaviour": ["ramp", "static", "static"],
+                         "replicate": [-1, -1, -1], "status": ["diverged", "ok", "fallen"],
+                         "n_hops": [3, 40, 10], "diverged_at_s": [12.5, np.nan, np.nan]})
+    t = book.outcome_table(runs)
+    assert list(t.index) == ["MD", "SS"] and list(t.columns) == ["static", "ramp"]
+    assert t.loc["SS", "ramp"] == "diverged at 12.50 s"
+    assert t.loc["SS", "static"] == "ok, 40 hops" and t.loc["MD", "static"] == "fallen"
+    with pytest.raises(ValueError, match="status"):
+        book.outcome_table(runs.drop(columns="status"))
+
+
+def test_sweep_spans(synthetic):
+    hops, _ = synthetic
+    s = book.sweep_spans(hops[hops["experiment"] == "exp2"]).set_index(["sweep_base", "sweep_property"])
+    # by construction density moves tracking error strongly, modulus little
+    for base in ref.SWEEPS:
+        assert s.loc[(base, "density"), "span"] > s.loc[(base, "modulus"), "span"]
+    assert s.loc[("Ti", "density"), "at_max"] == min(ref.SWEEPS["Ti"]["density"])   # lightest tracks worst
+    assert s.loc[("Ti", "density"), "n_points"] == len(ref.SWEEPS["Ti"]["density"])
+
+
+def test_order_effect_and_starred(synthetic):
+    hops, _ = synthetic
+    exp3 = hops[hops["experiment"] == "exp3"]
+    t = book.order_effect(exp3)
+    assert set(t["pair"]) == {"rho-dec vs rho-inc", "SS-Ti-PVC vs PVC-Ti-SS"}
+    row = t[(t["pair"] == "rho-dec vs rho-inc") & (t["behaviour"] == "ramp") & (t["metric"] == "tracking_error_m")]
+    assert abs(row["pct_change"].iloc[0] - (0.04 / 0.018 - 1) * 100) < 10 and bool(row["significant"].iloc[0])
+    wide = book.starred(t)
+    assert list(wide.columns) == ["static", "forward", "ramp", "circle"]
+    assert wide.loc[("rho-dec vs rho-inc", "tracking_error_m"), "ramp"].endswith("*")
+    with pytest.raises(ValueError, match="both"):
+        book.order_effect(exp3[exp3["design"] != "rho-dec"])
+
+
+def test_claims_for_chapters(synthetic):
+    hops, runs = synthetic
+    tables = {f"{e}_hops": hops[hops["experiment"] == e] for e in ("exp1", "exp2", "exp3")}
+    tables.update({f"{e}_runs": runs[runs["experiment"] == e] for e in ("exp1", "exp2", "exp3")})
+    from mat_hopper import claims
+    known = {c.claim_id for c in claims.CLAIMS}
+    for chapter, ids in book.CHAPTER_CLAIMS.items():
+        assert set(ids) <= known
+    every = book.claims_for(tables, None, columns=None)
+    assert set(every["claim_id"]) == known
+    mono = book.claims_for(tables, "mono", columns=None)
+    assert list(mono["claim_id"]) == list(book.CHAPTER_CLAIMS["mono"])
+    assert list(book.claims_for(tables, "gradients").columns) == ["claim", "paper", "ours", "verdict"]
+    ramp = mono = book.claims_for(tables, "gradients", columns=None).set_index("claim_id")
+    assert ramp.loc["ramp_rho_inc_tracking", "verdict"] == "holds"        # -82 % by construction
+    with pytest.raises(ValueError, match="chapter"):
+        book.claims_for(tables, "nope")
+
+
+# ---------------------------------------------------------------------------
+# notebooks: clean, in sync with their sources, listed in the toc
+
+
+def test_notebooks_clean_and_in_sync():
+    r = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_notebooks.py"), "--check"],
+                       capture_output=True, text=True, cwd=ROOT)
+    assert r.returncode == 0, r.stderr
+    for path in sorted(NOTEBOOKS.glob("*.ipynb")):
+        nb = nbformat.read(path, as_version=4)
+        assert nb.metadata["kernelspec"]["name"] == "python3", path.name
+        code = [c for c in nb.cells if c.cell_type == "code"]
+        assert code, path.name
+        assert all(not c.outputs and c.execution_count is None for c in code), path.name
+        assert "book.setup()" in code[0].source, f"{path.name}: the first code cell must call book.setup()"
+        titles = [ln for c in nb.cells if c.cell_type == "markdown" for ln in c.source.splitlines()
+                  if ln.startswith("# ")]
+        assert len(titles) == 1, f"{path.name}: one title (# ...) per chapter, got {titles}"
+
+
+def test_toc_lists_every_chapter():
+    files = toc_files()
+    assert [f for f in files if f.startswith("notebooks/")] == [f"notebooks/{n}" for n in MIN_FIGURES]
+    for f in files:
+        assert any((ROOT / f"{f}{ext}").exists() for ext in (".md", ".ipynb")), f
+    config = yaml.safe_load((ROOT / "_config.yml").read_text())
+    assert config["execute"]["execute_notebooks"] in ("force", "cache")
+    assert config["execute"]["allow_errors"] is False
+
+
+def test_parse_percent_format():
+    sys.path.insert(0, str(ROOT / "scripts"))
+    try:
+        import make_notebooks as mk
+    finally:
+        sys.path.pop(0)
+    cells = mk.parse('# header, dropped\n# %% [markdown]\n# # Title\n#\n# text\n\n# %% tags=["hide-input"]\nx = 1\n\n\n')
+    assert [c["type"] for c in cells] == ["markdown", "code"]
+    assert cells[0]["text"] == "# Title\n\ntext"
+    assert cells[1]["text"] == "x = 1" and cells[1]["metadata"] == {"tags": ["hide-input"]}
+    with pytest.raises(ValueError, match="tags"):
+        mk.parse("# %% nonsense\nx = 1\n")
+
+
+# ---------------------------------------------------------------------------
+# the build itself
+
+
+def _build(source: Path, out: Path, profile: str, toc: Path | None = None) -> subprocess.CompletedProcess:
+    env = dict(os.environ, MAT_HOPPER_PROFILE=profile)
+    cmd = book.build_command(source, path_output=out, toc=toc)
+    return subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=ROOT, timeout=3000)
+
+
+def test_a_failing_cell_fails_the_build(tmp_path):
+    """The book's own configuration, with one chapter that raises."""
+    src = tmp_path / "src"
+    (src / "notebooks").mkdir(parents=True)
+    shutil.copy(ROOT / "_config.yml", src / "_config.yml")
+    (src / "_toc.yml").write_text("format: jb-book\nroot: index\nchapters:\n  - file: notebooks/bad\n")
+    (src / "index.md").write_text("# Test\n")
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nb.cells = [nbformat.v4.new_markdown_cell("# Bad"), nbformat.v4.new_code_cell("raise RuntimeError('boom')")]
+    nbformat.write(nb, src / "notebooks" / "bad.ipynb")
+    r = _build(src, tmp_path / "out", "quick")
+    assert r.returncode != 0
+    assert "boom" in (r.stdout + r.stderr) or "CellExecutionError" in (r.stdout + r.stderr)
+
+
+@pytest.mark.slow
+def test_quick_book_builds_with_every_figure(tmp_path):
+    """Build the quick book (results from the cache under results/cache
+    when there) and check every chapter's page."""
+    out = tmp_path / "book"
+    r = _build(ROOT, out, "quick")
+    log = r.stdout + r.stderr
+    assert r.returncode == 0, log[-5000:]
+    html = out / "_build" / "html"
+    reports = list((html / "reports").rglob("*.err.log")) if (html / "reports").exists() else []
+    assert not reports, [p.read_text()[:2000] for p in reports]
+    assert (html / "index.html").exists()
+    for name, n_min in MIN_FIGURES.items():
+        page = html / "notebooks" / f"{name}.html"
+        assert page.exists(), f"missing page {page}"
+        text = page.read_text(encoding="utf-8")
+        images = re.findall(r'<img[^>]+src="([^"]+)"', text)
+        assert len(images) >= n_min, f"{name}: {len(images)} figures, expected at least {n_min}"
+        for src in images:
+            if src.startswith("data:"):
+                continue
+            f = (page.parent / src).resolve()
+            assert f.is_file() and f.stat().st_size > 1000, f"{name}: figure {src} missing or empty"
+        assert "Traceback (most recent call last)" not in text, f"{name}: a cell shows a traceback"
+        assert 'class="output traceback' not in text and "ansi-red-fg" not in text, f"{name}: error output"
+        assert "profile quick" in text or name != "01-introduction"
