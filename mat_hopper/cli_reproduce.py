@@ -40,7 +40,6 @@ class Reproduction:
     wall_s: dict = field(default_factory=dict)
     failed: dict = field(default_factory=dict)
     computed: dict = field(default_factory=dict)
-    notes: list = field(default_factory=list)
 
 
 def default_out_dir(profile_name: str) -> str:
@@ -109,65 +108,26 @@ def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, wor
 
 
 def _figures_and_claims(rep: Reproduction, log) -> list:
-    """Figures and claims through part B's modules (plots, claims)."""
-    files = []
-    try:
-        from . import plots
-    except ImportError as e:
-        plots = None
-        rep.notes.append(f"figures skipped: mat_hopper.plots not available ({e})")
-    if plots is not None:
-        if hasattr(plots, "write_figures"):
-            files += [str(p) for p in plots.write_figures(rep.tables, rep.out_dir)]
-        else:
-            files += _basic_figures(plots, rep)
-    try:
-        from . import claims
-    except ImportError as e:
-        claims = None
-        rep.notes.append(f"claims table skipped: mat_hopper.claims not available ({e})")
-    if claims is not None:
-        hops = _concat([rep.tables.get(f"{e}_hops") for e in ("exp1", "exp2", "exp3")])
-        runs = _concat([rep.tables.get(f"{e}_runs") for e in ("exp1", "exp2", "exp3")])
-        stab = rep.tables.get("stability")
-        conventions = sorted({str(c) for t in (hops, runs, stab) if t is not None and "convention" in t
-                              for c in t["convention"].dropna()})
-        table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions) or ("paper",))
-        files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
-        rep.tables["claims"] = table
-    for n in rep.notes:
-        log(n)
-    if files:
-        log(f"figures and claims: {len(files)} files in {rep.out_dir}")
+    """Figures (:func:`mat_hopper.plots.write_figures`) and the claims table
+    (:func:`mat_hopper.claims.claims_table`, ``claims.md`` and ``claims.csv``)
+    from the tables of this reproduction."""
+    from . import claims, plots
+    files = [str(p) for p in plots.write_figures(rep.tables, rep.out_dir)]
+    hops = _concat([rep.tables.get(f"{e}_hops") for e in ("exp1", "exp2", "exp3")])
+    runs = _concat([rep.tables.get(f"{e}_runs") for e in ("exp1", "exp2", "exp3")])
+    stab = rep.tables.get("stability")
+    conventions = sorted({str(c) for t in (hops, runs, stab) if t is not None and "convention" in t
+                          for c in t["convention"].dropna()})
+    table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions) or ("paper",))
+    files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
+    rep.tables["claims"] = table
+    log(f"figures and claims: {len(files)} files in {rep.out_dir}")
     return files
 
 
 def _concat(frames) -> pd.DataFrame | None:
     frames = [f for f in frames if f is not None and len(f)]
     return pd.concat(frames, ignore_index=True) if frames else None
-
-
-def _basic_figures(plots, rep: Reproduction) -> list:
-    """The paper's figures from the tables there are (fallback while
-    plots.write_figures does not exist)."""
-    t = rep.tables
-    fig_dir = os.path.join(rep.out_dir, "figures")
-    made = []
-
-    def save(fig, stem):
-        made.extend(str(p) for p in plots.save_figure(fig, os.path.join(fig_dir, stem)))
-
-    if "exp1_hops" in t and len(t["exp1_hops"]):
-        save(plots.figure4_mono(t["exp1_hops"]), "fig4_mono")
-    if "exp2_hops" in t and len(t["exp2_hops"]):
-        base = t["exp1_hops"] if "exp1_hops" in t and len(t["exp1_hops"]) else None
-        save(plots.figure4_sweeps(t["exp2_hops"], base), "fig4_sweeps")
-    if "exp3_hops" in t and len(t["exp3_hops"]):
-        save(plots.figure5_gradients(t["exp3_hops"]), "fig5_gradients")
-    if "stability" in t and len(t["stability"]):
-        save(plots.stability_figure(t["stability"], convention=rep.tables["stability"]["convention"].iloc[0]),
-             "stability_map")
-    return made
 
 
 def cmd_reproduce(args) -> int:

@@ -214,3 +214,14 @@ def test_bad_grid_input_fails_before_any_work(tmp_path):
     with pytest.raises(ValueError, match="tasks"):
         run_grid(["SS"], tmp_path, progress=False)
     assert Cache(tmp_path).keys() == set()
+
+
+def test_replicates_run_with_their_seeded_perturbation(tmp_path):
+    tasks = [t for t in experiment_1().tasks(TINY, replicates=2)
+             if t.labels["design"] == "SS" and t.behaviour.name == "forward"]
+    res = run_grid(tasks, tmp_path, workers=1, progress=False)
+    assert list(res.summary["replicate"]) == [-1, 0, 1] and set(res.summary["status"]) == {"ok"}
+    h = res.tables
+    assert set(h["replicate"]) == {-1, 0, 1}
+    errs = h.groupby("replicate")["tracking_error_m"].mean()
+    assert errs[-1] != errs[0] and errs[0] != errs[1]        # perturbed runs differ, seed by seed
