@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import pandas as pd
 
 from .cli_simulate import write_csv_atomic
-from .experiments import (EXPERIMENT_NAMES, PROFILE_ENV, PROFILES, check_replicates, get_experiment,
+from .experiments import (PROFILE_ENV, PROFILES, check_replicates, get_experiment,
                           get_profile, parse_experiments)
 from .runner import CACHE_ENV, DEFAULT_CACHE_DIR, Runner, check_workers
 
@@ -149,7 +149,9 @@ def cmd_reproduce(args) -> int:
 
 def register_cli(sub) -> None:
     p = sub.add_parser("reproduce", help="run the paper's experiments, write tables, figures and claims",
-                       description=(__doc__ or "").split("\n\n")[1] if __doc__ else None)
+                       description=("Run the paper's experiments under one profile (cached, resumable, "
+                                    "in parallel), write their tables as CSV into --out, then the figures "
+                                    "and the claims table (claims.md, claims.csv)."))
     p.add_argument("--profile", default=None,
                    help=f"{' or '.join(PROFILES)} (default ${PROFILE_ENV}, else paper)")
     p.add_argument("--experiments", default="1,2,3,stability",

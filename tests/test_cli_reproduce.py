@@ -1,7 +1,6 @@
 """``mat-hopper reproduce``: bad input fails before any work; a tiny
 profile runs end to end (tables, figures, claims) and then from the cache."""
 
-import os
 
 import pandas as pd
 import pytest
