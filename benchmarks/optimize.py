@@ -4,12 +4,15 @@ Runs a fresh study (SQLite in a temporary folder, the default storage)
 with --workers processes and the paper profile (60 s runs, 1e-4 s step),
 then prints
 
-- trials/hour end to end (study creation and worker start included);
+- trials/hour end to end, wall clock (study creation and worker start
+  included): what this machine gave, other load included;
 - full-run trials/hour: simulated seconds per wall hour / 60, which does
   not flatter the figure when some designs diverge early (cheap trials);
-- the simulator's own limit on this machine: one 60 s SS ramp rollout
-  timed in this process (CPU time), times the worker count;
-- the optimizer's efficiency: full-run trials/hour over that limit.
+- CPU seconds per trial (the workers' own CPU time, every overhead of
+  Optuna and the database included) and what that gives on --workers idle
+  cores: the figure to compare across machines when the cores are shared;
+- the simulator's own limit: one bare 60 s SS ramp rollout (CPU time) and
+  the optimizer's CPU overhead per trial against it.
 
 By default the space is the paper's catalogue materials (PVC, Al, Ti, SS
 per segment), whose designs all run the full minute, so the figure is the
@@ -22,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import tempfile
 import time
 
@@ -48,9 +52,12 @@ def main(argv=None):
     config = StudyConfig("bench", space, Objective(behaviours=("ramp",), profile=prof))
     with tempfile.TemporaryDirectory() as tmp:
         opts = RunOptions(trials=a.trials, workers=a.workers, studies_dir=tmp, progress=False)
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
         t0 = time.perf_counter()
         res = run_study(config, opts)
         wall = time.perf_counter() - t0
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        worker_cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
         study = optuna.load_study(study_name="bench", storage=open_storage(opts.storage_url("bench")))
         done = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
         sim_s = sum(t.user_attrs["result"]["simulated_s"] for t in done)
@@ -60,6 +67,9 @@ def main(argv=None):
     print(f"trials/hour end to end: {len(done) / wall * 3600:.0f}")
     full = sim_s / prof.duration_s / wall * 3600
     print(f"full-run trials/hour (simulated s / {prof.duration_s:g} per wall hour): {full:.0f}")
+    per_trial = worker_cpu / max(1, len(done))
+    print(f"worker CPU per trial: {per_trial:.2f} s -> {a.workers * 3600 / per_trial:.0f} trials/hour "
+          f"on {a.workers} idle cores")
     if not res.finished:
         print("warning: the study did not reach its target")
     if not a.no_limit:
@@ -69,8 +79,9 @@ def main(argv=None):
         cpu = time.process_time() - c0
         limit = a.workers * 3600 / cpu
         print(f"simulator limit: one {prof.duration_s:g} s rollout = {cpu:.2f} s CPU -> "
-              f"{limit:.0f} trials/hour on {a.workers} cores")
-        print(f"optimizer efficiency: {full / limit:.0%} of the simulator's limit")
+              f"{limit:.0f} trials/hour on {a.workers} idle cores")
+        print(f"optimizer CPU per trial / bare rollout CPU: {per_trial / cpu:.3f} "
+              f"(wall-clock figure: {full / limit:.0%} of the limit, other load included)")
 
 
 if __name__ == "__main__":

@@ -335,6 +335,13 @@ def _start_method() -> str:
     return "spawn"
 
 
+def _warm_up() -> None:
+    """Load the compiled rollout (numba's on-disk cache, about 0.6 s) once
+    here, so that forked workers start with it."""
+    from .sim import SimSettings, simulate
+    simulate("SS", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
+
+
 class _Bar(tqdm):
     monitor_interval = 0       # no monitor thread: we refresh it ourselves, and fork stays safe
 
@@ -380,6 +387,8 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
         return result
 
     result.start_method = _start_method()
+    if result.start_method == "fork":
+        _warm_up()
     ctx = mp.get_context(result.start_method)
     tickets = ctx.Value("i", budget)
     n_existing = len(study.get_trials(deepcopy=False))
