@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -255,7 +256,7 @@ def designs_figure(designs: dict[str, LegDesign] | None = None):
             mesh = ax.pcolormesh(np.arange(len(names) + 1), np.arange(n_seg + 1), np.ma.masked_invalid(grid),
                                  norm=norm, cmap=cmap, edgecolors="white", linewidth=1.5)
             for (i, j), v in np.ndenumerate(grid):
-                txt = "rigid" if not np.isfinite(v) else f"{v:g}"
+                txt = "rigid" if not np.isfinite(v) else f"{v:.3g}"
                 light = np.isfinite(v) and norm(v) < 0.5
                 ax.text(j + 0.5, i + 0.5, txt, ha="center", va="center", fontsize=7,
                         color="white" if light else "black")
@@ -345,15 +346,18 @@ def stiffness_table(names=("PVC", "Al", "Ti", "SS"), n_segments: int = ref.REFER
 
 def convention_tasks(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
                      conventions=CONVENTIONS) -> list:
-    """Stable-time-step measurements (runner tasks, cached) of the
-    mono-material legs under each convention, with the profile's try
+    """Stable-time-step measurements (runner tasks, cached) of designs
+    (names as :func:`~mat_hopper.materials.parse_design` reads them, or
+    LegDesigns; default the mono-materials) under each convention, with
+    the profile's try
     length, tolerance and tries (no 20-step spec scan)."""
     from .stability import StabilitySpec
     prof = get_profile(profile)
     out = []
+    from .materials import parse_design
     for conv in conventions:
         for n in names:
-            d = LegDesign.mono(n)
+            d = parse_design(n) if isinstance(n, str) else n
             labels = {"experiment": "conventions", "profile": prof.name, "convention": conv, "design": d.name}
             out.append(StabilitySpec(d, duration_s=prof.stability_duration_s, tolerance=prof.stability_tolerance,
                                      max_iter=prof.stability_max_iter, scan=False, convention=conv,
@@ -363,7 +367,7 @@ def convention_tasks(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profi
 
 def convention_stability(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
                          conventions=CONVENTIONS, *, cache_dir=None, workers: int | None = None) -> pd.DataFrame:
-    """Largest stable time step per material and convention: measured (the
+    """Largest stable time step per design (see :func:`convention_tasks`) and convention: measured (the
     bracket [max_stable_timestep_s, unstable_timestep_s] of
     :mod:`mat_hopper.stability`) and estimated (analytic_timestep_s, 2 /
     w_max of the leg's spring chain), one row each, with the stiffest
@@ -856,3 +860,317 @@ def rollouts(designs, behaviours, profile: str | Profile | None = None, *, recor
                                float(z["total_mass_kg"]), tuple(z["spring_stiffness_n_m"].tolist()),
                                z["qpos"] if record_qpos else None))
     return out
+
+
+# ---------------------------------------------------------------------------
+# the optimizer chapter
+
+
+STUDY_TRIALS = {"paper": 30, "quick": 12}   # trials of the book's own study, per profile
+STUDY_BEHAVIOURS = ("ramp",)
+
+
+def book_study(book: Book, *, trials: int | None = None, behaviours=STUDY_BEHAVIOURS, seed: int = 0) -> dict:
+    """Run (or resume, or just load) the book's design study with
+    :func:`mat_hopper.optimize.run_study`: continuous density and modulus
+    per segment (3 segments), tracking error and hip power on `behaviours`
+    under the optimizer's profile of the book's name, one worker process
+    (so a fresh study is exactly reproducible), `trials` trials (default
+    :data:`STUDY_TRIALS` of the profile). Storage: ``studies/<name>.db``;
+    the name carries a digest of the settings, so changed settings start a
+    new study instead of clashing with an old one. Then
+    :func:`mat_hopper.optimize_report.write_report` into
+    ``results/<profile>/study/``. Returns the report dict (``trials``,
+    ``pareto``, ``baselines``, ``hypervolume``, ``importances``,
+    ``paths``) plus ``name``, ``url`` and ``config``."""
+    import hashlib
+    import json
+
+    from .optimize import RunOptions, StudyConfig, run_study
+    from .optimize_objective import Objective, profile as opt_profile
+    from .optimize_report import write_report
+    from .optimize_space import SearchSpace
+    n = STUDY_TRIALS.get(book.profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
+    objective = Objective(behaviours=tuple(behaviours), profile=opt_profile(book.profile.name))
+    probe = StudyConfig("probe", SearchSpace(), objective)
+    digest = hashlib.sha256(json.dumps(probe.key(), sort_keys=True).encode()).hexdigest()[:8]
+    config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{book.profile.name}-{digest}", SearchSpace(),
+                         objective)
+    options = RunOptions(trials=n, workers=1, seed=seed, progress=False, studies_dir=str(book.root / "studies"))
+    run_study(config, options)
+    url = options.storage_url(config.name)
+    report = write_report(config.name, url, str(book.out_dir / "study"))
+    report.update(name=config.name, url=url, config=config)
+    return report
+
+
+def front_table(front: pd.DataFrame) -> pd.DataFrame:
+    """A Pareto table (:func:`mat_hopper.optimize_report.pareto_frame`) for
+    the page: trial, the paper's design it is (if any), tracking error
+    (mm), hip power (mW), hop height (m) and the percent changes against
+    the baselines, with short column names."""
+    out = pd.DataFrame({"trial": front["trial"].astype(int),
+                        "paper design": front.get("paper_design", pd.Series([""] * len(front))).fillna(""),
+                        "tracking error (mm)": front["tracking_error_m"] * 1e3,
+                        "hip power (mW)": front["power_w"] * 1e3,
+                        "hop height (m)": front["hop_height_m"]})
+    for col in front.columns:
+        m = re.fullmatch(r"(tracking_error|power)_vs_(.+)_pct", col)
+        if m:
+            what = "tracking" if m.group(1) == "tracking_error" else "power"
+            out[f"{what} vs {m.group(2)} (%)"] = front[col]
+    return out.reset_index(drop=True)
+
+
+def front_designs(front: pd.DataFrame, k: int | None = None, *, skip_paper: bool = True) -> dict[str, LegDesign]:
+    """The designs of a Pareto table (``seg{i}_rho_g_cm3``,
+    ``seg{i}_e_gpa`` columns; at most `k`, by tracking error) as
+    {"#<trial>": LegDesign}, for :func:`designs_figure`; the paper's own
+    designs (a non-empty ``paper_design``) are left out unless
+    `skip_paper` is false."""
+    rows = front.sort_values("tracking_error_m") if "tracking_error_m" in front.columns else front
+    if skip_paper and "paper_design" in rows.columns:
+        rows = rows[rows["paper_design"].fillna("").astype(str) == ""]
+    if k is not None:
+        rows = rows.head(int(k))
+    out = {}
+    for r in rows.to_dict("records"):
+        i, dens, mods = 1, [], []
+        while f"seg{i}_rho_g_cm3" in r and pd.notna(r[f"seg{i}_rho_g_cm3"]):
+            dens.append(float(r[f"seg{i}_rho_g_cm3"]))
+            e = r.get(f"seg{i}_e_gpa")
+            mods.append(None if e is None or pd.isna(e) else float(e))
+            i += 1
+        if not dens:
+            raise ValueError("front_designs: the table has no seg1_rho_g_cm3 column")
+        name = f"#{int(r['trial'])}" if "trial" in r else f"design {len(out) + 1}"
+        out[name] = LegDesign.from_properties(dens, mods, name=name)
+    return out
+
+
+# ---------------------------------------------------------------------------
+# the reproduction report: the authors' defects, measured where we can
+
+
+CLOCK_FACTORS = (1.0, 1.5, 2.0)
+
+
+def clock_drift(book: Book, designs=("MD", "SS"), factors=CLOCK_FACTORS, behaviour: str = "forward", *,
+                workers: int | None = None) -> pd.DataFrame:
+    """What the authors' wall-clock desired path does. Their loop sleeps to
+    stay in real time, so on a machine that simulates r times slower than
+    real time the desired path advances r times faster in simulated time.
+    We emulate that by commanding r times the paper's speed (r = 1: the
+    paper's protocol, our default) under the book's profile, duration and
+    transient unchanged. Runs through the runner (cached). One row per
+    design and factor: clock_factor, speed_m_s, status, n_hops,
+    mean_tracking_error_m, mean_power_w."""
+    from .behaviours import behaviour as get_behaviour
+    from .runner import FAILED, RunSpec, run_grid
+    tasks = []
+    for d in designs:
+        design = LegDesign.mono(d) if isinstance(d, str) and d in ref.MONO_MATERIALS else d
+        if isinstance(design, str):
+            from .materials import parse_design
+            design = parse_design(design)
+        for r in factors:
+            if not (isinstance(r, (int, float)) and math.isfinite(r) and r > 0):
+                raise ValueError(f"clock factors must be finite numbers > 0, got {r!r}")
+            beh = get_behaviour(behaviour, speed_m_s=ref.SPEED_M_S * float(r))
+            labels = {"experiment": "clock", "profile": book.profile.name, "design": design.name,
+                      "behaviour": behaviour, "clock_factor": float(r), "speed_m_s": beh.speed_m_s}
+            tasks.append(RunSpec(design, beh, book.profile.sim_settings(), labels))
+    res = run_grid(tasks, str(book.cache_dir), workers=workers, progress=False, desc="clock")
+    s = res.summary
+    if (s["status"] == FAILED).any():
+        raise RuntimeError("clock_drift: runs failed: " + "; ".join(s.loc[s["status"] == FAILED, "error"]))
+    return s[["design", "clock_factor", "speed_m_s", "status", "n_hops", "mean_tracking_error_m",
+              "mean_power_w"]].reset_index(drop=True)
+
+
+def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
+    """Mean |jerk| (m/s^3) of the body's vertical motion after the
+    transient, from its vertical acceleration sampled at each rate (every
+    k-th recorded sample) and differentiated by finite differences, as
+    :mod:`mat_hopper.metrics` does at the record rate. The authors logged
+    at about 10 Hz of wall time. Columns rate_hz, mean_jerk_m_s3."""
+    from .sim import C
+    d = rollout.data
+    t, az = d[:, C["t"]], d[:, C["az"]]
+    if len(t) < 4:
+        raise ValueError("jerk_by_rate: the rollout recorded fewer than 4 samples")
+    dt = float(np.median(np.diff(t)))
+    rows = []
+    for rate in rates_hz:
+        k = int(round(1.0 / (float(rate) * dt)))
+        if k < 1:
+            raise ValueError(f"rate {rate} Hz exceeds the record rate {1 / dt:g} Hz")
+        ts, a = t[::k], az[::k]
+        if len(ts) < 3:
+            raise ValueError(f"rate {rate} Hz leaves fewer than 3 samples")
+        jerk = np.abs(np.gradient(a, ts))
+        keep = ts >= rollout.settings.transient_s
+        rows.append({"rate_hz": 1.0 / (k * dt), "mean_jerk_m_s3": float(jerk[keep].mean())})
+    return pd.DataFrame(rows)
+
+
+_LADDER = tuple(m * 10.0 ** e for e in range(-7, -2) for m in (1.0, 2.0, 5.0))
+
+
+def axial_timestep(stable_steps_s, safety: float = 0.5) -> float:
+    """A time step (s) for runs under the axial convention: the largest of
+    1, 2, 5 x 10^k s at or below `safety` times the smallest measured
+    largest stable step."""
+    steps = np.asarray(stable_steps_s, float)
+    if not len(steps) or not np.all(np.isfinite(steps) & (steps > 0)):
+        raise ValueError(f"stable steps must be finite and > 0 s, got {list(steps)}")
+    limit = safety * float(steps.min())
+    below = [v for v in _LADDER if v <= limit * (1 + 1e-9)]
+    if not below:
+        raise ValueError(f"no time step on the ladder at or below {limit:g} s")
+    return max(below)
+
+
+def axial_check(book: Book, designs=("MD", "SS", "rho-inc"), behaviour: str = "ramp", *,
+                timestep_s: float | None = None, workers: int | None = None) -> dict:
+    """The paper's headline comparison under the physical (axial) stiffness
+    convention. The axial springs need a smaller time step: by default
+    :func:`axial_timestep` of the designs' own largest stable steps under
+    the axial convention (:func:`convention_stability`). Runs, through the
+    runner (cached), every design in three settings: the paper's
+    convention at the profile's step (the runs of experiments 1 and 3),
+    the paper's convention at the small step (what the step alone
+    changes), and the axial convention at the small step (what the
+    convention changes). A rigid leg has no springs, so its small-step run
+    stands for both conventions. Returns {"timestep_s", "hops" (per-hop
+    table with a ``setting`` column, e.g. "paper, dt 0.0001 s",
+    "axial, dt 1e-05 s"), "runs"}."""
+    from dataclasses import replace
+
+    from .behaviours import behaviour as get_behaviour
+    from .materials import parse_design
+    from .runner import FAILED, RunSpec, run_grid
+    prof = book.profile
+    legs = {d: parse_design(d) for d in designs}
+    if timestep_s is None:
+        steps = convention_stability(tuple(designs), prof, ("axial",), cache_dir=str(book.cache_dir),
+                                     workers=workers)
+        timestep_s = axial_timestep(steps["max_stable_timestep_s"])
+    beh = get_behaviour(behaviour)
+    base = prof.sim_settings()
+    small = replace(base, timestep_s=float(timestep_s))
+    axial = replace(small, convention="axial")
+    name = lambda st: f"{st.convention}, dt {st.timestep_s:g} s"
+    plan = [(d, st) for d in designs for st in (base, small)]
+    plan += [(d, axial) for d in designs if not all(m.rigid for m in legs[d].segments)]
+    tasks = []
+    for d, st in plan:
+        labels = {"experiment": "axial-check", "profile": prof.name, "convention": st.convention, "design": d,
+                  "behaviour": beh.name, "setting": name(st), "timestep_s": st.timestep_s}
+        tasks.append(RunSpec(legs[d], beh, st, labels))
+    res = run_grid(tasks, str(book.cache_dir), workers=workers, progress=False, desc="axial")
+    if (res.summary["status"] == FAILED).any():
+        raise RuntimeError("axial_check: runs failed: " + "; ".join(res.summary.loc[res.summary["status"] == FAILED,
+                                                                                    "error"]))
+    hops, runs = res.tables, res.summary
+    rigid = [d for d in designs if all(m.rigid for m in legs[d].segments)]
+    if rigid:      # a rigid leg has no springs: its run at the small step stands for both conventions
+        extra_h = hops[hops["design"].isin(rigid) & (hops["setting"] == name(small))].assign(setting=name(axial))
+        extra_r = runs[runs["design"].isin(rigid) & (runs["setting"] == name(small))].assign(setting=name(axial))
+        hops = pd.concat([hops, extra_h], ignore_index=True)
+        runs = pd.concat([runs, extra_r], ignore_index=True)
+    return {"timestep_s": float(timestep_s), "hops": hops, "runs": runs}
+
+
+def setting_comparison(hops: pd.DataFrame, pairs=(("rho-inc", "MD"), ("SS", "MD"), ("rho-inc", "SS")),
+                       metrics=("tracking_error_m", "power_w")) -> pd.DataFrame:
+    """Percent change of the mean of each metric for each (design,
+    baseline) pair, per ``setting`` of the table (e.g. from
+    :func:`axial_check`): rows setting, columns "<metric>: <design> vs
+    <baseline>"; nan where either is missing or the baseline's mean is
+    below :data:`BASELINE_FLOOR`."""
+    if "setting" not in hops.columns:
+        raise ValueError("setting_comparison needs a 'setting' column")
+    means = hops.groupby(["setting", "design"])[list(metrics)].mean()
+    rows = {}
+    for setting in dict.fromkeys(hops["setting"]):
+        row = {}
+        for design, baseline in pairs:
+            for m in metrics:
+                try:
+                    a, b = means.loc[(setting, design), m], means.loc[(setting, baseline), m]
+                except KeyError:
+                    a, b = np.nan, np.nan
+                row[f"{m}: {design} vs {baseline}"] = 100.0 * (a - b) / abs(b) if abs(b) >= BASELINE_FLOOR else np.nan
+        rows[setting] = row
+    out = pd.DataFrame.from_dict(rows, orient="index")
+    out.index.name = "setting"
+    return out
+
+
+def claim_rules() -> pd.DataFrame:
+    """The rule behind each claim's verdict (:data:`mat_hopper.claims.CLAIMS`):
+    columns claim, rule."""
+    from . import claims
+    return pd.DataFrame([{"claim": c.claim, "rule": c.rule} for c in claims.CLAIMS])
+
+
+def power_formula_table(hops: pd.DataFrame, design: str = "SS", baseline: str = "MD") -> pd.DataFrame:
+    """Percent change of `design`'s mean hip power against `baseline`'s, per
+    behaviour, measured two ways: the real mechanical power of the hip
+    motors (``power_w``, ours) and the authors' formula
+    (``power_paper_w``). Rows: the two measures; columns: behaviours."""
+    rows = {}
+    for metric, label in (("power_w", "real hip power (ours)"), ("power_paper_w", "the authors' formula")):
+        t = pct_change_table(hops, metric, baseline, designs=[baseline, design])
+        rows[label] = t.loc[design] if design in t.index else pd.Series(dtype=float)
+    out = pd.DataFrame(rows).T
+    out.columns.name = f"power: {design} vs {baseline} (%)"
+    return out
+
+
+def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
+    """Three of the authors' code defects, measured: (A) tracking error
+    against the wall-clock factor of the desired path (table from
+    :func:`clock_drift`); (B) mean |jerk| against the sampling rate, per
+    design ({design: table from :func:`jerk_by_rate`}, log-log); (C) the
+    percent change of power of one design against another, real hip power
+    beside the authors' formula (table from :func:`power_formula_table`)."""
+    from matplotlib import rc_context
+    from matplotlib.figure import Figure
+
+    from .plots import STYLE, design_colour, order_behaviours
+    with rc_context(STYLE):
+        fig = Figure(figsize=(11.0, 3.4), layout="constrained")
+        a, b, c = fig.subplots(1, 3)
+        for i, (d, g) in enumerate(clock.groupby("design", sort=False)):
+            g = g.sort_values("clock_factor")
+            a.plot(g["clock_factor"], g["mean_tracking_error_m"] * 1e3, "o-", color=design_colour(d, i), label=d)
+        a.set_xlabel("Wall clock / simulated clock")
+        a.set_ylabel("Tracking error (mm)")
+        a.set_title("Desired path on the wall clock")
+        a.legend()
+        for i, (d, t) in enumerate(jerk.items()):
+            b.plot(t["rate_hz"], t["mean_jerk_m_s3"], "o-", color=design_colour(d, i), label=d)
+        b.set_xscale("log")
+        b.set_yscale("log")
+        b.set_xlabel("Sampling rate (Hz)")
+        b.set_ylabel("Mean |jerk| (m/s³)")
+        b.set_title("Jerk from sparse samples")
+        b.legend()
+        behs = order_behaviours(power.columns)
+        x = np.arange(len(behs))
+        for i, (label, row) in enumerate(power.iterrows()):
+            c.bar(x - 0.2 + 0.4 * i, row[behs].to_numpy(float), 0.38, label=label,
+                  color=("#0173b2", "#de8f05")[i % 2])
+        c.axhline(0, color="black", lw=0.8)
+        c.set_xticks(x)
+        c.set_xticklabels(behs)
+        c.set_ylabel(power.columns.name or "% change")
+        c.set_title("Power: real or the authors' formula")
+        c.legend()
+        c.grid(False, axis="x")
+        for ax, letter in zip((a, b, c), "ABC"):
+            ax.text(-0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold", ha="right",
+                    va="bottom")
+    return fig
