@@ -24,6 +24,7 @@ import pandas as pd
 from .cli_simulate import write_csv_atomic
 from .experiments import (PROFILE_ENV, PROFILES, check_replicates, get_experiment,
                           get_profile, parse_experiments)
+from .materials import CONVENTIONS, check_convention
 from .runner import CACHE_ENV, DEFAULT_CACHE_DIR, Runner, check_workers
 
 
@@ -48,12 +49,19 @@ def default_out_dir(profile_name: str) -> str:
 
 def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, workers: int | None = None,
               scheduler=None, replicates: int = 0, cache_dir: str | None = None, progress: bool = True,
-              figures: bool = True, log=print) -> Reproduction:
+              figures: bool = True, conventions=("paper",), log=print) -> Reproduction:
     """Run experiments (names or '1,2,3,stability'; default all) under a
     profile (name or Profile; default $MAT_HOPPER_PROFILE or paper), write
     their tables into out_dir, then figures and claims. Every input is
-    checked before any work starts."""
+    checked before any work starts.
+
+    conventions: stiffness conventions of the hopping experiments (1-3),
+    e.g. ("paper", "axial"); axial runs use the profile's
+    axial_timestep_s. The stability map uses the profile's own convention.
+    The claims table always has rows for both conventions ("not run" for
+    one that was not asked for)."""
     prof = get_profile(profile)
+    conventions = _check_conventions(conventions)
     names = parse_experiments(experiments if experiments is None or isinstance(experiments, str)
                               else ",".join(experiments))
     replicates = check_replicates(replicates)
@@ -62,12 +70,14 @@ def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, wor
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise ValueError(f"--out {out_dir!r} exists and is not a folder")
     plan = {n: get_experiment(n) for n in names}
-    tasks = {n: e.tasks(prof, replicates) for n, e in plan.items()}
+    tasks = {n: (e.tasks(prof, replicates) if n == "stability" else
+                 [t for c in conventions for t in e.tasks(prof.for_convention(c), replicates)])
+             for n, e in plan.items()}
     os.makedirs(out_dir, exist_ok=True)
     rep = Reproduction(prof.name, out_dir)
     log(f"profile {prof.name}: {prof.duration_s:g} s runs, transient {prof.transient_s:g} s, "
         f"dt {prof.timestep_s:g} s; stability grid {prof.stability_grid_size}x{prof.stability_grid_size}; "
-        f"replicates {replicates}; out {out_dir}")
+        f"replicates {replicates}; conventions {', '.join(conventions)}; out {out_dir}")
     with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as runner:
         for name in names:
             t0 = time.perf_counter()
@@ -116,13 +126,20 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
     hops = _concat([rep.tables.get(f"{e}_hops") for e in ("exp1", "exp2", "exp3")])
     runs = _concat([rep.tables.get(f"{e}_runs") for e in ("exp1", "exp2", "exp3")])
     stab = rep.tables.get("stability")
-    conventions = sorted({str(c) for t in (hops, runs, stab) if t is not None and "convention" in t
-                          for c in t["convention"].dropna()})
-    table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions) or ("paper",))
+    table = claims.claims_table(hops, runs, stab, conventions=CONVENTIONS)
     files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
     rep.tables["claims"] = table
     log(f"figures and claims: {len(files)} files in {rep.out_dir}")
     return files
+
+
+def _check_conventions(conventions) -> tuple:
+    if isinstance(conventions, str):
+        conventions = [c.strip() for c in conventions.split(",") if c.strip()]
+    out = tuple(dict.fromkeys(check_convention(c) for c in conventions))
+    if not out:
+        raise ValueError(f"--conventions needs at least one of {', '.join(CONVENTIONS)}")
+    return out
 
 
 def _concat(frames) -> pd.DataFrame | None:
@@ -136,7 +153,7 @@ def cmd_reproduce(args) -> int:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
     rep = reproduce(profile, args.experiments, args.out, workers=args.workers, scheduler=args.scheduler,
                     replicates=args.replicates, cache_dir=args.cache, progress=not args.no_progress,
-                    figures=not args.no_figures)
+                    figures=not args.no_figures, conventions=args.conventions)
     total = sum(rep.wall_s.values())
     print(f"wrote {len(rep.files)} files to {rep.out_dir} in {total:.1f} s wall "
           f"({', '.join(f'{k} {v:.1f} s' for k, v in rep.wall_s.items())})")
@@ -161,6 +178,9 @@ def register_cli(sub) -> None:
     p.add_argument("--out", default=None, help="output folder (default results/<profile>/)")
     p.add_argument("--replicates", type=int, default=0,
                    help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default 0)")
+    p.add_argument("--conventions", default="paper",
+                   help="stiffness conventions of experiments 1-3: paper, axial or paper,axial "
+                        "(axial runs at the profile's smaller axial time step; default paper)")
     p.add_argument("--cache", default=None,
                    help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})")
     p.add_argument("--no-figures", action="store_true", help="tables only")

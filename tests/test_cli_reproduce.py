@@ -19,6 +19,7 @@ TINY = Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5, stability_tolerance=1.5, stabilit
     (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
     (["--profile", "fast"], "unknown profile"),
     (["--replicates", "-3"], "replicates"),
+    (["--conventions", "paper,beam"], "convention"),
 ])
 def test_bad_input_is_a_one_line_error_before_any_work(tmp_path, capsys, args, message):
     out, cache = tmp_path / "out", tmp_path / "cache"
@@ -49,3 +50,16 @@ def test_tiny_reproduction_writes_tables_figures_claims(tmp_path):
     pd.testing.assert_frame_equal(again.tables["exp1_runs"].reset_index(drop=True),
                                   rep.tables["exp1_runs"].reset_index(drop=True))
     assert any("20 cached" in line for line in lines)
+
+
+def test_axial_convention_runs_beside_paper_at_its_own_time_step(tmp_path):
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    one = Profile("one", 1.5, 0.5, 1e-4, 2, 0.5, axial_timestep_s=2e-5)
+    assert one.for_convention("axial").timestep_s == 2e-5 and one.for_convention("paper") is one
+    rep = reproduce(one, "1", str(out), workers=2, cache_dir=str(cache), progress=False,
+                    conventions="paper,axial", log=lambda *a: None)
+    runs = rep.tables["exp1_runs"]
+    assert len(runs) == 40
+    assert dict(runs.groupby("convention")["timestep_s"].first()) == {"axial": 2e-5, "paper": 1e-4}
+    claims = rep.tables["claims"]
+    assert set(claims["convention"]) == {"paper", "axial"}
