@@ -205,11 +205,21 @@ def profile_table(profile: str | Profile | None = None) -> pd.DataFrame:
 
 
 def environment_table() -> pd.DataFrame:
-    """Versions that change results (mat-hopper, MuJoCo) and the profile
-    variable as set, one row each (columns item, value)."""
+    """Versions that change results (mat-hopper, MuJoCo), the interpreter
+    running this (relative to the repository when inside it: the book's
+    kernel is the venv's Python) and the profile variable as set, one row
+    each (columns item, value)."""
+    import sys
+
     from .runner import versions
     v = versions()
+    exe = Path(sys.executable)
+    try:
+        exe_text = str(exe.relative_to(repo_root()))
+    except ValueError:
+        exe_text = str(exe)
     rows = [("mat-hopper", v["mat_hopper"]), ("MuJoCo", v["mujoco"]),
+            ("Python", f"{sys.version.split()[0]} ({exe_text})"),
             (f"${PROFILE_ENV}", os.environ.get(PROFILE_ENV) or "(unset: paper)")]
     return pd.DataFrame(rows, columns=["item", "value"])
 

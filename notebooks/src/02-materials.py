@@ -24,8 +24,8 @@ plots.ashby_figure()
 # The paper's materials sit in two clusters: PVC among the polymers (light
 # and soft, 4 GPa), aluminium, titanium and stainless steel among the
 # metals (70-193 GPa). Natural materials span the gap between them:
-# cortical bone is about as dense as PVC but four times stiffer, tendon is
-# lighter and softer still.
+# cortical bone is a little denser than PVC and several times stiffer;
+# tendon is lighter and softer still.
 #
 # ## The catalogue
 #
@@ -45,7 +45,7 @@ book.show(plots.catalogue_table())
 # the leg weighs per volume; its porosity is the fraction of the volume
 # that is empty:
 #
-# $$ \Phi = 1 - \frac{\rho_b}{\rho_s}, $$
+# > Φ = 1 − ρ_b / ρ_s,
 #
 # with ρ_s the density of the solid itself. For a segment of fixed size,
 # mass scales with bulk density, so in the simulation porosity enters only

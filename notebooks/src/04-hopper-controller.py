@@ -64,7 +64,7 @@ book.show(book.gains_table())
 # ## One rollout
 #
 # The stainless-steel leg hopping forward, for one run of this build's
-# profile. Left, the whole run: the hop apexes settle at the 1 m target as
+# profile. Left, the whole run: the hop apexes approach the 1 m target as
 # the thrust adapts; the shaded start is the transient, whose hop cycles
 # are not scored. Right, a short window (marked orange on the left): the
 # body's height with stance shaded, the thrust pushing the foot spring
@@ -85,10 +85,10 @@ book.controller_figure(rollout)
 
 # %%
 hops = hop_table(rollout)
-book.show(hops.head(), precision=3)
+book.show(hops.drop(columns=["design", "behaviour", "convention"]).head(), precision=3)
 
 # %%
 summary = run_summary(rollout)
 keys = ["stable", "n_hops", "total_mass_kg", "mean_hop_height_m", "mean_tracking_error_m", "mean_jerk_m_s3",
         "mean_power_w", "distance_m"]
-book.show(pd.DataFrame([summary])[keys], precision=3)
+book.show(pd.Series(summary)[keys].to_frame("value"), index=True, precision=3)
