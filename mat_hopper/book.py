@@ -189,6 +189,7 @@ _PROFILE_FIELDS = (
     ("timestep_s", "physics time step (s)"),
     ("record_rate_hz", "recorded samples per simulated second (Hz)"),
     ("convention", "modulus-to-stiffness convention"),
+    ("axial_timestep_s", "time step of runs under the axial convention (s)"),
     ("stability_grid_size", "stable-time-step map: designs per axis"),
     ("stability_duration_s", "stable-time-step map: static hopping per try (s)"),
 )
@@ -1024,29 +1025,12 @@ def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-_LADDER = tuple(m * 10.0 ** e for e in range(-7, -2) for m in (1.0, 2.0, 5.0))
-
-
-def axial_timestep(stable_steps_s, safety: float = 0.5) -> float:
-    """A time step (s) for runs under the axial convention: the largest of
-    1, 2, 5 x 10^k s at or below `safety` times the smallest measured
-    largest stable step."""
-    steps = np.asarray(stable_steps_s, float)
-    if not len(steps) or not np.all(np.isfinite(steps) & (steps > 0)):
-        raise ValueError(f"stable steps must be finite and > 0 s, got {list(steps)}")
-    limit = safety * float(steps.min())
-    below = [v for v in _LADDER if v <= limit * (1 + 1e-9)]
-    if not below:
-        raise ValueError(f"no time step on the ladder at or below {limit:g} s")
-    return max(below)
-
-
 def axial_check(book: Book, designs=("MD", "SS", "rho-inc"), behaviour: str = "ramp", *,
                 timestep_s: float | None = None, workers: int | None = None) -> dict:
     """The paper's headline comparison under the physical (axial) stiffness
-    convention. The axial springs need a smaller time step: by default
-    :func:`axial_timestep` of the designs' own largest stable steps under
-    the axial convention (:func:`convention_stability`). Runs, through the
+    convention. The axial springs need a smaller time step: by default the
+    profile's ``axial_timestep_s`` (the step ``mat-hopper reproduce
+    --conventions`` uses; chapter 3 measures the stable steps). Runs, through the
     runner (cached), every design in three settings: the paper's
     convention at the profile's step (the runs of experiments 1 and 3),
     the paper's convention at the small step (what the step alone
@@ -1063,9 +1047,7 @@ def axial_check(book: Book, designs=("MD", "SS", "rho-inc"), behaviour: str = "r
     prof = book.profile
     legs = {d: parse_design(d) for d in designs}
     if timestep_s is None:
-        steps = convention_stability(tuple(designs), prof, ("axial",), cache_dir=str(book.cache_dir),
-                                     workers=workers)
-        timestep_s = axial_timestep(steps["max_stable_timestep_s"])
+        timestep_s = prof.axial_timestep_s
     beh = get_behaviour(behaviour)
     base = prof.sim_settings()
     small = replace(base, timestep_s=float(timestep_s))

@@ -294,14 +294,6 @@ def test_jerk_by_rate_subsamples(tmp_path):
         book.jerk_by_rate(r, rates_hz=(5000.0,))
 
 
-def test_axial_timestep_ladder():
-    assert book.axial_timestep([2.4e-5, 3e-5]) == 1e-5
-    assert book.axial_timestep([4.2e-4]) == 2e-4
-    assert book.axial_timestep([1e-4], safety=1.0) == 1e-4
-    with pytest.raises(ValueError):
-        book.axial_timestep([np.nan])
-
-
 def test_axial_check_three_settings(tmp_path):
     hopping = Profile("hopping", 2.0, 0.3, 1e-4, 1, 0.3)       # long enough for a few scored hops
     out = book.axial_check(_tiny_book(tmp_path, hopping), designs=("MD", "SS"), timestep_s=1e-5, workers=1)
