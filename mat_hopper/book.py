@@ -378,11 +378,14 @@ def convention_tasks(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profi
 
 def convention_stability(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
                          conventions=CONVENTIONS, *, cache_dir=None, workers: int | None = None) -> pd.DataFrame:
-    """Largest stable time step per design (see :func:`convention_tasks`) and convention: measured (the
-    bracket [max_stable_timestep_s, unstable_timestep_s] of
-    :mod:`mat_hopper.stability`) and estimated (analytic_timestep_s, 2 /
-    w_max of the leg's spring chain), one row each, with the stiffest
-    material spring (material_spring_n_m; nan for the rigid MD leg)."""
+    """Largest stable time step per design (see :func:`convention_tasks`)
+    and convention: measured (the bracket [max_stable_timestep_s,
+    unstable_timestep_s] of :mod:`mat_hopper.stability`) and estimated
+    (analytic_timestep_s, 2 / w_max of the leg's spring chain;
+    controller_timestep_s, the limit 2 I / c of the controller's explicit
+    stance attitude damping, the same for every leg), one row each, with
+    the stiffest material spring (material_spring_n_m; nan for the rigid
+    MD leg)."""
     from .runner import FAILED, run_grid
     res = run_grid(convention_tasks(names, profile, conventions), cache_dir, workers=workers, progress=False,
                    desc="conventions")
@@ -391,8 +394,8 @@ def convention_stability(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | P
         bad = s[s["status"] == FAILED]
         raise RuntimeError("stability measurement failed: " + "; ".join(
             f"{r.design} ({r.convention}): {r.error}" for r in bad.itertuples()))
-    keep = ["design", "convention", "max_material_spring_n_m", "analytic_timestep_s", "max_stable_timestep_s",
-            "unstable_timestep_s"]
+    keep = ["design", "convention", "max_material_spring_n_m", "analytic_timestep_s", "controller_timestep_s",
+            "max_stable_timestep_s", "unstable_timestep_s"]
     out = s[keep].rename(columns={"max_material_spring_n_m": "material_spring_n_m"})
     return out.reset_index(drop=True)
 
@@ -446,7 +449,8 @@ def convention_figure(table: pd.DataFrame):
         k_all = table["material_spring_n_m"].to_numpy(float)
         if np.isfinite(k_all).any():
             ax_k.set_ylim(np.nanmin(k_all) / 5, np.nanmax(k_all) * 2)
-        dt_all = table[["max_stable_timestep_s", "analytic_timestep_s"]].to_numpy(float)
+        dt_all = table[[c for c in ("max_stable_timestep_s", "analytic_timestep_s", "controller_timestep_s")
+                        if c in table.columns]].to_numpy(float)
         if np.isfinite(dt_all).any():
             ax_dt.set_ylim(np.nanmin(dt_all) / 3, np.nanmax(dt_all) * 3)
         ax_k.set_ylabel("Material spring stiffness (N/m)")
@@ -454,6 +458,11 @@ def convention_figure(table: pd.DataFrame):
         ax_dt.axhline(ref.TIMESTEP_S, color="#555555", lw=0.8, ls=":")
         ax_dt.text(1.0, ref.TIMESTEP_S, " paper's dt", transform=ax_dt.get_yaxis_transform(), va="center",
                    ha="left", fontsize=7, color="#555555")
+        if "controller_timestep_s" in table.columns and np.isfinite(table["controller_timestep_s"]).any():
+            ctrl = float(np.nanmin(table["controller_timestep_s"].to_numpy(float)))
+            ax_dt.axhline(ctrl, color="#d55e00", lw=0.8, ls="--")
+            ax_dt.text(1.0, ctrl, " controller limit", transform=ax_dt.get_yaxis_transform(), va="center",
+                       ha="left", fontsize=7, color="#d55e00")
         handles = [Patch(color=colours.get(c), label=f"{c} convention") for c in convs]
         handles += [Line2D([], [], color="black", lw=1.0, label="measured bracket (stable to unstable)"),
                     Line2D([], [], ls="none", marker="D", ms=4.5, color="black", markerfacecolor="white",

@@ -86,6 +86,12 @@ book.show(springs, {"axial_over_paper": "{:.1f}"}, precision=3)
 # masses and stiffnesses of the compiled model, and gives the estimate
 # Δt < 2 / ω_max.
 #
+# A second limit has nothing to do with the material: in stance the
+# controller damps the body's pitch and roll through the hips, a damper
+# of 1 × 600 N m s/rad computed from the state at the start of each step,
+# acting on the body's inertia about the hip. Explicit damping is stable
+# for Δt < 2 I / c, the same for every leg (`mat_hopper/stability.py`).
+#
 # We also measure the largest stable step: static hopping at a given step
 # counts as stable when it ends without NaN, without any acceleration
 # above 1e6 and with the body above 0.1 m (the paper's criterion). The
@@ -103,7 +109,9 @@ book.convention_figure(steps)
 paper_conv = steps[steps["convention"] == "paper"].set_index("design")
 for name, claimed in ref.CLAIM_STABLE_TIMESTEP_S.items():
     print(f"{name:>3} (paper convention): stable up to {paper_conv.loc[name, 'max_stable_timestep_s']:.1e} s, "
-          f"estimate {paper_conv.loc[name, 'analytic_timestep_s']:.1e} s; the paper: about {claimed:.0e} s")
+          f"spring-chain estimate {paper_conv.loc[name, 'analytic_timestep_s']:.1e} s; "
+          f"the paper: about {claimed:.0e} s")
+print(f"controller limit 2 I / c: {steps['controller_timestep_s'].min():.1e} s, for every leg")
 
 # %% [markdown]
 # Under the paper's convention the measured limits of the metals lie near
@@ -113,9 +121,8 @@ for name, claimed in ref.CLAIM_STABLE_TIMESTEP_S.items():
 # springs are about twenty times stiffer, so the stable step shrinks by
 # roughly the square root of that: the metals then need steps well below
 # 1e-4 s, and the paper's time step makes them diverge. The rigid MD leg
-# has no material springs; its limit is set by the rest of the model (foot
-# spring, contact, controller), which the chain estimate, seeing only the
-# soft foot spring, does not capture.
+# has no material springs: its chain estimate only sees the soft foot
+# spring, and its measured limit is the controller's (dashed line).
 #
 # Everything in chapters 5 to 9 uses the `paper` convention, as the
 # paper's results do. Chapter 10 measures what the `axial` convention

@@ -30,9 +30,12 @@
 #   1.5). It finds steps above 1e-3 s too, and the bracket says how sharp
 #   the answer is.
 #
-# Beside the measurement, the **analytic estimate** of chapter 3: the
-# leg's axial mass-spring chain has a highest natural frequency ω_max,
-# and the explicit spring update is stable while Δt < 2 / ω_max.
+# Beside the measurement, the two estimates of chapter 3: the leg's axial
+# mass-spring chain has a highest natural frequency ω_max, and the
+# explicit spring update is stable while Δt < 2 / ω_max (`spring`); the
+# controller's explicit attitude damping is stable while Δt < 2 I / c,
+# the same for every leg (`controller`); the smaller of the two is the
+# `combined` estimate.
 
 # %%
 from mat_hopper import book, plots
@@ -55,15 +58,17 @@ plots.stability_figure(stab, convention=b.profile.convention)
 book.show(agreement(stab), precision=3)
 
 # %% [markdown]
-# The estimate follows the trend: stiffer springs and lighter segments
-# mean a higher ω_max and a smaller step. The median ratio says how far
-# off it is; a ratio below 1 means the measured step is smaller than the
-# estimate, as expected from a model that leaves out contact, the
-# controller's reaction to a vibrating leg, and tries that fail because
-# the body falls rather than because the integration blows up. The
-# `scan_consistent` fraction checks the paper's 20-step scan against our
-# bisection: where both agree, the stable region is a simple threshold in
-# the time step, as both searches assume.
+# The spring estimate follows the trend: stiffer springs and lighter
+# segments mean a higher ω_max and a smaller step. Soft, heavy legs, whose
+# spring limit lies above the controller's, meet the controller's limit
+# instead, and there the measured map levels off. The median ratio says
+# how far off an estimate is; a ratio below 1 means the measured step is
+# smaller than the estimate, as expected from models that leave out
+# contact, and from tries that fail because the body falls rather than
+# because the integration blows up. The `fraction_scan_consistent` row
+# checks the paper's 20-step scan against our bisection: where both agree,
+# the stable region is a simple threshold in the time step, as both
+# searches assume.
 #
 # ## Beside the paper
 
@@ -77,7 +82,7 @@ book.show(book.claims_for(tables, "stability"))
 # positive density slope, a negative modulus slope and R² ≥ 0.8.
 #
 # Why log-linear? For one spring between two equal masses m, ω = √(2k/m),
-# so Δt ∝ √(m/k) ∝ ρ^½ E^-½ under the paper's convention, where k ∝ E and
-# m ∝ ρ: a plane of slopes +½ and -½ in log-log axes. The fitted slopes
+# so Δt ∝ √(m/k) ∝ √ρ / √E under the paper's convention, where k ∝ E and
+# m ∝ ρ: a plane of slopes +½ and −½ in log-log axes. The fitted slopes
 # above are to be compared with these; the foot spring and the foot's mass,
 # the same in every design, pull them toward zero.
