@@ -51,13 +51,13 @@ from __future__ import annotations
 
 import math
 import os
-import tempfile
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 import pandas as pd
 
+from .atomic import write_text
 from . import reference as ref
 from . import stats as _stats
 from .stats import seconds
@@ -632,17 +632,7 @@ def to_markdown(table: pd.DataFrame, columns=("claim", "convention", "paper", "o
 
 
 def _write_text_atomic(text: str, path: str) -> None:
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=os.path.splitext(path)[1])
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    write_text(text, path)
 
 
 def write_claims(table: pd.DataFrame, directory) -> tuple[str, str]:

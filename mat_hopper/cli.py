@@ -16,6 +16,7 @@ COMMAND_MODULES = (
     "mat_hopper.cli_simulate",
     "mat_hopper.cli_reproduce",
     "mat_hopper.optimize",
+    "mat_hopper.render",
 )
 
 

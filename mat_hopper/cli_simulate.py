@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import os
-import sys
-import tempfile
 
 import pandas as pd
 
 from . import reference as ref
+from .atomic import write_csv
 from .behaviours import BEHAVIOUR_NAMES, behaviour
 from .materials import CONVENTIONS, LegDesign, parse_design
 from .metrics import METRICS, hop_table, run_summary
@@ -43,17 +41,7 @@ def design_from_args(args) -> LegDesign:
 
 def write_csv_atomic(frame: pd.DataFrame, path: str) -> None:
     """Write a CSV so that readers never see half a file."""
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".csv")
-    try:
-        with os.fdopen(fd, "w") as f:
-            frame.to_csv(f, index=False)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    write_csv(frame, path)
 
 
 def add_sim_arguments(p: argparse.ArgumentParser) -> None:

@@ -27,7 +27,6 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from . import reference as ref
 from .sim import C, Rollout
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")

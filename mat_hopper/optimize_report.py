@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import importlib.util
 import os
-import tempfile
 import warnings
 
 import numpy as np
@@ -36,6 +35,7 @@ import optuna
 import pandas as pd
 from optuna.trial import TrialState
 
+from .atomic import atomic_path
 from .cli_simulate import write_csv_atomic
 from .materials import LegDesign, paper_designs
 from .optimize import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
@@ -207,15 +207,8 @@ def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> 
 # --- plots ------------------------------------------------------------------
 
 def _save(fig, path: str) -> None:
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=os.path.splitext(path)[1])
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=130, bbox_inches="tight")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
 
 
 def plot_pareto(frame: pd.DataFrame, front: pd.DataFrame, base: dict, path: str, title: str) -> None:

@@ -28,8 +28,6 @@ them leaks nothing; Jupyter shows a returned figure as usual.
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +39,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Polygon, Rectangle
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
+from .atomic import atomic_path
 from . import reference as ref
 from . import stats as _stats
 from .behaviours import BEHAVIOUR_NAMES
@@ -205,17 +204,10 @@ def save_figure(fig: Figure, path_stem, *, formats=("png", "svg"), dpi: int = DP
         if fmt not in ("png", "svg", "pdf"):
             raise ValueError(f"formats must be among png, svg, pdf; got {fmt!r}")
         target = stem.parent / f"{stem.name}.{fmt}"
-        fd, tmp = tempfile.mkstemp(dir=stem.parent, prefix=f".tmp-{stem.name}-", suffix=f".{fmt}")
-        os.close(fd)
         meta = {"Software": None} if fmt == "png" else {"Date": None} if fmt == "svg" else {"CreationDate": None}
-        try:
-            with rc_context({"svg.hashsalt": STYLE["svg.hashsalt"], "svg.fonttype": STYLE["svg.fonttype"]}):
-                fig.savefig(tmp, format=fmt, dpi=dpi, metadata=meta)
-            os.replace(tmp, target)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        with atomic_path(target) as tmp, \
+                rc_context({"svg.hashsalt": STYLE["svg.hashsalt"], "svg.fonttype": STYLE["svg.fonttype"]}):
+            fig.savefig(tmp, format=fmt, dpi=dpi, metadata=meta)
         written.append(target)
     return written
 

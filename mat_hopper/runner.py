@@ -42,7 +42,6 @@ import json
 import math
 import multiprocessing
 import os
-import tempfile
 import time
 import traceback
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -53,13 +52,14 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 import pandas as pd
 
+from .atomic import TEMP_PREFIX as ATOMIC_TEMP_PREFIX, atomic_path
 from .behaviours import Behaviour
 from .materials import LegDesign
 from .sim import SimSettings
 
 DEFAULT_CACHE_DIR = os.path.join("results", "cache")
 CACHE_ENV = "MAT_HOPPER_CACHE"
-TEMP_PREFIX = ".tmp-"
+TEMP_PREFIX = ATOMIC_TEMP_PREFIX
 _META_KEY = b"mat_hopper"
 _STALE_TEMP_S = 3600.0
 
@@ -225,17 +225,8 @@ class Cache:
         meta[_META_KEY] = json.dumps({"summary": summary, "key": key_dict},
                                      default=_json_default, allow_nan=True).encode()
         t = t.replace_schema_metadata(meta)
-        fd, tmp = tempfile.mkstemp(dir=self.root, prefix=TEMP_PREFIX, suffix=".parquet")
-        try:
-            with os.fdopen(fd, "wb") as f:
-                pq.write_table(t, f)
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, self.path(key))
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        with atomic_path(self.path(key), prefix=TEMP_PREFIX, fsync=True) as tmp:
+            pq.write_table(t, tmp)
 
     def clean_temp(self, older_than_s: float = _STALE_TEMP_S) -> int:
         """Remove temp files left by killed writers (older than the given
