@@ -26,7 +26,6 @@ calls ``mat-hopper render`` on it when :mod:`mat_hopper.render` exists.
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import warnings
 
@@ -360,16 +359,18 @@ def cmd_replay(name: str, storage, args) -> int:
 
 
 def _render(design: LegDesign, config: StudyConfig, args) -> int:
-    if importlib.util.find_spec("mat_hopper.render") is None:
-        print("--render: mat_hopper.render is not available in this version; replay only")
-        return 0
+    """Gait tiles and a 10 s video of the replayed design on each behaviour,
+    in --out or the studies folder: <study>-trial<N>-<behaviour>-*."""
     from .cli import main
     dens = ",".join(repr(float(m.density_g_cm3)) for m in design.segments)
-    mods = ",".join(repr(float(m.modulus_gpa)) for m in design.segments)
+    mods = ",".join("rigid" if m.modulus_gpa is None else repr(float(m.modulus_gpa)) for m in design.segments)
+    folder = args.out or args.studies_dir
     code = 0
     for b in config.objective.behaviours:
+        stem = os.path.join(folder, f"{args.study}-trial{args.replay}-{b}")
         argv = ["render", "--density", dens, "--modulus", mods, "--behaviour", b,
-                "--convention", config.objective.convention]
+                "--convention", config.objective.convention, "--tiles", f"{stem}-tiles.png",
+                "--video", f"{stem}.mp4"]
         print("mat-hopper " + " ".join(argv))
         try:
             code = max(code, int(main(argv) or 0))

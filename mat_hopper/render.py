@@ -386,6 +386,8 @@ def cmd_render(args) -> int:
     choose_backend()                                   # named error before any work
     rollout = record(design, beh, max(args.seconds, args.tile_start + 1.0), start_s=args.start,
                      convention=args.convention) if (args.tiles or args.video) else None
+    if rollout is not None and not rollout.stable:
+        print(f"note: {design.name} diverged at t = {rollout.diverged_at_s:.3f} s; frames stop there")
     if args.still:
         print(f"wrote {save_image(render_still(design, beh, size=size), args.still)}")
     if args.tiles:
