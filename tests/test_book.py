@@ -33,11 +33,11 @@ MIN_FIGURES = {
     "01-introduction": 1,          # the designs
     "02-materials": 1,             # Ashby chart
     "03-modelling-material": 1,    # conventions: stiffness and stable step
-    "04-hopper-controller": 1,     # one rollout (and the rendered model once render.py is in)
+    "04-hopper-controller": 2,     # the rendered model, one rollout
     "05-numerical-stability": 1,   # the stable-time-step map
     "06-mono-materials": 1,        # power, jerk, tracking error
     "07-one-property": 1,          # sweeps
-    "08-gradients": 2,             # gradients, time series (and gait tiles once render.py is in)
+    "08-gradients": 4,             # gradients, time series, gait tiles forward and ramp
     "09-optimizing-gradients": 1,  # the Pareto front
     "10-reproduction-report": 1,   # a defect measured
 }

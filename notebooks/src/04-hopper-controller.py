@@ -26,8 +26,20 @@ b = book.setup()
 # hip has two motorized hinges (pitch `hip_y`, then roll `hip_x`, ±70°,
 # 600:1 gear). The material springs `mat_spring_1..3` follow, then the
 # foot spring (8000 N/m, ±0.1 m), the only spring the thrust actuator
-# drives. Only the foot touches the ground. The joints of the
-# stainless-steel leg:
+# drives. Only the foot touches the ground. Rendered off-screen, the
+# hopper with the ρ-inc leg standing at the foot of the ramp, its segments
+# coloured by density (light at the hip, dense at the foot); the dotted
+# line is the desired path:
+
+# %%
+from PIL import Image
+
+from mat_hopper import render
+
+Image.fromarray(render.render_still("rho-inc", "ramp", size=(720, 480)))
+
+# %% [markdown]
+# The joints of the stainless-steel leg:
 
 # %%
 book.show(book.joint_table("SS"), precision=3)

@@ -82,6 +82,24 @@ series = book.rollouts(designs, ["forward", "ramp"], b.profile, record_rate_hz=2
 plots.figure5_timeseries(series)
 
 # %% [markdown]
+# ## Gait tiles
+#
+# What a hop looks like: eight frames of one hop cycle of the ρ-inc leg,
+# right after the transient, hopping forward and up the 3.5 % ramp
+# (segments coloured by density, the desired path in red).
+
+# %%
+import matplotlib.pyplot as plt
+from IPython.display import display
+
+from mat_hopper import render
+
+for behaviour in ("forward", "ramp"):
+    tiles = render.gait_tiles("rho-inc", behaviour, start_s=b.profile.transient_s)
+    plt.close(tiles)          # shown once, here, not again by pyplot
+    display(tiles)
+
+# %% [markdown]
 # ## Beside the paper
 
 # %%
