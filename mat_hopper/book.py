@@ -886,7 +886,7 @@ def rollouts(designs, behaviours, profile: str | Profile | None = None, *, recor
 # the optimizer chapter
 
 
-STUDY_TRIALS = {"paper": 30, "quick": 12}   # trials of the book's own study, per profile
+STUDY_TRIALS = {"paper": 24, "quick": 12}   # trials of the book's own study, per profile
 STUDY_BEHAVIOURS = ("ramp",)
 
 
