@@ -59,9 +59,9 @@ class Profile:
     name: str
     duration_s: float
     transient_s: float
-    timestep_s: float
-    stability_grid_size: int
-    stability_duration_s: float
+    timestep_s: float = ref.TIMESTEP_S
+    stability_grid_size: int = ref.STABILITY_GRID_SIZE
+    stability_duration_s: float = ref.STABILITY_TEST_DURATION_S
     stability_tolerance: float = 1.25
     stability_max_iter: int = 10
     stability_scan: bool = True

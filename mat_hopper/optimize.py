@@ -576,8 +576,8 @@ def register_cli(sub) -> None:
     p.add_argument("--density-bounds", help="MIN,MAX g/cm^3 for continuous segments (default 0.9,20)")
     p.add_argument("--modulus-bounds", help="MIN,MAX GPa for continuous segments (default 0.1,1000)")
     p.add_argument("--materials", help="catalogue choices, comma-separated (default: all with a modulus)")
-    p.add_argument("--profile", help=f"run profile: {' or '.join(PROFILES)} (default paper: 60 s runs, "
-                                     "20 s transient, 1e-4 s step; quick: 8 s, 3 s)")
+    p.add_argument("--profile", help=f"run profile: {' or '.join(PROFILES)} (default $MAT_HOPPER_PROFILE, else paper: 60 s runs, "
+                                     "20 s transient, 1e-4 s step; quick: 12 s, 4 s)")
     p.add_argument("--convention", help="stiffness convention: paper (default) or axial")
     p.add_argument("--workers", type=int, default=DEFAULT_WORKERS, help="worker processes here (2)")
     p.add_argument("--storage", help="Optuna storage URL (default sqlite:///STUDIES_DIR/NAME.db); "

@@ -20,11 +20,12 @@ cycle still gets finite objective values, the same quantities averaged
 over every finite recorded sample of the run, so the samplers can model
 it; the constraints make it infeasible.
 
-Profiles: ``paper`` is the paper's protocol (60 s runs, 20 s transient,
-1e-4 s step); ``quick`` (8 s runs, 3 s transient) is for CI and first
+Profiles are :mod:`mat_hopper.experiments`' (one setting for the whole
+package): ``paper`` is the paper's protocol (60 s runs, 20 s transient,
+1e-4 s step); ``quick`` (12 s runs, 4 s transient) is for CI and first
 looks: the hop height is still settling then, so quick results rank
-designs roughly, not finally. (Defined here for now; the experiments
-module has the same names.)
+designs roughly, not finally. Under the ``axial`` convention trials run at
+the profile's axial time step.
 """
 
 from __future__ import annotations
@@ -41,7 +42,8 @@ from . import reference as ref
 from .behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
 from .materials import CONVENTIONS, DEFAULT_CONVENTION, LegDesign
 from .metrics import hop_table
-from .sim import C, RolloutRunner, SimSettings
+from .experiments import PROFILES, Profile, get_profile  # noqa: F401  (re-exported)
+from .sim import C, RolloutRunner
 
 OBJECTIVES = ("tracking_error_m", "power_w")
 CONSTRAINTS = ("hop_height", "unstable")
@@ -50,34 +52,9 @@ NO_DATA_VALUE = 1e6      # objective value only when a run recorded no finite sa
 CHUNK_S = 0.5            # simulated s per compiled chunk (lets the heartbeat thread run)
 
 
-@dataclass(frozen=True)
-class Profile:
-    """Run length (s), transient (s) and physics step (s) of every trial."""
-
-    name: str
-    duration_s: float
-    transient_s: float
-    timestep_s: float = ref.TIMESTEP_S
-
-    def __post_init__(self):
-        self.settings()          # validates (ValueError names the field)
-
-    def settings(self, convention: str = DEFAULT_CONVENTION) -> SimSettings:
-        return SimSettings(duration_s=self.duration_s, timestep_s=self.timestep_s,
-                           transient_s=self.transient_s, convention=convention)
-
-
-PROFILES = {
-    "paper": Profile("paper", ref.DURATION_S, ref.TRANSIENT_S, ref.TIMESTEP_S),
-    "quick": Profile("quick", 8.0, 3.0, ref.TIMESTEP_S),
-}
-
-
-def profile(name: str) -> Profile:
-    try:
-        return PROFILES[str(name).strip().lower()]
-    except KeyError:
-        raise ValueError(f"unknown profile {name!r}; accepted: {', '.join(PROFILES)}") from None
+# Profiles are the package's one notion of run length (paper | quick,
+# $MAT_HOPPER_PROFILE), shared with the experiments.
+profile = get_profile
 
 
 @dataclass(frozen=True)
@@ -86,7 +63,7 @@ class Objective:
     height constraint: target and tolerance in m."""
 
     behaviours: tuple[str, ...] = ("ramp",)
-    profile: Profile = PROFILES["paper"]
+    profile: Profile = field(default_factory=get_profile)     # $MAT_HOPPER_PROFILE, else paper
     convention: str = DEFAULT_CONVENTION
     hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
     hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
@@ -159,7 +136,7 @@ def _whole_run_means(rollout) -> tuple[float, float]:
 def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None) -> dict:
     """Simulate one behaviour in chunks of CHUNK_S simulated s (calling
     tick() between chunks) and score it."""
-    settings = objective.profile.settings(objective.convention)
+    settings = objective.profile.for_convention(objective.convention).sim_settings()
     runner = RolloutRunner(design, get_behaviour(behaviour_name), settings)
     chunk = max(1, int(round(CHUNK_S / settings.timestep_s)))
     while not runner.done:
