@@ -3,7 +3,7 @@
 PY := .venv/bin/python
 PROFILE ?= paper
 
-.PHONY: setup test demo bench
+.PHONY: setup test book book-quick demo bench
 
 setup:
 	@bash scripts/setup.sh
@@ -11,6 +11,15 @@ setup:
 ## Pass the tests (CI runs this).
 test: setup
 	$(PY) -m pytest -q
+
+## The executable book, full paper profile (results cached under results/).
+book: setup
+	MAT_HOPPER_PROFILE=$(PROFILE) .venv/bin/jupyter-book build . -W -n --keep-going
+	@echo "open _build/html/index.html"
+
+## The same book on the quick profile (short runs; what CI builds).
+book-quick:
+	$(MAKE) book PROFILE=quick
 
 ## The paper's forward-hopping comparison of the five mono-materials.
 demo: setup
@@ -22,3 +31,5 @@ demo: setup
 ## Speed benchmarks (ratios measured side by side in one run).
 bench: setup
 	$(PY) benchmarks/rollout.py
+	$(PY) benchmarks/optimize.py
+	$(PY) benchmarks/reproduce.py
