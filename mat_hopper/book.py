@@ -663,13 +663,28 @@ def outcome_table(runs: pd.DataFrame) -> pd.DataFrame:
         if st == "ok":
             return f"ok, {int(row['n_hops'])} hops" if "n_hops" in row and pd.notna(row["n_hops"]) else "ok"
         if st == "diverged" and pd.notna(row.get("diverged_at_s", np.nan)):
-            return f"diverged at {row['diverged_at_s']:.2f} s"
+            return f"diverged at {row['diverged_at_s']:.2g} s"
         return str(st)
     t = r.assign(outcome=r.apply(cell, axis=1)).pivot_table(index="design", columns="behaviour", values="outcome",
                                                             aggfunc="first")
     t = t.reindex(index=order_designs(t.index), columns=order_behaviours(t.columns))
     t.columns.name = None
     return t
+
+
+def outcome_summary(runs: pd.DataFrame) -> str:
+    """One paragraph on how the (unperturbed) runs ended: how many ended
+    upright, then each design and behaviour that did not, with how
+    (diverged at T s, fell, failed)."""
+    t = outcome_table(runs)
+    cells = [(d, b, v) for d in t.index for b in t.columns if isinstance(v := t.loc[d, b], str)]
+    bad = [(d, b, v) for d, b, v in cells if not v.startswith("ok")]
+    one_behaviour = len(t.columns) == 1
+    text = f"{len(cells) - len(bad)} of {len(cells)} runs ended upright"
+    if not bad:
+        return text + "."
+    items = [f"{d}{'' if one_behaviour else ' ' + b}: {v}" for d, b, v in bad]
+    return text + "; not: " + "; ".join(items) + "."
 
 
 def metric_table(hops: pd.DataFrame, metric: str, stat: str = "mean", *, scale: float = 1.0) -> pd.DataFrame:

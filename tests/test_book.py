@@ -221,7 +221,12 @@ def test_outcome_table():
                          "n_hops": [3, 40, 10], "diverged_at_s": [12.5, np.nan, np.nan]})
     t = book.outcome_table(runs)
     assert list(t.index) == ["MD", "SS"] and list(t.columns) == ["static", "ramp"]
-    assert t.loc["SS", "ramp"] == "diverged at 12.50 s"
+    assert t.loc["SS", "ramp"] == "diverged at 12 s"
+    text = book.outcome_summary(runs)
+    assert text.startswith("1 of 3 runs ended upright; not: ")
+    assert "SS ramp: diverged at 12 s" in text and "MD static: fallen" in text
+    ok = runs.assign(status="ok")
+    assert book.outcome_summary(ok) == "3 of 3 runs ended upright."
     assert t.loc["SS", "static"] == "ok, 40 hops" and t.loc["MD", "static"] == "fallen"
     with pytest.raises(ValueError, match="status"):
         book.outcome_table(runs.drop(columns="status"))
