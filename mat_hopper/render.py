@@ -20,6 +20,7 @@ from __future__ import annotations
 import ctypes.util
 import math
 import os
+import sys
 from dataclasses import dataclass
 
 import mujoco
@@ -47,11 +48,15 @@ _LIBS = {"osmesa": ("OSMesa", "libosmesa6"), "egl": ("EGL", "libegl1")}
 def choose_backend(env=None, find_library=ctypes.util.find_library) -> str:
     """The off-screen backend to use: ``osmesa`` or ``egl``.
 
-    $MUJOCO_GL decides when it names one of them; otherwise OSMesa if its
-    library is there, else EGL. Raises RenderBackendError naming the
-    missing libraries."""
+    $MUJOCO_GL decides when it names one of them (then there is no
+    fallback), else $PYOPENGL_PLATFORM when it does; otherwise OSMesa if its
+    library is there, else EGL (MUJOCO_GL=glfw, an on-screen window, is not
+    used for off-screen work). Raises RenderBackendError naming the missing
+    libraries."""
     env = os.environ if env is None else env
     asked = env.get("MUJOCO_GL", "").strip().lower()
+    if asked not in _LIBS:
+        asked = env.get("PYOPENGL_PLATFORM", "").strip().lower()
     if asked in _LIBS:
         lib, pkg = _LIBS[asked]
         if find_library(lib) is None:
@@ -68,7 +73,8 @@ def choose_backend(env=None, find_library=ctypes.util.find_library) -> str:
 def _gl_context_class(backend: str):
     """The MuJoCo GL context class of a backend (sets PyOpenGL's platform
     first, unless the user already chose one)."""
-    os.environ.setdefault("PYOPENGL_PLATFORM", backend)
+    if not os.environ.get("PYOPENGL_PLATFORM", "").strip():      # unset or empty: ours to choose
+        os.environ["PYOPENGL_PLATFORM"] = backend
     if os.environ["PYOPENGL_PLATFORM"].lower() != backend:
         raise RenderBackendError(f"PYOPENGL_PLATFORM={os.environ['PYOPENGL_PLATFORM']} conflicts with the "
                                  f"{backend} backend; unset it or set MUJOCO_GL to match")
@@ -108,27 +114,42 @@ def render_spec(design: LegDesign, behaviour: Behaviour, *, convention: str = DE
     density, a checker floor, sky, and markers along the desired path.
     Joints are unchanged, so recorded qpos replays on it."""
     spec = build_spec(design, ramp_grade_deg=behaviour.ramp_grade_deg, convention=convention)
+    # Segment colours glow a little (emission) so they read on a thin leg in shade.
+    spec.add_material(name="segment", emission=0.35, specular=0.3)
     for i, mat in enumerate(design.segments, start=1):
         rgba = density_color(mat.density_g_cm3)
         for half in ("upper", "lower"):
-            spec.geom(f"seg{i}_{half}").rgba = rgba
+            g = spec.geom(f"seg{i}_{half}")
+            g.material, g.rgba = "segment", rgba
     spec.visual.global_.offwidth = max(width, 640)
     spec.visual.global_.offheight = max(height, 480)
     spec.visual.quality.shadowsize = 2048
-    spec.visual.headlight.ambient = [0.45, 0.45, 0.45]
-    spec.visual.headlight.diffuse = [0.55, 0.55, 0.55]
+    spec.visual.map.shadowclip = 1.5            # shadow-map extent, in units of the model's extent
+    spec.visual.headlight.ambient = [0.22, 0.22, 0.22]
+    spec.visual.headlight.diffuse = [0.22, 0.22, 0.22]
+    spec.visual.headlight.specular = [0.05, 0.05, 0.05]
+    # Lights: the model's overhead sun becomes a soft fill; a key light from
+    # the camera's side, slanted, follows the hopper (tracks the centre of
+    # mass) and casts the only shadow, offset from the foot by the hop height.
+    sun = spec.light("sun")
+    sun.castshadow, sun.diffuse, sun.specular = False, [0.22, 0.22, 0.22], [0, 0, 0]
+    key = np.array([0.35, 0.6, -1.0])
+    spec.worldbody.add_light(name="key", type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+                             mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM, pos=list(-3.0 * key),
+                             dir=list(key / np.linalg.norm(key)), castshadow=True,
+                             diffuse=[0.5, 0.5, 0.48], specular=[0.2, 0.2, 0.2])
     spec.add_texture(name="sky", type=mujoco.mjtTexture.mjTEXTURE_SKYBOX,
                      builtin=mujoco.mjtBuiltin.mjBUILTIN_GRADIENT, rgb1=[0.75, 0.85, 0.95],
                      rgb2=[1, 1, 1], width=256, height=256)
     spec.add_texture(name="checker", type=mujoco.mjtTexture.mjTEXTURE_2D,
-                     builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, rgb1=[0.93, 0.93, 0.91],
-                     rgb2=[0.83, 0.83, 0.81], width=256, height=256)
-    mat = spec.add_material(name="floor", texrepeat=[8, 8], reflectance=0.05)
+                     builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, rgb1=[0.86, 0.86, 0.83],
+                     rgb2=[0.74, 0.74, 0.71], width=256, height=256)
+    mat = spec.add_material(name="floor", texrepeat=[8, 8])   # no reflection pass: half the cost
     mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "checker"
     ground = spec.geom("ground")
     ground.material, ground.rgba, ground.size = "floor", [1, 1, 1, 1], [8, 8, 0.1]
     if behaviour.ramp_grade_deg is not None:
-        spec.geom("ramp").rgba = [0.68, 0.76, 0.88, 1]
+        spec.geom("ramp").rgba = [0.5, 0.62, 0.8, 1]
     # The desired path: small flat discs every 5 cm of path (or 0.5 s).
     ts = np.arange(0.0, path_until_s, max(0.05 / max(behaviour.speed_m_s, 1e-9), 0.5)
                    if behaviour.speed_m_s > 0 else path_until_s)
@@ -166,8 +187,16 @@ class OffscreenRenderer:
         self.width, self.height = int(width), int(height)
         self.model = model
         self.data = mujoco.MjData(model)
-        self._ctx = _gl_context_class(self.backend)(self.width, self.height)
-        self._ctx.make_current()
+        try:
+            self._ctx = _gl_context_class(self.backend)(self.width, self.height)
+            self._ctx.make_current()
+        except RenderBackendError:
+            raise
+        except Exception as e:   # e.g. PyOpenGL already bound to another platform in this process
+            lib, pkg = _LIBS[self.backend]
+            raise RenderBackendError(f"could not create a {self.backend} OpenGL context ({e}); it needs lib{lib} "
+                                     f"(Debian package {pkg}) and PyOpenGL, and MUJOCO_GL={self.backend} set "
+                                     "before anything else imports OpenGL") from e
         self._con = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._con)
         self._scene = mujoco.MjvScene(model, maxgeom=10000)
@@ -178,6 +207,8 @@ class OffscreenRenderer:
     def frame(self, qpos: np.ndarray, camera: Camera, behaviour: Behaviour) -> np.ndarray:
         self.data.qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_comPos(self.model, self.data)      # the key light tracks the centre of mass
+        mujoco.mj_camlight(self.model, self.data)    # place the lights (else they have no direction)
         camera.place(self._cam, self.data.body("base").xpos, behaviour)
         self._ctx.make_current()
         mujoco.mjv_updateScene(self.model, self.data, self._opt, None, self._cam,
@@ -239,14 +270,10 @@ def record(design, behaviour, seconds: float, *, start_s: float = 0.0,
                     record_qpos=True)
 
 
-def _frame_times(rollout: Rollout, start_s: float, seconds: float, n: int) -> np.ndarray:
-    t_end = min(start_s + seconds, float(rollout.time[-1]))
-    return np.linspace(start_s, t_end, n, endpoint=n == 1 or True)
-
-
-def render_frames(rollout: Rollout, times_s, *, size=(640, 480), camera: Camera | None = None,
-                  backend: str | None = None) -> np.ndarray:
-    """RGB frames (n, height, width, 3) of a rollout at the given times (s)."""
+def iter_frames(rollout: Rollout, times_s, *, size=(640, 480), camera: Camera | None = None,
+                backend: str | None = None, progress: bool = False):
+    """Yield RGB frames (height, width, 3) of a rollout at the given times
+    (s), one at a time (a long video never sits in memory)."""
     if rollout.qpos is None:
         raise ValueError("the rollout has no joint positions: simulate(..., record_qpos=True)")
     w, h = size
@@ -255,36 +282,72 @@ def render_frames(rollout: Rollout, times_s, *, size=(640, 480), camera: Camera 
     model = spec.compile()
     idx = np.clip(np.searchsorted(rollout.time, np.asarray(times_s, float)), 0, len(rollout.time) - 1)
     camera = camera or Camera()
+    from tqdm import tqdm
     with OffscreenRenderer(model, w, h, backend) as r:
-        return np.stack([r.frame(rollout.qpos[i], camera, rollout.behaviour) for i in idx])
+        for i in tqdm(idx, desc="render", unit="frame", disable=not progress):
+            yield r.frame(rollout.qpos[i], camera, rollout.behaviour)
+
+
+def render_frames(rollout: Rollout, times_s, *, size=(640, 480), camera: Camera | None = None,
+                  backend: str | None = None) -> np.ndarray:
+    """RGB frames (n, height, width, 3) of a rollout at the given times (s)."""
+    return np.stack(list(iter_frames(rollout, times_s, size=size, camera=camera, backend=backend)))
 
 
 # ---------------------------------------------------------------------------
 # products
 
 
+def standing_qpos(model: mujoco.MjModel, behaviour: Behaviour) -> np.ndarray:
+    """The start pose (upright, at the behaviour's start) lowered until the
+    foot rests on the ground or ramp: the pose for a picture of the model."""
+    d = mujoco.MjData(model)
+    bx = int(model.joint("base_x").qposadr[0])
+    d.qpos[bx], d.qpos[bx + 1] = behaviour.start_xy_m
+    mujoco.mj_kinematics(model, d)
+    toe = d.site("toe").xpos
+    ground = float(_surface_z(behaviour, np.array([toe[0]]))[0])
+    d.qpos[bx + 2] -= toe[2] - ref.FOOT_RADIUS - ground
+    return d.qpos.copy()
+
+
 def render_still(design, behaviour="static", *, size=(640, 480), camera: Camera | None = None,
-                 backend: str | None = None) -> np.ndarray:
-    """One RGB picture (height, width, 3) of the hopper at its start pose."""
+                 standing: bool = True, backend: str | None = None) -> np.ndarray:
+    """One RGB picture (height, width, 3) of the hopper at its start pose,
+    standing on its foot (standing=False: at the simulation's start height,
+    0.56 m up), segments coloured by density, the behaviour's path marked."""
     design = _as_design(design)
     beh = get_behaviour(behaviour)
     w, h = size
     model = render_spec(design, beh, width=w, height=h, path_until_s=20.0).compile()
-    d = mujoco.MjData(model)
-    d.qpos[0], d.qpos[1] = beh.start_xy_m
-    camera = camera or Camera(distance_m=2.2, azimuth_deg=125.0, elevation_deg=-12.0, height_m=0.75)
+    qpos = standing_qpos(model, beh)
+    if not standing:
+        qpos[int(model.joint("base_z").qposadr[0])] = 0.0
+    camera = camera or (Camera(distance_m=1.75, azimuth_deg=125.0, elevation_deg=-10.0, height_m=0.42)
+                        if standing else Camera(distance_m=2.2, azimuth_deg=125.0, elevation_deg=-12.0,
+                                                height_m=0.75))
     with OffscreenRenderer(model, w, h, backend) as r:
-        return r.frame(d.qpos.copy(), camera, beh)
+        return r.frame(qpos, camera, beh)
 
 
 def _density_legend(fig, ax, design: LegDesign) -> None:
+    """A density colour bar whose labelled ticks are the design's segments
+    (``seg 1 1.39``, hip first), plus round numbers that do not crowd them."""
     import matplotlib as mpl
     norm = mpl.colors.LogNorm(*DENSITY_RANGE_G_CM3)
     cb = fig.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, fraction=0.025, pad=0.01)
     cb.set_label("segment density (g/cm$^3$)")
+    segs: dict[float, list[str]] = {}
     for i, d in enumerate(design.densities_g_cm3, start=1):
+        segs.setdefault(d, []).append(str(i))
         cb.ax.plot([0, 1], [d, d], color="white", lw=1.5)
-        cb.ax.text(1.15, d, f"seg {i}", transform=cb.ax.get_yaxis_transform(), va="center", fontsize=7)
+    lo, hi = DENSITY_RANGE_G_CM3
+    rounds = [t for t in (1, 2, 5, 10, 20) if lo <= t <= hi and all(abs(math.log(t / d)) > 0.3 for d in segs)]
+    ticks = sorted([(t, f"{t:g}") for t in rounds]
+                   + [(d, f"seg {','.join(ids)}: {d:g}") for d, ids in segs.items()])
+    cb.set_ticks([t for t, _ in ticks], labels=[lab for _, lab in ticks])
+    cb.ax.minorticks_off()
+    cb.ax.tick_params(labelsize=7)
 
 
 def gait_tiles(design, behaviour="forward", *, rollout: Rollout | None = None, start_s: float = 5.0,
@@ -315,19 +378,28 @@ def gait_tiles(design, behaviour="forward", *, rollout: Rollout | None = None, s
     return fig
 
 
-def video_frames(rollout: Rollout, *, start_s: float = 0.0, seconds: float | None = None, fps: float = 30.0,
-                 size=(640, 480), camera: Camera | None = None, backend: str | None = None) -> np.ndarray:
-    """Frames of a rollout at fps frames per simulated second."""
+def video_times(rollout: Rollout, *, start_s: float = 0.0, seconds: float | None = None,
+                fps: float = 30.0) -> np.ndarray:
+    """Simulated times (s) of the frames: start_s + k / fps up to the end of
+    the window (start_s + seconds) or of the rollout, both ends included."""
     fps = _check_fps(fps)
     t_end = float(rollout.time[-1]) if seconds is None else start_s + seconds
     n = int(math.floor((min(t_end, float(rollout.time[-1])) - start_s) * fps + 1e-9)) + 1
     if n < 1:
         raise ValueError("nothing to render: the window starts after the rollout ends")
-    return render_frames(rollout, start_s + np.arange(n) / fps, size=size, camera=camera, backend=backend)
+    return start_s + np.arange(n) / fps
 
 
-def write_video(frames: np.ndarray, path: str, fps: float) -> str:
-    """Write frames as MP4 (H.264, imageio-ffmpeg) or GIF, atomically."""
+def video_frames(rollout: Rollout, *, start_s: float = 0.0, seconds: float | None = None, fps: float = 30.0,
+                 size=(640, 480), camera: Camera | None = None, backend: str | None = None) -> np.ndarray:
+    """Frames (n, height, width, 3) of a rollout at fps frames per simulated second."""
+    return render_frames(rollout, video_times(rollout, start_s=start_s, seconds=seconds, fps=fps), size=size,
+                         camera=camera, backend=backend)
+
+
+def write_video(frames, path: str, fps: float) -> str:
+    """Write frames (an array or any iterable of (h, w, 3) uint8 images) as
+    MP4 (H.264, imageio-ffmpeg; streamed) or GIF, atomically."""
     import imageio.v2 as imageio
     ext = _check_extension(path, VIDEO_EXTENSIONS)
     fps = _check_fps(fps)
@@ -343,14 +415,17 @@ def write_video(frames: np.ndarray, path: str, fps: float) -> str:
 
 
 def save_video(design, behaviour, path: str, *, seconds: float = 10.0, fps: float = 30.0, size=(640, 480),
-               start_s: float = 0.0, rollout: Rollout | None = None, backend: str | None = None) -> str:
-    """Simulate (unless a rollout with qpos is given) and write a video."""
+               start_s: float = 0.0, rollout: Rollout | None = None, backend: str | None = None,
+               progress: bool = False) -> str:
+    """Simulate (unless a rollout with qpos is given) and write a video,
+    frames streamed to the file as they are rendered."""
     _check_extension(path, VIDEO_EXTENSIONS)
     _check_fps(fps)
     if rollout is None:
         rollout = record(design, behaviour, seconds, start_s=start_s)
-    frames = video_frames(rollout, start_s=start_s, seconds=seconds, fps=fps, size=size, backend=backend)
-    return write_video(frames, path, fps)
+    times = video_times(rollout, start_s=start_s, seconds=seconds, fps=fps)
+    write_video(iter_frames(rollout, times, size=size, backend=backend, progress=progress), path, fps)
+    return path
 
 
 def save_image(fig_or_rgb, path: str) -> str:
@@ -381,24 +456,30 @@ def cmd_render(args) -> int:
             _check_extension(path, allowed)
     if not (math.isfinite(args.seconds) and args.seconds > 0):
         raise ValueError(f"--seconds must be > 0, got {args.seconds!r}")
+    if not (math.isfinite(args.tile_start) and args.tile_start >= 0):
+        raise ValueError(f"--tile-start must be >= 0 s, got {args.tile_start!r}")
     design = design_from_args(args)
     beh = get_behaviour(args.behaviour)
-    choose_backend()                                   # named error before any work
+    try:                                               # a named error before any work
+        backend = choose_backend({"MUJOCO_GL": args.backend} if args.backend else None)
+    except RenderBackendError as e:
+        print(f"mat-hopper render: error: {e}", file=sys.stderr)
+        return 3
     rollout = record(design, beh, max(args.seconds, args.tile_start + 1.0), start_s=args.start,
                      convention=args.convention) if (args.tiles or args.video) else None
     if rollout is not None and not rollout.stable:
         print(f"note: {design.name} diverged at t = {rollout.diverged_at_s:.3f} s; frames stop there")
     if args.still:
-        print(f"wrote {save_image(render_still(design, beh, size=size), args.still)}")
+        print(f"wrote {save_image(render_still(design, beh, size=size, backend=backend), args.still)}")
     if args.tiles:
         import matplotlib.pyplot as plt
-        fig = gait_tiles(design, beh, rollout=rollout, start_s=args.start + args.tile_start)
+        fig = gait_tiles(design, beh, rollout=rollout, start_s=args.start + args.tile_start, backend=backend)
         print(f"wrote {save_image(fig, args.tiles)}")
         plt.close(fig)
     if args.video:
-        frames = video_frames(rollout, start_s=args.start, seconds=args.seconds, fps=fps, size=size)
-        write_video(frames, args.video, fps)
-        print(f"wrote {args.video} ({len(frames)} frames at {fps:g} fps, {size[0]}x{size[1]})")
+        times = video_times(rollout, start_s=args.start, seconds=args.seconds, fps=fps)
+        write_video(iter_frames(rollout, times, size=size, backend=backend, progress=True), args.video, fps)
+        print(f"wrote {args.video} ({len(times)} frames at {fps:g} fps, {size[0]}x{size[1]})")
     return 0
 
 
@@ -417,4 +498,6 @@ def register_cli(sub) -> None:
                    help="gait tiles start this many seconds after --start (5)")
     p.add_argument("--fps", type=float, default=30.0, help="video frames per simulated second (30)")
     p.add_argument("--size", default="640x480", help="video and still size WIDTHxHEIGHT in pixels")
+    p.add_argument("--backend", choices=tuple(_LIBS), default=None,
+                   help="OpenGL backend (default: $MUJOCO_GL if osmesa or egl, else osmesa, else egl)")
     p.set_defaults(func=cmd_render)

@@ -5,8 +5,12 @@ import imageio.v3 as iio
 import numpy as np
 import pytest
 
-from mat_hopper.render import (Camera, RenderBackendError, choose_backend, density_color, gait_tiles,
-                               parse_size, render_frames, render_still, save_video, video_frames, write_video)
+from conftest import run_python
+from mat_hopper.behaviours import behaviour
+from mat_hopper.materials import parse_design
+from mat_hopper.render import (Camera, OffscreenRenderer, RenderBackendError, _surface_z, choose_backend,
+                               density_color, gait_tiles, parse_size, ref, render_frames, render_spec,
+                               render_still, save_video, standing_qpos, video_frames, write_video)
 from mat_hopper.sim import simulate
 
 SIZE = (160, 120)
@@ -96,3 +100,44 @@ def test_cli_render_writes_files_and_rejects_bad_input(tmp_path):
     assert main(["render", "--design", "SS", "--video", str(tmp_path / "x.mp4"), "--size", "10"]) == 2
     assert main(["render", "--design", "SS", "--video", str(tmp_path / "x.mov")]) == 2
     assert not (tmp_path / "x.mp4").exists() and not (tmp_path / "x.mov").exists()
+
+
+def test_lights_are_placed_and_the_key_light_follows_the_hopper(rollout):
+    model = render_spec(rollout.design, rollout.behaviour, width=64, height=48).compile()
+    with OffscreenRenderer(model, 64, 48) as r:
+        lit = r.frame(rollout.qpos[500], Camera(), rollout.behaviour)
+        dirs = r.data.light_xdir.copy()
+        key = r.data.light_xpos[model.light("key").id] - r.data.subtree_com[0]
+    assert np.all(np.linalg.norm(dirs, axis=1) > 0.99)       # no light left without a direction
+    assert np.linalg.norm(key) > 1.0 and lit.std() > 10      # placed relative to the centre of mass
+
+
+@pytest.mark.parametrize("name", ["static", "ramp"])
+def test_still_pose_stands_on_the_terrain(name):
+    import mujoco
+    beh = behaviour(name)
+    model = render_spec(parse_design("SS"), beh, width=64, height=48).compile()
+    d = mujoco.MjData(model)
+    d.qpos[:] = standing_qpos(model, beh)
+    mujoco.mj_kinematics(model, d)
+    toe = d.site("toe").xpos
+    assert abs(toe[2] - ref.FOOT_RADIUS - _surface_z(beh, np.array([toe[0]]))[0]) < 1e-9
+
+
+def test_save_video_streams_an_mp4(rollout, tmp_path):
+    import imageio.v2 as imageio
+    path = save_video(None, None, str(tmp_path / "s.mp4"), rollout=rollout, seconds=0.5, fps=8, size=SIZE)
+    with imageio.get_reader(path) as r:
+        assert r.count_frames() == 5      # t = 0, 1/8, ..., 4/8 s
+    assert [p.name for p in tmp_path.iterdir()] == ["s.mp4"]
+
+
+def test_cli_names_the_missing_gl_library(tmp_path):
+    out = tmp_path / "t.png"
+    code = ("import ctypes.util, sys; ctypes.util.find_library = lambda name: None\n"
+            "from mat_hopper.cli import main\n"
+            f"sys.exit(main(['render', '--design', 'SS', '--still', {str(out)!r}]))")
+    res = run_python(code, {"MUJOCO_GL": "", "PYOPENGL_PLATFORM": ""}, timeout=120)
+    assert res.returncode == 3, res.stderr
+    assert "libOSMesa" in res.stderr and "libosmesa6" in res.stderr and "libEGL" in res.stderr
+    assert "Traceback" not in res.stderr and not out.exists()
