@@ -269,7 +269,7 @@ def designs_figure(designs: dict[str, LegDesign] | None = None):
             for (i, j), v in np.ndenumerate(grid):
                 txt = "rigid" if not np.isfinite(v) else f"{v:.3g}"
                 light = np.isfinite(v) and norm(v) < 0.5
-                ax.text(j + 0.5, i + 0.5, txt, ha="center", va="center", fontsize=7,
+                ax.text(j + 0.5, i + 0.5, txt, ha="center", va="center", fontsize=8,
                         color="white" if light else "black")
             ax.set_xticks(np.arange(len(names)) + 0.5)
             ax.set_xticklabels([design_label(n) for n in names], rotation=45, ha="right")
@@ -1180,11 +1180,16 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
             c.bar(x - 0.2 + 0.4 * i, row[behs].to_numpy(float), 0.38, label=label,
                   color=("#0173b2", "#de8f05")[i % 2])
         c.axhline(0, color="black", lw=0.8)
+        vals = power[behs].to_numpy(float)
+        vals = vals[np.isfinite(vals)]
+        if len(vals):               # head room for the legend above the bars
+            lo, hi = min(0.0, float(vals.min())), max(0.0, float(vals.max()))
+            c.set_ylim(lo - 0.05 * (hi - lo), hi + 0.45 * (hi - lo))
         c.set_xticks(x)
         c.set_xticklabels(behs)
         c.set_ylabel(power.columns.name or "% change")
         c.set_title("Power: real or the authors' formula")
-        c.legend()
+        c.legend(loc="upper left")
         c.grid(False, axis="x")
         for ax, letter in zip((a, b, c), "ABC"):
             ax.text(-0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold", ha="right",
