@@ -39,7 +39,7 @@ import pandas as pd
 
 from . import reference as ref
 from .experiments import PROFILE_ENV, PROFILES, Profile, get_profile
-from .materials import CONVENTIONS, LegDesign, Material, material, paper_designs, spring_stiffness
+from .materials import CONVENTIONS, LegDesign, material, paper_designs, spring_stiffness
 from .runner import CACHE_ENV, DEFAULT_CACHE_DIR
 
 PROJECT_NAME = "mat-hopper"

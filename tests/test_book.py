@@ -4,7 +4,6 @@ every chapter's page exists, holds its figures, and no cell failed."""
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import re
@@ -21,7 +20,7 @@ import yaml
 
 from mat_hopper import book, reference as ref
 from mat_hopper.experiments import PROFILES, Profile
-from mat_hopper.materials import LegDesign, spring_stiffness
+from mat_hopper.materials import spring_stiffness
 
 from synthetic_results import results
 

@@ -5,9 +5,8 @@ import pytest
 
 from conftest import run_python
 from mat_hopper.behaviours import behaviour
-from mat_hopper.control import ControllerSettings
 from mat_hopper.perturbations import Perturbation
-from mat_hopper.sim import C, CHANNELS, RolloutRunner, SimSettings, simulate
+from mat_hopper.sim import CHANNELS, RolloutRunner, SimSettings, simulate
 
 
 @pytest.fixture(scope="module")

@@ -15,7 +15,7 @@
 # the paper does (a star marks p < 0.05).
 
 # %%
-from mat_hopper import book, plots, stats
+from mat_hopper import book, plots
 
 b = book.setup()
 tables = book.run_experiments(b, "1")
