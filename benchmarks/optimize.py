@@ -11,8 +11,12 @@ then prints
 - CPU seconds per trial (the workers' own CPU time, every overhead of
   Optuna and the database included) and what that gives on --workers idle
   cores: the figure to compare across machines when the cores are shared;
-- the simulator's own limit: one bare 60 s SS ramp rollout (CPU time) and
-  the optimizer's CPU overhead per trial against it.
+- the simulator's own limit: one bare 60 s SS ramp rollout (CPU time);
+- the optimizer's own overhead (sampler, storage, heartbeat, metrics): a
+  few trials in this process, CPU inside the simulation against CPU of the
+  whole ``study.optimize``. Measured in one process at one moment, so it
+  holds when the host's speed drifts (on a shared VM the same rollout takes
+  anywhere from 4 to 7 s of CPU from one minute to the next).
 
 By default the space is the paper's catalogue materials (PVC, Al, Ti, SS
 per segment), whose designs all run the full minute, so the figure is the
@@ -32,7 +36,8 @@ import time
 import optuna
 from optuna.trial import TrialState
 
-from mat_hopper.optimize import RunOptions, StudyConfig, run_study
+import mat_hopper.optimize as optimize_module
+from mat_hopper.optimize import RunOptions, StudyConfig, TrialObjective, create_or_load, make_sampler, run_study
 from mat_hopper.optimize_objective import PROFILES, Objective
 from mat_hopper.optimize_space import SearchSpace
 from mat_hopper.optimize_storage import open_storage
@@ -46,6 +51,8 @@ def main(argv=None):
     p.add_argument("--space", default="catalogue", help="catalogue (PVC, Al, Ti, SS) or continuous")
     p.add_argument("--profile", default="paper")
     p.add_argument("--no-limit", action="store_true", help="skip timing the bare simulator")
+    p.add_argument("--overhead-trials", type=int, default=4,
+                   help="trials run in this process to measure the optimizer's own overhead (0: skip)")
     a = p.parse_args(argv)
     prof = PROFILES[a.profile]
     space = SearchSpace(kinds=a.space, materials=("PVC", "Al", "Ti", "SS"))
@@ -80,8 +87,42 @@ def main(argv=None):
         limit = a.workers * 3600 / cpu
         print(f"simulator limit: one {prof.duration_s:g} s rollout = {cpu:.2f} s CPU -> "
               f"{limit:.0f} trials/hour on {a.workers} idle cores")
-        print(f"optimizer CPU per trial / bare rollout CPU: {per_trial / cpu:.3f} "
-              f"(wall-clock figure: {full / limit:.0%} of the limit, other load included)")
+        print(f"worker CPU per trial / this rollout's CPU: {per_trial / cpu:.3f} (timed minutes apart: "
+              f"host drift included; the overhead line below is the like-for-like figure)")
+    if a.overhead_trials > 0:
+        total, inside = overhead(config, a.overhead_trials)
+        print(f"optimizer overhead, {a.overhead_trials} trials in one process: "
+              f"{(total - inside) / a.overhead_trials * 1000:.0f} ms CPU per trial "
+              f"(whole trial / simulation alone: {total / inside:.3f})")
+
+
+def overhead(config: StudyConfig, n: int) -> tuple[float, float]:
+    """CPU seconds of n trials of study.optimize in this process, and of the
+    simulation inside them (the objective's evaluate, timed by wrapping it)."""
+    inside = [0.0]
+    evaluate = optimize_module.evaluate
+
+    def timed(*args, **kwargs):
+        c0 = time.process_time()
+        try:
+            return evaluate(*args, **kwargs)
+        finally:
+            inside[0] += time.process_time() - c0
+
+    with tempfile.TemporaryDirectory() as tmp:
+        opts = RunOptions(trials=n, workers=1, studies_dir=tmp, progress=False)
+        storage = open_storage(opts.storage_url(config.name), heartbeat_s=opts.heartbeat_s,
+                               grace_s=opts.grace_s, max_retry=opts.max_retry)
+        study = create_or_load(config, storage, make_sampler(opts.sampler, opts.seed))
+        optimize_module.evaluate = timed
+        try:
+            c0 = time.process_time()
+            study.optimize(TrialObjective(config), n_trials=n)
+            total = time.process_time() - c0
+        finally:
+            optimize_module.evaluate = evaluate
+        del study
+    return total, inside[0]
 
 
 if __name__ == "__main__":

@@ -8,6 +8,10 @@ loop from its saved state, calling ``mj_step`` from compiled code (no
 Python per step), so it walks the closed loop's own trajectory. Runs
 alternate, best of --repeats each. The last line is the ratio.
 
+Rollouts compile the hopper with the five sensors the controller reads
+(model.CONTROL_SENSORS); the same bare replay on the spec's seven-sensor
+model shows what dropping the two unread ones saves.
+
     python benchmarks/rollout.py [--seconds 10] [--repeats 3]
 """
 
@@ -20,6 +24,7 @@ import mujoco
 import numba
 import numpy as np
 
+from mat_hopper.model import build_model
 from mat_hopper.sim import MJ_STEP, RolloutRunner, SimSettings, simulate
 
 SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
@@ -57,13 +62,17 @@ def main(argv=None):
         logged.advance(a.chunk)
     controls = np.ascontiguousarray(logged.result().actuator_force / m.actuator_gear[:, 0])
     n = len(controls)
-    d = mujoco.MjData(m)
+    h = logged.hopper
+    m_all = build_model(h.design, ramp_grade_deg=h.ramp_grade_deg, timestep=dt, convention=h.convention,
+                        sensors="all").model
+    assert mujoco.mj_stateSize(m_all, SPEC) == size
 
-    def run_bare():
+    def run_bare(model=m):
+        d = mujoco.MjData(model)
         t0 = time.perf_counter()
         for c, s in enumerate(starts):
-            mujoco.mj_setState(m, d, s, SPEC)
-            bare_loop(MJ_STEP, m._address, d._address, d.ctrl, controls[c * a.chunk:(c + 1) * a.chunk])
+            mujoco.mj_setState(model, d, s, SPEC)
+            bare_loop(MJ_STEP, model._address, d._address, d.ctrl, controls[c * a.chunk:(c + 1) * a.chunk])
         return time.perf_counter() - t0
 
     def run_ours():
@@ -72,14 +81,16 @@ def main(argv=None):
         return time.perf_counter() - t0
 
     run_bare(); run_ours()  # compile and warm up
-    bare, ours = [], []
+    bare, ours, spec7 = [], [], []
     for _ in range(a.repeats):
         bare.append(run_bare())
         ours.append(run_ours())
-    b_us, o_us = min(bare) / n * 1e6, min(ours) / n * 1e6
+        spec7.append(run_bare(m_all))
+    b_us, o_us, s_us = min(bare) / n * 1e6, min(ours) / n * 1e6, min(spec7) / n * 1e6
     print(f"design={a.design} behaviour={a.behaviour} steps={n} timestep={dt:g}s chunk={a.chunk}")
     print(f"bare mj_step:        {b_us:.2f} us/step (best of {a.repeats})")
     print(f"closed-loop rollout: {o_us:.2f} us/step (best of {a.repeats}, model build and recording included)")
+    print(f"bare mj_step, all 7 spec sensors: {s_us:.2f} us/step (rollout / this: {o_us / s_us:.2f})")
     print(f"ratio={o_us / b_us:.2f}")
 
 

@@ -27,6 +27,14 @@ BASE_JOINTS = ("base_x", "base_y", "base_z", "base_roll", "base_pitch", "base_ya
 HIP_JOINTS = ("hip_y", "hip_x")
 ACTUATORS = ("hip_y", "hip_x", "thrust")
 SENSORS = ("touch", "base_pos", "base_quat", "base_gyro", "base_linvel", "hip_torque", "base_acc")
+# What the controller reads. The hip torque and accelerometer sensors make
+# MuJoCo run its post-constraint dynamics pass (mj_rnePostConstraint) every
+# step, about 9 % of a step, and feed nothing back: rollouts leave them out
+# (sensors="control"); the recorded acceleration is the base's qacc and the
+# hip torque the actuator force. tests/test_model.py checks that the
+# trajectory is bit-identical either way.
+CONTROL_SENSORS = SENSORS[:5]
+SENSOR_SETS = {"all": SENSORS, "control": CONTROL_SENSORS}
 
 
 class Layout(NamedTuple):
@@ -46,7 +54,6 @@ class Layout(NamedTuple):
     base_quat: int
     base_gyro: int
     base_linvel: int
-    base_acc: int
     act_hip_y: int        # actuator indices
     act_hip_x: int
     act_thrust: int
@@ -61,6 +68,7 @@ class HopperModel:
     convention: str
     ramp_grade_deg: float | None
     timestep: float
+    sensors: str          # "all" (the spec's seven) or "control" (the five the controller reads)
     layout: Layout
     spring_stiffness_n_m: tuple[float, ...]   # per segment; 0 for rigid
 
@@ -116,10 +124,16 @@ def _slide(body, name, stiffness, damping, *, limit=None):
 
 
 def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
-               timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION) -> mujoco.MjSpec:
-    """The hopper with this leg as an editable ``MjSpec`` (not compiled)."""
+               timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION,
+               sensors: str = "all") -> mujoco.MjSpec:
+    """The hopper with this leg as an editable ``MjSpec`` (not compiled).
+
+    sensors: "all" (the spec's seven, in its order) or "control" (the first
+    five, which the controller reads; what rollouts use, see CONTROL_SENSORS)."""
     if not isinstance(design, LegDesign):
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
+    if sensors not in SENSOR_SETS:
+        raise ValueError(f"sensors must be one of {sorted(SENSOR_SETS)}, got {sensors!r}")
     check_convention(convention)
     dt = _check_timestep(timestep)
     n = design.n_segments
@@ -209,8 +223,9 @@ def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
     spec.add_sensor(name="base_quat", type=S.mjSENS_FRAMEQUAT, objtype=O.mjOBJ_XBODY, objname="base")
     spec.add_sensor(name="base_gyro", type=S.mjSENS_GYRO, objtype=O.mjOBJ_SITE, objname="imu")
     spec.add_sensor(name="base_linvel", type=S.mjSENS_FRAMELINVEL, objtype=O.mjOBJ_XBODY, objname="base")
-    spec.add_sensor(name="hip_torque", type=S.mjSENS_TORQUE, objtype=O.mjOBJ_SITE, objname="hip")
-    spec.add_sensor(name="base_acc", type=S.mjSENS_ACCELEROMETER, objtype=O.mjOBJ_SITE, objname="imu")
+    if sensors == "all":
+        spec.add_sensor(name="hip_torque", type=S.mjSENS_TORQUE, objtype=O.mjOBJ_SITE, objname="hip")
+        spec.add_sensor(name="base_acc", type=S.mjSENS_ACCELEROMETER, objtype=O.mjOBJ_SITE, objname="imu")
     return spec
 
 
@@ -222,16 +237,18 @@ def layout_of(model: mujoco.MjModel) -> Layout:
     act = lambda n: int(model.actuator(n).id)
     return Layout(jq("base_x"), jd("base_x"), int(model.body("base").id), jq("hip_y"), jq("hip_x"), jd("hip_y"), jd("hip_x"),
                   jq("spring"), jd("spring"), sa("touch"), sa("base_pos"), sa("base_quat"), sa("base_gyro"), sa("base_linvel"),
-                  sa("base_acc"), act("hip_y"), act("hip_x"), act("thrust"))
+                  act("hip_y"), act("hip_x"), act("thrust"))
 
 
 def build_model(design: LegDesign, *, ramp_grade_deg: float | None = None,
-                timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION) -> HopperModel:
-    """Compile the hopper for this leg, terrain (flat or ramp), time step (s)
-    and stiffness convention."""
-    spec = build_spec(design, ramp_grade_deg=ramp_grade_deg, timestep=timestep, convention=convention)
+                timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION,
+                sensors: str = "all") -> HopperModel:
+    """Compile the hopper for this leg, terrain (flat or ramp), time step (s),
+    stiffness convention and sensor set (see :func:`build_spec`)."""
+    spec = build_spec(design, ramp_grade_deg=ramp_grade_deg, timestep=timestep, convention=convention,
+                      sensors=sensors)
     model = spec.compile()
     stiffness = tuple(0.0 if m.rigid else spring_stiffness(m.modulus_gpa, convention, design.n_segments)
                       for m in design.segments)
-    return HopperModel(model, design, convention, ramp_grade_deg, float(timestep), layout_of(model),
+    return HopperModel(model, design, convention, ramp_grade_deg, float(timestep), sensors, layout_of(model),
                        stiffness)

@@ -369,7 +369,7 @@ def prepare(design, behaviour, settings: SimSettings, start_xy_offset=(0.0, 0.0)
     design = _as_design(design)
     beh = get_behaviour(behaviour)
     hm = build_model(design, ramp_grade_deg=beh.ramp_grade_deg, timestep=settings.timestep_s,
-                     convention=settings.convention)
+                     convention=settings.convention, sensors="control")
     data = mujoco.MjData(hm.model)
     b = hm.layout.base_qpos       # base joints: x, y, z, roll, pitch, yaw
     data.qpos[b + 0] = beh.start_xy_m[0] + start_xy_offset[0]

@@ -4,7 +4,9 @@ import pytest
 
 from mat_hopper import reference as ref
 from mat_hopper.materials import LegDesign, parse_design
-from mat_hopper.model import build_model
+from mat_hopper import sim
+from mat_hopper.model import CONTROL_SENSORS, SENSORS, build_model
+from mat_hopper.sim import simulate
 
 
 def test_reference_masses():
@@ -70,3 +72,30 @@ def test_ramp_only_when_asked():
 def test_bad_timestep(dt):
     with pytest.raises(ValueError, match="timestep"):
         build_model(parse_design("SS"), timestep=dt)
+
+
+def test_sensor_sets():
+    full = build_model(parse_design("SS")).model
+    lean = build_model(parse_design("SS"), sensors="control").model
+    assert [full.sensor(i).name for i in range(full.nsensor)] == list(SENSORS)
+    assert [lean.sensor(i).name for i in range(lean.nsensor)] == list(CONTROL_SENSORS)
+    with pytest.raises(ValueError, match="sensors"):
+        build_model(parse_design("SS"), sensors="some")
+
+
+def test_unread_sensors_do_not_change_the_trajectory(monkeypatch):
+    """Rollouts drop the hip torque and accelerometer sensors: nothing reads
+    them, so a rollout with the spec's seven is bit-identical."""
+    lean = simulate("SS", "ramp", duration=3.0, transient=1.0)
+    built = []
+
+    def with_all_sensors(*args, **kwargs):
+        hm = build_model(*args, **{**kwargs, "sensors": "all"})
+        built.append(hm.model.nsensor)
+        return hm
+
+    monkeypatch.setattr(sim, "build_model", with_all_sensors)
+    full = simulate("SS", "ramp", duration=3.0, transient=1.0)
+    assert built == [len(SENSORS)]
+    np.testing.assert_array_equal(full.data, lean.data)
+    np.testing.assert_array_equal(full.events, lean.events)
