@@ -192,6 +192,7 @@ _PROFILE_FIELDS = (
     ("axial_timestep_s", "time step of runs under the axial convention (s)"),
     ("stability_grid_size", "stable-time-step map: designs per axis"),
     ("stability_duration_s", "stable-time-step map: static hopping per try (s)"),
+    ("book_replicates", "perturbed replicates per design, hopping in place (chapter 6)"),
 )
 
 
@@ -618,6 +619,39 @@ def run_experiments(book: Book | None, experiments: str, *, replicates: int = 0,
             print(f"{name} ({book.profile.name} profile): {total} tasks, {n} computed now, "
                   f"the rest loaded from {os.path.relpath(book.cache_dir, book.root)}/")
     return rep.tables
+
+
+def in_place_replicates(book: Book, n: int | None = None, *, behaviour: str = "static",
+                        workers: int | None = None) -> pd.DataFrame:
+    """Experiment 1's five legs hopping in place (or on `behaviour`), the
+    unperturbed run and n perturbed replicates each (seeds 0..n-1,
+    :meth:`~mat_hopper.perturbations.Perturbation.replicate`; n from the
+    profile's ``book_replicates`` by default), run or loaded through the
+    result cache. Returns the per-hop table (column ``replicate``, -1 for
+    the unperturbed run), for :func:`mat_hopper.stats.compare_replicates`."""
+    from dataclasses import replace
+
+    from .experiments import experiment_1
+    from .runner import run_grid
+    n = book.profile.book_replicates if n is None else n
+    exp = replace(experiment_1(), behaviours=(behaviour,))
+    res = run_grid(exp.tasks(book.profile, n), book.cache_dir, workers=workers, progress=False)
+    if res.n_failed:
+        raise RuntimeError(f"{res.n_failed} replicate run(s) failed: {res.summary['error'].dropna().unique()[:3]}")
+    return res.tables
+
+
+def replicate_table(comparison: pd.DataFrame, metrics=("tracking_error_m", "power_w")) -> pd.DataFrame:
+    """A compare_replicates table for reading: one row per design and
+    metric, percent change of the mean with its 95 % bootstrap interval,
+    the Holm-adjusted p and a star where p < 0.05."""
+    c = comparison[comparison["metric"].isin(metrics)]
+    return pd.DataFrame({
+        "design": c["design"], "metric": c["metric"], "n": c["n"],
+        "change": [f"{p:+.0f} % [{lo:+.0f}, {hi:+.0f}]" for p, lo, hi in zip(c["pct_change"], c["ci_low"], c["ci_high"])],
+        "p (Holm)": c["p_holm"].map(lambda p: f"{p:.3g}"),
+        "": np.where(c["significant"], "*", ""),
+    }).reset_index(drop=True)
 
 
 BASELINE_FLOOR = 1e-9   # SI units: a baseline mean smaller than this is round-off, not a value

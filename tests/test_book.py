@@ -18,7 +18,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from mat_hopper import book, reference as ref
+from mat_hopper import book, reference as ref, stats
 from mat_hopper.experiments import PROFILES, Profile
 from mat_hopper.materials import spring_stiffness
 
@@ -287,6 +287,22 @@ def test_clock_drift_moves_the_path(tmp_path):
     assert np.allclose(t["speed_m_s"], [ref.SPEED_M_S, 2 * ref.SPEED_M_S])
     with pytest.raises(ValueError, match="factors"):
         book.clock_drift(_tiny_book(tmp_path), designs=("SS",), factors=(0.0,), workers=1)
+
+
+def test_in_place_replicates_compare_on_run_means(tmp_path):
+    prof = Profile("short", 4.0, 1.0, book_replicates=3)
+    reps = book.in_place_replicates(_tiny_book(tmp_path, prof), workers=1)
+    assert set(reps["behaviour"]) == {"static"}
+    assert set(reps["design"]) == set(ref.MONO_MATERIALS)
+    assert sorted(set(reps["replicate"])) == [-1, 0, 1, 2]
+    # perturbed runs move sideways; the unperturbed one does not
+    track = reps.groupby("replicate")["tracking_error_m"].max()
+    assert track.loc[-1] < 1e-9 and (track.drop(-1) > 1e-5).all()
+    t = book.replicate_table(stats.compare_replicates(reps, "MD"))
+    assert set(t["design"]) == set(ref.MONO_MATERIALS) - {"MD"}
+    assert (t["n"] == 3).all() and t["change"].str.match(r"[+-]\d+ % \[").all()
+    with pytest.raises(ValueError, match="replicates"):
+        Profile("bad", 4.0, 1.0, book_replicates=-1)
 
 
 def test_jerk_by_rate_subsamples(tmp_path):
