@@ -28,10 +28,12 @@ cost of real 60 s trials.
 from __future__ import annotations
 
 import argparse
+import multiprocessing
 import os
 import resource
 import tempfile
 import time
+from concurrent.futures import ProcessPoolExecutor
 
 import optuna
 from optuna.trial import TrialState
@@ -80,20 +82,41 @@ def main(argv=None):
     if not res.finished:
         print("warning: the study did not reach its target")
     if not a.no_limit:
-        simulate("SS", "ramp", duration=0.05, transient=0.0)          # compiled code loaded
-        c0 = time.process_time()
-        simulate("SS", "ramp", duration=prof.duration_s, timestep=prof.timestep_s, transient=prof.transient_s)
-        cpu = time.process_time() - c0
-        limit = a.workers * 3600 / cpu
-        print(f"simulator limit: one {prof.duration_s:g} s rollout = {cpu:.2f} s CPU -> "
-              f"{limit:.0f} trials/hour on {a.workers} idle cores")
-        print(f"worker CPU per trial / this rollout's CPU: {per_trial / cpu:.3f} (timed minutes apart: "
-              f"host drift included; the overhead line below is the like-for-like figure)")
+        cpu = bare_cpu(prof)
+        wall_each = bare_parallel_wall(prof, a.workers)
+        limit = a.workers * 3600 / wall_each
+        print(f"simulator alone: one {prof.duration_s:g} s SS ramp rollout = {cpu:.2f} s CPU on one busy core; "
+              f"{a.workers} at once (one per core) = {wall_each:.2f} s wall -> {limit:.0f} trials/hour "
+              f"(cores slow each other down by {wall_each / cpu - 1:+.0%})")
+        print(f"optimizer end to end / simulator alone: {full / limit:.2f} (timed minutes apart: host drift "
+              f"included; the overhead line below is the like-for-like figure)")
     if a.overhead_trials > 0:
         total, inside = overhead(config, a.overhead_trials)
         print(f"optimizer overhead, {a.overhead_trials} trials in one process: "
               f"{(total - inside) / a.overhead_trials * 1000:.0f} ms CPU per trial "
               f"(whole trial / simulation alone: {total / inside:.3f})")
+
+
+def _bare(prof) -> float:
+    c0 = time.process_time()
+    simulate("SS", "ramp", duration=prof.duration_s, timestep=prof.timestep_s, transient=prof.transient_s)
+    return time.process_time() - c0
+
+
+def bare_cpu(prof) -> float:
+    """CPU seconds of one bare 60 s SS ramp rollout in this process."""
+    simulate("SS", "ramp", duration=0.05, transient=0.0)          # compiled code loaded
+    return _bare(prof)
+
+
+def bare_parallel_wall(prof, workers: int) -> float:
+    """Wall seconds of `workers` bare rollouts started together, one per
+    process: the simulator's own limit when every core is busy."""
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+        list(pool.map(bare_cpu, [PROFILES["quick"]] * workers))           # warm every worker
+        t0 = time.perf_counter()
+        list(pool.map(_bare, [prof] * workers))
+        return time.perf_counter() - t0
 
 
 def overhead(config: StudyConfig, n: int) -> tuple[float, float]:
