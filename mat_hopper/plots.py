@@ -302,8 +302,14 @@ def _legend_designs(fig, designs, note: str | None = None, points: bool = False,
                               label="replicate means (boxes: their hop cycles)"))
     if dropped:
         handles.append(Line2D([], [], linestyle="none", marker="x", markersize=5, color="#555555", label=dropped))
-    fig.legend(handles=handles, loc="outside upper center", ncols=len(handles), handlelength=1.2,
-               columnspacing=1.2)
+    n = len(designs)
+    if fig.get_figwidth() < 10.0 and len(handles) > n:     # inches: too narrow for one row
+        fig.legend(handles=handles[:n], loc="outside upper center", ncols=n, handlelength=1.2, columnspacing=1.2)
+        fig.legend(handles=handles[n:], loc="outside lower center", ncols=len(handles) - n, handlelength=1.2,
+                   columnspacing=1.2)
+    else:
+        fig.legend(handles=handles, loc="outside upper center", ncols=len(handles), handlelength=1.2,
+                   columnspacing=1.2)
 
 
 def _basis_note(comparison, baseline: str, alpha: float) -> str:
@@ -363,7 +369,8 @@ def figure4_mono(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
         comparison = _stats.compare_designs(table, baseline, basis=basis, metrics=metrics, alpha=alpha)
     drawn, means = _drawn(table, comparison)
     with rc_context(STYLE):
-        fig = _new_figure(4.0 * len(metrics), 3.4)
+        panel_in = 4.0 if len(behaviours) >= 3 else 2.8     # one or two behaviours: narrower panels
+        fig = _new_figure(panel_in * len(metrics), 3.4)
         axes = fig.subplots(1, len(metrics), squeeze=False)[0]
         for i, (ax, m) in enumerate(zip(axes, metrics)):
             factor, ylabel = metric_scale(m, drawn[m])
