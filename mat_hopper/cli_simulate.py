@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 import pandas as pd
 
@@ -75,7 +76,9 @@ def cmd_simulate(args) -> int:
     if len(hops):
         desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
         print(desc.to_string(float_format=lambda v: f"{v:.4g}"))
-        print(f"energy {s['energy_j']:.1f} J, cost of transport {s['cost_of_transport']:.3g}")
+        cot = s["cost_of_transport"]
+        cot = f"{cot:.3g}" if math.isfinite(cot) else "none (no distance travelled)"
+        print(f"energy {s['energy_j']:.1f} J, cost of transport {cot}")
     if args.csv:
         write_csv_atomic(hops, args.csv)
         print(f"wrote {len(hops)} rows to {args.csv}")
