@@ -956,11 +956,11 @@ def book_study(book: Book, *, trials: int | None = None, behaviours=STUDY_BEHAVI
     import json
 
     from .optimize import RunOptions, StudyConfig, run_study
-    from .optimize_objective import Objective, profile as opt_profile
+    from .optimize_objective import Objective
     from .optimize_report import write_report
     from .optimize_space import SearchSpace
     n = STUDY_TRIALS.get(book.profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
-    objective = Objective(behaviours=tuple(behaviours), profile=opt_profile(book.profile.name))
+    objective = Objective(behaviours=tuple(behaviours), profile=book.profile)
     probe = StudyConfig("probe", SearchSpace(), objective)
     digest = hashlib.sha256(json.dumps(probe.key(), sort_keys=True).encode()).hexdigest()[:8]
     config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{book.profile.name}-{digest}", SearchSpace(),

@@ -631,16 +631,12 @@ def to_markdown(table: pd.DataFrame, columns=("claim", "convention", "paper", "o
     return "\n".join(lines) + "\n"
 
 
-def _write_text_atomic(text: str, path: str) -> None:
-    write_text(text, path)
-
-
 def write_claims(table: pd.DataFrame, directory) -> tuple[str, str]:
     """Write ``claims.md`` (markdown table) and ``claims.csv`` (every
     column) into `directory`, each atomically. Returns their paths."""
     directory = os.fspath(directory)
     md = os.path.join(directory, "claims.md")
     csv = os.path.join(directory, "claims.csv")
-    _write_text_atomic(to_markdown(table), md)
-    _write_text_atomic(table.to_csv(index=False), csv)
+    write_text(to_markdown(table), md)
+    write_text(table.to_csv(index=False), csv)
     return md, csv

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import pandas as pd
 
-from .cli_simulate import write_csv_atomic
+from .atomic import write_csv
 from .experiments import (PROFILE_ENV, PROFILES, check_replicates, get_experiment,
                           get_profile, parse_experiments)
 from .materials import CONVENTIONS, check_convention
@@ -94,7 +94,7 @@ def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, wor
                 made = {f"{name}_hops": res.tables, f"{name}_runs": res.summary}
             for tname, frame in made.items():
                 path = os.path.join(out_dir, f"{tname}.csv")
-                write_csv_atomic(frame, path)
+                write_csv(frame, path)
                 rep.tables[tname] = frame
                 rep.files.append(path)
             log(f"{name}: {res.n_tasks} tasks ({res.n_unique} unique): {res.n_cached} cached, "

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import math
 
-import pandas as pd
 
 from . import reference as ref
 from .atomic import write_csv
@@ -38,11 +37,6 @@ def design_from_args(args) -> LegDesign:
             raise ValueError("--density must be numbers in g/cm^3 (> 0)")
         return LegDesign.from_properties(dens, _floats(args.modulus, "--modulus"))
     return parse_design(args.design, n_segments=args.segments)
-
-
-def write_csv_atomic(frame: pd.DataFrame, path: str) -> None:
-    """Write a CSV so that readers never see half a file."""
-    write_csv(frame, path)
 
 
 def add_sim_arguments(p: argparse.ArgumentParser) -> None:
@@ -80,7 +74,7 @@ def cmd_simulate(args) -> int:
         cot = f"{cot:.3g}" if math.isfinite(cot) else "none (no distance travelled)"
         print(f"energy {s['energy_j']:.1f} J, cost of transport {cot}")
     if args.csv:
-        write_csv_atomic(hops, args.csv)
+        write_csv(hops, args.csv)
         print(f"wrote {len(hops)} rows to {args.csv}")
     return 0 if rollout.stable else 1
 

@@ -29,7 +29,7 @@ ACTUATORS = ("hip_y", "hip_x", "thrust")
 SENSORS = ("touch", "base_pos", "base_quat", "base_gyro", "base_linvel", "hip_torque", "base_acc")
 # What the controller reads. The hip torque and accelerometer sensors make
 # MuJoCo run its post-constraint dynamics pass (mj_rnePostConstraint) every
-# step, about 9 % of a step, and feed nothing back: rollouts leave them out
+# step (a few percent of a step) and feed nothing back: rollouts leave them out
 # (sensors="control"); the recorded acceleration is the base's qacc and the
 # hip torque the actuator force. tests/test_model.py checks that the
 # trajectory is bit-identical either way.

@@ -62,7 +62,8 @@ import optuna
 from optuna.trial import TrialState
 from tqdm.std import tqdm
 
-from .optimize_objective import (CONSTRAINTS, OBJECTIVES, PROFILES, Objective, evaluate, profile as get_profile)
+from .experiments import PROFILES, get_profile
+from .optimize_objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
 from .optimize_space import KINDS, SearchSpace
 from .optimize_storage import (ERROR_ATTR, PAPER_ATTR, WORKER_ATTR, check_study_name, default_url,
                                open_storage, recover_dead, redact, storage_file, worker_identity)

@@ -42,7 +42,7 @@ from . import reference as ref
 from .behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
 from .materials import CONVENTIONS, DEFAULT_CONVENTION, LegDesign
 from .metrics import hop_table
-from .experiments import PROFILES, Profile, get_profile  # noqa: F401  (re-exported)
+from .experiments import Profile, get_profile
 from .sim import C, RolloutRunner
 
 OBJECTIVES = ("tracking_error_m", "power_w")
@@ -50,11 +50,6 @@ CONSTRAINTS = ("hop_height", "unstable")
 HOP_HEIGHT_TOLERANCE_M = 0.05
 NO_DATA_VALUE = 1e6      # objective value only when a run recorded no finite sample
 CHUNK_S = 0.5            # simulated s per compiled chunk (lets the heartbeat thread run)
-
-
-# Profiles are the package's one notion of run length (paper | quick,
-# $MAT_HOPPER_PROFILE), shared with the experiments.
-profile = get_profile
 
 
 @dataclass(frozen=True)

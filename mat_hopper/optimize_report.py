@@ -34,8 +34,7 @@ import optuna
 import pandas as pd
 from optuna.trial import TrialState
 
-from .atomic import atomic_path
-from .cli_simulate import write_csv_atomic
+from .atomic import atomic_path, write_csv
 from .materials import LegDesign, paper_designs
 from .optimize import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
 from .optimize_objective import CONSTRAINTS, OBJECTIVES, evaluate
@@ -296,10 +295,10 @@ def write_report(name: str, storage, out_dir: str) -> dict:
         ("trials", "trials.csv"), ("pareto", "pareto.csv"), ("pareto_plot", "pareto.png"),
         ("hypervolume", "hypervolume.csv"), ("hypervolume_plot", "hypervolume.png"),
         ("importances", "importances.csv"), ("importances_plot", "importances.png"))}
-    write_csv_atomic(frame, paths["trials"])
-    write_csv_atomic(front, paths["pareto"])
-    write_csv_atomic(hv, paths["hypervolume"])
-    write_csv_atomic(imp, paths["importances"])
+    write_csv(frame, paths["trials"])
+    write_csv(front, paths["pareto"])
+    write_csv(hv, paths["hypervolume"])
+    write_csv(imp, paths["importances"])
     beh = ",".join(config.objective.behaviours)
     what = f"{name}: {beh}, {config.objective.profile.name} profile, {config.space.n_segments} segments"
     plot_pareto(frame, front, base, paths["pareto_plot"], what)

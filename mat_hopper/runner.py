@@ -52,14 +52,13 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 import pandas as pd
 
-from .atomic import TEMP_PREFIX as ATOMIC_TEMP_PREFIX, atomic_path
+from .atomic import TEMP_PREFIX, atomic_path
 from .behaviours import Behaviour
 from .materials import LegDesign
 from .sim import SimSettings
 
 DEFAULT_CACHE_DIR = os.path.join("results", "cache")
 CACHE_ENV = "MAT_HOPPER_CACHE"
-TEMP_PREFIX = ATOMIC_TEMP_PREFIX
 _META_KEY = b"mat_hopper"
 _STALE_TEMP_S = 3600.0
 

@@ -26,7 +26,8 @@ from mat_hopper.cli import main
 from mat_hopper.materials import LegDesign, paper_designs
 from mat_hopper.optimize import (RunOptions, StudyConfig, check_sampler, counts, create_or_load,
                                  make_sampler, run_study, worker_seed)
-from mat_hopper.optimize_objective import Objective, Profile, evaluate
+from mat_hopper.experiments import Profile
+from mat_hopper.optimize_objective import Objective, evaluate
 from mat_hopper.optimize_report import hypervolume_2d, nondominated, replay, write_report
 from mat_hopper.optimize_space import (DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample)
 from mat_hopper.optimize_storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR, open_storage
