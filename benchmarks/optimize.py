@@ -108,9 +108,13 @@ def _bare(prof) -> float:
     return time.process_time() - c0
 
 
-def bare_cpu(prof) -> float:
-    """CPU seconds of one bare 60 s SS ramp rollout in this process."""
+def _warm(_=None) -> None:
     simulate("SS", "ramp", duration=0.05, transient=0.0)          # compiled code loaded
+
+
+def bare_cpu(prof) -> float:
+    """CPU seconds of one bare SS ramp rollout of the profile in this process."""
+    _warm()
     return _bare(prof)
 
 
@@ -118,7 +122,7 @@ def bare_parallel_wall(prof, workers: int) -> float:
     """Wall seconds of `workers` bare rollouts started together, one per
     process: the simulator's own limit when every core is busy."""
     with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
-        list(pool.map(bare_cpu, [PROFILES["quick"]] * workers))           # warm every worker
+        list(pool.map(_warm, range(workers)))
         t0 = time.perf_counter()
         list(pool.map(_bare, [prof] * workers))
         return time.perf_counter() - t0

@@ -300,14 +300,19 @@ def render_frames(rollout: Rollout, times_s, *, size=(640, 480), camera: Camera 
 
 def standing_qpos(model: mujoco.MjModel, behaviour: Behaviour) -> np.ndarray:
     """The start pose (upright, at the behaviour's start) lowered until the
-    foot rests on the ground or ramp: the pose for a picture of the model."""
+    foot rests on the ground or ramp (MuJoCo's own foot-terrain distance, to
+    1 um): the pose for a picture of the model."""
     d = mujoco.MjData(model)
     bx = int(model.joint("base_x").qposadr[0])
     d.qpos[bx], d.qpos[bx + 1] = behaviour.start_xy_m
-    mujoco.mj_kinematics(model, d)
-    toe = d.site("toe").xpos
-    ground = float(_surface_z(behaviour, np.array([toe[0]]))[0])
-    d.qpos[bx + 2] -= toe[2] - ref.FOOT_RADIUS - ground
+    foot = model.geom("foot").id
+    terrain = [i for i in range(model.ngeom) if model.geom(i).name in ("ground", "ramp")]
+    for _ in range(8):              # a slanted surface needs a few vertical steps
+        mujoco.mj_kinematics(model, d)
+        gap = min(mujoco.mj_geomDistance(model, d, foot, g, 10.0, None) for g in terrain)
+        if abs(gap) < 1e-6:
+            break
+        d.qpos[bx + 2] -= gap
     return d.qpos.copy()
 
 

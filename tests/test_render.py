@@ -8,8 +8,8 @@ import pytest
 from conftest import run_python
 from mat_hopper.behaviours import behaviour
 from mat_hopper.materials import parse_design
-from mat_hopper.render import (Camera, OffscreenRenderer, RenderBackendError, _surface_z, choose_backend,
-                               density_color, gait_tiles, parse_size, ref, render_frames, render_spec,
+from mat_hopper.render import (Camera, OffscreenRenderer, RenderBackendError, choose_backend,
+                               density_color, gait_tiles, parse_size, render_frames, render_spec,
                                render_still, save_video, standing_qpos, video_frames, write_video)
 from mat_hopper.sim import simulate
 
@@ -114,14 +114,16 @@ def test_lights_are_placed_and_the_key_light_follows_the_hopper(rollout):
 
 @pytest.mark.parametrize("name", ["static", "ramp"])
 def test_still_pose_stands_on_the_terrain(name):
+    """The foot touches the ground or ramp as MuJoCo's own geometry sees it."""
     import mujoco
     beh = behaviour(name)
     model = render_spec(parse_design("SS"), beh, width=64, height=48).compile()
     d = mujoco.MjData(model)
     d.qpos[:] = standing_qpos(model, beh)
     mujoco.mj_kinematics(model, d)
-    toe = d.site("toe").xpos
-    assert abs(toe[2] - ref.FOOT_RADIUS - _surface_z(beh, np.array([toe[0]]))[0]) < 1e-9
+    terrain = [g for g in ("ground", "ramp") if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, g) >= 0]
+    gaps = [mujoco.mj_geomDistance(model, d, model.geom("foot").id, model.geom(g).id, 1.0, None) for g in terrain]
+    assert abs(min(gaps)) < 1e-6, dict(zip(terrain, gaps))
 
 
 def test_save_video_streams_an_mp4(rollout, tmp_path):
