@@ -57,7 +57,8 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
     cycles = hop_cycles(rollout, transient_s)
     d = rollout.data
     t = d[:, C["t"]]
-    cols = ["design", "behaviour", "convention", "sensor_timing", "hop", "t_start_s", "t_end_s", *ALL_METRICS]
+    cols = ["design", "behaviour", "convention", "sensor_timing", "segment_mass", "hop", "t_start_s", "t_end_s",
+            *ALL_METRICS]
     if len(cycles) == 0 or len(t) < 4:
         return pd.DataFrame(columns=cols)
     dt_rec = float(np.median(np.diff(t)))
@@ -83,6 +84,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
         "behaviour": rollout.behaviour.name,
         "convention": rollout.settings.convention,
         "sensor_timing": rollout.settings.sensor_timing,
+        "segment_mass": rollout.settings.segment_mass,
         "hop": np.arange(len(cycles)),
         "t_start_s": cycles[:, 0],
         "t_end_s": cycles[:, 1],
@@ -102,6 +104,7 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     hops = hop_table(rollout, transient_s)
     out = {"design": rollout.design.name, "behaviour": rollout.behaviour.name,
            "convention": rollout.settings.convention, "sensor_timing": rollout.settings.sensor_timing,
+           "segment_mass": rollout.settings.segment_mass,
            "stable": rollout.stable,
            "diverged_at_s": rollout.diverged_at_s, "n_hops": len(hops),
            "total_mass_kg": rollout.total_mass_kg}

@@ -21,7 +21,8 @@ import mujoco
 import numpy as np
 
 from . import reference as ref
-from .materials import DEFAULT_CONVENTION, LegDesign, check_convention, spring_stiffness
+from .materials import (DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, capsule_density_scale, check_convention,
+                        check_segment_mass, spring_stiffness)
 
 BASE_JOINTS = ("base_x", "base_y", "base_z", "base_roll", "base_pitch", "base_yaw")
 HIP_JOINTS = ("hip_y", "hip_x")
@@ -72,6 +73,7 @@ class HopperModel:
     sensors: str          # "all" (the spec's seven) or "control" (the five the controller reads)
     layout: Layout
     spring_stiffness_n_m: tuple[float, ...]   # per segment; 0 for rigid
+    segment_mass: str = DEFAULT_SEGMENT_MASS  # "leg" (mass independent of N) or "capsule" (the authors')
 
     @property
     def total_mass_kg(self) -> float:
@@ -128,18 +130,23 @@ def _slide(body, name, stiffness, damping, *, limit=None):
 
 def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
                timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION,
-               sensors: str = "all") -> mujoco.MjSpec:
+               sensors: str = "all", segment_mass: str = DEFAULT_SEGMENT_MASS) -> mujoco.MjSpec:
     """The hopper with this leg as an editable ``MjSpec`` (not compiled).
 
     sensors: "all" (the spec's seven, in its order) or "control" (the first
-    five, which the controller reads; what rollouts use, see CONTROL_SENSORS)."""
+    five, which the controller reads; what rollouts use, see CONTROL_SENSORS);
+    segment_mass: "leg" (each segment 1/N of the 3-segment leg's material
+    mass; identical to the authors' model at N = 3) or "capsule" (the
+    authors' per-capsule density at any N), see :mod:`mat_hopper.materials`."""
     if not isinstance(design, LegDesign):
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
     if sensors not in SENSOR_SETS:
         raise ValueError(f"sensors must be one of {sorted(SENSOR_SETS)}, got {sensors!r}")
     check_convention(convention)
+    check_segment_mass(segment_mass)
     dt = _check_timestep(timestep)
     n = design.n_segments
+    scale = capsule_density_scale(n, segment_mass)   # exactly 1.0 at N = 3
     half = ref.MATERIAL_LENGTH / n / 2.0          # m, each half of a segment
 
     spec = mujoco.MjSpec()
@@ -198,7 +205,7 @@ def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
     # Each material segment: upper half in the parent, spring, lower half in the child.
     parent, top = leg, -ref.STUB_LENGTH
     for i, mat in enumerate(design.segments, start=1):
-        rho = mat.density_kg_m3
+        rho = mat.density_kg_m3 * scale
         _capsule(parent, f"seg{i}_upper", top, top - half, ref.MATERIAL_RADIUS, density=rho)
         child = parent.add_body(name=f"seg{i}", pos=[0, 0, top - half])
         if not mat.rigid:
@@ -262,13 +269,14 @@ def reset_to_start(model: mujoco.MjModel, data: mujoco.MjData) -> None:
 
 def build_model(design: LegDesign, *, ramp_grade_deg: float | None = None,
                 timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION,
-                sensors: str = "all") -> HopperModel:
+                sensors: str = "all", segment_mass: str = DEFAULT_SEGMENT_MASS) -> HopperModel:
     """Compile the hopper for this leg, terrain (flat or ramp), time step (s),
-    stiffness convention and sensor set (see :func:`build_spec`)."""
+    stiffness convention, sensor set and segment-mass convention (see
+    :func:`build_spec`). Raises ValueError for invalid arguments."""
     spec = build_spec(design, ramp_grade_deg=ramp_grade_deg, timestep=timestep, convention=convention,
-                      sensors=sensors)
+                      sensors=sensors, segment_mass=segment_mass)
     model = spec.compile()
     stiffness = tuple(0.0 if m.rigid else spring_stiffness(m.modulus_gpa, convention, design.n_segments)
                       for m in design.segments)
     return HopperModel(model, design, convention, ramp_grade_deg, float(timestep), sensors, layout_of(model),
-                       stiffness)
+                       stiffness, segment_mass)

@@ -57,12 +57,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-import scipy.linalg
 
 from . import reference as ref
-from .control import DEFAULT_SENSOR_TIMING, sensor_latency_steps
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
+from .modes import controller_timestep, delayed_damping_factor, estimate_timestep, leg_chain, spring_chain_wmax
 from .runner import design_key, hash_key, versions
+
+# The analytic bounds live in mat_hopper.modes (pure physics, no runner);
+# re-exported here where the measured ones are.
+__all__ = ["controller_timestep", "delayed_damping_factor", "estimate_timestep", "leg_chain", "spring_chain_wmax",
+           "try_timestep", "largest_stable_timestep", "spec_scan", "scan_consistent", "StabilitySpec",
+           "stability_grid", "agreement"]
 
 DT_MAX_S = 1e-2
 DT_MIN_S = 1e-6
@@ -169,91 +174,6 @@ def scan_consistent(dt_stable: float, dt_unstable: float, dt_spec: float, *,
     if not math.isnan(dt_unstable) and dt_spec >= dt_unstable * (1 - eps):
         return False
     return not len(below) or dt_spec >= below[0] * (1 - eps)
-
-
-# ---------------------------------------------------------------------------
-# analytic estimate
-
-
-def spring_chain_wmax(masses_kg, stiffnesses_n_m) -> float:
-    """Highest natural frequency (rad/s) of a free-free chain of masses
-    (kg) joined in series by springs (N/m; len(masses) - 1 of them)."""
-    m = np.asarray(masses_kg, dtype=float)
-    k = np.asarray(stiffnesses_n_m, dtype=float)
-    if m.ndim != 1 or len(m) < 2 or len(k) != len(m) - 1:
-        raise ValueError(f"a chain needs n >= 2 masses and n - 1 springs, got {len(m)} and {len(k)}")
-    if not (np.all(m > 0) and np.all(k > 0) and np.all(np.isfinite(k))):
-        raise ValueError("masses (kg) and stiffnesses (N/m) must be finite and > 0")
-    K = np.zeros((len(m), len(m)))
-    for i, ki in enumerate(k):
-        K[i, i] += ki
-        K[i + 1, i + 1] += ki
-        K[i, i + 1] -= ki
-        K[i + 1, i] -= ki
-    w2 = scipy.linalg.eigh(K, np.diag(m), eigvals_only=True)
-    return float(math.sqrt(max(w2.max(), 0.0)))
-
-
-def leg_chain(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[list[float], list[float]]:
-    """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
-    the compiled model: base + leg body, segment bodies (merged across
-    rigid segments), foot; springs in between, foot spring last."""
-    from .model import build_model
-    check_convention(convention)
-    m = build_model(design, convention=convention).model
-    mass = lambda name: float(m.body_mass[m.body(name).id])
-    masses = [mass("base") + mass("leg")]
-    springs = []
-    for i, seg in enumerate(design.segments, start=1):
-        if seg.rigid:
-            masses[-1] += mass(f"seg{i}")
-        else:
-            springs.append(float(m.jnt_stiffness[m.joint(f"mat_spring_{i}").id]))
-            masses.append(mass(f"seg{i}"))
-    springs.append(float(m.jnt_stiffness[m.joint("spring").id]))
-    masses.append(mass("foot"))
-    return masses, springs
-
-
-def delayed_damping_factor(latency_steps: int) -> float:
-    """c(L) = 2 cos(L pi / (2 L + 1)): the explicit time-step limit h < c / a
-    of a rate feedback w' = -a w read L steps late, i.e. of the difference
-    equation w[n+1] = w[n] - a h w[n-L]. c(0) = 2 (plain explicit Euler),
-    c(1) = 1 (the authors' one-step-old gyro), c(L) ~ pi / (2 L) for large L.
-    Source: S. A. Levin and R. M. May, "A note on difference-delay
-    equations", Theoretical Population Biology 9 (1976) 178-187."""
-    lat = int(latency_steps)
-    return 2.0 * math.cos(lat * math.pi / (2 * lat + 1))
-
-
-def controller_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
-                        stance_kd: float = ref.STANCE_KD, gear: float = ref.HIP_GEAR,
-                        sensor_timing: str | int = DEFAULT_SENSOR_TIMING) -> float:
-    """c(L) I / (stance_kd gear) in s: the explicit limit of the stance rate
-    feedback, I (kg m^2) the base's smallest moment of inertia about a
-    horizontal axis through its origin (the hip), from the compiled model,
-    and c(L) the factor of :func:`delayed_damping_factor` for the sensor
-    timing's latency L (2 when fresh, 1 for the authors' one-step lag)."""
-    import mujoco
-    from .model import build_model
-    m = build_model(design, convention=convention).model
-    b = m.body("base").id
-    rot = np.zeros(9)
-    mujoco.mju_quat2Mat(rot, m.body_iquat[b])
-    rot = rot.reshape(3, 3)
-    inertia = rot @ np.diag(m.body_inertia[b]) @ rot.T          # about the base COM, world axes at rest
-    offset = m.body_ipos[b]
-    mass = m.body_mass[b]
-    parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))   # to the hip (base origin)
-    inertia = inertia + parallel
-    factor = delayed_damping_factor(sensor_latency_steps(sensor_timing))
-    return factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
-
-
-def estimate_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[float, float]:
-    """(w_max rad/s, 2 / w_max s): the explicit-spring stability limit."""
-    w = spring_chain_wmax(*leg_chain(design, convention))
-    return w, 2.0 / w
 
 
 # ---------------------------------------------------------------------------
