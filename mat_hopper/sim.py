@@ -48,6 +48,10 @@ __all__ = ["CHANNELS", "C", "N_CHANNELS", "DEFAULT_RECORD_RATE_HZ", "SimSettings
 
 DEFAULT_RECORD_RATE_HZ = 1000.0
 MAX_SUBSTEPS = 1000
+# Run-size limits, checked before anything is allocated: 2e9 physics steps
+# (about 3 h of one core), 5e6 recorded samples (1.5 GB of records).
+MAX_STEPS = 2_000_000_000
+MAX_SAMPLES = 5_000_000
 AUTO = "auto"
 _log = logging.getLogger("mat_hopper.mujoco")
 
@@ -118,6 +122,12 @@ class SimSettings:
             raise ValueError(f"duration must be > transient ({self.transient_s:g} s), got {self.duration_s!r} s")
         if not self.record_rate_hz > 0:
             raise ValueError(f"record_rate_hz must be > 0 Hz, got {self.record_rate_hz!r}")
+        if self.duration_s / self.timestep_s > MAX_STEPS:
+            raise ValueError(f"duration / timestep = {self.duration_s / self.timestep_s:.3g} physics steps: over the "
+                             f"limit of {MAX_STEPS:.0e} (a longer duration_s or smaller timestep_s than supported)")
+        if self.n_steps / self.record_every > MAX_SAMPLES:
+            raise ValueError(f"{self.n_steps / self.record_every:.3g} recorded samples: over the limit of "
+                             f"{MAX_SAMPLES:.0e}; lower record_rate_hz or duration_s")
         check_convention(self.convention)
         if not isinstance(self.controller, ControllerSettings):
             raise ValueError("controller must be a ControllerSettings")

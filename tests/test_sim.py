@@ -197,6 +197,8 @@ def test_perturbed_replicates_are_seeded():
     (dict(timestep=0), "timestep"), (dict(timestep=-1e-4), "timestep"),
     (dict(duration=10.0, transient=20.0), "duration"), (dict(convention="beam"), "convention"),
     (dict(transient=-1.0), "transient"), (dict(record_rate_hz=0), "record_rate_hz"),
+    (dict(duration=1e9), "physics steps"), (dict(timestep=1e-300), "physics steps"),
+    (dict(duration=3000.0, record_rate_hz=1e4), "recorded samples"),
 ])
 def test_bad_settings(kwargs, field):
     args = dict(duration=30.0)
