@@ -56,6 +56,7 @@ CHANNELS = (
     "ctrl_hip_y", "ctrl_hip_x", "ctrl_thrust",          # actuator space (the controls)
     "torque_hip_y", "torque_hip_x", "force_thrust",     # joint space (MuJoCo's qfrc_actuator)
     "touch", "phase", "thrust_setting", "foot_spring", "foot_spring_rate",
+    "az_filtered", "jerk_z",                            # low-passed base z acceleration, its derivative
 )
 C = {name: i for i, name in enumerate(CHANNELS)}
 N_CHANNELS = len(CHANNELS)
@@ -94,6 +95,16 @@ class Disturbance(NamedTuple):
     push: np.ndarray
     noise: np.ndarray
     noise_every: int
+
+
+class JerkFilter(NamedTuple):
+    """A second-order low-pass section (b0, b1, b2, a1, a2; a0 = 1) applied
+    to the base's z acceleration at every physics step (transposed direct
+    form II), and its state [z1, z2, previous output], carried between
+    calls. Coefficients from scipy.signal.butter (mat_hopper.sim)."""
+
+    coef: np.ndarray
+    state: np.ndarray
 
 
 class Steps(NamedTuple):
@@ -150,14 +161,15 @@ def _diverged(qpos, qacc, limit):
 
 
 @numba.njit(cache=True)
-def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps, history, state, rec,
+def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps, history, state, jerk, rec,
                  qpos_rec, events):
     """Run physics steps ``steps.first`` .. ``steps.first + steps.count - 1``.
 
     history: (latency + 1, HISTORY_WIDTH) ring of past readings, carried
     between calls; rec: structured records (RECORD_DTYPE), one every
     ``record_every`` steps; qpos_rec: (records, nq) joint positions after
-    the step, or 0 rows; events: (n, 3) rows of (time s, kind, hop height m).
+    the step, or 0 rows; events: (n, 3) rows of (time s, kind, hop height m);
+    jerk: the JerkFilter run on the base's z acceleration every step.
     Returns (records written, events written, step of divergence or -1)."""
     out = np.zeros(OUT_SIZE)
     hip_angle = np.zeros(2)
@@ -213,6 +225,13 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps,
         foot, foot_rate = buf.qpos[lay.spring_qpos], buf.qvel[lay.spring_dof]
         step2(m_ptr, d_ptr)
         bad = _diverged(buf.qpos, buf.qacc, steps.qacc_limit)
+        az = buf.qacc[lay.base_dof + 2]
+        c, z = jerk.coef, jerk.state
+        az_f = c[0] * az + z[0]
+        z[0] = c[1] * az - c[3] * az_f + z[1]
+        z[1] = c[2] * az - c[4] * az_f
+        jerk_z = (az_f - z[2]) / steps.dt
+        z[2] = az_f
         if (i % steps.record_every == 0 or bad) and n_rec < rec.shape[0]:
             r = rec[n_rec]
             now = history[i % ring]                 # the state s_i as MuJoCo computed it
@@ -240,6 +259,8 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps,
             r["thrust_setting"] = state[S_THRUST]
             r["foot_spring"] = foot
             r["foot_spring_rate"] = foot_rate
+            r["az_filtered"] = az_f
+            r["jerk_z"] = jerk_z
             if n_rec < qpos_rec.shape[0]:
                 qpos_rec[n_rec, :] = buf.qpos
             n_rec += 1

@@ -104,6 +104,26 @@ def ramp_pose(grade_deg: float) -> tuple[np.ndarray, np.ndarray]:
     return np.array([ref.RAMP_CENTER_X, 0.0, ref.RAMP_CENTER_Z]), quat
 
 
+def terrain_height_m(x_m, y_m, ramp_grade_deg: float | None = None):
+    """Height (m) of the terrain under world points (x, y): 0 on the flat
+    ground; on the ramp behaviour the higher of the ground and the ramp
+    box's top face, z = cz + hz / cos(a) + tan(a) (x - cx) over the box's
+    footprint (a the grade angle; the box's far end and sides are not
+    modelled: the hopper never reaches them). Arrays broadcast.
+    tests/test_model.py checks it against MuJoCo's own ray casts."""
+    x, y = np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float)
+    ground = np.zeros(np.broadcast(x, y).shape)
+    if ramp_grade_deg is None:
+        return ground
+    a = math.radians(ramp_grade_deg)
+    (cx, _, cz), _ = ramp_pose(ramp_grade_deg)
+    hx, hy, hz = ref.RAMP_HALF_SIZE
+    u = (x - cx + hz * math.sin(a)) / math.cos(a)            # along the top face, from its centre
+    top = cz + hz / math.cos(a) + math.tan(a) * (x - cx)
+    on = (np.abs(u) <= hx) & (np.abs(y) <= hy)
+    return np.where(on, np.maximum(ground, top), ground)
+
+
 def _capsule(body, name, z0, z1, radius, *, density=None, mass=None, rgba=None):
     g = body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CAPSULE,
                       fromto=[0, 0, z0, 0, 0, z1], size=[radius, 0, 0])

@@ -33,7 +33,7 @@ import numpy as np
 
 from . import reference as ref
 from ._loop import (C, CHANNELS, HISTORY_WIDTH, MJ_STEP1, MJ_STEP2, N_CHANNELS, RECORD_DTYPE, Buffers, Disturbance,
-                    Path, Steps, read_sensors, rollout_loop)
+                    JerkFilter, Path, Steps, read_sensors, rollout_loop)
 from .behaviours import Behaviour, behaviour as get_behaviour
 from .control import (DEFAULT_SENSOR_TIMING, LIFTOFF, TOUCHDOWN, ControllerSettings, initial_state,
                       sensor_latency_steps, sensor_timing_name)
@@ -53,6 +53,28 @@ MAX_SUBSTEPS = 1000
 MAX_STEPS = 2_000_000_000
 MAX_SAMPLES = 5_000_000
 AUTO = "auto"
+# Jerk is computed at the physics rate: the base's z acceleration through a
+# causal Butterworth low-pass, then differentiated step by step. The cut-off
+# lies far below the leg's axial modes (2.5-4 kHz, barely damped) and the
+# record rates' Nyquist frequencies, and above the hop's body dynamics
+# (stance about 0.1 s): the number no longer depends on the record rate.
+# Butterworth filtering before differentiating is the standard treatment of
+# noisy kinematic derivatives (D. A. Winter, Biomechanics and Motor Control
+# of Human Movement, 4th ed., Wiley 2009, sec. 2.2); the coefficients come
+# from scipy.signal.butter.
+JERK_CUTOFF_HZ = 50.0
+JERK_FILTER_ORDER = 2
+
+
+def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkFilter:
+    """The jerk low-pass for this physics step, at rest on input az0 (its
+    steady state, scipy.signal.sosfilt_zi) so a run starts without a
+    filter transient."""
+    import scipy.signal
+    sos = scipy.signal.butter(JERK_FILTER_ORDER, JERK_CUTOFF_HZ, fs=1.0 / timestep_s, output="sos")
+    (b0, b1, b2, _, a1, a2), = sos
+    zi = scipy.signal.sosfilt_zi(sos)[0] * az0_m_s2
+    return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2]))
 _log = logging.getLogger("mat_hopper.mujoco")
 
 
@@ -352,6 +374,7 @@ class RolloutRunner:
         beh = self.behaviour
         self._path = Path(beh.path_code, beh.path_params, beh.table_xy_m)
         self._disturbance = Disturbance(self._push, self._noise, self._noise_every)
+        self._jerk = jerk_filter(settings.timestep_s)
         self.step = 0
         self._n_rec = 0
         self._n_ev = 0
@@ -371,7 +394,7 @@ class RolloutRunner:
         steps = Steps(self.step, n, st.timestep_s, st.record_every, ref.DIVERGENCE_QACC, st.substeps)
         n_rec, n_ev, bad = rollout_loop(
             MJ_STEP1, MJ_STEP2, hm.model._address, self.data._address, self._buffers, hm.layout, self._gains,
-            self._path, self._disturbance, steps, self._history, self._state,
+            self._path, self._disturbance, steps, self._history, self._state, self._jerk,
             self._rec[self._n_rec:], self._qpos[self._n_rec:], self._events[self._n_ev:])
         self._n_rec += n_rec
         self._n_ev += n_ev

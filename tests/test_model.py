@@ -151,3 +151,18 @@ def test_three_segments_bit_identical_to_the_authors_geometry(design):
             np.testing.assert_array_equal(va, getattr(b, name), err_msg=name)
             compared += 1
     assert compared > 100
+
+
+def test_terrain_height_against_mujoco_ray_casts():
+    """terrain_height_m against MuJoCo's own mj_ray straight down (the
+    hopper out of the way at y = 0.4 m)."""
+    from mat_hopper.model import terrain_height_m
+    m = build_model(parse_design("SS"), ramp_grade_deg=2.0).model
+    d = mujoco.MjData(m)
+    reset_to_start(m, d)
+    geomid = np.zeros(1, dtype=np.int32)
+    for x in (-0.5, 0.0, 0.05, 0.5, 1.0, 2.0, 3.5):
+        dist = mujoco.mj_ray(m, d, np.array([x, 0.4, 2.0]), np.array([0.0, 0.0, -1.0]), None, 1, -1, geomid)
+        assert terrain_height_m(x, 0.4, 2.0) == pytest.approx(2.0 - dist, abs=1e-9), x
+    assert terrain_height_m(0.0, 0.0, 2.0) == pytest.approx(2.2e-4, abs=2e-5)     # the spec's 0.2 mm step
+    assert terrain_height_m([1.0, 2.0], 0.0, None).tolist() == [0.0, 0.0]
