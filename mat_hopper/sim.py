@@ -69,9 +69,11 @@ JERK_FILTER_ORDER = 2
 def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkFilter:
     """The jerk low-pass for this physics step, at rest on input az0 (its
     steady state, scipy.signal.sosfilt_zi) so a run starts without a
-    filter transient."""
+    filter transient. Steps coarser than 4 ms (where jerk means little)
+    lower the cut-off to 0.2 / timestep_s, below their Nyquist frequency."""
     import scipy.signal
-    sos = scipy.signal.butter(JERK_FILTER_ORDER, JERK_CUTOFF_HZ, fs=1.0 / timestep_s, output="sos")
+    cutoff = min(JERK_CUTOFF_HZ, 0.2 / timestep_s)
+    sos = scipy.signal.butter(JERK_FILTER_ORDER, cutoff, fs=1.0 / timestep_s, output="sos")
     (b0, b1, b2, _, a1, a2), = sos
     zi = scipy.signal.sosfilt_zi(sos)[0] * az0_m_s2
     return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2]))

@@ -5,10 +5,13 @@ Measured (the spec's criterion). A time step is *stable* for a design when
 every |qacc| <= 1e6 and the base above 0.1 m: :attr:`Rollout.upright`.
 
 - :func:`largest_stable_timestep`: log-scale search in [1e-6, 1e-2] s.
-  Bracket from above: try 1e-2 s, then steps a factor sqrt(10) smaller,
-  until one is stable (unstable tries are cheap: most diverge within a few
-  steps; stable ones cost 2 s / dt steps, so we never try a step much
-  smaller than needed). Then bisect in log space between the last unstable
+  Bracket (default ``"analytic"``): start at the analytic bound (below)
+  and step by a factor 1.5 up while stable, down while unstable, until
+  the outcome changes; the estimate lies within a factor 2 of the measured
+  step, so this takes two or three tries. (``"ladder"``, the first
+  version: try 1e-2 s, then steps a factor sqrt(10) smaller until one is
+  stable; unstable tries are cheap, most diverge within a few steps, stable
+  ones cost 2 s / dt steps.) Then bisect in log space between the last unstable
   and the first stable step until they are within a factor `tolerance`
   (1.25) or `max_iter` (10) bisection tries are spent. Result: the bracket
   [dt_stable_s, dt_unstable_s].
@@ -71,7 +74,10 @@ __all__ = ["controller_timestep", "delayed_damping_factor", "estimate_timestep",
 
 DT_MAX_S = 1e-2
 DT_MIN_S = 1e-6
-BRACKET_FACTOR = math.sqrt(10.0)
+BRACKET_FACTOR = math.sqrt(10.0)     # the "ladder" bracket's step
+ANALYTIC_FACTOR = 1.5                # the "analytic" bracket's step (the estimate is within a factor 2)
+BRACKETS = ("analytic", "ladder")
+DEFAULT_BRACKET = "analytic"
 DEFAULT_TOLERANCE = 1.25
 DEFAULT_MAX_ITER = 10
 SPEC_SCAN_N = 20
@@ -103,15 +109,45 @@ def _check_range(dt_min, dt_max, tolerance, max_iter):
         raise ValueError(f"max_iter must be >= 0, got {max_iter!r}")
 
 
+def _analytic_bracket(ok, start, dt_min, dt_max) -> tuple[float, float]:
+    """Bracket around the analytic bound: try `start`; while stable step up,
+    while unstable step down, by ANALYTIC_FACTOR, within [dt_min, dt_max]."""
+    lo, hi = math.nan, math.nan
+    dt = min(max(start, dt_min), dt_max)
+    if ok(dt, "bracket"):
+        lo = dt
+        while lo < dt_max * (1 - 1e-12):
+            up = min(lo * ANALYTIC_FACTOR, dt_max)
+            if not ok(up, "bracket"):
+                return lo, up
+            lo = up
+        return lo, math.nan
+    hi = dt
+    while hi > dt_min * (1 + 1e-12):
+        down = max(hi / ANALYTIC_FACTOR, dt_min)
+        if ok(down, "bracket"):
+            return down, hi
+        hi = down
+    return math.nan, hi
+
+
 def largest_stable_timestep(design: LegDesign, *, dt_min: float = DT_MIN_S, dt_max: float = DT_MAX_S,
                             tolerance: float = DEFAULT_TOLERANCE, max_iter: int = DEFAULT_MAX_ITER,
                             duration_s: float = ref.STABILITY_TEST_DURATION_S,
-                            convention: str = DEFAULT_CONVENTION, tries: list | None = None) -> tuple[float, float]:
+                            convention: str = DEFAULT_CONVENTION, tries: list | None = None,
+                            bracket: str = DEFAULT_BRACKET) -> tuple[float, float]:
     """(dt_stable_s, dt_unstable_s): the largest stable step found and the
     smallest unstable step above it (see module doc). dt_unstable_s is nan
     when dt_max itself is stable; dt_stable_s is nan when nothing down to
-    dt_min is. Every try is appended to `tries` (dicts) if given."""
+    dt_min is. Every try is appended to `tries` (dicts) if given.
+
+    bracket: ``"analytic"`` (default) starts at the analytic bound (the
+    smaller of the spring chain's 2 / w_max and the controller's limit) and
+    steps by a factor ANALYTIC_FACTOR (1.5) until the outcome changes;
+    ``"ladder"`` starts at dt_max and steps down by sqrt(10), as before."""
     _check_range(dt_min, dt_max, tolerance, max_iter)
+    if bracket not in BRACKETS:
+        raise ValueError(f"bracket must be one of {', '.join(BRACKETS)}, got {bracket!r}")
     tries = [] if tries is None else tries
 
     def ok(dt, method):
@@ -120,15 +156,19 @@ def largest_stable_timestep(design: LegDesign, *, dt_min: float = DT_MIN_S, dt_m
         tries.append(r)
         return r["upright"]
 
-    lo, hi = math.nan, math.nan
-    dt, k = dt_max, 0
-    while dt >= dt_min * (1 - 1e-12):
-        if ok(dt, "bracket"):
-            lo = dt
-            break
-        hi = dt
-        k += 1
-        dt = max(float(f"{dt_max / BRACKET_FACTOR ** k:.12g}"), dt_min) if dt > dt_min * (1 + 1e-12) else 0.0
+    if bracket == "analytic":
+        start = min(estimate_timestep(design, convention)[1], controller_timestep(design, convention))
+        lo, hi = _analytic_bracket(ok, start, dt_min, dt_max)
+    else:
+        lo, hi = math.nan, math.nan
+        dt, k = dt_max, 0
+        while dt >= dt_min * (1 - 1e-12):
+            if ok(dt, "bracket"):
+                lo = dt
+                break
+            hi = dt
+            k += 1
+            dt = max(float(f"{dt_max / BRACKET_FACTOR ** k:.12g}"), dt_min) if dt > dt_min * (1 + 1e-12) else 0.0
     if math.isnan(lo) or math.isnan(hi):
         return lo, hi
     for _ in range(int(max_iter)):
@@ -197,6 +237,7 @@ class StabilitySpec:
     scan: bool = True
     convention: str = DEFAULT_CONVENTION
     labels: dict = field(default_factory=dict)
+    bracket: str = DEFAULT_BRACKET
 
     kind = "stability"
 
@@ -209,7 +250,8 @@ class StabilitySpec:
     def key_dict(self) -> dict:
         return {"kind": self.kind, "design": design_key(self.design), "duration_s": self.duration_s,
                 "dt_min": self.dt_min, "dt_max": self.dt_max, "tolerance": self.tolerance,
-                "max_iter": int(self.max_iter), "bracket_factor": BRACKET_FACTOR, "scan": bool(self.scan),
+                "max_iter": int(self.max_iter), "scan": bool(self.scan), "bracket": self.bracket,
+                "bracket_factor": BRACKET_FACTOR if self.bracket == "ladder" else ANALYTIC_FACTOR,
                 "scan_range": list(ref.STABILITY_TIMESTEP_RANGE), "scan_n": SPEC_SCAN_N,
                 "criterion": [ref.DIVERGENCE_QACC, ref.STABLE_MIN_BASE_Z],
                 "convention": self.convention, "versions": versions()}
@@ -228,7 +270,8 @@ class StabilitySpec:
         tries: list[dict] = []
         lo, hi = largest_stable_timestep(self.design, dt_min=self.dt_min, dt_max=self.dt_max,
                                          tolerance=self.tolerance, max_iter=self.max_iter,
-                                         duration_s=self.duration_s, convention=self.convention, tries=tries)
+                                         duration_s=self.duration_s, convention=self.convention, tries=tries,
+                                         bracket=self.bracket)
         n_search = len(tries)
         dt_spec = spec_scan(self.design, duration_s=self.duration_s, convention=self.convention,
                             tries=tries) if self.scan else math.nan

@@ -127,3 +127,15 @@ def test_controller_limit_is_the_base_inertia_over_the_stance_rate_gain():
     assert estimate_timestep(soft)[1] > 1.5 * limit          # the spring limit lies above: this one binds
     assert try_timestep(soft, 0.8 * limit, duration_s=1.0)["upright"]
     assert not try_timestep(soft, 1.5 * limit, duration_s=1.0)["upright"]
+
+
+def test_analytic_bracket_agrees_with_the_ladder_in_fewer_tries():
+    for design in (parse_design("PVC"), parse_design("SS")):
+        a_tries, l_tries = [], []
+        a = largest_stable_timestep(design, bracket="analytic", tries=a_tries)
+        b = largest_stable_timestep(design, bracket="ladder", tries=l_tries)
+        assert a[0] < a[1] and b[0] < b[1]
+        assert a[0] < b[1] and b[0] < a[1]          # the two brackets overlap
+        assert len(a_tries) < len(l_tries)
+    with pytest.raises(ValueError, match="bracket"):
+        largest_stable_timestep(parse_design("SS"), bracket="guess")
