@@ -53,15 +53,18 @@ def test_bisection_brackets_the_analytic_limit_of_a_stiff_one_segment_leg():
     lo, hi = largest_stable_timestep(leg, tolerance=1.5, duration_s=1.0, tries=tries)
     assert lo < hi <= lo * 1.5
     assert est / 2.5 < lo and hi < est * 2.5
-    assert [t["method"] for t in tries][0] == "bracket" and tries[0]["dt_s"] == 1e-2
+    start = min(est, controller_timestep(leg))
+    assert [t["method"] for t in tries][0] == "bracket" and tries[0]["dt_s"] == pytest.approx(start)
     assert all(t["upright"] == (t["dt_s"] <= lo) for t in tries)       # monotone here
     assert not try_timestep(leg, hi * 1.5, duration_s=1.0)["upright"]
 
 
 def test_bisection_edges_and_bad_input():
-    md = parse_design("MD")      # no material springs: 1e-2 s is already stable
-    lo, hi = largest_stable_timestep(md, duration_s=0.5)
+    md = parse_design("MD")      # no material springs: 1e-2 s is already stable over 0.5 s (falling)
+    lo, hi = largest_stable_timestep(md, duration_s=0.5, bracket="ladder")
     assert lo == 1e-2 and math.isnan(hi)
+    lo, hi = largest_stable_timestep(md, duration_s=0.5, dt_max=1e-3)     # analytic: stops at dt_max
+    assert lo == 1e-3 or lo < hi <= 1e-3
     with pytest.raises(ValueError, match="dt_min"):
         largest_stable_timestep(md, dt_min=1e-2, dt_max=1e-3)
     with pytest.raises(ValueError, match="tolerance"):
