@@ -280,6 +280,39 @@ class LegDesign:
     def moduli_gpa(self) -> tuple[float | None, ...]:
         return tuple(s.modulus_gpa for s in self.segments)
 
+    def resample(self, n_segments: int) -> "LegDesign":
+        """This leg's material profile on n_segments equal segments, by cell
+        averages over each new segment's share of the leg: density as the
+        length-weighted arithmetic mean (the material mass is conserved),
+        modulus as the length-weighted harmonic mean (springs in series: the
+        leg's axial compliance is conserved); rigid only where every source
+        segment under it is rigid (a partly rigid cell takes the harmonic
+        mean of its elastic part). The same N returns this design; N a
+        multiple of the current count splits each segment."""
+        n = check_n_segments(n_segments)
+        if n == self.n_segments:
+            return self
+        m = self.n_segments
+        edges_new = [j / n for j in range(n + 1)]
+        segs = []
+        for j in range(n):
+            a, b = edges_new[j], edges_new[j + 1]
+            mass, comp, elastic, rigid_len = 0.0, 0.0, 0.0, 0.0
+            for i, mat in enumerate(self.segments):
+                w = max(0.0, min(b, (i + 1) / m) - max(a, i / m))
+                if w <= 0:
+                    continue
+                mass += w * mat.density_g_cm3
+                if mat.rigid:
+                    rigid_len += w
+                else:
+                    comp += w / mat.modulus_gpa
+                    elastic += w
+            rho = mass / (b - a)
+            e = None if elastic == 0 else elastic / comp
+            segs.append(Material(f"seg{j + 1}", rho, e))
+        return LegDesign(tuple(segs), name=f"{self.name}@{n}" if self.name else "")
+
     @classmethod
     def mono(cls, mat: Material | str, n_segments: int = ref.REFERENCE_SEGMENTS) -> "LegDesign":
         """A homogeneous leg of one material."""

@@ -120,3 +120,22 @@ def test_numeric_strings_parse_one_way():
 def test_bad_segment_counts(n):
     with pytest.raises(ValueError, match="n_segments|segments"):
         LegDesign.mono("SS", n)
+
+
+def test_resample_conserves_mass_and_compliance():
+    leg = parse_design("PVC-Ti-SS")          # 1.39/4, 4.43/120, 8/193
+    assert leg.resample(3) is leg
+    six = leg.resample(6)
+    assert six.densities_g_cm3 == (1.39, 1.39, 4.43, 4.43, 8.0, 8.0)
+    one = leg.resample(1)
+    assert one.densities_g_cm3[0] == pytest.approx((1.39 + 4.43 + 8.0) / 3)
+    # springs in series, by hand: 1 / E = (1/4 + 1/120 + 1/193) / 3
+    assert one.moduli_gpa[0] == pytest.approx(3 / (1 / 4 + 1 / 120 + 1 / 193))
+    two = leg.resample(2)                    # cells [0, 1/2], [1/2, 1]
+    assert two.densities_g_cm3 == pytest.approx(((1.39 * 2 + 4.43) / 3, (4.43 + 8.0 * 2) / 3))
+    for n in (1, 2, 4, 5, 12, 24):
+        r = leg.resample(n)
+        assert sum(r.densities_g_cm3) / n == pytest.approx(sum(leg.densities_g_cm3) / 3)
+        assert sum(1 / e for e in r.moduli_gpa) / n == pytest.approx(sum(1 / e for e in leg.moduli_gpa) / 3)
+    md = parse_design("MD").resample(5)
+    assert all(s.rigid for s in md.segments)
