@@ -38,12 +38,12 @@ from concurrent.futures import ProcessPoolExecutor
 import optuna
 from optuna.trial import TrialState
 
-import mat_hopper.optimize as optimize_module
-from mat_hopper.optimize import RunOptions, StudyConfig, TrialObjective, create_or_load, make_sampler, run_study
-from mat_hopper.experiments import PROFILES
-from mat_hopper.optimize_objective import Objective
-from mat_hopper.optimize_space import SearchSpace
-from mat_hopper.optimize_storage import open_storage
+import mat_hopper.optimize._study as optimize_module
+from mat_hopper.optimize._study import RunOptions, StudyConfig, TrialObjective, create_or_load, make_sampler, run_study
+from mat_hopper.experiments.paper import PROFILES
+from mat_hopper.optimize._objective import Objective
+from mat_hopper.optimize._space import SearchSpace
+from mat_hopper.optimize._storage import open_storage
 from mat_hopper.sim import simulate
 
 

@@ -38,9 +38,9 @@ import numpy as np
 import pandas as pd
 
 from . import reference as ref
-from .experiments import PROFILE_ENV, PROFILES, Profile, get_profile
+from .experiments.paper import PROFILE_ENV, PROFILES, Profile, get_profile
 from .materials import CONVENTIONS, LegDesign, material, paper_designs, spring_stiffness
-from .runner import CACHE_ENV, DEFAULT_CACHE_DIR
+from .experiments.runner import CACHE_ENV, DEFAULT_CACHE_DIR
 
 PROJECT_NAME = "mat-hopper"
 
@@ -213,7 +213,7 @@ def environment_table() -> pd.DataFrame:
     each (columns item, value)."""
     import sys
 
-    from .runner import versions
+    from .experiments.runner import versions
     v = versions()
     exe = Path(sys.executable)
     try:
@@ -250,7 +250,7 @@ def designs_figure(designs: dict[str, LegDesign] | None = None):
     from matplotlib.colors import LogNorm
     from matplotlib.figure import Figure
 
-    from .plots import STYLE, design_label
+    from .viz.figures import STYLE, design_label
     t = design_table(designs)
     names = list(dict.fromkeys(t["design"]))
     n_seg = int(t["segment"].max())
@@ -387,7 +387,7 @@ def convention_stability(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | P
     stance attitude damping, the same for every leg), one row each, with
     the stiffest material spring (material_spring_n_m; nan for the rigid
     MD leg)."""
-    from .runner import FAILED, run_grid
+    from .experiments.runner import FAILED, run_grid
     res = run_grid(convention_tasks(names, profile, conventions), cache_dir, workers=workers, progress=False,
                    desc="conventions")
     s = res.summary
@@ -411,7 +411,7 @@ def convention_figure(table: pd.DataFrame):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    from .plots import STYLE
+    from .viz.figures import STYLE
     need = ("design", "convention", "material_spring_n_m", "analytic_timestep_s", "max_stable_timestep_s",
             "unstable_timestep_s")
     missing = [c for c in need if c not in table.columns]
@@ -523,7 +523,7 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
     from matplotlib import rc_context
     from matplotlib.figure import Figure
 
-    from .plots import STYLE
+    from .viz.figures import STYLE
     from .sim import C
     d = rollout.data
     if len(d) < 2:
@@ -599,13 +599,13 @@ def run_experiments(book: Book | None, experiments: str, *, replicates: int = 0,
                     quiet: bool = False) -> dict[str, pd.DataFrame]:
     """Run (or load from the cache) experiments ('1', '2', '3',
     'stability', comma-separated) under the book's profile with
-    :func:`mat_hopper.cli_reproduce.reproduce`, which also writes their
+    :func:`mat_hopper.experiments.reproduce.reproduce`, which also writes their
     tables to ``results/<profile>/``. Returns the tables by name
     (``exp1_hops``, ``exp1_runs``, ..., ``stability``,
     ``stability_agreement``). A task that raised (not a diverged run: that
     is a result) raises RuntimeError. Prints one line per experiment (runs
     computed now / loaded from the cache) unless quiet."""
-    from .cli_reproduce import reproduce
+    from .experiments.reproduce import reproduce
     book = setup(chdir=False, figure_format="retina") if book is None else book
     rep = reproduce(book.profile, experiments, str(book.out_dir), workers=workers, replicates=replicates,
                     cache_dir=str(book.cache_dir), progress=False, figures=False, log=lambda *a, **k: None)
@@ -628,11 +628,11 @@ def in_place_replicates(book: Book, n: int | None = None, *, behaviour: str = "s
     :meth:`~mat_hopper.perturbations.Perturbation.replicate`; n from the
     profile's ``book_replicates`` by default), run or loaded through the
     result cache. Returns the per-hop table (column ``replicate``, -1 for
-    the unperturbed run), for :func:`mat_hopper.stats.compare_replicates`."""
+    the unperturbed run), for :func:`mat_hopper.analysis.stats.compare_replicates`."""
     from dataclasses import replace
 
-    from .experiments import experiment_1
-    from .runner import run_grid
+    from .experiments.paper import experiment_1
+    from .experiments.runner import run_grid
     n = book.profile.book_replicates if n is None else n
     exp = replace(experiment_1(), behaviours=(behaviour,))
     res = run_grid(exp.tasks(book.profile, n), book.cache_dir, workers=workers, progress=False)
@@ -661,12 +661,12 @@ def pct_change_table(hops: pd.DataFrame, metric: str, baseline: str = "MD", *, d
                      behaviours=None, floor: float = BASELINE_FLOOR) -> pd.DataFrame:
     """Percent change of the mean of `metric` against `baseline` (same
     behaviour, unperturbed runs), designs as rows and behaviours as
-    columns (from :func:`mat_hopper.stats.summary_table`). Where the
+    columns (from :func:`mat_hopper.analysis.stats.summary_table`). Where the
     baseline's mean is below `floor` in magnitude (SI units; e.g. the
     tracking error of hopping in place, zero up to round-off) the change
     is nan: a percentage of nothing means nothing."""
-    from . import stats
-    from .plots import order_behaviours, order_designs
+    from .analysis import stats
+    from .viz.figures import order_behaviours, order_designs
     s = stats.summary_table(hops, metrics=(metric,), baseline=baseline)
     s = s.assign(pct_change_mean=s["pct_change_mean"].where(s["mean_baseline"].abs() >= floor))
     if designs is not None:
@@ -685,7 +685,7 @@ def outcome_table(runs: pd.DataFrame) -> pd.DataFrame:
     N hops" (N scored hop cycles), "fell" (the body ended below 0.1 m),
     "diverged at T s" (numerical blow-up, simulated time) or "failed"
     (an error; see the runs table). Unperturbed runs only."""
-    from .plots import order_behaviours, order_designs
+    from .viz.figures import order_behaviours, order_designs
     need = ("design", "behaviour", "status")
     missing = [c for c in need if c not in runs.columns]
     if missing:
@@ -725,8 +725,8 @@ def metric_table(hops: pd.DataFrame, metric: str, stat: str = "mean", *, scale: 
     """`stat` (mean or median) of `metric` over the scored hop cycles of
     the unperturbed runs, times `scale` (e.g. 1e3 for mm), designs as rows
     and behaviours as columns."""
-    from . import stats
-    from .plots import order_behaviours, order_designs
+    from .analysis import stats
+    from .viz.figures import order_behaviours, order_designs
     if stat not in ("mean", "median"):
         raise ValueError(f"stat must be mean or median, got {stat!r}")
     s = stats.summary_table(hops, metrics=(metric,), baseline=None)
@@ -768,7 +768,7 @@ def order_effect(hops: pd.DataFrame, pairs=ORDER_PAIRS, metrics=("tracking_error
     test on hop cycles (unperturbed runs; Holm over each pair's
     behaviours and metrics). Columns pair, behaviour, metric, pct_change,
     p_holm, significant."""
-    from . import stats
+    from .analysis import stats
     frames = []
     for first, second in pairs:
         sub = hops[hops["design"].isin([first, second])]
@@ -787,7 +787,7 @@ def starred(table: pd.DataFrame, rows=("pair", "metric"), column: str = "behavio
     """A tidy comparison as a wide table for the page: `value` (a percent
     change) as "+12 %" with a star where `flag` is true, `rows` as the
     index and `column` values as columns ("–" where nan)."""
-    from .plots import order_behaviours
+    from .viz.figures import order_behaviours
 
     def cell(r) -> str:
         v = r[value]
@@ -819,12 +819,12 @@ def _concat(tables: dict, suffix: str) -> pd.DataFrame | None:
 
 def claims_for(tables: dict, chapter: str | None = None, *, conventions=None,
                columns=("claim", "paper", "ours", "verdict")) -> pd.DataFrame:
-    """The paper's claims beside ours (:func:`mat_hopper.claims.claims_table`)
+    """The paper's claims beside ours (:func:`mat_hopper.analysis.claims.claims_table`)
     from a reproduction's tables (``exp*_hops``, ``exp*_runs``,
     ``stability``), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
     (None). conventions: default those present in the tables. columns:
     which to keep (None: all)."""
-    from . import claims
+    from .analysis import claims
     if chapter is not None and chapter not in CHAPTER_CLAIMS:
         raise ValueError(f"chapter must be one of {', '.join(CHAPTER_CLAIMS)} or None, got {chapter!r}")
     hops, runs, stab = _concat(tables, "_hops"), _concat(tables, "_runs"), tables.get("stability")
@@ -900,7 +900,7 @@ def rollouts(designs, behaviours, profile: str | Profile | None = None, *, recor
 
     from .behaviours import behaviour as get_behaviour
     from .materials import parse_design
-    from .runner import RunSpec, check_workers, default_workers
+    from .experiments.runner import RunSpec, check_workers, default_workers
     from .sim import Rollout
     prof = get_profile(profile)
     settings = _series_settings(prof, record_rate_hz)
@@ -941,24 +941,24 @@ STUDY_BEHAVIOURS = ("ramp",)
 
 def book_study(book: Book, *, trials: int | None = None, behaviours=STUDY_BEHAVIOURS, seed: int = 0) -> dict:
     """Run (or resume, or just load) the book's design study with
-    :func:`mat_hopper.optimize.run_study`: continuous density and modulus
+    :func:`mat_hopper.optimize._study.run_study`: continuous density and modulus
     per segment (3 segments), tracking error and hip power on `behaviours`
     under the optimizer's profile of the book's name, one worker process
     (so a fresh study is exactly reproducible), `trials` trials (default
     :data:`STUDY_TRIALS` of the profile). Storage: ``studies/<name>.db``;
     the name carries a digest of the settings, so changed settings start a
     new study instead of clashing with an old one. Then
-    :func:`mat_hopper.optimize_report.write_report` into
+    :func:`mat_hopper.optimize.report.write_report` into
     ``results/<profile>/study/``. Returns the report dict (``trials``,
     ``pareto``, ``baselines``, ``hypervolume``, ``importances``,
     ``paths``) plus ``name``, ``url`` and ``config``."""
     import hashlib
     import json
 
-    from .optimize import RunOptions, StudyConfig, run_study
-    from .optimize_objective import Objective
-    from .optimize_report import write_report
-    from .optimize_space import SearchSpace
+    from .optimize._study import RunOptions, StudyConfig, run_study
+    from .optimize._objective import Objective
+    from .optimize.report import write_report
+    from .optimize._space import SearchSpace
     n = STUDY_TRIALS.get(book.profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
     objective = Objective(behaviours=tuple(behaviours), profile=book.profile)
     probe = StudyConfig("probe", SearchSpace(), objective)
@@ -974,7 +974,7 @@ def book_study(book: Book, *, trials: int | None = None, behaviours=STUDY_BEHAVI
 
 
 def front_table(front: pd.DataFrame) -> pd.DataFrame:
-    """A Pareto table (:func:`mat_hopper.optimize_report.pareto_frame`) for
+    """A Pareto table (:func:`mat_hopper.optimize.report.pareto_frame`) for
     the page: trial, the paper's design it is (if any), tracking error
     (mm), hip power (mW), hop height (m) and the percent changes against
     the baselines, with short column names."""
@@ -1035,7 +1035,7 @@ def clock_drift(book: Book, designs=("MD", "SS"), factors=CLOCK_FACTORS, behavio
     design and factor: clock_factor, speed_m_s, status, n_hops,
     mean_tracking_error_m, mean_power_w."""
     from .behaviours import behaviour as get_behaviour
-    from .runner import FAILED, RunSpec, run_grid
+    from .experiments.runner import FAILED, RunSpec, run_grid
     tasks = []
     for d in designs:
         design = LegDesign.mono(d) if isinstance(d, str) and d in ref.MONO_MATERIALS else d
@@ -1101,7 +1101,7 @@ def axial_check(book: Book, designs=("MD", "SS", "rho-inc"), behaviour: str = "r
 
     from .behaviours import behaviour as get_behaviour
     from .materials import parse_design
-    from .runner import FAILED, RunSpec, run_grid
+    from .experiments.runner import FAILED, RunSpec, run_grid
     prof = book.profile
     legs = {d: parse_design(d) for d in designs}
     if timestep_s is None:
@@ -1159,9 +1159,9 @@ def setting_comparison(hops: pd.DataFrame, pairs=(("rho-inc", "MD"), ("SS", "MD"
 
 
 def claim_rules() -> pd.DataFrame:
-    """The rule behind each claim's verdict (:data:`mat_hopper.claims.CLAIMS`):
+    """The rule behind each claim's verdict (:data:`mat_hopper.analysis.claims.CLAIMS`):
     columns claim, rule."""
-    from . import claims
+    from .analysis import claims
     return pd.DataFrame([{"claim": c.claim, "rule": c.rule} for c in claims.CLAIMS])
 
 
@@ -1189,7 +1189,7 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
     from matplotlib import rc_context
     from matplotlib.figure import Figure
 
-    from .plots import STYLE, design_colour, order_behaviours
+    from .viz.figures import STYLE, design_colour, order_behaviours
     with rc_context(STYLE):
         fig = Figure(figsize=(11.0, 3.4), layout="constrained")
         a, b, c = fig.subplots(1, 3)

@@ -58,7 +58,7 @@ import scipy.linalg
 
 from . import reference as ref
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
-from .runner import design_key, hash_key, versions
+from .experiments.runner import design_key, hash_key, versions
 
 DT_MAX_S = 1e-2
 DT_MIN_S = 1e-6

@@ -18,8 +18,9 @@ import pandas as pd
 import pytest
 import yaml
 
-from mat_hopper import book, reference as ref, stats
-from mat_hopper.experiments import PROFILES, Profile
+from mat_hopper import book, reference as ref
+from mat_hopper.analysis import stats
+from mat_hopper.experiments.paper import PROFILES, Profile
 from mat_hopper.materials import spring_stiffness
 
 from synthetic_results import results
@@ -259,7 +260,7 @@ def test_claims_for_chapters(synthetic):
     hops, runs = synthetic
     tables = {f"{e}_hops": hops[hops["experiment"] == e] for e in ("exp1", "exp2", "exp3")}
     tables.update({f"{e}_runs": runs[runs["experiment"] == e] for e in ("exp1", "exp2", "exp3")})
-    from mat_hopper import claims
+    from mat_hopper.analysis import claims
     known = {c.claim_id for c in claims.CLAIMS}
     for chapter, ids in book.CHAPTER_CLAIMS.items():
         assert set(ids) <= known

@@ -2,7 +2,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mat_hopper import claims, reference as ref
+from mat_hopper import reference as ref
+from mat_hopper.analysis import claims
 from synthetic_results import results, stability_table
 
 

@@ -42,7 +42,7 @@ def test_simulate_every_design_form(tmp_path, args, name, capsys):
 ])
 def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
     out = tmp_path / "hops.csv"
-    p = subprocess.run([sys.executable, "-m", "mat_hopper.cli", "simulate", *args, "--csv", str(out)],
+    p = subprocess.run([sys.executable, "-m", "mat_hopper", "simulate", *args, "--csv", str(out)],
                        capture_output=True, text=True)
     assert p.returncode == 2
     lines = p.stderr.strip().splitlines()

@@ -24,13 +24,13 @@ from optuna.trial import TrialState
 
 from mat_hopper.cli import main
 from mat_hopper.materials import LegDesign, paper_designs
-from mat_hopper.optimize import (RunOptions, StudyConfig, check_sampler, counts, create_or_load,
+from mat_hopper.optimize._study import (RunOptions, StudyConfig, check_sampler, counts, create_or_load,
                                  make_sampler, run_study, worker_seed)
-from mat_hopper.experiments import Profile
-from mat_hopper.optimize_objective import Objective, evaluate
-from mat_hopper.optimize_report import hypervolume_2d, nondominated, replay, write_report
-from mat_hopper.optimize_space import (DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample)
-from mat_hopper.optimize_storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR, open_storage
+from mat_hopper.experiments.paper import Profile
+from mat_hopper.optimize._objective import Objective, evaluate
+from mat_hopper.optimize.report import hypervolume_2d, nondominated, replay, write_report
+from mat_hopper.optimize._space import (DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample)
+from mat_hopper.optimize._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR, open_storage
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
@@ -332,7 +332,7 @@ def test_diverging_and_failing_designs_never_crash_the_study(tmp_path):
 # --- PostgreSQL: workers, resume by a third process, dead workers ------------
 
 def _cli(*args, **kw):
-    return subprocess.run([sys.executable, "-m", "mat_hopper.cli", "optimize", *args], env=ENV,
+    return subprocess.run([sys.executable, "-m", "mat_hopper", "optimize", *args], env=ENV,
                           capture_output=True, text=True, timeout=120, **kw)
 
 
@@ -371,7 +371,7 @@ def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
     name = "kill"
     config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
     create_or_load(config, open_storage(pg_url))
-    proc = subprocess.Popen([sys.executable, "-m", "mat_hopper.cli", "optimize", "--study", name, "--trials", "6",
+    proc = subprocess.Popen([sys.executable, "-m", "mat_hopper", "optimize", "--study", name, "--trials", "6",
                              "--workers", "2", "--storage", pg_url, "--no-progress"],
                             env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
@@ -401,7 +401,7 @@ def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
     name = "hb"
     config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
     create_or_load(config, open_storage(pg_url))
-    proc = subprocess.Popen([sys.executable, "-m", "mat_hopper.cli", "optimize", "--study", name, "--trials", "3",
+    proc = subprocess.Popen([sys.executable, "-m", "mat_hopper", "optimize", "--study", name, "--trials", "3",
                              "--workers", "1", "--storage", pg_url, "--no-progress"],
                             env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     try:

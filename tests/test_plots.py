@@ -4,7 +4,8 @@ import pytest
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon
 
-from mat_hopper import plots, stats
+from mat_hopper.analysis import stats
+from mat_hopper.viz import figures as plots
 from mat_hopper.materials import CATALOGUE
 from mat_hopper.sim import simulate
 from synthetic_results import results, stability_table

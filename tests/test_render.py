@@ -8,7 +8,7 @@ import pytest
 from conftest import run_python
 from mat_hopper.behaviours import behaviour
 from mat_hopper.materials import parse_design
-from mat_hopper.render import (Camera, OffscreenRenderer, RenderBackendError, choose_backend,
+from mat_hopper.viz.render import (Camera, OffscreenRenderer, RenderBackendError, choose_backend,
                                density_color, gait_tiles, parse_size, render_frames, render_spec,
                                render_still, save_video, standing_qpos, video_frames, write_video)
 from mat_hopper.sim import simulate

@@ -13,13 +13,13 @@ import pandas as pd
 import pytest
 
 import mat_hopper
-from mat_hopper import runner
+from mat_hopper.experiments import runner
 from mat_hopper.behaviours import behaviour
 from mat_hopper.control import ControllerSettings
-from mat_hopper.experiments import Profile, experiment_1
+from mat_hopper.experiments.paper import Profile, experiment_1
 from mat_hopper.materials import LegDesign, parse_design
 from mat_hopper.perturbations import Perturbation
-from mat_hopper.runner import TEMP_PREFIX, Cache, RunSpec, Runner, run_grid
+from mat_hopper.experiments.runner import TEMP_PREFIX, Cache, RunSpec, Runner, run_grid
 from mat_hopper.sim import SimSettings
 
 SHORT = SimSettings(duration_s=2.5, timestep_s=1e-4, transient_s=0.5)
@@ -142,8 +142,8 @@ def test_process_pool_matches_in_process(tmp_path):
 
 KILL_SCRIPT = textwrap.dedent("""
     import sys
-    from mat_hopper.experiments import Profile, experiment_1
-    from mat_hopper.runner import run_grid
+    from mat_hopper.experiments.paper import Profile, experiment_1
+    from mat_hopper.experiments.runner import run_grid
     if __name__ == "__main__":
         tasks = experiment_1().tasks(Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5))[:8]
         run_grid(tasks, sys.argv[1], workers=2, progress=False)

@@ -2,7 +2,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mat_hopper import metrics, stats
+from mat_hopper import metrics
+from mat_hopper.analysis import stats
 from mat_hopper.perturbations import Perturbation
 from mat_hopper.sim import simulate
 

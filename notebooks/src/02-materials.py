@@ -15,7 +15,8 @@
 # space.
 
 # %%
-from mat_hopper import book, materials, plots
+from mat_hopper import book, materials
+from mat_hopper.viz import figures as plots
 
 b = book.setup()
 plots.ashby_figure()

@@ -34,7 +34,7 @@ b = book.setup()
 # %%
 from PIL import Image
 
-from mat_hopper import render
+from mat_hopper.viz import render
 
 Image.fromarray(render.render_still("rho-inc", "ramp", size=(720, 480)))
 

@@ -38,7 +38,8 @@
 # `combined` estimate.
 
 # %%
-from mat_hopper import book, plots
+from mat_hopper import book
+from mat_hopper.viz import figures as plots
 from mat_hopper.stability import agreement
 
 b = book.setup()

@@ -15,7 +15,8 @@
 # the paper does (a star marks p < 0.05).
 
 # %%
-from mat_hopper import book, plots
+from mat_hopper import book
+from mat_hopper.viz import figures as plots
 
 b = book.setup()
 tables = book.run_experiments(b, "1")
@@ -93,7 +94,7 @@ print(f"largest tracking error of any static hop cycle: {static['tracking_error_
 # runs are independent samples.
 
 # %%
-from mat_hopper import stats
+from mat_hopper.analysis import stats
 
 reps = book.in_place_replicates(b)
 in_place = stats.compare_replicates(reps, "MD")

@@ -11,7 +11,8 @@
 # authors' (`reference.SWEEPS`):
 
 # %%
-from mat_hopper import book, plots, reference as ref
+from mat_hopper import book, reference as ref
+from mat_hopper.viz import figures as plots
 
 b = book.setup()
 for base, sweep in ref.SWEEPS.items():

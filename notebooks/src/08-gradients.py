@@ -20,7 +20,8 @@
 # about ramp hopping, ρ-inc against MD and against SS:
 
 # %%
-from mat_hopper import book, plots, reference as ref
+from mat_hopper import book, reference as ref
+from mat_hopper.viz import figures as plots
 
 b = book.setup()
 print(f"the paper, ramp: rho-inc vs MD {ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT:+.0f} % tracking error at "
@@ -92,7 +93,7 @@ plots.figure5_timeseries(series)
 import matplotlib.pyplot as plt
 from IPython.display import display
 
-from mat_hopper import render
+from mat_hopper.viz import render
 
 for behaviour in ("forward", "ramp"):
     tiles = render.gait_tiles("rho-inc", behaviour, start_s=b.profile.transient_s)

@@ -20,7 +20,7 @@ cycle still gets finite objective values, the same quantities averaged
 over every finite recorded sample of the run, so the samplers can model
 it; the constraints make it infeasible.
 
-Profiles are :mod:`mat_hopper.experiments`' (one setting for the whole
+Profiles are :mod:`mat_hopper.experiments.paper`' (one setting for the whole
 package): ``paper`` is the paper's protocol (60 s runs, 20 s transient,
 1e-4 s step); ``quick`` (12 s runs, 4 s transient) is for CI and first
 looks: the hop height is still settling then, so quick results rank
@@ -38,12 +38,12 @@ from dataclasses import asdict, dataclass, field
 import mujoco
 import numpy as np
 
-from . import reference as ref
-from .behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
-from .materials import CONVENTIONS, DEFAULT_CONVENTION, LegDesign
-from .metrics import hop_table
-from .experiments import Profile, get_profile
-from .sim import C, RolloutRunner
+from .. import reference as ref
+from ..behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
+from ..materials import CONVENTIONS, DEFAULT_CONVENTION, LegDesign
+from ..metrics import hop_table
+from ..experiments.paper import Profile, get_profile
+from ..sim import C, RolloutRunner
 
 OBJECTIVES = ("tracking_error_m", "power_w")
 CONSTRAINTS = ("hop_height", "unstable")

@@ -6,11 +6,11 @@ import argparse
 import math
 
 
-from . import reference as ref
-from .atomic import write_csv
-from .behaviours import BEHAVIOUR_NAMES, behaviour
-from .materials import CONVENTIONS, LegDesign, parse_design
-from .metrics import METRICS, hop_table, run_summary
+from .. import reference as ref
+from ..atomic import write_csv
+from ..behaviours import BEHAVIOUR_NAMES, behaviour
+from ..materials import CONVENTIONS, LegDesign, parse_design
+from ..metrics import METRICS, hop_table, run_summary
 
 
 def _floats(text: str, field: str) -> list[float | None]:
@@ -54,7 +54,7 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_simulate(args) -> int:
-    from .sim import SimSettings, simulate
+    from ..sim import SimSettings, simulate
     design = design_from_args(args)
     beh = behaviour(args.behaviour)
     settings = SimSettings(duration_s=args.duration, timestep_s=args.timestep,

@@ -9,7 +9,7 @@ them leaks nothing; Jupyter shows a returned figure as usual.
 
 - :func:`figure4_mono`: Fig. 4 A-C, box plots of power, jerk and tracking
   error per behaviour and design, a star where a design differs from MD
-  (Holm-adjusted p < alpha; see :mod:`mat_hopper.stats`).
+  (Holm-adjusted p < alpha; see :mod:`mat_hopper.analysis.stats`).
 - :func:`figure4_sweeps`: Fig. 4 D-E, tracking error against density and
   against modulus, one line per base material.
 - :func:`figure5_gradients`: Fig. 5 A-B, gradients beside MD and SS.
@@ -39,12 +39,12 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Polygon, Rectangle
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-from .atomic import atomic_path
-from . import reference as ref
-from . import stats as _stats
-from .behaviours import BEHAVIOUR_NAMES
-from .materials import CATALOGUE, CONVENTIONS
-from .optimize_space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA
+from ..atomic import atomic_path
+from .. import reference as ref
+from ..analysis import stats as _stats
+from ..behaviours import BEHAVIOUR_NAMES
+from ..materials import CATALOGUE, CONVENTIONS
+from ..optimize._space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA
 
 # --- style -------------------------------------------------------------------
 
@@ -111,7 +111,7 @@ CLASS_REGIONS = {
                                         "classes": ("polymer", "natural"), "colour": "#029e73"},
 }
 # Design bounds of the material search (paper, Fig. 2 B: about 0.9-20 g/cm^3
-# and 0.1-1000 GPa): the optimizer's own (mat_hopper.optimize_space).
+# and 0.1-1000 GPa): the optimizer's own (mat_hopper.optimize._space).
 DESIGN_BOUNDS = {"density_g_cm3": DENSITY_BOUNDS_G_CM3, "modulus_gpa": MODULUS_BOUNDS_GPA}
 
 
@@ -350,11 +350,11 @@ def figure4_mono(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
     -1 = unperturbed). Basis hops: the boxes show the unperturbed run's
     cycles; basis replicates: the perturbed replicates' cycles, with each
     replicate's mean as a dot.
-    comparison: from :func:`mat_hopper.stats.compare_designs`; computed
+    comparison: from :func:`mat_hopper.analysis.stats.compare_designs`; computed
     here on `basis` when not given. designs default: MD PVC Al Ti SS that
     are present; log_metrics: metrics drawn on a log axis; runs: the run
     summaries: hop cycles of runs that diverged, fell or failed are left
-    out (:func:`mat_hopper.stats.drop_unusable`)."""
+    out (:func:`mat_hopper.analysis.stats.drop_unusable`)."""
     _require(hops, ("design", "behaviour", *metrics), "figure4_mono")
     bad = _stats.unusable_runs(runs)
     designs = order_designs(designs or [d for d in ("MD", "PVC", "Al", "Ti", "SS")
@@ -485,7 +485,7 @@ def figure4_sweeps(hops: pd.DataFrame, baseline_hops: pd.DataFrame | None = None
             joint = pd.concat([table.assign(design=table["_point"])[["design", metric]].assign(behaviour="sweep"),
                                base.assign(design="__baseline__")[["design", metric]].assign(behaviour="sweep")],
                               ignore_index=True)
-            from .metrics import compare
+            from ..metrics import compare
             cmp = compare(joint, "__baseline__", by="behaviour", metrics=(metric,), alpha=alpha)
             significant = set(cmp.loc[cmp["significant"].astype(bool), "design"])
     factor, ylabel = metric_scale(metric, table[metric])
@@ -559,7 +559,7 @@ def rollout_series(rollout) -> pd.DataFrame:
     """Per hop cycle of one rollout, from its start (no transient cut):
     mid-time (s) and the metrics of :func:`mat_hopper.metrics.hop_table`
     (hop height m, tracking error m, hip power W, ...), one row per cycle."""
-    from .metrics import hop_table
+    from ..metrics import hop_table
     t = hop_table(rollout, transient_s=0.0)
     return t.assign(t_mid_s=(t["t_start_s"].astype(float) + t["t_end_s"].astype(float)) / 2)
 

@@ -13,15 +13,15 @@ import sys
 
 # Modules that contribute subcommands (each defines register_cli(subparsers)).
 COMMAND_MODULES = (
-    "mat_hopper.cli_simulate",
-    "mat_hopper.cli_reproduce",
-    "mat_hopper.optimize",
-    "mat_hopper.render",
+    "mat_hopper.cli.simulate",
+    "mat_hopper.experiments.reproduce",
+    "mat_hopper.optimize._study",
+    "mat_hopper.viz.render",
 )
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import __version__
+    from .. import __version__
     p = argparse.ArgumentParser(prog="mat-hopper", description=(
         "Materials Matter, executable: simulate graded robot legs on a MuJoCo hopper."))
     p.add_argument("--version", action="version", version=f"mat-hopper {__version__}")
@@ -48,5 +48,3 @@ def main(argv=None) -> int:
         return 130
 
 
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,10 +1,10 @@
 """``mat-hopper reproduce``: the paper's four experiments, end to end.
 
 Runs the chosen experiments under one profile (cached, resumable, in
-parallel; see :mod:`mat_hopper.runner`), writes their tables as CSV into
+parallel; see :mod:`mat_hopper.experiments.runner`), writes their tables as CSV into
 the output folder (default ``results/<profile>/``), then the figures and
-the claims table through :mod:`mat_hopper.plots` and
-:mod:`mat_hopper.claims`. Tables (see :func:`reproduce`):
+the claims table through :mod:`mat_hopper.viz.figures` and
+:mod:`mat_hopper.analysis.claims`. Tables (see :func:`reproduce`):
 
 - ``exp{1,2,3}_hops.csv``: one row per scored hop cycle of every run;
 - ``exp{1,2,3}_runs.csv``: one row per run (outcome, means, energy);
@@ -21,10 +21,10 @@ from dataclasses import dataclass, field
 
 import pandas as pd
 
-from .atomic import write_csv
-from .experiments import (PROFILE_ENV, PROFILES, check_replicates, get_experiment,
+from ..atomic import write_csv
+from .paper import (PROFILE_ENV, PROFILES, check_replicates, get_experiment,
                           get_profile, parse_experiments)
-from .materials import CONVENTIONS, check_convention
+from ..materials import CONVENTIONS, check_convention
 from .runner import CACHE_ENV, DEFAULT_CACHE_DIR, Runner, check_workers
 
 
@@ -87,7 +87,7 @@ def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, wor
             rep.failed[name] = res.n_failed
             rep.computed[name] = res.n_computed
             if name == "stability":
-                from .stability import agreement
+                from ..stability import agreement
                 made = {"stability": res.summary, "stability_tries": res.tables,
                         "stability_agreement": agreement(res.summary)}
             else:
@@ -118,10 +118,11 @@ def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, wor
 
 
 def _figures_and_claims(rep: Reproduction, log) -> list:
-    """Figures (:func:`mat_hopper.plots.write_figures`) and the claims table
-    (:func:`mat_hopper.claims.claims_table`, ``claims.md`` and ``claims.csv``)
+    """Figures (:func:`mat_hopper.viz.figures.write_figures`) and the claims table
+    (:func:`mat_hopper.analysis.claims.claims_table`, ``claims.md`` and ``claims.csv``)
     from the tables of this reproduction."""
-    from . import claims, plots
+    from ..analysis import claims
+    from ..viz import figures as plots
     files = [str(p) for p in plots.write_figures(rep.tables, rep.out_dir)]
     hops = _concat([rep.tables.get(f"{e}_hops") for e in ("exp1", "exp2", "exp3")])
     runs = _concat([rep.tables.get(f"{e}_runs") for e in ("exp1", "exp2", "exp3")])

@@ -40,8 +40,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from . import reference as ref
-from .materials import CATALOGUE, LegDesign, Material, material, paper_designs
+from .. import reference as ref
+from ..materials import CATALOGUE, LegDesign, Material, material, paper_designs
 
 KINDS = ("continuous", "catalogue")
 

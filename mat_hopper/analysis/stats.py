@@ -57,8 +57,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from . import metrics as _metrics
-from .metrics import ALL_METRICS, METRICS
+from .. import metrics as _metrics
+from ..metrics import ALL_METRICS, METRICS
 
 def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alpha: float):
     """metrics.compare per family and metric (one Holm correction each),

@@ -10,8 +10,8 @@ a failed warm-up only means colder workers.
 try:
     import pyarrow.parquet  # noqa: F401
 
-    from . import metrics, stability  # noqa: F401
-    from .sim import SimSettings, simulate
+    from .. import metrics, stability  # noqa: F401
+    from ..sim import SimSettings, simulate
 
     simulate("MD", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
 except Exception:      # pragma: no cover

@@ -38,13 +38,13 @@ Rules (thresholds are module constants):
   ``holds``; the right signs with a poorer fit, or one right sign,
   ``partly``.
 
-Comparisons are those of :mod:`mat_hopper.stats` on the ``basis`` chosen
+Comparisons are those of :mod:`mat_hopper.analysis.stats` on the ``basis`` chosen
 (``auto``: replicate means where every design and behaviour has
 replicates, else the paper's hop cycles of the unperturbed run; the
 ``basis`` column says which); the Holm family is one metric within one
 experiment (experiments 1 and 3 together for the gradient claims). Hop
 cycles of runs that diverged, fell over or failed are never used
-(:func:`mat_hopper.stats.drop_unusable`).
+(:func:`mat_hopper.analysis.stats.drop_unusable`).
 """
 
 from __future__ import annotations
@@ -57,12 +57,12 @@ from typing import Callable
 import numpy as np
 import pandas as pd
 
-from .atomic import write_text
-from . import reference as ref
+from ..atomic import write_text
+from .. import reference as ref
 from . import stats as _stats
 from .stats import seconds
-from .behaviours import BEHAVIOUR_NAMES
-from .materials import CATALOGUE, CONVENTIONS
+from ..behaviours import BEHAVIOUR_NAMES
+from ..materials import CATALOGUE, CONVENTIONS
 
 HOLDS, PARTLY, FAILS, NOT_RUN, NOT_TESTABLE = "holds", "partly", "does not hold", "not run", "not testable"
 VERDICTS = (HOLDS, PARTLY, FAILS, NOT_RUN, NOT_TESTABLE)

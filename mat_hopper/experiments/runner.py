@@ -25,7 +25,7 @@ in a task is not (it becomes a ``failed`` row with the error text, and the
 next run tries again).
 
 Parallelism. Local processes (``concurrent.futures.ProcessPoolExecutor``,
-forkserver context whose server preloads :mod:`mat_hopper._warmup`, so
+forkserver context whose server preloads :mod:`mat_hopper.experiments._warmup`, so
 workers start with MuJoCo, numba's compiled loop and pyarrow loaded), all
 cores by default; or a Dask cluster (``scheduler``: an address or a
 ``distributed.Client``). The parent process is the only writer of the
@@ -52,10 +52,10 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 import pandas as pd
 
-from .atomic import TEMP_PREFIX, atomic_path
-from .behaviours import Behaviour
-from .materials import LegDesign
-from .sim import SimSettings
+from ..atomic import TEMP_PREFIX, atomic_path
+from ..behaviours import Behaviour
+from ..materials import LegDesign
+from ..sim import SimSettings
 
 DEFAULT_CACHE_DIR = os.path.join("results", "cache")
 CACHE_ENV = "MAT_HOPPER_CACHE"
@@ -71,18 +71,19 @@ OK, DIVERGED, FALLEN, FAILED = "ok", "diverged", "fallen", "failed"
 
 
 # Modules whose code makes or summarises a result: their source is part of every key.
+# Paths relative to the package folder, "/"-separated.
 RESULT_MODULES = ("reference", "materials", "model", "control", "behaviours", "sim", "perturbations", "metrics",
-                  "stability", "runner")
+                  "stability", "experiments/runner")
 
 
 @functools.lru_cache(maxsize=1)
 def source_digest() -> str:
     """SHA-256 (short) of the source of :data:`RESULT_MODULES`: any edit to
     the physics, controller, metrics or this runner invalidates the cache."""
-    here = os.path.dirname(os.path.abspath(__file__))
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     h = hashlib.sha256()
     for name in RESULT_MODULES:
-        with open(os.path.join(here, f"{name}.py"), "rb") as f:
+        with open(os.path.join(package, *f"{name}.py".split("/")), "rb") as f:
             h.update(name.encode() + b"\0" + f.read())
     return h.hexdigest()[:16]
 
@@ -92,7 +93,7 @@ def versions() -> dict:
     source, and MuJoCo's version."""
     import mujoco
 
-    from . import __version__
+    from .. import __version__
     return {"mat_hopper": __version__, "source": source_digest(), "mujoco": mujoco.__version__}
 
 
@@ -161,8 +162,8 @@ class RunSpec:
     def compute(self) -> tuple[pd.DataFrame, dict]:
         """Simulate; return (per-hop table, run summary). Never raises on
         divergence: an unstable run is a summary with status 'diverged'."""
-        from .metrics import hop_table, run_summary
-        from .sim import C, simulate
+        from ..metrics import hop_table, run_summary
+        from ..sim import C, simulate
         rollout = simulate(self.design, self.behaviour, settings=self.settings)
         hops = hop_table(rollout).drop(columns=["design", "behaviour"])
         summary = run_summary(rollout)
@@ -341,7 +342,7 @@ class Runner:
                 ctx = multiprocessing.get_context("forkserver")
                 # workers fork from a server that already loaded everything (no effect
                 # if this process's forkserver is already running)
-                ctx.set_forkserver_preload(["mat_hopper._warmup"])
+                ctx.set_forkserver_preload(["mat_hopper.experiments._warmup"])
             else:                    # pragma: no cover (not Linux)
                 ctx = multiprocessing.get_context("spawn")
             self._pool = ProcessPoolExecutor(self.n_workers, mp_context=ctx)

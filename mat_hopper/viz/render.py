@@ -10,7 +10,7 @@ Leg segments are coloured by density (viridis over log density, 0.9 to 20
 g/cm^3) so graded legs show at a glance; the desired path is drawn as a
 dotted line of small markers on the ground or ramp.
 
-    from mat_hopper.render import gait_tiles, save_video, render_still
+    from mat_hopper.viz.render import gait_tiles, save_video, render_still
     fig = gait_tiles("rho-inc", "ramp")                 # a matplotlib Figure
     save_video("rho-inc", "ramp", "hop.mp4", seconds=10, fps=30)
 """
@@ -26,12 +26,12 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from . import reference as ref
-from .atomic import atomic_path
-from .behaviours import Behaviour, behaviour as get_behaviour
-from .materials import DEFAULT_CONVENTION, LegDesign
-from .model import build_spec
-from .sim import Rollout, _as_design, simulate
+from .. import reference as ref
+from ..atomic import atomic_path
+from ..behaviours import Behaviour, behaviour as get_behaviour
+from ..materials import DEFAULT_CONVENTION, LegDesign
+from ..model import build_spec
+from ..sim import Rollout, _as_design, simulate
 
 DENSITY_RANGE_G_CM3 = (0.9, 20.0)      # colour scale: the optimizer's density bounds
 VIDEO_EXTENSIONS = (".mp4", ".gif")
@@ -450,7 +450,7 @@ def save_image(fig_or_rgb, path: str) -> str:
 
 
 def cmd_render(args) -> int:
-    from .cli_simulate import design_from_args
+    from ..cli.simulate import design_from_args
     if not args.tiles and not args.video and not args.still:
         raise ValueError("nothing to render: give --tiles FILE, --video FILE and/or --still FILE")
     size = parse_size(args.size)
@@ -489,7 +489,7 @@ def cmd_render(args) -> int:
 
 
 def register_cli(sub) -> None:
-    from .cli_simulate import add_sim_arguments
+    from ..cli.simulate import add_sim_arguments
     p = sub.add_parser("render", help="render gait tiles, a video or a still of a design, off-screen",
                        description="Render gait tiles (PNG), a video (MP4 or GIF) or a still of one design "
                                    "on one behaviour, off-screen (OSMesa by default, EGL with MUJOCO_GL=egl).")

@@ -1,7 +1,7 @@
 """The paper's four experiments, as data, and the run profiles.
 
 An experiment is designs x behaviours x settings, nothing more; the runner
-(:mod:`mat_hopper.runner`) turns it into cached, parallel runs. Every
+(:mod:`mat_hopper.experiments.runner`) turns it into cached, parallel runs. Every
 number comes from :mod:`mat_hopper.reference`.
 
 - ``exp1``: mono-materials MD, PVC, Al, Ti, SS x the four behaviours (20 runs).
@@ -26,12 +26,12 @@ import math
 import os
 from dataclasses import dataclass, replace
 
-from . import reference as ref
-from .behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
-from .materials import LegDesign, Material, check_convention, paper_designs
-from .perturbations import Perturbation
+from .. import reference as ref
+from ..behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
+from ..materials import LegDesign, Material, check_convention, paper_designs
+from ..perturbations import Perturbation
 from .runner import RunSpec
-from .sim import SimSettings
+from ..sim import SimSettings
 
 PROFILE_ENV = "MAT_HOPPER_PROFILE"
 UNPERTURBED = -1
@@ -202,12 +202,12 @@ class StabilityMap:
     n_segments: int = ref.REFERENCE_SEGMENTS
 
     def axes(self, profile: Profile | str | None = None):
-        from .stability import stability_grid
+        from ..stability import stability_grid
         return stability_grid(get_profile(profile).stability_grid_size)
 
     def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
         """One StabilitySpec per grid cell (replicates do not apply)."""
-        from .stability import StabilitySpec
+        from ..stability import StabilitySpec
         profile = get_profile(profile)
         dens, mods = self.axes(profile)
         out = []

@@ -1,9 +1,9 @@
 """Design optimizer: Optuna multi-objective search over per-segment materials.
 
 Searches leg designs (per-segment density and modulus, or catalogue
-materials: :mod:`mat_hopper.optimize_space`) for low tracking error and
+materials: :mod:`mat_hopper.optimize._space`) for low tracking error and
 low hip power under a hop-height and a stability constraint
-(:mod:`mat_hopper.optimize_objective`). Every study starts from the
+(:mod:`mat_hopper.optimize._objective`). Every study starts from the
 paper's designs SS, rho-inc and PVC-Ti-SS (enqueued first).
 
 Command line::
@@ -20,7 +20,7 @@ re-running the same command resumes an interrupted study and does
 nothing for a finished one. Trials whose worker died are failed and
 re-enqueued; their retries count, they do not.
 
-Storage (:mod:`mat_hopper.optimize_storage`): by default one SQLite file
+Storage (:mod:`mat_hopper.optimize._storage`): by default one SQLite file
 per study, ``studies/<name>.db``; ``--storage postgresql://...`` for many
 machines (run the same command on each; give each machine its own
 ``--seed``); ``--storage journal:///shared/path/x.log`` for a shared file
@@ -62,10 +62,10 @@ import optuna
 from optuna.trial import TrialState
 from tqdm.std import tqdm
 
-from .experiments import PROFILES, get_profile
-from .optimize_objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
-from .optimize_space import KINDS, SearchSpace
-from .optimize_storage import (ERROR_ATTR, PAPER_ATTR, WORKER_ATTR, check_study_name, default_url,
+from ..experiments.paper import PROFILES, get_profile
+from ._objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
+from ._space import KINDS, SearchSpace
+from ._storage import (ERROR_ATTR, PAPER_ATTR, WORKER_ATTR, check_study_name, default_url,
                                open_storage, recover_dead, redact, storage_file, worker_identity)
 
 SAMPLERS = ("tpe", "nsga2", "gp")
@@ -339,7 +339,7 @@ def _start_method() -> str:
 def _warm_up() -> None:
     """Load the compiled rollout (numba's on-disk cache, about 0.6 s) once
     here, so that forked workers start with it."""
-    from .sim import SimSettings, simulate
+    from ..sim import SimSettings, simulate
     simulate("SS", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
 
 
@@ -529,7 +529,7 @@ def open_existing(name: str, args):
 
 def cmd_optimize(args) -> int:
     if args.report or args.replay is not None:
-        from .optimize_report import cmd_report, cmd_replay
+        from .report import cmd_report, cmd_replay
         name = args.report or args.study
         if not name:
             raise ValueError("--replay TRIAL needs --study NAME (or --report NAME)")
@@ -590,12 +590,12 @@ def register_cli(sub) -> None:
     p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
     p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
     p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")
-    p.add_argument("--render", action="store_true", help="with --replay: also render it (mat_hopper.render)")
+    p.add_argument("--render", action="store_true", help="with --replay: also render it (mat_hopper.viz.render)")
     p.set_defaults(func=cmd_optimize)
 
 
 def _main(argv=None) -> int:
-    from .cli import main
+    from ..cli import main
     return main(["optimize", *(sys.argv[1:] if argv is None else argv)])
 
 

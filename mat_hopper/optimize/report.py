@@ -21,7 +21,7 @@
 ``--replay TRIAL`` rebuilds the trial's design from its parameters and
 simulates it again with the study's settings (bit-identical to the stored
 values, by the determinism of the simulator); with ``--render`` it also
-calls ``mat-hopper render`` on it when :mod:`mat_hopper.render` exists.
+calls ``mat-hopper render`` on it when :mod:`mat_hopper.viz.render` exists.
 """
 
 from __future__ import annotations
@@ -34,12 +34,12 @@ import optuna
 import pandas as pd
 from optuna.trial import TrialState
 
-from .atomic import atomic_path, write_csv
-from .materials import LegDesign, paper_designs
-from .optimize import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
-from .optimize_objective import CONSTRAINTS, OBJECTIVES, evaluate
-from .optimize_space import describe, resample
-from .optimize_storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
+from ..atomic import atomic_path, write_csv
+from ..materials import LegDesign, paper_designs
+from ._study import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
+from ._objective import CONSTRAINTS, OBJECTIVES, evaluate
+from ._space import describe, resample
+from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
 
 BASELINES = ("SS", "rho-inc")
 HV_MARGIN = 0.1
@@ -360,7 +360,7 @@ def cmd_replay(name: str, storage, args) -> int:
 def _render(design: LegDesign, config: StudyConfig, args) -> int:
     """Gait tiles and a 10 s video of the replayed design on each behaviour,
     in --out or the studies folder: <study>-trial<N>-<behaviour>-*."""
-    from .cli import main
+    from ..cli import main
     dens = ",".join(repr(float(m.density_g_cm3)) for m in design.segments)
     mods = ",".join("rigid" if m.modulus_gpa is None else repr(float(m.modulus_gpa)) for m in design.segments)
     folder = args.out or args.studies_dir

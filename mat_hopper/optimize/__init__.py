@@ -1,0 +1,1 @@
+"""Design optimization with Optuna (multi-objective: tracking error and hip power)."""
