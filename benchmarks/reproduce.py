@@ -23,8 +23,9 @@ import os
 import tempfile
 import time
 
+from mat_hopper.experiments.paper import get_experiment, parse_experiments
+from mat_hopper.experiments.profiles import get_profile
 from mat_hopper.experiments.reproduce import reproduce
-from mat_hopper.experiments.paper import get_experiment, get_profile, parse_experiments
 from mat_hopper.experiments.runner import default_workers
 
 

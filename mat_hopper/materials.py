@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Sequence
 
 from . import reference as ref
 
@@ -160,6 +160,23 @@ def spring_stiffness(modulus_gpa: float, convention: str = DEFAULT_CONVENTION,
     return e * 1e9 * area / segment_length(n_segments)
 
 
+def capsule_volume_m3(radius_m: float, length_m: float) -> float:
+    """Volume in m^3 of a capsule: a cylinder of `length_m` with a
+    hemispherical cap of `radius_m` at each end, V = pi r^2 L + 4/3 pi r^3."""
+    return math.pi * radius_m**2 * length_m + 4.0 / 3.0 * math.pi * radius_m**3
+
+
+def segment_masses(design: LegDesign) -> tuple[float, ...]:
+    """Mass in kg of each material segment of a design, m = rho V, base to
+    foot, as the model builds it: two half capsules of radius 0.025 m, each
+    half a segment long (0.3 m of material split evenly), end caps
+    included. The rest of the robot (base, hip stub, foot) is in
+    :mod:`mat_hopper.model`; MuJoCo's total is ``build_model(d).total_mass_kg``."""
+    half = segment_length(design.n_segments) / 2.0
+    v_half = capsule_volume_m3(ref.MATERIAL_RADIUS, half)
+    return tuple(2.0 * v_half * m.density_kg_m3 for m in design.segments)
+
+
 # --- leg designs -----------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -193,7 +210,7 @@ class LegDesign:
         return tuple(s.modulus_gpa for s in self.segments)
 
     @classmethod
-    def mono(cls, mat: Material | str, n_segments: int = ref.REFERENCE_SEGMENTS) -> "LegDesign":
+    def mono(cls, mat: Material | str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesign:
         """A homogeneous leg of one material."""
         m = material(mat) if isinstance(mat, str) else mat
         n = int(n_segments)
@@ -203,7 +220,7 @@ class LegDesign:
 
     @classmethod
     def from_properties(cls, densities_g_cm3: Sequence[float],
-                        moduli_gpa: Sequence[float | None], name: str = "") -> "LegDesign":
+                        moduli_gpa: Sequence[float | None], name: str = "") -> LegDesign:
         """A leg from per-segment densities (g/cm^3) and moduli (GPa, None = rigid)."""
         dens, mods = list(densities_g_cm3), list(moduli_gpa)
         if len(mods) == 1 and len(dens) > 1:

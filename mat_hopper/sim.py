@@ -32,9 +32,20 @@ import numba
 import numpy as np
 
 from . import reference as ref
-from .behaviours import Behaviour, behaviour as get_behaviour, desired_state
-from .control import (OUT_SIZE, S_LAST_HEIGHT, S_THRUST, S_PHASE, ControllerSettings,
-                      controller_step, initial_state, LIFTOFF, TOUCHDOWN, euler_zyx)
+from .behaviours import Behaviour, desired_state
+from .behaviours import behaviour as get_behaviour
+from .control import (
+    LIFTOFF,
+    OUT_SIZE,
+    S_LAST_HEIGHT,
+    S_PHASE,
+    S_THRUST,
+    TOUCHDOWN,
+    ControllerSettings,
+    controller_step,
+    euler_zyx,
+    initial_state,
+)
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention, parse_design
 from .model import HopperModel, build_model
 from .perturbations import NO_PUSH, Perturbation
@@ -71,7 +82,7 @@ _LIB = _libmujoco()
 _log = logging.getLogger("mat_hopper.mujoco")
 
 
-def _route_mujoco_warnings() -> None:
+def route_mujoco_warnings() -> None:
     """Send MuJoCo's warnings to logging instead of stderr and a
     MUJOCO_LOG.TXT in the working folder. Divergence is detected and
     reported by the rollout itself; a user's own handler is left alone."""
@@ -79,7 +90,6 @@ def _route_mujoco_warnings() -> None:
         mujoco.set_mju_user_warning(lambda msg: _log.debug("MuJoCo: %s", msg))
 
 
-_route_mujoco_warnings()
 _STEP_PROTO = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
 MJ_STEP = _STEP_PROTO(("mj_step", _LIB))
 MJ_STEP1 = _STEP_PROTO(("mj_step1", _LIB))
@@ -444,16 +454,16 @@ class RolloutRunner:
         return r
 
 
-def simulate(design, behaviour, duration: float = ref.DURATION_S, timestep: float = ref.TIMESTEP_S, *,
-             transient: float = ref.TRANSIENT_S, convention: str = DEFAULT_CONVENTION,
+def simulate(design, behaviour, duration_s: float = ref.DURATION_S, timestep_s: float = ref.TIMESTEP_S, *,
+             transient_s: float = ref.TRANSIENT_S, convention: str = DEFAULT_CONVENTION,
              controller: ControllerSettings | None = None,
              record_rate_hz: float = DEFAULT_RECORD_RATE_HZ, record_qpos: bool = False,
              perturbation: Perturbation | None = None, settings: SimSettings | None = None) -> Rollout:
-    """Run a design on a behaviour for `duration` simulated seconds.
+    """Run a design on a behaviour for `duration_s` simulated seconds.
 
     design: a LegDesign or a name (``"SS"``, ``"PVC-Ti-SS"``, ``"rho-inc"``);
     behaviour: a Behaviour or ``"static"``, ``"forward"``, ``"ramp"``,
-    ``"circle"``; timestep in s; transient in s (hop cycles before it are
+    ``"circle"``; timestep_s: physics time step, s; transient_s: s (hop cycles before it are
     not scored; the run must outlast it); convention ``"paper"`` or
     ``"axial"``; record_rate_hz: samples per simulated second (1 kHz);
     record_qpos: also keep all joint positions (``Rollout.qpos``) for
@@ -461,7 +471,7 @@ def simulate(design, behaviour, duration: float = ref.DURATION_S, timestep: floa
     Divergence never raises: see :attr:`Rollout.stable`.
     """
     if settings is None:
-        settings = SimSettings(duration_s=duration, timestep_s=timestep, transient_s=transient,
+        settings = SimSettings(duration_s=duration_s, timestep_s=timestep_s, transient_s=transient_s,
                                convention=convention, record_rate_hz=record_rate_hz,
                                controller=controller or ControllerSettings(), perturbation=perturbation)
     return RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()

@@ -1,6 +1,6 @@
 """The largest stable time step of a design, measured and estimated.
 
-Measured (the spec's criterion). A time step is *stable* for a design when
+Measured (the reference hopper's criterion, docs/reference-hopper.md). A time step is *stable* for a design when
 2 s of static hopping at that step (transient 0) end with no NaN or inf,
 every |qacc| <= 1e6 and the base above 0.1 m: :attr:`Rollout.upright`.
 
@@ -19,7 +19,7 @@ every |qacc| <= 1e6 and the base above 0.1 m: :attr:`Rollout.upright`.
   first stable step from above on its coarse ladder, so a stable island
   above the first unstable step is missed, and an unstable pocket inside
   the final bracket is not seen.
-- :func:`spec_scan`: the spec's own protocol, the first stable step of 20
+- :func:`spec_scan`: the reference protocol (docs/reference-hopper.md), the first stable step of 20
   log-spaced steps from 1e-3 down to 1e-5 s (nan if none). Beside the
   bisection it tests the monotonicity assumption (:func:`scan_consistent`).
 
@@ -57,8 +57,8 @@ import pandas as pd
 import scipy.linalg
 
 from . import reference as ref
-from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
 from .experiments.runner import design_key, hash_key, versions
+from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
 
 DT_MAX_S = 1e-2
 DT_MIN_S = 1e-6
@@ -75,7 +75,7 @@ SPEC_SCAN_N = 20
 def try_timestep(design: LegDesign, timestep_s: float, *, duration_s: float = ref.STABILITY_TEST_DURATION_S,
                  convention: str = DEFAULT_CONVENTION) -> dict:
     """Static hopping for duration_s at timestep_s (transient 0): a dict
-    with dt_s, stable (no divergence), upright (the spec's criterion),
+    with dt_s, stable (no divergence), upright (the criterion of docs/reference-hopper.md),
     diverged_at_s (nan if none) and final_base_z_m."""
     from .sim import C, SimSettings, simulate
     settings = SimSettings(duration_s=duration_s, timestep_s=timestep_s, transient_s=0.0, convention=convention)
@@ -137,7 +137,7 @@ def spec_scan(design: LegDesign, *, first: float = ref.STABILITY_TIMESTEP_RANGE[
               last: float = ref.STABILITY_TIMESTEP_RANGE[1], n: int = SPEC_SCAN_N,
               duration_s: float = ref.STABILITY_TEST_DURATION_S, convention: str = DEFAULT_CONVENTION,
               tries: list | None = None) -> float:
-    """The spec's protocol: the first stable of n log-spaced steps from
+    """The reference protocol (docs/reference-hopper.md): the first stable of n log-spaced steps from
     `first` down to `last` (s); nan when none is stable."""
     tries = [] if tries is None else tries
     for dt in np.geomspace(first, last, int(n)):
@@ -152,7 +152,7 @@ def spec_scan(design: LegDesign, *, first: float = ref.STABILITY_TIMESTEP_RANGE[
 def scan_consistent(dt_stable: float, dt_unstable: float, dt_spec: float, *,
                     first: float = ref.STABILITY_TIMESTEP_RANGE[0], last: float = ref.STABILITY_TIMESTEP_RANGE[1],
                     n: int = SPEC_SCAN_N) -> bool:
-    """Whether the spec scan's answer fits the bisection's bracket if
+    """Whether the reference scan's answer fits the bisection's bracket if
     stability were monotone in the step: no ladder step >= dt_unstable is
     stable, and no ladder step <= dt_stable is passed over."""
     ladder = np.geomspace(first, last, int(n))
@@ -217,6 +217,7 @@ def controller_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
     feedback, I (kg m^2) the base's smallest moment of inertia about a
     horizontal axis through its origin (the hip), from the compiled model."""
     import mujoco
+
     from .model import build_model
     m = build_model(design, convention=convention).model
     b = m.body("base").id
@@ -246,7 +247,7 @@ class StabilitySpec:
     """Stable-time-step measurement of one design (a runner task).
 
     duration_s of static hopping per try; bisection in [dt_min, dt_max] s
-    to `tolerance` in at most `max_iter` tries; `scan`: also run the spec's
+    to `tolerance` in at most `max_iter` tries; `scan`: also run the reference (docs/reference-hopper.md)
     20-step protocol."""
 
     design: LegDesign
@@ -314,8 +315,8 @@ class StabilitySpec:
 
 
 def stability_grid(size: int = ref.STABILITY_GRID_SIZE) -> tuple[np.ndarray, np.ndarray]:
-    """The spec's map axes: densities (g/cm^3) and moduli (GPa), log-spaced
-    over the spec's ranges and rounded to 0.1, `size` values each."""
+    """The map axes of docs/reference-hopper.md: densities (g/cm^3) and moduli
+    (GPa), log-spaced over its ranges and rounded to 0.1, `size` values each."""
     size = int(size)
     if size < 1:
         raise ValueError(f"stability grid size must be >= 1, got {size!r}")
@@ -337,7 +338,7 @@ def agreement(table: pd.DataFrame) -> pd.DataFrame:
     Pearson r and least-squares slope of log(measured) on log(estimate),
     median and range of measured / estimate, the fractions within a factor
     2 and with the estimate inside the measured bracket [max_stable,
-    unstable); and the fraction where the spec scan fits the bracket.
+    unstable); and the fraction where the reference scan ("spec scan") fits the bracket.
     Columns: estimate, quantity, value."""
     rows = []
     for name, col in ESTIMATES.items():

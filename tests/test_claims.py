@@ -1,10 +1,10 @@
 import numpy as np
 import pandas as pd
 import pytest
+from synthetic_results import results, stability_table
 
 from mat_hopper import reference as ref
 from mat_hopper.analysis import claims
-from synthetic_results import results, stability_table
 
 
 def _verdicts(table, convention="paper"):

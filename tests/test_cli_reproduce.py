@@ -6,8 +6,8 @@ import pandas as pd
 import pytest
 
 from mat_hopper.cli import main
+from mat_hopper.experiments.profiles import Profile
 from mat_hopper.experiments.reproduce import reproduce
-from mat_hopper.experiments.paper import Profile
 
 TINY = Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5, stability_tolerance=1.5, stability_scan=False)
 

@@ -5,8 +5,15 @@ import math
 import pytest
 
 from mat_hopper import reference as ref
-from mat_hopper.experiments.paper import (EXPERIMENT_NAMES, PROFILE_ENV, Profile, experiment_1, experiment_2,
-                                    experiment_3, get_experiment, get_profile, parse_experiments)
+from mat_hopper.experiments.paper import (
+    EXPERIMENT_NAMES,
+    experiment_1,
+    experiment_2,
+    experiment_3,
+    get_experiment,
+    parse_experiments,
+)
+from mat_hopper.experiments.profiles import PROFILE_ENV, Profile, get_profile
 from mat_hopper.perturbations import Perturbation
 from mat_hopper.stability import stability_grid
 

@@ -19,18 +19,27 @@ import warnings
 
 import numpy as np
 import optuna
+import pandas as pd
 import pytest
 from optuna.trial import TrialState
 
 from mat_hopper.cli import main
+from mat_hopper.experiments.profiles import Profile
 from mat_hopper.materials import LegDesign, paper_designs
-from mat_hopper.optimize._study import (RunOptions, StudyConfig, check_sampler, counts, create_or_load,
-                                 make_sampler, run_study, worker_seed)
-from mat_hopper.experiments.paper import Profile
 from mat_hopper.optimize._objective import Objective, evaluate
-from mat_hopper.optimize.report import hypervolume_2d, nondominated, replay, write_report
-from mat_hopper.optimize._space import (DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample)
+from mat_hopper.optimize._space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample
 from mat_hopper.optimize._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR, open_storage
+from mat_hopper.optimize._study import (
+    RunOptions,
+    StudyConfig,
+    check_sampler,
+    counts,
+    create_or_load,
+    make_sampler,
+    run_study,
+    worker_seed,
+)
+from mat_hopper.optimize.report import hypervolume_2d, pareto_frame, replay, write_report
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
@@ -179,9 +188,21 @@ def test_behaviour_sets_average_and_bad_names():
 
 # --- helpers of the report --------------------------------------------------
 
-def test_nondominated_and_hypervolume():
+def test_pareto_frame_keeps_optunas_front_once_with_percent_changes():
+    # trials 0-2 are Optuna's best_trials; trial 3 repeats trial 0's values (a retried design)
+    frame = pd.DataFrame({"trial": [0, 1, 2, 3, 4], "state": ["COMPLETE"] * 5, "feasible": [True] * 4 + [False],
+                          "design": list("abcde"), "paper_design": [""] * 5,
+                          "tracking_error_m": [1.0, 2.0, 3.0, 1.0, 0.5], "power_w": [3.0, 2.0, 1.0, 3.0, 0.5],
+                          "hop_height_m": [1.0] * 5})
+    front = pareto_frame(frame, {"SS": (2.0, 4.0)}, best=[0, 1, 2, 3])
+    assert front["trial"].tolist() == [0, 1, 2]
+    assert front["tracking_error_vs_SS_pct"].tolist() == [-50.0, 0.0, 50.0]     # (1-2)/2, (2-2)/2, (3-2)/2
+    assert front["power_vs_SS_pct"].tolist() == [-25.0, -50.0, -75.0]           # (3-4)/4, (2-4)/4, (1-4)/4
+    assert pareto_frame(frame, best=[]).empty
+
+
+def test_hypervolume():
     pts = np.array([[1.0, 3.0], [2.0, 2.0], [3.0, 1.0], [2.5, 2.5], [1.0, 3.0]])
-    assert nondominated(pts).tolist() == [True, True, True, False, False]
     # staircase 1x3, 2x2, 3x1 against (4, 4): 3*1 + 2*1 + 1*1 (+ strips) = 6
     assert hypervolume_2d(pts, (4.0, 4.0)) == pytest.approx(6.0)
     assert hypervolume_2d([[5.0, 5.0]], (4.0, 4.0)) == 0.0
@@ -336,6 +357,7 @@ def _cli(*args, **kw):
                           capture_output=True, text=True, timeout=120, **kw)
 
 
+@pytest.mark.slow
 def test_postgres_two_workers_then_a_third_process_resumes(pg_url):
     name = "pg"
     res = run_study(tiny_config(name), RunOptions(trials=6, workers=2, storage=pg_url, progress=False))
@@ -367,6 +389,7 @@ def _wait_running(url, name, exclude=(), timeout=60.0):
     raise AssertionError("no trial started")
 
 
+@pytest.mark.slow
 def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
     name = "kill"
     config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
@@ -394,6 +417,7 @@ def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
     assert not [t for t in ts if t.state in (TrialState.RUNNING, TrialState.WAITING)]
 
 
+@pytest.mark.slow
 def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
     """Coordinator and worker both SIGKILLed (a machine lost): Optuna's
     heartbeat marks the trial failed and our callback enqueues it again;

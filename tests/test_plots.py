@@ -3,12 +3,13 @@ import pandas as pd
 import pytest
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon
+from synthetic_results import results, stability_table
 
 from mat_hopper.analysis import stats
-from mat_hopper.viz import figures as plots
 from mat_hopper.materials import CATALOGUE
 from mat_hopper.sim import simulate
-from synthetic_results import results, stability_table
+from mat_hopper.viz import figures as plots
+from mat_hopper.viz import maps, style
 
 
 @pytest.fixture(scope="module")
@@ -22,17 +23,17 @@ def _stars(fig) -> int:
 
 
 def test_save_figure_png_and_svg_atomic_and_deterministic(tmp_path):
-    fig = plots.ashby_figure()
-    paths = plots.save_figure(fig, tmp_path / "sub" / "ashby.png", dpi=60)       # a suffix is dropped
+    fig = maps.ashby_figure()
+    paths = style.save_figure(fig, tmp_path / "sub" / "ashby.png", dpi=60)       # a suffix is dropped
     assert [p.name for p in paths] == ["ashby.png", "ashby.svg"]
     assert paths[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     svg = paths[1].read_bytes()
     assert svg.lstrip().startswith(b"<?xml") and b"<svg" in svg
-    again = plots.save_figure(plots.ashby_figure(), tmp_path / "again", dpi=60)
+    again = style.save_figure(maps.ashby_figure(), tmp_path / "again", dpi=60)
     assert [p.read_bytes() for p in again] == [p.read_bytes() for p in paths]   # same figure, same files
     assert not [p for p in (tmp_path / "sub").iterdir() if p.name.startswith(".tmp-")]
     with pytest.raises(ValueError, match="formats"):
-        plots.save_figure(fig, tmp_path / "x", formats=("jpg",))
+        style.save_figure(fig, tmp_path / "x", formats=("jpg",))
 
 
 def test_figure4_mono_stars_follow_the_comparison(tables):
@@ -58,7 +59,7 @@ def test_figure4_mono_leaves_out_diverged_runs(tables):
     runs.loc[bad, ["stable", "status"]] = [False, "diverged"]
     fig = plots.figure4_mono(hops[hops["experiment"] == "exp1"], runs=runs)
     labels = [t.get_text() for t in fig.legends[0].get_texts()]
-    assert any(l.startswith("not shown: SS ramp (unstable") for l in labels)
+    assert any(t.startswith("not shown: SS ramp (unstable") for t in labels)
 
 
 def test_figure4_sweeps_with_baseline_and_diverged_points(tables):
@@ -85,7 +86,7 @@ def test_figure5_gradients(tables):
 
 
 def test_figure5_timeseries_from_rollouts():
-    rollouts = [simulate(d, b, duration=3, transient=1) for d in ("MD", "SS") for b in ("forward", "ramp")]
+    rollouts = [simulate(d, b, duration_s=3, transient_s=1) for d in ("MD", "SS") for b in ("forward", "ramp")]
     fig = plots.figure5_timeseries(rollouts)
     assert len(fig.axes) == 6 and fig.axes[0].get_title() == "Forward hopping"
     assert all(len(ax.lines) == 2 for ax in fig.axes)
@@ -96,21 +97,21 @@ def test_figure5_timeseries_from_rollouts():
 def test_stability_figure_both_column_names_and_unstable_cells():
     s = stability_table(size=5)
     s.loc[0, "max_stable_timestep_s"] = np.nan                      # no tried step stable
-    fig = plots.stability_figure(s)
+    fig = maps.stability_figure(s)
     assert fig.axes[0].get_xlabel() == "Density (g/cm³)" and fig.axes[0].get_yscale() == "log"
     stab_a = s.rename(columns={"max_stable_timestep_s": "dt_stable_s", "analytic_timestep_s": "dt_estimate_s"})
-    assert isinstance(plots.stability_figure(stab_a), Figure)
+    assert isinstance(maps.stability_figure(stab_a), Figure)
     with pytest.raises(ValueError, match="conventions"):
-        plots.stability_figure(pd.concat([s, s.assign(convention="axial")]))
+        maps.stability_figure(pd.concat([s, s.assign(convention="axial")]))
     with pytest.raises(ValueError, match="modulus_gpa"):
-        plots.stability_figure(s.drop(columns="modulus_gpa"))
+        maps.stability_figure(s.drop(columns="modulus_gpa"))
 
 
 def test_ashby_figure_regions_and_points():
-    fig = plots.ashby_figure()
+    fig = maps.ashby_figure()
     ax = fig.axes[0]
     assert ax.get_xscale() == ax.get_yscale() == "log"
-    assert sum(isinstance(p, Polygon) for p in ax.patches) == len(plots.CLASS_REGIONS)
+    assert sum(isinstance(p, Polygon) for p in ax.patches) == len(maps.CLASS_REGIONS)
     n_points = sum(len(c.get_offsets()) for c in ax.collections)
     assert n_points == sum(m.modulus_gpa is not None for m in CATALOGUE.values())
 

@@ -4,21 +4,34 @@ colours by material, and a named error when no GL library exists."""
 import imageio.v3 as iio
 import numpy as np
 import pytest
-
 from conftest import run_python
+
 from mat_hopper.behaviours import behaviour
 from mat_hopper.materials import parse_design
-from mat_hopper.viz.render import (Camera, OffscreenRenderer, RenderBackendError, choose_backend,
-                               density_color, gait_tiles, parse_size, render_frames, render_spec,
-                               render_still, save_video, standing_qpos, video_frames, write_video)
 from mat_hopper.sim import simulate
+from mat_hopper.viz.render import (
+    Camera,
+    OffscreenRenderer,
+    RenderBackendError,
+    choose_backend,
+    density_color,
+    gait_tiles,
+    parse_size,
+    render_frames,
+    render_spec,
+    render_still,
+    save_video,
+    standing_qpos,
+    video_frames,
+    write_video,
+)
 
 SIZE = (160, 120)
 
 
 @pytest.fixture(scope="module")
 def rollout():
-    return simulate("rho-inc", "ramp", duration=1.5, transient=0.0, record_qpos=True)
+    return simulate("rho-inc", "ramp", duration_s=1.5, transient_s=0.0, record_qpos=True)
 
 
 def test_frames_have_shape_and_show_the_hopper(rollout):
@@ -86,7 +99,7 @@ def test_bad_input(tmp_path, rollout):
     with pytest.raises(ValueError, match="unknown file type '.avi'"):
         save_video("SS", "forward", str(tmp_path / "a.avi"))
     with pytest.raises(ValueError, match="record_qpos"):
-        render_frames(simulate("SS", "static", duration=0.2, transient=0.0), [0.1])
+        render_frames(simulate("SS", "static", duration_s=0.2, transient_s=0.0), [0.1])
     assert list(tmp_path.iterdir()) == []
 
 

@@ -13,13 +13,14 @@ import pandas as pd
 import pytest
 
 import mat_hopper
-from mat_hopper.experiments import runner
 from mat_hopper.behaviours import behaviour
 from mat_hopper.control import ControllerSettings
-from mat_hopper.experiments.paper import Profile, experiment_1
+from mat_hopper.experiments import runner
+from mat_hopper.experiments.paper import experiment_1
+from mat_hopper.experiments.profiles import Profile
+from mat_hopper.experiments.runner import TEMP_PREFIX, Cache, Runner, RunSpec, run_grid
 from mat_hopper.materials import LegDesign, parse_design
 from mat_hopper.perturbations import Perturbation
-from mat_hopper.experiments.runner import TEMP_PREFIX, Cache, RunSpec, Runner, run_grid
 from mat_hopper.sim import SimSettings
 
 SHORT = SimSettings(duration_s=2.5, timestep_s=1e-4, transient_s=0.5)
@@ -142,7 +143,8 @@ def test_process_pool_matches_in_process(tmp_path):
 
 KILL_SCRIPT = textwrap.dedent("""
     import sys
-    from mat_hopper.experiments.paper import Profile, experiment_1
+    from mat_hopper.experiments.profiles import Profile
+    from mat_hopper.experiments.paper import experiment_1
     from mat_hopper.experiments.runner import run_grid
     if __name__ == "__main__":
         tasks = experiment_1().tasks(Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5))[:8]
@@ -151,6 +153,7 @@ KILL_SCRIPT = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow
 def test_resume_after_sigkill_computes_only_what_is_missing(tmp_path):
     cache = tmp_path / "cache"
     script = tmp_path / "grid.py"

@@ -10,8 +10,17 @@ import pytest
 from mat_hopper import reference as ref
 from mat_hopper.materials import LegDesign, parse_design, spring_stiffness
 from mat_hopper.model import build_model
-from mat_hopper.stability import (StabilitySpec, agreement, controller_timestep, estimate_timestep, largest_stable_timestep, leg_chain,
-                                  scan_consistent, spring_chain_wmax, try_timestep)
+from mat_hopper.stability import (
+    StabilitySpec,
+    agreement,
+    controller_timestep,
+    estimate_timestep,
+    largest_stable_timestep,
+    leg_chain,
+    scan_consistent,
+    spring_chain_wmax,
+    try_timestep,
+)
 
 
 def test_spring_chain_matches_closed_forms():

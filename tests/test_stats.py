@@ -39,7 +39,7 @@ def test_compare_hops_holm_per_family():
                              "Al": rng.normal(1, 0.05, 25)}, convention=conv, experiment="exp1"))
     c = stats.compare_hops(pd.concat(parts), "MD", metrics=("tracking_error_m",))
     assert set(c["basis"]) == {"hops"}
-    for conv, fam in c.groupby("convention"):
+    for _, fam in c.groupby("convention"):
         np.testing.assert_allclose(fam["p_holm"], metrics.holm(fam["p"]))   # one Holm family per convention
         assert (fam["p_holm"] >= fam["p"]).all()
     paper_ss = c[(c["convention"] == "paper") & (c["design"] == "SS")].iloc[0]
@@ -108,7 +108,7 @@ def test_bad_input_names_the_field():
 def test_static_hopping_needs_replicates():
     """The module doc's claim: unperturbed in-place hopping has no lateral
     motion (tracking error exactly 0); a replicate's perturbation gives some."""
-    still = metrics.hop_table(simulate("SS", "static", duration=4, transient=1))
+    still = metrics.hop_table(simulate("SS", "static", duration_s=4, transient_s=1))
     assert len(still) >= 2 and (still["tracking_error_m"] == 0.0).all()
-    moved = metrics.hop_table(simulate("SS", "static", duration=4, transient=1, perturbation=Perturbation.replicate(0)))
+    moved = metrics.hop_table(simulate("SS", "static", duration_s=4, transient_s=1, perturbation=Perturbation.replicate(0)))
     assert len(moved) >= 2 and (moved["tracking_error_m"] > 1e-4).all()

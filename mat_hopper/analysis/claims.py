@@ -51,18 +51,18 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 import pandas as pd
 
-from ..atomic import write_text
 from .. import reference as ref
-from . import stats as _stats
-from .stats import seconds
+from ..atomic import write_text
 from ..behaviours import BEHAVIOUR_NAMES
 from ..materials import CATALOGUE, CONVENTIONS
+from . import stats as _stats
+from .stats import seconds
 
 HOLDS, PARTLY, FAILS, NOT_RUN, NOT_TESTABLE = "holds", "partly", "does not hold", "not run", "not testable"
 VERDICTS = (HOLDS, PARTLY, FAILS, NOT_RUN, NOT_TESTABLE)
@@ -132,7 +132,7 @@ class Claim:
     claim: str
     paper: str
     rule: str
-    evaluate: Callable[["_Context"], Outcome]
+    evaluate: Callable[[_Context], Outcome]
 
 
 # --- the results of one convention -----------------------------------------------------

@@ -37,7 +37,7 @@ start offset, half a degree of tilt, one gentle push, sensor noise), and
 they are how the book can still say something about in-place hopping, and
 about any difference between designs that is larger than run-to-run noise.
 
-Round-off. Values smaller in magnitude than ``ROUNDOFF_ATOL`` (1e-9 in SI
+Round-off. Values smaller in magnitude than ``ROUNDOFF`` (1e-9 in SI
 units: 1 nm, 1 nW) count as exactly zero in every comparison. Unperturbed
 static hopping gives MD a tracking error of 1e-17 m (round-off) and SS
 exactly 0.0 m; compared as they are, a rank test calls that difference
@@ -59,6 +59,8 @@ import pandas as pd
 
 from .. import metrics as _metrics
 from ..metrics import ALL_METRICS, METRICS
+from .change import ROUNDOFF, percent_change
+
 
 def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alpha: float):
     """metrics.compare per family and metric (one Holm correction each),
@@ -70,7 +72,7 @@ def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alph
             continue
         for m in metrics:
             v = pd.to_numeric(g[m], errors="coerce").astype(float)
-            g = g.assign(**{m: v.where(~(v.abs() < ROUNDOFF_ATOL), 0.0)})
+            g = g.assign(**{m: v.where(~(v.abs() < ROUNDOFF), 0.0)})
             res = _metrics.compare(g, baseline, by=by, metrics=(m,), alpha=alpha)
             for k, v in reversed(fam.items()):
                 res.insert(0, k, v)
@@ -85,18 +87,7 @@ FAMILY_COLUMNS = ("experiment", "profile", "convention")
 RUN_COLUMNS = FAMILY_COLUMNS + ("design", "behaviour", "replicate")
 SWEEP_COLUMNS = ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa")
 UNPERTURBED = -1          # replicate id of the unperturbed run
-ROUNDOFF_ATOL = 1e-9      # SI units: |values| below this count as exactly 0 in comparisons
 BASES = ("hops", "replicates")
-
-
-def percent_change(value, baseline):
-    """100 (value - baseline) / |baseline| in %, nan where the baseline is 0
-    or not finite. Works elementwise on arrays."""
-    v = np.asarray(value, dtype=float)
-    b = np.asarray(baseline, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.where((b != 0) & np.isfinite(b), 100.0 * (v - b) / np.abs(b), np.nan)
-    return float(out) if out.ndim == 0 else out
 
 
 def _present(table: pd.DataFrame, columns) -> list[str]:

@@ -1,7 +1,11 @@
-"""The ``mat-hopper`` command line.
+"""The ``mat-hopper`` command line (also ``python -m mat_hopper``).
 
-Each feature module adds its own subcommand through ``register_cli``;
-this module only gathers them and turns bad input into a one-line error
+All argparse code lives in this package: one module per subcommand
+(:mod:`~mat_hopper.cli.simulate`, :mod:`~mat_hopper.cli.reproduce`,
+:mod:`~mat_hopper.cli.optimize`, :mod:`~mat_hopper.cli.render`), each with
+``register_cli(subparsers)``, over the library's public calls. Nothing
+outside ``cli`` imports it. This module gathers the subcommands, routes
+MuJoCo's warnings to logging, and turns bad input into a one-line error
 with exit code 2.
 """
 
@@ -14,9 +18,9 @@ import sys
 # Modules that contribute subcommands (each defines register_cli(subparsers)).
 COMMAND_MODULES = (
     "mat_hopper.cli.simulate",
-    "mat_hopper.experiments.reproduce",
-    "mat_hopper.optimize._study",
-    "mat_hopper.viz.render",
+    "mat_hopper.cli.reproduce",
+    "mat_hopper.cli.optimize",
+    "mat_hopper.cli.render",
 )
 
 
@@ -36,6 +40,9 @@ class UsageError(ValueError):
 
 
 def main(argv=None) -> int:
+    from ..sim import route_mujoco_warnings
+
+    route_mujoco_warnings()
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import math
 
-
 from .. import reference as ref
 from ..atomic import write_csv
 from ..behaviours import BEHAVIOUR_NAMES, behaviour

@@ -1,134 +1,43 @@
-"""The paper's four experiments, as data, and the run profiles.
+"""The paper's four experiments, as data (run profiles:
+:mod:`mat_hopper.experiments.profiles`).
 
 An experiment is designs x behaviours x settings, nothing more; the runner
 (:mod:`mat_hopper.experiments.runner`) turns it into cached, parallel runs. Every
 number comes from :mod:`mat_hopper.reference`.
 
 - ``exp1``: mono-materials MD, PVC, Al, Ti, SS x the four behaviours (20 runs).
-- ``exp2``: one property at a time around PVC, Al, Ti and SS (the spec's
-  sweeps: 36 points), forward hopping; each point is compared with its base
+- ``exp2``: one property at a time around PVC, Al, Ti and SS (the sweeps
+  of docs/reference-hopper.md: 36 points), forward hopping; each point is compared with its base
   material (the sweep point whose value is the base material's own).
 - ``exp3``: gradients rho-inc, rho-dec, PVC-Ti-SS, SS-Ti-PVC x four
   behaviours (16 runs), beside the baselines MD and SS (8 runs, the very
   runs of exp1: the cache holds them once).
-- ``stability``: the stable time step over the spec's density x modulus
+- ``stability``: the stable time step over the density x modulus
   grid (20 x 20 in the paper profile), see :mod:`mat_hopper.stability`.
 
-A :class:`Profile` fixes duration, transient and time step of every run,
-and the stability map's size and tries. ``paper`` is the paper's protocol;
-``quick`` is for CI and first looks. ``MAT_HOPPER_PROFILE`` picks the
-default. Results carry a ``profile`` column.
+The book's extra checks run through the same runner: the stable time step
+under both stiffness conventions (:func:`convention_stability`), perturbed
+replicates hopping in place (:func:`in_place_replicates`), the authors'
+wall-clock path (:func:`clock_drift`) and the headline under the axial
+convention (:func:`axial_check`).
 """
 
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, replace
 
+import pandas as pd
+
 from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
-from ..materials import LegDesign, Material, check_convention, paper_designs
+from ..behaviours import BEHAVIOUR_NAMES
+from ..behaviours import behaviour as get_behaviour
+from ..materials import CONVENTIONS, LegDesign, Material, paper_designs, parse_design
 from ..perturbations import Perturbation
-from .runner import RunSpec
-from ..sim import SimSettings
+from .profiles import Profile, check_replicates, get_profile
+from .runner import FAILED, RunSpec, run_grid
 
-PROFILE_ENV = "MAT_HOPPER_PROFILE"
 UNPERTURBED = -1
-
-
-# ---------------------------------------------------------------------------
-# profiles
-
-
-def check_replicates(replicates) -> int:
-    if isinstance(replicates, bool) or not isinstance(replicates, int) or replicates < 0:
-        raise ValueError(f"replicates must be an integer >= 0 (runs per design and behaviour), got {replicates!r}")
-    return replicates
-
-
-@dataclass(frozen=True)
-class Profile:
-    """How long and how fine every run of a reproduction is.
-
-    duration_s, transient_s, timestep_s: each hopping run (s);
-    stability_grid_size: the map is size x size designs;
-    stability_duration_s: static hopping per stability try (s);
-    stability_tolerance: bisection stops when the bracket is within this
-    factor; stability_max_iter: bisection tries at most; stability_scan:
-    also run the spec's 20-step protocol; record_rate_hz: samples per
-    simulated second; convention: modulus-to-stiffness convention;
-    axial_timestep_s: the time step (s) of runs under the ``axial``
-    convention, whose springs (k = E A / L, SS 3.8e9 N/m) diverge at the
-    paper's 1e-4 s: every catalogue design is stable at 2e-5 s;
-    book_replicates: perturbed replicate runs per design where the book
-    compares replicates (hopping in place, chapter 6). With n per design
-    the smallest Holm-adjusted p of that family of four comparisons is
-    4 x 2 / C(2n, n): 0.11 at n = 4, 0.032 at n = 5, 0.0087 at n = 6; the
-    paper profile's 6 leaves room below 0.05 for runs that do not
-    separate perfectly, the quick profile's 3 cannot reach it."""
-
-    name: str
-    duration_s: float
-    transient_s: float
-    timestep_s: float = ref.TIMESTEP_S
-    stability_grid_size: int = ref.STABILITY_GRID_SIZE
-    stability_duration_s: float = ref.STABILITY_TEST_DURATION_S
-    stability_tolerance: float = 1.25
-    stability_max_iter: int = 10
-    stability_scan: bool = True
-    record_rate_hz: float = 1000.0
-    convention: str = "paper"
-    axial_timestep_s: float = 2e-5
-    book_replicates: int = 6
-
-    def __post_init__(self):
-        if not isinstance(self.name, str) or not self.name:
-            raise ValueError(f"profile name must be a non-empty string, got {self.name!r}")
-        self.sim_settings()            # validates duration, transient, time step, convention
-        if int(self.stability_grid_size) < 1:
-            raise ValueError(f"stability_grid_size must be >= 1, got {self.stability_grid_size!r}")
-        if not self.stability_duration_s > 0:
-            raise ValueError(f"stability_duration_s must be > 0 s, got {self.stability_duration_s!r}")
-        if not self.stability_tolerance > 1:
-            raise ValueError(f"stability_tolerance must be a factor > 1, got {self.stability_tolerance!r}")
-        check_replicates(self.book_replicates)
-        if int(self.stability_max_iter) < 0:
-            raise ValueError(f"stability_max_iter must be >= 0, got {self.stability_max_iter!r}")
-
-    def for_convention(self, convention: str) -> "Profile":
-        """This profile under another stiffness convention (and its time step)."""
-        check_convention(convention)
-        if convention == self.convention:
-            return self
-        dt = self.axial_timestep_s if convention == "axial" else ref.TIMESTEP_S
-        return replace(self, convention=convention, timestep_s=dt)
-
-    def sim_settings(self, perturbation: Perturbation | None = None) -> SimSettings:
-        return SimSettings(duration_s=self.duration_s, timestep_s=self.timestep_s, transient_s=self.transient_s,
-                           convention=self.convention, record_rate_hz=self.record_rate_hz,
-                           perturbation=perturbation)
-
-
-PROFILES = {
-    "paper": Profile("paper", ref.DURATION_S, ref.TRANSIENT_S, ref.TIMESTEP_S, ref.STABILITY_GRID_SIZE,
-                     ref.STABILITY_TEST_DURATION_S),
-    "quick": Profile("quick", 12.0, 4.0, ref.TIMESTEP_S, 4, 1.0, stability_tolerance=1.5, book_replicates=3),
-}
-
-
-def get_profile(name: str | Profile | None = None) -> Profile:
-    """A profile by name (``paper`` or ``quick``); None: $MAT_HOPPER_PROFILE,
-    else ``paper``. A Profile is returned as is."""
-    if isinstance(name, Profile):
-        return name
-    if name is None:
-        name = os.environ.get(PROFILE_ENV) or "paper"
-    key = str(name).strip().lower()
-    if key not in PROFILES:
-        src = f" (from ${PROFILE_ENV})" if name == os.environ.get(PROFILE_ENV) else ""
-        raise ValueError(f"unknown profile {name!r}{src}; accepted: {', '.join(PROFILES)}")
-    return PROFILES[key]
 
 
 # ---------------------------------------------------------------------------
@@ -303,3 +212,146 @@ def parse_experiments(text: str | None) -> list[str]:
 def get_experiment(name: str) -> Experiment | StabilityMap:
     """An experiment by name (see :func:`experiment_name`)."""
     return EXPERIMENTS[experiment_name(name)]()
+
+
+# ---------------------------------------------------------------------------
+# the book's extra checks (each through the runner: cached, in parallel)
+
+
+def convention_tasks(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
+                     conventions=CONVENTIONS) -> list:
+    """Stable-time-step measurements (runner tasks, cached) of designs
+    (names as :func:`~mat_hopper.materials.parse_design` reads them, or
+    LegDesigns; default the mono-materials) under each convention, with
+    the profile's try
+    length, tolerance and tries (no 20-step reference scan)."""
+    from ..stability import StabilitySpec
+
+    prof = get_profile(profile)
+    out = []
+    for conv in conventions:
+        for n in names:
+            d = parse_design(n) if isinstance(n, str) else n
+            labels = {"experiment": "conventions", "profile": prof.name, "convention": conv, "design": d.name}
+            out.append(StabilitySpec(d, duration_s=prof.stability_duration_s, tolerance=prof.stability_tolerance,
+                                     max_iter=prof.stability_max_iter, scan=False, convention=conv,
+                                     labels=labels))
+    return out
+
+
+def convention_stability(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
+                         conventions=CONVENTIONS, *, cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+    """Largest stable time step per design (see :func:`convention_tasks`)
+    and convention: measured (the bracket [max_stable_timestep_s,
+    unstable_timestep_s] of :mod:`mat_hopper.stability`) and estimated
+    (analytic_timestep_s, 2 / w_max of the leg's spring chain;
+    controller_timestep_s, the limit 2 I / c of the controller's explicit
+    stance attitude damping, the same for every leg), one row each, with
+    the stiffest material spring (material_spring_n_m; nan for the rigid
+    MD leg)."""
+    res = run_grid(convention_tasks(names, profile, conventions), cache_dir, workers=workers, progress=False,
+                   desc="conventions")
+    s = res.summary
+    if (s["status"] == FAILED).any():
+        bad = s[s["status"] == FAILED]
+        raise RuntimeError("stability measurement failed: " + "; ".join(
+            f"{r.design} ({r.convention}): {r.error}" for r in bad.itertuples()))
+    keep = ["design", "convention", "max_material_spring_n_m", "analytic_timestep_s", "controller_timestep_s",
+            "max_stable_timestep_s", "unstable_timestep_s"]
+    out = s[keep].rename(columns={"max_material_spring_n_m": "material_spring_n_m"})
+    return out.reset_index(drop=True)
+
+
+def in_place_replicates(profile: str | Profile | None = None, n: int | None = None, *, behaviour: str = "static",
+                        cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+    """Experiment 1's five legs hopping in place (or on `behaviour`), the
+    unperturbed run and n perturbed replicates each (seeds 0..n-1,
+    :meth:`~mat_hopper.perturbations.Perturbation.replicate`; n from the
+    profile's ``book_replicates`` by default), run or loaded through the
+    result cache. Returns the per-hop table (column ``replicate``, -1 for
+    the unperturbed run), for :func:`mat_hopper.analysis.stats.compare_replicates`."""
+    profile = get_profile(profile)
+    n = profile.book_replicates if n is None else n
+    exp = replace(experiment_1(), behaviours=(behaviour,))
+    res = run_grid(exp.tasks(profile, n), cache_dir, workers=workers, progress=False)
+    if res.n_failed:
+        raise RuntimeError(f"{res.n_failed} replicate run(s) failed: {res.summary['error'].dropna().unique()[:3]}")
+    return res.tables
+
+
+CLOCK_FACTORS = (1.0, 1.5, 2.0)
+
+
+def clock_drift(profile: str | Profile | None = None, designs=("MD", "SS"), factors=CLOCK_FACTORS,
+                behaviour: str = "forward", *, cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+    """What the authors' wall-clock desired path does. Their loop sleeps to
+    stay in real time, so on a machine that simulates r times slower than
+    real time the desired path advances r times faster in simulated time.
+    We emulate that by commanding r times the paper's speed (r = 1: the
+    paper's protocol, our default) under the book's profile, duration and
+    transient unchanged. Runs through the runner (cached in `cache_dir`). One row per
+    design and factor: clock_factor, speed_m_s, status, n_hops,
+    mean_tracking_error_m, mean_power_w."""
+    profile = get_profile(profile)
+    tasks = []
+    for d in designs:
+        design = LegDesign.mono(d) if isinstance(d, str) and d in ref.MONO_MATERIALS else d
+        if isinstance(design, str):
+            design = parse_design(design)
+        for r in factors:
+            if not (isinstance(r, (int, float)) and math.isfinite(r) and r > 0):
+                raise ValueError(f"clock factors must be finite numbers > 0, got {r!r}")
+            beh = get_behaviour(behaviour, speed_m_s=ref.SPEED_M_S * float(r))
+            labels = {"experiment": "clock", "profile": profile.name, "design": design.name,
+                      "behaviour": behaviour, "clock_factor": float(r), "speed_m_s": beh.speed_m_s}
+            tasks.append(RunSpec(design, beh, profile.sim_settings(), labels))
+    res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="clock")
+    s = res.summary
+    if (s["status"] == FAILED).any():
+        raise RuntimeError("clock_drift: runs failed: " + "; ".join(s.loc[s["status"] == FAILED, "error"]))
+    return s[["design", "clock_factor", "speed_m_s", "status", "n_hops", "mean_tracking_error_m",
+              "mean_power_w"]].reset_index(drop=True)
+
+
+def axial_check(profile: str | Profile | None = None, designs=("MD", "SS", "rho-inc"), behaviour: str = "ramp", *,
+                timestep_s: float | None = None, cache_dir=None, workers: int | None = None) -> dict:
+    """The paper's headline comparison under the physical (axial) stiffness
+    convention. The axial springs need a smaller time step: by default the
+    profile's ``axial_timestep_s`` (the step ``mat-hopper reproduce
+    --conventions`` uses; chapter 3 measures the stable steps). Runs, through the
+    runner (cached), every design in three settings: the paper's
+    convention at the profile's step (the runs of experiments 1 and 3),
+    the paper's convention at the small step (what the step alone
+    changes), and the axial convention at the small step (what the
+    convention changes). A rigid leg has no springs, so its small-step run
+    stands for both conventions. Returns {"timestep_s", "hops" (per-hop
+    table with a ``setting`` column, e.g. "paper, dt 0.0001 s",
+    "axial, dt 1e-05 s"), "runs"}."""
+    prof = get_profile(profile)
+    legs = {d: parse_design(d) for d in designs}
+    if timestep_s is None:
+        timestep_s = prof.axial_timestep_s
+    beh = get_behaviour(behaviour)
+    base = prof.sim_settings()
+    small = replace(base, timestep_s=float(timestep_s))
+    axial = replace(small, convention="axial")
+    name = lambda st: f"{st.convention}, dt {st.timestep_s:g} s"
+    plan = [(d, st) for d in designs for st in (base, small)]
+    plan += [(d, axial) for d in designs if not all(m.rigid for m in legs[d].segments)]
+    tasks = []
+    for d, st in plan:
+        labels = {"experiment": "axial-check", "profile": prof.name, "convention": st.convention, "design": d,
+                  "behaviour": beh.name, "setting": name(st), "timestep_s": st.timestep_s}
+        tasks.append(RunSpec(legs[d], beh, st, labels))
+    res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="axial")
+    if (res.summary["status"] == FAILED).any():
+        raise RuntimeError("axial_check: runs failed: " + "; ".join(res.summary.loc[res.summary["status"] == FAILED,
+                                                                                    "error"]))
+    hops, runs = res.tables, res.summary
+    rigid = [d for d in designs if all(m.rigid for m in legs[d].segments)]
+    if rigid:      # a rigid leg has no springs: its run at the small step stands for both conventions
+        extra_h = hops[hops["design"].isin(rigid) & (hops["setting"] == name(small))].assign(setting=name(axial))
+        extra_r = runs[runs["design"].isin(rigid) & (runs["setting"] == name(small))].assign(setting=name(axial))
+        hops = pd.concat([hops, extra_h], ignore_index=True)
+        runs = pd.concat([runs, extra_r], ignore_index=True)
+    return {"timestep_s": float(timestep_s), "hops": hops, "runs": runs}

@@ -1,4 +1,5 @@
-"""``mat-hopper reproduce``: the paper's four experiments, end to end.
+"""The reproduction pipeline: the paper's four experiments, end to end
+(``mat-hopper reproduce`` is its command line, :mod:`mat_hopper.cli.reproduce`).
 
 Runs the chosen experiments under one profile (cached, resumable, in
 parallel; see :mod:`mat_hopper.experiments.runner`), writes their tables as CSV into
@@ -15,17 +16,16 @@ the claims table through :mod:`mat_hopper.viz.figures` and
 from __future__ import annotations
 
 import os
-import sys
 import time
 from dataclasses import dataclass, field
 
 import pandas as pd
 
 from ..atomic import write_csv
-from .paper import (PROFILE_ENV, PROFILES, check_replicates, get_experiment,
-                          get_profile, parse_experiments)
 from ..materials import CONVENTIONS, check_convention
-from .runner import CACHE_ENV, DEFAULT_CACHE_DIR, Runner, check_workers
+from .paper import get_experiment, parse_experiments
+from .profiles import check_replicates, get_profile
+from .runner import Runner, check_workers
 
 
 @dataclass
@@ -148,42 +148,28 @@ def _concat(frames) -> pd.DataFrame | None:
     return pd.concat(frames, ignore_index=True) if frames else None
 
 
-def cmd_reproduce(args) -> int:
-    profile = get_profile(args.profile)
-    if args.workers is not None and args.scheduler:
-        raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
-    rep = reproduce(profile, args.experiments, args.out, workers=args.workers, scheduler=args.scheduler,
-                    replicates=args.replicates, cache_dir=args.cache, progress=not args.no_progress,
-                    figures=not args.no_figures, conventions=args.conventions)
-    total = sum(rep.wall_s.values())
-    print(f"wrote {len(rep.files)} files to {rep.out_dir} in {total:.1f} s wall "
-          f"({', '.join(f'{k} {v:.1f} s' for k, v in rep.wall_s.items())})")
-    n_failed = sum(rep.failed.values())
-    if n_failed:
-        print(f"{n_failed} tasks failed (see the status and error columns); rerun to retry them", file=sys.stderr)
-        return 1
-    return 0
-
-
-def register_cli(sub) -> None:
-    p = sub.add_parser("reproduce", help="run the paper's experiments, write tables, figures and claims",
-                       description=("Run the paper's experiments under one profile (cached, resumable, "
-                                    "in parallel), write their tables as CSV into --out, then the figures "
-                                    "and the claims table (claims.md, claims.csv)."))
-    p.add_argument("--profile", default=None,
-                   help=f"{' or '.join(PROFILES)} (default ${PROFILE_ENV}, else paper)")
-    p.add_argument("--experiments", default="1,2,3,stability",
-                   help="comma-separated: 1, 2, 3, stability (default all four)")
-    p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
-    p.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
-    p.add_argument("--out", default=None, help="output folder (default results/<profile>/)")
-    p.add_argument("--replicates", type=int, default=0,
-                   help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default 0)")
-    p.add_argument("--conventions", default="paper",
-                   help="stiffness conventions of experiments 1-3: paper, axial or paper,axial "
-                        "(axial runs at the profile's smaller axial time step; default paper)")
-    p.add_argument("--cache", default=None,
-                   help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})")
-    p.add_argument("--no-figures", action="store_true", help="tables only")
-    p.add_argument("--no-progress", action="store_true", help="no progress bars")
-    p.set_defaults(func=cmd_reproduce)
+def run_experiments(profile, experiments: str, *, out_dir=None, cache_dir=None, replicates: int = 0,
+                    workers: int | None = None, quiet: bool = False) -> dict[str, pd.DataFrame]:
+    """Run (or load from the cache) experiments ('1', '2', '3',
+    'stability', comma-separated) under a profile with :func:`reproduce`
+    (tables only, no figures, no log), which also writes their tables to
+    `out_dir` (default ``results/<profile>/``). Returns the tables by name
+    (``exp1_hops``, ``exp1_runs``, ..., ``stability``,
+    ``stability_agreement``). A task that raised (not a diverged run: that
+    is a result) raises RuntimeError. Prints one line per experiment (runs
+    computed now / loaded from the cache) unless quiet."""
+    prof = get_profile(profile)
+    out_dir = str(out_dir) if out_dir is not None else None
+    cache_dir = str(cache_dir) if cache_dir is not None else None
+    rep = reproduce(prof, experiments, out_dir, workers=workers, replicates=replicates, cache_dir=cache_dir,
+                    progress=False, figures=False, log=lambda *a, **k: None)
+    failed = {k: v for k, v in rep.failed.items() if v}
+    if failed:
+        raise RuntimeError(f"tasks failed in {failed}; see the error column of the runs tables in {rep.out_dir}")
+    if not quiet:
+        where = os.path.relpath(cache_dir) if cache_dir else "the cache"
+        for name, n in rep.computed.items():
+            runs = rep.tables.get(f"{name}_runs", rep.tables.get(name))
+            total = len(runs) if runs is not None else n
+            print(f"{name} ({prof.name} profile): {total} tasks, {n} computed now, the rest loaded from {where}/")
+    return rep.tables

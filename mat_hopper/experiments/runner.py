@@ -44,10 +44,11 @@ import multiprocessing
 import os
 import time
 import traceback
+from collections.abc import Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import asdict, dataclass, field
-from typing import Any, Iterable, Sequence
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -55,7 +56,7 @@ import pandas as pd
 from ..atomic import TEMP_PREFIX, atomic_path
 from ..behaviours import Behaviour
 from ..materials import LegDesign
-from ..sim import SimSettings
+from ..sim import SimSettings, route_mujoco_warnings
 
 DEFAULT_CACHE_DIR = os.path.join("results", "cache")
 CACHE_ENV = "MAT_HOPPER_CACHE"
@@ -249,7 +250,10 @@ class Cache:
 
 
 def _execute(task) -> tuple[str, pd.DataFrame | None, dict | None, str | None]:
-    """Worker entry: (key, table, summary, error text). Never raises."""
+    """Worker entry: (key, table, summary, error text). Never raises.
+    MuJoCo's warnings go to logging (a diverging run is a result, not a
+    message on stderr nor a MUJOCO_LOG.TXT in the working folder)."""
+    route_mujoco_warnings()
     key = task.key()
     try:
         table, summary = task.compute()
@@ -494,3 +498,90 @@ def run_grid(tasks: Sequence, cache_dir=None, *, workers: int | None = None, sch
     """Run a grid once (see :class:`Runner`)."""
     with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as r:
         return r.run(tasks, desc=desc)
+
+
+# ---------------------------------------------------------------------------
+# whole rollouts (time series, gait tiles), through the same cache and pool
+
+
+@dataclass(frozen=True, eq=False)
+class RolloutSpec:
+    """A whole rollout of one design on one behaviour (every recorded
+    channel, the controller's events, optionally all joint positions): the
+    task behind time series and gait tiles. Cached like every task: the
+    table holds the recorded channels (and ``qpos_<i>`` columns), the
+    summary the events and the model's numbers."""
+
+    design: LegDesign
+    behaviour: Behaviour
+    settings: SimSettings
+    record_qpos: bool = False
+    labels: dict = field(default_factory=dict)
+
+    kind = "rollout"
+
+    def key_dict(self) -> dict:
+        return {"kind": self.kind, "design": design_key(self.design), "behaviour": self.behaviour.key(),
+                "settings": settings_key(self.settings), "record_qpos": bool(self.record_qpos),
+                "versions": versions()}
+
+    def key(self) -> str:
+        return f"{self.kind}-{hash_key(self.key_dict())}"
+
+    def default_labels(self) -> dict:
+        return {"design": self.design.name, "behaviour": self.behaviour.name}
+
+    def compute(self) -> tuple[pd.DataFrame, dict]:
+        from ..sim import CHANNELS, simulate
+
+        r = simulate(self.design, self.behaviour, settings=self.settings, record_qpos=self.record_qpos)
+        table = pd.DataFrame(np.asarray(r.data, dtype=float), columns=list(CHANNELS))
+        if self.record_qpos:
+            table = pd.concat([table, pd.DataFrame(np.asarray(r.qpos, dtype=float),
+                                                   columns=[f"qpos_{i}" for i in range(r.qpos.shape[1])])], axis=1)
+        ev = np.asarray(r.events, dtype=float)
+        summary = {"events": ev.ravel().tolist(), "events_shape": list(ev.shape),
+                   "diverged_step": int(r.diverged_step), "total_mass_kg": float(r.total_mass_kg),
+                   "spring_stiffness_n_m": [float(k) for k in r.spring_stiffness_n_m]}
+        return table, summary
+
+    def rollout(self, table: pd.DataFrame, summary: dict):
+        """The :class:`~mat_hopper.sim.Rollout` from this task's stored result."""
+        from ..sim import CHANNELS, Rollout
+
+        data = table[list(CHANNELS)].to_numpy(float)
+        qcols = [c for c in table.columns if c.startswith("qpos_")]
+        qpos = table[qcols].to_numpy(float) if self.record_qpos else None
+        events = np.asarray(summary["events"], dtype=float).reshape(summary["events_shape"])
+        return Rollout(self.design, self.behaviour, self.settings, data, events, int(summary["diverged_step"]),
+                       float(summary["total_mass_kg"]), tuple(summary["spring_stiffness_n_m"]), qpos)
+
+
+def rollouts(designs, behaviours, settings: SimSettings, *, record_rate_hz: float | None = None,
+             record_qpos: bool = False, cache_dir=None, workers: int | None = None) -> list:
+    """Whole rollouts (:class:`~mat_hopper.sim.Rollout`) of every design
+    (names or LegDesigns) on every behaviour (names or Behaviours) under
+    `settings` (e.g. ``profile.sim_settings()``), for time series and gait
+    tiles, in design-major order. record_rate_hz: samples per simulated
+    second (default the settings'); record_qpos: keep joint positions (for
+    rendering). Through the one cache and pool (:class:`Runner`, tasks
+    :class:`RolloutSpec`): missing ones run in parallel, all are read back
+    from the cache."""
+    from ..behaviours import behaviour as get_behaviour
+    from ..materials import parse_design
+
+    if record_rate_hz is not None:
+        from dataclasses import replace
+
+        settings = replace(settings, record_rate_hz=float(record_rate_hz))
+    specs = [RolloutSpec(parse_design(d) if isinstance(d, str) else d,
+                         get_behaviour(b) if isinstance(b, str) else b, settings, bool(record_qpos))
+             for d in designs for b in behaviours]
+    if not specs:
+        raise ValueError("rollouts: give at least one design and one behaviour")
+    with Runner(cache_dir, workers=workers, progress=False) as runner:
+        res = runner.run(specs, desc="rollouts")
+        if res.n_failed:
+            bad = res.summary[res.summary["status"] == FAILED]
+            raise RuntimeError("rollouts failed: " + "; ".join(bad["error"].astype(str)))
+        return [s.rollout(*runner.cache.load(s.key())) for s in specs]

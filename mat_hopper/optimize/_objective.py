@@ -39,10 +39,11 @@ import mujoco
 import numpy as np
 
 from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
+from ..behaviours import BEHAVIOUR_NAMES
+from ..behaviours import behaviour as get_behaviour
+from ..experiments.profiles import Profile, get_profile
 from ..materials import CONVENTIONS, DEFAULT_CONVENTION, LegDesign
 from ..metrics import hop_table
-from ..experiments.paper import Profile, get_profile
 from ..sim import C, RolloutRunner
 
 OBJECTIVES = ("tracking_error_m", "power_w")
@@ -91,7 +92,7 @@ class Objective:
                 "hop_height_tolerance_m": self.hop_height_tolerance_m}
 
     @classmethod
-    def from_key(cls, key: dict) -> "Objective":
+    def from_key(cls, key: dict) -> Objective:
         return cls(behaviours=tuple(key["behaviours"]), profile=Profile(**key["profile"]),
                    convention=key["convention"], hop_height_target_m=key["hop_height_target_m"],
                    hop_height_tolerance_m=key["hop_height_tolerance_m"])

@@ -181,7 +181,7 @@ class SearchSpace:
                 "materials": list(self.materials)}
 
     @classmethod
-    def from_key(cls, key: dict) -> "SearchSpace":
+    def from_key(cls, key: dict) -> SearchSpace:
         return cls(n_segments=int(key["n_segments"]), kinds=tuple(key["kinds"]),
                    density_g_cm3=tuple(key["density_g_cm3"]), modulus_gpa=tuple(key["modulus_gpa"]),
                    materials=tuple(key["materials"]))

@@ -21,12 +21,17 @@
 ``--replay TRIAL`` rebuilds the trial's design from its parameters and
 simulates it again with the study's settings (bit-identical to the stored
 values, by the determinism of the simulator); with ``--render`` it also
-calls ``mat-hopper render`` on it when :mod:`mat_hopper.viz.render` exists.
+renders it (:func:`mat_hopper.viz.render.render_files`).
+
+The Pareto front is Optuna's ``study.best_trials``; the hypervolume and
+importance plots are ``optuna.visualization.matplotlib``'s. The Pareto
+plot is ours: Optuna's cannot mark the paper's designs and baselines.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import warnings
 
 import numpy as np
@@ -34,12 +39,15 @@ import optuna
 import pandas as pd
 from optuna.trial import TrialState
 
-from ..atomic import atomic_path, write_csv
+from ..analysis.change import percent_change
+from ..atomic import write_csv
 from ..materials import LegDesign, paper_designs
-from ._study import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
-from ._objective import CONSTRAINTS, OBJECTIVES, evaluate
-from ._space import describe, resample
+from ..viz import study as study_plots
+from ..viz.style import save_figure
+from ._objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
+from ._space import resample
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
+from ._study import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
 
 BASELINES = ("SS", "rho-inc")
 HV_MARGIN = 0.1
@@ -90,38 +98,28 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def nondominated(values: np.ndarray) -> np.ndarray:
-    """Mask of the rows no other row dominates (all objectives minimized;
-    of identical rows, the first is kept)."""
-    v = np.asarray(values, float)
-    keep = np.ones(len(v), bool)
-    for i in range(len(v)):
-        others = np.delete(np.arange(len(v)), i)
-        le = np.all(v[others] <= v[i], axis=1)
-        lt = np.any(v[others] < v[i], axis=1)
-        same_before = np.all(v[others] == v[i], axis=1) & (others < i)
-        if np.any(le & lt) or np.any(same_before):
-            keep[i] = False
-    return keep
-
-
 def feasible_complete(frame: pd.DataFrame) -> pd.DataFrame:
     if frame.empty:
         return frame
     return frame[(frame["state"] == "COMPLETE") & frame["feasible"].astype(bool)]
 
 
-def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None) -> pd.DataFrame:
-    """Non-dominated feasible trials, by tracking error, with percent changes
-    against each baseline ({name: (tracking_error_m, power_w)})."""
+def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None, *, best=None) -> pd.DataFrame:
+    """The Pareto front: the trials of `best` (trial numbers, from Optuna's
+    ``study.best_trials``: complete, feasible, non-dominated), by tracking
+    error, with percent changes against each baseline ({name:
+    (tracking_error_m, power_w)}). Of trials with identical objective
+    values (a design evaluated twice, e.g. a retried trial) the first is
+    kept: Optuna lists every copy."""
     ok = feasible_complete(frame)
-    if ok.empty:
-        return ok.copy()
-    front = ok[nondominated(ok[list(OBJECTIVES)].to_numpy())].sort_values("tracking_error_m").copy()
+    if ok.empty or not best:
+        return ok.iloc[0:0].copy()
+    front = ok[ok["trial"].isin(set(best))].sort_values("trial")
+    front = front.drop_duplicates(subset=list(OBJECTIVES), keep="first")
+    front = front.sort_values("tracking_error_m", kind="stable").copy()
     for name, vals in (baselines or {}).items():
         for obj, base in zip(OBJECTIVES, vals):
-            col = f"{obj.rsplit('_', 1)[0]}_vs_{name}_pct"
-            front[col] = 100.0 * (front[obj] - base) / abs(base) if base else np.nan
+            front[f"{obj.rsplit('_', 1)[0]}_vs_{name}_pct"] = percent_change(front[obj].to_numpy(float), base)
     cols = ["trial", "design", "paper_design", *OBJECTIVES, "hop_height_m"]
     cols += [c for c in front.columns if c.endswith("_pct")]
     cols += [c for c in front.columns if c.startswith("seg") and c not in cols]
@@ -129,7 +127,11 @@ def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None) -> pd.DataF
 
 
 def hypervolume_2d(points: np.ndarray, reference) -> float:
-    """Area dominated by `points` (n x 2, minimized) and bounded by `reference`."""
+    """Area dominated by `points` (n x 2, minimized) and bounded by `reference`.
+
+    Ours because Optuna's public API only plots the hypervolume history
+    (``optuna.visualization.matplotlib.plot_hypervolume_history``, used for
+    the figure); the numbers for ``hypervolume.csv`` need this."""
     p = np.asarray(points, float).reshape(-1, 2)
     r = np.asarray(reference, float)
     p = p[np.all(p < r, axis=1)]
@@ -202,83 +204,6 @@ def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> 
     return out
 
 
-# --- plots ------------------------------------------------------------------
-
-def _save(fig, path: str) -> None:
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=130, bbox_inches="tight")
-
-
-def plot_pareto(frame: pd.DataFrame, front: pd.DataFrame, base: dict, path: str, title: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6.4, 4.8))
-    done = frame[frame["state"] == "COMPLETE"] if not frame.empty else frame
-    ok = feasible_complete(frame)
-    bad = done[~done["feasible"].astype(bool)] if not done.empty else done
-    shown = pd.concat([ok, done[done["paper_design"] != ""]]) if not done.empty else done
-    if not ok.empty:
-        ax.scatter(ok["tracking_error_m"], ok["power_w"], s=14, c="tab:blue", alpha=0.6, label=f"feasible ({len(ok)})")
-    if not bad.empty:
-        ax.scatter(bad["tracking_error_m"], bad["power_w"], s=14, c="0.6", marker="x", alpha=0.6,
-                   label=f"infeasible ({len(bad)})")
-    if not front.empty:
-        ax.plot(front["tracking_error_m"], front["power_w"], "-o", c="tab:red", ms=5, drawstyle="steps-post",
-                label=f"Pareto front ({len(front)})")
-    for _, r in done[done["paper_design"] != ""].iterrows() if not done.empty else ():
-        ax.scatter([r["tracking_error_m"]], [r["power_w"]], marker="*", s=160, c="gold", edgecolors="k", zorder=5)
-        ax.annotate(r["paper_design"] + ("" if r["feasible"] else " (infeasible)"),
-                    (r["tracking_error_m"], r["power_w"]), textcoords="offset points", xytext=(6, 6), fontsize=8)
-    for name, (te, pw) in base.items():
-        if done.empty or name not in set(done["paper_design"]):
-            ax.scatter([te], [pw], marker="*", s=160, c="white", edgecolors="k", zorder=5)
-            ax.annotate(f"{name} (baseline run)", (te, pw), textcoords="offset points", xytext=(6, 6), fontsize=8)
-            shown = pd.concat([shown, pd.DataFrame({"tracking_error_m": [te], "power_w": [pw]})])
-    if len(shown):
-        for axis, col, setter in ((0, "tracking_error_m", ax.set_xlim), (1, "power_w", ax.set_ylim)):
-            lo, hi = float(shown[col].min()), float(shown[col].max())
-            pad = 0.08 * (hi - lo) if hi > lo else 0.1 * abs(hi) + 1e-12
-            setter(lo - pad, hi + pad)
-    ax.set_xlabel("tracking error (m, mean over hop cycles)")
-    ax.set_ylabel("hip power (W, mean over hop cycles)")
-    ax.set_title(title, fontsize=10)
-    ax.legend(fontsize=8, loc="best")
-    _save(fig, path)
-    plt.close(fig)
-
-
-def plot_hypervolume(hv: pd.DataFrame, path: str, title: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6.4, 3.6))
-    if len(hv):
-        ax.step(hv["trial"], hv["hypervolume"], where="post")
-    ax.set_xlabel("trial")
-    ax.set_ylabel("hypervolume (m W)")
-    ax.set_title(title, fontsize=10)
-    _save(fig, path)
-    plt.close(fig)
-
-
-def plot_importances(imp: pd.DataFrame, path: str, title: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, len(OBJECTIVES), figsize=(10, 3.8), sharey=False, layout="constrained")
-    for ax, obj in zip(np.atleast_1d(axes), OBJECTIVES):
-        d = imp[imp["objective"] == obj].sort_values(["importance", "param"]) if len(imp) else imp
-        if len(d):
-            ax.barh(d["param"], d["importance"], color="tab:blue")
-        ax.set_title(obj, fontsize=9)
-        ax.set_xlabel("importance")
-        ax.tick_params(axis="y", labelsize=7)
-    fig.suptitle(title, fontsize=10)
-    _save(fig, path)
-    plt.close(fig)
-
-
 # --- the report -------------------------------------------------------------
 
 def write_report(name: str, storage, out_dir: str) -> dict:
@@ -288,7 +213,7 @@ def write_report(name: str, storage, out_dir: str) -> dict:
     os.makedirs(out_dir, exist_ok=True)
     frame = trials_frame(study, config)
     base = baselines(study, config, frame)
-    front = pareto_frame(frame, base)
+    front = pareto_frame(frame, base, best=[t.number for t in study.best_trials])
     hv, ref_point = hypervolume_history(frame)
     imp = importances(study)
     paths = {k: os.path.join(out_dir, f) for k, f in (
@@ -301,29 +226,13 @@ def write_report(name: str, storage, out_dir: str) -> dict:
     write_csv(imp, paths["importances"])
     beh = ",".join(config.objective.behaviours)
     what = f"{name}: {beh}, {config.objective.profile.name} profile, {config.space.n_segments} segments"
-    plot_pareto(frame, front, base, paths["pareto_plot"], what)
+    save_figure(study_plots.pareto_figure(frame, front, base, what), paths["pareto_plot"], formats=("png",), dpi=130)
     ref_text = ", ".join(f"{v:.4g}" for v in ref_point)
-    plot_hypervolume(hv, paths["hypervolume_plot"], f"{what}\nreference point ({ref_text})")
-    plot_importances(imp, paths["importances_plot"], what)
+    save_figure(study_plots.hypervolume_figure(study, ref_point, f"{what}\nreference point ({ref_text})"),
+                paths["hypervolume_plot"], formats=("png",), dpi=130)
+    save_figure(study_plots.importances_figure(study, what), paths["importances_plot"], formats=("png",), dpi=130)
     return {"paths": paths, "trials": frame, "pareto": front, "hypervolume": hv, "importances": imp,
             "baselines": base, "reference": ref_point}
-
-
-def cmd_report(name: str, storage, args) -> int:
-    out = args.out or os.path.join(args.studies_dir, f"{name}-report")
-    rep = write_report(name, storage, out)
-    frame, front = rep["trials"], rep["pareto"]
-    states = frame["state"].value_counts().to_dict() if len(frame) else {}
-    n_ok = len(feasible_complete(frame))
-    print(f"study {name}: {len(frame)} trials {states}, {n_ok} feasible, {len(front)} on the Pareto front")
-    for b, (te, pw) in rep["baselines"].items():
-        print(f"  {b}: tracking error {te:.4g} m, power {pw:.4g} W")
-    if len(front):
-        cols = [c for c in front.columns if not c.startswith("seg")]
-        print(front[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-    for k, p in rep["paths"].items():
-        print(f"wrote {p}")
-    return 0
 
 
 def replay(name: str, storage, number: int):
@@ -337,42 +246,90 @@ def replay(name: str, storage, number: int):
     return t, design, evaluate(design, config.objective), config
 
 
-def cmd_replay(name: str, storage, args) -> int:
-    t, design, ev, config = replay(name, storage, args.replay)
-    print(f"trial {t.number} ({t.state.name}) of {name}: {describe(design.segments)}")
-    for i, m in enumerate(design.segments, 1):
-        print(f"  segment {i}: {m.density_g_cm3:.6g} g/cm^3, {m.modulus_gpa:.6g} GPa ({m.name})")
-    for r in ev.per_behaviour:
-        print(f"  {r['behaviour']}: tracking error {r['tracking_error_m']:.6g} m, power {r['power_w']:.6g} W, "
-              f"hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
-              f"{'upright' if r['upright'] else 'UNSTABLE'}")
-    print(f"objectives {ev.values[0]:.6g} m, {ev.values[1]:.6g} W; "
-          f"{'feasible' if ev.feasible else 'infeasible'} (constraints {ev.constraints[0]:.4g}, {ev.constraints[1]:g})")
-    if t.state == TrialState.COMPLETE:
-        same = tuple(t.values) == tuple(ev.values)
-        print("replay matches the stored values exactly" if same else
-              f"replay differs from the stored values {tuple(t.values)}")
-    if args.render:
-        return _render(design, config, args)
-    return 0 if t.state != TrialState.COMPLETE or tuple(t.values) == tuple(ev.values) else 1
+# --- the book's study ----------------------------------------------------------
 
 
-def _render(design: LegDesign, config: StudyConfig, args) -> int:
-    """Gait tiles and a 10 s video of the replayed design on each behaviour,
-    in --out or the studies folder: <study>-trial<N>-<behaviour>-*."""
-    from ..cli import main
-    dens = ",".join(repr(float(m.density_g_cm3)) for m in design.segments)
-    mods = ",".join("rigid" if m.modulus_gpa is None else repr(float(m.modulus_gpa)) for m in design.segments)
-    folder = args.out or args.studies_dir
-    code = 0
-    for b in config.objective.behaviours:
-        stem = os.path.join(folder, f"{args.study}-trial{args.replay}-{b}")
-        argv = ["render", "--density", dens, "--modulus", mods, "--behaviour", b,
-                "--convention", config.objective.convention, "--tiles", f"{stem}-tiles.png",
-                "--video", f"{stem}.mp4"]
-        print("mat-hopper " + " ".join(argv))
-        try:
-            code = max(code, int(main(argv) or 0))
-        except SystemExit as e:
-            code = max(code, int(e.code or 0))
-    return code
+STUDY_TRIALS = {"paper": 24, "quick": 12}   # trials of the book's own study, per profile
+
+
+STUDY_BEHAVIOURS = ("ramp",)
+
+
+def book_study(profile=None, *, studies_dir="studies", out_dir="results/study", trials: int | None = None,
+               behaviours=STUDY_BEHAVIOURS, seed: int = 0) -> dict:
+    """Run (or resume, or just load) the book's design study with
+    :func:`mat_hopper.optimize._study.run_study`: continuous density and modulus
+    per segment (3 segments), tracking error and hip power on `behaviours`
+    under the optimizer's profile of the book's name, one worker process
+    (so a fresh study is exactly reproducible), `trials` trials (default
+    :data:`STUDY_TRIALS` of the profile). Storage: ``studies/<name>.db``;
+    the name carries a digest of the settings, so changed settings start a
+    new study instead of clashing with an old one (folder `studies_dir`). Then
+    :func:`mat_hopper.optimize.report.write_report` into
+    `out_dir`. Returns the report dict (``trials``,
+    ``pareto``, ``baselines``, ``hypervolume``, ``importances``,
+    ``paths``) plus ``name``, ``url`` and ``config``."""
+    import hashlib
+    import json
+
+    from ..experiments.profiles import get_profile
+    from ._space import SearchSpace
+    from ._study import RunOptions, run_study
+
+    profile = get_profile(profile)
+    n = STUDY_TRIALS.get(profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
+    objective = Objective(behaviours=tuple(behaviours), profile=profile)
+    probe = StudyConfig("probe", SearchSpace(), objective)
+    digest = hashlib.sha256(json.dumps(probe.key(), sort_keys=True).encode()).hexdigest()[:8]
+    config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{profile.name}-{digest}", SearchSpace(),
+                         objective)
+    options = RunOptions(trials=n, workers=1, seed=seed, progress=False, studies_dir=str(studies_dir))
+    run_study(config, options)
+    url = options.storage_url(config.name)
+    report = write_report(config.name, url, str(out_dir))
+    report.update(name=config.name, url=url, config=config)
+    return report
+
+
+def front_table(front: pd.DataFrame) -> pd.DataFrame:
+    """A Pareto table (:func:`mat_hopper.optimize.report.pareto_frame`) for
+    the page: trial, the paper's design it is (if any), tracking error
+    (mm), hip power (mW), hop height (m) and the percent changes against
+    the baselines, with short column names."""
+    out = pd.DataFrame({"trial": front["trial"].astype(int),
+                        "paper design": front.get("paper_design", pd.Series([""] * len(front))).fillna(""),
+                        "tracking error (mm)": front["tracking_error_m"] * 1e3,
+                        "hip power (mW)": front["power_w"] * 1e3,
+                        "hop height (m)": front["hop_height_m"]})
+    for col in front.columns:
+        m = re.fullmatch(r"(tracking_error|power)_vs_(.+)_pct", col)
+        if m:
+            what = "tracking" if m.group(1) == "tracking_error" else "power"
+            out[f"{what} vs {m.group(2)} (%)"] = front[col]
+    return out.reset_index(drop=True)
+
+
+def front_designs(front: pd.DataFrame, k: int | None = None, *, skip_paper: bool = True) -> dict[str, LegDesign]:
+    """The designs of a Pareto table (``seg{i}_rho_g_cm3``,
+    ``seg{i}_e_gpa`` columns; at most `k`, by tracking error) as
+    {"#<trial>": LegDesign}, for :func:`designs_figure`; the paper's own
+    designs (a non-empty ``paper_design``) are left out unless
+    `skip_paper` is false."""
+    rows = front.sort_values("tracking_error_m") if "tracking_error_m" in front.columns else front
+    if skip_paper and "paper_design" in rows.columns:
+        rows = rows[rows["paper_design"].fillna("").astype(str) == ""]
+    if k is not None:
+        rows = rows.head(int(k))
+    out = {}
+    for r in rows.to_dict("records"):
+        i, dens, mods = 1, [], []
+        while f"seg{i}_rho_g_cm3" in r and pd.notna(r[f"seg{i}_rho_g_cm3"]):
+            dens.append(float(r[f"seg{i}_rho_g_cm3"]))
+            e = r.get(f"seg{i}_e_gpa")
+            mods.append(None if e is None or pd.isna(e) else float(e))
+            i += 1
+        if not dens:
+            raise ValueError("front_designs: the table has no seg1_rho_g_cm3 column")
+        name = f"#{int(r['trial'])}" if "trial" in r else f"design {len(out) + 1}"
+        out[name] = LegDesign.from_properties(dens, mods, name=name)
+    return out

@@ -20,7 +20,6 @@ from __future__ import annotations
 import ctypes.util
 import math
 import os
-import sys
 from dataclasses import dataclass
 
 import mujoco
@@ -28,7 +27,8 @@ import numpy as np
 
 from .. import reference as ref
 from ..atomic import atomic_path
-from ..behaviours import Behaviour, behaviour as get_behaviour
+from ..behaviours import Behaviour
+from ..behaviours import behaviour as get_behaviour
 from ..materials import DEFAULT_CONVENTION, LegDesign
 from ..model import build_spec
 from ..sim import Rollout, _as_design, simulate
@@ -266,7 +266,7 @@ def record(design, behaviour, seconds: float, *, start_s: float = 0.0,
         raise ValueError(f"seconds must be > 0, got {seconds!r}")
     if not (math.isfinite(start_s) and start_s >= 0):
         raise ValueError(f"start must be >= 0 s, got {start_s!r}")
-    return simulate(design, behaviour, duration=start_s + seconds, transient=0.0, convention=convention,
+    return simulate(design, behaviour, duration_s=start_s + seconds, transient_s=0.0, convention=convention,
                     record_qpos=True)
 
 
@@ -361,14 +361,16 @@ def gait_tiles(design, behaviour="forward", *, rollout: Rollout | None = None, s
     """The paper's gait-tile figure: n_frames of a hop sequence (one hop
     cycle, about 0.7 s, by default) side by side, the desired path marked, segments coloured by density. Returns a
     matplotlib Figure (frames also in ``fig.frames``)."""
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
     if int(n_frames) < 1:
         raise ValueError(f"n_frames must be >= 1, got {n_frames!r}")
     if rollout is None:
         rollout = record(design, behaviour, seconds, start_s=start_s)
     times = np.linspace(start_s, min(start_s + seconds, float(rollout.time[-1])), int(n_frames))
     frames = render_frames(rollout, times, size=size, camera=camera or Camera(distance_m=2.1), backend=backend)
-    fig, ax = plt.subplots(figsize=(1.6 * len(frames) + 1.2, 2.6), dpi=150, layout="constrained")
+    fig = Figure(figsize=(1.6 * len(frames) + 1.2, 2.6), dpi=150, layout="constrained")
+    ax = fig.subplots()
     ax.imshow(np.concatenate(list(frames), axis=1))
     w = frames.shape[2]
     for k, t in enumerate(times):
@@ -445,64 +447,40 @@ def save_image(fig_or_rgb, path: str) -> str:
     return path
 
 
-# ---------------------------------------------------------------------------
-# CLI
-
-
-def cmd_render(args) -> int:
-    from ..cli.simulate import design_from_args
-    if not args.tiles and not args.video and not args.still:
-        raise ValueError("nothing to render: give --tiles FILE, --video FILE and/or --still FILE")
-    size = parse_size(args.size)
-    fps = _check_fps(args.fps)
-    for path, allowed in ((args.tiles, IMAGE_EXTENSIONS), (args.still, IMAGE_EXTENSIONS),
-                          (args.video, VIDEO_EXTENSIONS)):
+def render_files(design, behaviour, *, tiles: str | None = None, video: str | None = None,
+                 still: str | None = None, seconds: float = 10.0, start_s: float = 0.0, tile_start_s: float = 5.0,
+                 fps: float = 30.0, size=(640, 480), convention: str = DEFAULT_CONVENTION,
+                 backend: str | None = None, log=print) -> list[str]:
+    """Write gait tiles (`tiles`: .png, .svg, .pdf, .jpg), a video (`video`:
+    .mp4 or .gif; `seconds` of simulated time from `start_s` at `fps`) and/or
+    a still of the model at rest (`still`) of one design on one behaviour.
+    Every input is checked before any work. Returns the paths written."""
+    if not tiles and not video and not still:
+        raise ValueError("nothing to render: give tiles, video and/or still")
+    fps = _check_fps(fps)
+    for path, allowed in ((tiles, IMAGE_EXTENSIONS), (still, IMAGE_EXTENSIONS), (video, VIDEO_EXTENSIONS)):
         if path:
             _check_extension(path, allowed)
-    if not (math.isfinite(args.seconds) and args.seconds > 0):
-        raise ValueError(f"--seconds must be > 0, got {args.seconds!r}")
-    if not (math.isfinite(args.tile_start) and args.tile_start >= 0):
-        raise ValueError(f"--tile-start must be >= 0 s, got {args.tile_start!r}")
-    design = design_from_args(args)
-    beh = get_behaviour(args.behaviour)
-    try:                                               # a named error before any work
-        backend = choose_backend({"MUJOCO_GL": args.backend} if args.backend else None)
-    except RenderBackendError as e:
-        print(f"mat-hopper render: error: {e}", file=sys.stderr)
-        return 3
-    rollout = record(design, beh, max(args.seconds, args.tile_start + 1.0), start_s=args.start,
-                     convention=args.convention) if (args.tiles or args.video) else None
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise ValueError(f"seconds must be > 0, got {seconds!r}")
+    if not (math.isfinite(tile_start_s) and tile_start_s >= 0):
+        raise ValueError(f"tile start must be >= 0 s, got {tile_start_s!r}")
+    design = _as_design(design)
+    beh = get_behaviour(behaviour) if isinstance(behaviour, str) else behaviour
+    backend = choose_backend({"MUJOCO_GL": backend} if backend else None)
+    rollout = record(design, beh, max(seconds, tile_start_s + 1.0), start_s=start_s,
+                     convention=convention) if (tiles or video) else None
     if rollout is not None and not rollout.stable:
-        print(f"note: {design.name} diverged at t = {rollout.diverged_at_s:.3f} s; frames stop there")
-    if args.still:
-        print(f"wrote {save_image(render_still(design, beh, size=size, backend=backend), args.still)}")
-    if args.tiles:
-        import matplotlib.pyplot as plt
-        fig = gait_tiles(design, beh, rollout=rollout, start_s=args.start + args.tile_start, backend=backend)
-        print(f"wrote {save_image(fig, args.tiles)}")
-        plt.close(fig)
-    if args.video:
-        times = video_times(rollout, start_s=args.start, seconds=args.seconds, fps=fps)
-        write_video(iter_frames(rollout, times, size=size, backend=backend, progress=True), args.video, fps)
-        print(f"wrote {args.video} ({len(times)} frames at {fps:g} fps, {size[0]}x{size[1]})")
-    return 0
-
-
-def register_cli(sub) -> None:
-    from ..cli.simulate import add_sim_arguments
-    p = sub.add_parser("render", help="render gait tiles, a video or a still of a design, off-screen",
-                       description="Render gait tiles (PNG), a video (MP4 or GIF) or a still of one design "
-                                   "on one behaviour, off-screen (OSMesa by default, EGL with MUJOCO_GL=egl).")
-    add_sim_arguments(p)
-    p.add_argument("--tiles", help="gait-tile figure to write (.png, .svg, .pdf, .jpg)")
-    p.add_argument("--video", help="video to write (.mp4 or .gif)")
-    p.add_argument("--still", help="picture of the model at rest to write (.png, .jpg)")
-    p.add_argument("--seconds", type=float, default=10.0, help="simulated seconds of video (10)")
-    p.add_argument("--start", type=float, default=0.0, help="video starts at this simulated time, s (0)")
-    p.add_argument("--tile-start", type=float, default=5.0,
-                   help="gait tiles start this many seconds after --start (5)")
-    p.add_argument("--fps", type=float, default=30.0, help="video frames per simulated second (30)")
-    p.add_argument("--size", default="640x480", help="video and still size WIDTHxHEIGHT in pixels")
-    p.add_argument("--backend", choices=tuple(_LIBS), default=None,
-                   help="OpenGL backend (default: $MUJOCO_GL if osmesa or egl, else osmesa, else egl)")
-    p.set_defaults(func=cmd_render)
+        log(f"note: {design.name} diverged at t = {rollout.diverged_at_s:.3f} s; frames stop there")
+    written = []
+    if still:
+        written.append(save_image(render_still(design, beh, size=size, backend=backend), still))
+    if tiles:
+        fig = gait_tiles(design, beh, rollout=rollout, start_s=start_s + tile_start_s, backend=backend)
+        written.append(save_image(fig, tiles))
+    if video:
+        times = video_times(rollout, start_s=start_s, seconds=seconds, fps=fps)
+        write_video(iter_frames(rollout, times, size=size, backend=backend, progress=True), video, fps)
+        log(f"{video}: {len(times)} frames at {fps:g} fps, {size[0]}x{size[1]}")
+        written.append(video)
+    return written
