@@ -1,4 +1,6 @@
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -111,3 +113,14 @@ def test_bad_design_and_behaviour():
         simulate("steel", "forward", duration_s=1.0, transient_s=0.0)
     with pytest.raises(ValueError, match="unknown behaviour"):
         simulate("SS", "backflip", duration_s=1.0, transient_s=0.0)
+
+
+def test_importing_sim_installs_no_mujoco_warning_handler():
+    """Importing the package leaves MuJoCo's global warning handler alone;
+    route_mujoco_warnings() installs one (the CLI, the runner's workers and
+    book.setup() call it)."""
+    code = ("import mujoco, mat_hopper, mat_hopper.sim as s\n"
+            "assert mujoco.get_mju_user_warning() is None\n"
+            "s.route_mujoco_warnings()\n"
+            "assert mujoco.get_mju_user_warning() is not None\n")
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=120)

@@ -44,7 +44,7 @@ from mat_hopper.optimize.report import hypervolume_2d, pareto_frame, replay, wri
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
 TINY_OBJ = Objective(profile=TINY)
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ENV = {**os.environ, "PYTHONPATH": REPO + os.pathsep + os.environ.get("PYTHONPATH", "")}
 
 
