@@ -3,14 +3,27 @@
 PY := .venv/bin/python
 PROFILE ?= paper
 
-.PHONY: setup test book book-quick demo bench
+.PHONY: setup test test-fast lint notebooks book book-quick demo bench
 
 setup:
 	@bash scripts/setup.sh
 
-## Pass the tests (CI runs this).
+## Pass every test (CI runs this; the slow ones too: 60 s physics runs, the book build, PostgreSQL, SIGKILL).
 test: setup
 	$(PY) -m pytest -q
+
+## The developer's loop: every test not marked slow (a few minutes).
+test-fast: setup
+	$(PY) -m pytest -q -m "not slow"
+
+## Lint and format check (what CI runs before the tests).
+lint: setup
+	.venv/bin/ruff check .
+	.venv/bin/ruff format --check .
+
+## Write notebooks/*.ipynb (no outputs) from their sources notebooks/src/*.py.
+notebooks: setup
+	.venv/bin/jupytext --sync notebooks/src/*.py
 
 ## The executable book, full paper profile (results cached under results/).
 book: setup

@@ -38,12 +38,12 @@ from concurrent.futures import ProcessPoolExecutor
 import optuna
 from optuna.trial import TrialState
 
-import mat_hopper.optimize as optimize_module
-from mat_hopper.optimize import RunOptions, StudyConfig, TrialObjective, create_or_load, make_sampler, run_study
-from mat_hopper.experiments import PROFILES
-from mat_hopper.optimize_objective import Objective
-from mat_hopper.optimize_space import SearchSpace
-from mat_hopper.optimize_storage import open_storage
+import mat_hopper.optimize._study as optimize_module
+from mat_hopper.experiments.profiles import PROFILES
+from mat_hopper.optimize._objective import Objective
+from mat_hopper.optimize._space import SearchSpace
+from mat_hopper.optimize._storage import open_storage
+from mat_hopper.optimize._study import RunOptions, StudyConfig, TrialObjective, create_or_load, make_sampler, run_study
 from mat_hopper.sim import simulate
 
 
@@ -104,12 +104,12 @@ def main(argv=None):
 
 def _bare(prof) -> float:
     c0 = time.process_time()
-    simulate("SS", "ramp", duration=prof.duration_s, timestep=prof.timestep_s, transient=prof.transient_s)
+    simulate("SS", "ramp", duration_s=prof.duration_s, timestep_s=prof.timestep_s, transient_s=prof.transient_s)
     return time.process_time() - c0
 
 
 def _warm(_=None) -> None:
-    simulate("SS", "ramp", duration=0.05, transient=0.0)          # compiled code loaded
+    simulate("SS", "ramp", duration_s=0.05, transient_s=0.0)          # compiled code loaded
 
 
 def bare_cpu(prof) -> float:

@@ -1,6 +1,6 @@
 """Wall time of ``mat-hopper reproduce``, per experiment and in total.
 
-Full mode (default): runs :func:`mat_hopper.cli_reproduce.reproduce` from
+Full mode (default): runs :func:`mat_hopper.experiments.reproduce.reproduce` from
 a fresh, empty cache (a temporary folder unless --cache is given) and
 prints the wall seconds of each experiment, of the figures and claims, and
 the total.
@@ -23,9 +23,10 @@ import os
 import tempfile
 import time
 
-from mat_hopper.cli_reproduce import reproduce
-from mat_hopper.experiments import get_experiment, get_profile, parse_experiments
-from mat_hopper.runner import default_workers
+from mat_hopper.experiments.paper import get_experiment, parse_experiments
+from mat_hopper.experiments.profiles import get_profile
+from mat_hopper.experiments.reproduce import reproduce
+from mat_hopper.experiments.runner import default_workers
 
 
 def sampled(profile, names, workers: int, k: int) -> None:

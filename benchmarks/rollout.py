@@ -81,7 +81,8 @@ def main(argv=None):
         simulate(a.design, a.behaviour, settings=settings)
         return time.perf_counter() - t0
 
-    run_bare(); run_ours()  # compile and warm up
+    run_bare()  # compile and warm up
+    run_ours()
     bare, ours, spec7 = [], [], []
     for _ in range(a.repeats):
         bare.append(run_bare())

@@ -7,9 +7,9 @@ Robotic Hopping" (ICRA 2025).
 
 __version__ = "0.1.0"
 
-from .materials import CATALOGUE, LegDesign, Material, material, parse_design  # noqa: E402
 from .behaviours import Behaviour, behaviour  # noqa: E402
 from .control import ControllerSettings  # noqa: E402
+from .materials import CATALOGUE, LegDesign, Material, material, parse_design  # noqa: E402
 from .sim import Rollout, SimSettings, simulate  # noqa: E402
 
 __all__ = ["CATALOGUE", "LegDesign", "Material", "material", "parse_design", "Behaviour",

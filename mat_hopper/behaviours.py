@@ -23,8 +23,8 @@ Example, a figure-eight of your own::
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numba
 import numpy as np
@@ -101,7 +101,7 @@ class Behaviour:
 
     # -- constructors --
     @classmethod
-    def from_samples(cls, name: str, dt_s: float, xy_m, *, ramp_grade_deg: float | None = None) -> "Behaviour":
+    def from_samples(cls, name: str, dt_s: float, xy_m, *, ramp_grade_deg: float | None = None) -> Behaviour:
         """Your own path from positions (n, 2) in m sampled every dt_s seconds from t = 0."""
         xy = np.asarray(xy_m, dtype=np.float64)
         start = (float(xy[0, 0]), float(xy[0, 1])) if xy.ndim == 2 and len(xy) else (0.0, 0.0)
@@ -110,7 +110,7 @@ class Behaviour:
 
     @classmethod
     def from_function(cls, name: str, fn: Callable[[float], tuple[float, float]], duration: float,
-                      dt_s: float = 1e-3, *, ramp_grade_deg: float | None = None) -> "Behaviour":
+                      dt_s: float = 1e-3, *, ramp_grade_deg: float | None = None) -> Behaviour:
         """Your own path from a Python function t (s) -> (x, y) (m), sampled every dt_s."""
         if not duration > 0:
             raise ValueError(f"duration must be > 0 s, got {duration!r}")

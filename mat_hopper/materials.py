@@ -38,8 +38,8 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Sequence
 
 from . import reference as ref
 
@@ -228,9 +228,12 @@ def capsule_density_scale(n_segments: int, segment_mass: str = DEFAULT_SEGMENT_M
 
 
 def segment_masses(design: "LegDesign", segment_mass: str = DEFAULT_SEGMENT_MASS) -> tuple[float, ...]:
-    """Mass (kg) of each material segment, both halves, from its density,
-    the capsule geometry and the segment-mass convention: m = rho V, with V
-    two half-segment capsules (:func:`capsule_volume_m3`)."""
+    """Mass in kg of each material segment of a design, base to foot, as the
+    model builds it: m = rho V, V two half-segment capsules of radius
+    0.025 m (:func:`capsule_volume_m3`, end caps included), rho scaled by the
+    segment-mass convention (:func:`capsule_density_scale`). The rest of the
+    robot (base, hip stub, foot) is in :mod:`mat_hopper.model`; MuJoCo's
+    total is ``build_model(d).total_mass_kg``."""
     n = design.n_segments
     v = 2.0 * capsule_volume_m3(ref.MATERIAL_RADIUS, segment_length(n) / 2.0)
     scale = capsule_density_scale(n, segment_mass)
@@ -314,14 +317,14 @@ class LegDesign:
         return LegDesign(tuple(segs), name=f"{self.name}@{n}" if self.name else "")
 
     @classmethod
-    def mono(cls, mat: Material | str, n_segments: int = ref.REFERENCE_SEGMENTS) -> "LegDesign":
+    def mono(cls, mat: Material | str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesign:
         """A homogeneous leg of one material."""
         m = material(mat) if isinstance(mat, str) else mat
         return cls((m,) * check_n_segments(n_segments), name=m.name)
 
     @classmethod
     def from_properties(cls, densities_g_cm3: Sequence[float],
-                        moduli_gpa: Sequence[float | None], name: str = "") -> "LegDesign":
+                        moduli_gpa: Sequence[float | None], name: str = "") -> LegDesign:
         """A leg from per-segment densities (g/cm^3) and moduli (GPa, None = rigid)."""
         dens, mods = list(densities_g_cm3), list(moduli_gpa)
         if len(mods) == 1 and len(dens) > 1:

@@ -40,6 +40,7 @@ from scipy import stats
 
 from . import reference as ref
 from .model import terrain_height_m
+from .analysis.change import percent_change
 from .sim import C, Rollout
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
@@ -186,7 +187,7 @@ def compare(hops: pd.DataFrame, baseline: str, *, by: str = "behaviour", metrics
             for m in metrics:
                 a, b = dg[m].to_numpy(float), base[m].to_numpy(float)
                 mean_a, mean_b = (a.mean() if len(a) else np.nan), (b.mean() if len(b) else np.nan)
-                pct = 100.0 * (mean_a - mean_b) / abs(mean_b) if mean_b else np.nan
+                pct = percent_change(mean_a, mean_b)
                 pooled = np.concatenate([a, b])
                 # Round-off spread (e.g. 1e-17 m of lateral drift in symmetric
                 # in-place hopping) is no difference: treat it as ties.

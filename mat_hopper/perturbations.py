@@ -57,7 +57,7 @@ class Perturbation:
             raise ValueError(f"push_window_s must be (start, end) with 0 <= start <= end s, got {self.push_window_s!r}")
 
     @classmethod
-    def replicate(cls, seed: int) -> "Perturbation":
+    def replicate(cls, seed: int) -> Perturbation:
         """The book's replicate: 5 mm start offset, 0.5 deg tilt, a 5 N push
         for 0.1 s between 5 and 15 s, 1 mm and 5 mm/s sensor noise (std)."""
         return cls(seed=seed, start_offset_m=0.005, start_tilt_rad=math.radians(0.5),

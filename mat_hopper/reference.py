@@ -1,7 +1,8 @@
 """The reference hopper: every number the paper's authors' code fixes.
 
 One source of truth. Geometry, masses, gains, protocol and experiment grids
-of ``shared/spec/reference-hopper.md`` live here and nowhere else; the rest
+of the reference hopper (``docs/reference-hopper.md``: each number with
+its source) live here and nowhere else; the rest
 of the package imports them. Units are SI unless a name says otherwise
 (``_deg``, ``_g_cm3``, ``_gpa``).
 """
@@ -124,7 +125,7 @@ STABILITY_MODULUS_RANGE = (4.0, 340.0)   # GPa, log-spaced
 STABILITY_TIMESTEP_RANGE = (1e-3, 1e-5)  # s, 20 log-spaced tries
 STABILITY_TEST_DURATION_S = 2.0          # s of static hopping per try
 
-# --- The paper's quantitative claims (spec: "The paper's quantitative claims")
+# --- The paper's quantitative claims (docs/reference-hopper.md, "The paper's claims")
 # Percent changes are of means against a baseline design (negative: lower).
 DYNAMIC_BEHAVIOURS = ("forward", "ramp", "circle")   # the paper's behaviours 2-4
 CLAIM_HOP_HEIGHT_M = 1.0                 # every design's mean hop height

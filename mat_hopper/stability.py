@@ -1,6 +1,6 @@
 """The largest stable time step of a design, measured and estimated.
 
-Measured (the spec's criterion). A time step is *stable* for a design when
+Measured (the reference hopper's criterion, docs/reference-hopper.md). A time step is *stable* for a design when
 2 s of static hopping at that step (transient 0) end with no NaN or inf,
 every |qacc| <= 1e6 and the base above 0.1 m: :attr:`Rollout.upright`.
 
@@ -22,7 +22,7 @@ every |qacc| <= 1e6 and the base above 0.1 m: :attr:`Rollout.upright`.
   first stable step from above on its coarse ladder, so a stable island
   above the first unstable step is missed, and an unstable pocket inside
   the final bracket is not seen.
-- :func:`spec_scan`: the spec's own protocol, the first stable step of 20
+- :func:`spec_scan`: the reference protocol (docs/reference-hopper.md), the first stable step of 20
   log-spaced steps from 1e-3 down to 1e-5 s (nan if none). Beside the
   bisection it tests the monotonicity assumption (:func:`scan_consistent`).
 
@@ -62,9 +62,9 @@ import numpy as np
 import pandas as pd
 
 from . import reference as ref
+from .experiments.runner import design_key, hash_key, versions
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
 from .modes import controller_timestep, delayed_damping_factor, estimate_timestep, leg_chain, spring_chain_wmax
-from .runner import design_key, hash_key, versions
 
 # The analytic bounds live in mat_hopper.modes (pure physics, no runner);
 # re-exported here where the measured ones are.
@@ -90,7 +90,7 @@ SPEC_SCAN_N = 20
 def try_timestep(design: LegDesign, timestep_s: float, *, duration_s: float = ref.STABILITY_TEST_DURATION_S,
                  convention: str = DEFAULT_CONVENTION) -> dict:
     """Static hopping for duration_s at timestep_s (transient 0): a dict
-    with dt_s, stable (no divergence), upright (the spec's criterion),
+    with dt_s, stable (no divergence), upright (the criterion of docs/reference-hopper.md),
     diverged_at_s (nan if none) and final_base_z_m."""
     from .sim import C, SimSettings, simulate
     settings = SimSettings(duration_s=duration_s, timestep_s=timestep_s, transient_s=0.0, convention=convention)
@@ -186,7 +186,7 @@ def spec_scan(design: LegDesign, *, first: float = ref.STABILITY_TIMESTEP_RANGE[
               last: float = ref.STABILITY_TIMESTEP_RANGE[1], n: int = SPEC_SCAN_N,
               duration_s: float = ref.STABILITY_TEST_DURATION_S, convention: str = DEFAULT_CONVENTION,
               tries: list | None = None) -> float:
-    """The spec's protocol: the first stable of n log-spaced steps from
+    """The reference protocol (docs/reference-hopper.md): the first stable of n log-spaced steps from
     `first` down to `last` (s); nan when none is stable."""
     tries = [] if tries is None else tries
     for dt in np.geomspace(first, last, int(n)):
@@ -201,7 +201,7 @@ def spec_scan(design: LegDesign, *, first: float = ref.STABILITY_TIMESTEP_RANGE[
 def scan_consistent(dt_stable: float, dt_unstable: float, dt_spec: float, *,
                     first: float = ref.STABILITY_TIMESTEP_RANGE[0], last: float = ref.STABILITY_TIMESTEP_RANGE[1],
                     n: int = SPEC_SCAN_N) -> bool:
-    """Whether the spec scan's answer fits the bisection's bracket if
+    """Whether the reference scan's answer fits the bisection's bracket if
     stability were monotone in the step: no ladder step >= dt_unstable is
     stable, and no ladder step <= dt_stable is passed over."""
     ladder = np.geomspace(first, last, int(n))
@@ -225,7 +225,7 @@ class StabilitySpec:
     """Stable-time-step measurement of one design (a runner task).
 
     duration_s of static hopping per try; bisection in [dt_min, dt_max] s
-    to `tolerance` in at most `max_iter` tries; `scan`: also run the spec's
+    to `tolerance` in at most `max_iter` tries; `scan`: also run the reference (docs/reference-hopper.md)
     20-step protocol."""
 
     design: LegDesign
@@ -296,8 +296,8 @@ class StabilitySpec:
 
 
 def stability_grid(size: int = ref.STABILITY_GRID_SIZE) -> tuple[np.ndarray, np.ndarray]:
-    """The spec's map axes: densities (g/cm^3) and moduli (GPa), log-spaced
-    over the spec's ranges and rounded to 0.1, `size` values each."""
+    """The map axes of docs/reference-hopper.md: densities (g/cm^3) and moduli
+    (GPa), log-spaced over its ranges and rounded to 0.1, `size` values each."""
     size = int(size)
     if size < 1:
         raise ValueError(f"stability grid size must be >= 1, got {size!r}")
@@ -319,7 +319,7 @@ def agreement(table: pd.DataFrame) -> pd.DataFrame:
     Pearson r and least-squares slope of log(measured) on log(estimate),
     median and range of measured / estimate, the fractions within a factor
     2 and with the estimate inside the measured bracket [max_stable,
-    unstable); and the fraction where the spec scan fits the bracket.
+    unstable); and the fraction where the reference scan ("spec scan") fits the bracket.
     Columns: estimate, quantity, value."""
     rows = []
     for name, col in ESTIMATES.items():

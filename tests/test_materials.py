@@ -3,8 +3,17 @@ import math
 import pytest
 
 from mat_hopper import reference as ref
-from mat_hopper.materials import (CATALOGUE, LegDesign, Material, bulk_density, material, paper_designs,
-                                  parse_design, porosity, spring_stiffness)
+from mat_hopper.materials import (
+    CATALOGUE,
+    LegDesign,
+    Material,
+    bulk_density,
+    material,
+    paper_designs,
+    parse_design,
+    porosity,
+    spring_stiffness,
+)
 
 
 def test_paper_convention_pinned():
@@ -139,3 +148,15 @@ def test_resample_conserves_mass_and_compliance():
         assert sum(1 / e for e in r.moduli_gpa) / n == pytest.approx(sum(1 / e for e in leg.moduli_gpa) / 3)
     md = parse_design("MD").resample(5)
     assert all(s.rigid for s in md.segments)
+
+
+def test_segment_masses_by_hand():
+    from mat_hopper.materials import capsule_volume_m3, parse_design, segment_masses
+
+    # one capsule r = 0.025 m, L = 0.05 m: pi r^2 L + 4/3 pi r^3 = 9.8175e-5 + 6.5450e-5 m^3
+    assert capsule_volume_m3(0.025, 0.05) == pytest.approx(1.63625e-4, rel=1e-5)
+    # an SS segment (8 g/cm^3 = 8000 kg/m^3) of the 3-segment leg: two such half capsules
+    ss = segment_masses(parse_design("SS"))
+    assert ss == pytest.approx((2.618,) * 3, rel=1e-3)
+    # rho-inc: 1.39, 4.43, 8 g/cm^3 from base to foot, same volumes
+    assert segment_masses(parse_design("rho-inc")) == pytest.approx((0.4549, 1.4497, 2.618), rel=1e-3)

@@ -8,7 +8,7 @@ from mat_hopper.sim import simulate
 
 @pytest.fixture(scope="module")
 def rollout():
-    return simulate("Al", "forward", duration=8.0, transient=3.0)
+    return simulate("Al", "forward", duration_s=8.0, transient_s=3.0)
 
 
 def test_hop_table_rows_are_scored_cycles(rollout):

@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 
 from mat_hopper import reference as ref
-from mat_hopper.materials import LegDesign, parse_design
 from mat_hopper import sim
+from mat_hopper.materials import LegDesign, parse_design
 from mat_hopper.model import CONTROL_SENSORS, SENSORS, build_model, reset_to_start
 from mat_hopper.sim import simulate
 
@@ -105,7 +105,7 @@ def test_sensor_sets():
 def test_unread_sensors_do_not_change_the_trajectory(monkeypatch):
     """Rollouts drop the hip torque and accelerometer sensors: nothing reads
     them, so a rollout with the spec's seven is bit-identical."""
-    lean = simulate("SS", "ramp", duration=3.0, transient=1.0)
+    lean = simulate("SS", "ramp", duration_s=3.0, transient_s=1.0)
     built = []
 
     def with_all_sensors(*args, **kwargs):
@@ -114,7 +114,7 @@ def test_unread_sensors_do_not_change_the_trajectory(monkeypatch):
         return hm
 
     monkeypatch.setattr(sim, "build_model", with_all_sensors)
-    full = simulate("SS", "ramp", duration=3.0, transient=1.0)
+    full = simulate("SS", "ramp", duration_s=3.0, transient_s=1.0)
     assert built == [len(SENSORS)]
     np.testing.assert_array_equal(full.data, lean.data)
     np.testing.assert_array_equal(full.events, lean.events)

@@ -4,13 +4,13 @@ of the authors' controller on our compiled model (issue 10).
 
 Slow (about a minute on two cores), and run by CI."""
 
-from concurrent.futures import ProcessPoolExecutor
 import multiprocessing as mp
+from concurrent.futures import ProcessPoolExecutor
 
 import pytest
 
-from mat_hopper.materials import MONO_NAMES
 from mat_hopper.behaviours import BEHAVIOUR_NAMES
+from mat_hopper.materials import MONO_NAMES
 
 CASES = [(d, b) for d in MONO_NAMES for b in BEHAVIOUR_NAMES] + [("rho-inc", "ramp")]
 
@@ -29,7 +29,7 @@ def _run(case):
     from mat_hopper.metrics import hop_table
     from mat_hopper.sim import simulate
     design, beh = case
-    r = simulate(design, beh, duration=60.0)
+    r = simulate(design, beh, duration_s=60.0)
     hops = hop_table(r)
     return {"stable": r.stable, "mean_height": float(hops.hop_height_m.mean()), "n": len(hops),
             "x_end": float(r.base_pos[-1, 0]), "x_des_end": float(r.desired_pos[-1, 0]),

@@ -1,9 +1,11 @@
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
-
 from conftest import run_python
+
 from mat_hopper.behaviours import behaviour
 from mat_hopper.perturbations import Perturbation
 from mat_hopper.sim import CHANNELS, RolloutRunner, SimSettings, simulate
@@ -11,7 +13,7 @@ from mat_hopper.sim import CHANNELS, RolloutRunner, SimSettings, simulate
 
 @pytest.fixture(scope="module")
 def ss_forward():
-    return simulate("SS", "forward", duration=4.0, transient=1.0, record_qpos=True)
+    return simulate("SS", "forward", duration_s=4.0, transient_s=1.0, record_qpos=True)
 
 
 def test_rollout_arrays(ss_forward):
@@ -144,8 +146,8 @@ def test_bad_sensor_timing(bad):
 
 
 def test_determinism_bit_identical():
-    a = simulate("rho-inc", "circle", duration=3.0, transient=0.0)
-    b = simulate("rho-inc", "circle", duration=3.0, transient=0.0)
+    a = simulate("rho-inc", "circle", duration_s=3.0, transient_s=0.0)
+    b = simulate("rho-inc", "circle", duration_s=3.0, transient_s=0.0)
     assert np.array_equal(a.data, b.data) and np.array_equal(a.events, b.events, equal_nan=True)
 
 
@@ -162,19 +164,19 @@ def test_compiled_and_plain_python_loops_give_the_same_trajectory():
     """The same loop with NUMBA_DISABLE_JIT=1 (every function as plain
     Python, MuJoCo through ctypes) reproduces the compiled trajectory."""
     code = ("import numpy as np, sys; from mat_hopper.sim import simulate; "
-            "r = simulate('SS', 'forward', duration=0.6, transient=0.0); "
+            "r = simulate('SS', 'forward', duration_s=0.6, transient_s=0.0); "
             "np.save(sys.argv[-1] if False else '/dev/stdout', r.data) if False else "
             "print(__import__('json').dumps(r.data.tolist()))")
     plain = run_python(code, {"NUMBA_DISABLE_JIT": "1"})
     assert plain.returncode == 0, plain.stderr[-2000:]
     plain_data = np.array(json.loads(plain.stdout))
-    compiled = simulate("SS", "forward", duration=0.6, transient=0.0).data
+    compiled = simulate("SS", "forward", duration_s=0.6, transient_s=0.0).data
     assert plain_data.shape == compiled.shape
     np.testing.assert_array_equal(plain_data, compiled)
 
 
 def test_divergence_is_a_result_not_a_crash():
-    r = simulate("SS", "static", duration=2.0, timestep=2e-3, transient=0.0)
+    r = simulate("SS", "static", duration_s=2.0, timestep_s=2e-3, transient_s=0.0)
     assert not r.stable
     assert 0 <= r.diverged_at_s < 2.0
     assert not r.upright
@@ -183,10 +185,10 @@ def test_divergence_is_a_result_not_a_crash():
 
 def test_perturbed_replicates_are_seeded():
     p = Perturbation.replicate(3)
-    a = simulate("MD", "static", duration=3.0, transient=0.0, perturbation=p)
-    b = simulate("MD", "static", duration=3.0, transient=0.0, perturbation=p)
-    c = simulate("MD", "static", duration=3.0, transient=0.0, perturbation=Perturbation.replicate(4))
-    plain = simulate("MD", "static", duration=3.0, transient=0.0)
+    a = simulate("MD", "static", duration_s=3.0, transient_s=0.0, perturbation=p)
+    b = simulate("MD", "static", duration_s=3.0, transient_s=0.0, perturbation=p)
+    c = simulate("MD", "static", duration_s=3.0, transient_s=0.0, perturbation=Perturbation.replicate(4))
+    plain = simulate("MD", "static", duration_s=3.0, transient_s=0.0)
     assert np.array_equal(a.data, b.data)
     assert not np.array_equal(a.data, c.data)
     assert np.abs(plain.base_pos[:, :2]).max() < 1e-12    # symmetric: round-off lateral motion only
@@ -194,14 +196,14 @@ def test_perturbed_replicates_are_seeded():
 
 
 @pytest.mark.parametrize("kwargs, field", [
-    (dict(timestep=0), "timestep"), (dict(timestep=-1e-4), "timestep"),
-    (dict(duration=10.0, transient=20.0), "duration"), (dict(convention="beam"), "convention"),
-    (dict(transient=-1.0), "transient"), (dict(record_rate_hz=0), "record_rate_hz"),
-    (dict(duration=1e9), "physics steps"), (dict(timestep=1e-300), "physics steps"),
-    (dict(duration=3000.0, record_rate_hz=1e4), "recorded samples"),
+    (dict(timestep_s=0), "timestep"), (dict(timestep_s=-1e-4), "timestep"),
+    (dict(duration_s=10.0, transient_s=20.0), "duration"), (dict(convention="beam"), "convention"),
+    (dict(transient_s=-1.0), "transient"), (dict(record_rate_hz=0), "record_rate_hz"),
+    (dict(duration_s=1e9), "physics steps"), (dict(timestep_s=1e-300), "physics steps"),
+    (dict(duration_s=3000.0, record_rate_hz=1e4), "recorded samples"),
 ])
 def test_bad_settings(kwargs, field):
-    args = dict(duration=30.0)
+    args = dict(duration_s=30.0)
     args.update(kwargs)
     with pytest.raises(ValueError, match=field):
         simulate("SS", "forward", **args)
@@ -209,9 +211,22 @@ def test_bad_settings(kwargs, field):
 
 def test_bad_design_and_behaviour():
     with pytest.raises(ValueError, match="unknown material"):
-        simulate("steel", "forward", duration=1.0, transient=0.0)
+        simulate("steel", "forward", duration_s=1.0, transient_s=0.0)
     with pytest.raises(ValueError, match="unknown behaviour"):
-        simulate("SS", "backflip", duration=1.0, transient=0.0)
+        simulate("SS", "backflip", duration_s=1.0, transient_s=0.0)
+
+
+def test_importing_sim_installs_no_mujoco_warning_handler():
+    """Importing the package leaves MuJoCo's global warning handler alone;
+    route_mujoco_warnings() installs one (the CLI, the runner's workers and
+    book.setup() call it)."""
+    code = ("import mujoco, mat_hopper, mat_hopper.sim as s\n"
+            "assert mujoco.get_mju_user_warning() is None\n"
+            "s.route_mujoco_warnings()\n"
+            "assert mujoco.get_mju_user_warning() is not None\n")
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=120)
+
+
 
 
 def test_one_substep_is_the_plain_loop_and_substeps_hold_the_control():

@@ -1,5 +1,10 @@
-# Chapter 1 of the book: the question, how to read and rerun the book.
-# Source of notebooks/01-introduction.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # Introduction
@@ -50,7 +55,10 @@
 # profile of the build and points the result cache at `results/cache`.
 
 # %%
-from mat_hopper import book, reference as ref
+from mat_hopper import book
+from mat_hopper import reference as ref
+from mat_hopper.experiments import profiles
+from mat_hopper.viz import maps
 
 b = book.setup()
 print(b.describe())
@@ -75,7 +83,7 @@ book.show(book.environment_table())
 # This build's profile beside the paper's protocol:
 
 # %%
-book.show(book.profile_table(b.profile))
+book.show(profiles.profile_table(b.profile))
 
 # %% [markdown]
 # ## Rerunning it
@@ -112,8 +120,8 @@ book.show(book.profile_table(b.profile))
 # The experiments also run without the book, from the command line
 # (`.venv/bin/mat-hopper reproduce --profile quick`), and every function
 # the chapters call is importable from Python. The notebooks are stored
-# without outputs and generated from `notebooks/src/*.py`
-# (`python scripts/make_notebooks.py`): edit those sources.
+# without outputs and paired with `notebooks/src/*.py` by jupytext
+# (`make notebooks`): edit those sources.
 
 # %% [markdown]
 # ## The designs
@@ -127,7 +135,7 @@ book.show(book.profile_table(b.profile))
 # the one nearest the body.
 
 # %%
-book.designs_figure()
+maps.designs_figure()
 
 # %% [markdown]
 # The remaining chapters follow the paper: what the materials are

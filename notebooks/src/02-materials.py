@@ -1,5 +1,10 @@
-# Chapter 2 of the book: the materials (Ashby chart, porosity and density, the catalogue).
-# Source of notebooks/02-materials.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # Materials
@@ -15,10 +20,13 @@
 # space.
 
 # %%
-from mat_hopper import book, materials, plots
+import pandas as pd
+
+from mat_hopper import book, materials
+from mat_hopper.viz import maps
 
 b = book.setup()
-plots.ashby_figure()
+maps.ashby_figure()
 
 # %% [markdown]
 # The paper's materials sit in two clusters: PVC among the polymers (light
@@ -36,7 +44,7 @@ plots.ashby_figure()
 # modulus.
 
 # %%
-book.show(plots.catalogue_table())
+book.show(maps.catalogue_table())
 
 # %% [markdown]
 # ## Porosity and density
@@ -68,4 +76,12 @@ print(f"titanium at 50 % porosity: {materials.bulk_density(0.5, materials.materi
 # the same stiffness, not for a porous one.
 
 # %%
-book.show(book.sweep_porosity_table(), {"porosity": "{:+.0%}"})
+from mat_hopper import reference as ref
+
+rows = []
+for base, sweeps in ref.SWEEPS.items():
+    rho_s = materials.material(base).density_g_cm3     # the solid's own density
+    for rho in sweeps["density"]:
+        phi = 1.0 - rho / rho_s                         # Φ = 1 - ρ_b / ρ_s; < 0: denser than the solid
+        rows.append({"base": base, "density_g_cm3": rho, "porosity": phi, "reachable_by_porosity": phi >= 0})
+book.show(pd.DataFrame(rows), {"porosity": "{:+.0%}"})

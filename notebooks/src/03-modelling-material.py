@@ -1,5 +1,10 @@
-# Chapter 3 of the book: modelling material in MuJoCo (mass from density, springs from modulus).
-# Source of notebooks/03-modelling-material.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # Modelling material in MuJoCo
@@ -13,10 +18,24 @@
 # models and looks at what the two devices do.
 
 # %%
-from mat_hopper import book, reference as ref
+import pandas as pd
+
+from mat_hopper import book, materials
+from mat_hopper import reference as ref
+from mat_hopper.materials import parse_design
+from mat_hopper.model import build_model, build_spec
 
 b = book.setup()
-print(book.segment_xml("SS", segment=1))
+
+
+def segment_xml(design: str, i: int = 1) -> str:
+    """The MJCF lines of material segment i, as MuJoCo writes the model."""
+    keys = (f'name="seg{i}_upper"', f'<body name="seg{i}"', f'name="mat_spring_{i}"', f'name="seg{i}_lower"')
+    return "\n".join(ln.strip() for ln in build_spec(parse_design(design)).to_xml().splitlines()
+                     if any(k in ln for k in keys))
+
+
+print(segment_xml("SS"))
 
 # %% [markdown]
 # Above: one stainless-steel segment as MuJoCo sees it. The upper half
@@ -26,7 +45,7 @@ print(book.segment_xml("SS", segment=1))
 # spring joints at all:
 
 # %%
-print(book.segment_xml("MD", segment=1))
+print(segment_xml("MD"))
 
 # %% [markdown]
 # ## Mass from density
@@ -36,7 +55,13 @@ print(book.segment_xml("MD", segment=1))
 # the compiled model reports it (15 kg of it is the body):
 
 # %%
-masses = book.mass_table()
+rows = []
+for name, design in materials.paper_designs().items():
+    seg = materials.segment_masses(design)                    # m = ρ V per segment, kg
+    rows.append({"design": name, "densities_g_cm3": "/".join(f"{x:g}" for x in design.densities_g_cm3),
+                 "segment_masses_kg": "/".join(f"{x:.3f}" for x in seg), "leg_material_kg": sum(seg),
+                 "total_mass_kg": build_model(design).total_mass_kg})    # MuJoCo's own total
+masses = pd.DataFrame(rows)
 book.show(masses, {"leg_material_kg": "{:.3f}", "total_mass_kg": "{:.2f}"})
 
 # %%
@@ -68,7 +93,12 @@ print(f"MD: {by_name['MD']:.2f} kg (the authors' model: {ref.MASS_MD_KG} kg); "
 # Both are linear in E, so they differ by one factor:
 
 # %%
-springs = book.stiffness_table()
+springs = pd.DataFrame([
+    {"material": n, "modulus_gpa": materials.material(n).modulus_gpa,
+     "k_paper_n_m": materials.spring_stiffness(materials.material(n).modulus_gpa, "paper"),
+     "k_axial_n_m": materials.spring_stiffness(materials.material(n).modulus_gpa, "axial")}
+    for n in ("PVC", "Al", "Ti", "SS")])
+springs["axial_over_paper"] = springs["k_axial_n_m"] / springs["k_paper_n_m"]
 print(f"axial / paper: {springs['axial_over_paper'].iloc[0]:.1f} times stiffer, for every material")
 book.show(springs, {"axial_over_paper": "{:.1f}"}, precision=3)
 
@@ -99,11 +129,14 @@ book.show(springs, {"axial_over_paper": "{:.1f}"}, precision=3)
 # (chapter 5 has the details). Both conventions, every mono-material:
 
 # %%
-steps = book.convention_stability(profile=b.profile)
+from mat_hopper.experiments import paper
+from mat_hopper.viz import chapters
+
+steps = paper.convention_stability(profile=b.profile, cache_dir=b.cache_dir)
 book.show(steps, precision=3)
 
 # %%
-book.convention_figure(steps)
+chapters.convention_figure(steps)
 
 # %%
 paper_conv = steps[steps["convention"] == "paper"].set_index("design")

@@ -1,5 +1,10 @@
-# Chapter 4 of the book: the hopper and its controller.
-# Source of notebooks/04-hopper-controller.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # The hopper and its controller
@@ -15,7 +20,9 @@
 import pandas as pd
 
 from mat_hopper import book, simulate
+from mat_hopper.analysis import tables
 from mat_hopper.metrics import hop_table, run_summary
+from mat_hopper.viz import chapters
 
 b = book.setup()
 
@@ -34,7 +41,7 @@ b = book.setup()
 # %%
 from PIL import Image
 
-from mat_hopper import render
+from mat_hopper.viz import render
 
 Image.fromarray(render.render_still("rho-inc", "ramp", size=(720, 480)))
 
@@ -42,7 +49,7 @@ Image.fromarray(render.render_still("rho-inc", "ramp", size=(720, 480)))
 # The joints of the stainless-steel leg:
 
 # %%
-book.show(book.joint_table("SS"), precision=3)
+book.show(tables.joint_table("SS"), precision=3)
 
 # %% [markdown]
 # ## The controller
@@ -70,7 +77,11 @@ book.show(book.joint_table("SS"), precision=3)
 # code:
 
 # %%
-book.show(book.gains_table())
+from dataclasses import asdict
+
+from mat_hopper import ControllerSettings
+
+book.show(pd.DataFrame(asdict(ControllerSettings()).items(), columns=["setting", "value"]))
 
 # %% [markdown]
 # ## One rollout
@@ -85,7 +96,7 @@ book.show(book.gains_table())
 
 # %%
 rollout = simulate("SS", "forward", settings=b.profile.sim_settings())
-book.controller_figure(rollout)
+chapters.controller_figure(rollout)
 
 # %% [markdown]
 # Every hop cycle (lift-off to the next lift-off) after the transient

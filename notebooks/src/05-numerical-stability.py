@@ -1,5 +1,10 @@
-# Chapter 5 of the book: numerical stability, the stable-time-step map with the analytic estimate.
-# Source of notebooks/05-numerical-stability.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # Numerical stability
@@ -38,15 +43,18 @@
 # `combined` estimate.
 
 # %%
-from mat_hopper import book, plots
+from mat_hopper import book
+from mat_hopper.analysis import tables as tab
+from mat_hopper.experiments import reproduce
 from mat_hopper.stability import agreement
+from mat_hopper.viz import maps
 
 b = book.setup()
-tables = book.run_experiments(b, "stability")
+tables = reproduce.run_experiments(b.profile, "stability", out_dir=b.out_dir, cache_dir=b.cache_dir)
 stab = tables["stability"]
 
 # %%
-plots.stability_figure(stab, convention=b.profile.convention)
+maps.stability_figure(stab, convention=b.profile.convention)
 
 # %% [markdown]
 # Left: the measured largest stable step over the grid (colour) and the
@@ -73,7 +81,7 @@ book.show(agreement(stab), precision=3)
 # ## Beside the paper
 
 # %%
-book.show(book.claims_for(tables, "stability"))
+book.show(tab.claims_for(tables, "stability"))
 
 # %% [markdown]
 # The verdicts follow the rules of `mat_hopper/claims.py` (chapter 10

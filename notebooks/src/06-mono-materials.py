@@ -1,5 +1,10 @@
-# Chapter 6 of the book: experiment 1, mono-materials on four behaviours.
-# Source of notebooks/06-mono-materials.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # Mono-materials
@@ -15,10 +20,13 @@
 # the paper does (a star marks p < 0.05).
 
 # %%
-from mat_hopper import book, plots
+from mat_hopper import book
+from mat_hopper.analysis import tables as tab
+from mat_hopper.experiments import paper, reproduce
+from mat_hopper.viz import figures as plots
 
 b = book.setup()
-tables = book.run_experiments(b, "1")
+tables = reproduce.run_experiments(b.profile, "1", out_dir=b.out_dir, cache_dir=b.cache_dir)
 hops, runs = tables["exp1_hops"], tables["exp1_runs"]
 
 # %% [markdown]
@@ -26,7 +34,7 @@ hops, runs = tables["exp1_hops"], tables["exp1_runs"]
 # error; its hop cycles up to then still count):
 
 # %%
-book.show(book.outcome_table(runs), index=True)
+book.show(tab.outcome_table(runs), index=True)
 
 # %% [markdown]
 # ## Power, jerk and tracking error
@@ -44,20 +52,20 @@ plots.figure4_mono(hops)
 # below). Tracking error:
 
 # %%
-book.show(book.pct_change_table(hops, "tracking_error_m"), index=True, pattern="{:+.0f} %")
+book.show(tab.pct_change_table(hops, "tracking_error_m"), index=True, pattern="{:+.0f} %")
 
 # %% [markdown]
 # Hip power:
 
 # %%
-book.show(book.pct_change_table(hops, "power_w"), index=True, pattern="{:+.0f} %")
+book.show(tab.pct_change_table(hops, "power_w"), index=True, pattern="{:+.0f} %")
 
 # %% [markdown]
 # Hop height is left out of the paper's figure "since all experiments had
 # a mean hop height of 1 m". Ours, mean per run (m):
 
 # %%
-book.show(book.metric_table(hops, "hop_height_m"), index=True, decimals=3)
+book.show(tab.metric_table(hops, "hop_height_m"), index=True, decimals=3)
 
 # %% [markdown]
 # ## Hopping in place has no tracking error
@@ -93,9 +101,9 @@ print(f"largest tracking error of any static hop cycle: {static['tracking_error_
 # runs are independent samples.
 
 # %%
-from mat_hopper import stats
+from mat_hopper.analysis import stats
 
-reps = book.in_place_replicates(b)
+reps = paper.in_place_replicates(b.profile, cache_dir=b.cache_dir)
 in_place = stats.compare_replicates(reps, "MD")
 print(f"{b.profile.book_replicates} replicates per design ({b.profile.name} profile)")
 plots.figure4_mono(reps, in_place)
@@ -106,7 +114,7 @@ plots.figure4_mono(reps, in_place)
 # bootstrap interval (a star: Holm-adjusted p < 0.05):
 
 # %%
-book.show(book.replicate_table(in_place))
+book.show(tab.replicate_table(in_place))
 
 # %% [markdown]
 # The same comparison for any experiment and behaviour is one command
@@ -116,7 +124,7 @@ book.show(book.replicate_table(in_place))
 # ## Beside the paper
 
 # %%
-book.show(book.claims_for(tables, "mono"))
+book.show(tab.claims_for(tables, "mono"))
 
 # %% [markdown]
 # The verdicts are computed from the tables above by the rules of

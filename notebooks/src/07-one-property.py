@@ -1,5 +1,10 @@
-# Chapter 7 of the book: experiment 2, one property at a time (forward hopping).
-# Source of notebooks/07-one-property.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # One property at a time
@@ -11,7 +16,11 @@
 # authors' (`reference.SWEEPS`):
 
 # %%
-from mat_hopper import book, plots, reference as ref
+from mat_hopper import book
+from mat_hopper import reference as ref
+from mat_hopper.analysis import tables as tab
+from mat_hopper.experiments import reproduce
+from mat_hopper.viz import figures as plots
 
 b = book.setup()
 for base, sweep in ref.SWEEPS.items():
@@ -25,15 +34,15 @@ for base, sweep in ref.SWEEPS.items():
 # material could reach.
 
 # %%
-tables = book.run_experiments(b, "2")
-mono = book.run_experiments(b, "1", quiet=True)   # MD's forward hopping: the reference line
+tables = reproduce.run_experiments(b.profile, "2", out_dir=b.out_dir, cache_dir=b.cache_dir)
+mono = reproduce.run_experiments(b.profile, "1", out_dir=b.out_dir, cache_dir=b.cache_dir, quiet=True)   # MD's forward hopping: the reference line
 tables.update(mono)
 sweeps = tables["exp2_hops"]
 
 # %%
 from IPython.display import Markdown
 
-Markdown(book.outcome_summary(tables["exp2_runs"]))
+Markdown(tab.outcome_summary(tables["exp2_runs"]))
 
 # %% [markdown]
 # A sweep point that diverges in its first steps is a light or stiff leg
@@ -57,7 +66,7 @@ plots.figure4_sweeps(sweeps, tables["exp1_hops"])
 # mean over its points (mm) and where they occur.
 
 # %%
-spans = book.sweep_spans(sweeps)
+spans = tab.sweep_spans(sweeps)
 spans[["min", "max", "span"]] *= 1e3
 book.show(spans.rename(columns={"min": "min (mm)", "max": "max (mm)", "span": "span (mm)"}), precision=3)
 
@@ -70,7 +79,7 @@ book.show(spans.rename(columns={"min": "min (mm)", "max": "max (mm)", "span": "s
 # (at least 20 GPa, metals and ceramics).
 
 # %%
-book.show(book.claims_for(tables, "one_property"))
+book.show(tab.claims_for(tables, "one_property"))
 
 # %% [markdown]
 # The first claim compares, per base material, the span of the density

@@ -1,5 +1,10 @@
-# Chapter 8 of the book: experiment 3, functional gradients (with time series and gait tiles).
-# Source of notebooks/08-gradients.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # Functional gradients
@@ -20,7 +25,11 @@
 # about ramp hopping, ρ-inc against MD and against SS:
 
 # %%
-from mat_hopper import book, plots, reference as ref
+from mat_hopper import book
+from mat_hopper import reference as ref
+from mat_hopper.analysis import tables as tab
+from mat_hopper.experiments import reproduce, runner
+from mat_hopper.viz import figures as plots
 
 b = book.setup()
 print(f"the paper, ramp: rho-inc vs MD {ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT:+.0f} % tracking error at "
@@ -29,9 +38,9 @@ print(f"the paper, ramp: rho-inc vs MD {ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT:+.0f
       f"tracking error, {ref.CLAIM_HEADLINE_POWER_PCT:+.0f} % power (the abstract)")
 
 # %%
-tables = book.run_experiments(b, "3")
+tables = reproduce.run_experiments(b.profile, "3", out_dir=b.out_dir, cache_dir=b.cache_dir)
 hops = tables["exp3_hops"]
-book.show(book.outcome_table(tables["exp3_runs"]), index=True)
+book.show(tab.outcome_table(tables["exp3_runs"]), index=True)
 
 # %% [markdown]
 # MD and SS are the very runs of chapter 6 (same settings, so the cache
@@ -51,20 +60,20 @@ plots.figure5_gradients(hops)
 # behaviour, against MD:
 
 # %%
-book.show(book.pct_change_table(hops, "tracking_error_m"), index=True, pattern="{:+.0f} %")
+book.show(tab.pct_change_table(hops, "tracking_error_m"), index=True, pattern="{:+.0f} %")
 
 # %%
-book.show(book.pct_change_table(hops, "power_w"), index=True, pattern="{:+.0f} %")
+book.show(tab.pct_change_table(hops, "power_w"), index=True, pattern="{:+.0f} %")
 
 # %% [markdown]
 # and against SS, the comparison of the paper's abstract (negative: the
 # gradient is lower than the steel leg):
 
 # %%
-book.show(book.pct_change_table(hops, "tracking_error_m", baseline="SS"), index=True, pattern="{:+.0f} %")
+book.show(tab.pct_change_table(hops, "tracking_error_m", baseline="SS"), index=True, pattern="{:+.0f} %")
 
 # %%
-book.show(book.pct_change_table(hops, "power_w", baseline="SS"), index=True, pattern="{:+.0f} %")
+book.show(tab.pct_change_table(hops, "power_w", baseline="SS"), index=True, pattern="{:+.0f} %")
 
 # %% [markdown]
 # ## Over time
@@ -78,7 +87,8 @@ book.show(book.pct_change_table(hops, "power_w", baseline="SS"), index=True, pat
 
 # %%
 designs = ["MD", "SS", "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC"]
-series = book.rollouts(designs, ["forward", "ramp"], b.profile, record_rate_hz=250)
+series = runner.rollouts(designs, ["forward", "ramp"], b.profile.sim_settings(), record_rate_hz=250,
+                         cache_dir=b.cache_dir)
 plots.figure5_timeseries(series)
 
 # %% [markdown]
@@ -89,21 +99,18 @@ plots.figure5_timeseries(series)
 # (segments coloured by density, the desired path in red).
 
 # %%
-import matplotlib.pyplot as plt
 from IPython.display import display
 
-from mat_hopper import render
+from mat_hopper.viz import render
 
 for behaviour in ("forward", "ramp"):
-    tiles = render.gait_tiles("rho-inc", behaviour, start_s=b.profile.transient_s)
-    plt.close(tiles)          # shown once, here, not again by pyplot
-    display(tiles)
+    display(render.gait_tiles("rho-inc", behaviour, start_s=b.profile.transient_s))
 
 # %% [markdown]
 # ## Beside the paper
 
 # %%
-book.show(book.claims_for(tables, "gradients"))
+book.show(tab.claims_for(tables, "gradients"))
 
 # %% [markdown]
 # The paper draws one more conclusion from this experiment: ρ-inc and
@@ -114,4 +121,4 @@ book.show(book.claims_for(tables, "gradients"))
 # design's mean against the first's; a star: Holm p < 0.05 on hop cycles):
 
 # %%
-book.show(book.starred(book.order_effect(hops)), index=True)
+book.show(tab.starred(tab.order_effect(hops)), index=True)

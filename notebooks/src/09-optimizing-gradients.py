@@ -1,5 +1,10 @@
-# Chapter 9 of the book: designing gradients with Optuna (a study, its Pareto front, bigger studies).
-# Source of notebooks/09-optimizing-gradients.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # Designing gradients with Optuna
@@ -36,10 +41,11 @@
 # %%
 from IPython.display import Image
 
-from mat_hopper import book
+from mat_hopper import book, optimize
+from mat_hopper.viz import maps
 
 b = book.setup()
-study = book.book_study(b)
+study = optimize.book_study(b.profile, studies_dir=b.root / "studies", out_dir=b.out_dir / "study")
 trials = study["trials"]
 print(f"study {study['name']}: {len(trials)} trials, "
       f"{int(trials['feasible'].sum())} feasible, {len(study['pareto'])} on the Pareto front")
@@ -60,7 +66,7 @@ Image(filename=study["paths"]["pareto_plot"], width=600)
 
 # %%
 front = study["pareto"]
-book.show(book.front_table(front), precision=3)
+book.show(optimize.front_table(front), precision=3)
 
 # %% [markdown]
 # What the front's legs are made of (the first six by tracking error,
@@ -71,8 +77,8 @@ book.show(book.front_table(front), precision=3)
 from mat_hopper.materials import paper_designs
 
 paper = paper_designs()
-legs = {"SS": paper["SS"], "rho-inc": paper["rho-inc"], **book.front_designs(front, k=6)}
-book.designs_figure(legs)
+legs = {"SS": paper["SS"], "rho-inc": paper["rho-inc"], **optimize.front_designs(front, k=6)}
+maps.designs_figure(legs)
 
 # %% [markdown]
 # How the front grew, trial by trial (the hypervolume the feasible front

@@ -1,5 +1,10 @@
-# Chapter 10 of the book: the reproduction report (claims table, differences, the authors' code defects).
-# Source of notebooks/10-reproduction-report.ipynb (python scripts/make_notebooks.py).
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
 
 # %% [markdown]
 # # Reproduction report
@@ -12,10 +17,13 @@
 
 # %%
 from mat_hopper import book
+from mat_hopper.analysis import tables as tab
+from mat_hopper.experiments import paper, reproduce, runner
+from mat_hopper.viz import chapters
 
 b = book.setup()
-tables = book.run_experiments(b, "1,2,3,stability")
-claims = book.claims_for(tables, None, columns=None)
+tables = reproduce.run_experiments(b.profile, "1,2,3,stability", out_dir=b.out_dir, cache_dir=b.cache_dir)
+claims = tab.claims_for(tables, None, columns=None)
 print(f"{b.describe()}\n{len(claims)} claims: " + ", ".join(f"{n} {v}" for v, n in claims["verdict"].value_counts().items()))
 
 # %% [markdown]
@@ -32,7 +40,7 @@ book.show(claims[["claim", "paper", "ours", "verdict", "basis"]])
 # cycles with Holm's correction):
 
 # %%
-book.show(book.claim_rules())
+book.show(tab.claim_rules())
 
 # %% [markdown]
 # Details behind each verdict (which runs were unusable, the spread of
@@ -74,7 +82,7 @@ book.show(claims[["claim", "detail"]])
 # error:
 
 # %%
-clock = book.clock_drift(b)
+clock = paper.clock_drift(b.profile, cache_dir=b.cache_dir)
 book.show(clock, precision=3)
 
 # %% [markdown]
@@ -88,8 +96,8 @@ book.show(clock, precision=3)
 # samples at decreasing rates:
 
 # %%
-rollouts = book.rollouts(["MD", "SS"], ["forward"], b.profile)
-jerk = {r.design.name: book.jerk_by_rate(r) for r in rollouts}
+rollouts = runner.rollouts(["MD", "SS"], ["forward"], b.profile.sim_settings(), cache_dir=b.cache_dir)
+jerk = {r.design.name: tab.jerk_by_rate(r) for r in rollouts}
 for name, t in jerk.items():
     print(name, ", ".join(f"{row.rate_hz:g} Hz: {row.mean_jerk_m_s3:.4g} m/s³" for row in t.itertuples()))
 
@@ -106,11 +114,11 @@ for name, t in jerk.items():
 # both measures of it:
 
 # %%
-power = book.power_formula_table(tables["exp1_hops"])
+power = tab.power_formula_table(tables["exp1_hops"])
 book.show(power, index=True, pattern="{:+.0f} %")
 
 # %%
-book.defects_figure(clock, jerk, power)
+chapters.defects_figure(clock, jerk, power)
 
 # %% [markdown]
 # **4. Modulus to stiffness.** Their conversion (chapter 3) makes the
@@ -121,9 +129,9 @@ book.defects_figure(clock, jerk, power)
 # runs at that step too:
 
 # %%
-axial = book.axial_check(b)
+axial = paper.axial_check(b.profile, cache_dir=b.cache_dir)
 print(f"time step for the axial runs: {axial['timestep_s']:g} s")
-book.show(book.setting_comparison(axial["hops"]).T, index=True, pattern="{:+.0f} %")
+book.show(tab.setting_comparison(axial["hops"]).T, index=True, pattern="{:+.0f} %")
 
 # %% [markdown]
 # Read across a row: the first two columns differ only in the time step,

@@ -1,0 +1,257 @@
+"""The paper's quantitative claims beside ours, with a verdict computed
+from the results (never typed in).
+
+:func:`claims_table` takes the result tables of a reproduction (per-hop
+table, run summaries, stable-time-step map) and returns one row per claim
+and stiffness convention: the claim, the paper's figure, ours, a verdict
+and the rule that gave it. :func:`write_claims` writes ``claims.md`` and
+``claims.csv`` (atomically).
+
+Verdicts:
+
+- ``holds``, ``partly``, ``does not hold``: by the claim's rule (below, and
+  in the table's ``rule`` column);
+- ``not run``: the convention's results needed for the claim are missing;
+- ``not testable``: the runs exist but none of the needed ones is usable:
+  they diverged numerically (e.g. the explicit spring limit of stiff
+  metals under the ``axial`` convention at dt = 1e-4 s), fell over, or
+  failed. Where only some of the needed runs are unusable the claim is
+  judged on the others and its verdict is at best ``partly``.
+
+Rules (thresholds are module constants):
+
+- a number of the paper (a percent change) is matched when ours has the
+  same sign and lies within ``MATCH_REL_TOL`` (25 %) of it, or within
+  ``MATCH_ABS_TOL_PCT`` (10 percentage points), whichever is wider:
+  ``holds``; same sign and at least ``PARTLY_MIN_FRACTION`` (a quarter) of
+  its size: ``partly``; otherwise ``does not hold``;
+- "every ... significantly" claims count the comparisons that go the
+  claimed way with Holm-adjusted p < ``ALPHA``: all ``holds``, at least
+  half ``partly``, fewer ``does not hold``;
+- hop height: every design and behaviour's mean within
+  ``HOP_HEIGHT_TOL_M`` (0.05 m) of 1 m ``holds``, at least half ``partly``;
+- stable time steps: within ``TIMESTEP_TOL_DECADES`` (0.3 decade, a factor 2) of
+  the paper's value for every material ``holds``; for some, or in the
+  paper's order (PVC's step the largest), ``partly``;
+- the log-linear trend: a least-squares plane log10 dt = a + b log10 rho +
+  c log10 E with b > 0 and c < 0 and R^2 >= ``TREND_MIN_R2`` (0.8)
+  ``holds``; the right signs with a poorer fit, or one right sign,
+  ``partly``.
+
+Comparisons are those of :mod:`mat_hopper.analysis.stats` on the ``basis`` chosen
+(``auto``: replicate means where every design and behaviour has
+replicates, else the paper's hop cycles of the unperturbed run; the
+``basis`` column says which); the Holm family is one metric within one
+experiment (experiments 1 and 3 together for the gradient claims). Hop
+cycles of runs that diverged, fell over or failed are never used
+(:func:`mat_hopper.analysis.stats.drop_unusable`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import pandas as pd
+
+from .. import reference as ref
+from ..atomic import write_text
+from ..behaviours import BEHAVIOUR_NAMES
+from ..materials import CONVENTIONS
+from . import stats as _stats
+from ._claim_checks import (  # noqa: F401 (public names of this module)
+    ALPHA,
+    COLUMNS,
+    FAILS,
+    HOLDS,
+    HOP_HEIGHT_TOL_M,
+    MATCH_ABS_TOL_PCT,
+    MATCH_REL_TOL,
+    MONO,
+    NOT_RUN,
+    NOT_TESTABLE,
+    PARTLY,
+    PARTLY_MIN_FRACTION,
+    TIMESTEP_TOL_DECADES,
+    TREND_MIN_R2,
+    VERDICTS,
+    Claim,
+    Outcome,
+    _claim_count_significant,
+    _claim_density_over_modulus,
+    _claim_hop_height,
+    _claim_low_modulus,
+    _claim_pct,
+    _claim_ss_power,
+    _claim_ss_tracking,
+    _claim_timestep_materials,
+    _claim_timestep_trend,
+    _Context,
+    _pct,
+    fraction_verdict,
+    match_percent,
+)
+from .stats import seconds
+
+_PCT_RULE = (f"same sign and within max({MATCH_REL_TOL:.0%} of the paper's, {MATCH_ABS_TOL_PCT:g} points): holds; "
+             f"same sign and >= {PARTLY_MIN_FRACTION:.0%} of its size: partly")
+_COUNT_RULE = f"all comparisons the claimed way with Holm p < {ALPHA:g}: holds; at least half: partly"
+
+CLAIMS: tuple[Claim, ...] = (
+    Claim("hop_height", "Every design holds a mean hop height of 1 m",
+          f"{ref.CLAIM_HOP_HEIGHT_M:g} m, every design and behaviour",
+          f"every design-behaviour mean within {HOP_HEIGHT_TOL_M:g} m of 1 m: holds; at least half: partly",
+          _claim_hop_height),
+    Claim("tracking_all_beat_md", "Tracking error: every physical material beats MD significantly",
+          "PVC, Al, Ti, SS lower than MD, p < 0.05, all four behaviours", _COUNT_RULE,
+          _claim_count_significant("tracking_error_m", list(MONO), list(BEHAVIOUR_NAMES), -1)),
+    Claim("tracking_ss_55", "Tracking error: SS lower than MD by at least 55 % on every behaviour",
+          f"<= {ref.CLAIM_SS_TRACKING_PCT:+.0f} % on every behaviour",
+          f"every behaviour <= {ref.CLAIM_SS_TRACKING_PCT:+.0f} %: holds; every behaviour lower, or half of them "
+          f"<= {ref.CLAIM_SS_TRACKING_PCT:+.0f} %: partly", _claim_ss_tracking),
+    Claim("power_higher_dynamic", "Power: higher for materials than MD on the dynamic behaviours (2-4)",
+          "PVC, Al, Ti, SS higher than MD on forward, ramp, circle", _COUNT_RULE,
+          _claim_count_significant("power_w", list(MONO), list(ref.DYNAMIC_BEHAVIOURS), +1)),
+    Claim("power_ss_max", "Power: up to +193 % for SS against MD",
+          f"{ref.CLAIM_SS_POWER_MAX_PCT:+.0f} % (largest, SS)", _PCT_RULE + " (on our largest increase)",
+          _claim_ss_power),
+    Claim("density_over_modulus", "Density moves tracking error more than modulus",
+          "density sweeps change tracking error more than modulus sweeps",
+          "span of mean tracking error over the density sweep larger than over the modulus sweep for every "
+          "base material: holds; for at least half: partly", _claim_density_over_modulus),
+    Claim("low_modulus_tracks_worse", "Moduli <= 9 GPa track worse than moduli >= 20 GPa",
+          f"E <= {ref.CLAIM_LOW_MODULUS_GPA:g} GPa much higher tracking error than E >= {ref.CLAIM_HIGH_MODULUS_GPA:g} GPa",
+          "every low-modulus sweep point above every high-modulus one: holds; medians in that order: partly",
+          _claim_low_modulus),
+    Claim("ramp_rho_inc_tracking", "Ramp: rho-inc against MD, tracking error",
+          _pct(ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT), _PCT_RULE,
+          _claim_pct("rho-inc", "tracking_error_m", ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT)),
+    Claim("ramp_rho_inc_power", "Ramp: rho-inc against MD, power",
+          _pct(ref.CLAIM_RAMP_RHO_INC_POWER_PCT), _PCT_RULE,
+          _claim_pct("rho-inc", "power_w", ref.CLAIM_RAMP_RHO_INC_POWER_PCT)),
+    Claim("ramp_ss_tracking", "Ramp: SS against MD, tracking error",
+          _pct(ref.CLAIM_RAMP_SS_TRACKING_PCT), _PCT_RULE,
+          _claim_pct("SS", "tracking_error_m", ref.CLAIM_RAMP_SS_TRACKING_PCT)),
+    Claim("ramp_ss_power", "Ramp: SS against MD, power",
+          _pct(ref.CLAIM_RAMP_SS_POWER_PCT), _PCT_RULE,
+          _claim_pct("SS", "power_w", ref.CLAIM_RAMP_SS_POWER_PCT)),
+    Claim("headline_tracking", "Ramp: rho-inc against SS, tracking error (abstract)",
+          _pct(ref.CLAIM_HEADLINE_TRACKING_PCT), _PCT_RULE,
+          _claim_pct("rho-inc", "tracking_error_m", ref.CLAIM_HEADLINE_TRACKING_PCT, baseline="SS")),
+    Claim("headline_power", "Ramp: rho-inc against SS, power (abstract)",
+          _pct(ref.CLAIM_HEADLINE_POWER_PCT), _PCT_RULE,
+          _claim_pct("rho-inc", "power_w", ref.CLAIM_HEADLINE_POWER_PCT, baseline="SS")),
+    Claim("timestep_materials", "Stable time step: PVC about 1e-3 s, Al and SS about 1e-4 s",
+          ", ".join(f"{k} {seconds(v)} s" for k, v in ref.CLAIM_STABLE_TIMESTEP_S.items()),
+          f"every material within a factor {10 ** TIMESTEP_TOL_DECADES:.0f} of the paper's: holds; some, or PVC's the largest: "
+          "partly", _claim_timestep_materials),
+    Claim("timestep_trend", "Stable time step log-linear in density and modulus; light or stiff need smaller steps",
+          "log-linear; grows with density, shrinks with modulus",
+          f"plane fit in log-log with density slope > 0, modulus slope < 0 and R² >= {TREND_MIN_R2:g}: holds; "
+          "right signs with a poorer fit, or one right sign: partly", _claim_timestep_trend),
+)
+
+
+# --- the table -----------------------------------------------------------------------------
+
+
+def _by_convention(table: pd.DataFrame | None, convention: str) -> pd.DataFrame | None:
+    if table is None:
+        return None
+    if "convention" not in table.columns:
+        return table if convention == "paper" else table.iloc[0:0]
+    return table[table["convention"] == convention]
+
+
+def claims_table(hops: pd.DataFrame | None, runs: pd.DataFrame | None = None,
+                 stability: pd.DataFrame | None = None, *, conventions=CONVENTIONS, basis: str = "auto",
+                 alpha: float = ALPHA, timestep_s: float | None = None) -> pd.DataFrame:
+    """Every claim of the paper beside ours, per stiffness convention.
+
+    hops: the per-hop table of experiments 1-3 (all conventions; columns of
+    :func:`mat_hopper.metrics.hop_table` plus experiment, convention,
+    replicate and the sweep columns); runs: the run summaries (status,
+    stable, upright, diverged_at_s, ...; optional, tells unstable runs
+    apart from missing ones); stability: the stable-time-step map (one row
+    per grid point; a ``convention`` column, else taken as ``paper``);
+    basis: ``hops``, ``replicates`` or ``auto``; timestep_s: the runs' time
+    step (s), named in "unstable at dt=..." when runs has no timestep_s
+    column. Columns: claim_id, claim, paper, ours, verdict, convention,
+    basis, detail, rule (and profile, when the tables have one)."""
+    if basis not in _stats.BASES + ("auto",):
+        raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
+    hops = pd.DataFrame() if hops is None else hops
+    profiles = set()
+    for t in (hops, runs, stability):
+        if t is not None and "profile" in t.columns:
+            profiles |= set(t["profile"].dropna().astype(str))
+    if len(profiles) > 1:
+        raise ValueError(f"the tables hold several profiles {sorted(profiles)}; pass one profile's results")
+    rows = []
+    for conv in conventions:
+        if conv not in CONVENTIONS:
+            raise ValueError(f"unknown convention {conv!r}; accepted: {', '.join(CONVENTIONS)}")
+        h = _by_convention(hops, conv)
+        r = _by_convention(runs, conv)
+        bad = _stats.unusable_runs(r, timestep_s)
+        h = _stats.drop_unusable(h if h is not None else pd.DataFrame(), bad)
+        if len(h) and "design" not in h.columns:
+            raise ValueError("hops needs a 'design' column")
+        ctx = _Context(conv, h, r, _by_convention(stability, conv), basis, alpha, timestep_s, bad)
+        for claim in CLAIMS:
+            is_stab = claim.claim_id.startswith("timestep")
+            if not is_stab and len(h) == 0 and len(bad) == 0:
+                out = Outcome("not run", NOT_RUN, f"no {conv}-convention hopping results")
+            else:
+                out = claim.evaluate(ctx)
+            used = ("" if out.verdict in (NOT_RUN, NOT_TESTABLE) else
+                    "stability map" if is_stab else _basis_used(ctx, claim))
+            rows.append({"claim_id": claim.claim_id, "claim": claim.claim, "paper": claim.paper, "ours": out.ours,
+                         "verdict": out.verdict, "convention": conv, "basis": used, "detail": out.detail,
+                         "rule": claim.rule})
+    out = pd.DataFrame(rows, columns=list(COLUMNS))
+    if len(profiles) == 1:
+        out.insert(len(COLUMNS) - 3, "profile", profiles.pop())
+    return out
+
+
+def _basis_used(ctx: _Context, claim: Claim) -> str:
+    exps = {"density_over_modulus": ("exp2",), "low_modulus_tracks_worse": ("exp2",),
+            "hop_height": None}.get(claim.claim_id, ("exp1", "exp3") if claim.claim_id.startswith(("ramp", "headline"))
+                                    else ("exp1",))
+    t = ctx.hops if exps is None else ctx.experiment(exps)
+    return {"hops": "hop cycles", "replicates": "replicate means"}[ctx.basis_for(t)]
+
+
+# --- writers ---------------------------------------------------------------------------------
+
+
+def _md_cell(x) -> str:
+    s = "" if x is None or (isinstance(x, float) and math.isnan(x)) else str(x)
+    return s.replace("|", "\\|").replace("\n", " ")
+
+
+def to_markdown(table: pd.DataFrame, columns=("claim", "convention", "paper", "ours", "verdict", "basis")) -> str:
+    """The claims as a markdown table (one row per claim and convention),
+    the rules listed below it."""
+    cols = [c for c in columns if c in table.columns]
+    lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" for _ in cols) + "|"]
+    for r in table.to_dict("records"):
+        lines.append("| " + " | ".join(_md_cell(r[c]) for c in cols) + " |")
+    if "rule" in table.columns and "claim_id" in table.columns:
+        lines += ["", "Verdict rules:", ""]
+        for cid, rule in dict(zip(table["claim_id"], table["rule"])).items():
+            claim = table.loc[table["claim_id"] == cid, "claim"].iloc[0]
+            lines.append(f"- {_md_cell(claim)}: {_md_cell(rule)}.")
+    return "\n".join(lines) + "\n"
+
+
+def write_claims(table: pd.DataFrame, directory) -> tuple[str, str]:
+    """Write ``claims.md`` (markdown table) and ``claims.csv`` (every
+    column) into `directory`, each atomically. Returns their paths."""
+    directory = os.fspath(directory)
+    md = os.path.join(directory, "claims.md")
+    csv = os.path.join(directory, "claims.csv")
+    write_text(to_markdown(table), md)
+    write_text(table.to_csv(index=False), csv)
+    return md, csv

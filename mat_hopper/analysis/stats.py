@@ -1,0 +1,367 @@
+"""Statistics of the results: summaries, comparisons against a baseline,
+and replicate-level inference.
+
+Two bases for a comparison of designs:
+
+``hops`` (the paper's)
+    every scored hop cycle of one run is a sample; the design's cycles are
+    compared with the baseline's by a two-sided Mann-Whitney U test
+    (:func:`mat_hopper.metrics.compare`), Holm-corrected over one family:
+    one metric within one experiment, profile and stiffness convention
+    (every design against the baseline on every behaviour: 16 comparisons
+    for experiment 1), the family of one figure panel and of one claim.
+``replicates``
+    every replicate run is a sample: N runs per design and behaviour, each
+    with its own seeded small perturbation
+    (:meth:`mat_hopper.perturbations.Perturbation.replicate`), are reduced
+    to one mean per run, and the designs are compared on these means: a
+    Mann-Whitney U test across replicates (Holm-corrected over the family)
+    and a percentile bootstrap confidence interval of the percent change.
+
+Why replicates. Hop cycles of one deterministic run are not independent
+samples: each cycle starts from the state the previous one left, the
+controller adapts its thrust from the last hop, and a periodic gait repeats
+almost the same cycle again and again. A p-value over hop cycles grows
+smaller with the run's length, not with the evidence; it describes one run,
+it does not infer anything about the design. Worse, our simulation is
+deterministic and perfectly symmetric: in-place (static) hopping starts
+upright above its target and nothing ever pushes it sideways, so it has no
+lateral motion at all, and its tracking error is zero (or round-off) for
+every design. We measured exactly 0.0 m for the stainless-steel leg hopping
+in place, unperturbed. The spread of static-hopping tracking error that
+the paper shows must come from perturbations its implementation introduced
+without naming them: its desired path and its loop ran on the wall clock,
+so every run saw a slightly different timing. Replicates replace these
+accidental disturbances by small, documented, seeded ones (a few mm of
+start offset, half a degree of tilt, one gentle push, sensor noise), and
+they are how the book can still say something about in-place hopping, and
+about any difference between designs that is larger than run-to-run noise.
+
+Round-off. Values smaller in magnitude than ``ROUNDOFF`` (1e-9 in SI
+units: 1 nm, 1 nW) count as exactly zero in every comparison. Unperturbed
+static hopping gives MD a tracking error of 1e-17 m (round-off) and SS
+exactly 0.0 m; compared as they are, a rank test calls that difference
+"significant" (p = 3e-6 over 13 and 14 hop cycles of 14 s runs).
+
+Test power with few replicates: with n replicates per design the smallest
+two-sided Mann-Whitney p is 2 / C(2n, n) (n = 5: 0.0079; n = 6: 0.0022;
+n = 10: 1.1e-5). Holm's correction multiplies the smallest p by the number
+of comparisons in the family, so experiment 1's family of 16 comparisons
+(4 materials x 4 behaviours, one metric) needs n >= 6 replicates before
+any difference can be significant at 0.05, whatever its size. The
+bootstrap interval does not depend on the family; read both.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .. import metrics as _metrics
+from ..metrics import ALL_METRICS, METRICS
+from .change import ROUNDOFF, percent_change
+
+
+def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alpha: float):
+    """metrics.compare per family and metric (one Holm correction each),
+    family columns in front: a list of (family sub-table, result); families
+    without the baseline are skipped."""
+    frames = []
+    for fam, g in _families(table):
+        if baseline not in set(g["design"]):
+            continue
+        for m in metrics:
+            v = pd.to_numeric(g[m], errors="coerce").astype(float)
+            g = g.assign(**{m: v.where(~(v.abs() < ROUNDOFF), 0.0)})
+            res = _metrics.compare(g, baseline, by=by, metrics=(m,), alpha=alpha)
+            for k, v in reversed(fam.items()):
+                res.insert(0, k, v)
+            frames.append((g, res))
+    return frames
+
+
+# Columns that split results into independent families (one Holm correction,
+# one baseline each) when they are present in a table.
+FAMILY_COLUMNS = ("experiment", "profile", "convention")
+# Columns that identify one run in a per-hop table.
+RUN_COLUMNS = FAMILY_COLUMNS + ("design", "behaviour", "replicate")
+SWEEP_COLUMNS = ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa")
+UNPERTURBED = -1          # replicate id of the unperturbed run
+BASES = ("hops", "replicates")
+
+
+def _present(table: pd.DataFrame, columns) -> list[str]:
+    return [c for c in columns if c in table.columns]
+
+
+def _check_metrics(table: pd.DataFrame, metrics) -> tuple[str, ...]:
+    metrics = tuple(metrics)
+    missing = [m for m in metrics if m not in table.columns]
+    if missing:
+        raise ValueError(f"metrics {missing} are not columns of the table; accepted: "
+                         f"{[m for m in ALL_METRICS if m in table.columns]}")
+    return metrics
+
+
+def _families(table: pd.DataFrame):
+    """(dict of family values, sub-table) for each family in the table."""
+    fam = _present(table, FAMILY_COLUMNS)
+    if not fam:
+        yield {}, table
+        return
+    for key, g in table.groupby(fam, sort=True, dropna=False):
+        key = key if isinstance(key, tuple) else (key,)
+        yield dict(zip(fam, key)), g
+
+
+def seconds(x: float) -> str:
+    """A duration in s, short: 0.5, 12.9, 1e-4, 2.5e-3."""
+    if not np.isfinite(x) or x == 0:
+        return f"{x:g}"
+    if 0.01 <= abs(x) < 1e4:
+        return f"{x:.3g}"
+    mant, exp = f"{x:.1e}".split("e")
+    mant = mant.rstrip("0").rstrip(".")
+    return f"{mant}e{int(exp)}"
+
+
+def unusable_runs(runs: pd.DataFrame | None, timestep_s: float | None = None) -> pd.DataFrame:
+    """The runs of a run-summary table that diverged numerically, fell over
+    (not upright at the end) or failed, with a reason in ``why`` ("unstable
+    at dt=1e-4 s, diverged at t=2.5e-3 s", "fell over", "failed"). Uses the
+    columns status, stable, upright, diverged_at_s and timestep_s where
+    present (else the `timestep_s` argument, s). Columns: design, behaviour,
+    experiment, replicate, key, the sweep columns, why."""
+    cols = ["design", "behaviour", "experiment", "profile", "convention", "replicate", "key", *SWEEP_COLUMNS, "why"]
+    if runs is None or len(runs) == 0:
+        return pd.DataFrame(columns=cols)
+    status = runs["status"].astype(str) if "status" in runs.columns else pd.Series("", index=runs.index)
+    stable = runs["stable"].fillna(False).astype(bool) if "stable" in runs.columns else pd.Series(True, index=runs.index)
+    upright = runs["upright"].fillna(False).astype(bool) if "upright" in runs.columns else pd.Series(True, index=runs.index)
+    diverged = (status == "diverged") | ~stable
+    failed = status == "failed"
+    fallen = ~diverged & ~failed & ((status == "fallen") | ~upright)
+    why = pd.Series("", index=runs.index, dtype=object)
+    for i in runs.index[diverged]:
+        dt = runs.at[i, "timestep_s"] if "timestep_s" in runs.columns else timestep_s
+        at = runs.at[i, "diverged_at_s"] if "diverged_at_s" in runs.columns else None
+        text = "unstable" + (f" at dt={seconds(float(dt))} s" if dt is not None and np.isfinite(float(dt)) else "")
+        if at is not None and pd.notna(at):
+            text += f", diverged at t={seconds(float(at))} s"
+        why[i] = text
+    why[fallen] = "fell over"
+    why[failed] = "failed"
+    bad = runs[diverged | fallen | failed].assign(why=why[diverged | fallen | failed])
+    for c in cols:
+        if c not in bad.columns:
+            bad[c] = np.nan
+    return bad[cols].reset_index(drop=True)
+
+
+def drop_unusable(hops: pd.DataFrame, bad: pd.DataFrame | None) -> pd.DataFrame:
+    """The per-hop rows of usable runs only: rows of the runs in `bad` (from
+    :func:`unusable_runs`) are dropped, matched by the runner's ``key``
+    column where both have it, else by experiment, profile, convention,
+    design, behaviour, replicate and sweep point. A diverged run keeps the hop cycles it
+    scored before diverging; they are not results."""
+    if bad is None:
+        return hops
+    if len(bad) == 0 or len(hops) == 0:
+        return hops
+    if "key" in hops.columns and bad["key"].notna().all():
+        return hops[~hops["key"].isin(set(bad["key"]))]
+    keys = [c for c in ("experiment", "profile", "convention", "design", "behaviour", "replicate",
+                        "density_g_cm3", "modulus_gpa") if c in hops.columns and bad[c].notna().all()]
+    marker = bad[keys].drop_duplicates().assign(_bad=True)
+    m = hops.merge(marker, on=keys, how="left")
+    return hops[~m["_bad"].fillna(False).to_numpy(bool)]
+
+
+def select_replicates(hops: pd.DataFrame, replicate: int | None = UNPERTURBED) -> pd.DataFrame:
+    """Rows of one replicate id (default: the unperturbed run, -1); all rows
+    when `replicate` is None or the table has no ``replicate`` column."""
+    if replicate is None or "replicate" not in hops.columns:
+        return hops
+    return hops[hops["replicate"] == replicate]
+
+
+def combine_experiments(hops: pd.DataFrame, experiments=None) -> pd.DataFrame:
+    """Rows of several experiments as one comparison family (e.g. the
+    gradients of experiment 3 beside MD and SS of experiment 1): every
+    design and behaviour (per profile and convention) is taken from the
+    first experiment in `experiments` (default: sorted) that has it, and the
+    ``experiment`` column becomes their names joined by "+"."""
+    if "experiment" not in hops.columns or len(hops) == 0:
+        return hops
+    exps = [str(e) for e in (experiments if experiments is not None else sorted(hops["experiment"].astype(str).unique()))]
+    t = hops[hops["experiment"].astype(str).isin(exps)]
+    rank = t["experiment"].astype(str).map({e: i for i, e in enumerate(exps)})
+    keys = _present(t, ("profile", "convention", "design", "behaviour"))
+    first = rank.groupby([t[k] for k in keys], dropna=False).transform("min")
+    out = t[rank == first].copy()
+    out["experiment"] = "+".join(exps)
+    return out
+
+
+def summary_table(hops: pd.DataFrame, *, by=("design", "behaviour"), metrics=METRICS,
+                  baseline: str | None = "MD", replicate: int | None = UNPERTURBED) -> pd.DataFrame:
+    """Mean, median and IQR of each metric per design and behaviour (per
+    family), tidy, with the percent change of mean and median against the
+    baseline design in the same family and behaviour (nan without one).
+
+    Built on :func:`mat_hopper.metrics.summarize`."""
+    metrics = _check_metrics(hops, metrics)
+    hops = select_replicates(hops, replicate)
+    fam = _present(hops, FAMILY_COLUMNS)
+    by = tuple(c for c in fam if c not in by) + tuple(by)
+    if len(hops) == 0:
+        return pd.DataFrame(columns=[*by, "metric", "n", "mean", "median", "iqr"])
+    out = _metrics.summarize(hops, by=by, metrics=metrics)
+    if baseline is None or "design" not in by:
+        return out
+    keys = [c for c in by if c != "design"] + ["metric"]
+    base = out[out["design"] == baseline][keys + ["mean", "median"]]
+    base = base.rename(columns={"mean": "mean_baseline", "median": "median_baseline"})
+    out = out.merge(base, on=keys, how="left")
+    out["pct_change_mean"] = percent_change(out["mean"], out["mean_baseline"])
+    out["pct_change_median"] = percent_change(out["median"], out["median_baseline"])
+    out["baseline"] = baseline
+    return out
+
+
+def compare_hops(hops: pd.DataFrame, baseline: str = "MD", *, by: str = "behaviour", metrics=METRICS,
+                 alpha: float = 0.05, replicate: int | None = UNPERTURBED) -> pd.DataFrame:
+    """The paper's comparison on hop cycles: every design against `baseline`
+    per `by` group and metric (:func:`mat_hopper.metrics.compare`), one Holm
+    family per metric, experiment, profile and convention. By default only
+    the unperturbed run (replicate -1) is used; ``replicate=None`` pools all.
+
+    Adds the family columns and ``basis = "hops"``."""
+    metrics = _check_metrics(hops, metrics)
+    hops = select_replicates(hops, replicate)
+    frames = [res for _, res in _compare_families(hops, baseline, by, metrics, alpha)]
+    if not frames:
+        raise ValueError(f"baseline {baseline!r} not among the designs of any family: "
+                         f"{sorted(set(hops['design'])) if len(hops) else []}")
+    out = pd.concat(frames, ignore_index=True)
+    out["basis"] = "hops"
+    return out
+
+
+def replicate_means(hops: pd.DataFrame, *, metrics=ALL_METRICS, include_unperturbed: bool = False) -> pd.DataFrame:
+    """One row per run: the mean of each metric over its scored hop cycles
+    and ``n_hops``. Run keys: the family columns, design, behaviour,
+    replicate and, where present, the sweep columns. The unperturbed run
+    (replicate -1) is left out unless `include_unperturbed`."""
+    if "replicate" not in hops.columns:
+        raise ValueError("replicate_means needs a 'replicate' column (int, -1 for the unperturbed run)")
+    metrics = tuple(m for m in metrics if m in hops.columns)
+    if not include_unperturbed:
+        hops = hops[hops["replicate"] != UNPERTURBED]
+    keys = _present(hops, RUN_COLUMNS + SWEEP_COLUMNS)
+    if len(hops) == 0:
+        return pd.DataFrame(columns=[*keys, "n_hops", *metrics])
+    grouped = hops.groupby(keys, sort=True, dropna=False)
+    out = grouped[list(metrics)].mean()
+    out.insert(0, "n_hops", grouped.size())
+    return out.reset_index()
+
+
+def bootstrap_pct_change(values, baseline_values, *, n_boot: int = 10000, confidence: float = 0.95,
+                         seed: int = 0) -> tuple[float, float, float]:
+    """Percent change of the mean of `values` against the mean of
+    `baseline_values`, and its percentile bootstrap interval (%).
+
+    Both samples are resampled independently with replacement `n_boot`
+    times from ``numpy.random.default_rng(seed)`` (deterministic). Returns
+    (pct_change, low, high); nan where a sample is empty or the baseline
+    mean is 0; resamples whose baseline mean is 0 are dropped."""
+    a = np.asarray(values, dtype=float)
+    b = np.asarray(baseline_values, dtype=float)
+    a, b = a[np.isfinite(a)], b[np.isfinite(b)]
+    if not 0 < confidence < 1:
+        raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
+    if int(n_boot) < 1:
+        raise ValueError(f"n_boot must be an integer >= 1, got {n_boot!r}")
+    if len(a) == 0 or len(b) == 0:
+        return (np.nan, np.nan, np.nan)
+    pct = percent_change(a.mean(), b.mean())
+    if not np.isfinite(pct):
+        return (np.nan, np.nan, np.nan)
+    rng = np.random.default_rng(seed)
+    ma = a[rng.integers(0, len(a), (int(n_boot), len(a)))].mean(axis=1)
+    mb = b[rng.integers(0, len(b), (int(n_boot), len(b)))].mean(axis=1)
+    boots = percent_change(ma, mb)
+    boots = boots[np.isfinite(boots)]
+    if len(boots) == 0:
+        return (pct, np.nan, np.nan)
+    tail = 50.0 * (1.0 - confidence)
+    lo, hi = np.percentile(boots, [tail, 100.0 - tail])
+    return (pct, float(lo), float(hi))
+
+
+def compare_replicates(hops: pd.DataFrame, baseline: str = "MD", *, by: str = "behaviour",
+                       metrics=METRICS, alpha: float = 0.05, n_boot: int = 10000,
+                       confidence: float = 0.95, seed: int = 0) -> pd.DataFrame:
+    """Designs against `baseline` on replicate means (see module doc).
+
+    `hops` is a per-hop table with a ``replicate`` column (the unperturbed
+    run, -1, is left out). Per family, design, `by` group and metric: n
+    (replicates), means of replicate means, percent change with its
+    bootstrap interval (``ci_low``, ``ci_high``, %), Mann-Whitney U across
+    replicates, raw and Holm-adjusted p (one family per metric, experiment,
+    profile and convention), rank-biserial effect size, significance;
+    ``basis = "replicates"``. The U test and effect size are
+    :func:`mat_hopper.metrics.compare` applied to the replicate means."""
+    metrics = _check_metrics(hops, metrics)
+    means = replicate_means(hops, metrics=metrics)
+    if len(means) == 0:
+        raise ValueError("no replicate runs (replicate >= 0) in the table")
+    frames = []
+    for g, res in _compare_families(means, baseline, by, metrics, alpha):
+        lows, highs = [], []
+        for row in res.to_dict("records"):
+            grp = g[g[by] == row[by]]
+            a = grp.loc[grp["design"] == row["design"], row["metric"]]
+            b = grp.loc[grp["design"] == baseline, row["metric"]]
+            _, lo, hi = bootstrap_pct_change(a, b, n_boot=n_boot, confidence=confidence, seed=seed)
+            lows.append(lo)
+            highs.append(hi)
+        res["ci_low"], res["ci_high"] = lows, highs
+        frames.append(res)
+    if not frames:
+        raise ValueError(f"baseline {baseline!r} has no replicate runs; designs with replicates: "
+                         f"{sorted(set(means['design']))}")
+    out = pd.concat(frames, ignore_index=True)
+    out["basis"] = "replicates"
+    return out
+
+
+def has_replicates(hops: pd.DataFrame, min_replicates: int = 2) -> bool:
+    """True when every run key of the table has at least `min_replicates`
+    perturbed replicates (replicate >= 0)."""
+    if "replicate" not in hops.columns or len(hops) == 0:
+        return False
+    reps = hops[hops["replicate"] != UNPERTURBED]
+    if len(reps) == 0:
+        return False
+    keys = _present(hops, FAMILY_COLUMNS + ("design", "behaviour"))
+    counts = reps.groupby(keys)["replicate"].nunique()
+    all_keys = hops.groupby(keys).size().index
+    return len(counts) == len(all_keys) and int(counts.min()) >= min_replicates
+
+
+def compare_designs(hops: pd.DataFrame, baseline: str = "MD", *, basis: str = "auto", by: str = "behaviour",
+                    metrics=METRICS, alpha: float = 0.05, **kwargs) -> pd.DataFrame:
+    """Compare designs against `baseline` on ``basis`` "hops" (the paper's,
+    unperturbed run), "replicates", or "auto" (replicates when every design
+    and behaviour has at least 2, else hops). Extra keyword arguments go to
+    :func:`compare_replicates` (n_boot, confidence, seed) or
+    :func:`compare_hops` (replicate)."""
+    if basis not in BASES + ("auto",):
+        raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
+    if basis == "auto":
+        basis = "replicates" if has_replicates(hops) else "hops"
+    if basis == "replicates":
+        return compare_replicates(hops, baseline, by=by, metrics=metrics, alpha=alpha, **kwargs)
+    return compare_hops(hops, baseline, by=by, metrics=metrics, alpha=alpha, **kwargs)

@@ -1,0 +1,319 @@
+"""Small tables of results, for reading: one call per question a chapter
+asks (how did each run end, percent change against a baseline, what
+claims hold), from the tidy tables of :mod:`mat_hopper.experiments`.
+Every percent change is :func:`mat_hopper.analysis.change.percent_change`.
+
+Units: SI in the column names (``_m``, ``_w``, ``_s``); densities g/cm^3,
+moduli GPa.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ..materials import CONVENTIONS, LegDesign, paper_designs
+from ..viz.style import order_behaviours, order_designs
+from .change import percent_change
+
+
+def design_table(designs: dict[str, LegDesign] | None = None) -> pd.DataFrame:
+    """One row per design and segment (1 nearest the base): design,
+    segment, material, density_g_cm3, modulus_gpa (nan: rigid)."""
+    designs = paper_designs() if designs is None else designs
+    rows = []
+    for name, d in designs.items():
+        for i, m in enumerate(d.segments, start=1):
+            rows.append({"design": name, "segment": i, "material": m.name, "density_g_cm3": m.density_g_cm3,
+                         "modulus_gpa": np.nan if m.modulus_gpa is None else m.modulus_gpa})
+    return pd.DataFrame(rows)
+
+
+_JOINT_TYPES = {0: "free", 1: "ball", 2: "slide", 3: "hinge"}
+
+
+def joint_table(design: LegDesign | str = "SS", convention: str = "paper") -> pd.DataFrame:
+    """Every joint of the compiled hopper, from the base down: name, type
+    (slide m, hinge rad), stiffness (N/m or N m/rad), damping, range (nan:
+    unlimited), the body it moves."""
+    from ..materials import parse_design
+    from ..model import build_model
+    d = parse_design(design) if isinstance(design, str) else design
+    m = build_model(d, convention=convention).model
+    rows = []
+    for j in range(m.njnt):
+        jt = m.joint(j)
+        limited = bool(m.jnt_limited[j])
+        lo, hi = (float(m.jnt_range[j, 0]), float(m.jnt_range[j, 1])) if limited else (np.nan, np.nan)
+        rows.append({"joint": jt.name, "type": _JOINT_TYPES.get(int(m.jnt_type[j]), str(m.jnt_type[j])),
+                     "body": m.body(int(m.jnt_bodyid[j])).name, "stiffness": float(m.jnt_stiffness[j]),
+                     "damping": float(m.dof_damping[m.jnt_dofadr[j]]), "range_low": lo, "range_high": hi})
+    return pd.DataFrame(rows)
+
+
+def replicate_table(comparison: pd.DataFrame, metrics=("tracking_error_m", "power_w")) -> pd.DataFrame:
+    """A compare_replicates table for reading: one row per design and
+    metric, percent change of the mean with its 95 % bootstrap interval,
+    the Holm-adjusted p and a star where p < 0.05."""
+    c = comparison[comparison["metric"].isin(metrics)]
+    return pd.DataFrame({
+        "design": c["design"], "metric": c["metric"], "n": c["n"],
+        "change": [f"{p:+.0f} % [{lo:+.0f}, {hi:+.0f}]" for p, lo, hi in zip(c["pct_change"], c["ci_low"], c["ci_high"])],
+        "p (Holm)": c["p_holm"].map(lambda p: f"{p:.3g}"),
+        "": np.where(c["significant"], "*", ""),
+    }).reset_index(drop=True)
+
+
+def pct_change_table(hops: pd.DataFrame, metric: str, baseline: str = "MD", *, designs=None,
+                     behaviours=None) -> pd.DataFrame:
+    """Percent change of the mean of `metric` against `baseline` (same
+    behaviour, unperturbed runs), designs as rows and behaviours as
+    columns (from :func:`mat_hopper.analysis.stats.summary_table`). Where the
+    baseline's mean is round-off (:func:`~mat_hopper.analysis.change.percent_change`;
+    e.g. the tracking error of hopping in place) the change is nan: a
+    percentage of nothing means nothing."""
+    from . import stats
+    s = stats.summary_table(hops, metrics=(metric,), baseline=baseline)
+    if designs is not None:
+        s = s[s["design"].isin(designs)]
+    if behaviours is not None:
+        s = s[s["behaviour"].isin(behaviours)]
+    s = s[s["design"] != baseline]
+    t = s.pivot_table(index="design", columns="behaviour", values="pct_change_mean", aggfunc="first")
+    t = t.reindex(index=order_designs(designs or t.index), columns=order_behaviours(behaviours or t.columns))
+    t.columns.name = f"{metric}: % vs {baseline}"
+    return t
+
+
+def outcome_table(runs: pd.DataFrame) -> pd.DataFrame:
+    """How each run ended, designs as rows and behaviours as columns: "ok,
+    N hops" (N scored hop cycles), "fell" (the body ended below 0.1 m),
+    "diverged at T s" (numerical blow-up, simulated time) or "failed"
+    (an error; see the runs table). Unperturbed runs only."""
+    need = ("design", "behaviour", "status")
+    missing = [c for c in need if c not in runs.columns]
+    if missing:
+        raise ValueError(f"outcome_table needs columns {missing}")
+    r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs
+
+    def cell(row) -> str:
+        st = row["status"]
+        if st == "ok":
+            return f"ok, {int(row['n_hops'])} hops" if "n_hops" in row and pd.notna(row["n_hops"]) else "ok"
+        if st == "diverged" and pd.notna(row.get("diverged_at_s", np.nan)):
+            return f"diverged at {row['diverged_at_s']:.2g} s"
+        return str(st)
+    t = r.assign(outcome=r.apply(cell, axis=1)).pivot_table(index="design", columns="behaviour", values="outcome",
+                                                            aggfunc="first")
+    t = t.reindex(index=order_designs(t.index), columns=order_behaviours(t.columns))
+    t.columns.name = None
+    return t
+
+
+def outcome_summary(runs: pd.DataFrame) -> str:
+    """One paragraph on how the (unperturbed) runs ended: how many ended
+    upright, then each design and behaviour that did not, with how
+    (diverged at T s, fell, failed)."""
+    t = outcome_table(runs)
+    cells = [(d, b, v) for d in t.index for b in t.columns if isinstance(v := t.loc[d, b], str)]
+    bad = [(d, b, v) for d, b, v in cells if not v.startswith("ok")]
+    one_behaviour = len(t.columns) == 1
+    text = f"{len(cells) - len(bad)} of {len(cells)} runs ended upright"
+    if not bad:
+        return text + "."
+    items = [f"{d}{'' if one_behaviour else ' ' + b}: {v}" for d, b, v in bad]
+    return text + "; not: " + "; ".join(items) + "."
+
+
+def metric_table(hops: pd.DataFrame, metric: str, stat: str = "mean", *, scale: float = 1.0) -> pd.DataFrame:
+    """`stat` (mean or median) of `metric` over the scored hop cycles of
+    the unperturbed runs, times `scale` (e.g. 1e3 for mm), designs as rows
+    and behaviours as columns."""
+    from . import stats
+    if stat not in ("mean", "median"):
+        raise ValueError(f"stat must be mean or median, got {stat!r}")
+    s = stats.summary_table(hops, metrics=(metric,), baseline=None)
+    t = s.pivot_table(index="design", columns="behaviour", values=stat, aggfunc="first") * scale
+    t = t.reindex(index=order_designs(t.index), columns=order_behaviours(t.columns))
+    t.columns.name = None
+    return t
+
+
+def sweep_spans(hops: pd.DataFrame, metric: str = "tracking_error_m") -> pd.DataFrame:
+    """Experiment 2, one row per base material and swept property: the
+    smallest and largest mean of `metric` over the sweep's points (mean
+    over each point's scored hop cycles, unperturbed runs), their span,
+    and the property values where they occur. Columns sweep_base,
+    sweep_property, n_points, min, at_min, max, at_max, span."""
+    need = ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa", metric)
+    missing = [c for c in need if c not in hops.columns]
+    if missing:
+        raise ValueError(f"sweep_spans needs columns {missing}")
+    h = hops[hops["replicate"] == -1] if "replicate" in hops.columns else hops
+    rows = []
+    for (base, prop), g in h.groupby(["sweep_base", "sweep_property"], sort=False):
+        col = "density_g_cm3" if prop == "density" else "modulus_gpa"
+        means = g.groupby(col)[metric].mean()
+        rows.append({"sweep_base": base, "sweep_property": prop, "n_points": len(means),
+                     "min": means.min(), "at_min": means.idxmin(), "max": means.max(), "at_max": means.idxmax(),
+                     "span": means.max() - means.min()})
+    return pd.DataFrame(rows)
+
+
+ORDER_PAIRS = (("rho-inc", "rho-dec"), ("PVC-Ti-SS", "SS-Ti-PVC"))
+
+
+def order_effect(hops: pd.DataFrame, pairs=ORDER_PAIRS, metrics=("tracking_error_m", "power_w", "jerk_m_s3"),
+                 alpha: float = 0.05) -> pd.DataFrame:
+    """Does segment order matter? For each pair of designs made of the same
+    segments in opposite orders: the percent change of the second's mean
+    against the first's, per behaviour and metric, with the Mann-Whitney U
+    test on hop cycles (unperturbed runs; Holm over each pair's
+    behaviours and metrics). Columns pair, behaviour, metric, pct_change,
+    p_holm, significant."""
+    from . import stats
+    frames = []
+    for first, second in pairs:
+        sub = hops[hops["design"].isin([first, second])]
+        if not {first, second} <= set(sub["design"]):
+            raise ValueError(f"order_effect: designs {first} and {second} must both be in the table")
+        if "experiment" in sub.columns:
+            sub = sub.assign(experiment="+".join(sorted(set(sub["experiment"].astype(str)))))
+        res = stats.compare_hops(sub, baseline=first, metrics=metrics, alpha=alpha)
+        res = res[res["design"] == second].assign(pair=f"{second} vs {first}")
+        frames.append(res[["pair", "behaviour", "metric", "pct_change", "p_holm", "significant"]])
+    return pd.concat(frames, ignore_index=True)
+
+
+def starred(table: pd.DataFrame, rows=("pair", "metric"), column: str = "behaviour", value: str = "pct_change",
+            flag: str = "significant") -> pd.DataFrame:
+    """A tidy comparison as a wide table for the page: `value` (a percent
+    change) as "+12 %" with a star where `flag` is true, `rows` as the
+    index and `column` values as columns ("–" where nan)."""
+
+    def cell(r) -> str:
+        v = r[value]
+        if not np.isfinite(v):
+            return "–"
+        return f"{v:+.0f} %" + (" *" if bool(r[flag]) else "")
+    t = table.assign(_cell=table.apply(cell, axis=1))
+    out = t.pivot_table(index=list(rows), columns=column, values="_cell", aggfunc="first", sort=False)
+    if column == "behaviour":
+        out = out[order_behaviours(out.columns)]
+    out.columns.name = None
+    return out
+
+
+CHAPTER_CLAIMS = {
+    "mono": ("hop_height", "tracking_all_beat_md", "tracking_ss_55", "power_higher_dynamic", "power_ss_max"),
+    "one_property": ("density_over_modulus", "low_modulus_tracks_worse"),
+    "gradients": ("ramp_rho_inc_tracking", "ramp_rho_inc_power", "ramp_ss_tracking", "ramp_ss_power",
+                  "headline_tracking", "headline_power"),
+    "stability": ("timestep_materials", "timestep_trend"),
+}
+
+
+def _concat(tables: dict, suffix: str) -> pd.DataFrame | None:
+    frames = [t for name, t in sorted(tables.items()) if name.startswith("exp") and name.endswith(suffix)
+              and t is not None and len(t)]
+    return pd.concat(frames, ignore_index=True) if frames else None
+
+
+def claims_for(tables: dict, chapter: str | None = None, *, conventions=None,
+               columns=("claim", "paper", "ours", "verdict")) -> pd.DataFrame:
+    """The paper's claims beside ours (:func:`mat_hopper.analysis.claims.claims_table`)
+    from a reproduction's tables (``exp*_hops``, ``exp*_runs``,
+    ``stability``), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
+    (None). conventions: default those present in the tables. columns:
+    which to keep (None: all)."""
+    from . import claims
+    if chapter is not None and chapter not in CHAPTER_CLAIMS:
+        raise ValueError(f"chapter must be one of {', '.join(CHAPTER_CLAIMS)} or None, got {chapter!r}")
+    hops, runs, stab = _concat(tables, "_hops"), _concat(tables, "_runs"), tables.get("stability")
+    if conventions is None:
+        present = set()
+        for t in (hops, runs, stab):
+            if t is not None and "convention" in t.columns:
+                present |= set(t["convention"].dropna().astype(str))
+        conventions = [c for c in CONVENTIONS if c in present] or ["paper"]
+    table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions))
+    if chapter is not None:
+        ids = CHAPTER_CLAIMS[chapter]
+        table = table[table["claim_id"].isin(ids)]
+        table = table.assign(_o=table["claim_id"].map({c: i for i, c in enumerate(ids)})).sort_values(
+            ["_o", "convention"], kind="stable").drop(columns="_o")
+    table = table.reset_index(drop=True)
+    return table if columns is None else table[[c for c in columns if c in table.columns]]
+
+
+def claim_rules() -> pd.DataFrame:
+    """The rule behind each claim's verdict (:data:`mat_hopper.analysis.claims.CLAIMS`):
+    columns claim, rule."""
+    from . import claims
+    return pd.DataFrame([{"claim": c.claim, "rule": c.rule} for c in claims.CLAIMS])
+
+
+def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
+    """Mean |jerk| (m/s^3) of the body's vertical motion after the
+    transient, from its vertical acceleration sampled at each rate (every
+    k-th recorded sample) and differentiated by finite differences, as
+    :mod:`mat_hopper.metrics` does at the record rate. The authors logged
+    at about 10 Hz of wall time. Columns rate_hz, mean_jerk_m_s3."""
+    from ..sim import C
+    d = rollout.data
+    t, az = d[:, C["t"]], d[:, C["az"]]
+    if len(t) < 4:
+        raise ValueError("jerk_by_rate: the rollout recorded fewer than 4 samples")
+    dt = float(np.median(np.diff(t)))
+    rows = []
+    for rate in rates_hz:
+        k = int(round(1.0 / (float(rate) * dt)))
+        if k < 1:
+            raise ValueError(f"rate {rate} Hz exceeds the record rate {1 / dt:g} Hz")
+        ts, a = t[::k], az[::k]
+        if len(ts) < 3:
+            raise ValueError(f"rate {rate} Hz leaves fewer than 3 samples")
+        jerk = np.abs(np.gradient(a, ts))
+        keep = ts >= rollout.settings.transient_s
+        rows.append({"rate_hz": 1.0 / (k * dt), "mean_jerk_m_s3": float(jerk[keep].mean())})
+    return pd.DataFrame(rows)
+
+
+def setting_comparison(hops: pd.DataFrame, pairs=(("rho-inc", "MD"), ("SS", "MD"), ("rho-inc", "SS")),
+                       metrics=("tracking_error_m", "power_w")) -> pd.DataFrame:
+    """Percent change of the mean of each metric for each (design,
+    baseline) pair, per ``setting`` of the table (e.g. from
+    :func:`axial_check`): rows setting, columns "<metric>: <design> vs
+    <baseline>"; nan where either is missing or the baseline's mean is
+    round-off (:func:`~mat_hopper.analysis.change.percent_change`)."""
+    if "setting" not in hops.columns:
+        raise ValueError("setting_comparison needs a 'setting' column")
+    means = hops.groupby(["setting", "design"])[list(metrics)].mean()
+    rows = {}
+    for setting in dict.fromkeys(hops["setting"]):
+        row = {}
+        for design, baseline in pairs:
+            for m in metrics:
+                try:
+                    a, b = means.loc[(setting, design), m], means.loc[(setting, baseline), m]
+                except KeyError:
+                    a, b = np.nan, np.nan
+                row[f"{m}: {design} vs {baseline}"] = percent_change(a, b)
+        rows[setting] = row
+    out = pd.DataFrame.from_dict(rows, orient="index")
+    out.index.name = "setting"
+    return out
+
+
+def power_formula_table(hops: pd.DataFrame, design: str = "SS", baseline: str = "MD") -> pd.DataFrame:
+    """Percent change of `design`'s mean hip power against `baseline`'s, per
+    behaviour, measured two ways: the real mechanical power of the hip
+    motors (``power_w``, ours) and the authors' formula
+    (``power_paper_w``). Rows: the two measures; columns: behaviours."""
+    rows = {}
+    for metric, label in (("power_w", "real hip power (ours)"), ("power_paper_w", "the authors' formula")):
+        t = pct_change_table(hops, metric, baseline, designs=[baseline, design])
+        rows[label] = t.loc[design] if design in t.index else pd.Series(dtype=float)
+    out = pd.DataFrame(rows).T
+    out.columns.name = f"power: {design} vs {baseline} (%)"
+    return out

@@ -1,0 +1,207 @@
+"""``mat-hopper optimize``: the command line of :mod:`mat_hopper.optimize`
+(run or resume a study, write its report, replay one trial)."""
+
+from __future__ import annotations
+
+import os
+import sys
+
+from optuna.trial import TrialState
+
+from ..experiments.profiles import PROFILES, get_profile
+from ..materials import LegDesign
+from ..optimize import (
+    DEFAULT_WORKERS,
+    KINDS,
+    SAMPLERS,
+    Objective,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    check_sampler,
+    check_study_name,
+    describe,
+    redact,
+    replay,
+    run_study,
+    storage_file,
+    stored_config,
+    study_exists,
+    write_report,
+)
+from ..optimize.report import feasible_complete
+from ..viz.render import choose_backend, render_files
+
+
+def _pair(text, flag):
+    if text is None:
+        return None
+    parts = [p for p in str(text).split(",") if p.strip()]
+    if len(parts) != 2:
+        raise ValueError(f"{flag} must be MIN,MAX, got {text!r}")
+    try:
+        return tuple(float(p) for p in parts)
+    except ValueError:
+        raise ValueError(f"{flag} must be two numbers MIN,MAX, got {text!r}") from None
+
+
+def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
+    """Study settings from the command line; options left out take the
+    stored study's values (resuming) or the defaults (new study)."""
+    base = stored or StudyConfig(args.study)
+    sp, ob = base.space, base.objective
+    n = args.segments if args.segments is not None else sp.n_segments
+    kinds = args.space if args.space is not None else (sp.kinds if n == sp.n_segments else sp.kinds[0])
+    if isinstance(kinds, str) and kinds.strip().lower() in ("mix", "mixed"):
+        raise ValueError(f"--space mix: give one kind per segment, e.g. catalogue,continuous,continuous "
+                         f"(kinds: {', '.join(KINDS)})")
+    space = SearchSpace(
+        n_segments=n, kinds=kinds,
+        density_g_cm3=_pair(args.density_bounds, "--density-bounds") or sp.density_g_cm3,
+        modulus_gpa=_pair(args.modulus_bounds, "--modulus-bounds") or sp.modulus_gpa,
+        materials=args.materials if args.materials is not None else sp.materials)
+    objective = Objective(
+        behaviours=args.behaviour if args.behaviour is not None else ob.behaviours,
+        profile=get_profile(args.profile) if args.profile is not None else ob.profile,
+        convention=args.convention if args.convention is not None else ob.convention,
+        hop_height_target_m=ob.hop_height_target_m, hop_height_tolerance_m=ob.hop_height_tolerance_m)
+    return StudyConfig(args.study, space, objective)
+
+
+def _options_from_args(args, trials: int = 1) -> RunOptions:
+    return RunOptions(trials=trials, workers=args.workers, sampler=args.sampler, seed=args.seed,
+                      storage=args.storage, studies_dir=args.studies_dir, progress=not args.no_progress)
+
+
+def open_existing(name: str, args):
+    """Storage holding an existing study `name` (ValueError if none)."""
+    check_study_name(name)
+    options = _options_from_args(args)
+    if not args.storage:
+        path = os.path.join(args.studies_dir, f"{name}.db")
+        if not os.path.exists(path):
+            raise ValueError(f"no study {name!r}: {path} does not exist (give --storage URL for a shared study)")
+    else:
+        path = storage_file(args.storage)
+        if path and not os.path.exists(path):
+            raise ValueError(f"no study {name!r}: {path} does not exist")
+    storage = options.open(name)
+    if not study_exists(name, storage):
+        raise ValueError(f"no study {name!r} in {redact(options.storage_url(name))}")
+    return storage
+
+
+def cmd_optimize(args) -> int:
+    if args.report or args.replay is not None:
+        name = args.report or args.study
+        if not name:
+            raise ValueError("--replay TRIAL needs --study NAME (or --report NAME)")
+        storage = open_existing(name, args)
+        if args.replay is not None:
+            return cmd_replay(name, storage, args)
+        return cmd_report(name, storage, args)
+    if not args.study:
+        raise ValueError("give --study NAME (or --report NAME)")
+    if args.trials is None or args.trials < 1:
+        raise ValueError(f"--trials must be an integer >= 1, got {args.trials!r}")
+    options = _options_from_args(args, args.trials)
+    check_sampler(options.sampler)
+    config_from_args(args, None)              # bad settings fail here, before any file is made
+    storage = options.open(args.study)
+    config = config_from_args(args, stored_config(args.study, storage))
+    del storage
+    res = run_study(config, options)
+    print(f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
+          + (f", {res.running} still running elsewhere" if res.running else ""))
+    if res.dead_workers:
+        print(f"{len(res.dead_workers)} worker(s) died (pid, exit code): {res.dead_workers}; "
+              f"trials failed and re-queued: {res.recovered}")
+    print(f"report: mat-hopper optimize --report {res.study}"
+          + (f" --storage '{res.url}'" if args.storage else ""))
+    if not res.finished and not res.running:
+        print("the study is short of its target: run the same command again to resume", file=sys.stderr)
+        return 1
+    return 0
+
+
+def register_cli(sub) -> None:
+    p = sub.add_parser(
+        "optimize", help="search leg designs with Optuna (multi-objective, resumable, parallel)",
+        description="Search per-segment densities and moduli (or catalogue materials) for low tracking "
+                    "error and hip power, hop height 1 +- 0.05 m and stable runs. Starts from the "
+                    "paper's SS, rho-inc and PVC-Ti-SS designs.")
+    p.add_argument("--study", help="study name (letters, digits, _ . -); resumes if it exists")
+    p.add_argument("--trials", type=int, default=200, help="study size: finished trials to reach (200)")
+    p.add_argument("--behaviour", "--behavior", dest="behaviour",
+                   help="behaviour, or comma-separated behaviours (objectives averaged), default ramp")
+    p.add_argument("--segments", type=int, help="segments per leg (default 3)")
+    p.add_argument("--space", help="continuous (default), catalogue, or one kind per segment, e.g. "
+                                   "catalogue,continuous,continuous")
+    p.add_argument("--density-bounds", help="MIN,MAX g/cm^3 for continuous segments (default 0.9,20)")
+    p.add_argument("--modulus-bounds", help="MIN,MAX GPa for continuous segments (default 0.1,1000)")
+    p.add_argument("--materials", help="catalogue choices, comma-separated (default: all with a modulus)")
+    p.add_argument("--profile", help=f"run profile: {' or '.join(PROFILES)} (default $MAT_HOPPER_PROFILE, else paper: 60 s runs, "
+                                     "20 s transient, 1e-4 s step; quick: 12 s, 4 s)")
+    p.add_argument("--convention", help="stiffness convention: paper (default) or axial")
+    p.add_argument("--workers", type=int, default=DEFAULT_WORKERS, help="worker processes here (2)")
+    p.add_argument("--storage", help="Optuna storage URL (default sqlite:///STUDIES_DIR/NAME.db); "
+                                     "postgresql://USER@HOST:PORT/DB or journal:///PATH for shared studies")
+    p.add_argument("--studies-dir", default="studies", help="folder of the default SQLite files (studies)")
+    p.add_argument("--sampler", default="tpe", help=f"one of {', '.join(SAMPLERS)} (tpe)")
+    p.add_argument("--seed", type=int, default=0, help="sampler seed (0)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
+    p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
+    p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")
+    p.add_argument("--render", action="store_true", help="with --replay: also render it (mat_hopper.viz.render)")
+    p.set_defaults(func=cmd_optimize)
+
+
+def cmd_report(name: str, storage, args) -> int:
+    out = args.out or os.path.join(args.studies_dir, f"{name}-report")
+    rep = write_report(name, storage, out)
+    frame, front = rep["trials"], rep["pareto"]
+    states = frame["state"].value_counts().to_dict() if len(frame) else {}
+    n_ok = len(feasible_complete(frame))
+    print(f"study {name}: {len(frame)} trials {states}, {n_ok} feasible, {len(front)} on the Pareto front")
+    for b, (te, pw) in rep["baselines"].items():
+        print(f"  {b}: tracking error {te:.4g} m, power {pw:.4g} W")
+    if len(front):
+        cols = [c for c in front.columns if not c.startswith("seg")]
+        print(front[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    for p in rep["paths"].values():
+        print(f"wrote {p}")
+    return 0
+
+
+def cmd_replay(name: str, storage, args) -> int:
+    t, design, ev, config = replay(name, storage, args.replay)
+    print(f"trial {t.number} ({t.state.name}) of {name}: {describe(design.segments)}")
+    for i, m in enumerate(design.segments, 1):
+        print(f"  segment {i}: {m.density_g_cm3:.6g} g/cm^3, {m.modulus_gpa:.6g} GPa ({m.name})")
+    for r in ev.per_behaviour:
+        print(f"  {r['behaviour']}: tracking error {r['tracking_error_m']:.6g} m, power {r['power_w']:.6g} W, "
+              f"hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
+              f"{'upright' if r['upright'] else 'UNSTABLE'}")
+    print(f"objectives {ev.values[0]:.6g} m, {ev.values[1]:.6g} W; "
+          f"{'feasible' if ev.feasible else 'infeasible'} (constraints {ev.constraints[0]:.4g}, {ev.constraints[1]:g})")
+    if t.state == TrialState.COMPLETE:
+        same = tuple(t.values) == tuple(ev.values)
+        print("replay matches the stored values exactly" if same else
+              f"replay differs from the stored values {tuple(t.values)}")
+    if args.render:
+        return _render(design, config, args)
+    return 0 if t.state != TrialState.COMPLETE or tuple(t.values) == tuple(ev.values) else 1
+
+
+def _render(design: LegDesign, config: StudyConfig, args) -> int:
+    """Gait tiles and a 10 s video of the replayed design on each behaviour,
+    in --out or the studies folder: <study>-trial<N>-<behaviour>-*."""
+    folder = args.out or args.studies_dir
+    backend = choose_backend()
+    for b in config.objective.behaviours:
+        stem = os.path.join(folder, f"{args.study}-trial{args.replay}-{b}")
+        for path in render_files(design, b, tiles=f"{stem}-tiles.png", video=f"{stem}.mp4",
+                                 convention=config.objective.convention, backend=backend):
+            print(f"wrote {path}")
+    return 0

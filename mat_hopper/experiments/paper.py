@@ -1,0 +1,357 @@
+"""The paper's four experiments, as data (run profiles:
+:mod:`mat_hopper.experiments.profiles`).
+
+An experiment is designs x behaviours x settings, nothing more; the runner
+(:mod:`mat_hopper.experiments.runner`) turns it into cached, parallel runs. Every
+number comes from :mod:`mat_hopper.reference`.
+
+- ``exp1``: mono-materials MD, PVC, Al, Ti, SS x the four behaviours (20 runs).
+- ``exp2``: one property at a time around PVC, Al, Ti and SS (the sweeps
+  of docs/reference-hopper.md: 36 points), forward hopping; each point is compared with its base
+  material (the sweep point whose value is the base material's own).
+- ``exp3``: gradients rho-inc, rho-dec, PVC-Ti-SS, SS-Ti-PVC x four
+  behaviours (16 runs), beside the baselines MD and SS (8 runs, the very
+  runs of exp1: the cache holds them once).
+- ``stability``: the stable time step over the density x modulus
+  grid (20 x 20 in the paper profile), see :mod:`mat_hopper.stability`.
+
+The book's extra checks run through the same runner: the stable time step
+under both stiffness conventions (:func:`convention_stability`), perturbed
+replicates hopping in place (:func:`in_place_replicates`), the authors'
+wall-clock path (:func:`clock_drift`) and the headline under the axial
+convention (:func:`axial_check`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import pandas as pd
+
+from .. import reference as ref
+from ..behaviours import BEHAVIOUR_NAMES
+from ..behaviours import behaviour as get_behaviour
+from ..materials import CONVENTIONS, LegDesign, Material, paper_designs, parse_design
+from ..perturbations import Perturbation
+from .profiles import Profile, check_replicates, get_profile
+from .runner import FAILED, RunSpec, run_grid
+
+UNPERTURBED = -1
+
+
+# ---------------------------------------------------------------------------
+# experiments
+
+
+def _fmt(values) -> str:
+    return "/".join("rigid" if v is None else f"{v:g}" for v in values)
+
+
+@dataclass(frozen=True)
+class DesignPoint:
+    """One design of an experiment: the leg, its label in the tables, and
+    extra label columns (e.g. the sweep it belongs to)."""
+
+    design: LegDesign
+    label: str
+    tags: tuple = ()      # ((column, value), ...)
+
+    def labels(self) -> dict:
+        return {"design": self.label, **dict(self.tags),
+                "densities_g_cm3": _fmt(self.design.densities_g_cm3), "moduli_gpa": _fmt(self.design.moduli_gpa)}
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """Designs x behaviours: the runs of one experiment."""
+
+    name: str
+    title: str
+    points: tuple[DesignPoint, ...]
+    behaviours: tuple[str, ...]
+    baselines: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        if not self.points or not self.behaviours:
+            raise ValueError(f"experiment {self.name}: designs and behaviours must not be empty")
+        for b in self.behaviours:
+            get_behaviour(b)
+
+    @property
+    def n_runs(self) -> int:
+        """Runs per replicate set (designs x behaviours)."""
+        return len(self.points) * len(self.behaviours)
+
+    def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list[RunSpec]:
+        """One RunSpec per design, behaviour and replicate: the unperturbed
+        run (replicate -1) and, for replicates N > 0, seeds 0..N-1 with
+        :meth:`Perturbation.replicate`."""
+        profile = get_profile(profile)
+        replicates = check_replicates(replicates)
+        out = []
+        for point in self.points:
+            for bname in self.behaviours:
+                beh = get_behaviour(bname)
+                for rep in [UNPERTURBED, *range(replicates)]:
+                    pert = None if rep == UNPERTURBED else Perturbation.replicate(rep)
+                    labels = {"experiment": self.name, "profile": profile.name, "convention": profile.convention,
+                              "design": point.label, "behaviour": beh.name, "replicate": rep, **point.labels()}
+                    out.append(RunSpec(point.design, beh, profile.sim_settings(pert), labels))
+        return out
+
+
+@dataclass(frozen=True)
+class StabilityMap:
+    """The stable-time-step map: mono-material legs over a density x
+    modulus grid (sizes from the profile)."""
+
+    name: str = "stability"
+    title: str = "Stable time step over density x modulus"
+    n_segments: int = ref.REFERENCE_SEGMENTS
+
+    def axes(self, profile: Profile | str | None = None):
+        from ..stability import stability_grid
+        return stability_grid(get_profile(profile).stability_grid_size)
+
+    def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
+        """One StabilitySpec per grid cell (replicates do not apply)."""
+        from ..stability import StabilitySpec
+        profile = get_profile(profile)
+        dens, mods = self.axes(profile)
+        out = []
+        for d in dens:
+            for e in mods:
+                d, e = float(d), float(e)
+                design = LegDesign((Material(f"rho{d:g}-E{e:g}", d, e),) * self.n_segments,
+                                   name=f"rho={d:g} E={e:g}")
+                labels = {"experiment": self.name, "profile": profile.name, "convention": profile.convention,
+                          "design": design.name, "density_g_cm3": d, "modulus_gpa": e}
+                out.append(StabilitySpec(design, duration_s=profile.stability_duration_s,
+                                         tolerance=profile.stability_tolerance,
+                                         max_iter=profile.stability_max_iter, scan=profile.stability_scan,
+                                         convention=profile.convention, labels=labels))
+        return out
+
+
+def experiment_1() -> Experiment:
+    """Mono-materials on all four behaviours."""
+    designs = paper_designs()
+    points = tuple(DesignPoint(designs[n], n, (("group", "mono"),)) for n in ref.MONO_MATERIALS)
+    return Experiment("exp1", "Mono-materials x four behaviours", points, BEHAVIOUR_NAMES, ("MD",))
+
+
+SWEEP_SHORT = {"density": "rho", "modulus": "E"}
+
+
+def experiment_2() -> Experiment:
+    """One property at a time around PVC, Al, Ti and SS, forward hopping.
+
+    Labels: sweep_base (the material), sweep_property (density|modulus),
+    sweep_value, density_g_cm3, modulus_gpa, is_base (the point that is the
+    base material itself; its design label is the material's name)."""
+    designs = paper_designs()
+    points = []
+    for base, sweeps in ref.SWEEPS.items():
+        rho0, e0 = ref.MONO_MATERIALS[base]
+        for prop in ("density", "modulus"):
+            values = tuple(sweeps[prop])
+            own = rho0 if prop == "density" else e0
+            if not any(math.isclose(v, own) for v in values):
+                values = tuple(sorted(values + (own,)))
+            for v in values:
+                is_base = math.isclose(v, own)
+                rho, e = (v, e0) if prop == "density" else (rho0, v)
+                if is_base:
+                    design, label = designs[base], base
+                else:
+                    label = f"{base} {SWEEP_SHORT[prop]}={v:g}"
+                    design = LegDesign.mono(Material(label, rho, e), ref.REFERENCE_SEGMENTS)
+                tags = (("group", f"{base} {prop}"), ("sweep_base", base), ("sweep_property", prop),
+                        ("sweep_value", float(v)), ("density_g_cm3", float(rho)), ("modulus_gpa", float(e)),
+                        ("is_base", bool(is_base)))
+                points.append(DesignPoint(design, label, tags))
+    return Experiment("exp2", "One property at a time, forward hopping", tuple(points), ("forward",))
+
+
+def experiment_3() -> Experiment:
+    """Functional gradients on all four behaviours, with MD and SS."""
+    designs = paper_designs()
+    grads = ("rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC")
+    points = tuple(DesignPoint(designs[n], n, (("group", "gradient"),)) for n in grads)
+    points += tuple(DesignPoint(designs[n], n, (("group", "baseline"),)) for n in ("MD", "SS"))
+    return Experiment("exp3", "Functional gradients x four behaviours, against MD and SS", points,
+                      BEHAVIOUR_NAMES, ("MD", "SS"))
+
+
+EXPERIMENTS = {"exp1": experiment_1, "exp2": experiment_2, "exp3": experiment_3, "stability": StabilityMap}
+EXPERIMENT_NAMES = tuple(EXPERIMENTS)
+
+
+def experiment_name(text: str) -> str:
+    """Canonical name: '1' or 'exp1' -> 'exp1'; 'stability' (or 'stab', '4')."""
+    key = str(text).strip().lower()
+    alias = {"1": "exp1", "2": "exp2", "3": "exp3", "4": "stability", "stab": "stability"}
+    key = alias.get(key, key)
+    if key not in EXPERIMENTS:
+        raise ValueError(f"unknown experiment {text!r}; accepted: 1, 2, 3, stability (or {', '.join(EXPERIMENTS)})")
+    return key
+
+
+def parse_experiments(text: str | None) -> list[str]:
+    """'1,2,3,stability' -> ['exp1', 'exp2', 'exp3', 'stability'] (order
+    kept, duplicates dropped); None or 'all': all four."""
+    if text is None or str(text).strip().lower() == "all":
+        return list(EXPERIMENT_NAMES)
+    names = [experiment_name(p) for p in str(text).split(",") if p.strip()]
+    if not names:
+        raise ValueError("experiments: give at least one of 1, 2, 3, stability")
+    return list(dict.fromkeys(names))
+
+
+def get_experiment(name: str) -> Experiment | StabilityMap:
+    """An experiment by name (see :func:`experiment_name`)."""
+    return EXPERIMENTS[experiment_name(name)]()
+
+
+# ---------------------------------------------------------------------------
+# the book's extra checks (each through the runner: cached, in parallel)
+
+
+def convention_tasks(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
+                     conventions=CONVENTIONS) -> list:
+    """Stable-time-step measurements (runner tasks, cached) of designs
+    (names as :func:`~mat_hopper.materials.parse_design` reads them, or
+    LegDesigns; default the mono-materials) under each convention, with
+    the profile's try
+    length, tolerance and tries (no 20-step reference scan)."""
+    from ..stability import StabilitySpec
+
+    prof = get_profile(profile)
+    out = []
+    for conv in conventions:
+        for n in names:
+            d = parse_design(n) if isinstance(n, str) else n
+            labels = {"experiment": "conventions", "profile": prof.name, "convention": conv, "design": d.name}
+            out.append(StabilitySpec(d, duration_s=prof.stability_duration_s, tolerance=prof.stability_tolerance,
+                                     max_iter=prof.stability_max_iter, scan=False, convention=conv,
+                                     labels=labels))
+    return out
+
+
+def convention_stability(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
+                         conventions=CONVENTIONS, *, cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+    """Largest stable time step per design (see :func:`convention_tasks`)
+    and convention: measured (the bracket [max_stable_timestep_s,
+    unstable_timestep_s] of :mod:`mat_hopper.stability`) and estimated
+    (analytic_timestep_s, 2 / w_max of the leg's spring chain;
+    controller_timestep_s, the limit 2 I / c of the controller's explicit
+    stance attitude damping, the same for every leg), one row each, with
+    the stiffest material spring (material_spring_n_m; nan for the rigid
+    MD leg)."""
+    res = run_grid(convention_tasks(names, profile, conventions), cache_dir, workers=workers, progress=False,
+                   desc="conventions")
+    s = res.summary
+    if (s["status"] == FAILED).any():
+        bad = s[s["status"] == FAILED]
+        raise RuntimeError("stability measurement failed: " + "; ".join(
+            f"{r.design} ({r.convention}): {r.error}" for r in bad.itertuples()))
+    keep = ["design", "convention", "max_material_spring_n_m", "analytic_timestep_s", "controller_timestep_s",
+            "max_stable_timestep_s", "unstable_timestep_s"]
+    out = s[keep].rename(columns={"max_material_spring_n_m": "material_spring_n_m"})
+    return out.reset_index(drop=True)
+
+
+def in_place_replicates(profile: str | Profile | None = None, n: int | None = None, *, behaviour: str = "static",
+                        cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+    """Experiment 1's five legs hopping in place (or on `behaviour`), the
+    unperturbed run and n perturbed replicates each (seeds 0..n-1,
+    :meth:`~mat_hopper.perturbations.Perturbation.replicate`; n from the
+    profile's ``book_replicates`` by default), run or loaded through the
+    result cache. Returns the per-hop table (column ``replicate``, -1 for
+    the unperturbed run), for :func:`mat_hopper.analysis.stats.compare_replicates`."""
+    profile = get_profile(profile)
+    n = profile.book_replicates if n is None else n
+    exp = replace(experiment_1(), behaviours=(behaviour,))
+    res = run_grid(exp.tasks(profile, n), cache_dir, workers=workers, progress=False)
+    if res.n_failed:
+        raise RuntimeError(f"{res.n_failed} replicate run(s) failed: {res.summary['error'].dropna().unique()[:3]}")
+    return res.tables
+
+
+CLOCK_FACTORS = (1.0, 1.5, 2.0)
+
+
+def clock_drift(profile: str | Profile | None = None, designs=("MD", "SS"), factors=CLOCK_FACTORS,
+                behaviour: str = "forward", *, cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+    """What the authors' wall-clock desired path does. Their loop sleeps to
+    stay in real time, so on a machine that simulates r times slower than
+    real time the desired path advances r times faster in simulated time.
+    We emulate that by commanding r times the paper's speed (r = 1: the
+    paper's protocol, our default) under the book's profile, duration and
+    transient unchanged. Runs through the runner (cached in `cache_dir`). One row per
+    design and factor: clock_factor, speed_m_s, status, n_hops,
+    mean_tracking_error_m, mean_power_w."""
+    profile = get_profile(profile)
+    tasks = []
+    for d in designs:
+        design = LegDesign.mono(d) if isinstance(d, str) and d in ref.MONO_MATERIALS else d
+        if isinstance(design, str):
+            design = parse_design(design)
+        for r in factors:
+            if not (isinstance(r, (int, float)) and math.isfinite(r) and r > 0):
+                raise ValueError(f"clock factors must be finite numbers > 0, got {r!r}")
+            beh = get_behaviour(behaviour, speed_m_s=ref.SPEED_M_S * float(r))
+            labels = {"experiment": "clock", "profile": profile.name, "design": design.name,
+                      "behaviour": behaviour, "clock_factor": float(r), "speed_m_s": beh.speed_m_s}
+            tasks.append(RunSpec(design, beh, profile.sim_settings(), labels))
+    res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="clock")
+    s = res.summary
+    if (s["status"] == FAILED).any():
+        raise RuntimeError("clock_drift: runs failed: " + "; ".join(s.loc[s["status"] == FAILED, "error"]))
+    return s[["design", "clock_factor", "speed_m_s", "status", "n_hops", "mean_tracking_error_m",
+              "mean_power_w"]].reset_index(drop=True)
+
+
+def axial_check(profile: str | Profile | None = None, designs=("MD", "SS", "rho-inc"), behaviour: str = "ramp", *,
+                timestep_s: float | None = None, cache_dir=None, workers: int | None = None) -> dict:
+    """The paper's headline comparison under the physical (axial) stiffness
+    convention. The axial springs need a smaller time step: by default the
+    profile's ``axial_timestep_s`` (the step ``mat-hopper reproduce
+    --conventions`` uses; chapter 3 measures the stable steps). Runs, through the
+    runner (cached), every design in three settings: the paper's
+    convention at the profile's step (the runs of experiments 1 and 3),
+    the paper's convention at the small step (what the step alone
+    changes), and the axial convention at the small step (what the
+    convention changes). A rigid leg has no springs, so its small-step run
+    stands for both conventions. Returns {"timestep_s", "hops" (per-hop
+    table with a ``setting`` column, e.g. "paper, dt 0.0001 s",
+    "axial, dt 1e-05 s"), "runs"}."""
+    prof = get_profile(profile)
+    legs = {d: parse_design(d) for d in designs}
+    if timestep_s is None:
+        timestep_s = prof.axial_timestep_s
+    beh = get_behaviour(behaviour)
+    base = prof.sim_settings()
+    small = replace(base, timestep_s=float(timestep_s))
+    axial = replace(small, convention="axial")
+    name = lambda st: f"{st.convention}, dt {st.timestep_s:g} s"
+    plan = [(d, st) for d in designs for st in (base, small)]
+    plan += [(d, axial) for d in designs if not all(m.rigid for m in legs[d].segments)]
+    tasks = []
+    for d, st in plan:
+        labels = {"experiment": "axial-check", "profile": prof.name, "convention": st.convention, "design": d,
+                  "behaviour": beh.name, "setting": name(st), "timestep_s": st.timestep_s}
+        tasks.append(RunSpec(legs[d], beh, st, labels))
+    res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="axial")
+    if (res.summary["status"] == FAILED).any():
+        raise RuntimeError("axial_check: runs failed: " + "; ".join(res.summary.loc[res.summary["status"] == FAILED,
+                                                                                    "error"]))
+    hops, runs = res.tables, res.summary
+    rigid = [d for d in designs if all(m.rigid for m in legs[d].segments)]
+    if rigid:      # a rigid leg has no springs: its run at the small step stands for both conventions
+        extra_h = hops[hops["design"].isin(rigid) & (hops["setting"] == name(small))].assign(setting=name(axial))
+        extra_r = runs[runs["design"].isin(rigid) & (runs["setting"] == name(small))].assign(setting=name(axial))
+        hops = pd.concat([hops, extra_h], ignore_index=True)
+        runs = pd.concat([runs, extra_r], ignore_index=True)
+    return {"timestep_s": float(timestep_s), "hops": hops, "runs": runs}

@@ -1,0 +1,175 @@
+"""The reproduction pipeline: the paper's four experiments, end to end
+(``mat-hopper reproduce`` is its command line, :mod:`mat_hopper.cli.reproduce`).
+
+Runs the chosen experiments under one profile (cached, resumable, in
+parallel; see :mod:`mat_hopper.experiments.runner`), writes their tables as CSV into
+the output folder (default ``results/<profile>/``), then the figures and
+the claims table through :mod:`mat_hopper.viz.figures` and
+:mod:`mat_hopper.analysis.claims`. Tables (see :func:`reproduce`):
+
+- ``exp{1,2,3}_hops.csv``: one row per scored hop cycle of every run;
+- ``exp{1,2,3}_runs.csv``: one row per run (outcome, means, energy);
+- ``stability.csv``: one row per design of the map; ``stability_tries.csv``:
+  every try; ``stability_agreement.csv``: analytic estimate vs measured.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+
+import pandas as pd
+
+from ..atomic import write_csv
+from ..materials import CONVENTIONS, check_convention
+from .paper import get_experiment, parse_experiments
+from .profiles import check_replicates, get_profile
+from .runner import Runner, check_workers
+
+
+@dataclass
+class Reproduction:
+    """What :func:`reproduce` made: tables by name (the CSV file names
+    without .csv), files written, wall seconds per experiment (for the
+    log and benchmarks; never part of a table), failed task counts."""
+
+    profile: str
+    out_dir: str
+    tables: dict = field(default_factory=dict)
+    files: list = field(default_factory=list)
+    wall_s: dict = field(default_factory=dict)
+    failed: dict = field(default_factory=dict)
+    computed: dict = field(default_factory=dict)
+
+
+def default_out_dir(profile_name: str) -> str:
+    return os.path.join("results", profile_name)
+
+
+def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, workers: int | None = None,
+              scheduler=None, replicates: int = 0, cache_dir: str | None = None, progress: bool = True,
+              figures: bool = True, conventions=("paper",), log=print) -> Reproduction:
+    """Run experiments (names or '1,2,3,stability'; default all) under a
+    profile (name or Profile; default $MAT_HOPPER_PROFILE or paper), write
+    their tables into out_dir, then figures and claims. Every input is
+    checked before any work starts.
+
+    conventions: stiffness conventions of the hopping experiments (1-3),
+    e.g. ("paper", "axial"); axial runs use the profile's
+    axial_timestep_s. The stability map uses the profile's own convention.
+    The claims table always has rows for both conventions ("not run" for
+    one that was not asked for)."""
+    prof = get_profile(profile)
+    conventions = _check_conventions(conventions)
+    names = parse_experiments(experiments if experiments is None or isinstance(experiments, str)
+                              else ",".join(experiments))
+    replicates = check_replicates(replicates)
+    check_workers(workers)
+    out_dir = out_dir or default_out_dir(prof.name)
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise ValueError(f"--out {out_dir!r} exists and is not a folder")
+    plan = {n: get_experiment(n) for n in names}
+    tasks = {n: (e.tasks(prof, replicates) if n == "stability" else
+                 [t for c in conventions for t in e.tasks(prof.for_convention(c), replicates)])
+             for n, e in plan.items()}
+    os.makedirs(out_dir, exist_ok=True)
+    rep = Reproduction(prof.name, out_dir)
+    log(f"profile {prof.name}: {prof.duration_s:g} s runs, transient {prof.transient_s:g} s, "
+        f"dt {prof.timestep_s:g} s; stability grid {prof.stability_grid_size}x{prof.stability_grid_size}; "
+        f"replicates {replicates}; conventions {', '.join(conventions)}; out {out_dir}")
+    with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as runner:
+        for name in names:
+            t0 = time.perf_counter()
+            res = runner.run(tasks[name], desc=name)
+            wall = time.perf_counter() - t0
+            rep.wall_s[name] = wall
+            rep.failed[name] = res.n_failed
+            rep.computed[name] = res.n_computed
+            if name == "stability":
+                from ..stability import agreement
+                made = {"stability": res.summary, "stability_tries": res.tables,
+                        "stability_agreement": agreement(res.summary)}
+            else:
+                made = {f"{name}_hops": res.tables, f"{name}_runs": res.summary}
+            for tname, frame in made.items():
+                path = os.path.join(out_dir, f"{tname}.csv")
+                write_csv(frame, path)
+                rep.tables[tname] = frame
+                rep.files.append(path)
+            log(f"{name}: {res.n_tasks} tasks ({res.n_unique} unique): {res.n_cached} cached, "
+                f"{res.n_computed - res.n_failed} computed, {res.n_failed} failed in {wall:.1f} s wall")
+            if res.n_failed:
+                bad = res.summary[res.summary["status"] == "failed"]
+                for row in bad.head(5).itertuples():
+                    log(f"  failed: {row.design} {getattr(row, 'behaviour', '')}: {row.error}")
+    if "stability_agreement" in rep.tables:
+        a = rep.tables["stability_agreement"]
+        for est in ("spring", "combined"):
+            q = dict(zip(a.loc[a["estimate"] == est, "quantity"], a.loc[a["estimate"] == est, "value"]))
+            log(f"stability, {est} estimate vs measured: " + ", ".join(
+                f"{k} {q[k]:.3g}" for k in ("median_ratio_measured_to_estimate", "loglog_pearson_r",
+                                            "fraction_within_factor_2") if k in q))
+    if figures:
+        t0 = time.perf_counter()
+        rep.files += _figures_and_claims(rep, log)
+        rep.wall_s["figures"] = time.perf_counter() - t0
+    return rep
+
+
+def _figures_and_claims(rep: Reproduction, log) -> list:
+    """Figures (:func:`mat_hopper.viz.figures.write_figures`) and the claims table
+    (:func:`mat_hopper.analysis.claims.claims_table`, ``claims.md`` and ``claims.csv``)
+    from the tables of this reproduction."""
+    from ..analysis import claims
+    from ..viz import figures as plots
+    files = [str(p) for p in plots.write_figures(rep.tables, rep.out_dir)]
+    hops = _concat([rep.tables.get(f"{e}_hops") for e in ("exp1", "exp2", "exp3")])
+    runs = _concat([rep.tables.get(f"{e}_runs") for e in ("exp1", "exp2", "exp3")])
+    stab = rep.tables.get("stability")
+    table = claims.claims_table(hops, runs, stab, conventions=CONVENTIONS)
+    files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
+    rep.tables["claims"] = table
+    log(f"figures and claims: {len(files)} files in {rep.out_dir}")
+    return files
+
+
+def _check_conventions(conventions) -> tuple:
+    if isinstance(conventions, str):
+        conventions = [c.strip() for c in conventions.split(",") if c.strip()]
+    out = tuple(dict.fromkeys(check_convention(c) for c in conventions))
+    if not out:
+        raise ValueError(f"--conventions needs at least one of {', '.join(CONVENTIONS)}")
+    return out
+
+
+def _concat(frames) -> pd.DataFrame | None:
+    frames = [f for f in frames if f is not None and len(f)]
+    return pd.concat(frames, ignore_index=True) if frames else None
+
+
+def run_experiments(profile, experiments: str, *, out_dir=None, cache_dir=None, replicates: int = 0,
+                    workers: int | None = None, quiet: bool = False) -> dict[str, pd.DataFrame]:
+    """Run (or load from the cache) experiments ('1', '2', '3',
+    'stability', comma-separated) under a profile with :func:`reproduce`
+    (tables only, no figures, no log), which also writes their tables to
+    `out_dir` (default ``results/<profile>/``). Returns the tables by name
+    (``exp1_hops``, ``exp1_runs``, ..., ``stability``,
+    ``stability_agreement``). A task that raised (not a diverged run: that
+    is a result) raises RuntimeError. Prints one line per experiment (runs
+    computed now / loaded from the cache) unless quiet."""
+    prof = get_profile(profile)
+    out_dir = str(out_dir) if out_dir is not None else None
+    cache_dir = str(cache_dir) if cache_dir is not None else None
+    rep = reproduce(prof, experiments, out_dir, workers=workers, replicates=replicates, cache_dir=cache_dir,
+                    progress=False, figures=False, log=lambda *a, **k: None)
+    failed = {k: v for k, v in rep.failed.items() if v}
+    if failed:
+        raise RuntimeError(f"tasks failed in {failed}; see the error column of the runs tables in {rep.out_dir}")
+    if not quiet:
+        where = os.path.relpath(cache_dir) if cache_dir else "the cache"
+        for name, n in rep.computed.items():
+            runs = rep.tables.get(f"{name}_runs", rep.tables.get(name))
+            total = len(runs) if runs is not None else n
+            print(f"{name} ({prof.name} profile): {total} tasks, {n} computed now, the rest loaded from {where}/")
+    return rep.tables

@@ -1,0 +1,589 @@
+"""Run grids of simulations in parallel, cached on disk, resumable.
+
+A grid is a list of *tasks*. A task is a small frozen dataclass that knows
+every setting that changes its result (:meth:`key_dict`), how to compute
+that result (:meth:`compute` -> a table and a one-line summary dict), and
+how to label it in the output (:attr:`labels`: experiment, profile, design,
+behaviour, ...; labels are *not* part of the key, so two experiments that
+need the same physics share one cached result). :class:`RunSpec` (one
+design on one behaviour, its per-hop table and run summary) is the task of
+experiments 1-3; :class:`mat_hopper.stability.StabilitySpec` is the task
+of the stable-time-step map.
+
+Cache. One parquet file per result, ``<cache_dir>/<key>.parquet``, named by
+a SHA-256 hash of the key dict (every setting: design with per-segment
+density and modulus, behaviour, duration, time step, transient, record
+rate, stiffness convention, controller gains, perturbation; the versions
+of mat-hopper and MuJoCo, and a digest of the source of the modules that
+make results, so an edited simulation never reuses old results). The summary and the key dict ride in
+the file's metadata, so a result is one file, written atomically (temp
+file in the same folder, then ``os.replace``): a reader sees the whole file
+or none. Temp files (``.tmp-*``) are never read. A run killed half-way
+keeps every result it finished; the next run loads them and computes only
+the missing ones. A diverged simulation is a result (cached); an exception
+in a task is not (it becomes a ``failed`` row with the error text, and the
+next run tries again).
+
+Parallelism. Local processes (``concurrent.futures.ProcessPoolExecutor``,
+forkserver context whose server preloads :mod:`mat_hopper.experiments._warmup`, so
+workers start with MuJoCo, numba's compiled loop and pyarrow loaded), all
+cores by default; or a Dask cluster (``scheduler``: an address or a
+``distributed.Client``). The parent process is the only writer of the
+cache. Output tables are in grid order whatever the completion order, and
+every result is read back from its stored file, so fresh, cached, local
+and Dask runs give identical tables.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import math
+import multiprocessing
+import os
+import time
+import traceback
+from collections.abc import Iterable, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ..atomic import TEMP_PREFIX, atomic_path
+from ..behaviours import Behaviour
+from ..materials import LegDesign
+from ..sim import SimSettings, route_mujoco_warnings
+
+DEFAULT_CACHE_DIR = os.path.join("results", "cache")
+CACHE_ENV = "MAT_HOPPER_CACHE"
+_META_KEY = b"mat_hopper"
+_STALE_TEMP_S = 3600.0
+
+# Status of a task's summary row.
+OK, DIVERGED, FALLEN, FAILED = "ok", "diverged", "fallen", "failed"
+
+
+# ---------------------------------------------------------------------------
+# keys
+
+
+# Modules whose code makes or summarises a result: their source is part of every key.
+# Paths relative to the package folder, "/"-separated.
+RESULT_MODULES = ("reference", "materials", "model", "control", "behaviours", "_loop", "sim", "perturbations", "metrics",
+                  "modes", "stability", "experiments/runner")
+
+
+@functools.lru_cache(maxsize=1)
+def source_digest() -> str:
+    """SHA-256 (short) of the source of :data:`RESULT_MODULES`: any edit to
+    the physics, controller, metrics or this runner invalidates the cache."""
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    h = hashlib.sha256()
+    for name in RESULT_MODULES:
+        with open(os.path.join(package, *f"{name}.py".split("/")), "rb") as f:
+            h.update(name.encode() + b"\0" + f.read())
+    return h.hexdigest()[:16]
+
+
+def versions() -> dict:
+    """What besides the settings changes results: mat-hopper's version and
+    source, and MuJoCo's version."""
+    import mujoco
+
+    from .. import __version__
+    return {"mat_hopper": __version__, "source": source_digest(), "mujoco": mujoco.__version__}
+
+
+def design_key(design: LegDesign) -> dict:
+    """A design as the physics sees it: per-segment density (g/cm^3) and
+    modulus (GPa, None = rigid). The name is a label, not physics."""
+    return {"n_segments": design.n_segments, "densities_g_cm3": list(design.densities_g_cm3),
+            "moduli_gpa": list(design.moduli_gpa)}
+
+
+def settings_key(settings: SimSettings) -> dict:
+    """Every field of SimSettings (controller gains and perturbation included)."""
+    p = settings.perturbation
+    return {"duration_s": settings.duration_s, "timestep_s": settings.timestep_s,
+            "transient_s": settings.transient_s, "convention": settings.convention,
+            "sensor_timing": settings.sensor_timing, "segment_mass": settings.segment_mass,
+            "substeps": settings.substeps,
+            "record_rate_hz": settings.record_rate_hz, "controller": asdict(settings.controller),
+            "perturbation": None if p is None else asdict(p)}
+
+
+def _json_default(o):
+    if isinstance(o, (np.integer,)):
+        return int(o)
+    if isinstance(o, (np.floating,)):
+        return float(o)
+    if isinstance(o, (np.bool_,)):
+        return bool(o)
+    if isinstance(o, (tuple, np.ndarray)):
+        return list(o)
+    raise TypeError(f"not JSON serialisable: {o!r}")
+
+
+def hash_key(key: dict) -> str:
+    """Stable short hash (hex) of a key dict."""
+    text = json.dumps(key, sort_keys=True, default=_json_default, allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:24]
+
+
+# ---------------------------------------------------------------------------
+# the hop-run task
+
+
+@dataclass(frozen=True, eq=False)
+class RunSpec:
+    """One design on one behaviour under one SimSettings.
+
+    labels: output columns (experiment, profile, design label, replicate,
+    sweep columns, ...), not part of the cache key."""
+
+    design: LegDesign
+    behaviour: Behaviour
+    settings: SimSettings
+    labels: dict = field(default_factory=dict)
+
+    kind = "run"
+
+    def key_dict(self) -> dict:
+        return {"kind": self.kind, "design": design_key(self.design), "behaviour": self.behaviour.key(),
+                "settings": settings_key(self.settings), "versions": versions()}
+
+    def key(self) -> str:
+        return f"{self.kind}-{hash_key(self.key_dict())}"
+
+    def default_labels(self) -> dict:
+        return {"design": self.design.name, "behaviour": self.behaviour.name}
+
+    def compute(self) -> tuple[pd.DataFrame, dict]:
+        """Simulate; return (per-hop table, run summary). Never raises on
+        divergence: an unstable run is a summary with status 'diverged'."""
+        from ..metrics import hop_table, run_summary
+        from ..sim import C, simulate
+        rollout = simulate(self.design, self.behaviour, settings=self.settings)
+        hops = hop_table(rollout).drop(columns=["design", "behaviour"])
+        summary = run_summary(rollout)
+        for k in ("design", "behaviour"):
+            summary.pop(k, None)
+        if summary.get("diverged_at_s") is None:
+            summary["diverged_at_s"] = math.nan
+        summary["upright"] = bool(rollout.upright)
+        summary["final_base_z_m"] = float(rollout.data[-1, C["z"]]) if len(rollout.data) else math.nan
+        summary.update(duration_s=self.settings.duration_s, timestep_s=self.settings.timestep_s,
+                       transient_s=self.settings.transient_s)
+        summary["status"] = OK if rollout.upright else (DIVERGED if not rollout.stable else FALLEN)
+        return hops, summary
+
+
+# ---------------------------------------------------------------------------
+# cache
+
+
+class Cache:
+    """Results on disk: one parquet file per key, written atomically."""
+
+    def __init__(self, root: str | os.PathLike | None = None):
+        root = root or os.environ.get(CACHE_ENV) or DEFAULT_CACHE_DIR
+        self.root = os.path.abspath(os.fspath(root))
+        os.makedirs(self.root, exist_ok=True)
+
+    def path(self, key: str) -> str:
+        return os.path.join(self.root, f"{key}.parquet")
+
+    def __contains__(self, key: str) -> bool:
+        return os.path.isfile(self.path(key))
+
+    def keys(self) -> set[str]:
+        """Keys of the complete results on disk (temp files excluded)."""
+        return {f[:-8] for f in os.listdir(self.root)
+                if f.endswith(".parquet") and not f.startswith(TEMP_PREFIX)}
+
+    def load(self, key: str) -> tuple[pd.DataFrame, dict] | None:
+        """(table, summary) or None when absent or unreadable."""
+        import pyarrow.parquet as pq
+        path = self.path(key)
+        if not os.path.isfile(path):
+            return None
+        try:
+            table = pq.read_table(path)
+            meta = json.loads(table.schema.metadata[_META_KEY])
+            frame = table.to_pandas()
+        except Exception:       # unreadable (not ours, damaged): recompute, never trust
+            return None
+        return frame, meta["summary"]
+
+    def store(self, key: str, table: pd.DataFrame, summary: dict, key_dict: dict) -> None:
+        """Write atomically: temp file in the cache folder, then os.replace."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+        t = pa.Table.from_pandas(table.reset_index(drop=True), preserve_index=False)
+        meta = dict(t.schema.metadata or {})
+        meta[_META_KEY] = json.dumps({"summary": summary, "key": key_dict},
+                                     default=_json_default, allow_nan=True).encode()
+        t = t.replace_schema_metadata(meta)
+        with atomic_path(self.path(key), prefix=TEMP_PREFIX, fsync=True) as tmp:
+            pq.write_table(t, tmp)
+
+    def clean_temp(self, older_than_s: float = _STALE_TEMP_S) -> int:
+        """Remove temp files left by killed writers (older than the given
+        age, so a concurrent writer's file is left alone). Returns count."""
+        n, now = 0, time.time()
+        for f in os.listdir(self.root):
+            if f.startswith(TEMP_PREFIX):
+                p = os.path.join(self.root, f)
+                try:
+                    if now - os.path.getmtime(p) > older_than_s:
+                        os.unlink(p)
+                        n += 1
+                except OSError:
+                    pass
+        return n
+
+
+# ---------------------------------------------------------------------------
+# execution
+
+
+def _execute(task) -> tuple[str, pd.DataFrame | None, dict | None, str | None]:
+    """Worker entry: (key, table, summary, error text). Never raises.
+    MuJoCo's warnings go to logging (a diverging run is a result, not a
+    message on stderr nor a MUJOCO_LOG.TXT in the working folder)."""
+    route_mujoco_warnings()
+    key = task.key()
+    try:
+        table, summary = task.compute()
+        return key, table, summary, None
+    except Exception as e:    # a failed row, not a crashed grid
+        tb = traceback.format_exception_only(type(e), e)[-1].strip()
+        return key, None, None, tb
+
+
+def default_workers() -> int:
+    """All cores this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:      # pragma: no cover (not Linux)
+        return max(1, os.cpu_count() or 1)
+
+
+def check_workers(workers) -> int | None:
+    if workers is None:
+        return None
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ValueError(f"workers must be an integer >= 1 (processes), got {workers!r}")
+    return int(workers)
+
+
+@dataclass
+class GridResult:
+    """Concatenated tables of a grid, in grid order.
+
+    tables: every task's table with its labels in front; summary: one row
+    per task (labels, summary fields, status, error, key). n_cached,
+    n_computed, n_failed count unique keys (bookkeeping, not results)."""
+
+    tables: pd.DataFrame
+    summary: pd.DataFrame
+    n_tasks: int
+    n_unique: int
+    n_cached: int
+    n_computed: int
+    n_failed: int
+
+
+class Runner:
+    """Runs grids of tasks; reusable across grids (keeps its pool warm).
+
+    cache_dir: where results live (default $MAT_HOPPER_CACHE or
+    results/cache); workers: local processes (default all cores; 1 runs in
+    this process); scheduler: a Dask scheduler address or a
+    ``distributed.Client`` (then `workers` must be left unset); progress:
+    show a tqdm bar. Use as a context manager, or call :meth:`close`."""
+
+    def __init__(self, cache_dir=None, *, workers: int | None = None, scheduler=None, progress: bool = True):
+        self.workers = check_workers(workers)
+        if scheduler is not None and self.workers is not None:
+            raise ValueError("give either workers (local processes) or scheduler (Dask), not both")
+        if scheduler is not None and not isinstance(scheduler, str) and not hasattr(scheduler, "submit"):
+            raise ValueError(f"scheduler must be an address like tcp://host:8786 or a distributed.Client, "
+                             f"got {scheduler!r}")
+        if isinstance(scheduler, str) and not scheduler.strip():
+            raise ValueError("scheduler address is empty (e.g. tcp://127.0.0.1:8786)")
+        self.cache = Cache(cache_dir)
+        self.scheduler = scheduler
+        self.progress = progress
+        self._pool = None
+        self._client = None
+        self._own_client = False
+
+    # -- resources --
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def close(self):
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+        if self._own_client and self._client is not None:
+            self._client.close()
+        self._client = None
+
+    @property
+    def n_workers(self) -> int:
+        return self.workers if self.workers is not None else default_workers()
+
+    def _get_pool(self) -> ProcessPoolExecutor:
+        if self._pool is None:
+            if "forkserver" in multiprocessing.get_all_start_methods():
+                ctx = multiprocessing.get_context("forkserver")
+                # workers fork from a server that already loaded everything (no effect
+                # if this process's forkserver is already running)
+                ctx.set_forkserver_preload(["mat_hopper.experiments._warmup"])
+            else:                    # pragma: no cover (not Linux)
+                ctx = multiprocessing.get_context("spawn")
+            self._pool = ProcessPoolExecutor(self.n_workers, mp_context=ctx)
+        return self._pool
+
+    def _get_client(self):
+        if self._client is None:
+            if isinstance(self.scheduler, str):
+                from distributed import Client
+                try:
+                    self._client = Client(self.scheduler, timeout="20s")
+                except OSError as e:
+                    raise ValueError(f"cannot reach the Dask scheduler at {self.scheduler!r}: {e}") from None
+                self._own_client = True
+            else:
+                self._client = self.scheduler
+        return self._client
+
+    # -- the grid --
+    def run(self, tasks: Sequence, desc: str = "runs") -> GridResult:
+        """Run every task (cached ones are loaded), return the grid's tables."""
+        tasks = list(tasks)
+        if not tasks:
+            raise ValueError("the grid is empty: no tasks to run")
+        for t in tasks:
+            if not (hasattr(t, "key") and hasattr(t, "compute") and hasattr(t, "labels")):
+                raise ValueError(f"grid entries must be tasks (RunSpec, StabilitySpec), got {t!r}")
+        keys = [t.key() for t in tasks]
+        unique: dict[str, Any] = {}
+        for k, t in zip(keys, tasks):
+            unique.setdefault(k, t)
+        self.cache.clean_temp()
+        results: dict[str, tuple[pd.DataFrame, dict]] = {}
+        errors: dict[str, str] = {}
+        for k in unique:
+            got = self.cache.load(k)
+            if got is not None:
+                results[k] = got
+        n_cached = len(results)
+        todo = [k for k in unique if k not in results]
+
+        from tqdm.auto import tqdm
+        bar = tqdm(total=len(unique), initial=n_cached, desc=desc, unit="run", disable=not self.progress,
+                   dynamic_ncols=True, leave=False)
+        try:
+            for key, table, summary, err in self._compute(todo, unique):
+                if err is None:
+                    self.cache.store(key, table, summary, unique[key].key_dict())
+                    got = self.cache.load(key)     # tables always come from the stored form
+                    if got is None:
+                        err = "result could not be read back from the cache"
+                    else:
+                        results[key] = got
+                if err is not None:
+                    errors[key] = err
+                bar.update(1)
+        finally:
+            bar.close()
+        tables, summary = _assemble(tasks, keys, results, errors)
+        return GridResult(tables, summary, len(tasks), len(unique), n_cached, len(todo), len(errors))
+
+    def _compute(self, todo: list[str], unique: dict) -> Iterable:
+        if not todo:
+            return
+        if self.scheduler is not None:
+            yield from self._compute_dask(todo, unique)
+        elif self.n_workers == 1 or len(todo) == 1:
+            for k in todo:
+                yield _execute(unique[k])
+        else:
+            yield from self._compute_pool(todo, unique)
+
+    def _compute_pool(self, todo, unique):
+        pool = self._get_pool()
+        futures = {pool.submit(_execute, unique[k]): k for k in todo}
+        try:
+            for fut in as_completed(futures):
+                k = futures[fut]
+                try:
+                    yield fut.result()
+                except BrokenProcessPool as e:
+                    self._pool = None      # a worker died (killed, out of memory): fresh pool next time
+                    yield k, None, None, (f"worker process died ({e}); from a script, start the "
+                                          "grid under if __name__ == '__main__':")
+                except Exception as e:     # pickling and the like
+                    yield k, None, None, f"{type(e).__name__}: {e}"
+        except BaseException:
+            for f in futures:
+                f.cancel()
+            raise
+
+    def _compute_dask(self, todo, unique):
+        from distributed import as_completed as dask_completed
+        client = self._get_client()
+        futures = {}
+        for k in todo:
+            futures[client.submit(_execute, unique[k], pure=False)] = k
+        try:
+            for fut in dask_completed(list(futures)):
+                k = futures[fut]
+                try:
+                    yield fut.result()
+                except Exception as e:
+                    yield k, None, None, f"{type(e).__name__}: {e}"
+        except BaseException:
+            for f in futures:
+                f.cancel()
+            raise
+
+
+def _label_frame(labels: dict, frame: pd.DataFrame) -> pd.DataFrame:
+    out = frame.copy()
+    for col in [c for c in labels if c in out.columns]:
+        out = out.drop(columns=col)
+    for i, (col, v) in enumerate(labels.items()):
+        out.insert(i, col, [v] * len(out))
+    return out
+
+
+def _assemble(tasks, keys, results, errors) -> tuple[pd.DataFrame, pd.DataFrame]:
+    frames, rows, empty = [], [], None
+    for t, k in zip(tasks, keys):
+        labels = {**t.labels, **{c: v for c, v in t.default_labels().items() if c not in t.labels}}
+        if k in results:
+            table, summary = results[k]
+            if len(table) or empty is None:
+                f = _label_frame(labels, table)
+                f["key"] = k
+                if len(f):
+                    frames.append(f)
+                else:
+                    empty = f       # keeps the columns when no task has a row
+            row = {**labels, **{c: v for c, v in summary.items() if c not in labels}, "error": ""}
+        else:
+            row = {**labels, "status": FAILED, "error": errors.get(k, "not computed")}
+        row["key"] = k
+        rows.append(row)
+    tables = (pd.concat(frames, ignore_index=True) if frames
+              else empty.reset_index(drop=True) if empty is not None else pd.DataFrame())
+    summary = pd.DataFrame(rows)
+    if "status" in summary.columns:
+        cols = [c for c in summary.columns if c not in ("status", "error", "key")]
+        summary = summary[cols + ["status", "error", "key"]]
+    return tables, summary
+
+
+def run_grid(tasks: Sequence, cache_dir=None, *, workers: int | None = None, scheduler=None,
+             progress: bool = True, desc: str = "runs") -> GridResult:
+    """Run a grid once (see :class:`Runner`)."""
+    with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as r:
+        return r.run(tasks, desc=desc)
+
+
+# ---------------------------------------------------------------------------
+# whole rollouts (time series, gait tiles), through the same cache and pool
+
+
+@dataclass(frozen=True, eq=False)
+class RolloutSpec:
+    """A whole rollout of one design on one behaviour (every recorded
+    channel, the controller's events, optionally all joint positions): the
+    task behind time series and gait tiles. Cached like every task: the
+    table holds the recorded channels (and ``qpos_<i>`` columns), the
+    summary the events and the model's numbers."""
+
+    design: LegDesign
+    behaviour: Behaviour
+    settings: SimSettings
+    record_qpos: bool = False
+    labels: dict = field(default_factory=dict)
+
+    kind = "rollout"
+
+    def key_dict(self) -> dict:
+        return {"kind": self.kind, "design": design_key(self.design), "behaviour": self.behaviour.key(),
+                "settings": settings_key(self.settings), "record_qpos": bool(self.record_qpos),
+                "versions": versions()}
+
+    def key(self) -> str:
+        return f"{self.kind}-{hash_key(self.key_dict())}"
+
+    def default_labels(self) -> dict:
+        return {"design": self.design.name, "behaviour": self.behaviour.name}
+
+    def compute(self) -> tuple[pd.DataFrame, dict]:
+        from ..sim import CHANNELS, simulate
+
+        r = simulate(self.design, self.behaviour, settings=self.settings, record_qpos=self.record_qpos)
+        table = pd.DataFrame(np.asarray(r.data, dtype=float), columns=list(CHANNELS))
+        if self.record_qpos:
+            table = pd.concat([table, pd.DataFrame(np.asarray(r.qpos, dtype=float),
+                                                   columns=[f"qpos_{i}" for i in range(r.qpos.shape[1])])], axis=1)
+        ev = np.asarray(r.events, dtype=float)
+        summary = {"events": ev.ravel().tolist(), "events_shape": list(ev.shape),
+                   "diverged_step": int(r.diverged_step), "total_mass_kg": float(r.total_mass_kg),
+                   "spring_stiffness_n_m": [float(k) for k in r.spring_stiffness_n_m]}
+        return table, summary
+
+    def rollout(self, table: pd.DataFrame, summary: dict):
+        """The :class:`~mat_hopper.sim.Rollout` from this task's stored result."""
+        from ..sim import CHANNELS, Rollout
+
+        data = table[list(CHANNELS)].to_numpy(float)
+        qcols = [c for c in table.columns if c.startswith("qpos_")]
+        qpos = table[qcols].to_numpy(float) if self.record_qpos else None
+        events = np.asarray(summary["events"], dtype=float).reshape(summary["events_shape"])
+        return Rollout(self.design, self.behaviour, self.settings, data, events, int(summary["diverged_step"]),
+                       float(summary["total_mass_kg"]), tuple(summary["spring_stiffness_n_m"]), qpos)
+
+
+def rollouts(designs, behaviours, settings: SimSettings, *, record_rate_hz: float | None = None,
+             record_qpos: bool = False, cache_dir=None, workers: int | None = None) -> list:
+    """Whole rollouts (:class:`~mat_hopper.sim.Rollout`) of every design
+    (names or LegDesigns) on every behaviour (names or Behaviours) under
+    `settings` (e.g. ``profile.sim_settings()``), for time series and gait
+    tiles, in design-major order. record_rate_hz: samples per simulated
+    second (default the settings'); record_qpos: keep joint positions (for
+    rendering). Through the one cache and pool (:class:`Runner`, tasks
+    :class:`RolloutSpec`): missing ones run in parallel, all are read back
+    from the cache."""
+    from ..behaviours import behaviour as get_behaviour
+    from ..materials import parse_design
+
+    if record_rate_hz is not None:
+        from dataclasses import replace
+
+        settings = replace(settings, record_rate_hz=float(record_rate_hz))
+    specs = [RolloutSpec(parse_design(d) if isinstance(d, str) else d,
+                         get_behaviour(b) if isinstance(b, str) else b, settings, bool(record_qpos))
+             for d in designs for b in behaviours]
+    if not specs:
+        raise ValueError("rollouts: give at least one design and one behaviour")
+    with Runner(cache_dir, workers=workers, progress=False) as runner:
+        res = runner.run(specs, desc="rollouts")
+        if res.n_failed:
+            bad = res.summary[res.summary["status"] == FAILED]
+            raise RuntimeError("rollouts failed: " + "; ".join(bad["error"].astype(str)))
+        return [s.rollout(*runner.cache.load(s.key())) for s in specs]

@@ -1,0 +1,36 @@
+"""Design optimization with Optuna: per-segment densities and moduli (or
+catalogue materials) searched for low tracking error and low hip power
+under a hop-height and a stability constraint.
+
+The public names are re-exported here, as Optuna does: the search space
+(:class:`SearchSpace`), the objective (:class:`Objective`,
+:func:`evaluate`), the study (:class:`StudyConfig`, :class:`RunOptions`,
+:func:`run_study`), its storage and its report (:func:`write_report`,
+:func:`replay`). The private modules ``_space``, ``_objective``,
+``_storage`` and ``_study`` hold them; :mod:`~mat_hopper.optimize.report`
+writes a study's tables and plots. The command line is
+:mod:`mat_hopper.cli.optimize`.
+"""
+
+from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
+from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, SearchSpace, describe, resample
+from ._storage import check_study_name, default_url, open_storage, redact, storage_file
+from ._study import (
+                     DEFAULT_WORKERS,
+                     SAMPLERS,
+                     RunOptions,
+                     RunResult,
+                     StudyConfig,
+                     check_sampler,
+                     create_or_load,
+                     run_study,
+                     stored_config,
+                     study_exists,
+)
+from .report import book_study, front_designs, front_table, pareto_frame, replay, trials_frame, write_report
+
+__all__ = ["CONSTRAINTS", "OBJECTIVES", "Evaluation", "Objective", "evaluate", "DENSITY_BOUNDS_G_CM3", "KINDS",
+           "MODULUS_BOUNDS_GPA", "SearchSpace", "describe", "resample", "check_study_name", "default_url",
+           "open_storage", "redact", "storage_file", "DEFAULT_WORKERS", "SAMPLERS", "RunOptions", "RunResult",
+           "StudyConfig", "check_sampler", "create_or_load", "run_study", "stored_config", "study_exists",
+           "book_study", "front_designs", "front_table", "pareto_frame", "replay", "trials_frame", "write_report"]

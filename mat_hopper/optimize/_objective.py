@@ -1,0 +1,193 @@
+"""What the optimizer minimizes, and the run profiles it simulates with.
+
+Objectives (both minimized), from the per-hop metrics of
+:mod:`mat_hopper.metrics` over the hop cycles after the transient:
+
+1. ``tracking_error_m``: mean planar distance base - desired path (m);
+2. ``power_w``: mean hip mechanical power (W).
+
+With several behaviours, each objective is the plain mean over the
+behaviours of each behaviour's mean (every behaviour weighs the same,
+whatever its number of hops). Constraints (Optuna convention: <= 0 is
+feasible):
+
+- ``hop_height``: |mean hop height - 1 m| - 0.05 m, the worst behaviour;
+- ``unstable``: 1 when any run diverged or ended with the base below
+  0.1 m (:attr:`Rollout.upright` false), else 0.
+
+A run that diverged, fell (base below 0.1 m at the end) or scored no hop
+cycle still gets finite objective values, the same quantities averaged
+over every finite recorded sample of the run, so the samplers can model
+it; the constraints make it infeasible.
+
+Profiles are :mod:`mat_hopper.experiments.paper`' (one setting for the whole
+package): ``paper`` is the paper's protocol (60 s runs, 20 s transient,
+1e-4 s step); ``quick`` (12 s runs, 4 s transient) is for CI and first
+looks: the hop height is still settling then, so quick results rank
+designs roughly, not finally. Under the ``axial`` convention trials run at
+the profile's axial time step.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import warnings
+from dataclasses import asdict, dataclass, field
+
+import mujoco
+import numpy as np
+
+from .. import reference as ref
+from ..behaviours import BEHAVIOUR_NAMES
+from ..behaviours import behaviour as get_behaviour
+from ..experiments.profiles import Profile, get_profile
+from ..materials import CONVENTIONS, DEFAULT_CONVENTION, LegDesign
+from ..metrics import hop_table
+from ..sim import C, RolloutRunner
+
+OBJECTIVES = ("tracking_error_m", "power_w")
+CONSTRAINTS = ("hop_height", "unstable")
+HOP_HEIGHT_TOLERANCE_M = 0.05
+NO_DATA_VALUE = 1e6      # objective value only when a run recorded no finite sample
+CHUNK_S = 0.5            # simulated s per compiled chunk (lets the heartbeat thread run)
+
+
+@dataclass(frozen=True)
+class Objective:
+    """Behaviours to run (names), profile, stiffness convention, and the hop
+    height constraint: target and tolerance in m."""
+
+    behaviours: tuple[str, ...] = ("ramp",)
+    profile: Profile = field(default_factory=get_profile)     # $MAT_HOPPER_PROFILE, else paper
+    convention: str = DEFAULT_CONVENTION
+    hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
+    hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
+
+    def __post_init__(self):
+        behs = self.behaviours
+        if isinstance(behs, str):
+            behs = tuple(b for b in behs.split(","))
+        behs = tuple(str(b).strip().lower() for b in behs)
+        if not behs or any(not b for b in behs):
+            raise ValueError(f"behaviours: give one or more of {', '.join(BEHAVIOUR_NAMES)}")
+        for b in behs:
+            if b not in BEHAVIOUR_NAMES:
+                raise ValueError(f"unknown behaviour {b!r}; accepted: {', '.join(BEHAVIOUR_NAMES)}")
+        if len(set(behs)) != len(behs):
+            raise ValueError(f"behaviours: each at most once, got {','.join(behs)}")
+        object.__setattr__(self, "behaviours", behs)
+        if not isinstance(self.profile, Profile):
+            raise ValueError("profile must be a Profile")
+        if self.convention not in CONVENTIONS:
+            raise ValueError(f"unknown stiffness convention {self.convention!r}; accepted: {', '.join(CONVENTIONS)}")
+        for name in ("hop_height_target_m", "hop_height_tolerance_m"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                raise ValueError(f"{name} must be a finite number > 0 m, got {v!r}")
+
+    def key(self) -> dict:
+        return {"behaviours": list(self.behaviours), "profile": asdict(self.profile),
+                "convention": self.convention, "hop_height_target_m": self.hop_height_target_m,
+                "hop_height_tolerance_m": self.hop_height_tolerance_m}
+
+    @classmethod
+    def from_key(cls, key: dict) -> Objective:
+        return cls(behaviours=tuple(key["behaviours"]), profile=Profile(**key["profile"]),
+                   convention=key["convention"], hop_height_target_m=key["hop_height_target_m"],
+                   hop_height_tolerance_m=key["hop_height_tolerance_m"])
+
+
+@dataclass
+class Evaluation:
+    """One design's outcome: objective values (OBJECTIVES order), constraint
+    values (CONSTRAINTS order, <= 0 feasible), and per-behaviour rows."""
+
+    values: tuple[float, float]
+    constraints: tuple[float, float]
+    hop_height_m: float
+    per_behaviour: list[dict] = field(default_factory=list)
+    total_mass_kg: float = float("nan")
+    simulated_s: float = 0.0
+
+    @property
+    def feasible(self) -> bool:
+        return all(c <= 0 for c in self.constraints)
+
+
+def _whole_run_means(rollout) -> tuple[float, float]:
+    """Tracking error (m) and hip power (W) over every finite sample."""
+    d = rollout.data
+    if len(d) == 0:
+        return NO_DATA_VALUE, NO_DATA_VALUE
+    err = np.hypot(d[:, C["x"]] - d[:, C["x_des"]], d[:, C["y"]] - d[:, C["y_des"]])
+    power = np.hypot(*rollout.hip_power.T)
+    out = []
+    for v in (err, power):
+        v = v[np.isfinite(v)]
+        out.append(float(min(v.mean(), NO_DATA_VALUE)) if len(v) else NO_DATA_VALUE)
+    return out[0], out[1]
+
+
+def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None) -> dict:
+    """Simulate one behaviour in chunks of CHUNK_S simulated s (calling
+    tick() between chunks) and score it."""
+    settings = objective.profile.for_convention(objective.convention).sim_settings()
+    runner = RolloutRunner(design, get_behaviour(behaviour_name), settings)
+    chunk = max(1, int(round(CHUNK_S / settings.timestep_s)))
+    while not runner.done:
+        runner.advance(chunk)
+        if tick is not None:
+            tick()
+    rollout = runner.result()
+    hops = hop_table(rollout)
+    ok = bool(rollout.upright)
+    if len(hops) and ok:
+        tracking = float(hops["tracking_error_m"].mean())
+        power = float(hops["power_w"].mean())
+    else:
+        tracking, power = _whole_run_means(rollout)
+    height = float(hops["hop_height_m"].mean()) if len(hops) else float("nan")
+    return {"behaviour": behaviour_name, "tracking_error_m": tracking, "power_w": power,
+            "hop_height_m": height, "n_hops": int(len(hops)), "stable": bool(rollout.stable),
+            "upright": ok, "diverged_at_s": rollout.diverged_at_s,
+            "simulated_s": float(runner.step * settings.timestep_s),
+            "total_mass_kg": float(rollout.total_mass_kg)}
+
+
+@contextlib.contextmanager
+def mujoco_warnings_to(sink: list):
+    """Collect MuJoCo's warnings (e.g. of a diverging design) in `sink`
+    instead of printing them and appending to MUJOCO_LOG.TXT in the
+    current folder; the previous handler is restored after."""
+    old = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(sink.append)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)    # the same text, raised at model compile
+            yield sink
+    finally:
+        mujoco.set_mju_user_warning(old)
+
+
+def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluation:
+    """Run `design` on every behaviour of `objective` and aggregate (module
+    doc). MuJoCo warnings are counted per behaviour (``mujoco_warnings``),
+    not printed."""
+    rows = []
+    for b in objective.behaviours:
+        with mujoco_warnings_to([]) as sink:
+            row = run_behaviour(design, b, objective, tick=tick)
+        row["mujoco_warnings"] = len(sink)
+        rows.append(row)
+    values = (float(np.mean([r["tracking_error_m"] for r in rows])),
+              float(np.mean([r["power_w"] for r in rows])))
+    target, tol = objective.hop_height_target_m, objective.hop_height_tolerance_m
+    height_violation = max((abs(r["hop_height_m"] - target) - tol) if r["n_hops"] else target - tol
+                           for r in rows)
+    unstable = 0.0 if all(r["upright"] for r in rows) else 1.0
+    heights = [r["hop_height_m"] for r in rows if r["n_hops"]]
+    return Evaluation(values=values, constraints=(float(height_violation), unstable),
+                      hop_height_m=float(np.mean(heights)) if heights else float("nan"),
+                      per_behaviour=rows, total_mass_kg=rows[0]["total_mass_kg"],
+                      simulated_s=float(sum(r["simulated_s"] for r in rows)))

@@ -1,0 +1,208 @@
+"""The optimizer's search space: per-segment density and modulus, or catalogue materials.
+
+A leg of N segments (segment 1 nearest the base). Each segment is either
+
+``continuous``
+    a density (g/cm^3) and a modulus (GPa), both sampled on a log scale
+    within :data:`DENSITY_BOUNDS_G_CM3` and :data:`MODULUS_BOUNDS_GPA`;
+``catalogue``
+    a categorical choice among catalogue materials (default: every
+    :data:`~mat_hopper.materials.CATALOGUE` material with a finite modulus,
+    i.e. all but the rigid MD).
+
+``kinds`` is one word for every segment, or one word per segment (a mix,
+e.g. ``("catalogue", "continuous", "continuous")``: a catalogue material
+at the hip and two free segments below it).
+
+Bounds: the paper (sec. II, "Bounds for Moduli and Density") draws its
+materials from two Ashby classes, polymers/natural materials and
+metals/ceramics, and its one-property sweeps span their extremes. The
+continuous box is the hull of both classes:
+
+- density 0.9 to 20 g/cm^3: the sweeps' maximum (20 g/cm^3, ``reference.SWEEPS``)
+  and, below the sweeps' 1.10 g/cm^3, the polymer class's floor 0.9 g/cm^3
+  (polyolefins, Ashby 2011 app. C: polyethylene and polypropylene
+  0.89-0.96 g/cm^3);
+- modulus 0.1 to 1000 GPa: the sweeps' minimum and maximum.
+
+The two classes inside that box (for reading results): polymers and
+natural materials about 0.9-2.5 g/cm^3 and 0.1-9 GPa; metals and ceramics
+about 2-20 g/cm^3 and 15-1000 GPa (the paper's text: "E <= 9 GPa" against
+"E >= 20 GPa"). Parts of the box (light and very stiff) diverge at the
+paper's 1e-4 s step; those designs come out as infeasible trials.
+
+Parameter names: ``seg{i}_density_g_cm3``, ``seg{i}_modulus_gpa``,
+``seg{i}_material`` (i from 1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from .. import reference as ref
+from ..materials import CATALOGUE, LegDesign, Material, material, paper_designs
+
+KINDS = ("continuous", "catalogue")
+
+_SWEEP_DENSITIES = [v for s in ref.SWEEPS.values() for v in s["density"]]
+_SWEEP_MODULI = [v for s in ref.SWEEPS.values() for v in s["modulus"]]
+POLYMER_DENSITY_FLOOR_G_CM3 = 0.9   # polyolefins (Ashby 2011, app. C)
+DENSITY_BOUNDS_G_CM3 = (POLYMER_DENSITY_FLOOR_G_CM3, float(max(_SWEEP_DENSITIES)))   # (0.9, 20)
+MODULUS_BOUNDS_GPA = (float(min(_SWEEP_MODULI)), float(max(_SWEEP_MODULI)))          # (0.1, 1000)
+DEFAULT_MATERIALS = tuple(m.name for m in CATALOGUE.values() if not m.rigid)
+# The paper's designs every study starts from (enqueued in this order).
+PAPER_SEEDS = ("SS", "rho-inc", "PVC-Ti-SS")
+MAX_SEGMENTS = 12
+
+
+def _bounds(value, field_name: str, unit: str) -> tuple[float, float]:
+    try:
+        lo, hi = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{field_name} must be (min, max) in {unit}, got {value!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo <= 0:
+        raise ValueError(f"{field_name} must be finite with 0 < min < max {unit} (log scale), got {value!r}")
+    if lo >= hi:
+        raise ValueError(f"{field_name}: min must be < max {unit}, got min {lo:g} >= max {hi:g}")
+    return lo, hi
+
+
+@dataclass(frozen=True)
+class SearchSpace:
+    """Where the optimizer looks. Bounds are (min, max) in g/cm^3 and GPa;
+    kinds is "continuous", "catalogue" or one of those per segment;
+    materials are catalogue names for catalogue segments."""
+
+    n_segments: int = ref.REFERENCE_SEGMENTS
+    kinds: tuple[str, ...] | str = "continuous"
+    density_g_cm3: tuple[float, float] = DENSITY_BOUNDS_G_CM3
+    modulus_gpa: tuple[float, float] = MODULUS_BOUNDS_GPA
+    materials: tuple[str, ...] = field(default=DEFAULT_MATERIALS)
+
+    def __post_init__(self):
+        n = self.n_segments
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_SEGMENTS:
+            raise ValueError(f"n_segments must be an integer in [1, {MAX_SEGMENTS}], got {n!r}")
+        kinds = self.kinds
+        if isinstance(kinds, str):
+            kinds = tuple(k.strip() for k in kinds.split(",")) if "," in kinds else (kinds,) * n
+        kinds = tuple(str(k).strip().lower() for k in kinds)
+        kinds = tuple("catalogue" if k == "catalog" else k for k in kinds)
+        if len(kinds) != n:
+            raise ValueError(f"kinds: one per segment ({n}), got {len(kinds)}: {','.join(kinds)}")
+        for k in kinds:
+            if k not in KINDS:
+                raise ValueError(f"kinds: unknown segment kind {k!r}; accepted: {', '.join(KINDS)}")
+        object.__setattr__(self, "kinds", kinds)
+        object.__setattr__(self, "density_g_cm3", _bounds(self.density_g_cm3, "density_g_cm3", "g/cm^3"))
+        object.__setattr__(self, "modulus_gpa", _bounds(self.modulus_gpa, "modulus_gpa", "GPa"))
+        mats = self.materials
+        if isinstance(mats, str):
+            mats = tuple(p for p in mats.split(",") if p.strip())
+        names = []
+        for name in mats:
+            m = material(name)                 # ValueError names the accepted materials
+            if m.rigid:
+                raise ValueError(f"materials: {m.name} is rigid (no modulus); choose materials with a modulus")
+            if m.name not in names:
+                names.append(m.name)
+        if "catalogue" in kinds and not names:
+            raise ValueError("materials: a catalogue segment needs at least one material")
+        object.__setattr__(self, "materials", tuple(names))
+
+    # --- parameters <-> designs ---
+    def suggest(self, trial) -> LegDesign:
+        """Ask an Optuna trial for a design in this space."""
+        params = {}
+        for i, kind in enumerate(self.kinds, 1):
+            if kind == "continuous":
+                params[f"seg{i}_density_g_cm3"] = trial.suggest_float(
+                    f"seg{i}_density_g_cm3", *self.density_g_cm3, log=True)
+                params[f"seg{i}_modulus_gpa"] = trial.suggest_float(
+                    f"seg{i}_modulus_gpa", *self.modulus_gpa, log=True)
+            else:
+                params[f"seg{i}_material"] = trial.suggest_categorical(f"seg{i}_material", self.materials)
+        return self.design(params)
+
+    def design(self, params: dict, name: str = "") -> LegDesign:
+        """The leg a trial's parameters describe (the same one ``suggest`` built)."""
+        segs = []
+        for i, kind in enumerate(self.kinds, 1):
+            if kind == "continuous":
+                try:
+                    d, e = params[f"seg{i}_density_g_cm3"], params[f"seg{i}_modulus_gpa"]
+                except KeyError as k:
+                    raise ValueError(f"parameters lack {k.args[0]} (not a design of this space)") from None
+                segs.append(Material(f"seg{i}", d, e))
+            else:
+                try:
+                    segs.append(material(params[f"seg{i}_material"]))
+                except KeyError as k:
+                    raise ValueError(f"parameters lack {k.args[0]} (not a design of this space)") from None
+        return LegDesign(tuple(segs), name=name or describe(segs))
+
+    def params_for(self, design: LegDesign) -> dict | None:
+        """Parameters that give `design` (resampled to n_segments), or None
+        when the space cannot express it (outside the bounds, a rigid
+        segment, or a material not among the choices)."""
+        segs = resample(design, self.n_segments)
+        params = {}
+        for i, (kind, m) in enumerate(zip(self.kinds, segs), 1):
+            if kind == "continuous":
+                if m.rigid:
+                    return None
+                if not (self.density_g_cm3[0] <= m.density_g_cm3 <= self.density_g_cm3[1]
+                        and self.modulus_gpa[0] <= m.modulus_gpa <= self.modulus_gpa[1]):
+                    return None
+                params[f"seg{i}_density_g_cm3"] = float(m.density_g_cm3)
+                params[f"seg{i}_modulus_gpa"] = float(m.modulus_gpa)
+            else:
+                if m.name not in self.materials:
+                    return None
+                params[f"seg{i}_material"] = m.name
+        return params
+
+    def seeds(self) -> list[tuple[str, dict]]:
+        """The paper's designs (:data:`PAPER_SEEDS`) this space can express,
+        as (name, params), in order."""
+        designs = paper_designs()
+        out = []
+        for name in PAPER_SEEDS:
+            p = self.params_for(designs[name])
+            if p is not None:
+                out.append((name, p))
+        return out
+
+    def key(self) -> dict:
+        """Plain dict (JSON) that identifies the space."""
+        return {"n_segments": self.n_segments, "kinds": list(self.kinds),
+                "density_g_cm3": list(self.density_g_cm3), "modulus_gpa": list(self.modulus_gpa),
+                "materials": list(self.materials)}
+
+    @classmethod
+    def from_key(cls, key: dict) -> SearchSpace:
+        return cls(n_segments=int(key["n_segments"]), kinds=tuple(key["kinds"]),
+                   density_g_cm3=tuple(key["density_g_cm3"]), modulus_gpa=tuple(key["modulus_gpa"]),
+                   materials=tuple(key["materials"]))
+
+
+def resample(design: LegDesign, n_segments: int) -> tuple[Material, ...]:
+    """The design's materials on n equal segments: segment j takes the
+    material found at its position along the leg (so a 3-segment gradient
+    on 6 segments doubles each material; on 2 segments it keeps the top
+    and bottom thirds' materials)."""
+    src = design.segments
+    return tuple(src[min(len(src) - 1, (2 * j + 1) * len(src) // (2 * n_segments))]
+                 for j in range(n_segments))
+
+
+def describe(segments) -> str:
+    """Short text for a leg, base to foot: catalogue names, or rho/E pairs."""
+    parts = []
+    for m in segments:
+        if m.name in (c.name for c in CATALOGUE.values()):
+            parts.append(m.name)
+        else:
+            parts.append(f"{m.density_g_cm3:.3g}/{m.modulus_gpa:.3g}")
+    return "-".join(parts)

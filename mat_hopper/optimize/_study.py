@@ -1,0 +1,475 @@
+"""Design optimizer: Optuna multi-objective search over per-segment materials.
+
+Searches leg designs (per-segment density and modulus, or catalogue
+materials: :mod:`mat_hopper.optimize._space`) for low tracking error and
+low hip power under a hop-height and a stability constraint
+(:mod:`mat_hopper.optimize._objective`). Every study starts from the
+paper's designs SS, rho-inc and PVC-Ti-SS (enqueued first).
+
+Command line::
+
+    mat-hopper optimize --study NAME --trials 200 [--behaviour ramp] [--segments 3]
+        [--space continuous|catalogue|KIND,KIND,...] [--workers 2] [--storage URL]
+        [--sampler tpe|nsga2|gp] [--seed 0] [--profile paper|quick]
+    mat-hopper optimize --report NAME      # Pareto front, hypervolume, importances, CSV
+    mat-hopper optimize --study NAME --replay TRIAL [--render]
+
+``--trials N`` is the study's size: the run stops once the study holds N
+finished trials (complete, or failed with an error in the evaluation);
+re-running the same command resumes an interrupted study and does
+nothing for a finished one. Trials whose worker died are failed and
+re-enqueued; their retries count, they do not.
+
+Storage (:mod:`mat_hopper.optimize._storage`): by default one SQLite file
+per study, ``studies/<name>.db``; ``--storage postgresql://...`` for many
+machines (run the same command on each; give each machine its own
+``--seed``); ``--storage journal:///shared/path/x.log`` for a shared file
+system. ``--workers N`` starts N worker processes on this machine
+(default 2, one per core), all against the same storage.
+
+Samplers: multi-objective TPE (default; multivariate, constant liar so
+parallel workers do not propose the same point), NSGA-II
+(``nsga2``, population 50) or Optuna's GP sampler (``gp``, needs PyTorch).
+All see the constraints, which each trial sets with
+``Trial.set_constraint`` (Optuna 5's replacement of ``constraints_func``). Each worker's sampler seed is
+derived from ``--seed``, the worker's index and the study's size when the
+run started, so one worker on a fresh study is exactly reproducible.
+
+Watch a study live with optuna-dashboard (``pip install optuna-dashboard``,
+not a dependency)::
+
+    optuna-dashboard sqlite:///studies/NAME.db          # default storage
+    optuna-dashboard postgresql://USER@HOST:5432/DB     # shared storage
+
+then open http://127.0.0.1:8080/. See docs/optimizer.md.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import multiprocessing as mp
+import os
+import signal
+import sys
+import threading
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+import optuna
+from optuna.trial import TrialState
+from tqdm.std import tqdm
+
+from ._objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
+from ._space import SearchSpace
+from ._storage import (
+    ERROR_ATTR,
+    PAPER_ATTR,
+    WORKER_ATTR,
+    check_study_name,
+    default_url,
+    open_storage,
+    recover_dead,
+    redact,
+    worker_identity,
+)
+
+SAMPLERS = ("tpe", "nsga2", "gp")
+DEFAULT_WORKERS = 2
+CONFIG_ATTR = "mat_hopper_config"
+RESULT_ATTR = "result"
+CONFIG_VERSION = 1
+POLL_S = 1.0
+
+
+# --- settings ---------------------------------------------------------------
+
+@dataclass(frozen=True)
+class StudyConfig:
+    """What a study is: its name, search space and objective. Stored in the
+    study (user attr ``mat_hopper_config``); resuming checks it."""
+
+    name: str
+    space: SearchSpace = field(default_factory=SearchSpace)
+    objective: Objective = field(default_factory=Objective)
+
+    def __post_init__(self):
+        check_study_name(self.name)
+        if not isinstance(self.space, SearchSpace):
+            raise ValueError("space must be a SearchSpace")
+        if not isinstance(self.objective, Objective):
+            raise ValueError("objective must be an Objective")
+
+    def key(self) -> dict:
+        return {"version": CONFIG_VERSION, "space": self.space.key(), "objective": self.objective.key()}
+
+    @classmethod
+    def from_key(cls, name: str, key: dict) -> StudyConfig:
+        return cls(name, SearchSpace.from_key(key["space"]), Objective.from_key(key["objective"]))
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """How to run a study: target size (trials), local worker processes,
+    sampler and seed, storage URL (None: studies_dir/<name>.db), heartbeat
+    interval and grace period (s, RDB storages), retries per trial of a
+    dead worker, progress bar."""
+
+    trials: int = 200
+    workers: int = DEFAULT_WORKERS
+    sampler: str = "tpe"
+    seed: int = 0
+    storage: str | None = None
+    studies_dir: str = "studies"
+    heartbeat_s: int = 10
+    grace_s: int = 60
+    max_retry: int = 3
+    progress: bool = True
+
+    def __post_init__(self):
+        for name, lo in (("trials", 1), ("workers", 1), ("max_retry", 0)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < lo:
+                raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
+        if self.workers > 256:
+            raise ValueError(f"workers must be in [1, 256], got {self.workers}")
+        s = str(self.sampler).strip().lower()
+        if s not in SAMPLERS:
+            raise ValueError(f"unknown sampler {self.sampler!r}; accepted: {', '.join(SAMPLERS)}")
+        object.__setattr__(self, "sampler", s)
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"seed must be an integer >= 0, got {self.seed!r}")
+
+    def storage_url(self, study_name: str) -> str:
+        if self.storage:
+            return self.storage
+        os.makedirs(self.studies_dir, exist_ok=True)
+        return default_url(study_name, self.studies_dir)
+
+    def open(self, study_name: str):
+        return open_storage(self.storage_url(study_name), heartbeat_s=self.heartbeat_s,
+                            grace_s=self.grace_s, max_retry=self.max_retry)
+
+
+# --- samplers and constraints ---------------------------------------------
+
+def check_sampler(name: str) -> str:
+    name = str(name).strip().lower()
+    if name not in SAMPLERS:
+        raise ValueError(f"unknown sampler {name!r}; accepted: {', '.join(SAMPLERS)}")
+    if name == "gp" and importlib.util.find_spec("torch") is None:
+        raise ValueError("--sampler gp needs PyTorch, which is not installed "
+                         "(pip install torch, the CPU build is enough); use tpe or nsga2")
+    return name
+
+
+def make_sampler(name: str, seed: int):
+    """A seeded multi-objective sampler. Constraints reach it through
+    ``Trial.set_constraint`` (Optuna 5 deprecated ``constraints_func``)."""
+    name = check_sampler(name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        if name == "tpe":
+            return optuna.samplers.TPESampler(seed=seed, multivariate=True, constant_liar=True)
+        if name == "nsga2":
+            return optuna.samplers.NSGAIISampler(seed=seed)
+        return optuna.samplers.GPSampler(seed=seed)
+
+
+def worker_seed(seed: int, n_existing: int, index: int) -> int:
+    """Sampler seed of one worker: from the run's seed, the study's size
+    when the run started and the worker's index (so resumed runs and
+    parallel workers do not repeat each other's random proposals)."""
+    return int(np.random.SeedSequence([seed, n_existing, index]).generate_state(1)[0])
+
+
+# --- studies ----------------------------------------------------------------
+
+def _quiet() -> None:
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+
+
+def study_exists(name: str, storage) -> bool:
+    try:
+        storage.get_study_id_from_name(name)
+        return True
+    except KeyError:
+        return False
+
+
+def stored_config(name: str, storage) -> StudyConfig | None:
+    """The config a study was created with, or None (no such study, or not ours)."""
+    if not study_exists(name, storage):
+        return None
+    attrs = storage.get_study_user_attrs(storage.get_study_id_from_name(name))
+    key = attrs.get(CONFIG_ATTR)
+    return StudyConfig.from_key(name, key) if key else None
+
+
+def _differences(a: dict, b: dict, prefix: str = "") -> list[str]:
+    out = []
+    for k in sorted(set(a) | set(b)):
+        va, vb = a.get(k), b.get(k)
+        if isinstance(va, dict) and isinstance(vb, dict):
+            out += _differences(va, vb, f"{prefix}{k}.")
+        elif va != vb:
+            out.append(f"{prefix}{k}: study has {va!r}, asked {vb!r}")
+    return out
+
+
+def create_or_load(config: StudyConfig, storage, sampler=None) -> optuna.Study:
+    """The study `config.name` in `storage`: created with the paper's designs
+    enqueued first, or loaded and checked against `config` (ValueError on
+    a mismatch)."""
+    _quiet()
+    study = optuna.create_study(study_name=config.name, storage=storage, sampler=sampler,
+                                directions=["minimize"] * len(OBJECTIVES), load_if_exists=True)
+    stored = study.user_attrs.get(CONFIG_ATTR)
+    if stored is None:
+        study.set_user_attr(CONFIG_ATTR, config.key())
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+            study.set_metric_names(list(OBJECTIVES))
+        for name, params in config.space.seeds():
+            study.enqueue_trial(params, user_attrs={PAPER_ATTR: name}, skip_if_exists=True)
+    elif stored != config.key():
+        diff = _differences(stored, config.key())
+        raise ValueError(f"study {config.name!r} exists with other settings ({'; '.join(diff)}); "
+                         "use a new --study name or the study's own settings")
+    return study
+
+
+def counts(study) -> tuple[int, int]:
+    """(finished, running): finished = complete, or failed by an error in
+    the evaluation (a trial of a dead worker is retried, not counted)."""
+    done = running = 0
+    for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE, TrialState.FAIL, TrialState.RUNNING)):
+        if t.state == TrialState.RUNNING:
+            running += 1
+        elif t.state == TrialState.COMPLETE or ERROR_ATTR in t.user_attrs:
+            done += 1
+    return done, running
+
+
+# --- the objective, in a worker -------------------------------------------
+
+def _finite(x):
+    return None if x is None or (isinstance(x, float) and not math.isfinite(x)) else x
+
+
+class TrialObjective:
+    """Optuna objective: a design from the space, simulated and scored.
+    Sets the constraints (``hop_height``, ``unstable``; <= 0 feasible) and
+    two user attrs (each one database write): ``worker`` at the start, and
+    ``result`` (feasible, hop height m, design text, mass kg, simulated s,
+    per-behaviour rows) at the end."""
+
+    def __init__(self, config: StudyConfig, identity: dict | None = None, tick=None):
+        self.config = config
+        self.identity = identity or worker_identity()
+        self.tick = tick
+
+    def __call__(self, trial) -> tuple[float, float]:
+        trial.set_user_attr(WORKER_ATTR, self.identity)
+        try:
+            design = self.config.space.suggest(trial)
+            ev = evaluate(design, self.config.objective, tick=self.tick)
+        except Exception as e:
+            trial.set_user_attr(ERROR_ATTR, f"{type(e).__name__}: {e}"[:500])
+            raise
+        rows = [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour]
+        for name, value in zip(CONSTRAINTS, ev.constraints):
+            trial.set_constraint(name, value)
+        trial.set_user_attr(RESULT_ATTR, {
+            "feasible": ev.feasible, "hop_height_m": _finite(ev.hop_height_m), "design": design.name,
+            "total_mass_kg": ev.total_mass_kg, "simulated_s": ev.simulated_s, "per_behaviour": rows})
+        return ev.values
+
+
+def _claim(tickets, study, target: int) -> bool:
+    """Take one trial from this run's budget, unless the study (other
+    machines included) already has enough finished or running."""
+    with tickets.get_lock():
+        if tickets.value <= 0:
+            return False
+        tickets.value -= 1
+    done, running = counts(study)
+    if done + running >= target:
+        with tickets.get_lock():
+            tickets.value += 1
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class _Job:
+    name: str
+    config_key: dict
+    options: RunOptions
+    url: str
+    seed: int
+    target: int
+
+
+def _worker_main(job: _Job, tickets, conn) -> None:
+    """One worker process: claim, run one trial, repeat; report what it told."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)       # the coordinator handles Ctrl-C
+    _quiet()
+    o = job.options
+    storage = open_storage(job.url, heartbeat_s=o.heartbeat_s, grace_s=o.grace_s, max_retry=o.max_retry)
+    study = optuna.load_study(study_name=job.name, storage=storage, sampler=make_sampler(o.sampler, job.seed))
+    objective = TrialObjective(StudyConfig.from_key(job.name, job.config_key))
+    told = []
+    record = lambda s, t: told.append((t.number, t.state.name))
+    while _claim(tickets, study, job.target):
+        study.optimize(objective, n_trials=1, catch=(Exception,), callbacks=[record])
+    try:
+        conn.send({"pid": os.getpid(), "seed": job.seed, "told": told})
+        conn.close()
+    except OSError:          # the coordinator is gone; the study has everything
+        pass
+
+
+# --- the coordinator ---------------------------------------------------------
+
+def _start_method() -> str:
+    """fork when this process has no other thread (workers start at once,
+    with everything imported; they never touch the parent's connections and
+    open their own storage); else spawn, which re-imports MuJoCo, numba and
+    Optuna in every worker (seconds) but is safe beside threads."""
+    if "fork" in mp.get_all_start_methods() and threading.active_count() == 1:
+        return "fork"
+    return "spawn"
+
+
+def _warm_up() -> None:
+    """Load the compiled rollout (numba's on-disk cache, about 0.6 s) once
+    here, so that forked workers start with it."""
+    from ..sim import SimSettings, simulate
+    simulate("SS", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
+
+
+class _Bar(tqdm):
+    monitor_interval = 0       # no monitor thread: we refresh it ourselves, and fork stays safe
+
+
+@dataclass
+class RunResult:
+    """What a run did. worker_reports: one dict per worker that exited
+    normally (pid, seed, told = [(trial number, state)]); dead_workers:
+    (pid, exit code) of the others; recovered: trials failed and
+    re-enqueued because their worker died."""
+
+    study: str
+    url: str
+    target: int
+    done: int
+    running: int
+    worker_reports: list = field(default_factory=list)
+    dead_workers: list = field(default_factory=list)
+    recovered: list = field(default_factory=list)
+    start_method: str = ""
+
+    @property
+    def finished(self) -> bool:
+        return self.done >= self.target
+
+
+def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunResult:
+    """Run `config`'s study until it holds options.trials finished trials,
+    with options.workers local worker processes (see the module doc).
+    Bad settings or an unreachable storage raise ValueError before any work."""
+    check_sampler(options.sampler)
+    url = options.storage_url(config.name)
+    storage = options.open(config.name)
+    study = create_or_load(config, storage)
+    recovered = recover_dead(study, max_retry=options.max_retry, reason="worker of an earlier run died")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        optuna.storages.fail_stale_trials(study)
+    done, running = counts(study)
+    result = RunResult(config.name, redact(url), options.trials, done, running, recovered=recovered)
+    budget = options.trials - done - running
+    if budget <= 0:
+        return result
+
+    result.start_method = _start_method()
+    if result.start_method == "fork":
+        _warm_up()
+    ctx = mp.get_context(result.start_method)
+    tickets = ctx.Value("i", budget)
+    n_existing = len(study.get_trials(deepcopy=False))
+    live: dict[int, tuple] = {}
+    spawned = 0
+
+    def spawn(n):
+        nonlocal spawned
+        for _ in range(n):
+            job = _Job(config.name, config.key(), options, url,
+                       worker_seed(options.seed, n_existing, spawned), options.trials)
+            parent_end, child_end = ctx.Pipe(duplex=False)
+            p = ctx.Process(target=_worker_main, args=(job, tickets, child_end), daemon=True,
+                            name=f"mat-hopper-worker-{spawned}")
+            p.start()
+            child_end.close()
+            live[p.pid] = (p, parent_end)
+            spawned += 1
+
+    def reap():
+        for pid, (p, conn) in list(live.items()):
+            if conn.poll():
+                try:
+                    result.worker_reports.append(conn.recv())
+                except EOFError:
+                    pass
+            if p.is_alive():
+                continue
+            p.join()
+            if conn.poll():
+                try:
+                    result.worker_reports.append(conn.recv())
+                except EOFError:
+                    pass
+            del live[pid]
+            if p.exitcode != 0:
+                result.dead_workers.append((pid, p.exitcode))
+                lost = recover_dead(study, pids={pid}, max_retry=options.max_retry,
+                                    reason=f"worker exited with code {p.exitcode}")
+                result.recovered += lost
+                with tickets.get_lock():   # its ticket back (the storage check in _claim still caps the total)
+                    tickets.value += max(1, len(lost))
+
+    spawn(min(options.workers, budget))
+    bar = _Bar(total=options.trials, initial=min(done, options.trials), unit="trial", desc=config.name,
+               disable=not options.progress, dynamic_ncols=True, file=sys.stderr, mininterval=1.0)
+    max_spawn = options.workers + options.workers * (options.max_retry + 1)
+    told_before, recovered_before = 0, len(result.recovered)
+    try:
+        while True:
+            reap()
+            done, running = counts(study)
+            bar.n = min(done, options.trials)
+            bar.set_postfix(running=running, dead=len(result.dead_workers), refresh=False)
+            bar.refresh()
+            if not live:
+                told = sum(len(r["told"]) for r in result.worker_reports)
+                progress = told > told_before or len(result.recovered) > recovered_before
+                told_before, recovered_before = told, len(result.recovered)
+                if done < options.trials and tickets.value > 0 and spawned < max_spawn and progress:
+                    spawn(min(options.workers, tickets.value))
+                    continue
+                break
+            time.sleep(POLL_S)
+    except KeyboardInterrupt:
+        for p, _ in live.values():
+            p.terminate()
+        for p, _ in live.values():
+            p.join(10)
+        recover_dead(study, pids=set(live), max_retry=options.max_retry, reason="interrupted")
+        raise
+    finally:
+        bar.close()
+    result.done, result.running = counts(study)
+    return result

@@ -1,0 +1,335 @@
+"""A study's outputs: tables, Pareto front, hypervolume, importances, replay.
+
+``mat-hopper optimize --report NAME`` writes into ``STUDIES_DIR/NAME-report``
+(or ``--out``):
+
+- ``trials.csv``: one row per trial (state, feasibility, objectives, hop
+  height, constraint values, per-segment density g/cm^3 and modulus GPa,
+  parameters, worker, error), ordered by trial number;
+- ``pareto.csv``: the non-dominated feasible designs, with the percent
+  change of tracking error and power against the paper's SS and rho-inc
+  (the study's own runs of them, or, when its space cannot express them,
+  runs made here with the study's settings and kept in the study);
+- ``pareto.png``: power against tracking error, feasible, infeasible,
+  the Pareto front and the paper's designs marked;
+- ``hypervolume.csv`` / ``.png``: hypervolume of the feasible front after
+  each trial, against a reference point 10 % beyond the worst feasible
+  value of each objective (both objectives minimized);
+- ``importances.csv`` / ``.png``: Optuna's parameter importances
+  (PED-ANOVA) for each objective.
+
+``--replay TRIAL`` rebuilds the trial's design from its parameters and
+simulates it again with the study's settings (bit-identical to the stored
+values, by the determinism of the simulator); with ``--render`` it also
+renders it (:func:`mat_hopper.viz.render.render_files`).
+
+The Pareto front is Optuna's ``study.best_trials``; the hypervolume and
+importance plots are ``optuna.visualization.matplotlib``'s. The Pareto
+plot is ours: Optuna's cannot mark the paper's designs and baselines.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import warnings
+
+import numpy as np
+import optuna
+import pandas as pd
+from optuna.trial import TrialState
+
+from ..analysis.change import percent_change
+from ..atomic import write_csv
+from ..materials import LegDesign, paper_designs
+from ..viz import study as study_plots
+from ..viz.style import save_figure
+from ._objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
+from ._space import resample
+from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
+from ._study import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
+
+BASELINES = ("SS", "rho-inc")
+HV_MARGIN = 0.1
+
+
+def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
+    _quiet()
+    study = optuna.load_study(study_name=name, storage=storage)
+    key = study.user_attrs.get(CONFIG_ATTR)
+    if not key:
+        raise ValueError(f"study {name!r} was not made by mat-hopper optimize (no {CONFIG_ATTR})")
+    return study, StudyConfig.from_key(name, key)
+
+
+# --- tables -----------------------------------------------------------------
+
+def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
+    """One row per trial (see module doc). No wall-clock columns."""
+    rows = []
+    space = config.space
+    for t in sorted(study.get_trials(deepcopy=False), key=lambda t: t.number):
+        ua = t.user_attrs
+        res = ua.get(RESULT_ATTR) or {}
+        row = {"trial": t.number, "state": t.state.name, "paper_design": ua.get(PAPER_ATTR, ""),
+               "design": res.get("design", ""), "feasible": bool(res.get("feasible", False)),
+               "tracking_error_m": np.nan, "power_w": np.nan,
+               "hop_height_m": res.get("hop_height_m") if res.get("hop_height_m") is not None else np.nan,
+               "total_mass_kg": res.get("total_mass_kg", np.nan)}
+        if t.state == TrialState.COMPLETE and t.values is not None:
+            row.update(dict(zip(OBJECTIVES, t.values)))
+        c = t.constraints
+        row.update({f"constraint_{n}": c.get(n, np.nan) for n in CONSTRAINTS})
+        try:
+            design = space.design(t.params)
+            for i, m in enumerate(design.segments, 1):
+                row[f"seg{i}_rho_g_cm3"] = m.density_g_cm3
+                row[f"seg{i}_e_gpa"] = m.modulus_gpa
+            if not row["design"]:
+                row["design"] = design.name
+        except ValueError:
+            pass                                  # a trial that never got its parameters
+        row.update({f"param_{k}": v for k, v in sorted(t.params.items())})
+        w = ua.get(WORKER_ATTR) or {}
+        row["worker"] = f"{w.get('host', '')}:{w.get('pid', '')}" if w else ""
+        row["error"] = ua.get(ERROR_ATTR, "") or ua.get(FAIL_REASON_ATTR, "")
+        row["retry_of"] = t.system_attrs.get("failed_trial", np.nan)
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def feasible_complete(frame: pd.DataFrame) -> pd.DataFrame:
+    if frame.empty:
+        return frame
+    return frame[(frame["state"] == "COMPLETE") & frame["feasible"].astype(bool)]
+
+
+def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None, *, best=None) -> pd.DataFrame:
+    """The Pareto front: the trials of `best` (trial numbers, from Optuna's
+    ``study.best_trials``: complete, feasible, non-dominated), by tracking
+    error, with percent changes against each baseline ({name:
+    (tracking_error_m, power_w)}). Of trials with identical objective
+    values (a design evaluated twice, e.g. a retried trial) the first is
+    kept: Optuna lists every copy."""
+    ok = feasible_complete(frame)
+    if ok.empty or not best:
+        return ok.iloc[0:0].copy()
+    front = ok[ok["trial"].isin(set(best))].sort_values("trial")
+    front = front.drop_duplicates(subset=list(OBJECTIVES), keep="first")
+    front = front.sort_values("tracking_error_m", kind="stable").copy()
+    for name, vals in (baselines or {}).items():
+        for obj, base in zip(OBJECTIVES, vals):
+            front[f"{obj.rsplit('_', 1)[0]}_vs_{name}_pct"] = percent_change(front[obj].to_numpy(float), base)
+    cols = ["trial", "design", "paper_design", *OBJECTIVES, "hop_height_m"]
+    cols += [c for c in front.columns if c.endswith("_pct")]
+    cols += [c for c in front.columns if c.startswith("seg") and c not in cols]
+    return front[cols].reset_index(drop=True)
+
+
+def hypervolume_2d(points: np.ndarray, reference) -> float:
+    """Area dominated by `points` (n x 2, minimized) and bounded by `reference`.
+
+    Ours because Optuna's public API only plots the hypervolume history
+    (``optuna.visualization.matplotlib.plot_hypervolume_history``, used for
+    the figure); the numbers for ``hypervolume.csv`` need this."""
+    p = np.asarray(points, float).reshape(-1, 2)
+    r = np.asarray(reference, float)
+    p = p[np.all(p < r, axis=1)]
+    if len(p) == 0:
+        return 0.0
+    p = p[np.lexsort((p[:, 1], p[:, 0]))]
+    area, best_y = 0.0, r[1]
+    for x, y in p:
+        if y < best_y:
+            area += (r[0] - x) * (best_y - y)
+            best_y = y
+    return float(area)
+
+
+def hypervolume_history(frame: pd.DataFrame, reference=None) -> tuple[pd.DataFrame, tuple]:
+    """Hypervolume of the feasible complete trials up to each trial number,
+    and the reference point used (default: worst feasible value of each
+    objective plus 10 % of its range)."""
+    ok = feasible_complete(frame)
+    if ok.empty:
+        return pd.DataFrame(columns=["trial", "hypervolume"]), ()
+    vals = ok[list(OBJECTIVES)].to_numpy(float)
+    if reference is None:
+        lo, hi = vals.min(axis=0), vals.max(axis=0)
+        span = np.where(hi > lo, hi - lo, np.maximum(np.abs(hi), 1e-12))
+        reference = tuple(float(v) for v in hi + HV_MARGIN * span)
+    trials = frame.sort_values("trial")["trial"].to_numpy()
+    ok_trials = ok["trial"].to_numpy()
+    out = []
+    for n in trials:
+        out.append({"trial": int(n), "hypervolume": hypervolume_2d(vals[ok_trials <= n], reference)})
+    return pd.DataFrame(out), tuple(reference)
+
+
+def importances(study: optuna.Study) -> pd.DataFrame:
+    """Parameter importances (Optuna's default, PED-ANOVA) per objective;
+    empty when the study is too small."""
+    rows = []
+    complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
+    if len(complete) < 4:
+        return pd.DataFrame(columns=["objective", "param", "importance"])
+    for i, obj in enumerate(OBJECTIVES):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                imp = optuna.importance.get_param_importances(study, target=lambda t, i=i: t.values[i])
+        except (ValueError, RuntimeError, ZeroDivisionError):
+            continue
+        rows += [{"objective": obj, "param": k, "importance": float(v)} for k, v in imp.items()]
+    return pd.DataFrame(rows, columns=["objective", "param", "importance"])
+
+
+def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> dict:
+    """(tracking_error_m, power_w) of SS and rho-inc under the study's
+    settings: its enqueued run, or a run made now and kept in the study."""
+    out = {}
+    for name in BASELINES:
+        rows = frame[(frame["paper_design"] == name) & (frame["state"] == "COMPLETE")] if not frame.empty else frame
+        if len(rows):
+            out[name] = tuple(float(rows.iloc[0][o]) for o in OBJECTIVES)
+            continue
+        key = f"baseline:{name}"
+        if key in study.user_attrs:
+            out[name] = tuple(study.user_attrs[key])
+            continue
+        design = LegDesign(resample(paper_designs()[name], config.space.n_segments), name=name)
+        ev = evaluate(design, config.objective)
+        study.set_user_attr(key, list(ev.values))
+        out[name] = ev.values
+    return out
+
+
+# --- the report -------------------------------------------------------------
+
+def write_report(name: str, storage, out_dir: str) -> dict:
+    """Every output of the module doc, written into out_dir. Returns
+    {output name: path} and the tables."""
+    study, config = load(name, storage)
+    os.makedirs(out_dir, exist_ok=True)
+    frame = trials_frame(study, config)
+    base = baselines(study, config, frame)
+    front = pareto_frame(frame, base, best=[t.number for t in study.best_trials])
+    hv, ref_point = hypervolume_history(frame)
+    imp = importances(study)
+    paths = {k: os.path.join(out_dir, f) for k, f in (
+        ("trials", "trials.csv"), ("pareto", "pareto.csv"), ("pareto_plot", "pareto.png"),
+        ("hypervolume", "hypervolume.csv"), ("hypervolume_plot", "hypervolume.png"),
+        ("importances", "importances.csv"), ("importances_plot", "importances.png"))}
+    write_csv(frame, paths["trials"])
+    write_csv(front, paths["pareto"])
+    write_csv(hv, paths["hypervolume"])
+    write_csv(imp, paths["importances"])
+    beh = ",".join(config.objective.behaviours)
+    what = f"{name}: {beh}, {config.objective.profile.name} profile, {config.space.n_segments} segments"
+    save_figure(study_plots.pareto_figure(frame, front, base, what), paths["pareto_plot"], formats=("png",), dpi=130)
+    ref_text = ", ".join(f"{v:.4g}" for v in ref_point)
+    save_figure(study_plots.hypervolume_figure(study, ref_point, f"{what}\nreference point ({ref_text})"),
+                paths["hypervolume_plot"], formats=("png",), dpi=130)
+    save_figure(study_plots.importances_figure(study, what), paths["importances_plot"], formats=("png",), dpi=130)
+    return {"paths": paths, "trials": frame, "pareto": front, "hypervolume": hv, "importances": imp,
+            "baselines": base, "reference": ref_point}
+
+
+def replay(name: str, storage, number: int):
+    """(trial, design, fresh Evaluation) for trial `number` of study `name`."""
+    study, config = load(name, storage)
+    trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]
+    if not trials:
+        raise ValueError(f"study {name!r} has no trial {number} (trials 0..{len(study.trials) - 1})")
+    t = trials[0]
+    design = config.space.design(t.params, name=f"{name}#{number}")
+    return t, design, evaluate(design, config.objective), config
+
+
+# --- the book's study ----------------------------------------------------------
+
+
+STUDY_TRIALS = {"paper": 24, "quick": 12}   # trials of the book's own study, per profile
+
+
+STUDY_BEHAVIOURS = ("ramp",)
+
+
+def book_study(profile=None, *, studies_dir="studies", out_dir="results/study", trials: int | None = None,
+               behaviours=STUDY_BEHAVIOURS, seed: int = 0) -> dict:
+    """Run (or resume, or just load) the book's design study with
+    :func:`mat_hopper.optimize._study.run_study`: continuous density and modulus
+    per segment (3 segments), tracking error and hip power on `behaviours`
+    under the optimizer's profile of the book's name, one worker process
+    (so a fresh study is exactly reproducible), `trials` trials (default
+    :data:`STUDY_TRIALS` of the profile). Storage: ``studies/<name>.db``;
+    the name carries a digest of the settings, so changed settings start a
+    new study instead of clashing with an old one (folder `studies_dir`). Then
+    :func:`mat_hopper.optimize.report.write_report` into
+    `out_dir`. Returns the report dict (``trials``,
+    ``pareto``, ``baselines``, ``hypervolume``, ``importances``,
+    ``paths``) plus ``name``, ``url`` and ``config``."""
+    import hashlib
+    import json
+
+    from ..experiments.profiles import get_profile
+    from ._space import SearchSpace
+    from ._study import RunOptions, run_study
+
+    profile = get_profile(profile)
+    n = STUDY_TRIALS.get(profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
+    objective = Objective(behaviours=tuple(behaviours), profile=profile)
+    probe = StudyConfig("probe", SearchSpace(), objective)
+    digest = hashlib.sha256(json.dumps(probe.key(), sort_keys=True).encode()).hexdigest()[:8]
+    config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{profile.name}-{digest}", SearchSpace(),
+                         objective)
+    options = RunOptions(trials=n, workers=1, seed=seed, progress=False, studies_dir=str(studies_dir))
+    run_study(config, options)
+    url = options.storage_url(config.name)
+    report = write_report(config.name, url, str(out_dir))
+    report.update(name=config.name, url=url, config=config)
+    return report
+
+
+def front_table(front: pd.DataFrame) -> pd.DataFrame:
+    """A Pareto table (:func:`mat_hopper.optimize.report.pareto_frame`) for
+    the page: trial, the paper's design it is (if any), tracking error
+    (mm), hip power (mW), hop height (m) and the percent changes against
+    the baselines, with short column names."""
+    out = pd.DataFrame({"trial": front["trial"].astype(int),
+                        "paper design": front.get("paper_design", pd.Series([""] * len(front))).fillna(""),
+                        "tracking error (mm)": front["tracking_error_m"] * 1e3,
+                        "hip power (mW)": front["power_w"] * 1e3,
+                        "hop height (m)": front["hop_height_m"]})
+    for col in front.columns:
+        m = re.fullmatch(r"(tracking_error|power)_vs_(.+)_pct", col)
+        if m:
+            what = "tracking" if m.group(1) == "tracking_error" else "power"
+            out[f"{what} vs {m.group(2)} (%)"] = front[col]
+    return out.reset_index(drop=True)
+
+
+def front_designs(front: pd.DataFrame, k: int | None = None, *, skip_paper: bool = True) -> dict[str, LegDesign]:
+    """The designs of a Pareto table (``seg{i}_rho_g_cm3``,
+    ``seg{i}_e_gpa`` columns; at most `k`, by tracking error) as
+    {"#<trial>": LegDesign}, for :func:`designs_figure`; the paper's own
+    designs (a non-empty ``paper_design``) are left out unless
+    `skip_paper` is false."""
+    rows = front.sort_values("tracking_error_m") if "tracking_error_m" in front.columns else front
+    if skip_paper and "paper_design" in rows.columns:
+        rows = rows[rows["paper_design"].fillna("").astype(str) == ""]
+    if k is not None:
+        rows = rows.head(int(k))
+    out = {}
+    for r in rows.to_dict("records"):
+        i, dens, mods = 1, [], []
+        while f"seg{i}_rho_g_cm3" in r and pd.notna(r[f"seg{i}_rho_g_cm3"]):
+            dens.append(float(r[f"seg{i}_rho_g_cm3"]))
+            e = r.get(f"seg{i}_e_gpa")
+            mods.append(None if e is None or pd.isna(e) else float(e))
+            i += 1
+        if not dens:
+            raise ValueError("front_designs: the table has no seg1_rho_g_cm3 column")
+        name = f"#{int(r['trial'])}" if "trial" in r else f"design {len(out) + 1}"
+        out[name] = LegDesign.from_properties(dens, mods, name=name)
+    return out

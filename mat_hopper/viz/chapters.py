@@ -1,0 +1,205 @@
+"""Figures of single chapters of the book: the two stiffness conventions
+(:func:`convention_figure`), one rollout's controller signals
+(:func:`controller_figure`) and the authors' code defects, measured
+(:func:`defects_figure`). Each returns a ``matplotlib.figure.Figure``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+from matplotlib import rc_context
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+
+from .. import reference as ref
+from ..materials import CONVENTIONS
+from .style import STYLE, design_colour, order_behaviours
+
+
+def convention_figure(table: pd.DataFrame):
+    """Two panels per material, both conventions side by side: the material
+    spring's stiffness (N/m) and the largest stable time step (s; bar:
+    measured, with its bracket; marker: the estimate 2 / w_max), log
+    scales. table: from :func:`convention_stability`."""
+    need = ("design", "convention", "material_spring_n_m", "analytic_timestep_s", "max_stable_timestep_s",
+            "unstable_timestep_s")
+    missing = [c for c in need if c not in table.columns]
+    if missing:
+        raise ValueError(f"convention_figure needs columns {missing}")
+    designs = list(dict.fromkeys(table["design"]))
+    convs = [c for c in CONVENTIONS if c in set(table["convention"])]
+    colours = {"paper": "#0173b2", "axial": "#de8f05"}
+    w = 0.8 / max(len(convs), 1)
+    with rc_context(STYLE):
+        fig = Figure(figsize=(9.0, 3.4), layout="constrained")
+        ax_k, ax_dt = fig.subplots(1, 2)
+        for ci, conv in enumerate(convs):
+            sub = table[table["convention"] == conv].set_index("design").reindex(designs)
+            x = np.arange(len(designs)) - 0.4 + w * (ci + 0.5)
+            k = sub["material_spring_n_m"].to_numpy(float)
+            ok = np.isfinite(k)
+            ax_k.bar(x[ok], k[ok], w * 0.9, color=colours.get(conv), label=conv)
+            lo = sub["max_stable_timestep_s"].to_numpy(float)
+            hi = sub["unstable_timestep_s"].to_numpy(float)
+            ok = np.isfinite(lo)
+            ax_dt.bar(x[ok], lo[ok], w * 0.9, color=colours.get(conv), alpha=0.85)
+            both = ok & np.isfinite(hi)
+            ax_dt.vlines(x[both], lo[both], hi[both], color="black", lw=1.0)
+            ax_dt.plot(x, sub["analytic_timestep_s"].to_numpy(float), "D", ms=4.5, color="black",
+                       markerfacecolor="white", zorder=4)
+        for ax in (ax_k, ax_dt):
+            ax.set_yscale("log")
+            ax.set_xticks(np.arange(len(designs)))
+            ax.set_xticklabels(designs)
+            ax.grid(False, axis="x")
+        for i, d in enumerate(designs):
+            if d in table["design"].values and table.loc[table["design"] == d, "material_spring_n_m"].isna().all():
+                ax_k.text(i, 0.02, "rigid:\nno spring", transform=ax_k.get_xaxis_transform(), ha="center",
+                          va="bottom", fontsize=7, color="#555555")
+        k_all = table["material_spring_n_m"].to_numpy(float)
+        if np.isfinite(k_all).any():
+            ax_k.set_ylim(np.nanmin(k_all) / 5, np.nanmax(k_all) * 2)
+        dt_all = table[[c for c in ("max_stable_timestep_s", "analytic_timestep_s", "controller_timestep_s")
+                        if c in table.columns]].to_numpy(float)
+        if np.isfinite(dt_all).any():
+            ax_dt.set_ylim(np.nanmin(dt_all) / 3, np.nanmax(dt_all) * 3)
+        ax_k.set_ylabel("Material spring stiffness (N/m)")
+        ax_dt.set_ylabel("Largest stable time step (s)")
+        ax_dt.axhline(ref.TIMESTEP_S, color="#555555", lw=0.8, ls=":")
+        ax_dt.text(1.0, ref.TIMESTEP_S, " paper's dt", transform=ax_dt.get_yaxis_transform(), va="center",
+                   ha="left", fontsize=7, color="#555555")
+        if "controller_timestep_s" in table.columns and np.isfinite(table["controller_timestep_s"]).any():
+            ctrl = float(np.nanmin(table["controller_timestep_s"].to_numpy(float)))
+            ax_dt.axhline(ctrl, color="#d55e00", lw=0.8, ls="--")
+            ax_dt.text(1.0, ctrl, " controller limit", transform=ax_dt.get_yaxis_transform(), va="center",
+                       ha="left", fontsize=7, color="#d55e00")
+        handles = [Patch(color=colours.get(c), label=f"{c} convention") for c in convs]
+        handles += [Line2D([], [], color="black", lw=1.0, label="measured bracket (stable to unstable)"),
+                    Line2D([], [], ls="none", marker="D", ms=4.5, color="black", markerfacecolor="white",
+                           label="estimate 2/ω_max")]
+        fig.legend(handles=handles, loc="outside upper center", ncols=len(handles))
+    return fig
+
+
+def controller_figure(rollout, window_s: tuple[float, float] | None = None):
+    """The controller at work in one rollout: left, the whole run (hop
+    apex heights against the 1 m target, the adaptive thrust setting F,
+    tracking error); right, a short window (default: 1.5 s after the
+    transient) with stance shaded: base height, thrust force on the foot
+    spring, hip pitch angle against its target, base x against the
+    desired x. Times are simulated seconds."""
+    from ..sim import C
+    d = rollout.data
+    if len(d) < 2:
+        raise ValueError("controller_figure: the rollout recorded fewer than 2 samples")
+    t = d[:, C["t"]]
+    if window_s is None:
+        t0 = min(rollout.settings.transient_s, max(float(t[-1]) - 1.5, 0.0))
+        window_s = (t0, t0 + 1.5)
+    w0, w1 = float(window_s[0]), float(window_s[1])
+    if not w1 > w0:
+        raise ValueError(f"window_s must be (start, end) with end > start s, got {window_s!r}")
+    sel = (t >= w0) & (t <= w1)
+    err = np.hypot(d[:, C["x"]] - d[:, C["x_des"]], d[:, C["y"]] - d[:, C["y_des"]])
+    from ..control import TOUCHDOWN
+    ev = rollout.events[rollout.events[:, 1] == TOUCHDOWN]
+    apex_t, apex_h = ev[:, 0], ev[:, 2]        # the controller's hop height, logged at each touchdown
+    ok = np.isfinite(apex_h)
+    stance = d[:, C["phase"]] > 0.5
+    transient = rollout.settings.transient_s
+    with rc_context(STYLE):
+        fig = Figure(figsize=(10.0, 7.0), layout="constrained")
+        axes = fig.subplots(4, 2, sharex="col")
+        # left: whole run
+        a = axes[0, 0]
+        a.plot(apex_t[ok], apex_h[ok], ".", ms=3, color="#0173b2")
+        a.axhline(ref.HOP_HEIGHT_TARGET, color="black", lw=0.8, ls="--")
+        a.set_ylabel("Hop apex (m)")
+        a.set_title(f"{rollout.design.name}, {rollout.behaviour.name} hopping: the whole run")
+        axes[1, 0].plot(t, d[:, C["thrust_setting"]], color="#d55e00", lw=1.0)
+        axes[1, 0].set_ylabel("Thrust setting F (N)")
+        axes[2, 0].plot(t, np.degrees(d[:, C["hip_y"]]), color="#029e73", lw=0.6)
+        axes[2, 0].set_ylabel("Hip pitch (deg)")
+        axes[3, 0].plot(t, err * 1e3, color="#cc78bc", lw=0.8)
+        axes[3, 0].set_ylabel("Tracking error (mm)")
+        axes[3, 0].set_xlabel("Simulated time (s)")
+        for a in axes[:, 0]:
+            if transient > 0:
+                a.axvspan(0, transient, color="black", alpha=0.06, lw=0)
+            a.axvspan(w0, w1, color="#de8f05", alpha=0.25, lw=0)
+        # right: the window
+        tw = t[sel]
+        axes[0, 1].plot(tw, d[sel, C["z"]], color="#0173b2", lw=1.2, label="base z")
+        axes[0, 1].axhline(ref.HOP_HEIGHT_TARGET, color="black", lw=0.8, ls="--", label="target apex")
+        axes[0, 1].set_ylabel("Base height (m)")
+        axes[0, 1].set_title(f"{w1 - w0:g} s up close (stance shaded)")
+        axes[0, 1].legend(loc="lower right")
+        axes[1, 1].plot(tw, d[sel, C["force_thrust"]], color="#d55e00", lw=1.2)
+        axes[1, 1].set_ylabel("Thrust force (N)")
+        axes[2, 1].plot(tw, np.degrees(d[sel, C["hip_y"]]), color="#029e73", lw=1.2, label="angle")
+        axes[2, 1].plot(tw, np.degrees(d[sel, C["hip_y_target"]]), color="black", lw=0.9, ls="--",
+                        label="flight target")
+        axes[2, 1].set_ylabel("Hip pitch (deg)")
+        axes[2, 1].legend(loc="lower right")
+        axes[3, 1].plot(tw, d[sel, C["x"]], color="#cc78bc", lw=1.2, label="base x")
+        axes[3, 1].plot(tw, d[sel, C["x_des"]], color="black", lw=0.9, ls="--", label="desired x")
+        axes[3, 1].set_ylabel("x (m)")
+        axes[3, 1].set_xlabel("Simulated time (s)")
+        axes[3, 1].legend(loc="lower right")
+        st = stance[sel]
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], st.astype(int), [0]])))
+        for a in axes[:, 1]:
+            for s0, s1 in zip(edges[::2], edges[1::2]):
+                a.axvspan(tw[s0], tw[min(s1, len(tw) - 1)], color="black", alpha=0.08, lw=0)
+            a.set_xlim(w0, w1)
+    return fig
+
+
+def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
+    """Three of the authors' code defects, measured: (A) tracking error
+    against the wall-clock factor of the desired path (table from
+    :func:`clock_drift`); (B) mean |jerk| against the sampling rate, per
+    design ({design: table from :func:`jerk_by_rate`}, log-log); (C) the
+    percent change of power of one design against another, real hip power
+    beside the authors' formula (table from :func:`power_formula_table`)."""
+    with rc_context(STYLE):
+        fig = Figure(figsize=(11.0, 3.4), layout="constrained")
+        a, b, c = fig.subplots(1, 3)
+        for i, (d, g) in enumerate(clock.groupby("design", sort=False)):
+            g = g.sort_values("clock_factor")
+            a.plot(g["clock_factor"], g["mean_tracking_error_m"] * 1e3, "o-", color=design_colour(d, i), label=d)
+        a.set_xlabel("Wall clock / simulated clock")
+        a.set_ylabel("Tracking error (mm)")
+        a.set_title("Desired path on the wall clock")
+        a.legend()
+        for i, (d, t) in enumerate(jerk.items()):
+            b.plot(t["rate_hz"], t["mean_jerk_m_s3"], "o-", color=design_colour(d, i), label=d)
+        b.set_xscale("log")
+        b.set_yscale("log")
+        b.set_xlabel("Sampling rate (Hz)")
+        b.set_ylabel("Mean |jerk| (m/s³)")
+        b.set_title("Jerk from sparse samples")
+        b.legend()
+        behs = order_behaviours(power.columns)
+        x = np.arange(len(behs))
+        for i, (label, row) in enumerate(power.iterrows()):
+            c.bar(x - 0.2 + 0.4 * i, row[behs].to_numpy(float), 0.38, label=label,
+                  color=("#0173b2", "#de8f05")[i % 2])
+        c.axhline(0, color="black", lw=0.8)
+        vals = power[behs].to_numpy(float)
+        vals = vals[np.isfinite(vals)]
+        if len(vals):               # head room for the legend above the bars
+            lo, hi = min(0.0, float(vals.min())), max(0.0, float(vals.max()))
+            c.set_ylim(lo - 0.05 * (hi - lo), hi + 0.45 * (hi - lo))
+        c.set_xticks(x)
+        c.set_xticklabels(behs)
+        c.set_ylabel(power.columns.name or "% change")
+        c.set_title("Power: real or the authors' formula")
+        c.legend(loc="upper left")
+        c.grid(False, axis="x")
+        for ax, letter in zip((a, b, c), "ABC"):
+            ax.text(-0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold", ha="right",
+                    va="bottom")
+    return fig

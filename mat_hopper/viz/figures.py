@@ -1,0 +1,531 @@
+"""The book's figures, from tidy result tables.
+
+Every ``figure_*`` / ``*_figure`` function takes tables (or, for the time
+series, :class:`~mat_hopper.sim.Rollout` objects), returns a
+:class:`matplotlib.figure.Figure` and reads no file; :func:`save_figure`
+writes one as PNG and SVG, atomically. Figures are built on
+``matplotlib.figure.Figure`` directly (no pyplot state), so making many of
+them leaks nothing; Jupyter shows a returned figure as usual.
+
+- :func:`figure4_mono`: Fig. 4 A-C, box plots of power, jerk and tracking
+  error per behaviour and design, a star where a design differs from MD
+  (Holm-adjusted p < alpha; see :mod:`mat_hopper.analysis.stats`).
+- :func:`figure4_sweeps`: Fig. 4 D-E, tracking error against density and
+  against modulus, one line per base material.
+- :func:`figure5_gradients`: Fig. 5 A-B, gradients beside MD and SS.
+- :func:`figure5_timeseries`: Fig. 5 C, hop height, tracking error and hip
+  power per hop cycle over simulated time.
+- :func:`stability_figure`: the measured largest stable time step over
+  density and modulus (log colour scale) with the analytic estimate 2 /
+  omega_max as contours, and measured against analytic.
+- :func:`ashby_figure`: density against modulus (log-log) of the catalogue,
+  the paper's two material classes as shaded regions, and the design
+  bounds.
+- :func:`write_figures`: all of them from a reproduction's tables, into
+  ``<out_dir>/figures/``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from matplotlib import rc_context
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+
+from .. import reference as ref
+from ..analysis import stats as _stats
+from ..materials import CONVENTIONS
+from .maps import ashby_figure, stability_figure
+from .style import (
+    BEHAVIOUR_LABELS,
+    DPI,
+    STYLE,
+    _new_figure,
+    _panel_label,
+    _require,
+    design_colour,
+    design_label,
+    metric_scale,
+    order_behaviours,
+    order_designs,
+    plain_log_ticks,
+    save_figure,
+)
+
+# --- grouped box plots -----------------------------------------------------------
+
+
+def _grouped_boxes(ax, table, metric, groups, designs, *, group_col="behaviour", factor=1.0,
+                   stars=None, width=0.8, points=None):
+    """Box plots of `metric` at x = group index, one box per design side by
+    side. stars: set of (group, design) to mark; points: a table of values
+    to draw as black dots over the boxes (replicate means). Returns the
+    tops used."""
+    n = max(len(designs), 1)
+    w = width / n
+    cells = {k: v.to_numpy(float) * factor for k, v in table.groupby([group_col, "design"], sort=False)[metric]}
+    pts = ({k: v.to_numpy(float) * factor for k, v in points.groupby([group_col, "design"], sort=False)[metric]}
+           if points is not None and len(points) else {})
+    tops = []
+    for di, d in enumerate(designs):
+        colour = design_colour(d, di)
+        data, positions, dot_x, dot_y = [], [], [], []
+        for gi, g in enumerate(groups):
+            v = cells.get((g, d), np.array([]))
+            v = v[np.isfinite(v)]
+            if len(v) == 0:
+                continue
+            pos = gi - width / 2 + w * (di + 0.5)
+            data.append(v)
+            positions.append(pos)
+            top = float(v.max())
+            p = pts.get((g, d), np.array([]))
+            p = p[np.isfinite(p)]
+            if len(p):
+                dot_x.extend(pos + (np.arange(len(p)) - (len(p) - 1) / 2) * (w * 0.5 / len(p)))
+                dot_y.extend(p)
+                top = max(top, float(p.max()))
+            tops.append(top)
+            if stars and (g, d) in stars:
+                ax.annotate("*", xy=(pos, top), xytext=(0, 0.5), textcoords="offset points",
+                            ha="center", va="bottom", fontsize=11, fontweight="bold")
+        if not data:
+            continue
+        ax.boxplot(data, positions=positions, widths=w * 0.8, patch_artist=True, manage_ticks=False,
+                   boxprops=dict(facecolor=colour, edgecolor="#333333", linewidth=0.6),
+                   medianprops=dict(color="black", linewidth=1.0),
+                   whiskerprops=dict(color="#333333", linewidth=0.6),
+                   capprops=dict(color="#333333", linewidth=0.6),
+                   flierprops=dict(marker="o", markersize=1.5, markerfacecolor=colour,
+                                   markeredgecolor="none", alpha=0.6))
+        if dot_x:
+            ax.plot(dot_x, dot_y, "o", ms=2.2, color="black", alpha=0.8, zorder=3, gid="replicate-means")
+    ax.set_xticks(range(len(groups)))
+    ax.set_xticklabels([BEHAVIOUR_LABELS.get(g, g) for g in groups])
+    ax.set_xlim(-0.5, len(groups) - 0.5)
+    ax.grid(False, axis="x")
+    if tops:
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(lo, hi + 0.08 * (hi - lo))
+    return tops
+
+
+def _stars(comparison: pd.DataFrame | None, metric: str, by: str = "behaviour") -> set:
+    if comparison is None or len(comparison) == 0:
+        return set()
+    c = comparison[(comparison["metric"] == metric) & comparison["significant"].fillna(False).astype(bool)]
+    return set(zip(c[by], c["design"]))
+
+
+def _dropped_note(bad: pd.DataFrame, designs, behaviours) -> str | None:
+    """'not shown: SS forward, ramp (unstable at dt=1e-4 s)' for unusable runs."""
+    if bad is None or len(bad) == 0:
+        return None
+    b = bad[bad["design"].isin(designs) & bad["behaviour"].isin(behaviours)]
+    if len(b) == 0:
+        return None
+    parts = []
+    for d in order_designs(b["design"].unique()):
+        g = b[b["design"] == d]
+        why = g["why"].iloc[0].split(",")[0]
+        parts.append(f"{design_label(d)} {', '.join(order_behaviours(g['behaviour'].unique()))} ({why})")
+    return "not shown: " + "; ".join(parts)
+
+
+def _legend_designs(fig, designs, note: str | None = None, points: bool = False, dropped: str | None = None):
+    handles = [Patch(facecolor=design_colour(d, i), edgecolor="#333333", linewidth=0.6, label=design_label(d))
+               for i, d in enumerate(designs)]
+    if note:
+        handles.append(Line2D([], [], linestyle="none", marker="$*$", markersize=7, color="black", label=note))
+    if points:
+        handles.append(Line2D([], [], linestyle="none", marker="o", markersize=3, color="black",
+                              label="replicate means (boxes: their hop cycles)"))
+    if dropped:
+        handles.append(Line2D([], [], linestyle="none", marker="x", markersize=5, color="#555555", label=dropped))
+    n = len(designs)
+    if fig.get_figwidth() < 10.0 and len(handles) > n:     # inches: too narrow for one row
+        fig.legend(handles=handles[:n], loc="outside upper center", ncols=n, handlelength=1.2, columnspacing=1.2)
+        fig.legend(handles=handles[n:], loc="outside lower center", ncols=len(handles) - n, handlelength=1.2,
+                   columnspacing=1.2)
+    else:
+        fig.legend(handles=handles, loc="outside upper center", ncols=len(handles), handlelength=1.2,
+                   columnspacing=1.2)
+
+
+def _basis_note(comparison, baseline: str, alpha: float) -> str:
+    basis = comparison["basis"].iloc[0] if comparison is not None and len(comparison) and "basis" in comparison else "hops"
+    what = "hop cycles" if basis == "hops" else "replicate means"
+    return f"Holm p < {alpha:g} vs {design_label(baseline)} (Mann-Whitney U, {what})"
+
+
+def _drawn(table: pd.DataFrame, comparison: pd.DataFrame | None):
+    """What the boxes show: the unperturbed run's hop cycles (basis hops),
+    or the perturbed replicates' cycles with their means (basis replicates)."""
+    basis = comparison["basis"].iloc[0] if comparison is not None and len(comparison) and "basis" in comparison else "hops"
+    if basis == "replicates" and "replicate" in table.columns:
+        reps = table[table["replicate"] != _stats.UNPERTURBED]
+        return reps, _stats.replicate_means(reps)
+    drawn = _stats.select_replicates(table, _stats.UNPERTURBED)
+    return (drawn if len(drawn) else table), None
+
+
+def _one_experiment(hops: pd.DataFrame, designs, behaviours) -> pd.DataFrame:
+    """The rows of the given designs and behaviours, each design taken from
+    the first experiment (sorted) that has it, with the experiment column
+    merged so that all of them form one comparison family."""
+    t = hops[hops["design"].isin(designs) & hops["behaviour"].isin(behaviours)]
+    if "experiment" in t.columns and len(t):
+        t = _stats.combine_experiments(t)
+    return t
+
+
+def figure4_mono(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
+                 metrics=("power_w", "jerk_m_s3", "tracking_error_m"), designs=None, behaviours=None,
+                 baseline: str = "MD", basis: str = "hops", alpha: float = 0.05,
+                 log_metrics=("jerk_m_s3",), runs: pd.DataFrame | None = None) -> Figure:
+    """Fig. 4 A-C: one box plot panel per metric, behaviours on x, one box
+    per design, a star where the design differs from `baseline`.
+
+    hops: per-hop table (design, behaviour, the metrics; replicate, if any,
+    -1 = unperturbed). Basis hops: the boxes show the unperturbed run's
+    cycles; basis replicates: the perturbed replicates' cycles, with each
+    replicate's mean as a dot.
+    comparison: from :func:`mat_hopper.analysis.stats.compare_designs`; computed
+    here on `basis` when not given. designs default: MD PVC Al Ti SS that
+    are present; log_metrics: metrics drawn on a log axis; runs: the run
+    summaries: hop cycles of runs that diverged, fell or failed are left
+    out (:func:`mat_hopper.analysis.stats.drop_unusable`)."""
+    _require(hops, ("design", "behaviour", *metrics), "figure4_mono")
+    bad = _stats.unusable_runs(runs)
+    designs = order_designs(designs or [d for d in ("MD", "PVC", "Al", "Ti", "SS")
+                                        if d in set(hops["design"]) | set(bad["design"])])
+    behaviours = order_behaviours(behaviours or hops["behaviour"].unique())
+    dropped = _dropped_note(bad, designs, behaviours)
+    hops = _stats.drop_unusable(hops, bad)
+    table = _one_experiment(hops, designs, behaviours)
+    if len(table) == 0:
+        raise ValueError("figure4_mono: no rows for the requested designs and behaviours")
+    if comparison is None and baseline in set(table["design"]):
+        comparison = _stats.compare_designs(table, baseline, basis=basis, metrics=metrics, alpha=alpha)
+    drawn, means = _drawn(table, comparison)
+    with rc_context(STYLE):
+        panel_in = 4.0 if len(behaviours) >= 3 else 2.8     # one or two behaviours: narrower panels
+        fig = _new_figure(panel_in * len(metrics), 3.4)
+        axes = fig.subplots(1, len(metrics), squeeze=False)[0]
+        for i, (ax, m) in enumerate(zip(axes, metrics)):
+            factor, ylabel = metric_scale(m, drawn[m])
+            if m in log_metrics:
+                ax.set_yscale("log")
+            _grouped_boxes(ax, drawn, m, behaviours, designs, factor=factor, stars=_stars(comparison, m),
+                           points=means)
+            if m in log_metrics:
+                plain_log_ticks(ax.yaxis)
+            ax.set_ylabel(ylabel)
+            _panel_label(ax, "ABCDEFGH"[i])
+        _legend_designs(fig, [d for d in designs if d in set(drawn["design"])],
+                        _basis_note(comparison, baseline, alpha) if comparison is not None else None,
+                        points=means is not None, dropped=dropped)
+    return fig
+
+
+def figure5_gradients(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
+                      panels=(("MD", "SS", "rho-inc", "rho-dec"), ("MD", "SS", "PVC-Ti-SS", "SS-Ti-PVC")),
+                      metrics=("power_w", "jerk_m_s3", "tracking_error_m"), behaviours=None,
+                      baseline: str = "MD", basis: str = "hops", alpha: float = 0.05,
+                      log_metrics=("jerk_m_s3",), runs: pd.DataFrame | None = None) -> Figure:
+    """Fig. 5 A-B: columns A (density gradients) and B (material gradients)
+    beside MD and SS; one row per metric; stars vs `baseline`.
+
+    hops: per-hop table holding the gradients (experiment 3) and MD and SS
+    (experiment 1); each design is taken from one experiment and all are
+    compared as one family. runs: as in :func:`figure4_mono`."""
+    _require(hops, ("design", "behaviour", *metrics), "figure5_gradients")
+    all_designs = order_designs([d for p in panels for d in p])
+    behaviours = order_behaviours(behaviours or hops["behaviour"].unique())
+    bad = _stats.unusable_runs(runs)
+    dropped = _dropped_note(bad, all_designs, behaviours)
+    hops = _stats.drop_unusable(hops, bad)
+    table = _one_experiment(hops, all_designs, behaviours)
+    if len(table) == 0:
+        raise ValueError("figure5_gradients: no rows for the requested designs and behaviours")
+    if comparison is None and baseline in set(table["design"]):
+        comparison = _stats.compare_designs(table, baseline, basis=basis, metrics=metrics, alpha=alpha)
+    drawn, means = _drawn(table, comparison)
+    present = set(drawn["design"])
+    with rc_context(STYLE):
+        fig = _new_figure(5.2 * len(panels), 2.5 * len(metrics) + 0.4)
+        axes = fig.subplots(len(metrics), len(panels), squeeze=False, sharey="row")
+        for j, panel in enumerate(panels):
+            designs = [d for d in panel if d in present]
+            for i, m in enumerate(metrics):
+                ax = axes[i, j]
+                factor, ylabel = metric_scale(m, drawn[m])
+                if m in log_metrics:
+                    ax.set_yscale("log")
+                _grouped_boxes(ax, drawn, m, behaviours, designs, factor=factor, stars=_stars(comparison, m),
+                           points=means)
+                if m in log_metrics:
+                    plain_log_ticks(ax.yaxis)
+                if j == 0:
+                    ax.set_ylabel(ylabel)
+                if i == 0:
+                    ax.set_title(" / ".join(design_label(d) for d in panel if d not in ("MD", "SS"))
+                                 + " beside MD and SS")
+                    _panel_label(ax, "ABCDEFGH"[j])
+                if i < len(metrics) - 1:
+                    ax.tick_params(labelbottom=False)
+        _legend_designs(fig, [d for d in all_designs if d in present],
+                        _basis_note(comparison, baseline, alpha) if comparison is not None else None,
+                        points=means is not None, dropped=dropped)
+    return fig
+
+
+# --- sweeps ---------------------------------------------------------------------
+
+SWEEP_PROPERTIES = {"density": ("density_g_cm3", "Density (g/cm³)"), "modulus": ("modulus_gpa", "Modulus (GPa)")}
+
+
+def figure4_sweeps(hops: pd.DataFrame, baseline_hops: pd.DataFrame | None = None, *,
+                   metric: str = "tracking_error_m", baseline: str = "MD", alpha: float = 0.05,
+                   runs: pd.DataFrame | None = None) -> Figure:
+    """Fig. 4 D-E: `metric` against density (D) and against modulus (E),
+    one line per base material: mean over hop cycles with the interquartile
+    range as bars; the base material's own point has a black edge.
+
+    hops: experiment 2's per-hop table (sweep_base, sweep_property,
+    density_g_cm3, modulus_gpa, the metric). baseline_hops: the baseline
+    design's forward-hopping cycles (experiment 1): drawn as a dashed line
+    with its IQR band, and each sweep point is then tested against it
+    (Mann-Whitney U on hop cycles, Holm over all points): filled markers
+    differ significantly, open ones do not. runs: the run summaries of
+    experiment 2: points whose run diverged, fell or failed are left out of
+    the lines and marked with a cross on the axis."""
+    _require(hops, ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa", metric), "figure4_sweeps")
+    bad = _stats.unusable_runs(runs)
+    if len(bad) and "sweep_property" in bad.columns:
+        bad = bad[bad["sweep_property"].notna()]
+        if "replicate" in bad.columns and bad["replicate"].notna().any():
+            bad = bad[bad["replicate"] == _stats.UNPERTURBED]
+    hops = _stats.drop_unusable(hops, bad)
+    if baseline_hops is not None:
+        baseline_hops = _stats.drop_unusable(baseline_hops, _stats.unusable_runs(runs))
+    table = _stats.select_replicates(hops, _stats.UNPERTURBED)
+    if len(table) == 0:
+        table = hops
+    keys = ["sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa"]
+    table = table.assign(_point=table[keys].astype(str).agg("|".join, axis=1),
+                         **{c: pd.to_numeric(table[c], errors="coerce") for c in (metric, "density_g_cm3", "modulus_gpa")})
+    significant = None
+    base = None
+    if baseline_hops is not None and len(baseline_hops):
+        base = _stats.select_replicates(baseline_hops[baseline_hops["design"] == baseline], _stats.UNPERTURBED)
+        if "behaviour" in base.columns and "behaviour" in table.columns:
+            base = base[base["behaviour"].isin(set(table["behaviour"]))]
+        if len(base):
+            joint = pd.concat([table.assign(design=table["_point"])[["design", metric]].assign(behaviour="sweep"),
+                               base.assign(design="__baseline__")[["design", metric]].assign(behaviour="sweep")],
+                              ignore_index=True)
+            from ..metrics import compare
+            cmp = compare(joint, "__baseline__", by="behaviour", metrics=(metric,), alpha=alpha)
+            significant = set(cmp.loc[cmp["significant"].astype(bool), "design"])
+    factor, ylabel = metric_scale(metric, table[metric])
+    seen = list(table["sweep_base"].unique()) + (list(bad["sweep_base"].unique()) if len(bad) else [])
+    bases = [b for b in ("PVC", "Al", "Ti", "SS") if b in seen]
+    bases += [b for b in dict.fromkeys(seen) if b not in bases]
+    with rc_context(STYLE):
+        fig = _new_figure(9.0, 3.4)
+        axes = fig.subplots(1, 2, sharey=True)
+        for ax, (prop, letter) in zip(axes, (("density", "D"), ("modulus", "E"))):
+            col, xlabel = SWEEP_PROPERTIES[prop]
+            sub = table[table["sweep_property"] == prop]
+            for i, b in enumerate(bases):
+                s = sub[sub["sweep_base"] == b]
+                if len(s) == 0:
+                    continue
+                colour = design_colour(b, i)
+                g = s.groupby(["_point", col], sort=False)[metric]
+                pts = pd.DataFrame({"mean": g.mean(), "q1": g.quantile(0.25), "q3": g.quantile(0.75)}).reset_index()
+                pts = pts.sort_values(col)
+                x = pts[col].to_numpy(float)
+                y = pts["mean"].to_numpy(float) * factor
+                yerr = np.vstack([y - pts["q1"].to_numpy(float) * factor, pts["q3"].to_numpy(float) * factor - y])
+                ax.errorbar(x, y, yerr=np.clip(yerr, 0, None), color=colour, lw=1.2, capsize=2, elinewidth=0.8,
+                            marker="none", label=b, zorder=2)
+                nominal = ref.MONO_MATERIALS.get(b, (None, None))
+                for xi, yi, pt in zip(x, y, pts["_point"]):
+                    filled = significant is None or pt in significant
+                    ax.plot(xi, yi, "o", ms=5, color=colour, zorder=3,
+                            markerfacecolor=colour if filled else "white", markeredgewidth=1.0,
+                            markeredgecolor=colour)
+                nom = s[(np.isclose(s["density_g_cm3"], nominal[0] or -1)) & (np.isclose(s["modulus_gpa"], nominal[1] or -1))]
+                if len(nom):
+                    ax.plot(float(nom[col].iloc[0]), float(nom[metric].mean()) * factor, "o", ms=10,
+                            markerfacecolor="none", markeredgecolor="black", markeredgewidth=1.2, zorder=4)
+            lost = bad[bad["sweep_property"] == prop] if len(bad) else bad
+            for _, row in lost.iterrows():
+                bi = bases.index(row["sweep_base"]) if row["sweep_base"] in bases else 0
+                ax.plot(float(row[col]), 0.03 + 0.05 * bi, marker="x", ms=6, mew=1.6, color=design_colour(row["sweep_base"], bi),
+                        clip_on=False, zorder=5, transform=ax.get_xaxis_transform())
+            if base is not None and len(base):
+                v = base[metric].to_numpy(float) * factor
+                ax.axhline(np.mean(v), color=design_colour(baseline), ls="--", lw=1.0, zorder=1)
+                ax.axhspan(*np.percentile(v, [25, 75]), color=design_colour(baseline), alpha=0.15, lw=0, zorder=0)
+            ax.set_xscale("log")
+            plain_log_ticks(ax.xaxis)
+            ax.set_xlabel(xlabel)
+            ax.grid(True, axis="x", which="major", alpha=0.3)
+            _panel_label(ax, letter)
+        axes[0].set_ylabel(ylabel)
+        handles = [Line2D([], [], color=design_colour(b, i), marker="o", lw=1.2, label=b) for i, b in enumerate(bases)]
+        handles.append(Line2D([], [], ls="none", marker="o", ms=10, markerfacecolor="none", markeredgecolor="black",
+                              markeredgewidth=1.2, label="base material"))
+        if len(bad):
+            why = "diverged" if bad["why"].str.startswith("unstable").all() else "diverged, fell or failed"
+            handles.append(Line2D([], [], ls="none", marker="x", ms=7, mew=1.6, color="#555555",
+                                  label=f"run {why}"))
+        if base is not None and len(base):
+            handles.append(Patch(facecolor=design_colour(baseline), alpha=0.3, edgecolor=design_colour(baseline),
+                                 linestyle="--", label=f"{design_label(baseline)} mean, IQR"))
+            handles.append(Line2D([], [], ls="none", marker="o", ms=5, markerfacecolor="white",
+                                  markeredgecolor="#555555", label=f"open: not significant vs {design_label(baseline)}"))
+        fig.legend(handles=handles, loc="outside upper center", ncols=min(len(handles), 5), columnspacing=1.0)
+    return fig
+
+
+# --- time series ------------------------------------------------------------------
+
+
+def rollout_series(rollout) -> pd.DataFrame:
+    """Per hop cycle of one rollout, from its start (no transient cut):
+    mid-time (s) and the metrics of :func:`mat_hopper.metrics.hop_table`
+    (hop height m, tracking error m, hip power W, ...), one row per cycle."""
+    from ..metrics import hop_table
+    t = hop_table(rollout, transient_s=0.0)
+    return t.assign(t_mid_s=(t["t_start_s"].astype(float) + t["t_end_s"].astype(float)) / 2)
+
+
+TIMESERIES_METRICS = ("hop_height_m", "tracking_error_m", "power_w")
+
+
+def figure5_timeseries(rollouts, *, behaviours=None, metrics=TIMESERIES_METRICS,
+                       transient_s: float | None = None) -> Figure:
+    """Fig. 5 C: hop height, tracking error and hip power against simulated
+    time, one point per hop cycle (lift-off to lift-off, the metrics'
+    own cycles) at its mid-time, one column per behaviour (forward, then
+    ramp), one line per design. The transient (cycles not scored) is shaded.
+
+    rollouts: iterable of :class:`~mat_hopper.sim.Rollout`."""
+    rollouts = list(rollouts)
+    if not rollouts:
+        raise ValueError("figure5_timeseries needs at least one Rollout")
+    behaviours = order_behaviours(behaviours or [r.behaviour.name for r in rollouts])
+    designs = order_designs([r.design.name for r in rollouts])
+    series = [(r, rollout_series(r)) for r in rollouts]
+    allrows = pd.concat([s for _, s in series if len(s)], ignore_index=True) if any(len(s) for _, s in series) else None
+    scales = [metric_scale(m, None if allrows is None else allrows[m]) for m in metrics]
+    transient = rollouts[0].settings.transient_s if transient_s is None else float(transient_s)
+    with rc_context(STYLE):
+        fig = _new_figure(4.6 * len(behaviours), 2.1 * len(metrics) + 0.6)
+        axes = fig.subplots(len(metrics), len(behaviours), squeeze=False, sharex="col", sharey="row")
+        for j, b in enumerate(behaviours):
+            for r, s in series:
+                if r.behaviour.name != b or len(s) == 0:
+                    continue
+                di = designs.index(r.design.name)
+                colour = design_colour(r.design.name, di)
+                for i, m in enumerate(metrics):
+                    axes[i, j].plot(s["t_mid_s"], s[m].astype(float) * scales[i][0], color=colour, lw=1.1,
+                                    marker="o", ms=1.8)
+                if not r.stable:
+                    axes[0, j].axvline(r.diverged_at_s, color=colour, ls=":", lw=1.0)
+            for i in range(len(metrics)):
+                ax = axes[i, j]
+                if transient > 0:
+                    ax.axvspan(0, transient, color="#000000", alpha=0.06, lw=0)
+                if j == 0:
+                    ax.set_ylabel(scales[i][1])
+                ax.grid(True, axis="x", alpha=0.3)
+            axes[0, j].set_title(f"{BEHAVIOUR_LABELS.get(b, b)} hopping")
+            axes[-1, j].set_xlabel("Simulated time (s)")
+            axes[0, j].set_xlim(left=0)
+        _panel_label(axes[0, 0], "C")
+        handles = [Line2D([], [], color=design_colour(d, i), lw=1.5, marker="o", ms=2.5, label=design_label(d))
+                   for i, d in enumerate(designs)]
+        if transient > 0:
+            handles.append(Patch(facecolor="#000000", alpha=0.1, label=f"transient (< {transient:g} s, not scored)"))
+        fig.legend(handles=handles, loc="outside upper center", ncols=min(len(handles), 6), columnspacing=1.0,
+                   title="one point per hop cycle (lift-off to lift-off)", title_fontsize=8)
+    return fig
+
+
+# --- all figures of a reproduction -------------------------------------------------------
+
+
+def _concat_tables(frames) -> pd.DataFrame | None:
+    frames = [f for f in frames if f is not None and len(f)]
+    return pd.concat(frames, ignore_index=True) if frames else None
+
+
+def _of_convention(t: pd.DataFrame | None, convention: str) -> pd.DataFrame | None:
+    if t is None or "convention" not in t.columns:
+        return t if convention == "paper" else None
+    t = t[t["convention"] == convention]
+    return t if len(t) else None
+
+
+def write_figures(tables: dict, out_dir, *, rollouts=None, basis: str = "auto", formats=("png", "svg"),
+                  dpi: int = DPI) -> list[Path]:
+    """Every figure the tables allow, as PNG and SVG in ``<out_dir>/figures/``.
+
+    tables: a reproduction's tables by name (``exp1_hops``, ``exp1_runs``,
+    ``exp2_hops``, ``exp2_runs``, ``exp3_hops``, ``exp3_runs``,
+    ``stability``; any may be missing: its figures are skipped). Files:
+    ``fig4_mono``, ``fig4_sweeps``, ``fig5_gradients`` (stars on hop
+    cycles, the paper's test) and, when the runs have replicates and basis
+    is ``auto`` or ``replicates``, ``fig4_mono_replicates`` and
+    ``fig5_gradients_replicates`` (basis ``hops`` or ``replicates``: only
+    those); ``stability_map``; ``ashby``;
+    ``fig5_timeseries`` when `rollouts` (Rollout objects of forward and
+    ramp hopping) are given. A convention other than ``paper`` gets its
+    name as a suffix (``fig4_mono_axial``). Returns the paths written."""
+    if basis not in ("auto", "hops", "replicates"):
+        raise ValueError(f"basis must be one of auto, hops, replicates; got {basis!r}")
+    fig_dir = Path(out_dir) / "figures"
+    written: list[Path] = []
+
+    def save(fig, stem):
+        written.extend(save_figure(fig, fig_dir / stem, formats=formats, dpi=dpi))
+
+    get = tables.get
+    runs_all = _concat_tables([get("exp1_runs"), get("exp2_runs"), get("exp3_runs")])
+    for conv in CONVENTIONS:
+        sfx = "" if conv == "paper" else f"_{conv}"
+        runs = _of_convention(runs_all, conv)
+        e1, e2, e3 = (_of_convention(get(f"exp{i}_hops"), conv) for i in (1, 2, 3))
+        reps = any(t is not None and _stats.has_replicates(t) for t in (e1, e3))
+        bases = {"hops": ["hops"], "replicates": ["replicates"] if reps else [],
+                 "auto": ["hops", "replicates"] if reps else ["hops"]}[basis]
+        for b in bases:
+            tail = "" if b == "hops" else "_replicates"
+            if e1 is not None:
+                save(figure4_mono(e1, basis=b, runs=runs), f"fig4_mono{tail}{sfx}")
+            grad = _concat_tables([e1, e3])
+            if e3 is not None and grad is not None:
+                save(figure5_gradients(grad, basis=b, runs=runs), f"fig5_gradients{tail}{sfx}")
+        if e2 is not None:
+            base = _concat_tables([e1, e3])
+            if base is not None:
+                base = base[(base["design"] == "MD") & (base["behaviour"] == "forward")]
+            save(figure4_sweeps(e2, base if base is not None and len(base) else None, runs=runs),
+                 f"fig4_sweeps{sfx}")
+        stab = _of_convention(get("stability"), conv)
+        if stab is not None:
+            save(stability_figure(stab, convention=conv), f"stability_map{sfx}")
+    if rollouts:
+        save(figure5_timeseries(rollouts), "fig5_timeseries")
+    save(ashby_figure(), "ashby")
+    return written

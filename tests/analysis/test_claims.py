@@ -1,0 +1,119 @@
+import numpy as np
+import pandas as pd
+import pytest
+from synthetic_results import results, stability_table
+
+from mat_hopper import reference as ref
+from mat_hopper.analysis import claims
+
+
+def _verdicts(table, convention="paper"):
+    t = table[table["convention"] == convention]
+    return dict(zip(t["claim_id"], t["verdict"]))
+
+
+@pytest.fixture(scope="module")
+def paper_results():
+    return results(convention="paper", n=20)
+
+
+def test_constructed_to_hold(paper_results):
+    """Synthetic results built with the paper's numbers: every claim holds;
+    a convention without results is 'not run', never a number."""
+    hops, runs = paper_results
+    t = claims.claims_table(hops, runs, stability_table())
+    assert list(t.columns[:5]) == ["claim_id", "claim", "paper", "ours", "verdict"]
+    assert set(t["convention"]) == {"paper", "axial"}
+    assert set(t["claim_id"]) == {c.claim_id for c in claims.CLAIMS}
+    paper = _verdicts(t)
+    assert all(v == claims.HOLDS for v in paper.values()), paper
+    axial = t[t["convention"] == "axial"]
+    assert (axial["verdict"] == claims.NOT_RUN).all() and (axial["ours"] == "not run").all()
+    row = t[(t["convention"] == "paper") & (t["claim_id"] == "ramp_rho_inc_tracking")].iloc[0]
+    assert row["paper"] == "-82 %" and row["ours"] == "-82 %"
+    assert (t["profile"] == "quick").all()
+
+
+def test_partly_and_does_not_hold():
+    # SS on static only -30 %: every behaviour lower, not all by 55 %: partly.
+    # rho-inc ramp tracking at +10 % vs MD: does not hold (wrong sign).
+    hops, runs = results(n=20, tracking={"SS": 0.028})
+    static_ss = (hops["design"] == "SS") & (hops["behaviour"] == "static")
+    hops.loc[static_ss, "tracking_error_m"] *= 0.07 / 0.028
+    ramp_inc = (hops["design"] == "rho-inc") & (hops["behaviour"] == "ramp")
+    hops.loc[ramp_inc, "tracking_error_m"] *= 0.11 / 0.018
+    v = _verdicts(claims.claims_table(hops, runs, conventions=("paper",)))
+    assert v["tracking_ss_55"] == claims.PARTLY
+    assert v["ramp_rho_inc_tracking"] == claims.FAILS
+    assert v["headline_tracking"] == claims.FAILS          # rho-inc now tracks worse than SS
+    assert v["ramp_ss_tracking"] == claims.HOLDS
+    assert v["timestep_materials"] == claims.NOT_RUN       # no stability map given
+
+
+def test_unstable_runs_are_not_testable_never_numbers(paper_results):
+    hops, runs = paper_results
+    ax_hops, ax_runs = results(convention="axial", n=20)
+    bad = ax_runs["design"].isin(["SS", "Ti"])
+    ax_runs.loc[bad, ["stable", "upright", "status", "diverged_at_s"]] = [False, False, "diverged", 0.0012]
+    t = claims.claims_table(pd.concat([hops, ax_hops]), pd.concat([runs, ax_runs]), timestep_s=1e-4)
+    ax = t[t["convention"] == "axial"].set_index("claim_id")
+    assert ax.loc["tracking_ss_55", "verdict"] == claims.NOT_TESTABLE
+    assert "SS unstable at dt=1e-4 s" in ax.loc["tracking_ss_55", "ours"]
+    assert ax.loc["ramp_rho_inc_tracking", "verdict"] == claims.HOLDS        # MD and rho-inc are fine
+    assert ax.loc["tracking_all_beat_md", "verdict"] == claims.PARTLY        # judged on PVC and Al only
+    assert "unusable" in ax.loc["tracking_all_beat_md", "detail"]
+    assert _verdicts(t)["tracking_ss_55"] == claims.HOLDS                    # the paper convention untouched
+
+
+def test_replicate_basis_is_used_when_present():
+    hops, runs = results(n=6, replicates=3)
+    t = claims.claims_table(hops, runs, conventions=("paper",))
+    row = t.set_index("claim_id").loc["ramp_ss_tracking"]
+    assert row["basis"] == "replicate means" and "CI" in row["detail"]
+    assert t.set_index("claim_id").loc["density_over_modulus", "basis"] == "hop cycles"   # exp2: no replicates
+
+
+def test_match_percent_rule():
+    assert claims.match_percent(-80.0, -82.0) == claims.HOLDS
+    assert claims.match_percent(-30.0, -35.0) == claims.HOLDS        # within 10 points
+    assert claims.match_percent(-40.0, -82.0) == claims.PARTLY
+    assert claims.match_percent(-10.0, -82.0) == claims.FAILS        # under a quarter of the size
+    assert claims.match_percent(5.0, -82.0) == claims.FAILS
+    assert claims.match_percent(np.nan, -82.0) == claims.NOT_TESTABLE
+
+
+def test_stability_claims_from_the_map():
+    s = stability_table()
+    v = _verdicts(claims.claims_table(None, None, s, conventions=("paper",)))
+    assert v["timestep_materials"] == claims.HOLDS and v["timestep_trend"] == claims.HOLDS
+    flipped = s.assign(max_stable_timestep_s=1e-7 / s["max_stable_timestep_s"])   # the trend reversed
+    v = _verdicts(claims.claims_table(None, None, flipped, conventions=("paper",)))
+    assert v["timestep_trend"] == claims.FAILS and v["timestep_materials"] == claims.FAILS
+
+
+def test_writers_are_atomic_and_complete(tmp_path, paper_results):
+    hops, runs = paper_results
+    t = claims.claims_table(hops, runs, stability_table())
+    md, csv = claims.write_claims(t, tmp_path / "out")
+    text = open(md, encoding="utf-8").read()
+    assert text.startswith("| claim | convention | paper | ours | verdict |")
+    assert text.count("\n| ") >= len(t) and "Verdict rules:" in text
+    back = pd.read_csv(csv)
+    assert list(back["claim_id"]) == list(t["claim_id"]) and list(back["verdict"]) == list(t["verdict"])
+    assert not [p for p in (tmp_path / "out").iterdir() if p.name.startswith(".tmp-")]
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="convention"):
+        claims.claims_table(None, conventions=("bent",))
+    with pytest.raises(ValueError, match="basis"):
+        claims.claims_table(None, basis="cycles")
+    two = pd.concat([stability_table(), stability_table().assign(profile="paper")])
+    with pytest.raises(ValueError, match="profile"):
+        claims.claims_table(None, None, two)
+
+
+def test_claim_numbers_come_from_reference():
+    paper = {c.claim_id: c.paper for c in claims.CLAIMS}
+    assert paper["ramp_rho_inc_power"] == f"{ref.CLAIM_RAMP_RHO_INC_POWER_PCT:+.0f} %"
+    assert paper["headline_power"] == f"{ref.CLAIM_HEADLINE_POWER_PCT:+.0f} %"

@@ -1,0 +1,120 @@
+"""Tables for reading (mat_hopper.analysis.tables), on synthetic results with
+known answers and on the compiled model."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from synthetic_results import results
+
+from mat_hopper import reference as ref
+from mat_hopper.analysis import tables as tab
+from mat_hopper.materials import spring_stiffness
+from mat_hopper.viz import chapters
+
+
+@pytest.fixture(scope="module")
+def synthetic():
+    return results(n=20)
+
+
+def test_joint_table():
+    j = tab.joint_table("SS").set_index("joint")
+    assert np.isclose(j.loc["mat_spring_1", "stiffness"], spring_stiffness(193.0))
+    assert j.loc["spring", "stiffness"] == ref.FOOT_SPRING_STIFFNESS
+    assert j.loc["hip_y", "type"] == "hinge" and np.isclose(j.loc["hip_y", "range_high"], math.radians(70))
+    assert "mat_spring_1" not in tab.joint_table("MD")["joint"].values
+
+
+def test_pct_change_and_metric_tables(synthetic):
+    hops, _ = synthetic
+    exp1 = hops[hops["experiment"] == "exp1"]
+    t = tab.pct_change_table(exp1, "tracking_error_m")
+    assert list(t.index) == ["PVC", "Al", "Ti", "SS"]
+    assert list(t.columns) == ["static", "forward", "ramp", "circle"]
+    assert abs(t.loc["SS", "ramp"] - (0.028 / 0.10 - 1) * 100) < 3     # set by construction (3 % noise)
+    zero = exp1.assign(tracking_error_m=np.where(exp1["design"] == "MD", 1e-17, exp1["tracking_error_m"]))
+    assert tab.pct_change_table(zero, "tracking_error_m").isna().all().all()   # % of round-off: none
+    vs_ss = tab.pct_change_table(hops[hops["experiment"] == "exp3"], "power_w", baseline="SS")
+    assert "SS" not in vs_ss.index and abs(vs_ss.loc["rho-inc", "ramp"] - (2.23 / 2.93 - 1) * 100) < 3
+    m = tab.metric_table(exp1, "hop_height_m")
+    assert ((m - 1.0).abs() < 0.01).all().all()
+    mm = tab.metric_table(exp1, "tracking_error_m", "median", scale=1e3)
+    assert abs(mm.loc["MD", "forward"] - 100) < 5
+    with pytest.raises(ValueError, match="stat"):
+        tab.metric_table(exp1, "power_w", "max")
+
+
+def test_outcome_table():
+    runs = pd.DataFrame({"design": ["SS", "SS", "MD"], "behaviour": ["ramp", "static", "static"],
+                         "replicate": [-1, -1, -1], "status": ["diverged", "ok", "fallen"],
+                         "n_hops": [3, 40, 10], "diverged_at_s": [12.5, np.nan, np.nan]})
+    t = tab.outcome_table(runs)
+    assert list(t.index) == ["MD", "SS"] and list(t.columns) == ["static", "ramp"]
+    assert t.loc["SS", "ramp"] == "diverged at 12 s"
+    text = tab.outcome_summary(runs)
+    assert text.startswith("1 of 3 runs ended upright; not: ")
+    assert "SS ramp: diverged at 12 s" in text and "MD static: fallen" in text
+    ok = runs.assign(status="ok")
+    assert tab.outcome_summary(ok) == "3 of 3 runs ended upright."
+    assert t.loc["SS", "static"] == "ok, 40 hops" and t.loc["MD", "static"] == "fallen"
+    with pytest.raises(ValueError, match="status"):
+        tab.outcome_table(runs.drop(columns="status"))
+
+
+def test_sweep_spans(synthetic):
+    hops, _ = synthetic
+    s = tab.sweep_spans(hops[hops["experiment"] == "exp2"]).set_index(["sweep_base", "sweep_property"])
+    # by construction density moves tracking error strongly, modulus little
+    for base in ref.SWEEPS:
+        assert s.loc[(base, "density"), "span"] > s.loc[(base, "modulus"), "span"]
+    assert s.loc[("Ti", "density"), "at_max"] == min(ref.SWEEPS["Ti"]["density"])   # lightest tracks worst
+    assert s.loc[("Ti", "density"), "n_points"] == len(ref.SWEEPS["Ti"]["density"])
+
+
+def test_order_effect_and_starred(synthetic):
+    hops, _ = synthetic
+    exp3 = hops[hops["experiment"] == "exp3"]
+    t = tab.order_effect(exp3)
+    assert set(t["pair"]) == {"rho-dec vs rho-inc", "SS-Ti-PVC vs PVC-Ti-SS"}
+    row = t[(t["pair"] == "rho-dec vs rho-inc") & (t["behaviour"] == "ramp") & (t["metric"] == "tracking_error_m")]
+    assert abs(row["pct_change"].iloc[0] - (0.04 / 0.018 - 1) * 100) < 10 and bool(row["significant"].iloc[0])
+    wide = tab.starred(t)
+    assert list(wide.columns) == ["static", "forward", "ramp", "circle"]
+    assert wide.loc[("rho-dec vs rho-inc", "tracking_error_m"), "ramp"].endswith("*")
+    with pytest.raises(ValueError, match="both"):
+        tab.order_effect(exp3[exp3["design"] != "rho-dec"])
+
+
+def test_claims_for_chapters(synthetic):
+    hops, runs = synthetic
+    tables = {f"{e}_hops": hops[hops["experiment"] == e] for e in ("exp1", "exp2", "exp3")}
+    tables.update({f"{e}_runs": runs[runs["experiment"] == e] for e in ("exp1", "exp2", "exp3")})
+    from mat_hopper.analysis import claims
+    known = {c.claim_id for c in claims.CLAIMS}
+    for ids in tab.CHAPTER_CLAIMS.values():
+        assert set(ids) <= known
+    every = tab.claims_for(tables, None, columns=None)
+    assert set(every["claim_id"]) == known
+    mono = tab.claims_for(tables, "mono", columns=None)
+    assert list(mono["claim_id"]) == list(tab.CHAPTER_CLAIMS["mono"])
+    assert list(tab.claims_for(tables, "gradients").columns) == ["claim", "paper", "ours", "verdict"]
+    ramp = mono = tab.claims_for(tables, "gradients", columns=None).set_index("claim_id")
+    assert ramp.loc["ramp_rho_inc_tracking", "verdict"] == "holds"        # -82 % by construction
+    with pytest.raises(ValueError, match="chapter"):
+        tab.claims_for(tables, "nope")
+
+
+def test_power_formula_and_defects_figure(synthetic):
+    hops, _ = synthetic
+    p = tab.power_formula_table(hops[hops["experiment"] == "exp1"])
+    assert list(p.index) == ["real hip power (ours)", "the authors' formula"]
+    assert abs(p.loc["real hip power (ours)", "ramp"] - (2.93 - 1) * 100) < 10
+    clock = pd.DataFrame({"design": ["MD", "MD"], "clock_factor": [1.0, 2.0], "mean_tracking_error_m": [0.06, 0.1]})
+    jerk = {"MD": pd.DataFrame({"rate_hz": [1000.0, 10.0], "mean_jerk_m_s3": [500.0, 100.0]})}
+    assert len(chapters.defects_figure(clock, jerk, p).axes) == 3
+    rules = tab.claim_rules()
+    assert len(rules) == len(tab.claims_for({"exp1_hops": hops[hops["experiment"] == "exp1"]}, None))

@@ -1,0 +1,65 @@
+"""``mat-hopper reproduce``: bad input fails before any work; a tiny
+profile runs end to end (tables, figures, claims) and then from the cache."""
+
+
+import pandas as pd
+import pytest
+
+from mat_hopper.cli import main
+from mat_hopper.experiments.profiles import Profile
+from mat_hopper.experiments.reproduce import reproduce
+
+TINY = Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5, stability_tolerance=1.5, stability_scan=False)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--experiments", "1,9"], "unknown experiment"),
+    (["--workers", "-1"], "workers"),
+    (["--workers", "0"], "workers"),
+    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
+    (["--profile", "fast"], "unknown profile"),
+    (["--replicates", "-3"], "replicates"),
+    (["--conventions", "paper,beam"], "convention"),
+])
+def test_bad_input_is_a_one_line_error_before_any_work(tmp_path, capsys, args, message):
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    rc = main(["reproduce", "--out", str(out), "--cache", str(cache), "--no-progress", *args])
+    err = capsys.readouterr().err
+    assert rc == 2 and message in err and len(err.strip().splitlines()) == 1
+    assert not out.exists() and not cache.exists()
+
+
+def test_tiny_reproduction_writes_tables_figures_claims(tmp_path):
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    lines = []
+    rep = reproduce(TINY, "1,stability", str(out), workers=2, cache_dir=str(cache), progress=False, log=lines.append)
+    for name in ("exp1_hops", "exp1_runs", "stability", "stability_tries", "stability_agreement"):
+        assert (out / f"{name}.csv").is_file()
+    runs = pd.read_csv(out / "exp1_runs.csv")
+    assert len(runs) == 20 and set(runs["profile"]) == {"tiny"} and set(runs["status"]) == {"ok"}
+    hops = pd.read_csv(out / "exp1_hops.csv")
+    assert {"experiment", "profile", "design", "behaviour", "replicate", "tracking_error_m"} <= set(hops.columns)
+    stab = pd.read_csv(out / "stability.csv")
+    assert len(stab) == 4 and stab["max_stable_timestep_s"].notna().all()
+    assert (out / "claims.md").is_file() and (out / "claims.csv").is_file()
+    assert any(f.endswith(".png") for f in rep.files)
+    assert rep.computed == {"exp1": 20, "stability": 4} and not any(rep.failed.values())
+    again = reproduce(TINY, ["exp1"], str(out), workers=1, cache_dir=str(cache), progress=False, figures=False,
+                      log=lines.append)
+    assert again.computed == {"exp1": 0}
+    pd.testing.assert_frame_equal(again.tables["exp1_runs"].reset_index(drop=True),
+                                  rep.tables["exp1_runs"].reset_index(drop=True))
+    assert any("20 cached" in line for line in lines)
+
+
+def test_axial_convention_runs_beside_paper_at_its_own_time_step(tmp_path):
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    one = Profile("one", 1.5, 0.5, 1e-4, 2, 0.5, axial_timestep_s=2e-5)
+    assert one.for_convention("axial").timestep_s == 2e-5 and one.for_convention("paper") is one
+    rep = reproduce(one, "1", str(out), workers=2, cache_dir=str(cache), progress=False,
+                    conventions="paper,axial", log=lambda *a: None)
+    runs = rep.tables["exp1_runs"]
+    assert len(runs) == 40
+    assert dict(runs.groupby("convention")["timestep_s"].first()) == {"axial": 2e-5, "paper": 1e-4}
+    claims = rep.tables["claims"]
+    assert set(claims["convention"]) == {"paper", "axial"}

@@ -1,0 +1,449 @@
+"""The design optimizer: search space, constraints, samplers, storages
+(SQLite and a real PostgreSQL server), worker processes, dead workers,
+reports. Runs use a 2 s profile (tiny) so the file stays short."""
+
+from __future__ import annotations
+
+import glob
+import json
+import os
+import pwd
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import warnings
+
+import numpy as np
+import optuna
+import pandas as pd
+import pytest
+from optuna.trial import TrialState
+
+from mat_hopper.cli import main
+from mat_hopper.experiments.profiles import Profile
+from mat_hopper.materials import LegDesign, paper_designs
+from mat_hopper.optimize._objective import Objective, evaluate
+from mat_hopper.optimize._space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample
+from mat_hopper.optimize._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR, open_storage
+from mat_hopper.optimize._study import (
+    RunOptions,
+    StudyConfig,
+    check_sampler,
+    counts,
+    create_or_load,
+    make_sampler,
+    run_study,
+    worker_seed,
+)
+from mat_hopper.optimize.report import hypervolume_2d, pareto_frame, replay, write_report
+
+optuna.logging.set_verbosity(optuna.logging.WARNING)
+TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
+TINY_OBJ = Objective(profile=TINY)
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+ENV = {**os.environ, "PYTHONPATH": REPO + os.pathsep + os.environ.get("PYTHONPATH", "")}
+
+
+def tiny_config(name, **space):
+    return StudyConfig(name, SearchSpace(**space), TINY_OBJ)
+
+
+def _trials(url, name):
+    study = optuna.load_study(study_name=name, storage=open_storage(url))
+    return sorted(study.get_trials(), key=lambda t: t.number), study
+
+
+# --- a real PostgreSQL server ------------------------------------------------
+
+def _pg_bin():
+    dirs = glob.glob("/usr/lib/postgresql/*/bin")
+    dirs = [d for d in dirs if os.path.exists(os.path.join(d, "pg_ctl"))]
+    return sorted(dirs, key=lambda d: int(d.split("/")[-2]) if d.split("/")[-2].isdigit() else 0)[-1] if dirs else None
+
+
+@pytest.fixture(scope="module")
+def pg_url():
+    """A throw-away PostgreSQL server on a free localhost port (as user
+    postgres when we are root), with an empty database; stopped after."""
+    bindir = _pg_bin()
+    if bindir is None:
+        pytest.skip("PostgreSQL server binaries not found in /usr/lib/postgresql/*/bin")
+    root = os.geteuid() == 0
+    as_user = (lambda cmd: ["runuser", "-u", "postgres", "--", *cmd]) if root else (lambda cmd: cmd)
+    tmp = tempfile.mkdtemp(prefix="mat-hopper-pg-")
+    if root:
+        pw = pwd.getpwnam("postgres")
+        os.chown(tmp, pw.pw_uid, pw.pw_gid)
+    data, log = os.path.join(tmp, "data"), os.path.join(tmp, "server.log")
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    run = lambda cmd: subprocess.run(as_user(cmd), check=True, capture_output=True, text=True)
+    run([f"{bindir}/initdb", "-D", data, "-A", "trust", "-U", "postgres", "--no-sync", "-E", "UTF8"])
+    run([f"{bindir}/pg_ctl", "-D", data, "-l", log, "-w", "-t", "60", "-o",
+         f"-p {port} -k {tmp} -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=50", "start"])
+    try:
+        run([f"{bindir}/createdb", "-h", "127.0.0.1", "-p", str(port), "-U", "postgres", "optuna"])
+        yield f"postgresql+psycopg2://postgres@127.0.0.1:{port}/optuna"
+    finally:
+        subprocess.run(as_user([f"{bindir}/pg_ctl", "-D", data, "-m", "immediate", "-w", "stop"]),
+                       capture_output=True)
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+# --- search space -----------------------------------------------------------
+
+@pytest.mark.parametrize("kwargs, field", [
+    ({"density_g_cm3": (5.0, 5.0)}, "density_g_cm3"),
+    ({"density_g_cm3": (10.0, 1.0)}, "density_g_cm3"),
+    ({"modulus_gpa": (100.0, 10.0)}, "modulus_gpa"),
+    ({"modulus_gpa": (0.0, 10.0)}, "modulus_gpa"),
+    ({"n_segments": 0}, "n_segments"),
+    ({"kinds": ("continuous", "catalogue")}, "kinds"),
+    ({"kinds": "grid"}, "kinds"),
+    ({"kinds": "catalogue", "materials": ("Unobtainium",)}, "unknown material"),
+    ({"kinds": "catalogue", "materials": ("MD",)}, "rigid"),
+])
+def test_space_rejects_bad_bounds_and_kinds(kwargs, field):
+    with pytest.raises(ValueError, match=field):
+        SearchSpace(**kwargs)
+
+
+def test_default_bounds_span_the_paper_classes():
+    assert DENSITY_BOUNDS_G_CM3 == (0.9, 20.0)
+    assert MODULUS_BOUNDS_GPA == (0.1, 1000.0)
+    for mat in ("PVC", "Al", "Ti", "SS"):
+        m = paper_designs()[mat].segments[0]
+        assert DENSITY_BOUNDS_G_CM3[0] <= m.density_g_cm3 <= DENSITY_BOUNDS_G_CM3[1]
+        assert MODULUS_BOUNDS_GPA[0] <= m.modulus_gpa <= MODULUS_BOUNDS_GPA[1]
+
+
+@pytest.mark.parametrize("sampler", ["tpe", "nsga2"])
+def test_suggested_designs_respect_bounds(sampler):
+    space = SearchSpace(n_segments=4, kinds=("continuous", "catalogue", "continuous", "continuous"),
+                        density_g_cm3=(2.0, 3.0), modulus_gpa=(50.0, 60.0), materials=("PVC", "Ti"))
+    study = optuna.create_study(directions=["minimize"] * 2, sampler=make_sampler(sampler, 1))
+    seen = set()
+    for i in range(60):
+        t = study.ask()
+        d = space.suggest(t)
+        assert d.n_segments == 4
+        for k, m in enumerate(d.segments):
+            if k == 1:
+                assert m.name in ("PVC", "Ti")
+                seen.add(m.name)
+            else:
+                assert 2.0 <= m.density_g_cm3 <= 3.0 and 50.0 <= m.modulus_gpa <= 60.0
+        assert space.design(t.params).segments == d.segments
+        study.tell(t, [float(i % 7), float(i % 5)])
+    assert seen == {"PVC", "Ti"}
+
+
+def test_paper_designs_seed_every_space():
+    seeds = dict(SearchSpace().seeds())
+    assert list(seeds) == ["SS", "rho-inc", "PVC-Ti-SS"]
+    assert seeds["rho-inc"] == {"seg1_density_g_cm3": 1.39, "seg1_modulus_gpa": 70.0, "seg2_density_g_cm3": 4.43,
+                                "seg2_modulus_gpa": 70.0, "seg3_density_g_cm3": 8.0, "seg3_modulus_gpa": 70.0}
+    cat = dict(SearchSpace(kinds="catalogue").seeds())
+    assert cat == {"SS": {f"seg{i}_material": "SS" for i in (1, 2, 3)},
+                   "PVC-Ti-SS": {"seg1_material": "PVC", "seg2_material": "Ti", "seg3_material": "SS"}}
+    six = SearchSpace(n_segments=6).seeds()
+    rho = dict(six)["rho-inc"]
+    assert [rho[f"seg{i}_density_g_cm3"] for i in range(1, 7)] == [1.39, 1.39, 4.43, 4.43, 8.0, 8.0]
+    assert [m.name for m in resample(paper_designs()["PVC-Ti-SS"], 2)] == ["PVC", "SS"]
+    # bounds that exclude SS's 193 GPa leave it out
+    assert [n for n, _ in SearchSpace(modulus_gpa=(1.0, 150.0)).seeds()] == ["rho-inc"]
+
+
+# --- objective and constraints ---------------------------------------------
+
+def test_constraints_feasible_design_and_diverging_design():
+    quick = Objective(profile=Profile("quick", 8.0, 3.0))
+    ev = evaluate(paper_designs()["SS"], quick)
+    h = ev.per_behaviour[0]["hop_height_m"]
+    assert ev.constraints == (pytest.approx(abs(h - 1.0) - 0.05), 0.0)
+    assert ev.feasible and ev.per_behaviour[0]["n_hops"] >= 3
+    strict = evaluate(paper_designs()["SS"], Objective(profile=quick.profile, hop_height_tolerance_m=abs(h - 1.0) / 2))
+    assert strict.constraints[0] == pytest.approx(abs(h - 1.0) / 2) and strict.constraints[1] == 0.0
+    assert not strict.feasible and strict.values == ev.values
+    # light and very stiff: diverges at the paper's step; infeasible, finite values, no exception
+    bad = evaluate(LegDesign.from_properties([0.9] * 3, [1000.0] * 3), TINY_OBJ)
+    assert bad.constraints[1] == 1.0 and not bad.feasible
+    assert all(np.isfinite(bad.values)) and bad.per_behaviour[0]["diverged_at_s"] is not None
+
+
+def test_behaviour_sets_average_and_bad_names():
+    obj = Objective(behaviours="static,ramp", profile=TINY)
+    ev = evaluate(paper_designs()["SS"], obj)
+    rows = ev.per_behaviour
+    assert [r["behaviour"] for r in rows] == ["static", "ramp"]
+    assert ev.values[0] == pytest.approx((rows[0]["tracking_error_m"] + rows[1]["tracking_error_m"]) / 2)
+    with pytest.raises(ValueError, match="unknown behaviour"):
+        Objective(behaviours=("hover",))
+
+
+# --- helpers of the report --------------------------------------------------
+
+def test_pareto_frame_keeps_optunas_front_once_with_percent_changes():
+    # trials 0-2 are Optuna's best_trials; trial 3 repeats trial 0's values (a retried design)
+    frame = pd.DataFrame({"trial": [0, 1, 2, 3, 4], "state": ["COMPLETE"] * 5, "feasible": [True] * 4 + [False],
+                          "design": list("abcde"), "paper_design": [""] * 5,
+                          "tracking_error_m": [1.0, 2.0, 3.0, 1.0, 0.5], "power_w": [3.0, 2.0, 1.0, 3.0, 0.5],
+                          "hop_height_m": [1.0] * 5})
+    front = pareto_frame(frame, {"SS": (2.0, 4.0)}, best=[0, 1, 2, 3])
+    assert front["trial"].tolist() == [0, 1, 2]
+    assert front["tracking_error_vs_SS_pct"].tolist() == [-50.0, 0.0, 50.0]     # (1-2)/2, (2-2)/2, (3-2)/2
+    assert front["power_vs_SS_pct"].tolist() == [-25.0, -50.0, -75.0]           # (3-4)/4, (2-4)/4, (1-4)/4
+    assert pareto_frame(frame, best=[]).empty
+
+
+def test_hypervolume():
+    pts = np.array([[1.0, 3.0], [2.0, 2.0], [3.0, 1.0], [2.5, 2.5], [1.0, 3.0]])
+    # staircase 1x3, 2x2, 3x1 against (4, 4): 3*1 + 2*1 + 1*1 (+ strips) = 6
+    assert hypervolume_2d(pts, (4.0, 4.0)) == pytest.approx(6.0)
+    assert hypervolume_2d([[5.0, 5.0]], (4.0, 4.0)) == 0.0
+
+
+# --- bad input: one line, exit 2, before any work ---------------------------
+
+@pytest.mark.parametrize("argv, text", [
+    (["--sampler", "cmaes"], "unknown sampler"),
+    (["--behaviour", "moonwalk"], "unknown behaviour"),
+    (["--storage", "foo://bar/baz"], "unknown storage scheme"),
+    (["--density-bounds", "5,1"], "min must be < max"),
+    (["--modulus-bounds", "10,10"], "min must be < max"),
+    (["--trials", "0"], "trials must be"),
+    (["--workers", "0"], "workers must be"),
+    (["--profile", "slow"], "unknown profile"),
+    (["--storage", "postgresql+psycopg2://nobody@127.0.0.1:1/none"], "cannot reach storage"),
+])
+def test_bad_input_is_one_line_exit_2(argv, text, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    code = main(["optimize", "--study", "bad", "--trials", "5", *argv])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert text in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "studies").exists()          # nothing was made
+
+
+def test_gp_sampler_needs_torch_or_builds():
+    try:
+        import torch  # noqa: F401
+    except ImportError:
+        with pytest.raises(ValueError, match="PyTorch"):
+            check_sampler("gp")
+    else:
+        assert type(make_sampler("gp", 0)).__name__ == "GPSampler"
+
+
+# --- studies on SQLite ------------------------------------------------------
+
+def _check_run(res, trials, url, name, workers):
+    """Every trial recorded once: COMPLETE trials = the union of what the
+    workers told, nobody told a trial twice, no trial is left running."""
+    ts, _ = _trials(url, name)
+    assert res.dead_workers == []
+    told = [n for r in res.worker_reports for n, state in r["told"]]
+    assert len(told) == len(set(told))
+    complete = [t.number for t in ts if t.state == TrialState.COMPLETE]
+    assert sorted(told) == complete and len(complete) == trials
+    assert [t.number for t in ts] == list(range(len(ts)))
+    assert not [t for t in ts if t.state in (TrialState.RUNNING, TrialState.WAITING)]
+    params = [json.dumps(t.params, sort_keys=True) for t in ts if t.state == TrialState.COMPLETE]
+    assert len(set(params)) == len(params)
+    assert len({t.user_attrs[WORKER_ATTR]["pid"] for t in ts}) == workers
+    return ts
+
+
+def test_sqlite_study_two_workers_paper_designs_first_report_replay(tmp_path, monkeypatch, capsys):
+    name = "sq"
+    opts = RunOptions(trials=7, workers=2, studies_dir=str(tmp_path / "studies"), progress=False)
+    res = run_study(tiny_config(name), opts)
+    url = opts.storage_url(name)
+    assert url == f"sqlite:///{tmp_path}/studies/sq.db" and res.finished
+    ts = _check_run(res, 7, url, name, workers=2)
+    assert [t.user_attrs.get(PAPER_ATTR) for t in ts[:3]] == ["SS", "rho-inc", "PVC-Ti-SS"]
+    assert ts[1].params["seg1_density_g_cm3"] == 1.39 and ts[0].params["seg3_modulus_gpa"] == 193.0
+    for t in ts:
+        assert set(t.constraints) == {"hop_height", "unstable"}
+        assert t.user_attrs["result"]["feasible"] == all(v <= 0 for v in t.constraints.values())
+    # running again with the same target does nothing; a larger one resumes
+    again = run_study(tiny_config(name), opts)
+    assert again.worker_reports == [] and again.done == 7
+
+    rep = write_report(name, open_storage(url), str(tmp_path / "report"))
+    for p in rep["paths"].values():
+        assert os.path.getsize(p) > 0
+    assert len(rep["trials"]) == 7 and set(rep["baselines"]) == {"SS", "rho-inc"}
+    front = rep["pareto"]
+    ok = rep["trials"][(rep["trials"].state == "COMPLETE") & rep["trials"].feasible]
+    for _, r in front.iterrows():     # nothing feasible dominates a front member
+        dom = (ok.tracking_error_m <= r.tracking_error_m) & (ok.power_w <= r.power_w) & (
+            (ok.tracking_error_m < r.tracking_error_m) | (ok.power_w < r.power_w))
+        assert not dom.any()
+    if "SS" in set(front.paper_design):
+        assert front.loc[front.paper_design == "SS", "tracking_error_vs_SS_pct"].iloc[0] == 0.0
+    hv = rep["hypervolume"]["hypervolume"].to_numpy()
+    assert np.all(np.diff(hv) >= 0)
+    t, design, ev, _ = replay(name, open_storage(url), 4)
+    assert tuple(ev.values) == tuple(t.values)           # bit-identical
+    monkeypatch.chdir(tmp_path)
+    assert main(["optimize", "--study", name, "--replay", "1"]) == 0
+    assert "matches the stored values exactly" in capsys.readouterr().out
+    assert main(["optimize", "--report", name, "--out", str(tmp_path / "r2")]) == 0
+    assert (tmp_path / "r2" / "pareto.png").exists()
+
+
+@pytest.mark.parametrize("kind", ["sqlite", "journal"])
+def test_each_enqueued_trial_is_taken_by_one_worker(kind, tmp_path):
+    """Two workers popping queued (WAITING) trials at once: SQLite has no row
+    locks (we begin transactions IMMEDIATE), the journal appends under a
+    file lock. A trial run twice would kill a worker (cannot tell a
+    finished trial) and show up in the told lists."""
+    name = f"race-{kind}"
+    url = f"sqlite:///{tmp_path}/{name}.db" if kind == "sqlite" else f"journal:///{tmp_path}/{name}.log"
+    config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("blink", duration_s=0.2, transient_s=0.1)))
+    study = create_or_load(config, open_storage(url))
+    rng = np.random.default_rng(0)
+    for _ in range(17):
+        study.enqueue_trial({f"seg{i}_{p}": float(rng.uniform(1.0, 9.0)) for i in (1, 2, 3)
+                             for p in ("density_g_cm3", "modulus_gpa")})
+    res = run_study(config, RunOptions(trials=22, workers=2, storage=url, progress=False))
+    assert res.dead_workers == [] and res.finished
+    _check_run(res, 22, url, name, workers=2)
+
+
+def test_seeded_single_worker_is_deterministic(tmp_path):
+    runs = []
+    for name, seed in (("d1", 3), ("d2", 3), ("d3", 4)):
+        opts = RunOptions(trials=5, workers=1, seed=seed, studies_dir=str(tmp_path), progress=False)
+        run_study(tiny_config(name), opts)
+        ts, _ = _trials(opts.storage_url(name), name)
+        runs.append([(t.params, t.values) for t in ts])
+    assert runs[0] == runs[1]
+    assert runs[0][:3] == runs[2][:3] and runs[0][3:] != runs[2][3:]
+    assert worker_seed(3, 0, 0) != worker_seed(3, 0, 1) != worker_seed(3, 5, 0)
+
+
+def test_diverging_and_failing_designs_never_crash_the_study(tmp_path):
+    coarse = Objective(profile=Profile("coarse", duration_s=2.0, transient_s=0.5, timestep_s=0.02))
+    config = StudyConfig("div", SearchSpace(), coarse)
+    opts = RunOptions(trials=6, workers=1, studies_dir=str(tmp_path), progress=False)
+    storage = open_storage(opts.storage_url("div"))
+    study = create_or_load(config, storage)
+    bad = {f"seg{i}_{p}": v for i in (1, 2, 3) for p, v in (("density_g_cm3", -1.0), ("modulus_gpa", 10.0))}
+    study.enqueue_trial(bad)
+    res = run_study(config, opts)
+    assert res.finished
+    ts, _ = _trials(opts.storage_url("div"), "div")
+    assert ts[3].state == TrialState.FAIL and "invalid" in ts[3].user_attrs[ERROR_ATTR]
+    done = [t for t in ts if t.state == TrialState.COMPLETE]
+    assert len(done) == 5
+    for t in done:       # a 20 ms step diverges for every design: infeasible, finite, recorded
+        assert t.constraints["unstable"] == 1.0 and not t.user_attrs["result"]["feasible"]
+        assert all(np.isfinite(t.values))
+    with pytest.raises(ValueError, match="exists with other settings"):
+        create_or_load(StudyConfig("div", SearchSpace(), TINY_OBJ), storage)
+
+
+# --- PostgreSQL: workers, resume by a third process, dead workers ------------
+
+def _cli(*args, **kw):
+    return subprocess.run([sys.executable, "-m", "mat_hopper", "optimize", *args], env=ENV,
+                          capture_output=True, text=True, timeout=120, **kw)
+
+
+@pytest.mark.slow
+def test_postgres_two_workers_then_a_third_process_resumes(pg_url):
+    name = "pg"
+    res = run_study(tiny_config(name), RunOptions(trials=6, workers=2, storage=pg_url, progress=False))
+    first = _check_run(res, 6, pg_url, name, workers=2)
+    out = _cli("--study", name, "--trials", "8", "--workers", "1", "--storage", pg_url, "--no-progress")
+    assert out.returncode == 0, out.stderr
+    assert "8/8 trials finished" in out.stdout
+    ts, _ = _trials(pg_url, name)
+    assert [(t.params, t.values) for t in ts[:6]] == [(t.params, t.values) for t in first]
+    assert [t.state for t in ts] == [TrialState.COMPLETE] * 8
+    new_pids = {t.user_attrs[WORKER_ATTR]["pid"] for t in ts[6:]}
+    assert len(new_pids) == 1 and not new_pids & {t.user_attrs[WORKER_ATTR]["pid"] for t in first}
+
+
+def _wait_running(url, name, exclude=(), timeout=60.0):
+    """(number, worker pid) of a trial that is simulating (all 6 params drawn)."""
+    storage = open_storage(url)
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            study = optuna.load_study(study_name=name, storage=storage)
+            for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
+                w = t.user_attrs.get(WORKER_ATTR)
+                if w and len(t.params) == 6 and t.number not in exclude:
+                    return t.number, w["pid"]
+        except KeyError:
+            pass
+        time.sleep(0.05)
+    raise AssertionError("no trial started")
+
+
+@pytest.mark.slow
+def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
+    name = "kill"
+    config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
+    create_or_load(config, open_storage(pg_url))
+    proc = subprocess.Popen([sys.executable, "-m", "mat_hopper", "optimize", "--study", name, "--trials", "6",
+                             "--workers", "2", "--storage", pg_url, "--no-progress"],
+                            env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        victim, pid = _wait_running(pg_url, name)
+        os.kill(pid, signal.SIGKILL)
+        out, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 0, err
+    assert "died" in out
+    ts, _ = _trials(pg_url, name)
+    dead = ts[victim]
+    assert dead.state == TrialState.FAIL and "exited with code -9" in dead.user_attrs[FAIL_REASON_ATTR]
+    retries = [t for t in ts if t.system_attrs.get("failed_trial") == victim]
+    assert len(retries) == 1 and retries[0].state == TrialState.COMPLETE and retries[0].params == dead.params
+    assert retries[0].user_attrs.get(PAPER_ATTR) == dead.user_attrs.get(PAPER_ATTR)
+    assert sum(t.state == TrialState.COMPLETE for t in ts) == 6
+    assert [t.number for t in ts if t.state == TrialState.FAIL] == [victim]
+    assert not [t for t in ts if t.state in (TrialState.RUNNING, TrialState.WAITING)]
+
+
+@pytest.mark.slow
+def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
+    """Coordinator and worker both SIGKILLed (a machine lost): Optuna's
+    heartbeat marks the trial failed and our callback enqueues it again;
+    a new run finishes the study."""
+    name = "hb"
+    config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
+    create_or_load(config, open_storage(pg_url))
+    proc = subprocess.Popen([sys.executable, "-m", "mat_hopper", "optimize", "--study", name, "--trials", "3",
+                             "--workers", "1", "--storage", pg_url, "--no-progress"],
+                            env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        victim, _ = _wait_running(pg_url, name)
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(30)
+    storage = open_storage(pg_url, heartbeat_s=1, grace_s=2)
+    study = optuna.load_study(study_name=name, storage=storage)
+    assert study.trials[victim].state == TrialState.RUNNING
+    time.sleep(2.5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        optuna.storages.fail_stale_trials(study)
+    ts = sorted(study.get_trials(), key=lambda t: t.number)
+    assert ts[victim].state == TrialState.FAIL
+    waiting = [t for t in ts if t.state == TrialState.WAITING and t.system_attrs.get("failed_trial") == victim]
+    assert len(waiting) == 1 and waiting[0].params == ts[victim].params
+    res = run_study(config, RunOptions(trials=3, workers=1, storage=pg_url, progress=False))
+    assert res.finished and counts(study)[0] == 3
+    assert study.trials[waiting[0].number].state == TrialState.COMPLETE
