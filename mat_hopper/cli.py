@@ -17,6 +17,7 @@ COMMAND_MODULES = (
     "mat_hopper.cli_reproduce",
     "mat_hopper.optimize",
     "mat_hopper.render",
+    "mat_hopper.cli_batch",
 )
 
 

@@ -1,0 +1,93 @@
+"""Settings and result tables shared by the batch backends."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from .. import reference as ref
+from ..control import ControllerSettings
+from ..materials import DEFAULT_CONVENTION, check_convention
+from ..sim import DEFAULT_RECORD_RATE_HZ, SimSettings
+
+# One row per design, in this column order (the CLI writes exactly these).
+RESULT_COLUMNS = ("design", "n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable")
+# What the library's tables carry besides.
+EXTRA_COLUMNS = ("behaviour", "diverged_at_s", "total_mass_kg", "backend")
+BACKENDS = ("mujoco", "warp")
+
+
+@dataclass(frozen=True)
+class BatchSettings:
+    """Run settings of a batch: the same for every design in it.
+
+    duration_s, transient_s, timestep_s in s; record_rate_hz: the rate (Hz)
+    at which per-hop metrics sample the run, as ``SimSettings`` records it
+    (1 kHz); convention: modulus-to-stiffness convention; controller: the
+    gains (one source: :class:`~mat_hopper.control.ControllerSettings`).
+
+    sensor_latency_steps: how old the base sensors are when the controller
+    reads them. 1 is the authors' loop: ``d.sensordata`` as the previous
+    physics step left it (touch, base position, quaternion, gyro and linear
+    velocity one step old), hip angles and rates from the current
+    ``qpos``/``qvel``; at step 0 the sensors of the initial state. The warp
+    backend implements only 1.
+    """
+
+    duration_s: float = ref.DURATION_S
+    timestep_s: float = ref.TIMESTEP_S
+    transient_s: float = ref.TRANSIENT_S
+    convention: str = DEFAULT_CONVENTION
+    record_rate_hz: float = DEFAULT_RECORD_RATE_HZ
+    controller: ControllerSettings = field(default_factory=ControllerSettings)
+    sensor_latency_steps: int = 1
+
+    def __post_init__(self):
+        # SimSettings holds the shared checks (finite, timestep range, duration > transient, ...).
+        self.sim_settings()
+        check_convention(self.convention)
+        lat = self.sensor_latency_steps
+        if isinstance(lat, bool) or not isinstance(lat, (int, np.integer)) or lat < 0:
+            raise ValueError(f"sensor_latency_steps must be an integer >= 0, got {lat!r}")
+
+    def sim_settings(self) -> SimSettings:
+        """The same run as :class:`~mat_hopper.sim.SimSettings` (CPU path).
+
+        The sensor latency is passed on when ``SimSettings`` has that
+        setting (see :func:`cpu_sensor_latency_supported`)."""
+        kw = dict(duration_s=self.duration_s, timestep_s=self.timestep_s, transient_s=self.transient_s,
+                  convention=self.convention, record_rate_hz=self.record_rate_hz, controller=self.controller)
+        if cpu_sensor_latency_supported():
+            kw["sensor_latency_steps"] = self.sensor_latency_steps
+        return SimSettings(**kw)
+
+    @property
+    def n_steps(self) -> int:
+        return int(round(self.duration_s / self.timestep_s))
+
+    @property
+    def record_every(self) -> int:
+        """Physics steps between metric samples (as SimSettings.record_every)."""
+        return max(1, int(round(1.0 / (self.record_rate_hz * self.timestep_s))))
+
+
+def cpu_sensor_latency_supported() -> bool:
+    """Whether this checkout's ``SimSettings`` takes ``sensor_latency_steps``."""
+    return any(f.name == "sensor_latency_steps" for f in dataclasses.fields(SimSettings))
+
+
+def result_frame(rows: list[dict]) -> pd.DataFrame:
+    """Rows (dicts) as the batch result table, columns in a fixed order."""
+    cols = list(RESULT_COLUMNS) + list(EXTRA_COLUMNS)
+    out = pd.DataFrame(rows, columns=cols)
+    out["n_hops"] = out["n_hops"].astype(int)
+    out["stable"] = out["stable"].astype(bool)
+    return out
+
+
+def mean_or_nan(total: float, n: int) -> float:
+    return float(total) / n if n > 0 else math.nan
