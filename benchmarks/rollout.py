@@ -25,7 +25,8 @@ import numba
 import numpy as np
 
 from mat_hopper.model import build_model
-from mat_hopper.sim import MJ_STEP, RolloutRunner, SimSettings, simulate
+from mat_hopper._loop import MJ_STEP
+from mat_hopper.sim import RolloutRunner, SimSettings, simulate
 
 SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
 
@@ -60,7 +61,7 @@ def main(argv=None):
         mujoco.mj_getState(m, logged.data, s, SPEC)
         starts.append(s)
         logged.advance(a.chunk)
-    controls = np.ascontiguousarray(logged.result().actuator_force / m.actuator_gear[:, 0])
+    controls = np.ascontiguousarray(logged.result().ctrl)     # actuator space, what d.ctrl takes
     n = len(controls)
     h = logged.hopper
     m_all = build_model(h.design, ramp_grade_deg=h.ramp_grade_deg, timestep=dt, convention=h.convention,

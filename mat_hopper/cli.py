@@ -39,6 +39,8 @@ class UsageError(ValueError):
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    from .sim import route_mujoco_warnings
+    route_mujoco_warnings()
     try:
         return int(args.func(args) or 0)
     except (ValueError, FileNotFoundError) as e:

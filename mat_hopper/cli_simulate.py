@@ -27,6 +27,12 @@ def _floats(text: str, field: str) -> list[float | None]:
     return out
 
 
+def _timing(text: str):
+    """--sensor-timing: a name, or digits for a latency in physics steps."""
+    text = str(text).strip()
+    return int(text) if text.isdigit() else text
+
+
 def design_from_args(args) -> LegDesign:
     """--design NAME, or --density/--modulus lists (g/cm^3, GPa)."""
     if args.density is not None or args.modulus is not None:
@@ -51,6 +57,9 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"one of {', '.join(BEHAVIOUR_NAMES)}")
     p.add_argument("--timestep", type=float, default=ref.TIMESTEP_S, help="physics time step, s")
     p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
+    p.add_argument("--sensor-timing", default="authors",
+                   help="when the controller reads the base sensors: authors (default: one physics step old, "
+                        "as the authors' loop), fresh, or an integer latency in physics steps")
 
 
 def cmd_simulate(args) -> int:
@@ -58,12 +67,14 @@ def cmd_simulate(args) -> int:
     design = design_from_args(args)
     beh = behaviour(args.behaviour)
     settings = SimSettings(duration_s=args.duration, timestep_s=args.timestep,
-                           transient_s=args.transient, convention=args.convention)
+                           transient_s=args.transient, convention=args.convention,
+                           sensor_timing=_timing(args.sensor_timing))
     rollout = simulate(design, beh, settings=settings)
     hops = hop_table(rollout)
     s = run_summary(rollout)
     print(f"{design.name} on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
-          f"convention={settings.convention}, mass {rollout.total_mass_kg:.2f} kg")
+          f"convention={settings.convention}, sensor timing={settings.sensor_timing}, "
+          f"mass {rollout.total_mass_kg:.2f} kg")
     if not rollout.stable:
         print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s")
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")

@@ -14,13 +14,32 @@ Three parts (paper section IV-B, spec "Controller"):
 - attitude correction in stance: hip torques against body roll and pitch;
 - thrust: a constant force on the foot spring while rising in stance.
 
-Hip controls are before the actuator gear (600): torque = gear x control.
+Hip controls are in actuator space, before the gear: the joint torque is
+gear (600) x control, which MuJoCo computes as ``qfrc_actuator``.
+
+When each reading is taken (``SENSOR_TIMINGS``; docs/reference-hopper.md).
+The authors' loop reads ``d.sensordata``, computes the control, then calls
+``mj_step``; MuJoCo fills ``sensordata`` inside ``mj_step`` *before* it
+integrates. So at physics step i (state s_i) their controller sees:
+
+- touch force, base position, orientation quaternion, gyro and linear
+  velocity of state s_{i-1} (one physics step, 0.1 ms, old; the touch
+  force is the ground reaction computed with the previous control);
+- hip angles and rates of state s_i (read from ``qpos``/``qvel``).
+
+That is the default, ``"authors"`` (latency 1). ``"fresh"`` (latency 0)
+reads the base from s_i; the touch force cannot be fresher than s_{i-1}
+since it depends on the control being computed. An integer latency L
+generalises both: base readings of s_{i-L}, touch of s_{i-max(L,1)}, hips
+always current. Before the first step every lagged reading is the start
+state's (the hopper is at rest there). The rollout loop implements this
+(``mat_hopper/_loop.py``); the controller below is timing-agnostic.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 from typing import NamedTuple
 
 import numba
@@ -46,26 +65,6 @@ O_HIP_Y, O_HIP_X, O_THRUST = 0, 1, 2              # actuator controls
 O_TARGET_Y, O_TARGET_X = 3, 4                     # rad, IK hip targets
 O_TARGET_RATE_Y, O_TARGET_RATE_X = 5, 6           # rad/s
 OUT_SIZE = 7
-
-
-class Gains(NamedTuple):
-    """ControllerSettings as the compiled code sees them (floats)."""
-
-    phase_lock_s: float
-    thrust_start_n: float
-    thrust_adapt_gain: float
-    hop_height_target_m: float
-    thrust_min_rise_speed: float
-    velocity_gain_desired: float
-    velocity_gain_position: float
-    velocity_limit_m_s: float
-    stance_duration_s: float
-    foot_placement_gain: float
-    leg_length_m: float
-    flight_kp: float
-    flight_kd: float
-    stance_kp: float
-    stance_kd: float
 
 
 @dataclass(frozen=True)
@@ -98,15 +97,62 @@ class ControllerSettings:
         if self.leg_length_m <= 0:
             raise ValueError(f"leg_length_m must be > 0 m, got {self.leg_length_m!r}")
 
-    def gains(self) -> Gains:
-        return Gains(*(float(v) for v in asdict(self).values()))
+    def gains(self) -> "Gains":
+        """These settings as the compiled code reads them (floats, by name)."""
+        return Gains(**{name: float(v) for name, v in asdict(self).items()})
+
+
+# The compiled controller reads its settings from a NamedTuple (numba
+# compiles attribute access on it); its fields are generated from
+# ControllerSettings, so the two can never drift apart.
+Gains = NamedTuple("Gains", [(f.name, float) for f in fields(ControllerSettings)])
+Gains.__doc__ = "ControllerSettings as the compiled code sees them (floats, same field names)."
+
+# --- when the readings are taken (module doc) ---------------------------------
+SENSOR_TIMINGS = {"fresh": 0, "authors": ref.SENSOR_LATENCY_STEPS}
+DEFAULT_SENSOR_TIMING = "authors"
+MAX_SENSOR_LATENCY_STEPS = 1000        # 0.1 s at the paper's step: far beyond any study here
+
+
+def sensor_latency_steps(timing) -> int:
+    """Physics steps by which the base readings lag: ``"authors"`` -> 1,
+    ``"fresh"`` -> 0, ``"latency-L"`` or an int L in [0, 1000] -> L.
+
+    Raises ValueError for anything else (bools, floats, negative values)."""
+    if isinstance(timing, str):
+        name = timing.strip().lower()
+        if name in SENSOR_TIMINGS:
+            return SENSOR_TIMINGS[name]
+        if name.startswith("latency-") and name[len("latency-"):].isdigit():
+            timing = int(name[len("latency-"):])
+        else:
+            raise ValueError(f"unknown sensor timing {timing!r}; accepted: {', '.join(SENSOR_TIMINGS)}, "
+                             f"'latency-L' or an integer L of physics steps in [0, {MAX_SENSOR_LATENCY_STEPS}]")
+    if isinstance(timing, (bool, np.bool_)) or not isinstance(timing, (int, np.integer)):
+        raise ValueError(f"sensor timing must be a name ({', '.join(SENSOR_TIMINGS)}) or an integer latency "
+                         f"in physics steps, got {timing!r}")
+    if not 0 <= timing <= MAX_SENSOR_LATENCY_STEPS:
+        raise ValueError(f"sensor latency must be in [0, {MAX_SENSOR_LATENCY_STEPS}] physics steps, got {timing}")
+    return int(timing)
+
+
+def sensor_timing_name(timing) -> str:
+    """The canonical name recorded in results: ``"fresh"``, ``"authors"`` or
+    ``"latency-L"``."""
+    lat = sensor_latency_steps(timing)
+    for name, steps in SENSOR_TIMINGS.items():
+        if steps == lat:
+            return name
+    return f"latency-{lat}"
 
 
 def initial_state(settings: ControllerSettings) -> np.ndarray:
-    """Fresh controller state: in flight, no switch yet, thrust at its start."""
+    """Fresh controller state: in flight, thrust at its start. The phase
+    lock's clock starts at t = 0, as in the authors' loop, so no switch can
+    happen in the first ``phase_lock_s`` of a run."""
     s = np.zeros(STATE_SIZE)
     s[S_PHASE] = FLIGHT
-    s[S_T_SWITCH] = -np.inf
+    s[S_T_SWITCH] = 0.0
     s[S_THRUST] = settings.thrust_start_n
     s[S_Z_MAX] = -np.inf
     s[S_LAST_HEIGHT] = np.nan

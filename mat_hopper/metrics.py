@@ -9,10 +9,12 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
 - ``jerk_m_s3``: mean |d^3 z / dt^3| of the base (m/s^3), the time
   derivative of the base's vertical acceleration at the record rate;
 - ``power_w``: mean norm of the hip actuators' real mechanical power,
-  ||(tau_y qdot_y, tau_x qdot_x)|| (W), tau after the gear;
+  ||(tau_y qdot_y, tau_x qdot_x)|| (W), tau the joint torque MuJoCo applies
+  (``qfrc_actuator``: gear 600 x control, joint space);
 - ``power_paper_w``: the authors' formula, labelled as such: the hip_y
   *flight* PD command (before the gear, also in stance) times each hip rate;
-- ``energy_j``: integral of |tau qdot| of all three actuators (J).
+- ``energy_j``: integral of |tau qdot| of all three actuators (J), joint
+  space.
 
 Comparisons (:func:`compare`) give the percent change of means against a
 baseline design, a two-sided Mann-Whitney U test with Holm correction
@@ -55,7 +57,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
     cycles = hop_cycles(rollout, transient_s)
     d = rollout.data
     t = d[:, C["t"]]
-    cols = ["design", "behaviour", "convention", "hop", "t_start_s", "t_end_s", *ALL_METRICS]
+    cols = ["design", "behaviour", "convention", "sensor_timing", "hop", "t_start_s", "t_end_s", *ALL_METRICS]
     if len(cycles) == 0 or len(t) < 4:
         return pd.DataFrame(columns=cols)
     dt_rec = float(np.median(np.diff(t)))
@@ -67,20 +69,20 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
     z = d[:, C["z"]]
     err = np.hypot(d[:, C["x"]] - d[:, C["x_des"]], d[:, C["y"]] - d[:, C["y_des"]])
     jerk = np.abs(np.gradient(d[:, C["az"]], dt_rec))
-    p_y = d[:, C["force_hip_y"]] * d[:, C["hip_y_rate"]]
-    p_x = d[:, C["force_hip_x"]] * d[:, C["hip_x_rate"]]
+    p_y, p_x = rollout.hip_power.T
     power = np.hypot(p_y, p_x)
     g = rollout.settings.controller
     u_flight = (-g.flight_kp * (d[:, C["hip_y"]] - d[:, C["hip_y_target"]])
                 - g.flight_kd * (d[:, C["hip_y_rate"]] - d[:, C["hip_y_target_rate"]]))
     power_paper = np.hypot(u_flight * d[:, C["hip_y_rate"]], u_flight * d[:, C["hip_x_rate"]])
-    p_abs = np.abs(p_y) + np.abs(p_x) + np.abs(d[:, C["force_thrust"]] * d[:, C["foot_spring_rate"]])
+    p_abs = np.abs(p_y) + np.abs(p_x) + np.abs(rollout.thrust_force * d[:, C["foot_spring_rate"]])
 
     heights = np.array([z[a:b].max() for a, b in zip(i0, i1)])
     out = pd.DataFrame({
         "design": rollout.design.name,
         "behaviour": rollout.behaviour.name,
         "convention": rollout.settings.convention,
+        "sensor_timing": rollout.settings.sensor_timing,
         "hop": np.arange(len(cycles)),
         "t_start_s": cycles[:, 0],
         "t_end_s": cycles[:, 1],
@@ -99,7 +101,8 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     and cost of transport (energy / (m g distance), nan without travel)."""
     hops = hop_table(rollout, transient_s)
     out = {"design": rollout.design.name, "behaviour": rollout.behaviour.name,
-           "convention": rollout.settings.convention, "stable": rollout.stable,
+           "convention": rollout.settings.convention, "sensor_timing": rollout.settings.sensor_timing,
+           "stable": rollout.stable,
            "diverged_at_s": rollout.diverged_at_s, "n_hops": len(hops),
            "total_mass_kg": rollout.total_mass_kg}
     for m in ALL_METRICS:

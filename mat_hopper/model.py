@@ -35,6 +35,7 @@ SENSORS = ("touch", "base_pos", "base_quat", "base_gyro", "base_linvel", "hip_to
 # trajectory is bit-identical either way.
 CONTROL_SENSORS = SENSORS[:5]
 SENSOR_SETS = {"all": SENSORS, "control": CONTROL_SENSORS}
+START_KEY = "start"   # keyframe: the hopper at rest, base 1.2 m up (qpos of the z slide)
 
 
 class Layout(NamedTuple):
@@ -88,15 +89,17 @@ def _check_timestep(timestep) -> float:
 
 
 def ramp_pose(grade_deg: float) -> tuple[np.ndarray, np.ndarray]:
-    """Centre (m) and quaternion of the ramp box pitched up by grade_deg.
+    """Centre (m) and quaternion (w, x, y, z) of the ramp box pitched up by
+    grade_deg (deg).
 
-    The box's top face meets the ground at x = 0 (the spec's centre z of
-    -0.03 m is this rounded: -0.0302 m at 2 deg)."""
+    The centre is the authors' exact (RAMP_CENTER_X, 0, RAMP_CENTER_Z):
+    -0.03 m is not a rounding of the height at which the top face would
+    meet the ground at x = 0 (-0.0302 m at 2 deg); it leaves a step of about
+    0.2 mm there, and ramp results move by 5-15 % if it is "corrected"
+    (docs/reference-hopper.md)."""
     a = math.radians(grade_deg)
-    hx, _, hz = ref.RAMP_HALF_SIZE
-    cz = -(hz - ref.RAMP_CENTER_X * math.sin(a)) / math.cos(a)
     quat = np.array([math.cos(-a / 2), 0.0, math.sin(-a / 2), 0.0])
-    return np.array([ref.RAMP_CENTER_X, 0.0, cz]), quat
+    return np.array([ref.RAMP_CENTER_X, 0.0, ref.RAMP_CENTER_Z]), quat
 
 
 def _capsule(body, name, z0, z1, radius, *, density=None, mass=None, rgba=None):
@@ -166,7 +169,10 @@ def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
                        pos=pos, quat=quat, friction=list(ref.RAMP_FRICTION), contype=1,
                        conaffinity=1, condim=ref.FOOT_CONDIM, rgba=[0.55, 0.6, 0.7, 1])
 
-    base = world.add_body(name="base", pos=[0, 0, ref.BASE_START_Z])
+    # The base body sits at the world origin and starts 1.2 m up through the
+    # qpos of its z slide joint (keyframe "start"), as in the authors' file:
+    # the same pose as a body offset, but not the same floating-point sums.
+    base = world.add_body(name="base", pos=[0, 0, 0])
     for name, jtype, axis in zip(BASE_JOINTS, ["slide"] * 3 + ["hinge"] * 3, np.vstack([np.eye(3)] * 2)):
         j = base.add_joint(name=name, axis=axis, limited=mujoco.mjtLimited.mjLIMITED_FALSE,
                            type=mujoco.mjtJoint.mjJNT_SLIDE if jtype == "slide" else mujoco.mjtJoint.mjJNT_HINGE)
@@ -217,6 +223,13 @@ def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
         a.gear[0] = gear
         a.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
 
+    # Start pose: every joint at 0 except the base's z slide at BASE_START_Z.
+    # qpos: 6 base joints, 2 hips, one slide per sprung segment, the foot spring.
+    nq = len(BASE_JOINTS) + len(HIP_JOINTS) + sum(not m.rigid for m in design.segments) + 1
+    start = np.zeros(nq)
+    start[BASE_JOINTS.index("base_z")] = ref.BASE_START_Z
+    spec.add_key(name=START_KEY, qpos=start)
+
     S, O = mujoco.mjtSensor, mujoco.mjtObj
     spec.add_sensor(name="touch", type=S.mjSENS_TOUCH, objtype=O.mjOBJ_SITE, objname="toe")
     spec.add_sensor(name="base_pos", type=S.mjSENS_FRAMEPOS, objtype=O.mjOBJ_XBODY, objname="base")
@@ -238,6 +251,13 @@ def layout_of(model: mujoco.MjModel) -> Layout:
     return Layout(jq("base_x"), jd("base_x"), int(model.body("base").id), jq("hip_y"), jq("hip_x"), jd("hip_y"), jd("hip_x"),
                   jq("spring"), jd("spring"), sa("touch"), sa("base_pos"), sa("base_quat"), sa("base_gyro"), sa("base_linvel"),
                   act("hip_y"), act("hip_x"), act("thrust"))
+
+
+def reset_to_start(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """Reset data to the keyframe ``start`` (base z slide at 1.2 m, all else
+    0) and compute the derived quantities (mj_forward)."""
+    mujoco.mj_resetDataKeyframe(model, data, model.key(START_KEY).id)
+    mujoco.mj_forward(model, data)
 
 
 def build_model(design: LegDesign, *, ramp_grade_deg: float | None = None,

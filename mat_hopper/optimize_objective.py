@@ -120,7 +120,7 @@ def _whole_run_means(rollout) -> tuple[float, float]:
     if len(d) == 0:
         return NO_DATA_VALUE, NO_DATA_VALUE
     err = np.hypot(d[:, C["x"]] - d[:, C["x_des"]], d[:, C["y"]] - d[:, C["y_des"]])
-    power = np.hypot(d[:, C["force_hip_y"]] * d[:, C["hip_y_rate"]], d[:, C["force_hip_x"]] * d[:, C["hip_x_rate"]])
+    power = np.hypot(*rollout.hip_power.T)
     out = []
     for v in (err, power):
         v = v[np.isfinite(v)]

@@ -17,7 +17,8 @@ SOLVER_TOLERANCE = 1e-10
 JOINT_DAMPING_DEFAULT = 1.0       # N s/m or N m s/rad, every joint unless set
 
 # --- Base (torso) ----------------------------------------------------------
-BASE_START_Z = 1.2                # m, base origin at rest pose
+BASE_START_Z = 1.2                # m, initial qpos of the base's z slide joint (the base
+                                  # body itself sits at the world origin, as in the authors' file)
 BASE_CAPSULE_RADIUS = 0.09        # m
 BASE_CAPSULE_HALF_LENGTH = 0.12   # m, capsules along x and along y
 BASE_CAPSULE_MASS = 7.5           # kg each (two capsules: 15 kg)
@@ -54,6 +55,8 @@ MASS_SS_KG = 23.77
 # --- Ground and ramp -------------------------------------------------------
 RAMP_HALF_SIZE = (2.0, 0.5, 0.1)  # m
 RAMP_CENTER_X = 2.0               # m
+RAMP_CENTER_Z = -0.03             # m, exact in the authors' file (not a rounded value; the top
+                                  # face meets the ground about 0.2 mm above x = 0)
 RAMP_GRADE_DEG = 2.0              # deg pitch: tan(2 deg) = 3.5 % grade
 RAMP_FRICTION = (1.0, 0.005, 0.0001)
 
@@ -65,6 +68,12 @@ PAPER_L = 0.01
 PAPER_STIFFNESS_PER_GPA = 3.0 * PAPER_I / PAPER_L**3   # N/m per GPa
 
 # --- Controller ------------------------------------------------------------
+# When the controller's readings are taken. The authors' loop is: read
+# d.sensordata, control, mj_step. MuJoCo fills sensordata inside mj_step
+# *before* integrating, so the base sensors (touch, position, orientation,
+# gyro, velocity) the controller sees are one physics step old, while the
+# hip angles and rates (read from qpos/qvel) are current.
+SENSOR_LATENCY_STEPS = 1          # physics steps by which the base sensors lag (authors' loop)
 PHASE_LOCK_S = 0.1                # min time between phase switches
 THRUST_START_N = 200.0            # N
 THRUST_ADAPT_GAIN = 100.0         # N per m of hop-height error

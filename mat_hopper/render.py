@@ -30,7 +30,7 @@ from . import reference as ref
 from .atomic import atomic_path
 from .behaviours import Behaviour, behaviour as get_behaviour
 from .materials import DEFAULT_CONVENTION, LegDesign
-from .model import build_spec
+from .model import build_spec, reset_to_start
 from .sim import Rollout, _as_design, simulate
 
 DENSITY_RANGE_G_CM3 = (0.9, 20.0)      # colour scale: the optimizer's density bounds
@@ -303,6 +303,7 @@ def standing_qpos(model: mujoco.MjModel, behaviour: Behaviour) -> np.ndarray:
     foot rests on the ground or ramp (MuJoCo's own foot-terrain distance, to
     1 um): the pose for a picture of the model."""
     d = mujoco.MjData(model)
+    reset_to_start(model, d)
     bx = int(model.joint("base_x").qposadr[0])
     d.qpos[bx], d.qpos[bx + 1] = behaviour.start_xy_m
     foot = model.geom("foot").id

@@ -71,7 +71,7 @@ OK, DIVERGED, FALLEN, FAILED = "ok", "diverged", "fallen", "failed"
 
 
 # Modules whose code makes or summarises a result: their source is part of every key.
-RESULT_MODULES = ("reference", "materials", "model", "control", "behaviours", "sim", "perturbations", "metrics",
+RESULT_MODULES = ("reference", "materials", "model", "control", "behaviours", "_loop", "sim", "perturbations", "metrics",
                   "stability", "runner")
 
 
@@ -108,6 +108,7 @@ def settings_key(settings: SimSettings) -> dict:
     p = settings.perturbation
     return {"duration_s": settings.duration_s, "timestep_s": settings.timestep_s,
             "transient_s": settings.transient_s, "convention": settings.convention,
+            "sensor_timing": settings.sensor_timing,
             "record_rate_hz": settings.record_rate_hz, "controller": asdict(settings.controller),
             "perturbation": None if p is None else asdict(p)}
 

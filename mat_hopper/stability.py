@@ -38,12 +38,15 @@ that is stable for w dt < 2: the estimate is dt < 2 / w_max
 
 A second limit, not the material's. The controller's stance attitude
 feedback is a rate gain on the base's roll and pitch, applied explicitly
-(computed from the state at the start of the step): a damper of
-c = stance_kd x gear = 1 x 600 N m s/rad on the base's inertia about a
-horizontal axis through the hip, I ~ 0.127 kg m^2. Explicit damping is
-stable for dt < 2 I / c ~ 4.2e-4 s (``controller_timestep_s``), whatever
-the leg's material: soft, heavy legs, whose spring limit lies above it, hit
-this one instead (the measured map plateaus there).
+and, under the authors' sensor timing, from a gyro reading one physics step
+old: a damper of c = stance_kd x gear = 1 x 600 N m s/rad on the base's
+inertia about a horizontal axis through the hip, I ~ 0.127 kg m^2. A rate
+feedback read L steps late is stable for dt < c(L) I / c with
+c(L) = 2 cos(L pi / (2 L + 1)) (:func:`delayed_damping_factor`): 2 I / c
+~ 4.2e-4 s when fresh, I / c ~ 2.1e-4 s with the authors' one-step lag
+(``controller_timestep_s``), whatever the leg's material: soft, heavy
+legs, whose spring limit lies above it, hit this one instead (the measured
+map plateaus there).
 ``combined_timestep_s`` is the smaller of the two.
 """
 
@@ -57,6 +60,7 @@ import pandas as pd
 import scipy.linalg
 
 from . import reference as ref
+from .control import DEFAULT_SENSOR_TIMING, sensor_latency_steps
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
 from .runner import design_key, hash_key, versions
 
@@ -211,11 +215,25 @@ def leg_chain(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[
     return masses, springs
 
 
+def delayed_damping_factor(latency_steps: int) -> float:
+    """c(L) = 2 cos(L pi / (2 L + 1)): the explicit time-step limit h < c / a
+    of a rate feedback w' = -a w read L steps late, i.e. of the difference
+    equation w[n+1] = w[n] - a h w[n-L]. c(0) = 2 (plain explicit Euler),
+    c(1) = 1 (the authors' one-step-old gyro), c(L) ~ pi / (2 L) for large L.
+    Source: S. A. Levin and R. M. May, "A note on difference-delay
+    equations", Theoretical Population Biology 9 (1976) 178-187."""
+    lat = int(latency_steps)
+    return 2.0 * math.cos(lat * math.pi / (2 * lat + 1))
+
+
 def controller_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
-                        stance_kd: float = ref.STANCE_KD, gear: float = ref.HIP_GEAR) -> float:
-    """2 I / (stance_kd gear) in s: the explicit limit of the stance rate
+                        stance_kd: float = ref.STANCE_KD, gear: float = ref.HIP_GEAR,
+                        sensor_timing: str | int = DEFAULT_SENSOR_TIMING) -> float:
+    """c(L) I / (stance_kd gear) in s: the explicit limit of the stance rate
     feedback, I (kg m^2) the base's smallest moment of inertia about a
-    horizontal axis through its origin (the hip), from the compiled model."""
+    horizontal axis through its origin (the hip), from the compiled model,
+    and c(L) the factor of :func:`delayed_damping_factor` for the sensor
+    timing's latency L (2 when fresh, 1 for the authors' one-step lag)."""
     import mujoco
     from .model import build_model
     m = build_model(design, convention=convention).model
@@ -228,7 +246,8 @@ def controller_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
     mass = m.body_mass[b]
     parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))   # to the hip (base origin)
     inertia = inertia + parallel
-    return 2.0 * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
+    factor = delayed_damping_factor(sensor_latency_steps(sensor_timing))
+    return factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
 
 
 def estimate_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[float, float]:

@@ -25,19 +25,21 @@ def step(t, touch, vel=(0, 0, 0), pos=(0, 0, 1.0), quat=LEVEL, gyro=(0, 0, 0), h
 def test_state_machine_switching_and_phase_lock():
     s = initial_state(ControllerSettings())
     assert s[c.S_PHASE] == c.FLIGHT
+    # the lock's clock starts at t = 0: no switch in the first 0.1 s (spec)
+    assert update_phase(0.05, 10.0, 1.0, -0.5, G, s) == c.NO_EVENT
     # touching but rising: no touchdown
-    assert update_phase(0.0, 10.0, 1.0, +0.5, G, s) == c.NO_EVENT
-    assert update_phase(0.01, 10.0, 1.0, -0.5, G, s) == c.TOUCHDOWN
+    assert update_phase(0.10, 10.0, 1.0, +0.5, G, s) == c.NO_EVENT
+    assert update_phase(0.11, 10.0, 1.0, -0.5, G, s) == c.TOUCHDOWN
     assert s[c.S_PHASE] == c.STANCE
     # first touchdown adapts nothing
     assert s[c.S_THRUST] == 200.0 and math.isnan(s[c.S_LAST_HEIGHT])
     # lift-off blocked by the 0.1 s phase lock, then allowed
-    assert update_phase(0.05, 0.0, 1.0, +0.5, G, s) == c.NO_EVENT
-    assert update_phase(0.111, 0.0, 1.0, +0.5, G, s) == c.LIFTOFF
+    assert update_phase(0.15, 0.0, 1.0, +0.5, G, s) == c.NO_EVENT
+    assert update_phase(0.211, 0.0, 1.0, +0.5, G, s) == c.LIFTOFF
     assert s[c.S_PHASE] == c.FLIGHT and s[c.S_LIFTOFFS] == 1
     # apex at 1.2 m, then touchdown: thrust adapts by 100 * (1 - 1.2) = -20 N
-    update_phase(0.3, 0.0, 1.2, 0.0, G, s)
-    assert update_phase(0.5, 5.0, 0.9, -1.0, G, s) == c.TOUCHDOWN
+    update_phase(0.4, 0.0, 1.2, 0.0, G, s)
+    assert update_phase(0.6, 5.0, 0.9, -1.0, G, s) == c.TOUCHDOWN
     assert s[c.S_LAST_HEIGHT] == pytest.approx(1.2)
     assert s[c.S_THRUST] == pytest.approx(180.0)
     assert s[c.S_Z_MAX] == pytest.approx(0.9)      # running max reset
@@ -117,3 +119,16 @@ def test_settings_validation():
         ControllerSettings(flight_kp=float("nan"))
     with pytest.raises(ValueError, match="leg_length_m"):
         ControllerSettings(leg_length_m=0)
+
+
+def test_gains_follow_the_settings_by_name():
+    g = ControllerSettings(flight_kp=7.0, stance_kd=2.5).gains()
+    assert g.flight_kp == 7.0 and g.stance_kd == 2.5 and g.thrust_start_n == 200.0
+    assert g._fields == tuple(f for f in ControllerSettings.__dataclass_fields__)
+
+
+@pytest.mark.parametrize("timing, steps", [("authors", 1), ("fresh", 0), ("AUTHORS", 1), (3, 3),
+                                           ("latency-10", 10)])
+def test_sensor_timing_names(timing, steps):
+    assert c.sensor_latency_steps(timing) == steps
+    assert c.sensor_timing_name(steps) == {0: "fresh", 1: "authors"}.get(steps, f"latency-{steps}")

@@ -19,7 +19,9 @@ def test_hop_table_rows_are_scored_cycles(rollout):
     assert np.allclose(hops["t_start_s"].to_numpy()[1:], hops["t_end_s"].to_numpy()[:-1])
     for m in ALL_METRICS:
         assert np.isfinite(hops[m]).all() and (hops[m] >= 0).all()
-    assert list(hops.columns[:6]) == ["design", "behaviour", "convention", "hop", "t_start_s", "t_end_s"]
+    assert list(hops.columns[:7]) == ["design", "behaviour", "convention", "sensor_timing", "hop", "t_start_s",
+                                      "t_end_s"]
+    assert (hops["sensor_timing"] == "authors").all()
 
 
 def test_metrics_match_direct_computation(rollout):
@@ -30,7 +32,7 @@ def test_metrics_match_direct_computation(rollout):
     assert row.hop_height_m == pytest.approx(rollout.base_pos[sel, 2].max())
     err = np.linalg.norm(rollout.base_pos[sel, :2] - rollout.desired_pos[sel], axis=1).mean()
     assert row.tracking_error_m == pytest.approx(err)
-    p = np.hypot(*(rollout.actuator_force[sel, :2] * rollout.hip_rate[sel]).T).mean()
+    p = np.hypot(*(600.0 * rollout.ctrl[sel, :2] * rollout.hip_rate[sel]).T).mean()   # gear 600, by hand
     assert row.power_w == pytest.approx(p)
     # the controller's own hop heights agree with the recorded maxima
     assert rollout.hop_heights_m[-3:] == pytest.approx(hops.hop_height_m.to_numpy()[-3:], abs=2e-3)

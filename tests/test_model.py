@@ -5,7 +5,7 @@ import pytest
 from mat_hopper import reference as ref
 from mat_hopper.materials import LegDesign, parse_design
 from mat_hopper import sim
-from mat_hopper.model import CONTROL_SENSORS, SENSORS, build_model
+from mat_hopper.model import CONTROL_SENSORS, SENSORS, build_model, reset_to_start
 from mat_hopper.sim import simulate
 
 
@@ -28,7 +28,7 @@ def test_material_mass_independent_of_segment_count():
 def test_geometry_any_segment_count(n):
     hm = build_model(LegDesign.mono("Ti", n))
     m, d = hm.model, mujoco.MjData(hm.model)
-    mujoco.mj_forward(m, d)
+    reset_to_start(m, d)
     toe = d.site("toe").xpos
     assert toe[2] == pytest.approx(ref.BASE_START_Z - 0.6)      # hip to toe 0.6 m
     assert [m.joint(f"mat_spring_{i}").type for i in range(1, n + 1)] == [mujoco.mjtJoint.mjJNT_SLIDE] * n
@@ -53,6 +53,25 @@ def test_stiffness_damping_and_options():
     assert m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET
     assert list(m.actuator_gear[:, 0]) == [600.0, 600.0, 1.0]
     assert m.jnt_range[m.joint("hip_y").id][1] == pytest.approx(np.radians(70))
+
+
+def test_start_pose_as_the_authors_file_sets_it():
+    """The base body sits at the world origin; the 1.2 m start height is the
+    qpos of its z slide joint (numbers from the spec, by hand)."""
+    m = build_model(parse_design("SS")).model
+    assert list(m.body("base").pos) == [0.0, 0.0, 0.0]
+    d = mujoco.MjData(m)
+    reset_to_start(m, d)
+    assert d.qpos[m.joint("base_z").qposadr[0]] == 1.2
+    assert d.xpos[m.body("base").id][2] == 1.2
+    assert np.count_nonzero(d.qpos) == 1
+
+
+def test_ramp_centre_is_exact():
+    """The ramp box's centre is (2, 0, -0.03) m exactly, not the -0.0302 m
+    at which its top face would meet the ground at x = 0."""
+    ramp = build_model(parse_design("SS"), ramp_grade_deg=2.0).model
+    assert list(ramp.geom("ramp").pos) == [2.0, 0.0, -0.03]
 
 
 def test_ramp_only_when_asked():

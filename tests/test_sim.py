@@ -19,7 +19,8 @@ def test_rollout_arrays(ss_forward):
     n = len(r.time)
     assert n == 4001 or n == 4000
     assert np.allclose(np.diff(r.time), 1e-3)
-    assert r.base_pos.shape == (n, 3) and r.hip_angle.shape == (n, 2) and r.actuator_force.shape == (n, 3)
+    assert r.base_pos.shape == (n, 3) and r.hip_angle.shape == (n, 2) and r.ctrl.shape == (n, 3)
+    assert r.hip_torque.shape == (n, 2) and r.hip_power.shape == (n, 2)
     assert r.qpos.shape == (n, 12)
     assert r.stable and r.diverged_at_s is None and r.upright
     assert r.base_pos[0, 2] == pytest.approx(1.2)
@@ -35,13 +36,111 @@ def test_channels_hold_what_they_say(ss_forward):
         t = r.time[i]
         assert r.desired_pos[i] == pytest.approx(b.desired(t)[:2])
         assert r["vx_des"][i] == pytest.approx(0.05)
-    # hip angles in the record match the recorded joint positions one step later
-    assert np.allclose(r.hip_angle[1:, 0], r.qpos[:-1, 6], atol=2e-3)
-    # actuator force = gear x control; thrust only in stance
-    assert np.all(r.actuator_force[r.touch == 0, 2] == 0)
-    assert r.actuator_force[:, 2].max() > 100
+    # recorded every step: a row's hip angle is the joint position left by the step before
+    every = simulate("SS", "forward", duration_s=0.5, transient_s=0.0, record_rate_hz=1e4, record_qpos=True)
+    np.testing.assert_array_equal(every.hip_angle[1:, 0], every.qpos[:-1, 6])
+    # thrust only in stance (the controller's touch is one step old: compare its phase)
+    assert np.all(r.ctrl[r.phase == 0, 2] == 0)
+    assert r.ctrl[:, 2].max() > 100
     # velocity is the derivative of position
     assert np.allclose(np.gradient(r["z"], r.time)[5:-5], r["vz"][5:-5], atol=0.05)
+
+
+def test_hip_torque_is_joint_space(ss_forward):
+    """Actuator space -> joint space: the recorded hip torque is MuJoCo's
+    qfrc_actuator, which must be the gear (600, the spec's number written
+    here by hand) times the control; the thrust's gear is 1."""
+    r = ss_forward
+    np.testing.assert_allclose(r.hip_torque, 600.0 * r.ctrl[:, :2], rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(r.thrust_force, r.ctrl[:, 2], rtol=1e-12, atol=1e-9)
+    assert np.abs(r.hip_torque).max() > 10.0          # N m: not the control's scale
+    np.testing.assert_array_equal(r.hip_power, r.hip_torque * r.hip_rate)
+
+
+def _reference_loop(design, behaviour, n_steps, latency):
+    """An independent plain-Python closed loop on the public mujoco bindings,
+    written the way the authors' loop is. latency 0: mj_step1, read
+    sensordata, control, mj_step2. latency L >= 1: keep a copy of sensordata
+    as each mj_step left it (past[k] after the k-th call holds state s_{k-1};
+    past[0] from mj_forward holds s_0), read the base of s_{i-L} and the
+    touch of s_{i-L}, hips from qpos/qvel, control, mj_step. With L = 1 that
+    is the authors' read-control-mj_step loop. Returns qpos after each step."""
+    import mujoco
+    from mat_hopper.behaviours import behaviour as get_behaviour
+    from mat_hopper.control import ControllerSettings, controller_step, initial_state
+    from mat_hopper.sim import SimSettings, prepare
+    hm, d = prepare(design, behaviour, SimSettings(duration_s=1.0, transient_s=0.0))
+    m, lay = hm.model, hm.layout
+    beh = get_behaviour(behaviour)
+    state, out = initial_state(ControllerSettings()), np.zeros(7)
+    gains = ControllerSettings().gains()
+    past = [d.sensordata.copy()]
+    qpos = []
+    for i in range(n_steps):
+        t = i * m.opt.timestep
+        if latency == 0:
+            mujoco.mj_step1(m, d)
+            sens = touch_src = d.sensordata.copy()
+        else:
+            sens = touch_src = past[max(i - latency + 1, 0)]
+        sl = lambda a, adr, k: np.array(a[adr:adr + k])
+        controller_step.py_func(t, touch_src[lay.touch], sl(sens, lay.base_pos, 3), sl(sens, lay.base_quat, 4),
+                                sl(sens, lay.base_gyro, 3), sl(sens, lay.base_linvel, 3),
+                                np.array([d.qpos[lay.hip_y_qpos], d.qpos[lay.hip_x_qpos]]),
+                                np.array([d.qvel[lay.hip_y_dof], d.qvel[lay.hip_x_dof]]),
+                                np.array(beh.desired(t), float), gains, state, out)
+        d.ctrl[lay.act_hip_y], d.ctrl[lay.act_hip_x], d.ctrl[lay.act_thrust] = out[0], out[1], out[2]
+        if latency == 0:
+            mujoco.mj_step2(m, d)
+        else:
+            mujoco.mj_step(m, d)
+            past.append(d.sensordata.copy())
+        qpos.append(d.qpos.copy())
+    return np.array(qpos)
+
+
+@pytest.mark.parametrize("timing, latency", [("authors", 1), ("fresh", 0), (2, 2), (5, 5)])
+def test_sensor_timing_matches_an_independent_loop(timing, latency):
+    """The compiled loop's ring of past readings against literal loops on
+    the bindings: the authors' read-control-mj_step (base and touch one step
+    old), the fresh mj_step1-read-control-mj_step2, and longer latencies."""
+    n = 5000                                   # 0.5 s: falling, first touchdown, stance
+    ref_qpos = _reference_loop("SS", "forward", n, latency)
+    r = simulate("SS", "forward", duration_s=n * 1e-4, transient_s=0.0, sensor_timing=timing,
+                 record_rate_hz=1e4, record_qpos=True)
+    assert r.settings.sensor_latency_steps == latency
+    assert len(r.qpos) == n and r.phase.max() == 1.0          # it reached stance
+    np.testing.assert_allclose(r.qpos, ref_qpos, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("timing, latency", [("authors", 1), ("fresh", 0)])
+def test_sensor_timing_matches_an_independent_loop(timing, latency):
+    """The compiled loop's ring of past readings against the literal loops:
+    the authors' read-control-mj_step (base and touch one step old) and the
+    fresh mj_step1-read-control-mj_step2."""
+    n = 6000                                   # 0.6 s: the first touchdown and stance
+    ref_qpos = _reference_loop("SS", "forward", n, latency)
+    r = simulate("SS", "forward", duration_s=n * 1e-4, transient_s=0.0, sensor_timing=timing,
+                 record_rate_hz=1e4, record_qpos=True)
+    assert r.settings.sensor_timing == timing
+    np.testing.assert_allclose(r.qpos, ref_qpos[:len(r.qpos)], rtol=0, atol=1e-9)
+
+
+def test_sensor_timings_differ_and_are_recorded():
+    a = simulate("SS", "forward", duration_s=1.0, transient_s=0.0)
+    b = simulate("SS", "forward", duration_s=1.0, transient_s=0.0, sensor_timing="fresh")
+    c = simulate("SS", "forward", duration_s=1.0, transient_s=0.0, sensor_timing=1)
+    assert a.settings.sensor_timing == "authors" and b.settings.sensor_timing == "fresh"
+    assert np.array_equal(a.data, c.data)                 # latency 1 is the authors' timing
+    assert not np.array_equal(a.data, b.data)
+    assert simulate("SS", "forward", duration_s=0.2, transient_s=0.0,
+                    sensor_timing=5).settings.sensor_timing == "latency-5"
+
+
+@pytest.mark.parametrize("bad", [-1, 1.5, True, "late", "latency-x", 10**6])
+def test_bad_sensor_timing(bad):
+    with pytest.raises(ValueError, match="sensor"):
+        SimSettings(sensor_timing=bad)
 
 
 def test_determinism_bit_identical():

@@ -10,7 +10,7 @@ import pytest
 from mat_hopper import reference as ref
 from mat_hopper.materials import LegDesign, parse_design, spring_stiffness
 from mat_hopper.model import build_model
-from mat_hopper.stability import (StabilitySpec, agreement, controller_timestep, estimate_timestep, largest_stable_timestep, leg_chain,
+from mat_hopper.stability import (delayed_damping_factor, StabilitySpec, agreement, controller_timestep, estimate_timestep, largest_stable_timestep, leg_chain,
                                   scan_consistent, spring_chain_wmax, try_timestep)
 
 
@@ -103,13 +103,27 @@ def test_stability_task_summary_and_agreement():
     assert a["spec scan", "fraction_scan_consistent"] == 0.75
 
 
+@pytest.mark.parametrize("latency, factor", [(0, 2.0), (1, 1.0), (2, 2 * math.cos(2 * math.pi / 5))])
+def test_delayed_damping_factor_by_hand(latency, factor):
+    """Roots of z^(L+1) - z^L + q = 0 on the unit circle (Levin & May 1976):
+    L = 0 -> q < 2, L = 1 -> q < 1, L = 2 -> q < 2 cos(2 pi / 5) = 0.618."""
+    assert delayed_damping_factor(latency) == pytest.approx(factor)
+    q = factor * 0.999          # just inside: every root of the characteristic polynomial inside the unit circle
+    assert np.abs(np.roots([1, -1] + [0] * (latency - 1) + [q] if latency else [1, -1 + q])).max() < 1
+    q = factor * 1.001
+    assert np.abs(np.roots([1, -1] + [0] * (latency - 1) + [q] if latency else [1, -1 + q])).max() > 1
+
+
 def test_controller_limit_is_the_base_inertia_over_the_stance_rate_gain():
-    """2 I / (K_d gear), material-independent: the plateau of soft, heavy legs."""
+    """I / (K_d gear) under the authors' one-step-old gyro, 2 I / (K_d gear)
+    when fresh; material-independent: the plateau of soft, heavy legs."""
     ss, soft = parse_design("SS"), LegDesign.from_properties([20.0] * 3, [4.0] * 3)
     limit = controller_timestep(ss)
     assert limit == pytest.approx(controller_timestep(soft))
     m = build_model(ss).model
-    assert limit == pytest.approx(2 * min(m.body_inertia[m.body("base").id]) / (ref.STANCE_KD * ref.HIP_GEAR))
+    inertia = min(m.body_inertia[m.body("base").id])       # MuJoCo's own: the base's COM is at the hip
+    assert limit == pytest.approx(inertia / (ref.STANCE_KD * ref.HIP_GEAR))
+    assert controller_timestep(ss, sensor_timing="fresh") == pytest.approx(2 * limit)
     assert estimate_timestep(soft)[1] > 1.5 * limit          # the spring limit lies above: this one binds
     assert try_timestep(soft, 0.8 * limit, duration_s=1.0)["upright"]
     assert not try_timestep(soft, 1.5 * limit, duration_s=1.0)["upright"]
