@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import multiprocessing
 import os
-import warnings
 from concurrent.futures import ProcessPoolExecutor
 from typing import Sequence
 
@@ -17,7 +16,7 @@ import pandas as pd
 
 from ..behaviours import behaviour as get_behaviour
 from ._designs import as_design
-from ._settings import BatchSettings, cpu_sensor_latency_supported, result_frame
+from ._settings import BatchSettings, result_frame
 
 
 def _row(design, beh, settings: BatchSettings) -> dict:
@@ -27,7 +26,8 @@ def _row(design, beh, settings: BatchSettings) -> dict:
     s = run_summary(r)
     return {"design": design.name, "n_hops": int(s["n_hops"]), "hop_height_m": s["mean_hop_height_m"],
             "tracking_error_m": s["mean_tracking_error_m"], "power_w": s["mean_power_w"],
-            "stable": bool(s["stable"]), "behaviour": beh.name, "diverged_at_s": s["diverged_at_s"],
+            "stable": bool(s["stable"]), "behaviour": beh.name, "sensor_timing": s["sensor_timing"],
+            "diverged_at_s": s["diverged_at_s"],
             "total_mass_kg": s["total_mass_kg"], "backend": "mujoco"}
 
 
@@ -44,10 +44,6 @@ def evaluate_cpu(designs: Sequence, behaviour, settings: BatchSettings | None = 
     settings = settings or BatchSettings()
     designs = [as_design(d) for d in designs]
     beh = get_behaviour(behaviour)
-    if not cpu_sensor_latency_supported():
-        warnings.warn("this mat_hopper.sim has no sensor_latency_steps setting: the mujoco backend reads "
-                      "sensors with its own timing, not sensor_latency_steps="
-                      f"{settings.sensor_latency_steps}", RuntimeWarning, stacklevel=2)
     workers = min(len(designs), workers or os.cpu_count() or 1)
     tasks = [(d, beh, settings) for d in designs]
     if progress:

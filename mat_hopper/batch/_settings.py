@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -10,6 +9,7 @@ import numpy as np
 import pandas as pd
 
 from .. import reference as ref
+from .. import control as _ctl
 from ..control import ControllerSettings
 from ..materials import DEFAULT_CONVENTION, check_convention
 from ..sim import DEFAULT_RECORD_RATE_HZ, SimSettings
@@ -17,7 +17,7 @@ from ..sim import DEFAULT_RECORD_RATE_HZ, SimSettings
 # One row per design, in this column order (the CLI writes exactly these).
 RESULT_COLUMNS = ("design", "n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable")
 # What the library's tables carry besides.
-EXTRA_COLUMNS = ("behaviour", "diverged_at_s", "total_mass_kg", "backend")
+EXTRA_COLUMNS = ("behaviour", "sensor_timing", "diverged_at_s", "total_mass_kg", "backend")
 BACKENDS = ("mujoco", "warp")
 
 
@@ -30,12 +30,14 @@ class BatchSettings:
     (1 kHz); convention: modulus-to-stiffness convention; controller: the
     gains (one source: :class:`~mat_hopper.control.ControllerSettings`).
 
-    sensor_latency_steps: how old the base sensors are when the controller
-    reads them. 1 is the authors' loop: ``d.sensordata`` as the previous
-    physics step left it (touch, base position, quaternion, gyro and linear
-    velocity one step old), hip angles and rates from the current
-    ``qpos``/``qvel``; at step 0 the sensors of the initial state. The warp
-    backend implements only 1.
+    sensor_latency_steps: how many physics steps old the base sensors are
+    when the controller reads them (``SimSettings.sensor_timing`` as an
+    integer; :mod:`mat_hopper.control`). 1 (reference.SENSOR_LATENCY_STEPS)
+    is the authors' loop: ``d.sensordata`` as the previous physics step left
+    it (touch, base position, quaternion, gyro and linear velocity one step
+    old), hip angles and rates from the current ``qpos``/``qvel``; at step 0
+    the sensors of the initial state. The mujoco backend takes any latency
+    its ``SimSettings`` takes; the warp backend implements only 1.
     """
 
     duration_s: float = ref.DURATION_S
@@ -44,26 +46,27 @@ class BatchSettings:
     convention: str = DEFAULT_CONVENTION
     record_rate_hz: float = DEFAULT_RECORD_RATE_HZ
     controller: ControllerSettings = field(default_factory=ControllerSettings)
-    sensor_latency_steps: int = 1
+    sensor_latency_steps: int = ref.SENSOR_LATENCY_STEPS
 
     def __post_init__(self):
+        lat = self.sensor_latency_steps
+        if isinstance(lat, (bool, np.bool_)) or not isinstance(lat, (int, np.integer)):
+            raise ValueError(f"sensor_latency_steps must be an integer number of physics steps, got {lat!r}")
+        _ctl.sensor_latency_steps(int(lat))       # control.py's range check
         # SimSettings holds the shared checks (finite, timestep range, duration > transient, ...).
         self.sim_settings()
         check_convention(self.convention)
-        lat = self.sensor_latency_steps
-        if isinstance(lat, bool) or not isinstance(lat, (int, np.integer)) or lat < 0:
-            raise ValueError(f"sensor_latency_steps must be an integer >= 0, got {lat!r}")
+
+    @property
+    def sensor_timing(self) -> str:
+        """The canonical name of the timing ("authors", "fresh", "latency-L")."""
+        return _ctl.sensor_timing_name(int(self.sensor_latency_steps))
 
     def sim_settings(self) -> SimSettings:
-        """The same run as :class:`~mat_hopper.sim.SimSettings` (CPU path).
-
-        The sensor latency is passed on when ``SimSettings`` has that
-        setting (see :func:`cpu_sensor_latency_supported`)."""
-        kw = dict(duration_s=self.duration_s, timestep_s=self.timestep_s, transient_s=self.transient_s,
-                  convention=self.convention, record_rate_hz=self.record_rate_hz, controller=self.controller)
-        if cpu_sensor_latency_supported():
-            kw["sensor_latency_steps"] = self.sensor_latency_steps
-        return SimSettings(**kw)
+        """The same run as :class:`~mat_hopper.sim.SimSettings` (the CPU path)."""
+        return SimSettings(duration_s=self.duration_s, timestep_s=self.timestep_s, transient_s=self.transient_s,
+                           convention=self.convention, record_rate_hz=self.record_rate_hz,
+                           controller=self.controller, sensor_timing=int(self.sensor_latency_steps))
 
     @property
     def n_steps(self) -> int:
@@ -73,11 +76,6 @@ class BatchSettings:
     def record_every(self) -> int:
         """Physics steps between metric samples (as SimSettings.record_every)."""
         return max(1, int(round(1.0 / (self.record_rate_hz * self.timestep_s))))
-
-
-def cpu_sensor_latency_supported() -> bool:
-    """Whether this checkout's ``SimSettings`` takes ``sensor_latency_steps``."""
-    return any(f.name == "sensor_latency_steps" for f in dataclasses.fields(SimSettings))
 
 
 def result_frame(rows: list[dict]) -> pd.DataFrame:

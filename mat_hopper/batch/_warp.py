@@ -314,6 +314,7 @@ class WarpBatch:
                          "tracking_error_m": mean_or_nan(acc[w, K.A_ERR_SUM], n),
                          "power_w": mean_or_nan(acc[w, K.A_POW_SUM], n),
                          "stable": bool(div[w] < 0), "behaviour": self.behaviour.name,
+                         "sensor_timing": self.settings.sensor_timing,
                          "diverged_at_s": None if div[w] < 0 else float(div[w] * self.settings.timestep_s),
                          "total_mass_kg": float(self.total_mass_kg[w]), "backend": "warp"})
         return result_frame(rows)

@@ -209,7 +209,7 @@ def test_metrics_kernel_is_metrics_py(layout):
                 r[C["t"]] = t
                 r[C["x"]:C["z"] + 1] = [f32(v) for v in sens_seq[i, w]]
                 r[C["x_des"]:C["vy_des"] + 1] = beh.desired(t)
-                r[C["force_hip_y"]], r[C["force_hip_x"]] = f32(qfrc_seq[i, w, 0]), f32(qfrc_seq[i, w, 1])
+                r[C["torque_hip_y"]], r[C["torque_hip_x"]] = f32(qfrc_seq[i, w, 0]), f32(qfrc_seq[i, w, 1])
                 r[C["hip_y_rate"]], r[C["hip_x_rate"]] = rate_seq[i, w]
                 rows.append(r)
         ro = Rollout(design, beh, sim, np.array(rows), np.array(events).reshape(-1, 3),

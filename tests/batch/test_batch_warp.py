@@ -67,8 +67,10 @@ def test_refusals():
         WarpBatch(["MD", "PVC"], "forward", SHORT, device="cpu")
     with pytest.raises(ValueError, match="not available"):
         WarpBatch(["PVC"], "forward", SHORT, device="nosuchdevice")
-    with pytest.raises(ValueError, match="sensor_latency_steps"):
+    with pytest.raises(ValueError, match="sensor latency must be in"):
         BatchSettings(sensor_latency_steps=-1)
+    with pytest.raises(ValueError, match="sensor_latency_steps must be an integer"):
+        BatchSettings(sensor_latency_steps=1.0)
 
 
 def test_trajectories_follow_mujoco_cpu_and_divergence_stays_in_its_world():
