@@ -28,7 +28,6 @@ metrics run in float64.
 from __future__ import annotations
 
 import copy
-import math
 import warnings
 from typing import Sequence
 
@@ -219,6 +218,7 @@ class WarpBatch:
         self.step = 0
         self._graph = None
         self._graph_steps = 0
+        self._graph_failed = False
 
     # -- stepping --
     def _launch_step(self) -> None:
@@ -237,7 +237,7 @@ class WarpBatch:
         wp.launch(K.tick_kernel, dim=1, inputs=[self._clock])
 
     def _capture(self, n: int) -> bool:
-        """A CUDA graph of n steps (GPU only); False where capture fails."""
+        """Record (not run) a CUDA graph of n steps (GPU only); False where capture fails."""
         wp = self._wp
         try:
             with wp.ScopedCapture(device=self.device) as cap:
@@ -245,6 +245,7 @@ class WarpBatch:
                     self._launch_step()
         except Exception as e:      # pragma: no cover (GPU only)
             warnings.warn(f"CUDA graph capture failed ({e}); stepping without graphs", RuntimeWarning)
+            self._graph_failed = True
             return False
         self._graph, self._graph_steps = cap.graph, n
         return True
@@ -261,8 +262,8 @@ class WarpBatch:
                 if self.step == 0:           # compile every kernel before any capture
                     self._launch_step()
                     done = 1
-                if self._graph is None and n - done >= 2:
-                    self._capture(min(n - done, self.graph_steps))
+                if self._graph is None and not self._graph_failed and n - done >= self.graph_steps:
+                    self._capture(self.graph_steps)       # recorded now, run by the launches below
                 while self._graph is not None and n - done >= self._graph_steps:
                     wp.capture_launch(self._graph)
                     done += self._graph_steps
@@ -281,14 +282,15 @@ class WarpBatch:
         bar = None
         if progress:
             from tqdm import tqdm
-            bar = tqdm(total=round(s.duration_s, 6), unit="sim s", desc=f"warp x{self.nworld}",
+            # counts steps, shows simulated seconds (unit_scale multiplies both by dt)
+            bar = tqdm(total=s.n_steps, initial=self.step, unit_scale=s.timestep_s, desc=f"warp x{self.nworld}",
                        bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} sim s [{elapsed}<{remaining}]")
         try:
             while self.step < s.n_steps:
                 before = self.step
                 self.advance(chunk)
                 if bar:
-                    bar.update((self.step - before) * s.timestep_s)
+                    bar.update(self.step - before)
         finally:
             if bar:
                 bar.close()

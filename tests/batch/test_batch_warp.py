@@ -8,7 +8,7 @@ pytest.importorskip("mujoco_warp")
 
 from mat_hopper.batch import BatchSettings, WarpBatch, evaluate  # noqa: E402
 from mat_hopper.batch._warp import DERIVED_FIELDS, DESIGN_FIELDS  # noqa: E402
-from mat_hopper.materials import LegDesign, parse_design  # noqa: E402
+from mat_hopper.materials import LegDesign  # noqa: E402
 from mat_hopper.model import build_model  # noqa: E402
 
 from _authors_loop import authors_rollout  # noqa: E402

@@ -1,15 +1,13 @@
 """``mat-hopper batch``: both backends write one row per design; bad input
 and a missing mujoco-warp are one-line errors with exit code 2."""
 
-import os
 import subprocess
 import sys
 
 import pandas as pd
 import pytest
 
-from mat_hopper.batch import RESULT_COLUMNS, designs_from_csv, designs_to_frame, evaluate_cpu
-from mat_hopper.batch import BatchSettings
+from mat_hopper.batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, designs_to_frame, evaluate_cpu
 from mat_hopper.cli import main
 from mat_hopper.materials import LegDesign, parse_design
 from mat_hopper.metrics import run_summary
@@ -24,13 +22,13 @@ def _cli(*args, env_code: str = ""):
 def test_mujoco_backend_rows_are_cpu_rollouts(tmp_path, capsys):
     out = tmp_path / "out.csv"
     rc = main(["batch", "--designs", "MD,PVC", "--behaviour", "forward", "--duration", "3", "--transient", "0.4",
-               "--timestep", "2.5e-4", "--backend", "mujoco", "--workers", "1", "--quiet", "--csv", str(out)])
+               "--timestep", "2e-4", "--backend", "mujoco", "--workers", "1", "--quiet", "--csv", str(out)])
     assert rc == 0
     table = pd.read_csv(out)
     assert list(table.columns) == list(RESULT_COLUMNS)
     assert list(table.design) == ["MD", "PVC"]
     for _, row in table.iterrows():      # each row is that design's own CPU rollout, summarised by metrics.py
-        s = run_summary(simulate(row.design, "forward", 3.0, 2.5e-4, transient=0.4))
+        s = run_summary(simulate(row.design, "forward", 3.0, 2e-4, transient=0.4))
         assert row.n_hops == s["n_hops"] and row.n_hops >= 1 and bool(row.stable) == s["stable"]
         assert row.hop_height_m == pytest.approx(s["mean_hop_height_m"], rel=1e-9)
         assert row.tracking_error_m == pytest.approx(s["mean_tracking_error_m"], rel=1e-9)
