@@ -6,6 +6,11 @@ divergence check and recording. libmujoco is called through ctypes on the
 Python bindings' own buffers, so the rollout costs little more than the
 bare physics (``benchmarks/rollout.py``).
 
+Physics substeps: the controller runs on every ``substeps``-th physics step
+(its own period is ``substeps x dt``) and its control is held in between;
+the readings are still taken, and lag, in physics steps. With one substep
+(the default) the control runs every step, as in the authors' loop.
+
 When each reading is taken (see :mod:`mat_hopper.control`): after
 ``mj_step1`` at step i, ``sensordata`` holds the position- and
 velocity-stage sensors of state s_i, and the touch sensor (an
@@ -51,6 +56,7 @@ CHANNELS = (
     "ctrl_hip_y", "ctrl_hip_x", "ctrl_thrust",          # actuator space (the controls)
     "torque_hip_y", "torque_hip_x", "force_thrust",     # joint space (MuJoCo's qfrc_actuator)
     "touch", "phase", "thrust_setting", "foot_spring", "foot_spring_rate",
+    "az_filtered", "jerk_z",                            # low-passed base z acceleration, its derivative
 )
 C = {name: i for i, name in enumerate(CHANNELS)}
 N_CHANNELS = len(CHANNELS)
@@ -91,14 +97,25 @@ class Disturbance(NamedTuple):
     noise_every: int
 
 
+class JerkFilter(NamedTuple):
+    """A second-order low-pass section (b0, b1, b2, a1, a2; a0 = 1) applied
+    to the base's z acceleration at every physics step (transposed direct
+    form II), and its state [z1, z2, previous output], carried between
+    calls. Coefficients from scipy.signal.butter (mat_hopper.sim)."""
+
+    coef: np.ndarray
+    state: np.ndarray
+
+
 class Steps(NamedTuple):
     """Which physics steps to run and how."""
 
-    first: int            # index of the first step of this call
-    count: int            # how many steps
-    dt: float             # s
-    record_every: int     # steps between records
+    first: int            # index of the first physics step of this call
+    count: int            # how many physics steps
+    dt: float             # s, the physics step
+    record_every: int     # physics steps between records
     qacc_limit: float     # |qacc| above this is divergence
+    substeps: int         # physics steps per control period (the control is held between updates)
 
 
 # ---------------------------------------------------------------------------
@@ -144,14 +161,15 @@ def _diverged(qpos, qacc, limit):
 
 
 @numba.njit(cache=True)
-def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps, history, state, rec,
+def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps, history, state, jerk, rec,
                  qpos_rec, events):
     """Run physics steps ``steps.first`` .. ``steps.first + steps.count - 1``.
 
     history: (latency + 1, HISTORY_WIDTH) ring of past readings, carried
     between calls; rec: structured records (RECORD_DTYPE), one every
     ``record_every`` steps; qpos_rec: (records, nq) joint positions after
-    the step, or 0 rows; events: (n, 3) rows of (time s, kind, hop height m).
+    the step, or 0 rows; events: (n, 3) rows of (time s, kind, hop height m);
+    jerk: the JerkFilter run on the base's z acceleration every step.
     Returns (records written, events written, step of divergence or -1)."""
     out = np.zeros(OUT_SIZE)
     hip_angle = np.zeros(2)
@@ -171,40 +189,49 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps,
         t = i * steps.dt
         step1(m_ptr, d_ptr)
         read_sensors(buf.sensordata, lay, history[i % ring])
-        lagged = history[(i + ring - latency) % ring]
-        touch = history[(i + ring - touch_lag) % ring][H_TOUCH]
-        for k in range(3):
-            pos[k] = lagged[H_POS + k]
-            vel[k] = lagged[H_VEL + k]
-        if noisy:
-            nrow = dist.noise[min(i // dist.noise_every, dist.noise.shape[0] - 1)]
-            for k in range(3):
-                pos[k] += nrow[k]
-                vel[k] += nrow[3 + k]
-        quat = lagged[H_QUAT:H_QUAT + 4]
-        gyro = lagged[H_GYRO:H_GYRO + 3]
         hip_angle[0] = buf.qpos[lay.hip_y_qpos]
         hip_angle[1] = buf.qpos[lay.hip_x_qpos]
         hip_rate[0] = buf.qvel[lay.hip_y_dof]
         hip_rate[1] = buf.qvel[lay.hip_x_dof]
-        dx, dy, dvx, dvy = desired_state(t, path.kind, path.params, path.table)
-        desired[0], desired[1], desired[2], desired[3] = dx, dy, dvx, dvy
+        if i % steps.substeps == 0:
+            lagged = history[(i + ring - latency) % ring]
+            touch = history[(i + ring - touch_lag) % ring][H_TOUCH]
+            for k in range(3):
+                pos[k] = lagged[H_POS + k]
+                vel[k] = lagged[H_VEL + k]
+            if noisy:
+                nrow = dist.noise[min(i // dist.noise_every, dist.noise.shape[0] - 1)]
+                for k in range(3):
+                    pos[k] += nrow[k]
+                    vel[k] += nrow[3 + k]
+            quat = lagged[H_QUAT:H_QUAT + 4]
+            gyro = lagged[H_GYRO:H_GYRO + 3]
+            dx, dy, dvx, dvy = desired_state(t, path.kind, path.params, path.table)
+            desired[0], desired[1], desired[2], desired[3] = dx, dy, dvx, dvy
+            event = controller_step(t, touch, pos, quat, gyro, vel, hip_angle, hip_rate, desired, gains, state,
+                                    out)
+            buf.ctrl[lay.act_hip_y] = out[0]
+            buf.ctrl[lay.act_hip_x] = out[1]
+            buf.ctrl[lay.act_thrust] = out[2]
+            if event != 0 and n_ev < events.shape[0]:
+                events[n_ev, 0] = t
+                events[n_ev, 1] = event
+                events[n_ev, 2] = state[S_LAST_HEIGHT]
+                n_ev += 1
         if (dist.push[0] <= t < dist.push[1]) != pushing:
             pushing = not pushing
             buf.xfrc_applied[base, 0] = dist.push[2] if pushing else 0.0
             buf.xfrc_applied[base, 1] = dist.push[3] if pushing else 0.0
-        event = controller_step(t, touch, pos, quat, gyro, vel, hip_angle, hip_rate, desired, gains, state, out)
-        buf.ctrl[lay.act_hip_y] = out[0]
-        buf.ctrl[lay.act_hip_x] = out[1]
-        buf.ctrl[lay.act_thrust] = out[2]
-        if event != 0 and n_ev < events.shape[0]:
-            events[n_ev, 0] = t
-            events[n_ev, 1] = event
-            events[n_ev, 2] = state[S_LAST_HEIGHT]
-            n_ev += 1
         foot, foot_rate = buf.qpos[lay.spring_qpos], buf.qvel[lay.spring_dof]
         step2(m_ptr, d_ptr)
         bad = _diverged(buf.qpos, buf.qacc, steps.qacc_limit)
+        az = buf.qacc[lay.base_dof + 2]
+        c, z = jerk.coef, jerk.state
+        az_f = c[0] * az + z[0]
+        z[0] = c[1] * az - c[3] * az_f + z[1]
+        z[1] = c[2] * az - c[4] * az_f
+        jerk_z = (az_f - z[2]) / steps.dt
+        z[2] = az_f
         if (i % steps.record_every == 0 or bad) and n_rec < rec.shape[0]:
             r = rec[n_rec]
             now = history[i % ring]                 # the state s_i as MuJoCo computed it
@@ -216,7 +243,7 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps,
             r["az"] = buf.qacc[lay.base_dof + 2]
             r["roll"], r["pitch"], r["yaw"] = euler_zyx(now[H_QUAT:H_QUAT + 4])
             r["roll_rate"], r["pitch_rate"] = now[H_GYRO], now[H_GYRO + 1]
-            r["x_des"], r["y_des"], r["vx_des"], r["vy_des"] = dx, dy, dvx, dvy
+            r["x_des"], r["y_des"], r["vx_des"], r["vy_des"] = desired_state(t, path.kind, path.params, path.table)
             r["hip_y"], r["hip_x"] = hip_angle[0], hip_angle[1]
             r["hip_y_rate"], r["hip_x_rate"] = hip_rate[0], hip_rate[1]
             r["hip_y_target"], r["hip_x_target"] = out[3], out[4]
@@ -232,6 +259,8 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps,
             r["thrust_setting"] = state[S_THRUST]
             r["foot_spring"] = foot
             r["foot_spring_rate"] = foot_rate
+            r["az_filtered"] = az_f
+            r["jerk_z"] = jerk_z
             if n_rec < qpos_rec.shape[0]:
                 qpos_rec[n_rec, :] = buf.qpos
             n_rec += 1

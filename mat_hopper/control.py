@@ -67,6 +67,9 @@ O_TARGET_RATE_Y, O_TARGET_RATE_X = 5, 6           # rad/s
 OUT_SIZE = 7
 
 
+HOP_HEIGHT_RANGE_M = (0.7, 3.0)      # accepted hop-height targets (base z at the apex)
+
+
 @dataclass(frozen=True)
 class ControllerSettings:
     """Every gain of the controller; defaults are the reference hopper's.
@@ -96,6 +99,13 @@ class ControllerSettings:
                 raise ValueError(f"controller setting {name} must be a finite number, got {value!r}")
         if self.leg_length_m <= 0:
             raise ValueError(f"leg_length_m must be > 0 m, got {self.leg_length_m!r}")
+        lo, hi = HOP_HEIGHT_RANGE_M
+        if not lo <= self.hop_height_target_m <= hi:
+            raise ValueError(f"hop_height_target_m must be in [{lo:g}, {hi:g}] m (the base stands at about "
+                             f"0.6 m; the paper's target is 1 m), got {self.hop_height_target_m!r}")
+        for name in ("phase_lock_s", "thrust_start_n", "thrust_adapt_gain", "stance_duration_s"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"controller setting {name} must be >= 0, got {getattr(self, name)!r}")
 
     def gains(self) -> "Gains":
         """These settings as the compiled code reads them (floats, by name)."""
@@ -192,7 +202,10 @@ def update_phase(t, touch, z, vz, g, state):
         if state[S_LIFTOFFS] > 0.0:       # the very first touchdown adapts nothing
             height = state[S_Z_MAX]
             state[S_LAST_HEIGHT] = height
-            state[S_THRUST] += g.thrust_adapt_gain * (g.hop_height_target_m - height)
+            # Kept physical: the foot actuator pushes, it never pulls the leg
+            # in (a thrust adapted below 0 N would). With the paper's 1 m
+            # target F stays near 200-400 N and this bound is never reached.
+            state[S_THRUST] = max(0.0, state[S_THRUST] + g.thrust_adapt_gain * (g.hop_height_target_m - height))
         state[S_Z_MAX] = z
         return TOUCHDOWN
     if state[S_PHASE] == STANCE and touch == 0.0 and vz > 0.0:

@@ -12,6 +12,26 @@ named conventions:
 ``axial``
     a physical axial spring: k = E A / L with A = pi r^2 the capsule's
     cross-section and L the segment's length (0.1 m for 3 segments).
+
+Density sets each segment's mass under one of two named conventions of
+segment mass (``SEGMENT_MASSES``):
+
+``leg``
+    each of N segments carries 1/N of the material mass that the authors'
+    3-segment leg of that material has, half above and half below its
+    spring: every capsule's density is scaled by the ratio of the
+    3-segment capsule volume to the N-segment one
+    (:func:`capsule_density_scale`), exactly 1 at N = 3. Default: a leg cut
+    finer is the same leg.
+``capsule``
+    the authors' per-capsule geometry at any N: each half-segment is a
+    capsule of the material's density *with its own hemispherical end
+    caps*, so the leg's mass grows with N (SS: 21.68 kg at N = 1, 23.77 kg
+    at N = 3, 45.76 kg at N = 24).
+
+Accepted physical ranges (:data:`DENSITY_RANGE_G_CM3`,
+:data:`MODULUS_RANGE_GPA`, :data:`MAX_SEGMENTS`) bound what a design may
+ask for; values outside raise ValueError naming the range.
 """
 
 from __future__ import annotations
@@ -25,16 +45,50 @@ from . import reference as ref
 
 CONVENTIONS = ("paper", "axial")
 DEFAULT_CONVENTION = "paper"
+SEGMENT_MASSES = ("leg", "capsule")
+DEFAULT_SEGMENT_MASS = "leg"
+
+# Accepted physical ranges. Densities: from aerogels (about 0.001 g/cm^3) to
+# beyond osmium (22.6 g/cm^3); moduli: from soft gels (kPa, 1e-6 GPa) to
+# beyond diamond (about 1200 GPa). Segments: a cap on model size (the
+# convergence study goes to 24).
+DENSITY_RANGE_G_CM3 = (0.001, 30.0)
+MODULUS_RANGE_GPA = (1e-6, 2000.0)
+MAX_SEGMENTS = 64
 
 
-def _check_number(value, field: str, accepted: str, *, allow_zero: bool = False) -> float:
+def _check_number(value, field: str, accepted: str, *, allow_zero: bool = False,
+                  bounds: tuple[float, float] | None = None) -> float:
+    """A finite number > 0 (>= 0 with allow_zero), inside bounds if given.
+    Numeric strings ("8", " 1e3 ") are parsed; anything else is refused."""
+    if isinstance(value, bool):
+        raise ValueError(f"{field} must be a number {accepted}, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):
         raise ValueError(f"{field} must be a number {accepted}, got {value!r}") from None
     if not math.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
         raise ValueError(f"{field} must be {accepted}, got {value!r}")
+    if bounds is not None and not bounds[0] <= x <= bounds[1]:
+        raise ValueError(f"{field} must be {accepted}, got {value!r}")
     return x
+
+
+def check_n_segments(n_segments) -> int:
+    """An integer number of segments in [1, MAX_SEGMENTS] (no bools, no 2.5)."""
+    try:
+        ok = (not isinstance(n_segments, bool)) and float(n_segments) == int(n_segments)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or not 1 <= int(n_segments) <= MAX_SEGMENTS:
+        raise ValueError(f"n_segments must be an integer in [1, {MAX_SEGMENTS}], got {n_segments!r}")
+    return int(n_segments)
+
+
+def check_segment_mass(segment_mass: str) -> str:
+    if segment_mass not in SEGMENT_MASSES:
+        raise ValueError(f"unknown segment mass convention {segment_mass!r}; accepted: {', '.join(SEGMENT_MASSES)}")
+    return segment_mass
 
 
 @dataclass(frozen=True)
@@ -51,10 +105,14 @@ class Material:
     source: str = ""
 
     def __post_init__(self):
-        d = _check_number(self.density_g_cm3, f"density of {self.name}", "finite and > 0 g/cm^3")
+        lo, hi = DENSITY_RANGE_G_CM3
+        d = _check_number(self.density_g_cm3, f"density of {self.name}", f"in [{lo:g}, {hi:g}] g/cm^3",
+                          bounds=DENSITY_RANGE_G_CM3)
         object.__setattr__(self, "density_g_cm3", d)
         if self.modulus_gpa is not None:
-            e = _check_number(self.modulus_gpa, f"modulus of {self.name}", "finite and > 0 GPa, or rigid")
+            lo, hi = MODULUS_RANGE_GPA
+            e = _check_number(self.modulus_gpa, f"modulus of {self.name}", f"in [{lo:g}, {hi:g}] GPa, or rigid",
+                              bounds=MODULUS_RANGE_GPA)
             object.__setattr__(self, "modulus_gpa", e)
 
     @property
@@ -149,6 +207,36 @@ def segment_length(n_segments: int) -> float:
     return ref.MATERIAL_LENGTH / n_segments
 
 
+def capsule_volume_m3(radius_m: float, length_m: float) -> float:
+    """Volume (m^3) of a capsule: a cylinder of this length plus its two
+    hemispherical end caps (what MuJoCo's ``fromto`` capsule holds)."""
+    return math.pi * radius_m**2 * length_m + 4.0 / 3.0 * math.pi * radius_m**3
+
+
+def capsule_density_scale(n_segments: int, segment_mass: str = DEFAULT_SEGMENT_MASS) -> float:
+    """Factor on each material capsule's density (module doc): ``leg``,
+    V3 / (N/3 V_N) with V_N the volume of one half-segment capsule of an
+    N-segment leg (exactly 1.0 at N = 3); ``capsule``, 1."""
+    check_segment_mass(segment_mass)
+    n = check_n_segments(n_segments)
+    if segment_mass == "capsule":
+        return 1.0
+    r, ref_n = ref.MATERIAL_RADIUS, ref.REFERENCE_SEGMENTS
+    v_ref = capsule_volume_m3(r, segment_length(ref_n) / 2.0)
+    v_n = capsule_volume_m3(r, segment_length(n) / 2.0)
+    return (ref_n * v_ref) / (n * v_n)
+
+
+def segment_masses(design: "LegDesign", segment_mass: str = DEFAULT_SEGMENT_MASS) -> tuple[float, ...]:
+    """Mass (kg) of each material segment, both halves, from its density,
+    the capsule geometry and the segment-mass convention: m = rho V, with V
+    two half-segment capsules (:func:`capsule_volume_m3`)."""
+    n = design.n_segments
+    v = 2.0 * capsule_volume_m3(ref.MATERIAL_RADIUS, segment_length(n) / 2.0)
+    scale = capsule_density_scale(n, segment_mass)
+    return tuple(m.density_kg_m3 * scale * v for m in design.segments)
+
+
 def spring_stiffness(modulus_gpa: float, convention: str = DEFAULT_CONVENTION,
                      n_segments: int = ref.REFERENCE_SEGMENTS) -> float:
     """Axial spring stiffness in N/m for a segment of the given modulus (GPa)."""
@@ -171,8 +259,8 @@ class LegDesign:
 
     def __post_init__(self):
         segs = tuple(self.segments)
-        if len(segs) < 1:
-            raise ValueError("segments: a leg needs at least 1 segment (got 0)")
+        if not 1 <= len(segs) <= MAX_SEGMENTS:
+            raise ValueError(f"a leg needs 1 to {MAX_SEGMENTS} segments, got {len(segs)}")
         for s in segs:
             if not isinstance(s, Material):
                 raise ValueError(f"segments must be Material objects, got {s!r}")
@@ -192,14 +280,44 @@ class LegDesign:
     def moduli_gpa(self) -> tuple[float | None, ...]:
         return tuple(s.modulus_gpa for s in self.segments)
 
+    def resample(self, n_segments: int) -> "LegDesign":
+        """This leg's material profile on n_segments equal segments, by cell
+        averages over each new segment's share of the leg: density as the
+        length-weighted arithmetic mean (the material mass is conserved),
+        modulus as the length-weighted harmonic mean (springs in series: the
+        leg's axial compliance is conserved); rigid only where every source
+        segment under it is rigid (a partly rigid cell takes the harmonic
+        mean of its elastic part). The same N returns this design; N a
+        multiple of the current count splits each segment."""
+        n = check_n_segments(n_segments)
+        if n == self.n_segments:
+            return self
+        m = self.n_segments
+        edges_new = [j / n for j in range(n + 1)]
+        segs = []
+        for j in range(n):
+            a, b = edges_new[j], edges_new[j + 1]
+            mass, comp, elastic, rigid_len = 0.0, 0.0, 0.0, 0.0
+            for i, mat in enumerate(self.segments):
+                w = max(0.0, min(b, (i + 1) / m) - max(a, i / m))
+                if w <= 0:
+                    continue
+                mass += w * mat.density_g_cm3
+                if mat.rigid:
+                    rigid_len += w
+                else:
+                    comp += w / mat.modulus_gpa
+                    elastic += w
+            rho = mass / (b - a)
+            e = None if elastic == 0 else elastic / comp
+            segs.append(Material(f"seg{j + 1}", rho, e))
+        return LegDesign(tuple(segs), name=f"{self.name}@{n}" if self.name else "")
+
     @classmethod
     def mono(cls, mat: Material | str, n_segments: int = ref.REFERENCE_SEGMENTS) -> "LegDesign":
         """A homogeneous leg of one material."""
         m = material(mat) if isinstance(mat, str) else mat
-        n = int(n_segments)
-        if n < 1:
-            raise ValueError(f"n_segments must be >= 1, got {n_segments!r}")
-        return cls((m,) * n, name=m.name)
+        return cls((m,) * check_n_segments(n_segments), name=m.name)
 
     @classmethod
     def from_properties(cls, densities_g_cm3: Sequence[float],
@@ -212,9 +330,12 @@ class LegDesign:
             dens = dens * len(mods)
         if len(dens) != len(mods):
             raise ValueError(f"density and modulus need one value per segment (got {len(dens)} and {len(mods)})")
+        if not 1 <= len(dens) <= MAX_SEGMENTS:
+            raise ValueError(f"a leg needs 1 to {MAX_SEGMENTS} segments, got {len(dens)}")
         segs = tuple(Material(f"seg{i + 1}", d, e) for i, (d, e) in enumerate(zip(dens, mods)))
-        if not name and segs:
-            name = "custom(" + ",".join(f"{d:g}/{'rigid' if e is None else f'{e:g}'}" for d, e in zip(dens, mods)) + ")"
+        if not name:       # from the parsed values (numeric strings are accepted above)
+            name = "custom(" + ",".join(f"{s.density_g_cm3:g}/{'rigid' if s.rigid else f'{s.modulus_gpa:g}'}"
+                                        for s in segs) + ")"
         return cls(segs, name=name)
 
 

@@ -21,7 +21,8 @@ import mujoco
 import numpy as np
 
 from . import reference as ref
-from .materials import DEFAULT_CONVENTION, LegDesign, check_convention, spring_stiffness
+from .materials import (DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, capsule_density_scale, check_convention,
+                        check_segment_mass, spring_stiffness)
 
 BASE_JOINTS = ("base_x", "base_y", "base_z", "base_roll", "base_pitch", "base_yaw")
 HIP_JOINTS = ("hip_y", "hip_x")
@@ -72,6 +73,7 @@ class HopperModel:
     sensors: str          # "all" (the spec's seven) or "control" (the five the controller reads)
     layout: Layout
     spring_stiffness_n_m: tuple[float, ...]   # per segment; 0 for rigid
+    segment_mass: str = DEFAULT_SEGMENT_MASS  # "leg" (mass independent of N) or "capsule" (the authors')
 
     @property
     def total_mass_kg(self) -> float:
@@ -102,6 +104,26 @@ def ramp_pose(grade_deg: float) -> tuple[np.ndarray, np.ndarray]:
     return np.array([ref.RAMP_CENTER_X, 0.0, ref.RAMP_CENTER_Z]), quat
 
 
+def terrain_height_m(x_m, y_m, ramp_grade_deg: float | None = None):
+    """Height (m) of the terrain under world points (x, y): 0 on the flat
+    ground; on the ramp behaviour the higher of the ground and the ramp
+    box's top face, z = cz + hz / cos(a) + tan(a) (x - cx) over the box's
+    footprint (a the grade angle; the box's far end and sides are not
+    modelled: the hopper never reaches them). Arrays broadcast.
+    tests/test_model.py checks it against MuJoCo's own ray casts."""
+    x, y = np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float)
+    ground = np.zeros(np.broadcast(x, y).shape)
+    if ramp_grade_deg is None:
+        return ground
+    a = math.radians(ramp_grade_deg)
+    (cx, _, cz), _ = ramp_pose(ramp_grade_deg)
+    hx, hy, hz = ref.RAMP_HALF_SIZE
+    u = (x - cx + hz * math.sin(a)) / math.cos(a)            # along the top face, from its centre
+    top = cz + hz / math.cos(a) + math.tan(a) * (x - cx)
+    on = (np.abs(u) <= hx) & (np.abs(y) <= hy)
+    return np.where(on, np.maximum(ground, top), ground)
+
+
 def _capsule(body, name, z0, z1, radius, *, density=None, mass=None, rgba=None):
     g = body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CAPSULE,
                       fromto=[0, 0, z0, 0, 0, z1], size=[radius, 0, 0])
@@ -128,18 +150,23 @@ def _slide(body, name, stiffness, damping, *, limit=None):
 
 def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
                timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION,
-               sensors: str = "all") -> mujoco.MjSpec:
+               sensors: str = "all", segment_mass: str = DEFAULT_SEGMENT_MASS) -> mujoco.MjSpec:
     """The hopper with this leg as an editable ``MjSpec`` (not compiled).
 
     sensors: "all" (the spec's seven, in its order) or "control" (the first
-    five, which the controller reads; what rollouts use, see CONTROL_SENSORS)."""
+    five, which the controller reads; what rollouts use, see CONTROL_SENSORS);
+    segment_mass: "leg" (each segment 1/N of the 3-segment leg's material
+    mass; identical to the authors' model at N = 3) or "capsule" (the
+    authors' per-capsule density at any N), see :mod:`mat_hopper.materials`."""
     if not isinstance(design, LegDesign):
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
     if sensors not in SENSOR_SETS:
         raise ValueError(f"sensors must be one of {sorted(SENSOR_SETS)}, got {sensors!r}")
     check_convention(convention)
+    check_segment_mass(segment_mass)
     dt = _check_timestep(timestep)
     n = design.n_segments
+    scale = capsule_density_scale(n, segment_mass)   # exactly 1.0 at N = 3
     half = ref.MATERIAL_LENGTH / n / 2.0          # m, each half of a segment
 
     spec = mujoco.MjSpec()
@@ -198,7 +225,7 @@ def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
     # Each material segment: upper half in the parent, spring, lower half in the child.
     parent, top = leg, -ref.STUB_LENGTH
     for i, mat in enumerate(design.segments, start=1):
-        rho = mat.density_kg_m3
+        rho = mat.density_kg_m3 * scale
         _capsule(parent, f"seg{i}_upper", top, top - half, ref.MATERIAL_RADIUS, density=rho)
         child = parent.add_body(name=f"seg{i}", pos=[0, 0, top - half])
         if not mat.rigid:
@@ -262,13 +289,14 @@ def reset_to_start(model: mujoco.MjModel, data: mujoco.MjData) -> None:
 
 def build_model(design: LegDesign, *, ramp_grade_deg: float | None = None,
                 timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION,
-                sensors: str = "all") -> HopperModel:
+                sensors: str = "all", segment_mass: str = DEFAULT_SEGMENT_MASS) -> HopperModel:
     """Compile the hopper for this leg, terrain (flat or ramp), time step (s),
-    stiffness convention and sensor set (see :func:`build_spec`)."""
+    stiffness convention, sensor set and segment-mass convention (see
+    :func:`build_spec`). Raises ValueError for invalid arguments."""
     spec = build_spec(design, ramp_grade_deg=ramp_grade_deg, timestep=timestep, convention=convention,
-                      sensors=sensors)
+                      sensors=sensors, segment_mass=segment_mass)
     model = spec.compile()
     stiffness = tuple(0.0 if m.rigid else spring_stiffness(m.modulus_gpa, convention, design.n_segments)
                       for m in design.segments)
     return HopperModel(model, design, convention, ramp_grade_deg, float(timestep), sensors, layout_of(model),
-                       stiffness)
+                       stiffness, segment_mass)

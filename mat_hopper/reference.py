@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 # --- Physics options -------------------------------------------------------
+GRAVITY_M_S2 = 9.81               # MuJoCo's default gravity, (0, 0, -9.81)
 TIMESTEP_S = 1e-4                 # the paper's experiments (MuJoCo default 2e-3)
 SOLVER_ITERATIONS = 50
 SOLVER_TOLERANCE = 1e-10

@@ -108,7 +108,8 @@ def settings_key(settings: SimSettings) -> dict:
     p = settings.perturbation
     return {"duration_s": settings.duration_s, "timestep_s": settings.timestep_s,
             "transient_s": settings.transient_s, "convention": settings.convention,
-            "sensor_timing": settings.sensor_timing,
+            "sensor_timing": settings.sensor_timing, "segment_mass": settings.segment_mass,
+            "substeps": settings.substeps,
             "record_rate_hz": settings.record_rate_hz, "controller": asdict(settings.controller),
             "perturbation": None if p is None else asdict(p)}
 

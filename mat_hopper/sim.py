@@ -33,18 +33,50 @@ import numpy as np
 
 from . import reference as ref
 from ._loop import (C, CHANNELS, HISTORY_WIDTH, MJ_STEP1, MJ_STEP2, N_CHANNELS, RECORD_DTYPE, Buffers, Disturbance,
-                    Path, Steps, read_sensors, rollout_loop)
+                    JerkFilter, Path, Steps, read_sensors, rollout_loop)
 from .behaviours import Behaviour, behaviour as get_behaviour
 from .control import (DEFAULT_SENSOR_TIMING, LIFTOFF, TOUCHDOWN, ControllerSettings, initial_state,
                       sensor_latency_steps, sensor_timing_name)
-from .materials import DEFAULT_CONVENTION, LegDesign, check_convention, parse_design
+from .materials import (DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, check_convention, check_segment_mass,
+                        parse_design)
 from .model import HopperModel, build_model, reset_to_start
+from .modes import auto_substeps
 from .perturbations import NO_PUSH, Perturbation
 
 __all__ = ["CHANNELS", "C", "N_CHANNELS", "DEFAULT_RECORD_RATE_HZ", "SimSettings", "Rollout", "RolloutRunner",
-           "prepare", "simulate", "route_mujoco_warnings"]
+           "prepare", "simulate", "auto_timestep", "route_mujoco_warnings"]
 
 DEFAULT_RECORD_RATE_HZ = 1000.0
+MAX_SUBSTEPS = 1000
+# Run-size limits, checked before anything is allocated: 2e9 physics steps
+# (about 3 h of one core), 5e6 recorded samples (1.5 GB of records).
+MAX_STEPS = 2_000_000_000
+MAX_SAMPLES = 5_000_000
+AUTO = "auto"
+# Jerk is computed at the physics rate: the base's z acceleration through a
+# causal Butterworth low-pass, then differentiated step by step. The cut-off
+# lies far below the leg's axial modes (2.5-4 kHz, barely damped) and the
+# record rates' Nyquist frequencies, and above the hop's body dynamics
+# (stance about 0.1 s): the number no longer depends on the record rate.
+# Butterworth filtering before differentiating is the standard treatment of
+# noisy kinematic derivatives (D. A. Winter, Biomechanics and Motor Control
+# of Human Movement, 4th ed., Wiley 2009, sec. 2.2); the coefficients come
+# from scipy.signal.butter.
+JERK_CUTOFF_HZ = 50.0
+JERK_FILTER_ORDER = 2
+
+
+def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkFilter:
+    """The jerk low-pass for this physics step, at rest on input az0 (its
+    steady state, scipy.signal.sosfilt_zi) so a run starts without a
+    filter transient. Steps coarser than 4 ms (where jerk means little)
+    lower the cut-off to 0.2 / timestep_s, below their Nyquist frequency."""
+    import scipy.signal
+    cutoff = min(JERK_CUTOFF_HZ, 0.2 / timestep_s)
+    sos = scipy.signal.butter(JERK_FILTER_ORDER, cutoff, fs=1.0 / timestep_s, output="sos")
+    (b0, b1, b2, _, a1, a2), = sos
+    zi = scipy.signal.sosfilt_zi(sos)[0] * az0_m_s2
+    return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2]))
 _log = logging.getLogger("mat_hopper.mujoco")
 
 
@@ -70,7 +102,14 @@ class SimSettings:
     sensor_timing: when the controller's base readings are taken,
     ``"authors"`` (default: one physics step old), ``"fresh"``, or an integer
     latency in physics steps (stored by its canonical name, e.g.
-    ``"latency-5"``; see :func:`mat_hopper.control.sensor_latency_steps`).
+    ``"latency-5"``; see :func:`mat_hopper.control.sensor_latency_steps`);
+    segment_mass: ``"leg"`` (default: mass independent of the number of
+    segments, the authors' model at N = 3) or ``"capsule"`` (the authors'
+    per-capsule density at any N; see :mod:`mat_hopper.materials`);
+    substeps: physics steps per control period. ``timestep_s`` is the
+    physics step; the controller runs every ``substeps`` of them, i.e. with
+    period :attr:`control_period_s` (1 by default: every step, as the
+    authors' loop). ``simulate(timestep_s="auto")`` chooses it.
 
     Raises ValueError on any invalid value.
     """
@@ -83,9 +122,16 @@ class SimSettings:
     controller: ControllerSettings = field(default_factory=ControllerSettings)
     perturbation: Perturbation | None = None
     sensor_timing: str | int = DEFAULT_SENSOR_TIMING
+    segment_mass: str = DEFAULT_SEGMENT_MASS
+    substeps: int = 1
 
     def __post_init__(self):
+        if isinstance(self.substeps, bool) or not isinstance(self.substeps, (int, np.integer)) \
+                or not 1 <= self.substeps <= MAX_SUBSTEPS:
+            raise ValueError(f"substeps must be an integer in [1, {MAX_SUBSTEPS}] (physics steps per control "
+                             f"period), got {self.substeps!r}")
         object.__setattr__(self, "sensor_timing", sensor_timing_name(self.sensor_timing))
+        check_segment_mass(self.segment_mass)
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -100,6 +146,12 @@ class SimSettings:
             raise ValueError(f"duration must be > transient ({self.transient_s:g} s), got {self.duration_s!r} s")
         if not self.record_rate_hz > 0:
             raise ValueError(f"record_rate_hz must be > 0 Hz, got {self.record_rate_hz!r}")
+        if self.duration_s / self.timestep_s > MAX_STEPS:
+            raise ValueError(f"duration / timestep = {self.duration_s / self.timestep_s:.3g} physics steps: over the "
+                             f"limit of {MAX_STEPS:.0e} (a longer duration_s or smaller timestep_s than supported)")
+        if self.n_steps / self.record_every > MAX_SAMPLES:
+            raise ValueError(f"{self.n_steps / self.record_every:.3g} recorded samples: over the limit of "
+                             f"{MAX_SAMPLES:.0e}; lower record_rate_hz or duration_s")
         check_convention(self.convention)
         if not isinstance(self.controller, ControllerSettings):
             raise ValueError("controller must be a ControllerSettings")
@@ -114,6 +166,11 @@ class SimSettings:
     @property
     def n_steps(self) -> int:
         return int(round(self.duration_s / self.timestep_s))
+
+    @property
+    def control_period_s(self) -> float:
+        """s, the controller's period: substeps x timestep_s."""
+        return self.substeps * self.timestep_s
 
     @property
     def sensor_latency_steps(self) -> int:
@@ -273,7 +330,7 @@ def prepare(design, behaviour, settings: SimSettings, start_xy_offset=(0.0, 0.0)
     design = _as_design(design)
     beh = get_behaviour(behaviour)
     hm = build_model(design, ramp_grade_deg=beh.ramp_grade_deg, timestep=settings.timestep_s,
-                     convention=settings.convention, sensors="control")
+                     convention=settings.convention, sensors="control", segment_mass=settings.segment_mass)
     data = mujoco.MjData(hm.model)
     reset_to_start(hm.model, data)          # base z slide at 1.2 m, all else 0
     b = hm.layout.base_qpos       # base joints: x, y, z, roll, pitch, yaw
@@ -319,6 +376,7 @@ class RolloutRunner:
         beh = self.behaviour
         self._path = Path(beh.path_code, beh.path_params, beh.table_xy_m)
         self._disturbance = Disturbance(self._push, self._noise, self._noise_every)
+        self._jerk = jerk_filter(settings.timestep_s)
         self.step = 0
         self._n_rec = 0
         self._n_ev = 0
@@ -335,10 +393,10 @@ class RolloutRunner:
         remaining = self.settings.n_steps - self.step
         n = remaining if n_steps is None else min(int(n_steps), remaining)
         hm, st = self.hopper, self.settings
-        steps = Steps(self.step, n, st.timestep_s, st.record_every, ref.DIVERGENCE_QACC)
+        steps = Steps(self.step, n, st.timestep_s, st.record_every, ref.DIVERGENCE_QACC, st.substeps)
         n_rec, n_ev, bad = rollout_loop(
             MJ_STEP1, MJ_STEP2, hm.model._address, self.data._address, self._buffers, hm.layout, self._gains,
-            self._path, self._disturbance, steps, self._history, self._state,
+            self._path, self._disturbance, steps, self._history, self._state, self._jerk,
             self._rec[self._n_rec:], self._qpos[self._n_rec:], self._events[self._n_ev:])
         self._n_rec += n_rec
         self._n_ev += n_ev
@@ -371,6 +429,8 @@ def simulate(design, behaviour, duration_s: float = ref.DURATION_S, timestep_s: 
     starting before it are not scored (the run must outlast it); convention:
     ``"paper"`` or ``"axial"`` stiffness; sensor_timing: ``"authors"``
     (default), ``"fresh"`` or an integer latency in physics steps;
+    timestep_s may be ``"auto"``: physics substeps of the 1e-4 s control
+    period, chosen from the analytic bound (:func:`auto_timestep`);
     record_rate_hz: samples per simulated second (1 kHz); record_qpos: also
     keep all joint positions (``Rollout.qpos``) for rendering; perturbation:
     seeded disturbances for replicates. Pass ``settings`` to give all of
@@ -393,8 +453,21 @@ def simulate(design, behaviour, duration_s: float = ref.DURATION_S, timestep_s: 
     if legacy:
         raise TypeError(f"simulate() got unexpected keyword arguments: {', '.join(sorted(legacy))}")
     if settings is None:
+        substeps = 1
+        if isinstance(timestep_s, str) and timestep_s.strip().lower() == AUTO:
+            substeps, timestep_s = auto_timestep(_as_design(design), convention)
         settings = SimSettings(duration_s=duration_s, timestep_s=timestep_s, transient_s=transient_s,
                                convention=convention, record_rate_hz=record_rate_hz,
                                controller=controller or ControllerSettings(), perturbation=perturbation,
-                               sensor_timing=sensor_timing)
+                               sensor_timing=sensor_timing, substeps=substeps)
     return RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()
+
+
+def auto_timestep(design, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS,
+                  control_period_s: float = ref.TIMESTEP_S) -> tuple[int, float]:
+    """(substeps, physics step s) for ``timestep_s="auto"``: the controller
+    keeps its period (1e-4 s) and the physics takes the fewest substeps
+    whose step is at most AUTO_SAFETY (0.5) x the spring chain's explicit
+    bound (:func:`mat_hopper.modes.auto_substeps`)."""
+    k, dt, _ = auto_substeps(_as_design(design), convention, segment_mass, control_period_s)
+    return k, dt

@@ -5,10 +5,13 @@ Measured (the spec's criterion). A time step is *stable* for a design when
 every |qacc| <= 1e6 and the base above 0.1 m: :attr:`Rollout.upright`.
 
 - :func:`largest_stable_timestep`: log-scale search in [1e-6, 1e-2] s.
-  Bracket from above: try 1e-2 s, then steps a factor sqrt(10) smaller,
-  until one is stable (unstable tries are cheap: most diverge within a few
-  steps; stable ones cost 2 s / dt steps, so we never try a step much
-  smaller than needed). Then bisect in log space between the last unstable
+  Bracket (default ``"analytic"``): start at the analytic bound (below)
+  and step by a factor 1.5 up while stable, down while unstable, until
+  the outcome changes; the estimate lies within a factor 2 of the measured
+  step, so this takes two or three tries. (``"ladder"``, the first
+  version: try 1e-2 s, then steps a factor sqrt(10) smaller until one is
+  stable; unstable tries are cheap, most diverge within a few steps, stable
+  ones cost 2 s / dt steps.) Then bisect in log space between the last unstable
   and the first stable step until they are within a factor `tolerance`
   (1.25) or `max_iter` (10) bisection tries are spent. Result: the bracket
   [dt_stable_s, dt_unstable_s].
@@ -57,16 +60,24 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-import scipy.linalg
 
 from . import reference as ref
-from .control import DEFAULT_SENSOR_TIMING, sensor_latency_steps
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
+from .modes import controller_timestep, delayed_damping_factor, estimate_timestep, leg_chain, spring_chain_wmax
 from .runner import design_key, hash_key, versions
+
+# The analytic bounds live in mat_hopper.modes (pure physics, no runner);
+# re-exported here where the measured ones are.
+__all__ = ["controller_timestep", "delayed_damping_factor", "estimate_timestep", "leg_chain", "spring_chain_wmax",
+           "try_timestep", "largest_stable_timestep", "spec_scan", "scan_consistent", "StabilitySpec",
+           "stability_grid", "agreement"]
 
 DT_MAX_S = 1e-2
 DT_MIN_S = 1e-6
-BRACKET_FACTOR = math.sqrt(10.0)
+BRACKET_FACTOR = math.sqrt(10.0)     # the "ladder" bracket's step
+ANALYTIC_FACTOR = 1.5                # the "analytic" bracket's step (the estimate is within a factor 2)
+BRACKETS = ("analytic", "ladder")
+DEFAULT_BRACKET = "analytic"
 DEFAULT_TOLERANCE = 1.25
 DEFAULT_MAX_ITER = 10
 SPEC_SCAN_N = 20
@@ -98,15 +109,45 @@ def _check_range(dt_min, dt_max, tolerance, max_iter):
         raise ValueError(f"max_iter must be >= 0, got {max_iter!r}")
 
 
+def _analytic_bracket(ok, start, dt_min, dt_max) -> tuple[float, float]:
+    """Bracket around the analytic bound: try `start`; while stable step up,
+    while unstable step down, by ANALYTIC_FACTOR, within [dt_min, dt_max]."""
+    lo, hi = math.nan, math.nan
+    dt = min(max(start, dt_min), dt_max)
+    if ok(dt, "bracket"):
+        lo = dt
+        while lo < dt_max * (1 - 1e-12):
+            up = min(lo * ANALYTIC_FACTOR, dt_max)
+            if not ok(up, "bracket"):
+                return lo, up
+            lo = up
+        return lo, math.nan
+    hi = dt
+    while hi > dt_min * (1 + 1e-12):
+        down = max(hi / ANALYTIC_FACTOR, dt_min)
+        if ok(down, "bracket"):
+            return down, hi
+        hi = down
+    return math.nan, hi
+
+
 def largest_stable_timestep(design: LegDesign, *, dt_min: float = DT_MIN_S, dt_max: float = DT_MAX_S,
                             tolerance: float = DEFAULT_TOLERANCE, max_iter: int = DEFAULT_MAX_ITER,
                             duration_s: float = ref.STABILITY_TEST_DURATION_S,
-                            convention: str = DEFAULT_CONVENTION, tries: list | None = None) -> tuple[float, float]:
+                            convention: str = DEFAULT_CONVENTION, tries: list | None = None,
+                            bracket: str = DEFAULT_BRACKET) -> tuple[float, float]:
     """(dt_stable_s, dt_unstable_s): the largest stable step found and the
     smallest unstable step above it (see module doc). dt_unstable_s is nan
     when dt_max itself is stable; dt_stable_s is nan when nothing down to
-    dt_min is. Every try is appended to `tries` (dicts) if given."""
+    dt_min is. Every try is appended to `tries` (dicts) if given.
+
+    bracket: ``"analytic"`` (default) starts at the analytic bound (the
+    smaller of the spring chain's 2 / w_max and the controller's limit) and
+    steps by a factor ANALYTIC_FACTOR (1.5) until the outcome changes;
+    ``"ladder"`` starts at dt_max and steps down by sqrt(10), as before."""
     _check_range(dt_min, dt_max, tolerance, max_iter)
+    if bracket not in BRACKETS:
+        raise ValueError(f"bracket must be one of {', '.join(BRACKETS)}, got {bracket!r}")
     tries = [] if tries is None else tries
 
     def ok(dt, method):
@@ -115,15 +156,19 @@ def largest_stable_timestep(design: LegDesign, *, dt_min: float = DT_MIN_S, dt_m
         tries.append(r)
         return r["upright"]
 
-    lo, hi = math.nan, math.nan
-    dt, k = dt_max, 0
-    while dt >= dt_min * (1 - 1e-12):
-        if ok(dt, "bracket"):
-            lo = dt
-            break
-        hi = dt
-        k += 1
-        dt = max(float(f"{dt_max / BRACKET_FACTOR ** k:.12g}"), dt_min) if dt > dt_min * (1 + 1e-12) else 0.0
+    if bracket == "analytic":
+        start = min(estimate_timestep(design, convention)[1], controller_timestep(design, convention))
+        lo, hi = _analytic_bracket(ok, start, dt_min, dt_max)
+    else:
+        lo, hi = math.nan, math.nan
+        dt, k = dt_max, 0
+        while dt >= dt_min * (1 - 1e-12):
+            if ok(dt, "bracket"):
+                lo = dt
+                break
+            hi = dt
+            k += 1
+            dt = max(float(f"{dt_max / BRACKET_FACTOR ** k:.12g}"), dt_min) if dt > dt_min * (1 + 1e-12) else 0.0
     if math.isnan(lo) or math.isnan(hi):
         return lo, hi
     for _ in range(int(max_iter)):
@@ -172,91 +217,6 @@ def scan_consistent(dt_stable: float, dt_unstable: float, dt_spec: float, *,
 
 
 # ---------------------------------------------------------------------------
-# analytic estimate
-
-
-def spring_chain_wmax(masses_kg, stiffnesses_n_m) -> float:
-    """Highest natural frequency (rad/s) of a free-free chain of masses
-    (kg) joined in series by springs (N/m; len(masses) - 1 of them)."""
-    m = np.asarray(masses_kg, dtype=float)
-    k = np.asarray(stiffnesses_n_m, dtype=float)
-    if m.ndim != 1 or len(m) < 2 or len(k) != len(m) - 1:
-        raise ValueError(f"a chain needs n >= 2 masses and n - 1 springs, got {len(m)} and {len(k)}")
-    if not (np.all(m > 0) and np.all(k > 0) and np.all(np.isfinite(k))):
-        raise ValueError("masses (kg) and stiffnesses (N/m) must be finite and > 0")
-    K = np.zeros((len(m), len(m)))
-    for i, ki in enumerate(k):
-        K[i, i] += ki
-        K[i + 1, i + 1] += ki
-        K[i, i + 1] -= ki
-        K[i + 1, i] -= ki
-    w2 = scipy.linalg.eigh(K, np.diag(m), eigvals_only=True)
-    return float(math.sqrt(max(w2.max(), 0.0)))
-
-
-def leg_chain(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[list[float], list[float]]:
-    """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
-    the compiled model: base + leg body, segment bodies (merged across
-    rigid segments), foot; springs in between, foot spring last."""
-    from .model import build_model
-    check_convention(convention)
-    m = build_model(design, convention=convention).model
-    mass = lambda name: float(m.body_mass[m.body(name).id])
-    masses = [mass("base") + mass("leg")]
-    springs = []
-    for i, seg in enumerate(design.segments, start=1):
-        if seg.rigid:
-            masses[-1] += mass(f"seg{i}")
-        else:
-            springs.append(float(m.jnt_stiffness[m.joint(f"mat_spring_{i}").id]))
-            masses.append(mass(f"seg{i}"))
-    springs.append(float(m.jnt_stiffness[m.joint("spring").id]))
-    masses.append(mass("foot"))
-    return masses, springs
-
-
-def delayed_damping_factor(latency_steps: int) -> float:
-    """c(L) = 2 cos(L pi / (2 L + 1)): the explicit time-step limit h < c / a
-    of a rate feedback w' = -a w read L steps late, i.e. of the difference
-    equation w[n+1] = w[n] - a h w[n-L]. c(0) = 2 (plain explicit Euler),
-    c(1) = 1 (the authors' one-step-old gyro), c(L) ~ pi / (2 L) for large L.
-    Source: S. A. Levin and R. M. May, "A note on difference-delay
-    equations", Theoretical Population Biology 9 (1976) 178-187."""
-    lat = int(latency_steps)
-    return 2.0 * math.cos(lat * math.pi / (2 * lat + 1))
-
-
-def controller_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
-                        stance_kd: float = ref.STANCE_KD, gear: float = ref.HIP_GEAR,
-                        sensor_timing: str | int = DEFAULT_SENSOR_TIMING) -> float:
-    """c(L) I / (stance_kd gear) in s: the explicit limit of the stance rate
-    feedback, I (kg m^2) the base's smallest moment of inertia about a
-    horizontal axis through its origin (the hip), from the compiled model,
-    and c(L) the factor of :func:`delayed_damping_factor` for the sensor
-    timing's latency L (2 when fresh, 1 for the authors' one-step lag)."""
-    import mujoco
-    from .model import build_model
-    m = build_model(design, convention=convention).model
-    b = m.body("base").id
-    rot = np.zeros(9)
-    mujoco.mju_quat2Mat(rot, m.body_iquat[b])
-    rot = rot.reshape(3, 3)
-    inertia = rot @ np.diag(m.body_inertia[b]) @ rot.T          # about the base COM, world axes at rest
-    offset = m.body_ipos[b]
-    mass = m.body_mass[b]
-    parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))   # to the hip (base origin)
-    inertia = inertia + parallel
-    factor = delayed_damping_factor(sensor_latency_steps(sensor_timing))
-    return factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
-
-
-def estimate_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION) -> tuple[float, float]:
-    """(w_max rad/s, 2 / w_max s): the explicit-spring stability limit."""
-    w = spring_chain_wmax(*leg_chain(design, convention))
-    return w, 2.0 / w
-
-
-# ---------------------------------------------------------------------------
 # the task
 
 
@@ -277,6 +237,7 @@ class StabilitySpec:
     scan: bool = True
     convention: str = DEFAULT_CONVENTION
     labels: dict = field(default_factory=dict)
+    bracket: str = DEFAULT_BRACKET
 
     kind = "stability"
 
@@ -289,7 +250,8 @@ class StabilitySpec:
     def key_dict(self) -> dict:
         return {"kind": self.kind, "design": design_key(self.design), "duration_s": self.duration_s,
                 "dt_min": self.dt_min, "dt_max": self.dt_max, "tolerance": self.tolerance,
-                "max_iter": int(self.max_iter), "bracket_factor": BRACKET_FACTOR, "scan": bool(self.scan),
+                "max_iter": int(self.max_iter), "scan": bool(self.scan), "bracket": self.bracket,
+                "bracket_factor": BRACKET_FACTOR if self.bracket == "ladder" else ANALYTIC_FACTOR,
                 "scan_range": list(ref.STABILITY_TIMESTEP_RANGE), "scan_n": SPEC_SCAN_N,
                 "criterion": [ref.DIVERGENCE_QACC, ref.STABLE_MIN_BASE_Z],
                 "convention": self.convention, "versions": versions()}
@@ -308,7 +270,8 @@ class StabilitySpec:
         tries: list[dict] = []
         lo, hi = largest_stable_timestep(self.design, dt_min=self.dt_min, dt_max=self.dt_max,
                                          tolerance=self.tolerance, max_iter=self.max_iter,
-                                         duration_s=self.duration_s, convention=self.convention, tries=tries)
+                                         duration_s=self.duration_s, convention=self.convention, tries=tries,
+                                         bracket=self.bracket)
         n_search = len(tries)
         dt_spec = spec_scan(self.design, duration_s=self.duration_s, convention=self.convention,
                             tries=tries) if self.scan else math.nan

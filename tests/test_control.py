@@ -132,3 +132,25 @@ def test_gains_follow_the_settings_by_name():
 def test_sensor_timing_names(timing, steps):
     assert c.sensor_latency_steps(timing) == steps
     assert c.sensor_timing_name(steps) == {0: "fresh", 1: "authors"}.get(steps, f"latency-{steps}")
+
+
+@pytest.mark.parametrize("field, value", [("hop_height_target_m", 0.5), ("hop_height_target_m", 10.0),
+                                          ("thrust_start_n", -1.0), ("phase_lock_s", -0.1)])
+def test_unphysical_settings_refused(field, value):
+    with pytest.raises(ValueError, match=field):
+        ControllerSettings(**{field: value})
+
+
+def test_thrust_never_adapts_below_zero():
+    """Apexes of 3 m against a 1 m target: 200 + 100 (1 - 3) = 0 N after the
+    first scored hop, then 0 - 200 N would follow; the foot actuator only
+    pushes, so F stays at 0 N."""
+    s = initial_state(ControllerSettings())
+    assert update_phase(0.2, 5.0, 0.9, -1.0, G, s) == c.TOUCHDOWN      # first: adapts nothing
+    thrusts = []
+    for t0 in (0.4, 1.0):
+        assert update_phase(t0, 0.0, 0.9, 1.0, G, s) == c.LIFTOFF
+        update_phase(t0 + 0.2, 0.0, 3.0, 0.0, G, s)                     # apex at 3 m
+        assert update_phase(t0 + 0.4, 5.0, 0.9, -1.0, G, s) == c.TOUCHDOWN
+        thrusts.append(s[c.S_THRUST])
+    assert thrusts == [0.0, 0.0]

@@ -57,7 +57,7 @@ def test_bad_names():
         parse_design("unobtainium")
     with pytest.raises(ValueError, match="convention"):
         spring_stiffness(10, "beam")
-    with pytest.raises(ValueError, match="at least 1 segment"):
+    with pytest.raises(ValueError, match="1 to 64 segments"):
         LegDesign(())
     with pytest.raises(ValueError, match="n_segments"):
         LegDesign.mono("SS", 0)
@@ -75,3 +75,67 @@ def test_design_forms():
     assert LegDesign.from_properties([1.39, 4.43, 8], [70]).moduli_gpa == (70.0,) * 3
     assert LegDesign.mono("Al", 5).n_segments == 5
     assert set(paper_designs()) == {"MD", "PVC", "Al", "Ti", "SS", "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC"}
+
+
+def test_capsule_volume_by_hand():
+    """0.1 m of material at 1 g/cm^3 in two half-capsules of r = 2.5 cm weighs
+    0.327 kg, end caps included (the spec's figure)."""
+    from mat_hopper.materials import capsule_volume_m3
+    v = capsule_volume_m3(0.025, 0.05)
+    assert v == pytest.approx(math.pi * 0.025**2 * 0.05 + 4 / 3 * math.pi * 0.025**3)
+    assert 2 * v * 1000.0 == pytest.approx(0.327, abs=5e-4)
+
+
+def test_segment_masses_leg_and_capsule():
+    from mat_hopper.materials import capsule_density_scale, segment_masses
+    assert capsule_density_scale(3) == 1.0                       # exactly: the authors' leg
+    assert capsule_density_scale(6, "capsule") == 1.0
+    ss3 = sum(segment_masses(LegDesign.mono("SS", 3)))
+    for n in (1, 2, 6, 12, 24):
+        assert sum(segment_masses(LegDesign.mono("SS", n))) == pytest.approx(ss3, rel=1e-12)
+    # capsule: each of 2N half-capsules has its own two hemispherical caps (8000 kg/m^3)
+    caps = 4 / 3 * math.pi * 0.025**3 * 8000.0
+    assert sum(segment_masses(LegDesign.mono("SS", 6), "capsule")) - ss3 == pytest.approx(6 * caps)
+
+
+@pytest.mark.parametrize("density, modulus, field", [
+    (1e30, 70, "density"), (1e-5, 70, "density"), (-1, 70, "density"), (8, 1e-30, "modulus"),
+    (8, 1e5, "modulus"), (8, float("inf"), "modulus"), (True, 70, "density"),
+])
+def test_physical_ranges_are_enforced(density, modulus, field):
+    with pytest.raises(ValueError, match=field) as e:
+        LegDesign.from_properties([density], [modulus])
+    assert "g/cm^3" in str(e.value) or "GPa" in str(e.value)
+
+
+def test_numeric_strings_parse_one_way():
+    leg = LegDesign.from_properties(["8"], ["70"])
+    assert leg.densities_g_cm3 == (8.0,) and leg.moduli_gpa == (70.0,)
+    assert leg.name == "custom(8/70)"
+    with pytest.raises(ValueError, match="density"):
+        LegDesign.from_properties(["eight"], ["70"])
+
+
+@pytest.mark.parametrize("n", [2.5, 0, -1, True, "x", 10000, float("nan")])
+def test_bad_segment_counts(n):
+    with pytest.raises(ValueError, match="n_segments|segments"):
+        LegDesign.mono("SS", n)
+
+
+def test_resample_conserves_mass_and_compliance():
+    leg = parse_design("PVC-Ti-SS")          # 1.39/4, 4.43/120, 8/193
+    assert leg.resample(3) is leg
+    six = leg.resample(6)
+    assert six.densities_g_cm3 == (1.39, 1.39, 4.43, 4.43, 8.0, 8.0)
+    one = leg.resample(1)
+    assert one.densities_g_cm3[0] == pytest.approx((1.39 + 4.43 + 8.0) / 3)
+    # springs in series, by hand: 1 / E = (1/4 + 1/120 + 1/193) / 3
+    assert one.moduli_gpa[0] == pytest.approx(3 / (1 / 4 + 1 / 120 + 1 / 193))
+    two = leg.resample(2)                    # cells [0, 1/2], [1/2, 1]
+    assert two.densities_g_cm3 == pytest.approx(((1.39 * 2 + 4.43) / 3, (4.43 + 8.0 * 2) / 3))
+    for n in (1, 2, 4, 5, 12, 24):
+        r = leg.resample(n)
+        assert sum(r.densities_g_cm3) / n == pytest.approx(sum(leg.densities_g_cm3) / 3)
+        assert sum(1 / e for e in r.moduli_gpa) / n == pytest.approx(sum(1 / e for e in leg.moduli_gpa) / 3)
+    md = parse_design("MD").resample(5)
+    assert all(s.rigid for s in md.segments)

@@ -14,11 +14,11 @@ def test_reference_masses():
     assert build_model(parse_design("SS")).total_mass_kg == pytest.approx(ref.MASS_SS_KG, abs=0.005)
 
 
-def test_material_mass_independent_of_segment_count():
-    # 0.3 m of material at 1 g/cm^3: capsule end caps add mass per segment,
-    # so compare the end-cap-free part: cylinder mass scales exactly with length.
-    m3 = build_model(LegDesign.mono("SS", 3)).total_mass_kg
-    m6 = build_model(LegDesign.mono("SS", 6)).total_mass_kg
+def test_capsule_geometry_adds_end_caps():
+    # The authors' per-capsule geometry: each half-segment capsule has its own
+    # two hemispherical end caps, so 6 segments carry 6 more spheres than 3.
+    m3 = build_model(LegDesign.mono("SS", 3), segment_mass="capsule").total_mass_kg
+    m6 = build_model(LegDesign.mono("SS", 6), segment_mass="capsule").total_mass_kg
     r = ref.MATERIAL_RADIUS
     cap = 4 / 3 * np.pi * r**3 * 8000.0      # one sphere (two hemispheres) per capsule
     assert m6 - m3 == pytest.approx(6 * cap, rel=1e-6)   # 12 vs 6 half-capsules
@@ -118,3 +118,51 @@ def test_unread_sensors_do_not_change_the_trajectory(monkeypatch):
     assert built == [len(SENSORS)]
     np.testing.assert_array_equal(full.data, lean.data)
     np.testing.assert_array_equal(full.events, lean.events)
+
+
+@pytest.mark.parametrize("name, kg", [("SS", 23.77), ("MD", 16.90)])
+def test_total_mass_independent_of_segment_count(name, kg):
+    """The spec's masses (by hand, 2 decimals) for N = 1 ... 24 under the
+    default segment mass ``leg``."""
+    for n in (1, 3, 6, 12, 24):
+        design = LegDesign.mono(name, n) if name != "MD" else LegDesign.mono("MD", n)
+        assert build_model(design).total_mass_kg == pytest.approx(kg, rel=0.005)
+
+
+def test_capsule_geometry_grows_with_n():
+    """The authors' per-capsule geometry, kept under segment_mass='capsule':
+    the masses the issue measured (SS, kg)."""
+    for n, kg in ((1, 21.68), (3, 23.77), (6, 26.91), (12, 33.20), (24, 45.76)):
+        assert build_model(LegDesign.mono("SS", n), segment_mass="capsule").total_mass_kg == pytest.approx(kg, abs=0.01)
+
+
+@pytest.mark.parametrize("design", ["SS", "MD", "rho-inc", "PVC-Ti-SS"])
+def test_three_segments_bit_identical_to_the_authors_geometry(design):
+    """At N = 3 the mass-conserving geometry compiles to exactly the
+    authors' model: every numeric array of the MjModel is equal."""
+    a = build_model(parse_design(design), ramp_grade_deg=2.0).model
+    b = build_model(parse_design(design), ramp_grade_deg=2.0, segment_mass="capsule").model
+    compared = 0
+    for name in dir(a):
+        if name.startswith("_"):
+            continue
+        va = getattr(a, name)
+        if isinstance(va, np.ndarray) and va.dtype.kind in "fiu":
+            np.testing.assert_array_equal(va, getattr(b, name), err_msg=name)
+            compared += 1
+    assert compared > 100
+
+
+def test_terrain_height_against_mujoco_ray_casts():
+    """terrain_height_m against MuJoCo's own mj_ray straight down (the
+    hopper out of the way at y = 0.4 m)."""
+    from mat_hopper.model import terrain_height_m
+    m = build_model(parse_design("SS"), ramp_grade_deg=2.0).model
+    d = mujoco.MjData(m)
+    reset_to_start(m, d)
+    geomid = np.zeros(1, dtype=np.int32)
+    for x in (-0.5, 0.0, 0.05, 0.5, 1.0, 2.0, 3.5):
+        dist = mujoco.mj_ray(m, d, np.array([x, 0.4, 2.0]), np.array([0.0, 0.0, -1.0]), None, 1, -1, geomid)
+        assert terrain_height_m(x, 0.4, 2.0) == pytest.approx(2.0 - dist, abs=1e-9), x
+    assert terrain_height_m(0.0, 0.0, 2.0) == pytest.approx(2.2e-4, abs=2e-5)     # the spec's 0.2 mm step
+    assert terrain_height_m([1.0, 2.0], 0.0, None).tolist() == [0.0, 0.0]

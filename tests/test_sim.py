@@ -197,6 +197,8 @@ def test_perturbed_replicates_are_seeded():
     (dict(timestep=0), "timestep"), (dict(timestep=-1e-4), "timestep"),
     (dict(duration=10.0, transient=20.0), "duration"), (dict(convention="beam"), "convention"),
     (dict(transient=-1.0), "transient"), (dict(record_rate_hz=0), "record_rate_hz"),
+    (dict(duration=1e9), "physics steps"), (dict(timestep=1e-300), "physics steps"),
+    (dict(duration=3000.0, record_rate_hz=1e4), "recorded samples"),
 ])
 def test_bad_settings(kwargs, field):
     args = dict(duration=30.0)
@@ -210,3 +212,30 @@ def test_bad_design_and_behaviour():
         simulate("steel", "forward", duration=1.0, transient=0.0)
     with pytest.raises(ValueError, match="unknown behaviour"):
         simulate("SS", "backflip", duration=1.0, transient=0.0)
+
+
+def test_one_substep_is_the_plain_loop_and_substeps_hold_the_control():
+    a = simulate("SS", "forward", duration_s=0.5, transient_s=0.0)
+    b = simulate("SS", "forward", settings=SimSettings(duration_s=0.5, transient_s=0.0, substeps=1))
+    assert np.array_equal(a.data, b.data)
+    s = SimSettings(duration_s=0.3, transient_s=0.0, timestep_s=2.5e-5, substeps=4, record_rate_hz=4e4)
+    r = simulate("SS", "forward", settings=s)
+    assert s.control_period_s == pytest.approx(1e-4)
+    ctrl = r.ctrl[:, 0]
+    # the control changes only at control steps (every 4th physics step)
+    changes = np.nonzero(np.diff(ctrl))[0] + 1
+    assert len(changes) > 100 and np.all(changes % 4 == 0)
+
+
+def test_auto_timestep_runs_stiff_axial_legs():
+    r = simulate("SS", "forward", duration_s=1.0, transient_s=0.0, timestep_s="auto", convention="axial")
+    assert r.stable and r.settings.substeps > 1
+    assert r.settings.control_period_s == pytest.approx(1e-4)
+    bad = simulate("SS", "forward", duration_s=1.0, transient_s=0.0, timestep_s=1e-4, convention="axial")
+    assert not bad.stable
+
+
+@pytest.mark.parametrize("bad", [0, 2.5, True, 10**6])
+def test_bad_substeps(bad):
+    with pytest.raises(ValueError, match="substeps"):
+        SimSettings(substeps=bad)

@@ -53,15 +53,18 @@ def test_bisection_brackets_the_analytic_limit_of_a_stiff_one_segment_leg():
     lo, hi = largest_stable_timestep(leg, tolerance=1.5, duration_s=1.0, tries=tries)
     assert lo < hi <= lo * 1.5
     assert est / 2.5 < lo and hi < est * 2.5
-    assert [t["method"] for t in tries][0] == "bracket" and tries[0]["dt_s"] == 1e-2
+    start = min(est, controller_timestep(leg))
+    assert [t["method"] for t in tries][0] == "bracket" and tries[0]["dt_s"] == pytest.approx(start)
     assert all(t["upright"] == (t["dt_s"] <= lo) for t in tries)       # monotone here
     assert not try_timestep(leg, hi * 1.5, duration_s=1.0)["upright"]
 
 
 def test_bisection_edges_and_bad_input():
-    md = parse_design("MD")      # no material springs: 1e-2 s is already stable
-    lo, hi = largest_stable_timestep(md, duration_s=0.5)
+    md = parse_design("MD")      # no material springs: 1e-2 s is already stable over 0.5 s (falling)
+    lo, hi = largest_stable_timestep(md, duration_s=0.5, bracket="ladder")
     assert lo == 1e-2 and math.isnan(hi)
+    lo, hi = largest_stable_timestep(md, duration_s=0.5, dt_max=1e-3)     # analytic: stops at dt_max
+    assert lo == 1e-3 or lo < hi <= 1e-3
     with pytest.raises(ValueError, match="dt_min"):
         largest_stable_timestep(md, dt_min=1e-2, dt_max=1e-3)
     with pytest.raises(ValueError, match="tolerance"):
@@ -127,3 +130,15 @@ def test_controller_limit_is_the_base_inertia_over_the_stance_rate_gain():
     assert estimate_timestep(soft)[1] > 1.5 * limit          # the spring limit lies above: this one binds
     assert try_timestep(soft, 0.8 * limit, duration_s=1.0)["upright"]
     assert not try_timestep(soft, 1.5 * limit, duration_s=1.0)["upright"]
+
+
+def test_analytic_bracket_agrees_with_the_ladder_in_fewer_tries():
+    for design in (parse_design("PVC"), parse_design("SS")):
+        a_tries, l_tries = [], []
+        a = largest_stable_timestep(design, bracket="analytic", tries=a_tries)
+        b = largest_stable_timestep(design, bracket="ladder", tries=l_tries)
+        assert a[0] < a[1] and b[0] < b[1]
+        assert a[0] < b[1] and b[0] < a[1]          # the two brackets overlap
+        assert len(a_tries) < len(l_tries)
+    with pytest.raises(ValueError, match="bracket"):
+        largest_stable_timestep(parse_design("SS"), bracket="guess")

@@ -1,0 +1,216 @@
+"""How robust are the paper's numbers? Each quantitative claim under other settings.
+
+The paper's quantitative claims rest on percent changes of mean per-hop
+metrics against a baseline design (:data:`QUANTITIES`). This module
+recomputes each of them under *variants* of the settings that the paper
+does not report and that a reader cannot check from its text:
+
+- the controller's sensor latency: 0 (``fresh``), 1 (the authors' loop,
+  the default), 2, 5 and 10 physics steps;
+- the stiffness convention: ``paper`` (the authors' conversion) and
+  ``axial`` (k = E A / L, run at the profile's smaller axial time step);
+- seeded perturbed replicates of the default (start offset, tilt, a push,
+  sensor noise: :meth:`mat_hopper.perturbations.Perturbation.replicate`).
+
+and classifies each (quantity, variant) against the default's value:
+``keeps`` (same sign, within a factor 2), ``moves > 2x`` (same sign, more
+than a factor 2 away), ``flips`` (opposite sign) or ``no value`` (a needed
+run diverged or fell). The study's runs go through the result cache and
+the process pool of :mod:`mat_hopper.experiments.runner` like every other
+grid.
+
+>>> [v.label for v in variants(replicates=1)][:3]
+['authors', 'fresh', 'latency-2']
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from .. import reference as ref
+from ..behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
+from ..materials import MONO_NAMES, parse_design
+from ..perturbations import Perturbation
+from .stats import percent_change
+
+DEFAULT_LATENCIES = (0, 1, 2, 5, 10)
+FACTOR = 2.0                       # "moves more than 2x"
+KEEPS, MOVES, FLIPS, NO_VALUE = "keeps", "moves > 2x", "flips", "no value"
+CLASSES = (KEEPS, MOVES, FLIPS, NO_VALUE)
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One number a claim of the paper rests on: the percent change of the
+    mean of ``metric`` of ``design`` against ``baseline`` on ``behaviour``.
+    paper_pct: the paper's figure (None where the claim is a sign or a
+    bound only); claim: the claim in words."""
+
+    quantity_id: str
+    claim: str
+    metric: str
+    design: str
+    baseline: str
+    behaviour: str
+    paper_pct: float | None = None
+
+
+def _quantities() -> tuple[Quantity, ...]:
+    out = []
+    for b in BEHAVIOUR_NAMES:
+        for m in ("PVC", "Al", "Ti", "SS"):
+            paper = ref.CLAIM_SS_TRACKING_PCT if m == "SS" else None
+            claim = "SS tracks >= 55 % better than MD" if m == "SS" else "every material tracks better than MD"
+            out.append(Quantity(f"tracking {m} vs MD, {b}", claim, "tracking_error_m", m, "MD", b, paper))
+    for b in ref.DYNAMIC_BEHAVIOURS:
+        out.append(Quantity(f"power SS vs MD, {b}", "materials need more power (up to +193 % for SS)",
+                            "power_w", "SS", "MD", b, ref.CLAIM_SS_POWER_MAX_PCT if b == "ramp" else None))
+    out += [
+        Quantity("tracking rho-inc vs MD, ramp", "ramp: rho-inc -82 % tracking", "tracking_error_m", "rho-inc",
+                 "MD", "ramp", ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT),
+        Quantity("power rho-inc vs MD, ramp", "ramp: rho-inc +123 % power", "power_w", "rho-inc", "MD", "ramp",
+                 ref.CLAIM_RAMP_RHO_INC_POWER_PCT),
+        Quantity("tracking rho-inc vs SS, ramp", "headline: rho-inc -35 % tracking vs SS", "tracking_error_m",
+                 "rho-inc", "SS", "ramp", ref.CLAIM_HEADLINE_TRACKING_PCT),
+        Quantity("power rho-inc vs SS, ramp", "headline: rho-inc -23 % power vs SS", "power_w", "rho-inc", "SS",
+                 "ramp", ref.CLAIM_HEADLINE_POWER_PCT),
+    ]
+    return tuple(out)
+
+
+QUANTITIES = _quantities()
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One setting of the study: label, stiffness convention, sensor timing
+    and perturbed replicate seed (None: unperturbed)."""
+
+    label: str
+    convention: str = "paper"
+    sensor_timing: str = "authors"
+    replicate: int | None = None
+
+    @property
+    def kind(self) -> str:
+        if self.replicate is not None:
+            return "replicate"
+        return "convention" if self.convention != "paper" else "sensor latency"
+
+
+DEFAULT = Variant("authors")
+
+
+def variants(latencies=DEFAULT_LATENCIES, conventions=("paper", "axial"), replicates: int = 3) -> list[Variant]:
+    """The study's variants, the default first: one per sensor latency
+    (paper convention), one per other convention (authors' timing), one per
+    replicate seed 0 .. replicates - 1 (default settings, perturbed)."""
+    from ..control import sensor_timing_name
+    out = [DEFAULT]
+    for lat in latencies:
+        name = sensor_timing_name(int(lat))
+        if name != DEFAULT.sensor_timing:
+            out.append(Variant(name, sensor_timing=name))
+    for conv in conventions:
+        if conv != DEFAULT.convention:
+            out.append(Variant(conv, convention=conv))
+    for seed in range(int(replicates)):
+        out.append(Variant(f"replicate {seed}", replicate=seed))
+    return out
+
+
+def designs_and_behaviours() -> list[tuple[str, str]]:
+    """The (design, behaviour) runs the quantities need, each once."""
+    pairs = []
+    for q in QUANTITIES:
+        for d in (q.design, q.baseline):
+            if (d, q.behaviour) not in pairs:
+                pairs.append((d, q.behaviour))
+    order = {d: i for i, d in enumerate(MONO_NAMES)}
+    return sorted(pairs, key=lambda p: (order.get(p[0], len(order)), BEHAVIOUR_NAMES.index(p[1])))
+
+
+def tasks(profile, variant_list=None) -> list:
+    """RunSpecs of every run of the study under ``profile`` (a Profile);
+    their labels carry ``variant``, ``convention`` and ``sensor_timing``."""
+    from ..experiments import RunSpec
+    out = []
+    for v in variant_list or variants():
+        prof = profile.for_convention(v.convention).for_sensor_timing(v.sensor_timing)
+        pert = None if v.replicate is None else Perturbation.replicate(v.replicate)
+        settings = prof.sim_settings(pert)
+        for d, b in designs_and_behaviours():
+            labels = {"study": "robustness", "profile": profile.name, "variant": v.label, "variant_kind": v.kind,
+                      "convention": v.convention, "sensor_timing": settings.sensor_timing,
+                      "replicate": -1 if v.replicate is None else v.replicate}
+            out.append(RunSpec(parse_design(d), get_behaviour(b), settings, labels))
+    return out
+
+
+def quantity_values(hops: pd.DataFrame, runs: pd.DataFrame | None = None) -> pd.DataFrame:
+    """Every quantity's value (percent change of means) per variant.
+
+    hops: per-hop rows with columns variant, design, behaviour and the
+    metrics; runs: one row per run with variant, design, behaviour and
+    ``status`` ("ok" when usable) -- runs that diverged or fell give no
+    value. Returns columns variant, quantity_id, claim, paper_pct, value_pct."""
+    usable = None
+    if runs is not None and len(runs) and "status" in runs.columns:
+        ok = runs[runs["status"] == "ok"]
+        usable = set(zip(ok["variant"], ok["design"], ok["behaviour"]))
+    means = hops.groupby(["variant", "design", "behaviour"], sort=False)[
+        sorted({q.metric for q in QUANTITIES})].mean()
+    rows = []
+    for v in hops["variant"].unique() if len(hops) else []:
+        for q in QUANTITIES:
+            a, b = (v, q.design, q.behaviour), (v, q.baseline, q.behaviour)
+            have = a in means.index and b in means.index
+            if usable is not None:
+                have = have and a in usable and b in usable
+            value = percent_change(means.loc[a, q.metric], means.loc[b, q.metric]) if have else np.nan
+            rows.append({"variant": v, "quantity_id": q.quantity_id, "claim": q.claim, "paper_pct": q.paper_pct,
+                         "value_pct": float(value)})
+    return pd.DataFrame(rows, columns=["variant", "quantity_id", "claim", "paper_pct", "value_pct"])
+
+
+def classify(value: float, default: float, factor: float = FACTOR) -> str:
+    """``keeps``, ``moves > 2x``, ``flips`` or ``no value`` for one value
+    against the default's (module doc)."""
+    if not (np.isfinite(value) and np.isfinite(default)) or default == 0:
+        return NO_VALUE
+    if np.sign(value) != np.sign(default):
+        return FLIPS
+    ratio = value / default
+    return KEEPS if 1.0 / factor <= ratio <= factor else MOVES
+
+
+def robustness_table(values: pd.DataFrame, default: str = DEFAULT.label) -> pd.DataFrame:
+    """values (:func:`quantity_values`) with the default's value beside each
+    row, the ratio to it and the class (:func:`classify`)."""
+    base = values[values["variant"] == default].set_index("quantity_id")["value_pct"]
+    out = values.copy()
+    out["default_pct"] = out["quantity_id"].map(base)
+    out["ratio_to_default"] = out["value_pct"] / out["default_pct"]
+    out["class"] = [classify(v, d) for v, d in zip(out["value_pct"], out["default_pct"])]
+    return out
+
+
+def summary(table: pd.DataFrame, default: str = DEFAULT.label) -> pd.DataFrame:
+    """Per quantity: the default's value, the paper's, the range over the
+    variants, and how many variants keep it, move it more than 2x or flip
+    it (the default itself not counted)."""
+    t = table[table["variant"] != default]
+    rows = []
+    for qid, g in t.groupby("quantity_id", sort=False):
+        counts = g["class"].value_counts()
+        d = table[(table["variant"] == default) & (table["quantity_id"] == qid)]
+        rows.append({"quantity_id": qid, "paper_pct": g["paper_pct"].iloc[0],
+                     "default_pct": float(d["value_pct"].iloc[0]) if len(d) else np.nan,
+                     "min_pct": g["value_pct"].min(), "max_pct": g["value_pct"].max(),
+                     **{c: int(counts.get(c, 0)) for c in CLASSES},
+                     "flipped_by": ", ".join(g.loc[g["class"] == FLIPS, "variant"]),
+                     "moved_by": ", ".join(g.loc[g["class"] == MOVES, "variant"])})
+    return pd.DataFrame(rows)

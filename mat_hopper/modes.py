@@ -1,0 +1,212 @@
+"""The leg's axial modes and the analytic stable time step (pure physics).
+
+The leg along its axis is a chain of lumped masses joined by springs
+(:func:`leg_chain`, read from the compiled model): the base with the stub
+and the upper half of segment 1; the lower half of segment i with the upper
+half of segment i+1; the last lower half with the foot's upper capsule;
+the foot below the foot spring. Its natural frequencies solve
+K v = w^2 M v (``scipy.linalg.eigh(K, M)``).
+
+Modes against the continuum (:func:`axial_modes`). The material part of the
+leg is a uniform rod of length L = 0.3 m, mass m (mass per length m / L)
+and axial stiffness E A (``axial`` convention: each of N segments is a
+spring E A N / L). Boundary conditions: the rod carries the point mass
+M_top of everything above it (base, hips, stub) at its top end and M_bot
+of the foot's upper capsule at its lower end; the foot below the foot
+spring is left out of both (8000 N/m against the material's 1e8-1e10 N/m:
+its mode lies near 20 Hz, apart from the kHz material modes). The chain
+is then N springs between N + 1 nodes: M_top + m / 2N, m / N (N - 1
+times), m / 2N + M_bot: the lumped-mass finite-element model of the same
+rod. The rod's axial frequencies w = z c / L, c = sqrt(E A L / m), solve
+
+    (a1 a2 z^2 - 1) sin z = (a1 + a2) z cos z,   a1 = M_top / m, a2 = M_bot / m
+
+(a free-free rod with end masses; a1 = a2 = 0 gives z = n pi; see e.g.
+S. S. Rao, *Vibration of Continuous Systems*, 2nd ed., Wiley 2019, ch. 9,
+longitudinal vibration of bars with end masses). The chain converges to
+the rod as 1/N^2 (free-free lumped mass: w_n = (2N c / L) sin(n pi / 2N)).
+
+Stable time step (:func:`estimate_timestep`, :func:`controller_timestep`,
+:func:`auto_substeps`). MuJoCo's Euler integrator treats joint damping
+implicitly but springs explicitly (semi-implicit Euler): stable for
+w_max dt < 2. The controller's stance rate feedback is a second,
+material-independent limit on the *control* period (see
+:func:`controller_timestep`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pandas as pd
+import scipy.linalg
+import scipy.optimize
+
+from . import reference as ref
+from .control import DEFAULT_SENSOR_TIMING, sensor_latency_steps
+from .materials import (DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, check_convention, segment_masses,
+                        spring_stiffness)
+from .model import build_model
+
+# --timestep auto: the physics step is at most this fraction of the spring
+# chain's explicit bound 2 / w_max (the measured stable steps lie at 0.92 of
+# the bound in the median, and within a factor 2 everywhere: docs/).
+AUTO_SAFETY = 0.5
+
+
+def chain_frequencies(masses_kg, stiffnesses_n_m) -> np.ndarray:
+    """All natural frequencies (rad/s, ascending, the rigid-body 0 first)
+    of a free-free chain of masses (kg) joined in series by springs (N/m;
+    len(masses) - 1 of them): eigenvalues of K v = w^2 M v."""
+    m = np.asarray(masses_kg, dtype=float)
+    k = np.asarray(stiffnesses_n_m, dtype=float)
+    if m.ndim != 1 or len(m) < 2 or len(k) != len(m) - 1:
+        raise ValueError(f"a chain needs n >= 2 masses and n - 1 springs, got {len(m)} and {len(k)}")
+    if not (np.all(m > 0) and np.all(k > 0) and np.all(np.isfinite(k))):
+        raise ValueError("masses (kg) and stiffnesses (N/m) must be finite and > 0")
+    K = np.zeros((len(m), len(m)))
+    for i, ki in enumerate(k):
+        K[i, i] += ki
+        K[i + 1, i + 1] += ki
+        K[i, i + 1] -= ki
+        K[i + 1, i] -= ki
+    w2 = scipy.linalg.eigh(K, np.diag(m), eigvals_only=True)
+    return np.sqrt(np.clip(w2, 0.0, None))
+
+
+def spring_chain_wmax(masses_kg, stiffnesses_n_m) -> float:
+    """Highest natural frequency (rad/s) of a free-free chain of masses
+    (kg) joined in series by springs (N/m; len(masses) - 1 of them)."""
+    return float(chain_frequencies(masses_kg, stiffnesses_n_m).max())
+
+
+def leg_chain(design: LegDesign, convention: str = DEFAULT_CONVENTION,
+              segment_mass: str = DEFAULT_SEGMENT_MASS) -> tuple[list[float], list[float]]:
+    """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
+    the compiled model: base + leg body, segment bodies (merged across
+    rigid segments), foot; springs in between, foot spring last."""
+    check_convention(convention)
+    m = build_model(design, convention=convention, segment_mass=segment_mass).model
+    mass = lambda name: float(m.body_mass[m.body(name).id])
+    masses = [mass("base") + mass("leg")]
+    springs = []
+    for i, seg in enumerate(design.segments, start=1):
+        if seg.rigid:
+            masses[-1] += mass(f"seg{i}")
+        else:
+            springs.append(float(m.jnt_stiffness[m.joint(f"mat_spring_{i}").id]))
+            masses.append(mass(f"seg{i}"))
+    springs.append(float(m.jnt_stiffness[m.joint("spring").id]))
+    masses.append(mass("foot"))
+    return masses, springs
+
+
+def delayed_damping_factor(latency_steps: int) -> float:
+    """c(L) = 2 cos(L pi / (2 L + 1)): the explicit time-step limit h < c / a
+    of a rate feedback w' = -a w read L steps late, i.e. of the difference
+    equation w[n+1] = w[n] - a h w[n-L]. c(0) = 2 (plain explicit Euler),
+    c(1) = 1 (the authors' one-step-old gyro), c(L) ~ pi / (2 L) for large L.
+    Source: S. A. Levin and R. M. May, "A note on difference-delay
+    equations", Theoretical Population Biology 9 (1976) 178-187."""
+    lat = int(latency_steps)
+    return 2.0 * math.cos(lat * math.pi / (2 * lat + 1))
+
+
+def controller_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
+                        stance_kd: float = ref.STANCE_KD, gear: float = ref.HIP_GEAR,
+                        sensor_timing: str | int = DEFAULT_SENSOR_TIMING) -> float:
+    """c(L) I / (stance_kd gear) in s: the explicit limit of the stance rate
+    feedback, I (kg m^2) the base's smallest moment of inertia about a
+    horizontal axis through its origin (the hip), from the compiled model,
+    and c(L) the factor of :func:`delayed_damping_factor` for the sensor
+    timing's latency L (2 when fresh, 1 for the authors' one-step lag)."""
+    m = build_model(design, convention=convention).model
+    b = m.body("base").id
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, m.body_iquat[b])
+    rot = rot.reshape(3, 3)
+    inertia = rot @ np.diag(m.body_inertia[b]) @ rot.T          # about the base COM, world axes at rest
+    offset = m.body_ipos[b]
+    mass = m.body_mass[b]
+    parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))   # to the hip (base origin)
+    inertia = inertia + parallel
+    factor = delayed_damping_factor(sensor_latency_steps(sensor_timing))
+    return factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
+
+
+def estimate_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
+                      segment_mass: str = DEFAULT_SEGMENT_MASS) -> tuple[float, float]:
+    """(w_max rad/s, 2 / w_max s): the explicit-spring stability limit."""
+    w = spring_chain_wmax(*leg_chain(design, convention, segment_mass))
+    return w, 2.0 / w
+
+
+def auto_substeps(design: LegDesign, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS,
+                  control_period_s: float = ref.TIMESTEP_S, safety: float = AUTO_SAFETY) -> tuple[int, float, float]:
+    """(substeps k, physics step s, spring bound s): the smallest k whose
+    physics step control_period_s / k is at most ``safety`` x the spring
+    chain's bound 2 / w_max. The control period stays the controller's
+    (1e-4 s, the paper's loop rate). Raises ValueError when more than
+    1000 substeps would be needed."""
+    _, bound = estimate_timestep(design, convention, segment_mass)
+    k = max(1, math.ceil(control_period_s / (safety * bound) - 1e-9))
+    if k > 1000:
+        raise ValueError(f"--timestep auto would need {k} physics substeps per {control_period_s:g} s control "
+                         f"period (spring bound {bound:.2g} s): over the limit of 1000")
+    return k, control_period_s / k, bound
+
+
+def _rod_roots(a1: float, a2: float, n_modes: int) -> np.ndarray:
+    """The first n_modes positive roots z of (a1 a2 z^2 - 1) sin z =
+    (a1 + a2) z cos z (module doc), bracketed on a fine grid then refined
+    with Brent's method (scipy.optimize.brentq)."""
+    f = lambda z: (a1 * a2 * z * z - 1.0) * math.sin(z) - (a1 + a2) * z * math.cos(z)
+    roots, z0 = [], 1e-6
+    grid = np.linspace(z0, (n_modes + 2) * math.pi, 200 * (n_modes + 2))
+    vals = [f(z) for z in grid]
+    for (za, fa), (zb, fb) in zip(zip(grid, vals), zip(grid[1:], vals[1:])):
+        if fa == 0.0 or fa * fb < 0:
+            roots.append(scipy.optimize.brentq(f, za, zb, xtol=1e-14) if fa * fb < 0 else za)
+            if len(roots) == n_modes:
+                break
+    return np.array(roots)
+
+
+def axial_modes(design: LegDesign, *, convention: str = "axial", segment_mass: str = DEFAULT_SEGMENT_MASS,
+                n_modes: int = 5) -> pd.DataFrame:
+    """The leg's first n_modes axial natural frequencies (Hz): the lumped
+    chain's (``chain_hz``, eigh(K, M) of the compiled model's masses) beside
+    the continuum rod's (``rod_hz``) with the same mass per length, E A and
+    end masses (module doc). Columns: mode, chain_hz, rod_hz, error_pct.
+
+    Needs a leg of one material (a uniform rod): raises ValueError for a
+    graded or rigid design. Under the ``paper`` convention the chain's
+    springs are the authors' (not E A N / L) and the comparison says how
+    far that leg is from the rod of its modulus."""
+    mats = set(design.segments)
+    if len({(m.density_g_cm3, m.modulus_gpa) for m in mats}) != 1 or design.segments[0].rigid:
+        raise ValueError("axial modes against a uniform rod need a leg of one elastic material "
+                         f"(got {design.name or 'a graded or rigid leg'})")
+    n = design.n_segments
+    model = build_model(design, convention=convention, segment_mass=segment_mass).model
+    body = lambda name: float(model.body_mass[model.body(name).id])
+    seg = list(segment_masses(design, segment_mass))
+    m_rod = float(sum(seg))
+    # end masses: what the model attaches above and below the material
+    m_top = body("base") + body("leg") - seg[0] / 2.0
+    m_bot = body(f"seg{n}") - seg[-1] / 2.0
+    masses = [m_top + seg[0] / 2.0] + [(seg[i] + seg[i + 1]) / 2.0 for i in range(n - 1)] + [seg[-1] / 2.0 + m_bot]
+    springs = [float(model.jnt_stiffness[model.joint(f"mat_spring_{i}").id]) for i in range(1, n + 1)]
+    w_chain = chain_frequencies(masses, springs)[1:n_modes + 1]
+    mat = design.segments[0]
+    ea = mat.modulus_pa * math.pi * ref.MATERIAL_RADIUS**2
+    c = math.sqrt(ea * ref.MATERIAL_LENGTH / m_rod)            # m/s, sqrt(E A / mu)
+    z = _rod_roots(m_top / m_rod, m_bot / m_rod, n_modes)
+    w_rod = z * c / ref.MATERIAL_LENGTH
+    k = min(len(w_chain), len(w_rod))
+    out = pd.DataFrame({"mode": np.arange(1, k + 1), "chain_hz": w_chain[:k] / (2 * math.pi),
+                        "rod_hz": w_rod[:k] / (2 * math.pi)})
+    out["error_pct"] = 100.0 * (out["chain_hz"] / out["rod_hz"] - 1.0)
+    return out
