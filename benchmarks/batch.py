@@ -65,7 +65,8 @@ def main(argv=None):
     if not a.no_cpu:
         r = cpu_rate(a.timestep, min(2.0, 2000 * a.timestep))
         print(f"CPU reference (mat_hopper.sim, one core): {r:.3g} designs x sim s / wall s")
-    print(f"{'designs':>8} {'setup s':>8} {'warm-up s':>9} {'ms/step':>8} {'designs x sim s / wall s':>25} {'diverged':>9}")
+    print(f"{'designs':>8} {'setup s':>8} {'warm-up s':>9} {'ms/step':>8} {'designs x sim s / wall s':>25} "
+          f"{'diverged':>9}")
     for n in sizes:
         t0 = time.perf_counter()
         b = WarpBatch(random_designs(n), "forward", settings, device=device)

@@ -139,7 +139,8 @@ def update_phase(t: F64, touch: F64, z: F64, vz: F64, g: GainsW, state: wp.array
         if state[w, S_LIFTOFFS] > zero:          # the very first touchdown adapts nothing
             height = state[w, S_Z_MAX]
             state[w, S_LAST_HEIGHT] = height
-            state[w, S_THRUST] = state[w, S_THRUST] + g.thrust_adapt_gain * (g.hop_height_target_m - height)
+            adapted = state[w, S_THRUST] + g.thrust_adapt_gain * (g.hop_height_target_m - height)
+            state[w, S_THRUST] = wp.max(zero, adapted)
         state[w, S_Z_MAX] = z
         return TOUCHDOWN
     if state[w, S_PHASE] == F64(STANCE) and touch == zero and vz > zero:

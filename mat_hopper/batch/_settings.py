@@ -11,7 +11,7 @@ import pandas as pd
 from .. import reference as ref
 from .. import control as _ctl
 from ..control import ControllerSettings
-from ..materials import DEFAULT_CONVENTION, check_convention
+from ..materials import DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
 from ..sim import DEFAULT_RECORD_RATE_HZ, SimSettings
 
 # One row per design, in this column order (the CLI writes exactly these).
@@ -38,6 +38,10 @@ class BatchSettings:
     old), hip angles and rates from the current ``qpos``/``qvel``; at step 0
     the sensors of the initial state. The mujoco backend takes any latency
     its ``SimSettings`` takes; the warp backend implements only 1.
+
+    segment_mass: how segment masses scale with their number (``"leg"`` or
+    ``"capsule"``, as ``SimSettings.segment_mass``). The controller runs every
+    physics step (``SimSettings.substeps`` = 1), as in the authors' loop.
     """
 
     duration_s: float = ref.DURATION_S
@@ -47,6 +51,7 @@ class BatchSettings:
     record_rate_hz: float = DEFAULT_RECORD_RATE_HZ
     controller: ControllerSettings = field(default_factory=ControllerSettings)
     sensor_latency_steps: int = ref.SENSOR_LATENCY_STEPS
+    segment_mass: str = DEFAULT_SEGMENT_MASS
 
     def __post_init__(self):
         lat = self.sensor_latency_steps
@@ -56,6 +61,7 @@ class BatchSettings:
         # SimSettings holds the shared checks (finite, timestep range, duration > transient, ...).
         self.sim_settings()
         check_convention(self.convention)
+        check_segment_mass(self.segment_mass)
 
     @property
     def sensor_timing(self) -> str:
@@ -66,7 +72,8 @@ class BatchSettings:
         """The same run as :class:`~mat_hopper.sim.SimSettings` (the CPU path)."""
         return SimSettings(duration_s=self.duration_s, timestep_s=self.timestep_s, transient_s=self.transient_s,
                            convention=self.convention, record_rate_hz=self.record_rate_hz,
-                           controller=self.controller, sensor_timing=int(self.sensor_latency_steps))
+                           controller=self.controller, sensor_timing=int(self.sensor_latency_steps),
+                           segment_mass=self.segment_mass)
 
     @property
     def n_steps(self) -> int:

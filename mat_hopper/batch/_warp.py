@@ -63,7 +63,8 @@ def require_warp():
     try:
         import warp as wp
     except Exception as e:  # ImportError, or a broken install
-        raise WarpUnavailable(f"the warp backend needs warp-lang, which does not import ({e}); {INSTALL_HINT}") from None
+        raise WarpUnavailable(f"the warp backend needs warp-lang, which does not import ({e}); "
+                              f"{INSTALL_HINT}") from None
     # Warp logs every kernel module it loads at INFO, its default level: keep to warnings.
     if getattr(wp.config, "log_level", None) == getattr(wp, "LOG_INFO", 20) and hasattr(wp, "LOG_WARNING"):
         wp.config.log_level = wp.LOG_WARNING
@@ -134,7 +135,7 @@ def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettin
     the topology's model and its total masses (kg)."""
     beh = get_behaviour(behaviour)
     build = dict(ramp_grade_deg=beh.ramp_grade_deg, timestep=settings.timestep_s,
-                 convention=settings.convention, sensors="control")
+                 convention=settings.convention, sensors="control", segment_mass=settings.segment_mass)
     base = build_model(designs[0], **build)
     ref_arrays = _model_arrays(base.model)
     spring_jnt = {i: base.model.joint(f"mat_spring_{i}").id

@@ -51,6 +51,9 @@ def _random_inputs(rng, n, lay, nsens, nq, nv, dt, step):
     st[rng.random(n) < 0.1, ctl.S_T_SWITCH] = -np.inf
     st[:, ctl.S_THRUST] = rng.uniform(100, 300, n)
     st[:, ctl.S_Z_MAX] = rng.uniform(0.5, 1.3, n)
+    low = rng.random(n) < 0.3           # thrust adaptation that would go negative (clamped at 0)
+    st[low, ctl.S_THRUST] = rng.uniform(0, 20, low.sum())
+    st[low, ctl.S_Z_MAX] = rng.uniform(1.5, 2.5, low.sum())
     st[:, ctl.S_LIFTOFFS] = rng.integers(0, 3, n)
     st[:, ctl.S_TOUCHDOWNS] = rng.integers(0, 3, n)
     return sens, qpos, qvel, st
@@ -94,6 +97,8 @@ def test_controller_kernel_is_control_py(layout):
     np.testing.assert_array_equal(got_ev, want_ev)
     # every branch was reached: all three events, stance and flight controls, thrust on and off
     assert set(want_ev) == {ctl.NO_EVENT, ctl.TOUCHDOWN, ctl.LIFTOFF}
+    adapted = (want_ev == ctl.TOUCHDOWN) & (st[:, ctl.S_LIFTOFFS] > 0)
+    assert (got_state[adapted, ctl.S_THRUST] == 0).any() and (got_state[adapted, ctl.S_THRUST] > 0).any()
     assert (got_ctrl[:, lay.act_thrust] > 0).any() and (got_ctrl[:, lay.act_thrust] == 0).any()
 
 

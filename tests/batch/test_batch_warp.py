@@ -47,6 +47,20 @@ def test_per_world_fields_are_mujocos_compile(sprung_batch):
     assert len({tuple(np.round(r, 6)) for r in b.m.body_mass.numpy()}) == b.nworld - 1
 
 
+@pytest.mark.parametrize("segment_mass", ["leg", "capsule"])
+def test_segment_mass_convention_reaches_the_worlds(segment_mass):
+    """Two-segment legs (where the conventions differ): per-world masses are
+    MuJoCo's compile under the chosen convention."""
+    s = BatchSettings(duration_s=0.45, timestep_s=2e-4, transient_s=0.1, segment_mass=segment_mass)
+    designs = [LegDesign.from_properties([1.39, 8.0], [4.0, 193.0]), LegDesign.from_properties([2.7], [70.0] * 2)]
+    b = WarpBatch(designs, "forward", s, device="cpu")
+    for w, d in enumerate(designs):
+        want = build_model(d, timestep=s.timestep_s, sensors="control", segment_mass=segment_mass).model.body_mass
+        np.testing.assert_allclose(b.m.body_mass.numpy()[w], want, rtol=1e-6)
+    other = "capsule" if segment_mass == "leg" else "leg"
+    assert not np.allclose(b.m.body_mass.numpy()[0], build_model(designs[0], segment_mass=other).model.body_mass)
+
+
 def test_the_device_model_resets_nothing_itself(sprung_batch):
     import mujoco
     assert sprung_batch.hopper.model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET   # host: as built
