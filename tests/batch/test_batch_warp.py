@@ -6,7 +6,7 @@ import pytest
 
 pytest.importorskip("mujoco_warp")
 
-from mat_hopper.batch import BatchSettings, WarpBatch, evaluate  # noqa: E402
+from mat_hopper.batch import BatchSettings, WarpBatch, as_design, evaluate  # noqa: E402
 from mat_hopper.batch._warp import DERIVED_FIELDS, DESIGN_FIELDS  # noqa: E402
 from mat_hopper.materials import LegDesign  # noqa: E402
 from mat_hopper.model import build_model  # noqa: E402
@@ -112,3 +112,13 @@ def test_trajectories_follow_mujoco_cpu_and_divergence_stays_in_its_world():
         else:
             assert div[w] >= 0 and abs(div[w] - ro.diverged_step) <= 5, (design, div[w], ro.diverged_step)
     assert div[1] >= 0 and (div[[0, 2]] == -1).all()
+
+
+def test_groups_and_slices_come_back_in_input_order():
+    s = BatchSettings(duration_s=0.02, timestep_s=2e-4, transient_s=0.01)
+    designs = ["MD", "PVC", LegDesign.from_properties([2.0], [None] * 3, name="MD-heavy"), "Nylon", "rho-inc"]
+    table = evaluate(designs, "forward", s, backend="warp", device="cpu", max_batch=2)
+    assert list(table["design"]) == ["MD", "PVC", "MD-heavy", "Nylon", "rho-inc"]
+    masses = [build_model(as_design(d), sensors="control").total_mass_kg for d in designs]
+    np.testing.assert_allclose(table["total_mass_kg"], masses, rtol=1e-9)
+    assert (table["backend"] == "warp").all() and (table["sensor_timing"] == "authors").all()
