@@ -21,6 +21,7 @@ COMMAND_MODULES = (
     "mat_hopper.cli.reproduce",
     "mat_hopper.cli.optimize",
     "mat_hopper.cli.render",
+    "mat_hopper.cli.batch",
 )
 
 

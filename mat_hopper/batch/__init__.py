@@ -1,0 +1,62 @@
+"""Many designs at once: batch evaluation on MuJoCo Warp, with the CPU path as reference.
+
+:func:`evaluate` runs designs of one behaviour and gives one row per design
+(:data:`RESULT_COLUMNS`: n_hops, hop_height_m, tracking_error_m, power_w,
+stable, the definitions of :mod:`mat_hopper.metrics`):
+
+- ``backend="mujoco"``: one CPU rollout per design (:mod:`mat_hopper.sim`),
+  in parallel over processes. The reference.
+- ``backend="warp"``: designs grouped by topology, each group one batched
+  MuJoCo Warp simulation (per-world masses, inertias and spring
+  stiffnesses), the controller and the per-hop metrics as Warp kernels.
+  Needs the optional ``gpu`` extra (``mujoco-warp``, ``warp-lang``); runs
+  on a GPU or, slowly, on Warp's CPU device.
+
+Example::
+
+    from mat_hopper.batch import BatchSettings, evaluate
+    table = evaluate(["SS", "rho-inc", "PVC-Ti-SS"], "forward",
+                     BatchSettings(duration_s=60, transient_s=20), backend="warp", device="cuda")
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import pandas as pd
+
+from ._cpu import evaluate_cpu
+from ._designs import (as_design, designs_from_csv, designs_from_frame, designs_to_frame, group_by_topology,
+                       parse_design_list, topology_key)
+from ._settings import BACKENDS, EXTRA_COLUMNS, RESULT_COLUMNS, BatchSettings
+
+
+def evaluate(designs: Sequence, behaviour, settings: BatchSettings | None = None, *, backend: str = "mujoco",
+             device: str | None = None, workers: int | None = None, max_batch: int | None = None,
+             progress: bool = False) -> pd.DataFrame:
+    """One row per design, in input order (see the module doc).
+
+    designs: LegDesigns or names; behaviour: a Behaviour or a name;
+    device: Warp device for the warp backend ("cpu", "cuda"); workers:
+    processes for the mujoco backend; max_batch: most worlds in one warp
+    batch."""
+    if backend == "mujoco":
+        return evaluate_cpu(designs, behaviour, settings, workers=workers, progress=progress)
+    if backend == "warp":
+        from ._warp import evaluate_warp
+        return evaluate_warp(designs, behaviour, settings, device=device, max_batch=max_batch, progress=progress)
+    raise ValueError(f"unknown backend {backend!r}; accepted: {', '.join(BACKENDS)}")
+
+
+def __getattr__(name):
+    # The warp side imports lazily: mujoco-warp is an optional dependency.
+    if name in ("WarpBatch", "WarpUnavailable", "evaluate_warp", "require_warp", "warp_available", "design_fields"):
+        from . import _warp
+        return getattr(_warp, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+__all__ = ["BACKENDS", "EXTRA_COLUMNS", "RESULT_COLUMNS", "BatchSettings", "WarpBatch", "WarpUnavailable",
+           "as_design", "design_fields", "designs_from_csv", "designs_from_frame", "designs_to_frame", "evaluate",
+           "evaluate_cpu", "evaluate_warp", "group_by_topology", "parse_design_list", "require_warp",
+           "topology_key", "warp_available"]

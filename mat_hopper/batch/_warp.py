@@ -1,0 +1,349 @@
+"""The warp backend: many designs of one topology in one MuJoCo Warp batch.
+
+One compiled hopper (:func:`mat_hopper.model.build_model`) goes to the
+device once (``mujoco_warp.put_model``) with a world axis on the fields a
+design changes:
+
+- body_mass, body_inertia, body_ipos, body_iquat: MuJoCo's compiler gives
+  them per design (the capsules' densities; a body holds halves of two
+  segments, so its centre of mass moves too). One host compile per
+  distinct set of densities, about a millisecond;
+- jnt_stiffness of the material springs: ``materials.spring_stiffness``,
+  the function the model builder uses;
+- the constants derived from masses (body_subtreemass, dof_invweight0,
+  body_invweight0, actuator_acc0) are recomputed on the device per world by
+  ``mujoco_warp.set_const``, as MJWarp's domain randomisation does (mjlab's
+  ``dr`` module expands the fields, writes them, calls set_const).
+
+Every other model field must be identical across the designs: that is
+checked against each host compile, so a design that changes anything else
+is refused rather than simulated wrongly.
+
+MuJoCo's automatic reset is unsupported by MJWarp, so it is cleared on the
+device copy; divergence is detected per world by the batch itself (see
+:mod:`._kernels`). MJWarp's state is float32; the controller and the
+metrics run in float64.
+"""
+
+from __future__ import annotations
+
+import copy
+import warnings
+from typing import Sequence
+
+import mujoco
+import numpy as np
+import pandas as pd
+
+from .. import reference as ref
+from ..behaviours import behaviour as get_behaviour
+from ..control import initial_state
+from ..materials import LegDesign, spring_stiffness
+from ..model import build_model
+from ..sim import prepare
+from ._designs import as_design, group_by_topology
+from ._settings import BatchSettings, mean_or_nan, result_frame
+
+# Model fields set per world from the designs, and those set_const derives from them.
+DESIGN_FIELDS = ("body_mass", "body_inertia", "body_ipos", "body_iquat", "jnt_stiffness")
+DERIVED_FIELDS = ("body_subtreemass", "dof_invweight0", "body_invweight0", "actuator_acc0")
+# Host-model fields that may differ between designs without entering MJWarp's dynamics:
+# names, dof_M0 (not in MJWarp), dof_length (sleep only; sleep is off), light_poscom0 (tracking lights).
+_IGNORED_FIELDS = ("names", "dof_M0", "dof_length", "light_poscom0")
+SUPPORTED_SENSOR_LATENCY = (1,)
+INSTALL_HINT = "pip install 'mat-hopper[gpu]' (mujoco-warp and warp-lang)"
+
+
+class WarpUnavailable(ImportError):
+    """mujoco-warp or warp-lang is not installed (or does not load)."""
+
+
+def require_warp():
+    """(warp, mujoco_warp), quietly initialised; WarpUnavailable if missing."""
+    try:
+        import warp as wp
+    except Exception as e:  # ImportError, or a broken install
+        raise WarpUnavailable(f"the warp backend needs warp-lang, which does not import ({e}); "
+                              f"{INSTALL_HINT}") from None
+    # Warp logs every kernel module it loads at INFO, its default level: keep to warnings.
+    if getattr(wp.config, "log_level", None) == getattr(wp, "LOG_INFO", 20) and hasattr(wp, "LOG_WARNING"):
+        wp.config.log_level = wp.LOG_WARNING
+    wp.config.quiet = True
+    try:
+        import mujoco_warp as mjw
+    except Exception as e:
+        raise WarpUnavailable(f"the warp backend needs mujoco-warp, which does not import ({e}); "
+                              f"{INSTALL_HINT}") from None
+    wp.init()
+    return wp, mjw
+
+
+def warp_available() -> bool:
+    try:
+        require_warp()
+        return True
+    except WarpUnavailable:
+        return False
+
+
+def _device(wp, device):
+    name = "cpu" if device is None else str(device)
+    try:
+        dev = wp.get_device(name)
+    except Exception:
+        dev = None
+    if dev is None:
+        seen = ", ".join(str(d) for d in wp.get_devices())
+        raise ValueError(f"device {name!r} is not available to Warp (it sees: {seen})")
+    return dev
+
+
+def _check_latency(settings: BatchSettings) -> None:
+    if settings.sensor_latency_steps not in SUPPORTED_SENSOR_LATENCY:
+        raise ValueError(f"the warp backend implements sensor_latency_steps=1 only (the authors' loop: "
+                         f"sensors one physics step old), got {settings.sensor_latency_steps!r}")
+
+
+def _model_arrays(model) -> dict:
+    out = {}
+    for name in dir(model):
+        if name.startswith("_") or name in _IGNORED_FIELDS or name.startswith("name_"):
+            continue
+        try:
+            v = getattr(model, name)
+        except Exception:
+            continue
+        if isinstance(v, np.ndarray):
+            out[name] = v
+    return out
+
+
+def _check_same(ref_arrays: dict, model, design: LegDesign, ref_name: str) -> None:
+    allowed = set(DESIGN_FIELDS) | set(DERIVED_FIELDS)
+    for name, a in ref_arrays.items():
+        if name in allowed:
+            continue
+        b = getattr(model, name)
+        if a.shape != b.shape or not np.array_equal(a, b, equal_nan=True):
+            raise ValueError(f"design {design.name!r} changes model field {name} against {ref_name!r}: it "
+                             f"cannot share their batch (only {', '.join(DESIGN_FIELDS)} may differ)")
+
+
+def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettings):
+    """Per-world values (numpy, world axis first) of :data:`DESIGN_FIELDS`,
+    plus the derived fields as MuJoCo's compiler gives them (for checks),
+    the topology's model and its total masses (kg)."""
+    beh = get_behaviour(behaviour)
+    build = dict(ramp_grade_deg=beh.ramp_grade_deg, timestep=settings.timestep_s,
+                 convention=settings.convention, sensors="control", segment_mass=settings.segment_mass)
+    base = build_model(designs[0], **build)
+    ref_arrays = _model_arrays(base.model)
+    spring_jnt = {i: base.model.joint(f"mat_spring_{i}").id
+                  for i, m in enumerate(designs[0].segments, start=1) if not m.rigid}
+    compiled = {}
+    fields = {f: [] for f in DESIGN_FIELDS + DERIVED_FIELDS}
+    mass = []
+    for d in designs:
+        key = d.densities_g_cm3
+        if key not in compiled:
+            hm = build_model(d, **build)
+            _check_same(ref_arrays, hm.model, d, designs[0].name)
+            compiled[key] = hm
+        m = compiled[key].model
+        for f in DESIGN_FIELDS + DERIVED_FIELDS:
+            fields[f].append(np.array(getattr(m, f), dtype=np.float64))
+        k = fields["jnt_stiffness"][-1]
+        for i, j in spring_jnt.items():     # the stiffness of this design, whoever compiled the masses
+            k[j] = spring_stiffness(d.segments[i - 1].modulus_gpa, settings.convention, d.n_segments)
+        mass.append(float(m.body_subtreemass[0]))
+    return {f: np.stack(v) for f, v in fields.items()}, base, np.array(mass)
+
+
+class WarpBatch:
+    """Designs of one topology on one behaviour, one world each, on a Warp
+    device ("cpu", "cuda", "cuda:1", ...). :meth:`run` simulates,
+    :meth:`results` gives the per-design table."""
+
+    def __init__(self, designs: Sequence, behaviour, settings: BatchSettings | None = None, *,
+                 device: str | None = None):
+        wp, mjw = require_warp()
+        from . import _kernels as K
+        self._wp, self._mjw, self._K = wp, mjw, K
+        self.settings = settings = settings or BatchSettings()
+        _check_latency(settings)
+        self.designs = [as_design(d) for d in designs]
+        if not self.designs:
+            raise ValueError("a batch needs at least one design")
+        if len(group_by_topology(self.designs)) != 1:
+            raise ValueError("one batch holds one topology (same segment count, same rigid segments); "
+                             "evaluate_warp groups designs for you")
+        self.behaviour = get_behaviour(behaviour)
+        self.device = _device(wp, device)
+        nw = self.nworld = len(self.designs)
+
+        fields, hopper, self.total_mass_kg = design_fields(self.designs, self.behaviour, settings)
+        self.hopper = hopper
+        self.compiled_derived = {f: fields[f] for f in DERIVED_FIELDS}
+        mjm = copy.copy(hopper.model)
+        # MJWarp refuses mjDSBL_AUTORESET; divergence is detected per world instead.
+        mjm.opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)
+        self.mjm = mjm
+        with wp.ScopedDevice(self.device), warnings.catch_warnings():
+            warnings.simplefilter("ignore")          # put_model's advisory notes (e.g. torsional friction)
+            m = mjw.put_model(mjm, batch_sizes={f: nw for f in DESIGN_FIELDS + DERIVED_FIELDS})
+            d = mjw.make_data(mjm, nworld=nw)
+            for f in DESIGN_FIELDS:
+                arr = getattr(m, f)
+                arr.assign(fields[f].reshape(arr.numpy().shape).astype(np.float32))
+            mjw.set_const(m, d)
+            # The start pose: the behaviour's, as the CPU rollout prepares it.
+            _, data0 = prepare(self.designs[0], self.behaviour, settings.sim_settings())
+            qpos0 = np.tile(np.asarray(data0.qpos, dtype=np.float32), (nw, 1))
+            d.qpos.assign(qpos0)
+            d.qvel.zero_()
+            mjw.forward(m, d)             # sensors of the initial state: what step 0 reads
+            self.m, self.d = m, d
+            self._qpos_init = wp.array(qpos0, dtype=wp.float32)
+            st = np.tile(initial_state(settings.controller), (nw, 1))
+            self._state = wp.array(st, dtype=wp.float64)
+            self._acc = wp.zeros((nw, K.N_ACC), dtype=wp.float64)
+            self._diverged = wp.array(np.full(nw, -1, dtype=np.int32), dtype=wp.int32)
+            self._event = wp.zeros(nw, dtype=wp.int32)
+            self._hip_rate = wp.zeros((nw, 2), dtype=wp.float64)
+            self._clock = wp.zeros(1, dtype=wp.int32)
+            beh = self.behaviour
+            self._path_params = wp.array(beh.path_params, dtype=wp.float64)
+            self._path_table = wp.array(beh.table_xy_m, dtype=wp.float64)
+        self._gains = K.make_gains(settings.controller)
+        self._layout = K.make_layout(hopper.layout)
+        self.step = 0
+        self._graph = None
+        self._graph_steps = 0
+        self._graph_failed = False
+
+    # -- stepping --
+    def _launch_step(self) -> None:
+        wp, mjw, K, d, s = self._wp, self._mjw, self._K, self.d, self.settings
+        beh = self.behaviour
+        dt = float(s.timestep_s)
+        wp.launch(K.control_kernel, dim=self.nworld, inputs=[
+            self._clock, dt, self._gains, self._layout, beh.path_code, self._path_params, self._path_table,
+            d.sensordata, self._qpos_init, self._diverged, self._state, d.qpos, d.qvel, d.qacc_warmstart,
+            d.ctrl, self._event, self._hip_rate])
+        mjw.step(self.m, d)
+        wp.launch(K.metrics_kernel, dim=self.nworld, inputs=[
+            self._clock, dt, float(s.transient_s), s.record_every, float(ref.DIVERGENCE_QACC), self._layout,
+            beh.path_code, self._path_params, self._path_table, d.sensordata, d.qfrc_actuator, d.qpos, d.qacc,
+            self._event, self._hip_rate, self._diverged, self._acc])
+        wp.launch(K.tick_kernel, dim=1, inputs=[self._clock])
+
+    def _capture(self, n: int) -> bool:
+        """Record (not run) a CUDA graph of n steps (GPU only); False where capture fails."""
+        wp = self._wp
+        try:
+            with wp.ScopedCapture(device=self.device) as cap:
+                for _ in range(n):
+                    self._launch_step()
+        except Exception as e:      # pragma: no cover (GPU only)
+            warnings.warn(f"CUDA graph capture failed ({e}); stepping without graphs", RuntimeWarning)
+            self._graph_failed = True
+            return False
+        self._graph, self._graph_steps = cap.graph, n
+        return True
+
+    def advance(self, n_steps: int) -> None:
+        """Run n_steps more physics steps (fewer at the end of the run)."""
+        wp = self._wp
+        n = min(int(n_steps), self.settings.n_steps - self.step)
+        if n <= 0:
+            return
+        with wp.ScopedDevice(self.device):
+            done = 0
+            if self.device.is_cuda:
+                if self.step == 0:           # compile every kernel before any capture
+                    self._launch_step()
+                    done = 1
+                if self._graph is None and not self._graph_failed and n - done >= self.graph_steps:
+                    self._capture(self.graph_steps)       # recorded now, run by the launches below
+                while self._graph is not None and n - done >= self._graph_steps:
+                    wp.capture_launch(self._graph)
+                    done += self._graph_steps
+            while done < n:
+                self._launch_step()
+                done += 1
+            wp.synchronize_device(self.device)
+        self.step += n
+
+    graph_steps = 500     # steps per CUDA graph
+
+    def run(self, *, progress: bool = False, chunk_steps: int | None = None) -> "WarpBatch":
+        """Simulate to the end; progress: a tqdm bar over simulated time."""
+        s = self.settings
+        chunk = int(chunk_steps or (self.graph_steps if self.device.is_cuda else 200))
+        bar = None
+        if progress:
+            from tqdm import tqdm
+            # counts steps, shows simulated seconds (unit_scale multiplies both by dt)
+            bar = tqdm(total=s.n_steps, initial=self.step, unit_scale=s.timestep_s, desc=f"warp x{self.nworld}",
+                       bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} sim s [{elapsed}<{remaining}]")
+        try:
+            while self.step < s.n_steps:
+                before = self.step
+                self.advance(chunk)
+                if bar:
+                    bar.update(self.step - before)
+        finally:
+            if bar:
+                bar.close()
+        return self
+
+    # -- outcome --
+    def diverged_steps(self) -> np.ndarray:
+        return self._diverged.numpy().copy()
+
+    def controller_state(self) -> np.ndarray:
+        """(nworld, control.STATE_SIZE) controller states, control.py's layout."""
+        return self._state.numpy().copy()
+
+    def results(self) -> pd.DataFrame:
+        K = self._K
+        acc = self._acc.numpy()
+        div = self._diverged.numpy()
+        rows = []
+        for w, design in enumerate(self.designs):
+            n = int(acc[w, K.A_HOPS])
+            rows.append({"design": design.name, "n_hops": n,
+                         "hop_height_m": mean_or_nan(acc[w, K.A_HEIGHT_SUM], n),
+                         "tracking_error_m": mean_or_nan(acc[w, K.A_ERR_SUM], n),
+                         "power_w": mean_or_nan(acc[w, K.A_POW_SUM], n),
+                         "stable": bool(div[w] < 0), "behaviour": self.behaviour.name,
+                         "sensor_timing": self.settings.sensor_timing,
+                         "diverged_at_s": None if div[w] < 0 else float(div[w] * self.settings.timestep_s),
+                         "total_mass_kg": float(self.total_mass_kg[w]), "backend": "warp"})
+        return result_frame(rows)
+
+
+def evaluate_warp(designs: Sequence, behaviour, settings: BatchSettings | None = None, *,
+                  device: str | None = None, max_batch: int | None = None,
+                  progress: bool = False) -> pd.DataFrame:
+    """One row per design (input order), like :func:`evaluate_cpu`: designs
+    are grouped by topology and each group (in slices of at most max_batch
+    worlds) runs as one batch on the Warp device."""
+    settings = settings or BatchSettings()
+    _check_latency(settings)
+    require_warp()
+    designs = [as_design(d) for d in designs]
+    if not designs:
+        raise ValueError("no designs to evaluate")
+    if max_batch is not None and max_batch < 1:
+        raise ValueError(f"max_batch must be >= 1, got {max_batch!r}")
+    rows: list[dict | None] = [None] * len(designs)
+    for idx in group_by_topology(designs).values():
+        size = max_batch or len(idx)
+        for a in range(0, len(idx), size):
+            part = idx[a:a + size]
+            table = WarpBatch([designs[i] for i in part], behaviour, settings, device=device).run(
+                progress=progress).results()
+            for i, row in zip(part, table.to_dict("records")):
+                rows[i] = row
+    return result_frame(rows)
