@@ -65,8 +65,10 @@ def main(argv=None):
     if not a.no_cpu:
         r = cpu_rate(a.timestep, min(2.0, 2000 * a.timestep))
         print(f"CPU reference (mat_hopper.sim, one core): {r:.3g} designs x sim s / wall s")
-    print(f"{'designs':>8} {'setup s':>8} {'warm-up s':>9} {'ms/step':>8} {'designs x sim s / wall s':>25} "
-          f"{'diverged':>9}")
+    print(
+        f"{'designs':>8} {'setup s':>8} {'warm-up s':>9} {'ms/step':>8} {'designs x sim s / wall s':>25} "
+        f"{'diverged':>9}"
+    )
     for n in sizes:
         t0 = time.perf_counter()
         b = WarpBatch(random_designs(n), "forward", settings, device=device)
@@ -78,8 +80,9 @@ def main(argv=None):
         wall = t3 - t2
         rate = n * a.steps * a.timestep / wall
         div = float((b.diverged_steps() >= 0).mean())
-        print(f"{n:>8} {t1 - t0:>8.2f} {t2 - t1:>9.2f} {1e3 * wall / a.steps:>8.3f} {rate:>25.4g} {div:>9.0%}",
-              flush=True)
+        print(
+            f"{n:>8} {t1 - t0:>8.2f} {t2 - t1:>9.2f} {1e3 * wall / a.steps:>8.3f} {rate:>25.4g} {div:>9.0%}", flush=True
+        )
 
 
 if __name__ == "__main__":

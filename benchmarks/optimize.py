@@ -54,8 +54,12 @@ def main(argv=None):
     p.add_argument("--space", default="catalogue", help="catalogue (PVC, Al, Ti, SS) or continuous")
     p.add_argument("--profile", default="paper")
     p.add_argument("--no-limit", action="store_true", help="skip timing the bare simulator")
-    p.add_argument("--overhead-trials", type=int, default=4,
-                   help="trials run in this process to measure the optimizer's own overhead (0: skip)")
+    p.add_argument(
+        "--overhead-trials",
+        type=int,
+        default=4,
+        help="trials run in this process to measure the optimizer's own overhead (0: skip)",
+    )
     a = p.parse_args(argv)
     prof = PROFILES[a.profile]
     space = SearchSpace(kinds=a.space, materials=("PVC", "Al", "Ti", "SS"))
@@ -75,14 +79,18 @@ def main(argv=None):
         done = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
         sim_s = sum(t.user_attrs["result"]["simulated_s"] for t in done)
         del study
-    print(f"{len(done)} trials ({a.space} space, {prof.name} profile: {prof.duration_s:g} s ramp runs at "
-          f"{prof.timestep_s:g} s), {a.workers} workers, {os.cpu_count()} CPUs: {wall:.1f} s wall")
+    print(
+        f"{len(done)} trials ({a.space} space, {prof.name} profile: {prof.duration_s:g} s ramp runs at "
+        f"{prof.timestep_s:g} s), {a.workers} workers, {os.cpu_count()} CPUs: {wall:.1f} s wall"
+    )
     print(f"trials/hour end to end: {len(done) / wall * 3600:.0f}")
     full = sim_s / prof.duration_s / wall * 3600
     print(f"full-run trials/hour (simulated s / {prof.duration_s:g} per wall hour): {full:.0f}")
     per_trial = worker_cpu / max(1, len(done))
-    print(f"worker CPU per trial: {per_trial:.2f} s -> {a.workers * 3600 / per_trial:.0f} trials/hour "
-          f"on {a.workers} idle cores")
+    print(
+        f"worker CPU per trial: {per_trial:.2f} s -> {a.workers * 3600 / per_trial:.0f} trials/hour "
+        f"on {a.workers} idle cores"
+    )
     if not res.finished:
         print("warning: the study did not reach its target")
     if not a.no_limit:
@@ -90,16 +98,22 @@ def main(argv=None):
         cpu = bare_cpu(prof)
         wall_each = (before + after) / 2
         limit = a.workers * 3600 / wall_each
-        print(f"simulator alone: {a.workers} bare {prof.duration_s:g} s SS ramp rollouts at once (one per core) = "
-              f"{before:.2f} s wall before the study, {after:.2f} s after -> {limit:.0f} trials/hour "
-              f"(one alone, the other core idle: {cpu:.2f} s CPU)")
-        print(f"optimizer end to end / simulator alone: {full / limit:.2f} (the catalogue's designs differ "
-              f"from SS in cost; the overhead line below is the like-for-like figure)")
+        print(
+            f"simulator alone: {a.workers} bare {prof.duration_s:g} s SS ramp rollouts at once (one per core) = "
+            f"{before:.2f} s wall before the study, {after:.2f} s after -> {limit:.0f} trials/hour "
+            f"(one alone, the other core idle: {cpu:.2f} s CPU)"
+        )
+        print(
+            f"optimizer end to end / simulator alone: {full / limit:.2f} (the catalogue's designs differ "
+            f"from SS in cost; the overhead line below is the like-for-like figure)"
+        )
     if a.overhead_trials > 0:
         total, inside = overhead(config, a.overhead_trials)
-        print(f"optimizer overhead, {a.overhead_trials} trials in one process: "
-              f"{(total - inside) / a.overhead_trials * 1000:.0f} ms CPU per trial "
-              f"(whole trial / simulation alone: {total / inside:.3f})")
+        print(
+            f"optimizer overhead, {a.overhead_trials} trials in one process: "
+            f"{(total - inside) / a.overhead_trials * 1000:.0f} ms CPU per trial "
+            f"(whole trial / simulation alone: {total / inside:.3f})"
+        )
 
 
 def _bare(prof) -> float:
@@ -109,7 +123,7 @@ def _bare(prof) -> float:
 
 
 def _warm(_=None) -> None:
-    simulate("SS", "ramp", duration_s=0.05, transient_s=0.0)          # compiled code loaded
+    simulate("SS", "ramp", duration_s=0.05, transient_s=0.0)  # compiled code loaded
 
 
 def bare_cpu(prof) -> float:
@@ -143,8 +157,9 @@ def overhead(config: StudyConfig, n: int) -> tuple[float, float]:
 
     with tempfile.TemporaryDirectory() as tmp:
         opts = RunOptions(trials=n, workers=1, studies_dir=tmp, progress=False)
-        storage = open_storage(opts.storage_url(config.name), heartbeat_s=opts.heartbeat_s,
-                               grace_s=opts.grace_s, max_retry=opts.max_retry)
+        storage = open_storage(
+            opts.storage_url(config.name), heartbeat_s=opts.heartbeat_s, grace_s=opts.grace_s, max_retry=opts.max_retry
+        )
         study = create_or_load(config, storage, make_sampler(opts.sampler, opts.seed))
         optimize_module.evaluate = timed
         try:

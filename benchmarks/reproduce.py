@@ -51,9 +51,11 @@ def sampled(profile, names, workers: int, k: int) -> None:
         mean = sum(times) / len(times) if times else 0.0
         est = mean * len(todo) / workers
         total += est
-        print(f"{name:10s} {len(tasks):4d} tasks, {len(todo):4d} to compute; sampled {len(sample):3d}: "
-              f"{mean:6.2f} s/run (min {min(times, default=0):.2f}, max {max(times, default=0):.2f}) "
-              f"-> estimated {est:7.1f} s wall")
+        print(
+            f"{name:10s} {len(tasks):4d} tasks, {len(todo):4d} to compute; sampled {len(sample):3d}: "
+            f"{mean:6.2f} s/run (min {min(times, default=0):.2f}, max {max(times, default=0):.2f}) "
+            f"-> estimated {est:7.1f} s wall"
+        )
     print(f"{'total':10s} estimated {total:7.1f} s wall ({total / 60:.1f} min) on {workers} workers")
 
 
@@ -80,8 +82,10 @@ def main(argv=None):
     profile = get_profile(a.profile)
     names = parse_experiments(a.experiments)
     workers = a.workers or default_workers()
-    print(f"profile={profile.name} experiments={','.join(names)} workers={workers} "
-          f"load average={' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    print(
+        f"profile={profile.name} experiments={','.join(names)} workers={workers} "
+        f"load average={' '.join(f'{x:.2f}' for x in os.getloadavg())}"
+    )
     if a.sample > 1:
         sampled(profile, names, workers, a.sample)
     else:

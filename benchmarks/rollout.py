@@ -24,8 +24,8 @@ import mujoco
 import numba
 import numpy as np
 
-from mat_hopper.model import build_model
 from mat_hopper._loop import MJ_STEP
+from mat_hopper.model import build_model
 from mat_hopper.sim import RolloutRunner, SimSettings, simulate
 
 SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
@@ -51,8 +51,11 @@ def main(argv=None):
     settings = SimSettings(duration_s=a.seconds, timestep_s=dt, transient_s=0.0)
 
     # The closed loop's trajectory: states at chunk starts, controls at every step.
-    logged = RolloutRunner(a.design, a.behaviour, SimSettings(
-        duration_s=a.seconds, timestep_s=dt, transient_s=0.0, record_rate_hz=1.0 / dt))
+    logged = RolloutRunner(
+        a.design,
+        a.behaviour,
+        SimSettings(duration_s=a.seconds, timestep_s=dt, transient_s=0.0, record_rate_hz=1.0 / dt),
+    )
     m = logged.hopper.model
     size = mujoco.mj_stateSize(m, SPEC)
     starts = []
@@ -61,11 +64,12 @@ def main(argv=None):
         mujoco.mj_getState(m, logged.data, s, SPEC)
         starts.append(s)
         logged.advance(a.chunk)
-    controls = np.ascontiguousarray(logged.result().ctrl)     # actuator space, what d.ctrl takes
+    controls = np.ascontiguousarray(logged.result().ctrl)  # actuator space, what d.ctrl takes
     n = len(controls)
     h = logged.hopper
-    m_all = build_model(h.design, ramp_grade_deg=h.ramp_grade_deg, timestep=dt, convention=h.convention,
-                        sensors="all").model
+    m_all = build_model(
+        h.design, ramp_grade_deg=h.ramp_grade_deg, timestep_s=dt, convention=h.convention, sensors="all"
+    ).model
     assert mujoco.mj_stateSize(m_all, SPEC) == size
 
     def run_bare(model=m):
@@ -73,7 +77,7 @@ def main(argv=None):
         t0 = time.perf_counter()
         for c, s in enumerate(starts):
             mujoco.mj_setState(model, d, s, SPEC)
-            bare_loop(MJ_STEP, model._address, d._address, d.ctrl, controls[c * a.chunk:(c + 1) * a.chunk])
+            bare_loop(MJ_STEP, model._address, d._address, d.ctrl, controls[c * a.chunk : (c + 1) * a.chunk])
         return time.perf_counter() - t0
 
     def run_ours():
@@ -89,7 +93,7 @@ def main(argv=None):
         ours.append(run_ours())
         spec7.append(run_bare(m_all))
     b_us, o_us, s_us = min(bare) / n * 1e6, min(ours) / n * 1e6, min(spec7) / n * 1e6
-    print(f"design={a.design} behaviour={a.behaviour} steps={n} timestep={dt:g}s chunk={a.chunk}")
+    print(f"design={a.design} behaviour={a.behaviour} steps={n} timestep_s={dt:g}s chunk={a.chunk}")
     print(f"bare mj_step:        {b_us:.2f} us/step (best of {a.repeats})")
     print(f"closed-loop rollout: {o_us:.2f} us/step (best of {a.repeats}, model build and recording included)")
     print(f"bare mj_step, all 7 spec sensors: {s_us:.2f} us/step (rollout / this: {o_us / s_us:.2f})")

@@ -12,5 +12,17 @@ from .control import ControllerSettings  # noqa: E402
 from .materials import CATALOGUE, LegDesign, Material, material, parse_design  # noqa: E402
 from .sim import Rollout, SimSettings, simulate  # noqa: E402
 
-__all__ = ["CATALOGUE", "LegDesign", "Material", "material", "parse_design", "Behaviour",
-           "behaviour", "ControllerSettings", "Rollout", "SimSettings", "simulate", "__version__"]
+__all__ = [
+    "CATALOGUE",
+    "LegDesign",
+    "Material",
+    "material",
+    "parse_design",
+    "Behaviour",
+    "behaviour",
+    "ControllerSettings",
+    "Rollout",
+    "SimSettings",
+    "simulate",
+    "__version__",
+]

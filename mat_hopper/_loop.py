@@ -48,15 +48,45 @@ from .control import OUT_SIZE, S_LAST_HEIGHT, S_PHASE, S_THRUST, controller_step
 # (what MuJoCo computed for it), not what the controller read.
 CHANNELS = (
     "t",
-    "x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az",
-    "roll", "pitch", "yaw", "roll_rate", "pitch_rate",
-    "x_des", "y_des", "vx_des", "vy_des",
-    "hip_y", "hip_x", "hip_y_rate", "hip_x_rate",
-    "hip_y_target", "hip_x_target", "hip_y_target_rate", "hip_x_target_rate",
-    "ctrl_hip_y", "ctrl_hip_x", "ctrl_thrust",          # actuator space (the controls)
-    "torque_hip_y", "torque_hip_x", "force_thrust",     # joint space (MuJoCo's qfrc_actuator)
-    "touch", "phase", "thrust_setting", "foot_spring", "foot_spring_rate",
-    "az_filtered", "jerk_z",                            # low-passed base z acceleration, its derivative
+    "x",
+    "y",
+    "z",
+    "vx",
+    "vy",
+    "vz",
+    "ax",
+    "ay",
+    "az",
+    "roll",
+    "pitch",
+    "yaw",
+    "roll_rate",
+    "pitch_rate",
+    "x_des",
+    "y_des",
+    "vx_des",
+    "vy_des",
+    "hip_y",
+    "hip_x",
+    "hip_y_rate",
+    "hip_x_rate",
+    "hip_y_target",
+    "hip_x_target",
+    "hip_y_target_rate",
+    "hip_x_target_rate",
+    "ctrl_hip_y",
+    "ctrl_hip_x",
+    "ctrl_thrust",  # actuator space (the controls)
+    "torque_hip_y",
+    "torque_hip_x",
+    "force_thrust",  # joint space (MuJoCo's qfrc_actuator)
+    "touch",
+    "phase",
+    "thrust_setting",
+    "foot_spring",
+    "foot_spring_rate",
+    "az_filtered",
+    "jerk_z",  # low-passed base z acceleration, its derivative
 )
 C = {name: i for i, name in enumerate(CHANNELS)}
 N_CHANNELS = len(CHANNELS)
@@ -110,12 +140,12 @@ class JerkFilter(NamedTuple):
 class Steps(NamedTuple):
     """Which physics steps to run and how."""
 
-    first: int            # index of the first physics step of this call
-    count: int            # how many physics steps
-    dt: float             # s, the physics step
-    record_every: int     # physics steps between records
-    qacc_limit: float     # |qacc| above this is divergence
-    substeps: int         # physics steps per control period (the control is held between updates)
+    first: int  # index of the first physics step of this call
+    count: int  # how many physics steps
+    dt: float  # s, the physics step
+    record_every: int  # physics steps between records
+    qacc_limit: float  # |qacc| above this is divergence
+    substeps: int  # physics steps per control period (the control is held between updates)
 
 
 # ---------------------------------------------------------------------------
@@ -152,7 +182,7 @@ def read_sensors(sensordata, lay, row):
 @numba.njit(cache=True)
 def _diverged(qpos, qacc, limit):
     for v in qacc:
-        if not (abs(v) <= limit):          # catches nan too
+        if not (abs(v) <= limit):  # catches nan too
             return True
     for v in qpos:
         if not math.isfinite(v):
@@ -161,8 +191,9 @@ def _diverged(qpos, qacc, limit):
 
 
 @numba.njit(cache=True)
-def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps, history, state, jerk, rec,
-                 qpos_rec, events):
+def rollout_loop(
+    step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps, history, state, jerk, rec, qpos_rec, events
+):
     """Run physics steps ``steps.first`` .. ``steps.first + steps.count - 1``.
 
     history: (latency + 1, HISTORY_WIDTH) ring of past readings, carried
@@ -204,12 +235,11 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps,
                 for k in range(3):
                     pos[k] += nrow[k]
                     vel[k] += nrow[3 + k]
-            quat = lagged[H_QUAT:H_QUAT + 4]
-            gyro = lagged[H_GYRO:H_GYRO + 3]
+            quat = lagged[H_QUAT : H_QUAT + 4]
+            gyro = lagged[H_GYRO : H_GYRO + 3]
             dx, dy, dvx, dvy = desired_state(t, path.kind, path.params, path.table)
             desired[0], desired[1], desired[2], desired[3] = dx, dy, dvx, dvy
-            event = controller_step(t, touch, pos, quat, gyro, vel, hip_angle, hip_rate, desired, gains, state,
-                                    out)
+            event = controller_step(t, touch, pos, quat, gyro, vel, hip_angle, hip_rate, desired, gains, state, out)
             buf.ctrl[lay.act_hip_y] = out[0]
             buf.ctrl[lay.act_hip_x] = out[1]
             buf.ctrl[lay.act_thrust] = out[2]
@@ -234,14 +264,14 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps,
         z[2] = az_f
         if (i % steps.record_every == 0 or bad) and n_rec < rec.shape[0]:
             r = rec[n_rec]
-            now = history[i % ring]                 # the state s_i as MuJoCo computed it
+            now = history[i % ring]  # the state s_i as MuJoCo computed it
             r["t"] = t
             r["x"], r["y"], r["z"] = now[H_POS], now[H_POS + 1], now[H_POS + 2]
             r["vx"], r["vy"], r["vz"] = now[H_VEL], now[H_VEL + 1], now[H_VEL + 2]
             r["ax"] = buf.qacc[lay.base_dof]
             r["ay"] = buf.qacc[lay.base_dof + 1]
             r["az"] = buf.qacc[lay.base_dof + 2]
-            r["roll"], r["pitch"], r["yaw"] = euler_zyx(now[H_QUAT:H_QUAT + 4])
+            r["roll"], r["pitch"], r["yaw"] = euler_zyx(now[H_QUAT : H_QUAT + 4])
             r["roll_rate"], r["pitch_rate"] = now[H_GYRO], now[H_GYRO + 1]
             r["x_des"], r["y_des"], r["vx_des"], r["vy_des"] = desired_state(t, path.kind, path.params, path.table)
             r["hip_y"], r["hip_x"] = hip_angle[0], hip_angle[1]
@@ -254,7 +284,7 @@ def rollout_loop(step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps,
             r["torque_hip_y"] = buf.qfrc_actuator[lay.hip_y_dof]
             r["torque_hip_x"] = buf.qfrc_actuator[lay.hip_x_dof]
             r["force_thrust"] = buf.qfrc_actuator[lay.spring_dof]
-            r["touch"] = buf.sensordata[lay.touch]     # s_i's ground force, after mj_step2
+            r["touch"] = buf.sensordata[lay.touch]  # s_i's ground force, after mj_step2
             r["phase"] = state[S_PHASE]
             r["thrust_setting"] = state[S_THRUST]
             r["foot_spring"] = foot

@@ -16,7 +16,7 @@ Example, a figure-eight of your own::
 
     fig8 = Behaviour.from_function(
         "figure8", lambda t: (0.3 * np.sin(0.1 * t), 0.15 * np.sin(0.2 * t)),
-        duration=60.0)
+        duration_s=60.0)
     simulate(design, fig8)
 """
 
@@ -82,8 +82,9 @@ class Behaviour:
 
     @property
     def path_params(self) -> np.ndarray:
-        return np.array([self.speed_m_s, self.radius_m, self.heading_rad,
-                         self.start_xy_m[0], self.start_xy_m[1], self.table_dt_s])
+        return np.array(
+            [self.speed_m_s, self.radius_m, self.heading_rad, self.start_xy_m[0], self.start_xy_m[1], self.table_dt_s]
+        )
 
     def desired(self, t: float) -> tuple[float, float, float, float]:
         """Desired (x, y, vx, vy) in m and m/s at simulated time t (s)."""
@@ -91,9 +92,15 @@ class Behaviour:
 
     def key(self) -> dict:
         """Every setting that changes a result, for cache keys and tables."""
-        d = {"name": self.name, "path": self.path, "speed_m_s": self.speed_m_s,
-             "radius_m": self.radius_m, "heading_rad": self.heading_rad,
-             "ramp_grade_deg": self.ramp_grade_deg, "start_xy_m": list(self.start_xy_m)}
+        d = {
+            "name": self.name,
+            "path": self.path,
+            "speed_m_s": self.speed_m_s,
+            "radius_m": self.radius_m,
+            "heading_rad": self.heading_rad,
+            "ramp_grade_deg": self.ramp_grade_deg,
+            "start_xy_m": list(self.start_xy_m),
+        }
         if self.path == "table":
             d["table_dt_s"] = self.table_dt_s
             d["table_sha"] = __import__("hashlib").sha256(self.table_xy_m.tobytes()).hexdigest()[:16]
@@ -105,22 +112,35 @@ class Behaviour:
         """Your own path from positions (n, 2) in m sampled every dt_s seconds from t = 0."""
         xy = np.asarray(xy_m, dtype=np.float64)
         start = (float(xy[0, 0]), float(xy[0, 1])) if xy.ndim == 2 and len(xy) else (0.0, 0.0)
-        return cls(name, "table", ramp_grade_deg=ramp_grade_deg, start_xy_m=start,
-                   table_dt_s=float(dt_s), table_xy_m=xy)
+        return cls(
+            name, "table", ramp_grade_deg=ramp_grade_deg, start_xy_m=start, table_dt_s=float(dt_s), table_xy_m=xy
+        )
 
     @classmethod
-    def from_function(cls, name: str, fn: Callable[[float], tuple[float, float]], duration: float,
-                      dt_s: float = 1e-3, *, ramp_grade_deg: float | None = None) -> Behaviour:
+    def from_function(
+        cls,
+        name: str,
+        fn: Callable[[float], tuple[float, float]],
+        duration_s: float,
+        dt_s: float = 1e-3,
+        *,
+        ramp_grade_deg: float | None = None,
+    ) -> Behaviour:
         """Your own path from a Python function t (s) -> (x, y) (m), sampled every dt_s."""
-        if not duration > 0:
-            raise ValueError(f"duration must be > 0 s, got {duration!r}")
-        ts = np.arange(int(math.ceil(duration / dt_s)) + 1) * dt_s
+        if not duration_s > 0:
+            raise ValueError(f"duration must be > 0 s, got {duration_s!r}")
+        ts = np.arange(int(math.ceil(duration_s / dt_s)) + 1) * dt_s
         xy = np.array([fn(float(t)) for t in ts], dtype=np.float64).reshape(len(ts), 2)
         return cls.from_samples(name, dt_s, xy, ramp_grade_deg=ramp_grade_deg)
 
 
-def behaviour(name: str, *, speed_m_s: float = ref.SPEED_M_S, radius_m: float = ref.CIRCLE_RADIUS,
-              grade_deg: float = ref.RAMP_GRADE_DEG) -> Behaviour:
+def behaviour(
+    name: str,
+    *,
+    speed_m_s: float = ref.SPEED_M_S,
+    radius_m: float = ref.CIRCLE_RADIUS,
+    grade_deg: float = ref.RAMP_GRADE_DEG,
+) -> Behaviour:
     """One of the paper's behaviours (static, forward, ramp, circle) by name."""
     if isinstance(name, Behaviour):
         return name
@@ -132,8 +152,7 @@ def behaviour(name: str, *, speed_m_s: float = ref.SPEED_M_S, radius_m: float = 
     if key == "ramp":
         return Behaviour("ramp", "line", speed_m_s, ramp_grade_deg=grade_deg)
     if key == "circle":
-        return Behaviour("circle", "circle", speed_m_s, radius_m=radius_m,
-                         start_xy_m=(radius_m, 0.0))
+        return Behaviour("circle", "circle", speed_m_s, radius_m=radius_m, start_xy_m=(radius_m, 0.0))
     raise ValueError(f"unknown behaviour {name!r}; accepted: {', '.join(BEHAVIOUR_NAMES)}")
 
 

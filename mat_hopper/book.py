@@ -58,8 +58,9 @@ def repo_root(start: str | os.PathLike | None = None) -> Path:
     for folder in pkg.parents:
         if _is_root(folder):
             return folder
-    raise ValueError(f"no mat-hopper repository (pyproject.toml naming {PROJECT_NAME}) at or above {here} "
-                     f"nor above {pkg}")
+    raise ValueError(
+        f"no mat-hopper repository (pyproject.toml naming {PROJECT_NAME}) at or above {here} nor above {pkg}"
+    )
 
 
 @dataclass(frozen=True)
@@ -74,8 +75,10 @@ class Book:
 
     def describe(self) -> str:
         p = self.profile
-        return (f"profile {p.name}: {p.duration_s:g} s runs at dt = {p.timestep_s:g} s,\n"
-                f"hop cycles after {p.transient_s:g} s scored, stiffness convention {p.convention}")
+        return (
+            f"profile {p.name}: {p.duration_s:g} s runs at dt = {p.timestep_s:g} s,\n"
+            f"hop cycles after {p.transient_s:g} s scored, stiffness convention {p.convention}"
+        )
 
 
 def setup(profile: str | Profile | None = None, *, chdir: bool = True, figure_format: str = "retina") -> Book:
@@ -105,25 +108,36 @@ def _inline_figures(fmt: str) -> None:
         raise ValueError(f"figure_format must be png, retina or svg, got {fmt!r}")
     try:
         from IPython import get_ipython
-    except ImportError:        # pragma: no cover (IPython is a dependency of the book only)
+    except ImportError:  # pragma: no cover (IPython is a dependency of the book only)
         return
     if get_ipython() is None:
         return
     import warnings
-    with warnings.catch_warnings():     # tqdm.auto warns once, on import, when ipywidgets is missing;
+
+    with warnings.catch_warnings():  # tqdm.auto warns once, on import, when ipywidgets is missing;
         warnings.simplefilter("ignore")  # the book shows no progress bars (progress=False everywhere)
         import tqdm.auto  # noqa: F401
     from matplotlib_inline.backend_inline import set_matplotlib_formats
+
     set_matplotlib_formats(fmt)
 
 
-def show(frame: pd.DataFrame, formats: dict | None = None, *, index: bool = False, na_rep: str = "–",
-         precision: int = 4, decimals: int | None = None, pattern: str | None = None):
+def show(
+    frame: pd.DataFrame,
+    formats: dict | None = None,
+    *,
+    index: bool = False,
+    na_rep: str = "–",
+    precision: int = 4,
+    decimals: int | None = None,
+    pattern: str | None = None,
+):
     """A table for the page: pandas Styler with floats to `precision`
     significant digits, or to `decimals` places when given (``formats``:
     column -> format string or callable, e.g. ``{"porosity": "{:+.0%}"}``;
     `pattern`: one format string for every float, e.g. ``"{:+.0f} %"``),
     missing values as `na_rep`, and the row index hidden unless `index`."""
+
     def number(v):
         if isinstance(v, (bool, np.bool_)):
             return str(v)
@@ -136,17 +150,22 @@ def show(frame: pd.DataFrame, formats: dict | None = None, *, index: bool = Fals
                 return pattern.format(v)
             return f"{v:.{decimals}f}" if decimals is not None else f"{v:.{precision}g}"
         return str(v)
+
     st = frame.style.format(number, na_rep=na_rep)
     if formats:
         st = st.format({k: v for k, v in formats.items() if k in frame.columns}, na_rep=na_rep)
     return st if index else st.hide(axis="index")
 
 
-BUILD_FLAGS = ("-W", "-n", "--keep-going")   # warnings (a failed cell among them) fail the build
+BUILD_FLAGS = ("-W", "-n", "--keep-going")  # warnings (a failed cell among them) fail the build
 
 
-def build_command(source: str | os.PathLike | None = None, *, path_output: str | os.PathLike | None = None,
-                  toc: str | os.PathLike | None = None) -> list[str]:
+def build_command(
+    source: str | os.PathLike | None = None,
+    *,
+    path_output: str | os.PathLike | None = None,
+    toc: str | os.PathLike | None = None,
+) -> list[str]:
     """The command line that builds the book (run it with
     $MAT_HOPPER_PROFILE set): the jupyter-book beside this interpreter (the
     venv's, so notebooks run on the venv's Python), warnings as errors,
@@ -154,6 +173,7 @@ def build_command(source: str | os.PathLike | None = None, *, path_output: str |
     to ``<path_output or source>/_build/html``."""
     import shutil
     import sys
+
     exe = Path(sys.executable).parent / "jupyter-book"
     if not exe.exists():
         found = shutil.which("jupyter-book")
@@ -176,13 +196,17 @@ def environment_table() -> pd.DataFrame:
     import sys
 
     from .experiments.runner import versions
+
     v = versions()
     exe = Path(sys.executable)
     try:
         exe_text = str(exe.relative_to(repo_root()))
     except ValueError:
         exe_text = str(exe)
-    rows = [("mat-hopper", v["mat_hopper"]), ("MuJoCo", v["mujoco"]),
-            ("Python", f"{sys.version.split()[0]} ({exe_text})"),
-            (f"${PROFILE_ENV}", os.environ.get(PROFILE_ENV) or "(unset: paper)")]
+    rows = [
+        ("mat-hopper", v["mat_hopper"]),
+        ("MuJoCo", v["mujoco"]),
+        ("Python", f"{sys.version.split()[0]} ({exe_text})"),
+        (f"${PROFILE_ENV}", os.environ.get(PROFILE_ENV) or "(unset: paper)"),
+    ]
     return pd.DataFrame(rows, columns=["item", "value"])

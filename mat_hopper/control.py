@@ -51,23 +51,23 @@ FLIGHT, STANCE = 0, 1
 NO_EVENT, TOUCHDOWN, LIFTOFF = 0, 1, 2
 
 # Controller state (float64 array): indices, named.
-S_PHASE = 0          # FLIGHT or STANCE
-S_T_SWITCH = 1       # s, time of the last phase switch
-S_THRUST = 2         # N, current thrust F
-S_Z_MAX = 3          # m, highest base z since the last touchdown
-S_LAST_HEIGHT = 4    # m, last hop height (nan before the first)
-S_LIFTOFFS = 5       # count of lift-offs so far
-S_TOUCHDOWNS = 6     # count of touchdowns so far
+S_PHASE = 0  # FLIGHT or STANCE
+S_T_SWITCH = 1  # s, time of the last phase switch
+S_THRUST = 2  # N, current thrust F
+S_Z_MAX = 3  # m, highest base z since the last touchdown
+S_LAST_HEIGHT = 4  # m, last hop height (nan before the first)
+S_LIFTOFFS = 5  # count of lift-offs so far
+S_TOUCHDOWNS = 6  # count of touchdowns so far
 STATE_SIZE = 7
 
 # Controller outputs (float64 array): controls, then hip targets for logging.
-O_HIP_Y, O_HIP_X, O_THRUST = 0, 1, 2              # actuator controls
-O_TARGET_Y, O_TARGET_X = 3, 4                     # rad, IK hip targets
-O_TARGET_RATE_Y, O_TARGET_RATE_X = 5, 6           # rad/s
+O_HIP_Y, O_HIP_X, O_THRUST = 0, 1, 2  # actuator controls
+O_TARGET_Y, O_TARGET_X = 3, 4  # rad, IK hip targets
+O_TARGET_RATE_Y, O_TARGET_RATE_X = 5, 6  # rad/s
 OUT_SIZE = 7
 
 
-HOP_HEIGHT_RANGE_M = (0.7, 3.0)      # accepted hop-height targets (base z at the apex)
+HOP_HEIGHT_RANGE_M = (0.7, 3.0)  # accepted hop-height targets (base z at the apex)
 
 
 @dataclass(frozen=True)
@@ -101,13 +101,15 @@ class ControllerSettings:
             raise ValueError(f"leg_length_m must be > 0 m, got {self.leg_length_m!r}")
         lo, hi = HOP_HEIGHT_RANGE_M
         if not lo <= self.hop_height_target_m <= hi:
-            raise ValueError(f"hop_height_target_m must be in [{lo:g}, {hi:g}] m (the base stands at about "
-                             f"0.6 m; the paper's target is 1 m), got {self.hop_height_target_m!r}")
+            raise ValueError(
+                f"hop_height_target_m must be in [{lo:g}, {hi:g}] m (the base stands at about "
+                f"0.6 m; the paper's target is 1 m), got {self.hop_height_target_m!r}"
+            )
         for name in ("phase_lock_s", "thrust_start_n", "thrust_adapt_gain", "stance_duration_s"):
             if getattr(self, name) < 0:
                 raise ValueError(f"controller setting {name} must be >= 0, got {getattr(self, name)!r}")
 
-    def gains(self) -> "Gains":
+    def gains(self) -> Gains:
         """These settings as the compiled code reads them (floats, by name)."""
         return Gains(**{name: float(v) for name, v in asdict(self).items()})
 
@@ -121,7 +123,7 @@ Gains.__doc__ = "ControllerSettings as the compiled code sees them (floats, same
 # --- when the readings are taken (module doc) ---------------------------------
 SENSOR_TIMINGS = {"fresh": 0, "authors": ref.SENSOR_LATENCY_STEPS}
 DEFAULT_SENSOR_TIMING = "authors"
-MAX_SENSOR_LATENCY_STEPS = 1000        # 0.1 s at the paper's step: far beyond any study here
+MAX_SENSOR_LATENCY_STEPS = 1000  # 0.1 s at the paper's step: far beyond any study here
 
 
 def sensor_latency_steps(timing) -> int:
@@ -133,14 +135,18 @@ def sensor_latency_steps(timing) -> int:
         name = timing.strip().lower()
         if name in SENSOR_TIMINGS:
             return SENSOR_TIMINGS[name]
-        if name.startswith("latency-") and name[len("latency-"):].isdigit():
-            timing = int(name[len("latency-"):])
+        if name.startswith("latency-") and name[len("latency-") :].isdigit():
+            timing = int(name[len("latency-") :])
         else:
-            raise ValueError(f"unknown sensor timing {timing!r}; accepted: {', '.join(SENSOR_TIMINGS)}, "
-                             f"'latency-L' or an integer L of physics steps in [0, {MAX_SENSOR_LATENCY_STEPS}]")
+            raise ValueError(
+                f"unknown sensor timing {timing!r}; accepted: {', '.join(SENSOR_TIMINGS)}, "
+                f"'latency-L' or an integer L of physics steps in [0, {MAX_SENSOR_LATENCY_STEPS}]"
+            )
     if isinstance(timing, (bool, np.bool_)) or not isinstance(timing, (int, np.integer)):
-        raise ValueError(f"sensor timing must be a name ({', '.join(SENSOR_TIMINGS)}) or an integer latency "
-                         f"in physics steps, got {timing!r}")
+        raise ValueError(
+            f"sensor timing must be a name ({', '.join(SENSOR_TIMINGS)}) or an integer latency "
+            f"in physics steps, got {timing!r}"
+        )
     if not 0 <= timing <= MAX_SENSOR_LATENCY_STEPS:
         raise ValueError(f"sensor latency must be in [0, {MAX_SENSOR_LATENCY_STEPS}] physics steps, got {timing}")
     return int(timing)
@@ -199,7 +205,7 @@ def update_phase(t, touch, z, vz, g, state):
         state[S_PHASE] = STANCE
         state[S_T_SWITCH] = t
         state[S_TOUCHDOWNS] += 1.0
-        if state[S_LIFTOFFS] > 0.0:       # the very first touchdown adapts nothing
+        if state[S_LIFTOFFS] > 0.0:  # the very first touchdown adapts nothing
             height = state[S_Z_MAX]
             state[S_LAST_HEIGHT] = height
             # Kept physical: the foot actuator pushes, it never pulls the leg
@@ -250,10 +256,10 @@ def controller_step(t, touch, pos, quat, gyro, vel, hip_angle, hip_rate, desired
     target_rate_y = -pitch_rate
     target_rate_x = -roll_rate
 
-    if touch > 0.0:   # stance: attitude correction through the hips
+    if touch > 0.0:  # stance: attitude correction through the hips
         u_y = g.stance_kp * pitch + g.stance_kd * pitch_rate
         u_x = g.stance_kp * roll + g.stance_kd * roll_rate
-    else:             # flight: PD to the foot placement targets
+    else:  # flight: PD to the foot placement targets
         u_y = -g.flight_kp * (hip_angle[0] - target_y) - g.flight_kd * (hip_rate[0] - target_rate_y)
         u_x = -g.flight_kp * (hip_angle[1] - target_x) - g.flight_kd * (hip_rate[1] - target_rate_x)
     thrust = state[S_THRUST] if (touch > 0.0 and vel[2] > g.thrust_min_rise_speed) else 0.0

@@ -57,8 +57,9 @@ MODULUS_RANGE_GPA = (1e-6, 2000.0)
 MAX_SEGMENTS = 64
 
 
-def _check_number(value, field: str, accepted: str, *, allow_zero: bool = False,
-                  bounds: tuple[float, float] | None = None) -> float:
+def _check_number(
+    value, field: str, accepted: str, *, allow_zero: bool = False, bounds: tuple[float, float] | None = None
+) -> float:
     """A finite number > 0 (>= 0 with allow_zero), inside bounds if given.
     Numeric strings ("8", " 1e3 ") are parsed; anything else is refused."""
     if isinstance(value, bool):
@@ -106,13 +107,18 @@ class Material:
 
     def __post_init__(self):
         lo, hi = DENSITY_RANGE_G_CM3
-        d = _check_number(self.density_g_cm3, f"density of {self.name}", f"in [{lo:g}, {hi:g}] g/cm^3",
-                          bounds=DENSITY_RANGE_G_CM3)
+        d = _check_number(
+            self.density_g_cm3, f"density of {self.name}", f"in [{lo:g}, {hi:g}] g/cm^3", bounds=DENSITY_RANGE_G_CM3
+        )
         object.__setattr__(self, "density_g_cm3", d)
         if self.modulus_gpa is not None:
             lo, hi = MODULUS_RANGE_GPA
-            e = _check_number(self.modulus_gpa, f"modulus of {self.name}", f"in [{lo:g}, {hi:g}] GPa, or rigid",
-                              bounds=MODULUS_RANGE_GPA)
+            e = _check_number(
+                self.modulus_gpa,
+                f"modulus of {self.name}",
+                f"in [{lo:g}, {hi:g}] GPa, or rigid",
+                bounds=MODULUS_RANGE_GPA,
+            )
             object.__setattr__(self, "modulus_gpa", e)
 
     @property
@@ -164,7 +170,7 @@ CATALOGUE: dict[str, Material] = {
     )
 }
 
-MONO_NAMES = tuple(ref.MONO_MATERIALS)   # MD, PVC, Al, Ti, SS: the paper's five
+MONO_NAMES = tuple(ref.MONO_MATERIALS)  # MD, PVC, Al, Ti, SS: the paper's five
 
 
 def material(name: str) -> Material:
@@ -177,6 +183,7 @@ def material(name: str) -> Material:
 
 
 # --- conversions -----------------------------------------------------------
+
 
 def porosity(bulk_density_g_cm3: float, solid_density_g_cm3: float) -> float:
     """Porosity Phi = 1 - rho_b / rho_s (dimensionless, 0 for a solid)."""
@@ -227,7 +234,7 @@ def capsule_density_scale(n_segments: int, segment_mass: str = DEFAULT_SEGMENT_M
     return (ref_n * v_ref) / (n * v_n)
 
 
-def segment_masses(design: "LegDesign", segment_mass: str = DEFAULT_SEGMENT_MASS) -> tuple[float, ...]:
+def segment_masses(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS) -> tuple[float, ...]:
     """Mass in kg of each material segment of a design, base to foot, as the
     model builds it: m = rho V, V two half-segment capsules of radius
     0.025 m (:func:`capsule_volume_m3`, end caps included), rho scaled by the
@@ -240,8 +247,9 @@ def segment_masses(design: "LegDesign", segment_mass: str = DEFAULT_SEGMENT_MASS
     return tuple(m.density_kg_m3 * scale * v for m in design.segments)
 
 
-def spring_stiffness(modulus_gpa: float, convention: str = DEFAULT_CONVENTION,
-                     n_segments: int = ref.REFERENCE_SEGMENTS) -> float:
+def spring_stiffness(
+    modulus_gpa: float, convention: str = DEFAULT_CONVENTION, n_segments: int = ref.REFERENCE_SEGMENTS
+) -> float:
     """Axial spring stiffness in N/m for a segment of the given modulus (GPa)."""
     check_convention(convention)
     e = _check_number(modulus_gpa, "modulus", "finite and > 0 GPa")
@@ -252,6 +260,7 @@ def spring_stiffness(modulus_gpa: float, convention: str = DEFAULT_CONVENTION,
 
 
 # --- leg designs -----------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class LegDesign:
@@ -283,7 +292,7 @@ class LegDesign:
     def moduli_gpa(self) -> tuple[float | None, ...]:
         return tuple(s.modulus_gpa for s in self.segments)
 
-    def resample(self, n_segments: int) -> "LegDesign":
+    def resample(self, n_segments: int) -> LegDesign:
         """This leg's material profile on n_segments equal segments, by cell
         averages over each new segment's share of the leg: density as the
         length-weighted arithmetic mean (the material mass is conserved),
@@ -323,8 +332,9 @@ class LegDesign:
         return cls((m,) * check_n_segments(n_segments), name=m.name)
 
     @classmethod
-    def from_properties(cls, densities_g_cm3: Sequence[float],
-                        moduli_gpa: Sequence[float | None], name: str = "") -> LegDesign:
+    def from_properties(
+        cls, densities_g_cm3: Sequence[float], moduli_gpa: Sequence[float | None], name: str = ""
+    ) -> LegDesign:
         """A leg from per-segment densities (g/cm^3) and moduli (GPa, None = rigid)."""
         dens, mods = list(densities_g_cm3), list(moduli_gpa)
         if len(mods) == 1 and len(dens) > 1:
@@ -336,9 +346,12 @@ class LegDesign:
         if not 1 <= len(dens) <= MAX_SEGMENTS:
             raise ValueError(f"a leg needs 1 to {MAX_SEGMENTS} segments, got {len(dens)}")
         segs = tuple(Material(f"seg{i + 1}", d, e) for i, (d, e) in enumerate(zip(dens, mods)))
-        if not name:       # from the parsed values (numeric strings are accepted above)
-            name = "custom(" + ",".join(f"{s.density_g_cm3:g}/{'rigid' if s.rigid else f'{s.modulus_gpa:g}'}"
-                                        for s in segs) + ")"
+        if not name:  # from the parsed values (numeric strings are accepted above)
+            name = (
+                "custom("
+                + ",".join(f"{s.density_g_cm3:g}/{'rigid' if s.rigid else f'{s.modulus_gpa:g}'}" for s in segs)
+                + ")"
+            )
         return cls(segs, name=name)
 
 
@@ -355,8 +368,9 @@ def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesi
     """A design from its name: a material (``SS``), a gradient (``PVC-Ti-SS``)
     or a named design (``rho-inc``, ``rho-dec``). Case-insensitive."""
     if not isinstance(text, str) or not text.strip():
-        raise ValueError(f"design must be a material, a gradient like PVC-Ti-SS, or one of "
-                         f"{', '.join(NAMED_DESIGNS)}; got {text!r}")
+        raise ValueError(
+            f"design must be a material, a gradient like PVC-Ti-SS, or one of {', '.join(NAMED_DESIGNS)}; got {text!r}"
+        )
     key = text.strip().lower()
     for name, design in NAMED_DESIGNS.items():
         if key == name:

@@ -39,14 +39,14 @@ import pandas as pd
 from scipy import stats
 
 from . import reference as ref
-from .model import terrain_height_m
 from .analysis.change import percent_change
+from .model import terrain_height_m
 from .sim import C, Rollout
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
 ALL_METRICS = METRICS + ("hop_height_ground_m", "power_paper_w", "energy_j")
 GRAVITY = ref.GRAVITY_M_S2
-ROUNDOFF = 1e-12      # relative spread below which a metric's values count as equal
+ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 
 
 def _segment_means(values: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
@@ -69,8 +69,17 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
     cycles = hop_cycles(rollout, transient_s)
     d = rollout.data
     t = d[:, C["t"]]
-    cols = ["design", "behaviour", "convention", "sensor_timing", "segment_mass", "hop", "t_start_s", "t_end_s",
-            *ALL_METRICS]
+    cols = [
+        "design",
+        "behaviour",
+        "convention",
+        "sensor_timing",
+        "segment_mass",
+        "hop",
+        "t_start_s",
+        "t_end_s",
+        *ALL_METRICS,
+    ]
     if len(cycles) == 0 or len(t) < 4:
         return pd.DataFrame(columns=cols)
     dt_rec = float(np.median(np.diff(t)))
@@ -87,30 +96,33 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
     p_y, p_x = rollout.hip_power.T
     power = np.hypot(p_y, p_x)
     g = rollout.settings.controller
-    u_flight = (-g.flight_kp * (d[:, C["hip_y"]] - d[:, C["hip_y_target"]])
-                - g.flight_kd * (d[:, C["hip_y_rate"]] - d[:, C["hip_y_target_rate"]]))
+    u_flight = -g.flight_kp * (d[:, C["hip_y"]] - d[:, C["hip_y_target"]]) - g.flight_kd * (
+        d[:, C["hip_y_rate"]] - d[:, C["hip_y_target_rate"]]
+    )
     power_paper = np.hypot(u_flight * d[:, C["hip_y_rate"]], u_flight * d[:, C["hip_x_rate"]])
     p_abs = np.abs(p_y) + np.abs(p_x) + np.abs(rollout.thrust_force * d[:, C["foot_spring_rate"]])
 
     heights = np.array([z[a:b].max() for a, b in zip(i0, i1)])
     heights_ground = np.array([above[a:b].max() for a, b in zip(i0, i1)])
-    out = pd.DataFrame({
-        "design": rollout.design.name,
-        "behaviour": rollout.behaviour.name,
-        "convention": rollout.settings.convention,
-        "sensor_timing": rollout.settings.sensor_timing,
-        "segment_mass": rollout.settings.segment_mass,
-        "hop": np.arange(len(cycles)),
-        "t_start_s": cycles[:, 0],
-        "t_end_s": cycles[:, 1],
-        "hop_height_m": heights,
-        "hop_height_ground_m": heights_ground,
-        "tracking_error_m": _segment_means(err, i0, i1),
-        "jerk_m_s3": _segment_means(jerk, i0, i1),
-        "power_w": _segment_means(power, i0, i1),
-        "power_paper_w": _segment_means(power_paper, i0, i1),
-        "energy_j": _segment_means(p_abs, i0, i1) * (i1 - i0) * dt_rec,
-    })
+    out = pd.DataFrame(
+        {
+            "design": rollout.design.name,
+            "behaviour": rollout.behaviour.name,
+            "convention": rollout.settings.convention,
+            "sensor_timing": rollout.settings.sensor_timing,
+            "segment_mass": rollout.settings.segment_mass,
+            "hop": np.arange(len(cycles)),
+            "t_start_s": cycles[:, 0],
+            "t_end_s": cycles[:, 1],
+            "hop_height_m": heights,
+            "hop_height_ground_m": heights_ground,
+            "tracking_error_m": _segment_means(err, i0, i1),
+            "jerk_m_s3": _segment_means(jerk, i0, i1),
+            "power_w": _segment_means(power, i0, i1),
+            "power_paper_w": _segment_means(power_paper, i0, i1),
+            "energy_j": _segment_means(p_abs, i0, i1) * (i1 - i0) * dt_rec,
+        }
+    )
     return out[cols]
 
 
@@ -118,12 +130,17 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     """One run in a line: outcome, means of the per-hop metrics, energy (J)
     and cost of transport (energy / (m g distance), nan without travel)."""
     hops = hop_table(rollout, transient_s)
-    out = {"design": rollout.design.name, "behaviour": rollout.behaviour.name,
-           "convention": rollout.settings.convention, "sensor_timing": rollout.settings.sensor_timing,
-           "segment_mass": rollout.settings.segment_mass,
-           "stable": rollout.stable,
-           "diverged_at_s": rollout.diverged_at_s, "n_hops": len(hops),
-           "total_mass_kg": rollout.total_mass_kg}
+    out = {
+        "design": rollout.design.name,
+        "behaviour": rollout.behaviour.name,
+        "convention": rollout.settings.convention,
+        "sensor_timing": rollout.settings.sensor_timing,
+        "segment_mass": rollout.settings.segment_mass,
+        "stable": rollout.stable,
+        "diverged_at_s": rollout.diverged_at_s,
+        "n_hops": len(hops),
+        "total_mass_kg": rollout.total_mass_kg,
+    }
     for m in ALL_METRICS:
         out[f"mean_{m}"] = float(hops[m].mean()) if len(hops) else np.nan
     energy = float(hops["energy_j"].sum()) if len(hops) else np.nan
@@ -150,8 +167,16 @@ def summarize(hops: pd.DataFrame, by=("design", "behaviour"), metrics=METRICS) -
         for m in metrics:
             v = g[m].to_numpy(float)
             q1, q3 = np.percentile(v, [25, 75]) if len(v) else (np.nan, np.nan)
-            rows.append({**dict(zip(by, key)), "metric": m, "n": len(v), "mean": v.mean() if len(v) else np.nan,
-                         "median": np.median(v) if len(v) else np.nan, "iqr": q3 - q1})
+            rows.append(
+                {
+                    **dict(zip(by, key)),
+                    "metric": m,
+                    "n": len(v),
+                    "mean": v.mean() if len(v) else np.nan,
+                    "median": np.median(v) if len(v) else np.nan,
+                    "iqr": q3 - q1,
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -169,8 +194,9 @@ def holm(pvalues) -> np.ndarray:
     return out
 
 
-def compare(hops: pd.DataFrame, baseline: str, *, by: str = "behaviour", metrics=METRICS,
-            alpha: float = 0.05) -> pd.DataFrame:
+def compare(
+    hops: pd.DataFrame, baseline: str, *, by: str = "behaviour", metrics=METRICS, alpha: float = 0.05
+) -> pd.DataFrame:
     """Every design against `baseline`, per `by` group and metric.
 
     Columns: percent change of means, Mann-Whitney U (two-sided), raw and
@@ -197,9 +223,22 @@ def compare(hops: pd.DataFrame, baseline: str, *, by: str = "behaviour", metrics
                     effect = 2.0 * u / (len(a) * len(b)) - 1.0
                 else:
                     u, p, effect = np.nan, np.nan if not (len(a) and len(b)) else 1.0, 0.0
-                rows.append({by: group, "design": design, "baseline": baseline, "metric": m,
-                             "n": len(a), "n_baseline": len(b), "mean": mean_a, "mean_baseline": mean_b,
-                             "pct_change": pct, "u": u, "p": p, "effect_size": effect})
+                rows.append(
+                    {
+                        by: group,
+                        "design": design,
+                        "baseline": baseline,
+                        "metric": m,
+                        "n": len(a),
+                        "n_baseline": len(b),
+                        "mean": mean_a,
+                        "mean_baseline": mean_b,
+                        "pct_change": pct,
+                        "u": u,
+                        "p": p,
+                        "effect_size": effect,
+                    }
+                )
     out = pd.DataFrame(rows)
     if len(out):
         out["p_holm"] = holm(out["p"].to_numpy())

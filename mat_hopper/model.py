@@ -21,8 +21,15 @@ import mujoco
 import numpy as np
 
 from . import reference as ref
-from .materials import (DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, capsule_density_scale, check_convention,
-                        check_segment_mass, spring_stiffness)
+from .materials import (
+    DEFAULT_CONVENTION,
+    DEFAULT_SEGMENT_MASS,
+    LegDesign,
+    capsule_density_scale,
+    check_convention,
+    check_segment_mass,
+    spring_stiffness,
+)
 
 BASE_JOINTS = ("base_x", "base_y", "base_z", "base_roll", "base_pitch", "base_yaw")
 HIP_JOINTS = ("hip_y", "hip_x")
@@ -36,27 +43,27 @@ SENSORS = ("touch", "base_pos", "base_quat", "base_gyro", "base_linvel", "hip_to
 # trajectory is bit-identical either way.
 CONTROL_SENSORS = SENSORS[:5]
 SENSOR_SETS = {"all": SENSORS, "control": CONTROL_SENSORS}
-START_KEY = "start"   # keyframe: the hopper at rest, base 1.2 m up (qpos of the z slide)
+START_KEY = "start"  # keyframe: the hopper at rest, base 1.2 m up (qpos of the z slide)
 
 
 class Layout(NamedTuple):
     """Addresses into qpos/qvel/sensordata/ctrl, looked up by name (ints)."""
 
-    base_qpos: int        # first of the 6 base joints in qpos (x, y, z, roll, pitch, yaw)
-    base_dof: int         # same in qvel / qacc
-    base_body: int        # body id of the base (for pushes)
+    base_qpos: int  # first of the 6 base joints in qpos (x, y, z, roll, pitch, yaw)
+    base_dof: int  # same in qvel / qacc
+    base_body: int  # body id of the base (for pushes)
     hip_y_qpos: int
     hip_x_qpos: int
     hip_y_dof: int
     hip_x_dof: int
-    spring_qpos: int      # the foot spring (the thrust actuator's joint)
+    spring_qpos: int  # the foot spring (the thrust actuator's joint)
     spring_dof: int
-    touch: int            # sensordata addresses
+    touch: int  # sensordata addresses
     base_pos: int
     base_quat: int
     base_gyro: int
     base_linvel: int
-    act_hip_y: int        # actuator indices
+    act_hip_y: int  # actuator indices
     act_hip_x: int
     act_thrust: int
 
@@ -69,10 +76,10 @@ class HopperModel:
     design: LegDesign
     convention: str
     ramp_grade_deg: float | None
-    timestep: float
-    sensors: str          # "all" (the spec's seven) or "control" (the five the controller reads)
+    timestep_s: float
+    sensors: str  # "all" (the spec's seven) or "control" (the five the controller reads)
     layout: Layout
-    spring_stiffness_n_m: tuple[float, ...]   # per segment; 0 for rigid
+    spring_stiffness_n_m: tuple[float, ...]  # per segment; 0 for rigid
     segment_mass: str = DEFAULT_SEGMENT_MASS  # "leg" (mass independent of N) or "capsule" (the authors')
 
     @property
@@ -80,13 +87,13 @@ class HopperModel:
         return float(self.model.body_subtreemass[0])
 
 
-def _check_timestep(timestep) -> float:
+def _check_timestep(timestep_s) -> float:
     try:
-        dt = float(timestep)
+        dt = float(timestep_s)
     except (TypeError, ValueError):
-        raise ValueError(f"timestep must be a number > 0 s, got {timestep!r}") from None
+        raise ValueError(f"timestep must be a number > 0 s, got {timestep_s!r}") from None
     if not (math.isfinite(dt) and 0 < dt <= 0.1):
-        raise ValueError(f"timestep must be in (0, 0.1] s, got {timestep!r}")
+        raise ValueError(f"timestep must be in (0, 0.1] s, got {timestep_s!r}")
     return dt
 
 
@@ -118,15 +125,14 @@ def terrain_height_m(x_m, y_m, ramp_grade_deg: float | None = None):
     a = math.radians(ramp_grade_deg)
     (cx, _, cz), _ = ramp_pose(ramp_grade_deg)
     hx, hy, hz = ref.RAMP_HALF_SIZE
-    u = (x - cx + hz * math.sin(a)) / math.cos(a)            # along the top face, from its centre
+    u = (x - cx + hz * math.sin(a)) / math.cos(a)  # along the top face, from its centre
     top = cz + hz / math.cos(a) + math.tan(a) * (x - cx)
     on = (np.abs(u) <= hx) & (np.abs(y) <= hy)
     return np.where(on, np.maximum(ground, top), ground)
 
 
 def _capsule(body, name, z0, z1, radius, *, density=None, mass=None, rgba=None):
-    g = body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CAPSULE,
-                      fromto=[0, 0, z0, 0, 0, z1], size=[radius, 0, 0])
+    g = body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CAPSULE, fromto=[0, 0, z0, 0, 0, z1], size=[radius, 0, 0])
     if mass is not None:
         g.mass = mass
     else:
@@ -148,9 +154,15 @@ def _slide(body, name, stiffness, damping, *, limit=None):
     return j
 
 
-def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
-               timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION,
-               sensors: str = "all", segment_mass: str = DEFAULT_SEGMENT_MASS) -> mujoco.MjSpec:
+def build_spec(
+    design: LegDesign,
+    *,
+    ramp_grade_deg: float | None = None,
+    timestep_s: float = ref.TIMESTEP_S,
+    convention: str = DEFAULT_CONVENTION,
+    sensors: str = "all",
+    segment_mass: str = DEFAULT_SEGMENT_MASS,
+) -> mujoco.MjSpec:
     """The hopper with this leg as an editable ``MjSpec`` (not compiled).
 
     sensors: "all" (the spec's seven, in its order) or "control" (the first
@@ -164,10 +176,10 @@ def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
         raise ValueError(f"sensors must be one of {sorted(SENSOR_SETS)}, got {sensors!r}")
     check_convention(convention)
     check_segment_mass(segment_mass)
-    dt = _check_timestep(timestep)
+    dt = _check_timestep(timestep_s)
     n = design.n_segments
-    scale = capsule_density_scale(n, segment_mass)   # exactly 1.0 at N = 3
-    half = ref.MATERIAL_LENGTH / n / 2.0          # m, each half of a segment
+    scale = capsule_density_scale(n, segment_mass)  # exactly 1.0 at N = 3
+    half = ref.MATERIAL_LENGTH / n / 2.0  # m, each half of a segment
 
     spec = mujoco.MjSpec()
     spec.modelname = f"hopper_{design.name}"
@@ -188,39 +200,68 @@ def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
 
     world = spec.worldbody
     world.add_light(name="sun", pos=[0, 0, 6], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL)
-    world.add_geom(name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1],
-                   contype=1, conaffinity=1, condim=ref.FOOT_CONDIM, rgba=[0.85, 0.85, 0.82, 1])
+    world.add_geom(
+        name="ground",
+        type=mujoco.mjtGeom.mjGEOM_PLANE,
+        size=[0, 0, 1],
+        contype=1,
+        conaffinity=1,
+        condim=ref.FOOT_CONDIM,
+        rgba=[0.85, 0.85, 0.82, 1],
+    )
     if ramp_grade_deg is not None:
         pos, quat = ramp_pose(float(ramp_grade_deg))
-        world.add_geom(name="ramp", type=mujoco.mjtGeom.mjGEOM_BOX, size=list(ref.RAMP_HALF_SIZE),
-                       pos=pos, quat=quat, friction=list(ref.RAMP_FRICTION), contype=1,
-                       conaffinity=1, condim=ref.FOOT_CONDIM, rgba=[0.55, 0.6, 0.7, 1])
+        world.add_geom(
+            name="ramp",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            size=list(ref.RAMP_HALF_SIZE),
+            pos=pos,
+            quat=quat,
+            friction=list(ref.RAMP_FRICTION),
+            contype=1,
+            conaffinity=1,
+            condim=ref.FOOT_CONDIM,
+            rgba=[0.55, 0.6, 0.7, 1],
+        )
 
     # The base body sits at the world origin and starts 1.2 m up through the
     # qpos of its z slide joint (keyframe "start"), as in the authors' file:
     # the same pose as a body offset, but not the same floating-point sums.
     base = world.add_body(name="base", pos=[0, 0, 0])
     for name, jtype, axis in zip(BASE_JOINTS, ["slide"] * 3 + ["hinge"] * 3, np.vstack([np.eye(3)] * 2)):
-        j = base.add_joint(name=name, axis=axis, limited=mujoco.mjtLimited.mjLIMITED_FALSE,
-                           type=mujoco.mjtJoint.mjJNT_SLIDE if jtype == "slide" else mujoco.mjtJoint.mjJNT_HINGE)
+        j = base.add_joint(
+            name=name,
+            axis=axis,
+            limited=mujoco.mjtLimited.mjLIMITED_FALSE,
+            type=mujoco.mjtJoint.mjJNT_SLIDE if jtype == "slide" else mujoco.mjtJoint.mjJNT_HINGE,
+        )
         j.damping[0] = 0.0
     r, h = ref.BASE_CAPSULE_RADIUS, ref.BASE_CAPSULE_HALF_LENGTH
     for name, a in (("base_capsule_x", [h, 0, 0]), ("base_capsule_y", [0, h, 0])):
-        base.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CAPSULE, size=[r, 0, 0],
-                      fromto=[-a[0], -a[1], 0, a[0], a[1], 0], mass=ref.BASE_CAPSULE_MASS,
-                      rgba=[0.3, 0.3, 0.35, 1])
+        base.add_geom(
+            name=name,
+            type=mujoco.mjtGeom.mjGEOM_CAPSULE,
+            size=[r, 0, 0],
+            fromto=[-a[0], -a[1], 0, a[0], a[1], 0],
+            mass=ref.BASE_CAPSULE_MASS,
+            rgba=[0.3, 0.3, 0.35, 1],
+        )
     base.add_site(name="imu", pos=[0, 0, 0])
 
     leg = base.add_body(name="leg", pos=[0, 0, 0])
     hip_range = math.radians(ref.HIP_RANGE_DEG)
     for name, axis in (("hip_y", [0, 1, 0]), ("hip_x", [1, 0, 0])):
-        j = leg.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=axis,
-                          limited=mujoco.mjtLimited.mjLIMITED_TRUE, range=[-hip_range, hip_range])
+        j = leg.add_joint(
+            name=name,
+            type=mujoco.mjtJoint.mjJNT_HINGE,
+            axis=axis,
+            limited=mujoco.mjtLimited.mjLIMITED_TRUE,
+            range=[-hip_range, hip_range],
+        )
         j.stiffness[0] = ref.HIP_STIFFNESS
         j.damping[0] = ref.HIP_DAMPING
     leg.add_site(name="hip", pos=[0, 0, 0])
-    _capsule(leg, "stub", 0.0, -ref.STUB_LENGTH, ref.STUB_RADIUS, density=ref.STUB_DENSITY,
-             rgba=[0.4, 0.4, 0.45, 1])
+    _capsule(leg, "stub", 0.0, -ref.STUB_LENGTH, ref.STUB_RADIUS, density=ref.STUB_DENSITY, rgba=[0.4, 0.4, 0.45, 1])
 
     # Each material segment: upper half in the parent, spring, lower half in the child.
     parent, top = leg, -ref.STUB_LENGTH
@@ -234,17 +275,26 @@ def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
         _capsule(child, f"seg{i}_lower", 0.0, -half, ref.MATERIAL_RADIUS, density=rho)
         parent, top = child, -half
 
-    _capsule(parent, "foot_upper", top, top - ref.FOOT_UPPER_LENGTH, ref.MATERIAL_RADIUS,
-             density=ref.FOOT_UPPER_DENSITY, rgba=[0.4, 0.4, 0.45, 1])
+    _capsule(
+        parent,
+        "foot_upper",
+        top,
+        top - ref.FOOT_UPPER_LENGTH,
+        ref.MATERIAL_RADIUS,
+        density=ref.FOOT_UPPER_DENSITY,
+        rgba=[0.4, 0.4, 0.45, 1],
+    )
     foot = parent.add_body(name="foot", pos=[0, 0, top - ref.FOOT_UPPER_LENGTH])
     _slide(foot, "spring", ref.FOOT_SPRING_STIFFNESS, ref.FOOT_SPRING_DAMPING, limit=ref.FOOT_SPRING_RANGE)
-    g = _capsule(foot, "foot", 0.0, -ref.FOOT_LENGTH, ref.FOOT_RADIUS, mass=ref.FOOT_MASS,
-                 rgba=[0.15, 0.15, 0.15, 1])
+    g = _capsule(foot, "foot", 0.0, -ref.FOOT_LENGTH, ref.FOOT_RADIUS, mass=ref.FOOT_MASS, rgba=[0.15, 0.15, 0.15, 1])
     g.contype, g.conaffinity, g.condim = 1, 1, ref.FOOT_CONDIM
     foot.add_site(name="toe", pos=[0, 0, -ref.FOOT_LENGTH], size=[ref.TOE_SITE_RADIUS, 0, 0])
 
-    for name, joint, gear in (("hip_y", "hip_y", ref.HIP_GEAR), ("hip_x", "hip_x", ref.HIP_GEAR),
-                              ("thrust", "spring", 1.0)):
+    for name, joint, gear in (
+        ("hip_y", "hip_y", ref.HIP_GEAR),
+        ("hip_x", "hip_x", ref.HIP_GEAR),
+        ("thrust", "spring", 1.0),
+    ):
         a = spec.add_actuator(name=name, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         a.set_to_motor()
         a.gear[0] = gear
@@ -257,15 +307,15 @@ def build_spec(design: LegDesign, *, ramp_grade_deg: float | None = None,
     start[BASE_JOINTS.index("base_z")] = ref.BASE_START_Z
     spec.add_key(name=START_KEY, qpos=start)
 
-    S, O = mujoco.mjtSensor, mujoco.mjtObj
-    spec.add_sensor(name="touch", type=S.mjSENS_TOUCH, objtype=O.mjOBJ_SITE, objname="toe")
-    spec.add_sensor(name="base_pos", type=S.mjSENS_FRAMEPOS, objtype=O.mjOBJ_XBODY, objname="base")
-    spec.add_sensor(name="base_quat", type=S.mjSENS_FRAMEQUAT, objtype=O.mjOBJ_XBODY, objname="base")
-    spec.add_sensor(name="base_gyro", type=S.mjSENS_GYRO, objtype=O.mjOBJ_SITE, objname="imu")
-    spec.add_sensor(name="base_linvel", type=S.mjSENS_FRAMELINVEL, objtype=O.mjOBJ_XBODY, objname="base")
+    S, OBJ = mujoco.mjtSensor, mujoco.mjtObj
+    spec.add_sensor(name="touch", type=S.mjSENS_TOUCH, objtype=OBJ.mjOBJ_SITE, objname="toe")
+    spec.add_sensor(name="base_pos", type=S.mjSENS_FRAMEPOS, objtype=OBJ.mjOBJ_XBODY, objname="base")
+    spec.add_sensor(name="base_quat", type=S.mjSENS_FRAMEQUAT, objtype=OBJ.mjOBJ_XBODY, objname="base")
+    spec.add_sensor(name="base_gyro", type=S.mjSENS_GYRO, objtype=OBJ.mjOBJ_SITE, objname="imu")
+    spec.add_sensor(name="base_linvel", type=S.mjSENS_FRAMELINVEL, objtype=OBJ.mjOBJ_XBODY, objname="base")
     if sensors == "all":
-        spec.add_sensor(name="hip_torque", type=S.mjSENS_TORQUE, objtype=O.mjOBJ_SITE, objname="hip")
-        spec.add_sensor(name="base_acc", type=S.mjSENS_ACCELEROMETER, objtype=O.mjOBJ_SITE, objname="imu")
+        spec.add_sensor(name="hip_torque", type=S.mjSENS_TORQUE, objtype=OBJ.mjOBJ_SITE, objname="hip")
+        spec.add_sensor(name="base_acc", type=S.mjSENS_ACCELEROMETER, objtype=OBJ.mjOBJ_SITE, objname="imu")
     return spec
 
 
@@ -275,9 +325,25 @@ def layout_of(model: mujoco.MjModel) -> Layout:
     jd = lambda n: int(model.joint(n).dofadr[0])
     sa = lambda n: int(model.sensor(n).adr[0])
     act = lambda n: int(model.actuator(n).id)
-    return Layout(jq("base_x"), jd("base_x"), int(model.body("base").id), jq("hip_y"), jq("hip_x"), jd("hip_y"), jd("hip_x"),
-                  jq("spring"), jd("spring"), sa("touch"), sa("base_pos"), sa("base_quat"), sa("base_gyro"), sa("base_linvel"),
-                  act("hip_y"), act("hip_x"), act("thrust"))
+    return Layout(
+        jq("base_x"),
+        jd("base_x"),
+        int(model.body("base").id),
+        jq("hip_y"),
+        jq("hip_x"),
+        jd("hip_y"),
+        jd("hip_x"),
+        jq("spring"),
+        jd("spring"),
+        sa("touch"),
+        sa("base_pos"),
+        sa("base_quat"),
+        sa("base_gyro"),
+        sa("base_linvel"),
+        act("hip_y"),
+        act("hip_x"),
+        act("thrust"),
+    )
 
 
 def reset_to_start(model: mujoco.MjModel, data: mujoco.MjData) -> None:
@@ -287,16 +353,30 @@ def reset_to_start(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     mujoco.mj_forward(model, data)
 
 
-def build_model(design: LegDesign, *, ramp_grade_deg: float | None = None,
-                timestep: float = ref.TIMESTEP_S, convention: str = DEFAULT_CONVENTION,
-                sensors: str = "all", segment_mass: str = DEFAULT_SEGMENT_MASS) -> HopperModel:
+def build_model(
+    design: LegDesign,
+    *,
+    ramp_grade_deg: float | None = None,
+    timestep_s: float = ref.TIMESTEP_S,
+    convention: str = DEFAULT_CONVENTION,
+    sensors: str = "all",
+    segment_mass: str = DEFAULT_SEGMENT_MASS,
+) -> HopperModel:
     """Compile the hopper for this leg, terrain (flat or ramp), time step (s),
     stiffness convention, sensor set and segment-mass convention (see
     :func:`build_spec`). Raises ValueError for invalid arguments."""
-    spec = build_spec(design, ramp_grade_deg=ramp_grade_deg, timestep=timestep, convention=convention,
-                      sensors=sensors, segment_mass=segment_mass)
+    spec = build_spec(
+        design,
+        ramp_grade_deg=ramp_grade_deg,
+        timestep_s=timestep_s,
+        convention=convention,
+        sensors=sensors,
+        segment_mass=segment_mass,
+    )
     model = spec.compile()
-    stiffness = tuple(0.0 if m.rigid else spring_stiffness(m.modulus_gpa, convention, design.n_segments)
-                      for m in design.segments)
-    return HopperModel(model, design, convention, ramp_grade_deg, float(timestep), sensors, layout_of(model),
-                       stiffness, segment_mass)
+    stiffness = tuple(
+        0.0 if m.rigid else spring_stiffness(m.modulus_gpa, convention, design.n_segments) for m in design.segments
+    )
+    return HopperModel(
+        model, design, convention, ramp_grade_deg, float(timestep_s), sensors, layout_of(model), stiffness, segment_mass
+    )

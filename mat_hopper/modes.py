@@ -46,8 +46,13 @@ import scipy.optimize
 
 from . import reference as ref
 from .control import DEFAULT_SENSOR_TIMING, sensor_latency_steps
-from .materials import (DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, check_convention, segment_masses,
-                        spring_stiffness)
+from .materials import (
+    DEFAULT_CONVENTION,
+    DEFAULT_SEGMENT_MASS,
+    LegDesign,
+    check_convention,
+    segment_masses,
+)
 from .model import build_model
 
 # --timestep auto: the physics step is at most this fraction of the spring
@@ -82,8 +87,9 @@ def spring_chain_wmax(masses_kg, stiffnesses_n_m) -> float:
     return float(chain_frequencies(masses_kg, stiffnesses_n_m).max())
 
 
-def leg_chain(design: LegDesign, convention: str = DEFAULT_CONVENTION,
-              segment_mass: str = DEFAULT_SEGMENT_MASS) -> tuple[list[float], list[float]]:
+def leg_chain(
+    design: LegDesign, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS
+) -> tuple[list[float], list[float]]:
     """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
     the compiled model: base + leg body, segment bodies (merged across
     rigid segments), foot; springs in between, foot spring last."""
@@ -114,9 +120,13 @@ def delayed_damping_factor(latency_steps: int) -> float:
     return 2.0 * math.cos(lat * math.pi / (2 * lat + 1))
 
 
-def controller_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
-                        stance_kd: float = ref.STANCE_KD, gear: float = ref.HIP_GEAR,
-                        sensor_timing: str | int = DEFAULT_SENSOR_TIMING) -> float:
+def controller_timestep(
+    design: LegDesign,
+    convention: str = DEFAULT_CONVENTION,
+    stance_kd: float = ref.STANCE_KD,
+    gear: float = ref.HIP_GEAR,
+    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
+) -> float:
     """c(L) I / (stance_kd gear) in s: the explicit limit of the stance rate
     feedback, I (kg m^2) the base's smallest moment of inertia about a
     horizontal axis through its origin (the hip), from the compiled model,
@@ -127,24 +137,30 @@ def controller_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
     rot = np.zeros(9)
     mujoco.mju_quat2Mat(rot, m.body_iquat[b])
     rot = rot.reshape(3, 3)
-    inertia = rot @ np.diag(m.body_inertia[b]) @ rot.T          # about the base COM, world axes at rest
+    inertia = rot @ np.diag(m.body_inertia[b]) @ rot.T  # about the base COM, world axes at rest
     offset = m.body_ipos[b]
     mass = m.body_mass[b]
-    parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))   # to the hip (base origin)
+    parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))  # to the hip (base origin)
     inertia = inertia + parallel
     factor = delayed_damping_factor(sensor_latency_steps(sensor_timing))
     return factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
 
 
-def estimate_timestep(design: LegDesign, convention: str = DEFAULT_CONVENTION,
-                      segment_mass: str = DEFAULT_SEGMENT_MASS) -> tuple[float, float]:
+def estimate_timestep(
+    design: LegDesign, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS
+) -> tuple[float, float]:
     """(w_max rad/s, 2 / w_max s): the explicit-spring stability limit."""
     w = spring_chain_wmax(*leg_chain(design, convention, segment_mass))
     return w, 2.0 / w
 
 
-def auto_substeps(design: LegDesign, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS,
-                  control_period_s: float = ref.TIMESTEP_S, safety: float = AUTO_SAFETY) -> tuple[int, float, float]:
+def auto_substeps(
+    design: LegDesign,
+    convention: str = DEFAULT_CONVENTION,
+    segment_mass: str = DEFAULT_SEGMENT_MASS,
+    control_period_s: float = ref.TIMESTEP_S,
+    safety: float = AUTO_SAFETY,
+) -> tuple[int, float, float]:
     """(substeps k, physics step s, spring bound s): the smallest k whose
     physics step control_period_s / k is at most ``safety`` x the spring
     chain's bound 2 / w_max. The control period stays the controller's
@@ -153,8 +169,10 @@ def auto_substeps(design: LegDesign, convention: str = DEFAULT_CONVENTION, segme
     _, bound = estimate_timestep(design, convention, segment_mass)
     k = max(1, math.ceil(control_period_s / (safety * bound) - 1e-9))
     if k > 1000:
-        raise ValueError(f"--timestep auto would need {k} physics substeps per {control_period_s:g} s control "
-                         f"period (spring bound {bound:.2g} s): over the limit of 1000")
+        raise ValueError(
+            f"--timestep auto would need {k} physics substeps per {control_period_s:g} s control "
+            f"period (spring bound {bound:.2g} s): over the limit of 1000"
+        )
     return k, control_period_s / k, bound
 
 
@@ -174,8 +192,9 @@ def _rod_roots(a1: float, a2: float, n_modes: int) -> np.ndarray:
     return np.array(roots)
 
 
-def axial_modes(design: LegDesign, *, convention: str = "axial", segment_mass: str = DEFAULT_SEGMENT_MASS,
-                n_modes: int = 5) -> pd.DataFrame:
+def axial_modes(
+    design: LegDesign, *, convention: str = "axial", segment_mass: str = DEFAULT_SEGMENT_MASS, n_modes: int = 5
+) -> pd.DataFrame:
     """The leg's first n_modes axial natural frequencies (Hz): the lumped
     chain's (``chain_hz``, eigh(K, M) of the compiled model's masses) beside
     the continuum rod's (``rod_hz``) with the same mass per length, E A and
@@ -187,8 +206,10 @@ def axial_modes(design: LegDesign, *, convention: str = "axial", segment_mass: s
     far that leg is from the rod of its modulus."""
     mats = set(design.segments)
     if len({(m.density_g_cm3, m.modulus_gpa) for m in mats}) != 1 or design.segments[0].rigid:
-        raise ValueError("axial modes against a uniform rod need a leg of one elastic material "
-                         f"(got {design.name or 'a graded or rigid leg'})")
+        raise ValueError(
+            "axial modes against a uniform rod need a leg of one elastic material "
+            f"(got {design.name or 'a graded or rigid leg'})"
+        )
     n = design.n_segments
     model = build_model(design, convention=convention, segment_mass=segment_mass).model
     body = lambda name: float(model.body_mass[model.body(name).id])
@@ -199,14 +220,15 @@ def axial_modes(design: LegDesign, *, convention: str = "axial", segment_mass: s
     m_bot = body(f"seg{n}") - seg[-1] / 2.0
     masses = [m_top + seg[0] / 2.0] + [(seg[i] + seg[i + 1]) / 2.0 for i in range(n - 1)] + [seg[-1] / 2.0 + m_bot]
     springs = [float(model.jnt_stiffness[model.joint(f"mat_spring_{i}").id]) for i in range(1, n + 1)]
-    w_chain = chain_frequencies(masses, springs)[1:n_modes + 1]
+    w_chain = chain_frequencies(masses, springs)[1 : n_modes + 1]
     mat = design.segments[0]
     ea = mat.modulus_pa * math.pi * ref.MATERIAL_RADIUS**2
-    c = math.sqrt(ea * ref.MATERIAL_LENGTH / m_rod)            # m/s, sqrt(E A / mu)
+    c = math.sqrt(ea * ref.MATERIAL_LENGTH / m_rod)  # m/s, sqrt(E A / mu)
     z = _rod_roots(m_top / m_rod, m_bot / m_rod, n_modes)
     w_rod = z * c / ref.MATERIAL_LENGTH
     k = min(len(w_chain), len(w_rod))
-    out = pd.DataFrame({"mode": np.arange(1, k + 1), "chain_hz": w_chain[:k] / (2 * math.pi),
-                        "rod_hz": w_rod[:k] / (2 * math.pi)})
+    out = pd.DataFrame(
+        {"mode": np.arange(1, k + 1), "chain_hz": w_chain[:k] / (2 * math.pi), "rod_hz": w_rod[:k] / (2 * math.pi)}
+    )
     out["error_pct"] = 100.0 * (out["chain_hz"] / out["rod_hz"] - 1.0)
     return out

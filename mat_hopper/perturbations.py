@@ -60,8 +60,14 @@ class Perturbation:
     def replicate(cls, seed: int) -> Perturbation:
         """The book's replicate: 5 mm start offset, 0.5 deg tilt, a 5 N push
         for 0.1 s between 5 and 15 s, 1 mm and 5 mm/s sensor noise (std)."""
-        return cls(seed=seed, start_offset_m=0.005, start_tilt_rad=math.radians(0.5),
-                   push_force_n=5.0, noise_pos_m=0.001, noise_vel_m_s=0.005)
+        return cls(
+            seed=seed,
+            start_offset_m=0.005,
+            start_tilt_rad=math.radians(0.5),
+            push_force_n=5.0,
+            noise_pos_m=0.001,
+            noise_vel_m_s=0.005,
+        )
 
     @property
     def has_noise(self) -> bool:
@@ -75,8 +81,9 @@ class Perturbation:
         tilt = rng.normal(0.0, 1.0, 2) * self.start_tilt_rad
         t0 = rng.uniform(*self.push_window_s)
         angle = rng.uniform(0.0, 2 * math.pi)
-        push = np.array([t0, t0 + self.push_duration_s, self.push_force_n * math.cos(angle),
-                         self.push_force_n * math.sin(angle)])
+        push = np.array(
+            [t0, t0 + self.push_duration_s, self.push_force_n * math.cos(angle), self.push_force_n * math.sin(angle)]
+        )
         every = max(1, int(round(self.noise_period_s / timestep_s)))
         if self.has_noise:
             n = int(math.ceil(duration_s / timestep_s / every)) + 1

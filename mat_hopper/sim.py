@@ -32,19 +32,58 @@ import mujoco
 import numpy as np
 
 from . import reference as ref
-from ._loop import (C, CHANNELS, HISTORY_WIDTH, MJ_STEP1, MJ_STEP2, N_CHANNELS, RECORD_DTYPE, Buffers, Disturbance,
-                    JerkFilter, Path, Steps, read_sensors, rollout_loop)
-from .behaviours import Behaviour, behaviour as get_behaviour
-from .control import (DEFAULT_SENSOR_TIMING, LIFTOFF, TOUCHDOWN, ControllerSettings, initial_state,
-                      sensor_latency_steps, sensor_timing_name)
-from .materials import (DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, check_convention, check_segment_mass,
-                        parse_design)
+from ._loop import (
+    CHANNELS,
+    HISTORY_WIDTH,
+    MJ_STEP1,
+    MJ_STEP2,
+    N_CHANNELS,
+    RECORD_DTYPE,
+    Buffers,
+    C,
+    Disturbance,
+    JerkFilter,
+    Path,
+    Steps,
+    read_sensors,
+    rollout_loop,
+)
+from .behaviours import Behaviour
+from .behaviours import behaviour as get_behaviour
+from .control import (
+    DEFAULT_SENSOR_TIMING,
+    LIFTOFF,
+    TOUCHDOWN,
+    ControllerSettings,
+    initial_state,
+    sensor_latency_steps,
+    sensor_timing_name,
+)
+from .materials import (
+    DEFAULT_CONVENTION,
+    DEFAULT_SEGMENT_MASS,
+    LegDesign,
+    check_convention,
+    check_segment_mass,
+    parse_design,
+)
 from .model import HopperModel, build_model, reset_to_start
 from .modes import auto_substeps
 from .perturbations import NO_PUSH, Perturbation
 
-__all__ = ["CHANNELS", "C", "N_CHANNELS", "DEFAULT_RECORD_RATE_HZ", "SimSettings", "Rollout", "RolloutRunner",
-           "prepare", "simulate", "auto_timestep", "route_mujoco_warnings"]
+__all__ = [
+    "CHANNELS",
+    "C",
+    "N_CHANNELS",
+    "DEFAULT_RECORD_RATE_HZ",
+    "SimSettings",
+    "Rollout",
+    "RolloutRunner",
+    "prepare",
+    "simulate",
+    "auto_timestep",
+    "route_mujoco_warnings",
+]
 
 DEFAULT_RECORD_RATE_HZ = 1000.0
 MAX_SUBSTEPS = 1000
@@ -72,11 +111,14 @@ def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkF
     filter transient. Steps coarser than 4 ms (where jerk means little)
     lower the cut-off to 0.2 / timestep_s, below their Nyquist frequency."""
     import scipy.signal
+
     cutoff = min(JERK_CUTOFF_HZ, 0.2 / timestep_s)
     sos = scipy.signal.butter(JERK_FILTER_ORDER, cutoff, fs=1.0 / timestep_s, output="sos")
-    (b0, b1, b2, _, a1, a2), = sos
+    ((b0, b1, b2, _, a1, a2),) = sos
     zi = scipy.signal.sosfilt_zi(sos)[0] * az0_m_s2
     return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2]))
+
+
 _log = logging.getLogger("mat_hopper.mujoco")
 
 
@@ -126,10 +168,15 @@ class SimSettings:
     substeps: int = 1
 
     def __post_init__(self):
-        if isinstance(self.substeps, bool) or not isinstance(self.substeps, (int, np.integer)) \
-                or not 1 <= self.substeps <= MAX_SUBSTEPS:
-            raise ValueError(f"substeps must be an integer in [1, {MAX_SUBSTEPS}] (physics steps per control "
-                             f"period), got {self.substeps!r}")
+        if (
+            isinstance(self.substeps, bool)
+            or not isinstance(self.substeps, (int, np.integer))
+            or not 1 <= self.substeps <= MAX_SUBSTEPS
+        ):
+            raise ValueError(
+                f"substeps must be an integer in [1, {MAX_SUBSTEPS}] (physics steps per control "
+                f"period), got {self.substeps!r}"
+            )
         object.__setattr__(self, "sensor_timing", sensor_timing_name(self.sensor_timing))
         check_segment_mass(self.segment_mass)
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
@@ -147,11 +194,15 @@ class SimSettings:
         if not self.record_rate_hz > 0:
             raise ValueError(f"record_rate_hz must be > 0 Hz, got {self.record_rate_hz!r}")
         if self.duration_s / self.timestep_s > MAX_STEPS:
-            raise ValueError(f"duration / timestep = {self.duration_s / self.timestep_s:.3g} physics steps: over the "
-                             f"limit of {MAX_STEPS:.0e} (a longer duration_s or smaller timestep_s than supported)")
+            raise ValueError(
+                f"duration / timestep = {self.duration_s / self.timestep_s:.3g} physics steps: over the "
+                f"limit of {MAX_STEPS:.0e} (a longer duration_s or smaller timestep_s than supported)"
+            )
         if self.n_steps / self.record_every > MAX_SAMPLES:
-            raise ValueError(f"{self.n_steps / self.record_every:.3g} recorded samples: over the limit of "
-                             f"{MAX_SAMPLES:.0e}; lower record_rate_hz or duration_s")
+            raise ValueError(
+                f"{self.n_steps / self.record_every:.3g} recorded samples: over the limit of "
+                f"{MAX_SAMPLES:.0e}; lower record_rate_hz or duration_s"
+            )
         check_convention(self.convention)
         if not isinstance(self.controller, ControllerSettings):
             raise ValueError("controller must be a ControllerSettings")
@@ -196,7 +247,7 @@ class Rollout:
     diverged_step: int
     total_mass_kg: float
     spring_stiffness_n_m: tuple
-    qpos: np.ndarray | None = None   # (n, nq) joint positions, if recorded
+    qpos: np.ndarray | None = None  # (n, nq) joint positions, if recorded
 
     def __getitem__(self, channel: str) -> np.ndarray:
         return self.data[:, C[channel]]
@@ -210,49 +261,49 @@ class Rollout:
     @property
     def base_pos(self) -> np.ndarray:
         """m, world frame (n, 3)"""
-        return self.data[:, C["x"]:C["z"] + 1]
+        return self.data[:, C["x"] : C["z"] + 1]
 
     @property
     def base_vel(self) -> np.ndarray:
         """m/s, world frame (n, 3)"""
-        return self.data[:, C["vx"]:C["vz"] + 1]
+        return self.data[:, C["vx"] : C["vz"] + 1]
 
     @property
     def base_acc(self) -> np.ndarray:
         """m/s^2, world frame (n, 3)"""
-        return self.data[:, C["ax"]:C["az"] + 1]
+        return self.data[:, C["ax"] : C["az"] + 1]
 
     @property
     def desired_pos(self) -> np.ndarray:
         """m (n, 2)"""
-        return self.data[:, C["x_des"]:C["y_des"] + 1]
+        return self.data[:, C["x_des"] : C["y_des"] + 1]
 
     @property
     def desired_vel(self) -> np.ndarray:
         """m/s (n, 2)"""
-        return self.data[:, C["vx_des"]:C["vy_des"] + 1]
+        return self.data[:, C["vx_des"] : C["vy_des"] + 1]
 
     @property
     def hip_angle(self) -> np.ndarray:
         """rad, (hip_y, hip_x) (n, 2)"""
-        return self.data[:, C["hip_y"]:C["hip_x"] + 1]
+        return self.data[:, C["hip_y"] : C["hip_x"] + 1]
 
     @property
     def hip_rate(self) -> np.ndarray:
         """rad/s, (hip_y, hip_x) (n, 2)"""
-        return self.data[:, C["hip_y_rate"]:C["hip_x_rate"] + 1]
+        return self.data[:, C["hip_y_rate"] : C["hip_x_rate"] + 1]
 
     @property
     def ctrl(self) -> np.ndarray:
         """Controls in actuator space, (hip_y, hip_x, thrust) (n, 3): the
         hips' before their gear of 600, the thrust in N (gear 1)."""
-        return self.data[:, C["ctrl_hip_y"]:C["ctrl_thrust"] + 1]
+        return self.data[:, C["ctrl_hip_y"] : C["ctrl_thrust"] + 1]
 
     @property
     def hip_torque(self) -> np.ndarray:
         """N m, joint space (hip_y, hip_x) (n, 2): MuJoCo's qfrc_actuator at
         the hip joints, i.e. gear x control."""
-        return self.data[:, C["torque_hip_y"]:C["torque_hip_x"] + 1]
+        return self.data[:, C["torque_hip_y"] : C["torque_hip_x"] + 1]
 
     @property
     def thrust_force(self) -> np.ndarray:
@@ -312,6 +363,7 @@ class Rollout:
     def to_frame(self):
         """All channels as a pandas DataFrame, one row per sample."""
         import pandas as pd
+
         return pd.DataFrame(self.data, columns=list(CHANNELS))
 
 
@@ -323,17 +375,24 @@ def _as_design(design) -> LegDesign:
     raise ValueError(f"design must be a LegDesign or a design name, got {design!r}")
 
 
-def prepare(design, behaviour, settings: SimSettings, start_xy_offset=(0.0, 0.0),
-            start_tilt=(0.0, 0.0)) -> tuple[HopperModel, mujoco.MjData]:
+def prepare(
+    design, behaviour, settings: SimSettings, start_xy_offset=(0.0, 0.0), start_tilt=(0.0, 0.0)
+) -> tuple[HopperModel, mujoco.MjData]:
     """Model and initial data for a rollout: start pose per the behaviour,
     plus an optional offset (m) and roll/pitch tilt (rad)."""
     design = _as_design(design)
     beh = get_behaviour(behaviour)
-    hm = build_model(design, ramp_grade_deg=beh.ramp_grade_deg, timestep=settings.timestep_s,
-                     convention=settings.convention, sensors="control", segment_mass=settings.segment_mass)
+    hm = build_model(
+        design,
+        ramp_grade_deg=beh.ramp_grade_deg,
+        timestep_s=settings.timestep_s,
+        convention=settings.convention,
+        sensors="control",
+        segment_mass=settings.segment_mass,
+    )
     data = mujoco.MjData(hm.model)
-    reset_to_start(hm.model, data)          # base z slide at 1.2 m, all else 0
-    b = hm.layout.base_qpos       # base joints: x, y, z, roll, pitch, yaw
+    reset_to_start(hm.model, data)  # base z slide at 1.2 m, all else 0
+    b = hm.layout.base_qpos  # base joints: x, y, z, roll, pitch, yaw
     data.qpos[b + 0] = beh.start_xy_m[0] + start_xy_offset[0]
     data.qpos[b + 1] = beh.start_xy_m[1] + start_xy_offset[1]
     data.qpos[b + 3] = start_tilt[0]
@@ -355,7 +414,13 @@ class RolloutRunner:
         self.settings = settings
         p = settings.perturbation
         if p is None:
-            offset, tilt, self._push, self._noise, self._noise_every = (0.0, 0.0), (0.0, 0.0), NO_PUSH, np.zeros((1, 6)), 1 << 60
+            offset, tilt, self._push, self._noise, self._noise_every = (
+                (0.0, 0.0),
+                (0.0, 0.0),
+                NO_PUSH,
+                np.zeros((1, 6)),
+                1 << 60,
+            )
         else:
             offset, tilt, self._push, self._noise, self._noise_every = p.draw(settings.duration_s, settings.timestep_s)
         self.hopper, self.data = prepare(self.design, self.behaviour, settings, offset, tilt)
@@ -386,7 +451,7 @@ class RolloutRunner:
     def done(self) -> bool:
         return self.step >= self.settings.n_steps or self.diverged_step >= 0
 
-    def advance(self, n_steps: int | None = None) -> "RolloutRunner":
+    def advance(self, n_steps: int | None = None) -> RolloutRunner:
         """Run up to n_steps more physics steps (all that remain by default)."""
         if self.done:
             return self
@@ -395,9 +460,23 @@ class RolloutRunner:
         hm, st = self.hopper, self.settings
         steps = Steps(self.step, n, st.timestep_s, st.record_every, ref.DIVERGENCE_QACC, st.substeps)
         n_rec, n_ev, bad = rollout_loop(
-            MJ_STEP1, MJ_STEP2, hm.model._address, self.data._address, self._buffers, hm.layout, self._gains,
-            self._path, self._disturbance, steps, self._history, self._state, self._jerk,
-            self._rec[self._n_rec:], self._qpos[self._n_rec:], self._events[self._n_ev:])
+            MJ_STEP1,
+            MJ_STEP2,
+            hm.model._address,
+            self.data._address,
+            self._buffers,
+            hm.layout,
+            self._gains,
+            self._path,
+            self._disturbance,
+            steps,
+            self._history,
+            self._state,
+            self._jerk,
+            self._rec[self._n_rec :],
+            self._qpos[self._n_rec :],
+            self._events[self._n_ev :],
+        )
         self._n_rec += n_rec
         self._n_ev += n_ev
         if bad >= 0:
@@ -406,21 +485,37 @@ class RolloutRunner:
         return self
 
     def result(self) -> Rollout:
-        data = self._rec[:self._n_rec].view(np.float64).reshape(self._n_rec, N_CHANNELS).copy()
-        r = Rollout(self.design, self.behaviour, self.settings, data,
-                    self._events[:self._n_ev].copy(), self.diverged_step,
-                    self.hopper.total_mass_kg, self.hopper.spring_stiffness_n_m)
+        data = self._rec[: self._n_rec].view(np.float64).reshape(self._n_rec, N_CHANNELS).copy()
+        r = Rollout(
+            self.design,
+            self.behaviour,
+            self.settings,
+            data,
+            self._events[: self._n_ev].copy(),
+            self.diverged_step,
+            self.hopper.total_mass_kg,
+            self.hopper.spring_stiffness_n_m,
+        )
         if len(self._qpos):
-            r.qpos = self._qpos[:self._n_rec].copy()
+            r.qpos = self._qpos[: self._n_rec].copy()
         return r
 
 
-def simulate(design, behaviour, duration_s: float = ref.DURATION_S, timestep_s: float = ref.TIMESTEP_S, *,
-             transient_s: float = ref.TRANSIENT_S, convention: str = DEFAULT_CONVENTION,
-             sensor_timing: str | int = DEFAULT_SENSOR_TIMING, controller: ControllerSettings | None = None,
-             record_rate_hz: float = DEFAULT_RECORD_RATE_HZ, record_qpos: bool = False,
-             perturbation: Perturbation | None = None, settings: SimSettings | None = None,
-             **legacy) -> Rollout:
+def simulate(
+    design,
+    behaviour,
+    duration_s: float = ref.DURATION_S,
+    timestep_s: float = ref.TIMESTEP_S,
+    *,
+    transient_s: float = ref.TRANSIENT_S,
+    convention: str = DEFAULT_CONVENTION,
+    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
+    controller: ControllerSettings | None = None,
+    record_rate_hz: float = DEFAULT_RECORD_RATE_HZ,
+    record_qpos: bool = False,
+    perturbation: Perturbation | None = None,
+    settings: SimSettings | None = None,
+) -> Rollout:
     """Run a design on a behaviour for ``duration_s`` simulated seconds.
 
     design: a LegDesign or a name (``"SS"``, ``"PVC-Ti-SS"``, ``"rho-inc"``);
@@ -441,30 +536,30 @@ def simulate(design, behaviour, duration_s: float = ref.DURATION_S, timestep_s: 
     >>> r.settings.sensor_timing, r.data.shape[1] == len(CHANNELS)
     ('authors', True)
     """
-    for old, new in (("duration", "duration_s"), ("timestep", "timestep_s"), ("transient", "transient_s")):
-        if old in legacy:       # the keyword names before units were in every name
-            value = legacy.pop(old)
-            if old == "duration":
-                duration_s = value
-            elif old == "timestep":
-                timestep_s = value
-            else:
-                transient_s = value
-    if legacy:
-        raise TypeError(f"simulate() got unexpected keyword arguments: {', '.join(sorted(legacy))}")
     if settings is None:
         substeps = 1
         if isinstance(timestep_s, str) and timestep_s.strip().lower() == AUTO:
             substeps, timestep_s = auto_timestep(_as_design(design), convention)
-        settings = SimSettings(duration_s=duration_s, timestep_s=timestep_s, transient_s=transient_s,
-                               convention=convention, record_rate_hz=record_rate_hz,
-                               controller=controller or ControllerSettings(), perturbation=perturbation,
-                               sensor_timing=sensor_timing, substeps=substeps)
+        settings = SimSettings(
+            duration_s=duration_s,
+            timestep_s=timestep_s,
+            transient_s=transient_s,
+            convention=convention,
+            record_rate_hz=record_rate_hz,
+            controller=controller or ControllerSettings(),
+            perturbation=perturbation,
+            sensor_timing=sensor_timing,
+            substeps=substeps,
+        )
     return RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()
 
 
-def auto_timestep(design, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS,
-                  control_period_s: float = ref.TIMESTEP_S) -> tuple[int, float]:
+def auto_timestep(
+    design,
+    convention: str = DEFAULT_CONVENTION,
+    segment_mass: str = DEFAULT_SEGMENT_MASS,
+    control_period_s: float = ref.TIMESTEP_S,
+) -> tuple[int, float]:
     """(substeps, physics step s) for ``timestep_s="auto"``: the controller
     keeps its period (1e-4 s) and the physics takes the fewest substeps
     whose step is at most AUTO_SAFETY (0.5) x the spring chain's explicit

@@ -68,14 +68,25 @@ from .modes import controller_timestep, delayed_damping_factor, estimate_timeste
 
 # The analytic bounds live in mat_hopper.modes (pure physics, no runner);
 # re-exported here where the measured ones are.
-__all__ = ["controller_timestep", "delayed_damping_factor", "estimate_timestep", "leg_chain", "spring_chain_wmax",
-           "try_timestep", "largest_stable_timestep", "spec_scan", "scan_consistent", "StabilitySpec",
-           "stability_grid", "agreement"]
+__all__ = [
+    "controller_timestep",
+    "delayed_damping_factor",
+    "estimate_timestep",
+    "leg_chain",
+    "spring_chain_wmax",
+    "try_timestep",
+    "largest_stable_timestep",
+    "spec_scan",
+    "scan_consistent",
+    "StabilitySpec",
+    "stability_grid",
+    "agreement",
+]
 
 DT_MAX_S = 1e-2
 DT_MIN_S = 1e-6
-BRACKET_FACTOR = math.sqrt(10.0)     # the "ladder" bracket's step
-ANALYTIC_FACTOR = 1.5                # the "analytic" bracket's step (the estimate is within a factor 2)
+BRACKET_FACTOR = math.sqrt(10.0)  # the "ladder" bracket's step
+ANALYTIC_FACTOR = 1.5  # the "analytic" bracket's step (the estimate is within a factor 2)
 BRACKETS = ("analytic", "ladder")
 DEFAULT_BRACKET = "analytic"
 DEFAULT_TOLERANCE = 1.25
@@ -87,17 +98,27 @@ SPEC_SCAN_N = 20
 # one try
 
 
-def try_timestep(design: LegDesign, timestep_s: float, *, duration_s: float = ref.STABILITY_TEST_DURATION_S,
-                 convention: str = DEFAULT_CONVENTION) -> dict:
+def try_timestep(
+    design: LegDesign,
+    timestep_s: float,
+    *,
+    duration_s: float = ref.STABILITY_TEST_DURATION_S,
+    convention: str = DEFAULT_CONVENTION,
+) -> dict:
     """Static hopping for duration_s at timestep_s (transient 0): a dict
     with dt_s, stable (no divergence), upright (the criterion of docs/reference-hopper.md),
     diverged_at_s (nan if none) and final_base_z_m."""
     from .sim import C, SimSettings, simulate
+
     settings = SimSettings(duration_s=duration_s, timestep_s=timestep_s, transient_s=0.0, convention=convention)
     r = simulate(design, "static", settings=settings)
-    return {"dt_s": float(timestep_s), "stable": bool(r.stable), "upright": bool(r.upright),
-            "diverged_at_s": math.nan if r.stable else float(r.diverged_at_s),
-            "final_base_z_m": float(r.data[-1, C["z"]]) if len(r.data) else math.nan}
+    return {
+        "dt_s": float(timestep_s),
+        "stable": bool(r.stable),
+        "upright": bool(r.upright),
+        "diverged_at_s": math.nan if r.stable else float(r.diverged_at_s),
+        "final_base_z_m": float(r.data[-1, C["z"]]) if len(r.data) else math.nan,
+    }
 
 
 def _check_range(dt_min, dt_max, tolerance, max_iter):
@@ -131,11 +152,18 @@ def _analytic_bracket(ok, start, dt_min, dt_max) -> tuple[float, float]:
     return math.nan, hi
 
 
-def largest_stable_timestep(design: LegDesign, *, dt_min: float = DT_MIN_S, dt_max: float = DT_MAX_S,
-                            tolerance: float = DEFAULT_TOLERANCE, max_iter: int = DEFAULT_MAX_ITER,
-                            duration_s: float = ref.STABILITY_TEST_DURATION_S,
-                            convention: str = DEFAULT_CONVENTION, tries: list | None = None,
-                            bracket: str = DEFAULT_BRACKET) -> tuple[float, float]:
+def largest_stable_timestep(
+    design: LegDesign,
+    *,
+    dt_min: float = DT_MIN_S,
+    dt_max: float = DT_MAX_S,
+    tolerance: float = DEFAULT_TOLERANCE,
+    max_iter: int = DEFAULT_MAX_ITER,
+    duration_s: float = ref.STABILITY_TEST_DURATION_S,
+    convention: str = DEFAULT_CONVENTION,
+    tries: list | None = None,
+    bracket: str = DEFAULT_BRACKET,
+) -> tuple[float, float]:
     """(dt_stable_s, dt_unstable_s): the largest stable step found and the
     smallest unstable step above it (see module doc). dt_unstable_s is nan
     when dt_max itself is stable; dt_stable_s is nan when nothing down to
@@ -168,7 +196,7 @@ def largest_stable_timestep(design: LegDesign, *, dt_min: float = DT_MIN_S, dt_m
                 break
             hi = dt
             k += 1
-            dt = max(float(f"{dt_max / BRACKET_FACTOR ** k:.12g}"), dt_min) if dt > dt_min * (1 + 1e-12) else 0.0
+            dt = max(float(f"{dt_max / BRACKET_FACTOR**k:.12g}"), dt_min) if dt > dt_min * (1 + 1e-12) else 0.0
     if math.isnan(lo) or math.isnan(hi):
         return lo, hi
     for _ in range(int(max_iter)):
@@ -182,10 +210,16 @@ def largest_stable_timestep(design: LegDesign, *, dt_min: float = DT_MIN_S, dt_m
     return lo, hi
 
 
-def spec_scan(design: LegDesign, *, first: float = ref.STABILITY_TIMESTEP_RANGE[0],
-              last: float = ref.STABILITY_TIMESTEP_RANGE[1], n: int = SPEC_SCAN_N,
-              duration_s: float = ref.STABILITY_TEST_DURATION_S, convention: str = DEFAULT_CONVENTION,
-              tries: list | None = None) -> float:
+def spec_scan(
+    design: LegDesign,
+    *,
+    first: float = ref.STABILITY_TIMESTEP_RANGE[0],
+    last: float = ref.STABILITY_TIMESTEP_RANGE[1],
+    n: int = SPEC_SCAN_N,
+    duration_s: float = ref.STABILITY_TEST_DURATION_S,
+    convention: str = DEFAULT_CONVENTION,
+    tries: list | None = None,
+) -> float:
     """The reference protocol (docs/reference-hopper.md): the first stable of n log-spaced steps from
     `first` down to `last` (s); nan when none is stable."""
     tries = [] if tries is None else tries
@@ -198,9 +232,15 @@ def spec_scan(design: LegDesign, *, first: float = ref.STABILITY_TIMESTEP_RANGE[
     return math.nan
 
 
-def scan_consistent(dt_stable: float, dt_unstable: float, dt_spec: float, *,
-                    first: float = ref.STABILITY_TIMESTEP_RANGE[0], last: float = ref.STABILITY_TIMESTEP_RANGE[1],
-                    n: int = SPEC_SCAN_N) -> bool:
+def scan_consistent(
+    dt_stable: float,
+    dt_unstable: float,
+    dt_spec: float,
+    *,
+    first: float = ref.STABILITY_TIMESTEP_RANGE[0],
+    last: float = ref.STABILITY_TIMESTEP_RANGE[1],
+    n: int = SPEC_SCAN_N,
+) -> bool:
     """Whether the reference scan's answer fits the bisection's bracket if
     stability were monotone in the step: no ladder step >= dt_unstable is
     stable, and no ladder step <= dt_stable is passed over."""
@@ -248,33 +288,56 @@ class StabilitySpec:
         check_convention(self.convention)
 
     def key_dict(self) -> dict:
-        return {"kind": self.kind, "design": design_key(self.design), "duration_s": self.duration_s,
-                "dt_min": self.dt_min, "dt_max": self.dt_max, "tolerance": self.tolerance,
-                "max_iter": int(self.max_iter), "scan": bool(self.scan), "bracket": self.bracket,
-                "bracket_factor": BRACKET_FACTOR if self.bracket == "ladder" else ANALYTIC_FACTOR,
-                "scan_range": list(ref.STABILITY_TIMESTEP_RANGE), "scan_n": SPEC_SCAN_N,
-                "criterion": [ref.DIVERGENCE_QACC, ref.STABLE_MIN_BASE_Z],
-                "convention": self.convention, "versions": versions()}
+        return {
+            "kind": self.kind,
+            "design": design_key(self.design),
+            "duration_s": self.duration_s,
+            "dt_min": self.dt_min,
+            "dt_max": self.dt_max,
+            "tolerance": self.tolerance,
+            "max_iter": int(self.max_iter),
+            "scan": bool(self.scan),
+            "bracket": self.bracket,
+            "bracket_factor": BRACKET_FACTOR if self.bracket == "ladder" else ANALYTIC_FACTOR,
+            "scan_range": list(ref.STABILITY_TIMESTEP_RANGE),
+            "scan_n": SPEC_SCAN_N,
+            "criterion": [ref.DIVERGENCE_QACC, ref.STABLE_MIN_BASE_Z],
+            "convention": self.convention,
+            "versions": versions(),
+        }
 
     def key(self) -> str:
         return f"{self.kind}-{hash_key(self.key_dict())}"
 
     def default_labels(self) -> dict:
         d = self.design
-        return {"design": d.name, "density_g_cm3": d.densities_g_cm3[0] if d.n_segments else math.nan,
-                "modulus_gpa": d.moduli_gpa[0]}
+        return {
+            "design": d.name,
+            "density_g_cm3": d.densities_g_cm3[0] if d.n_segments else math.nan,
+            "modulus_gpa": d.moduli_gpa[0],
+        }
 
     def compute(self) -> tuple[pd.DataFrame, dict]:
         """(every try as a table, the design's summary: max_stable_timestep_s,
         unstable_timestep_s, spec_timestep_s, analytic_timestep_s, ...)."""
         tries: list[dict] = []
-        lo, hi = largest_stable_timestep(self.design, dt_min=self.dt_min, dt_max=self.dt_max,
-                                         tolerance=self.tolerance, max_iter=self.max_iter,
-                                         duration_s=self.duration_s, convention=self.convention, tries=tries,
-                                         bracket=self.bracket)
+        lo, hi = largest_stable_timestep(
+            self.design,
+            dt_min=self.dt_min,
+            dt_max=self.dt_max,
+            tolerance=self.tolerance,
+            max_iter=self.max_iter,
+            duration_s=self.duration_s,
+            convention=self.convention,
+            tries=tries,
+            bracket=self.bracket,
+        )
         n_search = len(tries)
-        dt_spec = spec_scan(self.design, duration_s=self.duration_s, convention=self.convention,
-                            tries=tries) if self.scan else math.nan
+        dt_spec = (
+            spec_scan(self.design, duration_s=self.duration_s, convention=self.convention, tries=tries)
+            if self.scan
+            else math.nan
+        )
         masses, springs = leg_chain(self.design, self.convention)
         w = spring_chain_wmax(masses, springs)
         est = 2.0 / w
@@ -282,17 +345,24 @@ class StabilitySpec:
         consistent = scan_consistent(lo, hi, dt_spec) if self.scan else True
         summary = {
             "n_segments": self.design.n_segments,
-            "max_stable_timestep_s": lo, "unstable_timestep_s": hi, "n_tries": n_search,
-            "spec_timestep_s": dt_spec, "n_spec_tries": len(tries) - n_search,
+            "max_stable_timestep_s": lo,
+            "unstable_timestep_s": hi,
+            "n_tries": n_search,
+            "spec_timestep_s": dt_spec,
+            "n_spec_tries": len(tries) - n_search,
             "scan_consistent": bool(consistent),
-            "w_max_rad_s": w, "analytic_timestep_s": est,
+            "w_max_rad_s": w,
+            "analytic_timestep_s": est,
             "ratio_measured_to_analytic": lo / est if not math.isnan(lo) else math.nan,
-            "controller_timestep_s": ctrl, "combined_timestep_s": min(est, ctrl),
+            "controller_timestep_s": ctrl,
+            "combined_timestep_s": min(est, ctrl),
             "max_material_spring_n_m": max(springs[:-1]) if len(springs) > 1 else math.nan,
-            "lightest_mass_kg": min(masses), "status": "ok" if not math.isnan(lo) else "unstable",
+            "lightest_mass_kg": min(masses),
+            "status": "ok" if not math.isnan(lo) else "unstable",
         }
-        return pd.DataFrame(tries, columns=["method", "dt_s", "stable", "upright", "diverged_at_s",
-                                            "final_base_z_m"]), summary
+        return pd.DataFrame(
+            tries, columns=["method", "dt_s", "stable", "upright", "diverged_at_s", "final_base_z_m"]
+        ), summary
 
 
 def stability_grid(size: int = ref.STABILITY_GRID_SIZE) -> tuple[np.ndarray, np.ndarray]:
@@ -302,8 +372,10 @@ def stability_grid(size: int = ref.STABILITY_GRID_SIZE) -> tuple[np.ndarray, np.
     if size < 1:
         raise ValueError(f"stability grid size must be >= 1, got {size!r}")
     if size == 1:
-        return (np.array([round(math.sqrt(np.prod(ref.STABILITY_DENSITY_RANGE)), 1)]),
-                np.array([round(math.sqrt(np.prod(ref.STABILITY_MODULUS_RANGE)), 1)]))
+        return (
+            np.array([round(math.sqrt(np.prod(ref.STABILITY_DENSITY_RANGE)), 1)]),
+            np.array([round(math.sqrt(np.prod(ref.STABILITY_MODULUS_RANGE)), 1)]),
+        )
     d = np.round(np.geomspace(*ref.STABILITY_DENSITY_RANGE, size), 1)
     e = np.round(np.geomspace(*ref.STABILITY_MODULUS_RANGE, size), 1)
     return d, e
@@ -328,8 +400,13 @@ def agreement(table: pd.DataFrame) -> pd.DataFrame:
         for q, v in _agreement_one(table, col).items():
             rows.append({"estimate": name, "quantity": q, "value": v})
     if "scan_consistent" in table and len(table):
-        rows.append({"estimate": "spec scan", "quantity": "fraction_scan_consistent",
-                     "value": float(table["scan_consistent"].astype(bool).mean())})
+        rows.append(
+            {
+                "estimate": "spec scan",
+                "quantity": "fraction_scan_consistent",
+                "value": float(table["scan_consistent"].astype(bool).mean()),
+            }
+        )
     return pd.DataFrame(rows, columns=["estimate", "quantity", "value"])
 
 
@@ -343,10 +420,15 @@ def _agreement_one(table: pd.DataFrame, col: str) -> dict:
         hi = ok["unstable_timestep_s"].to_numpy(float)
         an = ok[col].to_numpy(float)
         ratio = lo / an
-        rows.update({"median_ratio_measured_to_estimate": float(np.median(ratio)),
-                     "min_ratio": float(ratio.min()), "max_ratio": float(ratio.max()),
-                     "fraction_within_factor_2": float(np.mean((ratio >= 0.5) & (ratio <= 2.0))),
-                     "fraction_estimate_in_bracket": float(np.mean((lo <= an) & (~np.isfinite(hi) | (an < hi))))})
+        rows.update(
+            {
+                "median_ratio_measured_to_estimate": float(np.median(ratio)),
+                "min_ratio": float(ratio.min()),
+                "max_ratio": float(ratio.max()),
+                "fraction_within_factor_2": float(np.mean((ratio >= 0.5) & (ratio <= 2.0))),
+                "fraction_estimate_in_bracket": float(np.mean((lo <= an) & (~np.isfinite(hi) | (an < hi)))),
+            }
+        )
     if n >= 3:
         x, y = np.log(ok[col].to_numpy(float)), np.log(ok["max_stable_timestep_s"].to_numpy(float))
         if np.ptp(x) > 0 and np.ptp(y) > 0:

@@ -14,7 +14,9 @@ def root():
 def run_python(code: str, env_extra: dict | None = None, timeout: float = 300):
     """Run code in a fresh interpreter (same venv), return CompletedProcess."""
     import subprocess
+
     env = dict(os.environ)
     env.update(env_extra or {})
-    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
-                          timeout=timeout, cwd=ROOT)
+    return subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=timeout, cwd=ROOT
+    )

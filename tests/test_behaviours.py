@@ -26,7 +26,7 @@ def test_parameters():
 
 
 def test_custom_path_from_function_is_interpolated():
-    b = Behaviour.from_function("wave", lambda t: (0.05 * t, 0.1 * math.sin(t)), duration=10.0, dt_s=1e-3)
+    b = Behaviour.from_function("wave", lambda t: (0.05 * t, 0.1 * math.sin(t)), duration_s=10.0, dt_s=1e-3)
     x, y, vx, vy = b.desired(2.0005)
     assert x == pytest.approx(0.100025) and y == pytest.approx(0.1 * math.sin(2.0005), abs=1e-7)
     assert vx == pytest.approx(0.05)

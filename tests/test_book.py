@@ -26,16 +26,16 @@ NOTEBOOKS = ROOT / "notebooks"
 
 # Figures each chapter must show (at least), by notebook name.
 MIN_FIGURES = {
-    "01-introduction": 1,          # the designs
-    "02-materials": 1,             # Ashby chart
-    "03-modelling-material": 1,    # conventions: stiffness and stable step
-    "04-hopper-controller": 2,     # the rendered model, one rollout
-    "05-numerical-stability": 1,   # the stable-time-step map
-    "06-mono-materials": 1,        # power, jerk, tracking error
-    "07-one-property": 1,          # sweeps
-    "08-gradients": 4,             # gradients, time series, gait tiles forward and ramp
+    "01-introduction": 1,  # the designs
+    "02-materials": 1,  # Ashby chart
+    "03-modelling-material": 1,  # conventions: stiffness and stable step
+    "04-hopper-controller": 2,  # the rendered model, one rollout
+    "05-numerical-stability": 1,  # the stable-time-step map
+    "06-mono-materials": 1,  # power, jerk, tracking error
+    "07-one-property": 1,  # sweeps
+    "08-gradients": 4,  # gradients, time series, gait tiles forward and ramp
     "09-optimizing-gradients": 1,  # the Pareto front
-    "10-reproduction-report": 1,   # a defect measured
+    "10-reproduction-report": 1,  # a defect measured
 }
 
 
@@ -109,8 +109,9 @@ def test_notebooks_clean_and_in_sync():
     for src in sources:
         want = jupytext.read(src)
         have = nbformat.read(NOTEBOOKS / f"{src.stem}.ipynb", as_version=4)
-        assert [(c.cell_type, c.source, c.metadata.get("tags")) for c in want.cells] == \
-               [(c.cell_type, c.source, c.metadata.get("tags")) for c in have.cells], f"{src.name}: run make notebooks"
+        assert [(c.cell_type, c.source, c.metadata.get("tags")) for c in want.cells] == [
+            (c.cell_type, c.source, c.metadata.get("tags")) for c in have.cells
+        ], f"{src.name}: run make notebooks"
     for path in sorted(NOTEBOOKS.glob("*.ipynb")):
         nb = nbformat.read(path, as_version=4)
         assert nb.metadata["kernelspec"]["name"] == "python3", path.name
@@ -121,7 +122,7 @@ def test_notebooks_clean_and_in_sync():
         titles = []
         for c in nb.cells:
             if c.cell_type == "markdown":
-                text = re.sub(r"```.*?```", "", c.source, flags=re.S)      # not inside code blocks
+                text = re.sub(r"```.*?```", "", c.source, flags=re.S)  # not inside code blocks
                 titles += [ln for ln in text.splitlines() if ln.startswith("# ")]
         assert len(titles) == 1, f"{path.name}: one title (# ...) per chapter, got {titles}"
 
@@ -187,6 +188,6 @@ def test_quick_book_builds_with_every_figure(tmp_path):
             assert f.is_file() and f.stat().st_size > 1000, f"{name}: figure {src} missing or empty"
         assert "Traceback (most recent call last)" not in text, f"{name}: a cell shows a traceback"
         assert 'class="output traceback' not in text and "ansi-red-fg" not in text, f"{name}: error output"
-        if name == "01-introduction":       # the kernel ran the venv's interpreter, under the quick profile
+        if name == "01-introduction":  # the kernel ran the venv's interpreter, under the quick profile
             assert "profile quick" in text
             assert re.search(r"\.venv/bin/python", text), "the book's kernel is not the venv's Python"

@@ -13,12 +13,34 @@ G = ControllerSettings().gains()
 LEVEL = np.array([1.0, 0.0, 0.0, 0.0])
 
 
-def step(t, touch, vel=(0, 0, 0), pos=(0, 0, 1.0), quat=LEVEL, gyro=(0, 0, 0), hip=(0, 0), hip_rate=(0, 0),
-         desired=(0, 0, 0, 0), state=None, fn=controller_step):
+def step(
+    t,
+    touch,
+    vel=(0, 0, 0),
+    pos=(0, 0, 1.0),
+    quat=LEVEL,
+    gyro=(0, 0, 0),
+    hip=(0, 0),
+    hip_rate=(0, 0),
+    desired=(0, 0, 0, 0),
+    state=None,
+    fn=controller_step,
+):
     out = np.zeros(c.OUT_SIZE)
-    ev = fn(t, touch, np.array(pos, float), np.array(quat, float), np.array(gyro, float),
-            np.array(vel, float), np.array(hip, float), np.array(hip_rate, float),
-            np.array(desired, float), G, state, out)
+    ev = fn(
+        t,
+        touch,
+        np.array(pos, float),
+        np.array(quat, float),
+        np.array(gyro, float),
+        np.array(vel, float),
+        np.array(hip, float),
+        np.array(hip_rate, float),
+        np.array(desired, float),
+        G,
+        state,
+        out,
+    )
     return ev, out
 
 
@@ -42,7 +64,7 @@ def test_state_machine_switching_and_phase_lock():
     assert update_phase(0.6, 5.0, 0.9, -1.0, G, s) == c.TOUCHDOWN
     assert s[c.S_LAST_HEIGHT] == pytest.approx(1.2)
     assert s[c.S_THRUST] == pytest.approx(180.0)
-    assert s[c.S_Z_MAX] == pytest.approx(0.9)      # running max reset
+    assert s[c.S_Z_MAX] == pytest.approx(0.9)  # running max reset
 
 
 def test_thrust_only_while_rising_in_stance():
@@ -82,18 +104,18 @@ def test_ik_signs_place_the_foot_where_asked():
 
 def test_flight_pd_and_stance_attitude_signs():
     s = initial_state(ControllerSettings())
-    _, out = step(0.0, 0.0, hip=(0.1, -0.1), state=s)       # flight, target 0
+    _, out = step(0.0, 0.0, hip=(0.1, -0.1), state=s)  # flight, target 0
     assert out[c.O_HIP_Y] == pytest.approx(-1.0) and out[c.O_HIP_X] == pytest.approx(1.0)
     pitch = 0.05
     quat = [math.cos(pitch / 2), 0, math.sin(pitch / 2), 0]
-    _, out = step(0.0, 5.0, quat=quat, gyro=(0, 0.2, 0), state=s)   # stance
+    _, out = step(0.0, 5.0, quat=quat, gyro=(0, 0.2, 0), state=s)  # stance
     assert out[c.O_HIP_Y] == pytest.approx(4 * pitch + 0.2)
     assert out[c.O_HIP_X] == pytest.approx(0.0, abs=1e-12)
 
 
 def test_yaw_frame_rotation():
     s = initial_state(ControllerSettings())
-    yaw = math.pi / 2          # base faces +y: world +y velocity is local +x
+    yaw = math.pi / 2  # base faces +y: world +y velocity is local +x
     quat = [math.cos(yaw / 2), 0, 0, math.sin(yaw / 2)]
     _, a = step(0.0, 0.0, vel=(0, 0.3, 0), quat=quat, state=s)
     _, b = step(0.0, 0.0, vel=(0.3, 0, 0), state=s)
@@ -103,9 +125,16 @@ def test_yaw_frame_rotation():
 def test_compiled_and_plain_controller_agree():
     rng = np.random.default_rng(0)
     for _ in range(50):
-        args = dict(touch=float(rng.choice([0.0, 3.0])), vel=rng.normal(size=3), pos=rng.normal(size=3),
-                    quat=(q := rng.normal(size=4)) / np.linalg.norm(q), gyro=rng.normal(size=3),
-                    hip=rng.normal(size=2) * 0.3, hip_rate=rng.normal(size=2), desired=rng.normal(size=4))
+        args = dict(
+            touch=float(rng.choice([0.0, 3.0])),
+            vel=rng.normal(size=3),
+            pos=rng.normal(size=3),
+            quat=(q := rng.normal(size=4)) / np.linalg.norm(q),
+            gyro=rng.normal(size=3),
+            hip=rng.normal(size=2) * 0.3,
+            hip_rate=rng.normal(size=2),
+            desired=rng.normal(size=4),
+        )
         s1, s2 = initial_state(ControllerSettings()), initial_state(ControllerSettings())
         e1, o1 = step(0.2, state=s1, **args)
         e2, o2 = step(0.2, state=s2, fn=controller_step.py_func, **args)
@@ -127,15 +156,16 @@ def test_gains_follow_the_settings_by_name():
     assert g._fields == tuple(f for f in ControllerSettings.__dataclass_fields__)
 
 
-@pytest.mark.parametrize("timing, steps", [("authors", 1), ("fresh", 0), ("AUTHORS", 1), (3, 3),
-                                           ("latency-10", 10)])
+@pytest.mark.parametrize("timing, steps", [("authors", 1), ("fresh", 0), ("AUTHORS", 1), (3, 3), ("latency-10", 10)])
 def test_sensor_timing_names(timing, steps):
     assert c.sensor_latency_steps(timing) == steps
     assert c.sensor_timing_name(steps) == {0: "fresh", 1: "authors"}.get(steps, f"latency-{steps}")
 
 
-@pytest.mark.parametrize("field, value", [("hop_height_target_m", 0.5), ("hop_height_target_m", 10.0),
-                                          ("thrust_start_n", -1.0), ("phase_lock_s", -0.1)])
+@pytest.mark.parametrize(
+    "field, value",
+    [("hop_height_target_m", 0.5), ("hop_height_target_m", 10.0), ("thrust_start_n", -1.0), ("phase_lock_s", -0.1)],
+)
 def test_unphysical_settings_refused(field, value):
     with pytest.raises(ValueError, match=field):
         ControllerSettings(**{field: value})
@@ -146,11 +176,11 @@ def test_thrust_never_adapts_below_zero():
     first scored hop, then 0 - 200 N would follow; the foot actuator only
     pushes, so F stays at 0 N."""
     s = initial_state(ControllerSettings())
-    assert update_phase(0.2, 5.0, 0.9, -1.0, G, s) == c.TOUCHDOWN      # first: adapts nothing
+    assert update_phase(0.2, 5.0, 0.9, -1.0, G, s) == c.TOUCHDOWN  # first: adapts nothing
     thrusts = []
     for t0 in (0.4, 1.0):
         assert update_phase(t0, 0.0, 0.9, 1.0, G, s) == c.LIFTOFF
-        update_phase(t0 + 0.2, 0.0, 3.0, 0.0, G, s)                     # apex at 3 m
+        update_phase(t0 + 0.2, 0.0, 3.0, 0.0, G, s)  # apex at 3 m
         assert update_phase(t0 + 0.4, 5.0, 0.9, -1.0, G, s) == c.TOUCHDOWN
         thrusts.append(s[c.S_THRUST])
     assert thrusts == [0.0, 0.0]

@@ -90,6 +90,7 @@ def test_capsule_volume_by_hand():
     """0.1 m of material at 1 g/cm^3 in two half-capsules of r = 2.5 cm weighs
     0.327 kg, end caps included (the spec's figure)."""
     from mat_hopper.materials import capsule_volume_m3
+
     v = capsule_volume_m3(0.025, 0.05)
     assert v == pytest.approx(math.pi * 0.025**2 * 0.05 + 4 / 3 * math.pi * 0.025**3)
     assert 2 * v * 1000.0 == pytest.approx(0.327, abs=5e-4)
@@ -97,7 +98,8 @@ def test_capsule_volume_by_hand():
 
 def test_segment_masses_leg_and_capsule():
     from mat_hopper.materials import capsule_density_scale, segment_masses
-    assert capsule_density_scale(3) == 1.0                       # exactly: the authors' leg
+
+    assert capsule_density_scale(3) == 1.0  # exactly: the authors' leg
     assert capsule_density_scale(6, "capsule") == 1.0
     ss3 = sum(segment_masses(LegDesign.mono("SS", 3)))
     for n in (1, 2, 6, 12, 24):
@@ -107,10 +109,18 @@ def test_segment_masses_leg_and_capsule():
     assert sum(segment_masses(LegDesign.mono("SS", 6), "capsule")) - ss3 == pytest.approx(6 * caps)
 
 
-@pytest.mark.parametrize("density, modulus, field", [
-    (1e30, 70, "density"), (1e-5, 70, "density"), (-1, 70, "density"), (8, 1e-30, "modulus"),
-    (8, 1e5, "modulus"), (8, float("inf"), "modulus"), (True, 70, "density"),
-])
+@pytest.mark.parametrize(
+    "density, modulus, field",
+    [
+        (1e30, 70, "density"),
+        (1e-5, 70, "density"),
+        (-1, 70, "density"),
+        (8, 1e-30, "modulus"),
+        (8, 1e5, "modulus"),
+        (8, float("inf"), "modulus"),
+        (True, 70, "density"),
+    ],
+)
 def test_physical_ranges_are_enforced(density, modulus, field):
     with pytest.raises(ValueError, match=field) as e:
         LegDesign.from_properties([density], [modulus])
@@ -132,7 +142,7 @@ def test_bad_segment_counts(n):
 
 
 def test_resample_conserves_mass_and_compliance():
-    leg = parse_design("PVC-Ti-SS")          # 1.39/4, 4.43/120, 8/193
+    leg = parse_design("PVC-Ti-SS")  # 1.39/4, 4.43/120, 8/193
     assert leg.resample(3) is leg
     six = leg.resample(6)
     assert six.densities_g_cm3 == (1.39, 1.39, 4.43, 4.43, 8.0, 8.0)
@@ -140,7 +150,7 @@ def test_resample_conserves_mass_and_compliance():
     assert one.densities_g_cm3[0] == pytest.approx((1.39 + 4.43 + 8.0) / 3)
     # springs in series, by hand: 1 / E = (1/4 + 1/120 + 1/193) / 3
     assert one.moduli_gpa[0] == pytest.approx(3 / (1 / 4 + 1 / 120 + 1 / 193))
-    two = leg.resample(2)                    # cells [0, 1/2], [1/2, 1]
+    two = leg.resample(2)  # cells [0, 1/2], [1/2, 1]
     assert two.densities_g_cm3 == pytest.approx(((1.39 * 2 + 4.43) / 3, (4.43 + 8.0 * 2) / 3))
     for n in (1, 2, 4, 5, 12, 24):
         r = leg.resample(n)

@@ -19,8 +19,16 @@ def test_hop_table_rows_are_scored_cycles(rollout):
     assert np.allclose(hops["t_start_s"].to_numpy()[1:], hops["t_end_s"].to_numpy()[:-1])
     for m in ALL_METRICS:
         assert np.isfinite(hops[m]).all() and (hops[m] >= 0).all()
-    assert list(hops.columns[:8]) == ["design", "behaviour", "convention", "sensor_timing", "segment_mass", "hop",
-                                      "t_start_s", "t_end_s"]
+    assert list(hops.columns[:8]) == [
+        "design",
+        "behaviour",
+        "convention",
+        "sensor_timing",
+        "segment_mass",
+        "hop",
+        "t_start_s",
+        "t_end_s",
+    ]
     assert (hops["sensor_timing"] == "authors").all()
 
 
@@ -32,7 +40,7 @@ def test_metrics_match_direct_computation(rollout):
     assert row.hop_height_m == pytest.approx(rollout.base_pos[sel, 2].max())
     err = np.linalg.norm(rollout.base_pos[sel, :2] - rollout.desired_pos[sel], axis=1).mean()
     assert row.tracking_error_m == pytest.approx(err)
-    p = np.hypot(*(600.0 * rollout.ctrl[sel, :2] * rollout.hip_rate[sel]).T).mean()   # gear 600, by hand
+    p = np.hypot(*(600.0 * rollout.ctrl[sel, :2] * rollout.hip_rate[sel]).T).mean()  # gear 600, by hand
     assert row.power_w == pytest.approx(p)
     # the controller's own hop heights agree with the recorded maxima
     assert rollout.hop_heights_m[-3:] == pytest.approx(hops.hop_height_m.to_numpy()[-3:], abs=2e-3)
@@ -89,6 +97,7 @@ def test_jerk_filter_matches_scipy_on_the_same_signal():
     scipy.signal.sosfilt of the recorded raw acceleration (an independent
     implementation), and jerk_z is its first difference over dt."""
     import scipy.signal
+
     r = simulate("SS", "forward", duration_s=1.0, transient_s=0.0, record_rate_hz=1e4)
     sos = scipy.signal.butter(2, 50.0, fs=1e4, output="sos")
     az = r["az"]
@@ -97,7 +106,7 @@ def test_jerk_filter_matches_scipy_on_the_same_signal():
     np.testing.assert_allclose(r["jerk_z"][1:], np.diff(ref_f) / 1e-4, rtol=1e-6, atol=1e-5)
     # a Butterworth: unity gain at DC, 1/sqrt(2) at the 50 Hz cut-off
     w, h = scipy.signal.sosfreqz(sos, worN=[0.0, 50.0], fs=1e4)
-    assert abs(h[0]) == pytest.approx(1.0) and abs(h[1]) == pytest.approx(2 ** -0.5, rel=1e-6)
+    assert abs(h[0]) == pytest.approx(1.0) and abs(h[1]) == pytest.approx(2**-0.5, rel=1e-6)
 
 
 @pytest.mark.parametrize("design", ["SS", "PVC"])

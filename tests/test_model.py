@@ -20,8 +20,8 @@ def test_capsule_geometry_adds_end_caps():
     m3 = build_model(LegDesign.mono("SS", 3), segment_mass="capsule").total_mass_kg
     m6 = build_model(LegDesign.mono("SS", 6), segment_mass="capsule").total_mass_kg
     r = ref.MATERIAL_RADIUS
-    cap = 4 / 3 * np.pi * r**3 * 8000.0      # one sphere (two hemispheres) per capsule
-    assert m6 - m3 == pytest.approx(6 * cap, rel=1e-6)   # 12 vs 6 half-capsules
+    cap = 4 / 3 * np.pi * r**3 * 8000.0  # one sphere (two hemispheres) per capsule
+    assert m6 - m3 == pytest.approx(6 * cap, rel=1e-6)  # 12 vs 6 half-capsules
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 5])
@@ -30,7 +30,7 @@ def test_geometry_any_segment_count(n):
     m, d = hm.model, mujoco.MjData(hm.model)
     reset_to_start(m, d)
     toe = d.site("toe").xpos
-    assert toe[2] == pytest.approx(ref.BASE_START_Z - 0.6)      # hip to toe 0.6 m
+    assert toe[2] == pytest.approx(ref.BASE_START_Z - 0.6)  # hip to toe 0.6 m
     assert [m.joint(f"mat_spring_{i}").type for i in range(1, n + 1)] == [mujoco.mjtJoint.mjJNT_SLIDE] * n
     assert len(hm.spring_stiffness_n_m) == n
 
@@ -43,7 +43,7 @@ def test_rigid_leg_has_no_material_springs():
 
 
 def test_stiffness_damping_and_options():
-    hm = build_model(parse_design("SS"), timestep=2e-4)
+    hm = build_model(parse_design("SS"), timestep_s=2e-4)
     m = hm.model
     j = m.joint("mat_spring_2")
     assert m.jnt_stiffness[j.id] == pytest.approx(1.819e8, rel=1e-3)
@@ -90,7 +90,7 @@ def test_ramp_only_when_asked():
 @pytest.mark.parametrize("dt", [0, -1e-4, float("nan"), 1.0])
 def test_bad_timestep(dt):
     with pytest.raises(ValueError, match="timestep"):
-        build_model(parse_design("SS"), timestep=dt)
+        build_model(parse_design("SS"), timestep_s=dt)
 
 
 def test_sensor_sets():
@@ -157,6 +157,7 @@ def test_terrain_height_against_mujoco_ray_casts():
     """terrain_height_m against MuJoCo's own mj_ray straight down (the
     hopper out of the way at y = 0.4 m)."""
     from mat_hopper.model import terrain_height_m
+
     m = build_model(parse_design("SS"), ramp_grade_deg=2.0).model
     d = mujoco.MjData(m)
     reset_to_start(m, d)
@@ -164,5 +165,5 @@ def test_terrain_height_against_mujoco_ray_casts():
     for x in (-0.5, 0.0, 0.05, 0.5, 1.0, 2.0, 3.5):
         dist = mujoco.mj_ray(m, d, np.array([x, 0.4, 2.0]), np.array([0.0, 0.0, -1.0]), None, 1, -1, geomid)
         assert terrain_height_m(x, 0.4, 2.0) == pytest.approx(2.0 - dist, abs=1e-9), x
-    assert terrain_height_m(0.0, 0.0, 2.0) == pytest.approx(2.2e-4, abs=2e-5)     # the spec's 0.2 mm step
+    assert terrain_height_m(0.0, 0.0, 2.0) == pytest.approx(2.2e-4, abs=2e-5)  # the spec's 0.2 mm step
     assert terrain_height_m([1.0, 2.0], 0.0, None).tolist() == [0.0, 0.0]

@@ -28,12 +28,19 @@ REFERENCE = {
 def _run(case):
     from mat_hopper.metrics import hop_table
     from mat_hopper.sim import simulate
+
     design, beh = case
     r = simulate(design, beh, duration_s=60.0)
     hops = hop_table(r)
-    return {"stable": r.stable, "mean_height": float(hops.hop_height_m.mean()), "n": len(hops),
-            "x_end": float(r.base_pos[-1, 0]), "x_des_end": float(r.desired_pos[-1, 0]),
-            "tracking": float(hops.tracking_error_m.mean()), "power": float(hops.power_w.mean())}
+    return {
+        "stable": r.stable,
+        "mean_height": float(hops.hop_height_m.mean()),
+        "n": len(hops),
+        "x_end": float(r.base_pos[-1, 0]),
+        "x_des_end": float(r.desired_pos[-1, 0]),
+        "tracking": float(hops.tracking_error_m.mean()),
+        "power": float(hops.power_w.mean()),
+    }
 
 
 @pytest.fixture(scope="module")
@@ -80,7 +87,14 @@ def test_axial_legs_hop_with_auto_substeps(n, duration_s):
     from mat_hopper.materials import LegDesign
     from mat_hopper.metrics import hop_table
     from mat_hopper.sim import simulate
-    r = simulate(LegDesign.mono("SS", n), "forward", duration_s=duration_s, transient_s=duration_s / 3,
-                 timestep_s="auto", convention="axial")
+
+    r = simulate(
+        LegDesign.mono("SS", n),
+        "forward",
+        duration_s=duration_s,
+        transient_s=duration_s / 3,
+        timestep_s="auto",
+        convention="axial",
+    )
     assert r.stable and r.upright and r.settings.substeps > 1
     assert hop_table(r)["hop_height_m"].mean() == pytest.approx(1.0, abs=0.06)

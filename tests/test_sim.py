@@ -55,7 +55,7 @@ def test_hip_torque_is_joint_space(ss_forward):
     r = ss_forward
     np.testing.assert_allclose(r.hip_torque, 600.0 * r.ctrl[:, :2], rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(r.thrust_force, r.ctrl[:, 2], rtol=1e-12, atol=1e-9)
-    assert np.abs(r.hip_torque).max() > 10.0          # N m: not the control's scale
+    assert np.abs(r.hip_torque).max() > 10.0  # N m: not the control's scale
     np.testing.assert_array_equal(r.hip_power, r.hip_torque * r.hip_rate)
 
 
@@ -68,9 +68,11 @@ def _reference_loop(design, behaviour, n_steps, latency):
     touch of s_{i-L}, hips from qpos/qvel, control, mj_step. With L = 1 that
     is the authors' read-control-mj_step loop. Returns qpos after each step."""
     import mujoco
+
     from mat_hopper.behaviours import behaviour as get_behaviour
     from mat_hopper.control import ControllerSettings, controller_step, initial_state
     from mat_hopper.sim import SimSettings, prepare
+
     hm, d = prepare(design, behaviour, SimSettings(duration_s=1.0, transient_s=0.0))
     m, lay = hm.model, hm.layout
     beh = get_behaviour(behaviour)
@@ -85,12 +87,21 @@ def _reference_loop(design, behaviour, n_steps, latency):
             sens = touch_src = d.sensordata.copy()
         else:
             sens = touch_src = past[max(i - latency + 1, 0)]
-        sl = lambda a, adr, k: np.array(a[adr:adr + k])
-        controller_step.py_func(t, touch_src[lay.touch], sl(sens, lay.base_pos, 3), sl(sens, lay.base_quat, 4),
-                                sl(sens, lay.base_gyro, 3), sl(sens, lay.base_linvel, 3),
-                                np.array([d.qpos[lay.hip_y_qpos], d.qpos[lay.hip_x_qpos]]),
-                                np.array([d.qvel[lay.hip_y_dof], d.qvel[lay.hip_x_dof]]),
-                                np.array(beh.desired(t), float), gains, state, out)
+        sl = lambda a, adr, k: np.array(a[adr : adr + k])
+        controller_step.py_func(
+            t,
+            touch_src[lay.touch],
+            sl(sens, lay.base_pos, 3),
+            sl(sens, lay.base_quat, 4),
+            sl(sens, lay.base_gyro, 3),
+            sl(sens, lay.base_linvel, 3),
+            np.array([d.qpos[lay.hip_y_qpos], d.qpos[lay.hip_x_qpos]]),
+            np.array([d.qvel[lay.hip_y_dof], d.qvel[lay.hip_x_dof]]),
+            np.array(beh.desired(t), float),
+            gains,
+            state,
+            out,
+        )
         d.ctrl[lay.act_hip_y], d.ctrl[lay.act_hip_x], d.ctrl[lay.act_thrust] = out[0], out[1], out[2]
         if latency == 0:
             mujoco.mj_step2(m, d)
@@ -105,27 +116,26 @@ def _reference_loop(design, behaviour, n_steps, latency):
 def test_sensor_timing_matches_an_independent_loop(timing, latency):
     """The compiled loop's ring of past readings against literal loops on
     the bindings: the authors' read-control-mj_step (base and touch one step
-    old), the fresh mj_step1-read-control-mj_step2, and longer latencies."""
-    n = 5000                                   # 0.5 s: falling, first touchdown, stance
+    old), the fresh mj_step1-read-control-mj_step2, and longer latencies.
+    Five steps of latency exceed the delayed stance damping's bound at
+    1e-4 s (c(5) I / (Kd gear) = 5.9e-5 s, mat_hopper.modes): that run
+    diverges in its first stance, and the two loops agree up to there."""
+    n = 5000  # 0.5 s: falling, first touchdown, stance
     ref_qpos = _reference_loop("SS", "forward", n, latency)
-    r = simulate("SS", "forward", duration_s=n * 1e-4, transient_s=0.0, sensor_timing=timing,
-                 record_rate_hz=1e4, record_qpos=True)
+    r = simulate(
+        "SS",
+        "forward",
+        duration_s=n * 1e-4,
+        transient_s=0.0,
+        sensor_timing=timing,
+        record_rate_hz=1e4,
+        record_qpos=True,
+    )
     assert r.settings.sensor_latency_steps == latency
-    assert len(r.qpos) == n and r.phase.max() == 1.0          # it reached stance
-    np.testing.assert_allclose(r.qpos, ref_qpos, rtol=0, atol=1e-9)
-
-
-@pytest.mark.parametrize("timing, latency", [("authors", 1), ("fresh", 0)])
-def test_sensor_timing_matches_an_independent_loop(timing, latency):
-    """The compiled loop's ring of past readings against the literal loops:
-    the authors' read-control-mj_step (base and touch one step old) and the
-    fresh mj_step1-read-control-mj_step2."""
-    n = 6000                                   # 0.6 s: the first touchdown and stance
-    ref_qpos = _reference_loop("SS", "forward", n, latency)
-    r = simulate("SS", "forward", duration_s=n * 1e-4, transient_s=0.0, sensor_timing=timing,
-                 record_rate_hz=1e4, record_qpos=True)
-    assert r.settings.sensor_timing == timing
-    np.testing.assert_allclose(r.qpos, ref_qpos[:len(r.qpos)], rtol=0, atol=1e-9)
+    assert r.phase.max() == 1.0  # it reached stance
+    assert r.stable == (latency < 5)
+    k = len(r.qpos) - (0 if r.stable else 1)  # the diverged step itself is not compared
+    np.testing.assert_allclose(r.qpos[:k], ref_qpos[:k], rtol=0, atol=1e-9)
 
 
 def test_sensor_timings_differ_and_are_recorded():
@@ -133,10 +143,12 @@ def test_sensor_timings_differ_and_are_recorded():
     b = simulate("SS", "forward", duration_s=1.0, transient_s=0.0, sensor_timing="fresh")
     c = simulate("SS", "forward", duration_s=1.0, transient_s=0.0, sensor_timing=1)
     assert a.settings.sensor_timing == "authors" and b.settings.sensor_timing == "fresh"
-    assert np.array_equal(a.data, c.data)                 # latency 1 is the authors' timing
+    assert np.array_equal(a.data, c.data)  # latency 1 is the authors' timing
     assert not np.array_equal(a.data, b.data)
-    assert simulate("SS", "forward", duration_s=0.2, transient_s=0.0,
-                    sensor_timing=5).settings.sensor_timing == "latency-5"
+    assert (
+        simulate("SS", "forward", duration_s=0.2, transient_s=0.0, sensor_timing=5).settings.sensor_timing
+        == "latency-5"
+    )
 
 
 @pytest.mark.parametrize("bad", [-1, 1.5, True, "late", "latency-x", 10**6])
@@ -163,10 +175,12 @@ def test_chunked_runner_equals_one_shot():
 def test_compiled_and_plain_python_loops_give_the_same_trajectory():
     """The same loop with NUMBA_DISABLE_JIT=1 (every function as plain
     Python, MuJoCo through ctypes) reproduces the compiled trajectory."""
-    code = ("import numpy as np, sys; from mat_hopper.sim import simulate; "
-            "r = simulate('SS', 'forward', duration_s=0.6, transient_s=0.0); "
-            "np.save(sys.argv[-1] if False else '/dev/stdout', r.data) if False else "
-            "print(__import__('json').dumps(r.data.tolist()))")
+    code = (
+        "import numpy as np, sys; from mat_hopper.sim import simulate; "
+        "r = simulate('SS', 'forward', duration_s=0.6, transient_s=0.0); "
+        "np.save(sys.argv[-1] if False else '/dev/stdout', r.data) if False else "
+        "print(__import__('json').dumps(r.data.tolist()))"
+    )
     plain = run_python(code, {"NUMBA_DISABLE_JIT": "1"})
     assert plain.returncode == 0, plain.stderr[-2000:]
     plain_data = np.array(json.loads(plain.stdout))
@@ -191,17 +205,24 @@ def test_perturbed_replicates_are_seeded():
     plain = simulate("MD", "static", duration_s=3.0, transient_s=0.0)
     assert np.array_equal(a.data, b.data)
     assert not np.array_equal(a.data, c.data)
-    assert np.abs(plain.base_pos[:, :2]).max() < 1e-12    # symmetric: round-off lateral motion only
+    assert np.abs(plain.base_pos[:, :2]).max() < 1e-12  # symmetric: round-off lateral motion only
     assert np.abs(a.base_pos[:, :2]).max() > 1e-4
 
 
-@pytest.mark.parametrize("kwargs, field", [
-    (dict(timestep_s=0), "timestep"), (dict(timestep_s=-1e-4), "timestep"),
-    (dict(duration_s=10.0, transient_s=20.0), "duration"), (dict(convention="beam"), "convention"),
-    (dict(transient_s=-1.0), "transient"), (dict(record_rate_hz=0), "record_rate_hz"),
-    (dict(duration_s=1e9), "physics steps"), (dict(timestep_s=1e-300), "physics steps"),
-    (dict(duration_s=3000.0, record_rate_hz=1e4), "recorded samples"),
-])
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        (dict(timestep_s=0), "timestep"),
+        (dict(timestep_s=-1e-4), "timestep"),
+        (dict(duration_s=10.0, transient_s=20.0), "duration"),
+        (dict(convention="beam"), "convention"),
+        (dict(transient_s=-1.0), "transient"),
+        (dict(record_rate_hz=0), "record_rate_hz"),
+        (dict(duration_s=1e9), "physics steps"),
+        (dict(timestep_s=1e-300), "physics steps"),
+        (dict(duration_s=3000.0, record_rate_hz=1e4), "recorded samples"),
+    ],
+)
 def test_bad_settings(kwargs, field):
     args = dict(duration_s=30.0)
     args.update(kwargs)
@@ -220,13 +241,13 @@ def test_importing_sim_installs_no_mujoco_warning_handler():
     """Importing the package leaves MuJoCo's global warning handler alone;
     route_mujoco_warnings() installs one (the CLI, the runner's workers and
     book.setup() call it)."""
-    code = ("import mujoco, mat_hopper, mat_hopper.sim as s\n"
-            "assert mujoco.get_mju_user_warning() is None\n"
-            "s.route_mujoco_warnings()\n"
-            "assert mujoco.get_mju_user_warning() is not None\n")
+    code = (
+        "import mujoco, mat_hopper, mat_hopper.sim as s\n"
+        "assert mujoco.get_mju_user_warning() is None\n"
+        "s.route_mujoco_warnings()\n"
+        "assert mujoco.get_mju_user_warning() is not None\n"
+    )
     subprocess.run([sys.executable, "-c", code], check=True, timeout=120)
-
-
 
 
 def test_one_substep_is_the_plain_loop_and_substeps_hold_the_control():

@@ -10,8 +10,18 @@ import pytest
 from mat_hopper import reference as ref
 from mat_hopper.materials import LegDesign, parse_design, spring_stiffness
 from mat_hopper.model import build_model
-from mat_hopper.stability import (delayed_damping_factor, StabilitySpec, agreement, controller_timestep, estimate_timestep, largest_stable_timestep, leg_chain,
-                                  scan_consistent, spring_chain_wmax, try_timestep)
+from mat_hopper.stability import (
+    StabilitySpec,
+    agreement,
+    controller_timestep,
+    delayed_damping_factor,
+    estimate_timestep,
+    largest_stable_timestep,
+    leg_chain,
+    scan_consistent,
+    spring_chain_wmax,
+    try_timestep,
+)
 
 
 def test_spring_chain_matches_closed_forms():
@@ -32,7 +42,7 @@ def test_leg_chain_lumps_the_model_bodies():
     assert sum(masses) == pytest.approx(build_model(ss).total_mass_kg, rel=1e-9)
     assert springs[:3] == [pytest.approx(spring_stiffness(193.0))] * 3
     assert springs[-1] == ref.FOOT_SPRING_STIFFNESS and masses[-1] == pytest.approx(ref.FOOT_MASS)
-    md_masses, md_springs = leg_chain(parse_design("MD"))   # rigid: one body down to the foot spring
+    md_masses, md_springs = leg_chain(parse_design("MD"))  # rigid: one body down to the foot spring
     assert md_springs == [ref.FOOT_SPRING_STIFFNESS] and len(md_masses) == 2
     # heavier legs allow larger steps, stiffer legs need smaller ones
     light = estimate_timestep(LegDesign.from_properties([1.4] * 3, [100.0] * 3))[1]
@@ -48,22 +58,22 @@ def test_bisection_brackets_the_analytic_limit_of_a_stiff_one_segment_leg():
     w, est = estimate_timestep(leg)
     m, k = leg_chain(leg)
     assert len(m) == 3 and k[0] == pytest.approx(spring_stiffness(300.0))
-    assert w == pytest.approx(math.sqrt(k[0] * (1 / m[0] + 1 / m[1])), rel=0.01)   # the stiff pair dominates
+    assert w == pytest.approx(math.sqrt(k[0] * (1 / m[0] + 1 / m[1])), rel=0.01)  # the stiff pair dominates
     tries = []
     lo, hi = largest_stable_timestep(leg, tolerance=1.5, duration_s=1.0, tries=tries)
     assert lo < hi <= lo * 1.5
     assert est / 2.5 < lo and hi < est * 2.5
     start = min(est, controller_timestep(leg))
     assert [t["method"] for t in tries][0] == "bracket" and tries[0]["dt_s"] == pytest.approx(start)
-    assert all(t["upright"] == (t["dt_s"] <= lo) for t in tries)       # monotone here
+    assert all(t["upright"] == (t["dt_s"] <= lo) for t in tries)  # monotone here
     assert not try_timestep(leg, hi * 1.5, duration_s=1.0)["upright"]
 
 
 def test_bisection_edges_and_bad_input():
-    md = parse_design("MD")      # no material springs: 1e-2 s is already stable over 0.5 s (falling)
+    md = parse_design("MD")  # no material springs: 1e-2 s is already stable over 0.5 s (falling)
     lo, hi = largest_stable_timestep(md, duration_s=0.5, bracket="ladder")
     assert lo == 1e-2 and math.isnan(hi)
-    lo, hi = largest_stable_timestep(md, duration_s=0.5, dt_max=1e-3)     # analytic: stops at dt_max
+    lo, hi = largest_stable_timestep(md, duration_s=0.5, dt_max=1e-3)  # analytic: stops at dt_max
     assert lo == 1e-3 or lo < hi <= 1e-3
     with pytest.raises(ValueError, match="dt_min"):
         largest_stable_timestep(md, dt_min=1e-2, dt_max=1e-3)
@@ -76,9 +86,9 @@ def test_bisection_edges_and_bad_input():
 def test_scan_consistency_rule():
     ladder = np.geomspace(1e-3, 1e-5, 20)
     assert scan_consistent(2e-4, 2.4e-4, float(ladder[ladder <= 2e-4][0]))
-    assert not scan_consistent(2e-4, 2.4e-4, 3e-4)            # a stable step above the unstable one
-    assert not scan_consistent(2e-4, 2.4e-4, float(ladder[ladder <= 2e-4][2]))   # passed over stable steps
-    assert scan_consistent(5e-3, math.nan, 1e-3)              # above the ladder: its first step
+    assert not scan_consistent(2e-4, 2.4e-4, 3e-4)  # a stable step above the unstable one
+    assert not scan_consistent(2e-4, 2.4e-4, float(ladder[ladder <= 2e-4][2]))  # passed over stable steps
+    assert scan_consistent(5e-3, math.nan, 1e-3)  # above the ladder: its first step
     assert scan_consistent(5e-6, 6e-6, math.nan) and not scan_consistent(5e-5, 6e-5, math.nan)
     assert scan_consistent(math.nan, 1e-6, math.nan)
 
@@ -91,11 +101,15 @@ def test_stability_task_summary_and_agreement():
     assert s["ratio_measured_to_analytic"] == pytest.approx(s["max_stable_timestep_s"] / s["analytic_timestep_s"])
     assert task.key() != StabilitySpec(task.design, duration_s=0.5, tolerance=1.25, scan=False).key()
     assert s["combined_timestep_s"] == min(s["analytic_timestep_s"], s["controller_timestep_s"])
-    table = pd.DataFrame({"max_stable_timestep_s": [1e-4, 2e-4, 4e-4, np.nan],
-                          "unstable_timestep_s": [1.2e-4, 2.4e-4, 5e-4, 1e-6],
-                          "analytic_timestep_s": [1.1e-4, 2.2e-4, 4.4e-4, 1e-4],
-                          "combined_timestep_s": [1.1e-4, 2.2e-4, 3e-4, 1e-4],
-                          "scan_consistent": [True, True, False, True]})
+    table = pd.DataFrame(
+        {
+            "max_stable_timestep_s": [1e-4, 2e-4, 4e-4, np.nan],
+            "unstable_timestep_s": [1.2e-4, 2.4e-4, 5e-4, 1e-6],
+            "analytic_timestep_s": [1.1e-4, 2.2e-4, 4.4e-4, 1e-4],
+            "combined_timestep_s": [1.1e-4, 2.2e-4, 3e-4, 1e-4],
+            "scan_consistent": [True, True, False, True],
+        }
+    )
     ag = agreement(table)
     a = {(e, q): v for e, q, v in ag[["estimate", "quantity", "value"]].itertuples(index=False)}
     assert a["spring", "n_designs"] == 4 and a["spring", "n_measured"] == 3
@@ -111,7 +125,7 @@ def test_delayed_damping_factor_by_hand(latency, factor):
     """Roots of z^(L+1) - z^L + q = 0 on the unit circle (Levin & May 1976):
     L = 0 -> q < 2, L = 1 -> q < 1, L = 2 -> q < 2 cos(2 pi / 5) = 0.618."""
     assert delayed_damping_factor(latency) == pytest.approx(factor)
-    q = factor * 0.999          # just inside: every root of the characteristic polynomial inside the unit circle
+    q = factor * 0.999  # just inside: every root of the characteristic polynomial inside the unit circle
     assert np.abs(np.roots([1, -1] + [0] * (latency - 1) + [q] if latency else [1, -1 + q])).max() < 1
     q = factor * 1.001
     assert np.abs(np.roots([1, -1] + [0] * (latency - 1) + [q] if latency else [1, -1 + q])).max() > 1
@@ -124,10 +138,10 @@ def test_controller_limit_is_the_base_inertia_over_the_stance_rate_gain():
     limit = controller_timestep(ss)
     assert limit == pytest.approx(controller_timestep(soft))
     m = build_model(ss).model
-    inertia = min(m.body_inertia[m.body("base").id])       # MuJoCo's own: the base's COM is at the hip
+    inertia = min(m.body_inertia[m.body("base").id])  # MuJoCo's own: the base's COM is at the hip
     assert limit == pytest.approx(inertia / (ref.STANCE_KD * ref.HIP_GEAR))
     assert controller_timestep(ss, sensor_timing="fresh") == pytest.approx(2 * limit)
-    assert estimate_timestep(soft)[1] > 1.5 * limit          # the spring limit lies above: this one binds
+    assert estimate_timestep(soft)[1] > 1.5 * limit  # the spring limit lies above: this one binds
     assert try_timestep(soft, 0.8 * limit, duration_s=1.0)["upright"]
     assert not try_timestep(soft, 1.5 * limit, duration_s=1.0)["upright"]
 
@@ -138,7 +152,7 @@ def test_analytic_bracket_agrees_with_the_ladder_in_fewer_tries():
         a = largest_stable_timestep(design, bracket="analytic", tries=a_tries)
         b = largest_stable_timestep(design, bracket="ladder", tries=l_tries)
         assert a[0] < a[1] and b[0] < b[1]
-        assert a[0] < b[1] and b[0] < a[1]          # the two brackets overlap
+        assert a[0] < b[1] and b[0] < a[1]  # the two brackets overlap
         assert len(a_tries) < len(l_tries)
     with pytest.raises(ValueError, match="bracket"):
         largest_stable_timestep(parse_design("SS"), bracket="guess")

@@ -20,14 +20,14 @@ from .stats import seconds
 HOLDS, PARTLY, FAILS, NOT_RUN, NOT_TESTABLE = "holds", "partly", "does not hold", "not run", "not testable"
 VERDICTS = (HOLDS, PARTLY, FAILS, NOT_RUN, NOT_TESTABLE)
 
-ALPHA = 0.05                 # significance level, Holm-adjusted p
-MATCH_REL_TOL = 0.25         # a percent change matches within 25 % of the paper's ...
-MATCH_ABS_TOL_PCT = 10.0     # ... or within 10 percentage points
-PARTLY_MIN_FRACTION = 0.25   # same sign and at least a quarter of the paper's size
-HOP_HEIGHT_TOL_M = 0.05      # m around the 1 m target
-TIMESTEP_TOL_DECADES = 0.3   # |log10(ours / paper)|: within a factor 2
+ALPHA = 0.05  # significance level, Holm-adjusted p
+MATCH_REL_TOL = 0.25  # a percent change matches within 25 % of the paper's ...
+MATCH_ABS_TOL_PCT = 10.0  # ... or within 10 percentage points
+PARTLY_MIN_FRACTION = 0.25  # same sign and at least a quarter of the paper's size
+HOP_HEIGHT_TOL_M = 0.05  # m around the 1 m target
+TIMESTEP_TOL_DECADES = 0.3  # |log10(ours / paper)|: within a factor 2
 TREND_MIN_R2 = 0.8
-GRID_FAR_DECADES = 0.15      # a stability grid point this far (log10) from a material is flagged
+GRID_FAR_DECADES = 0.15  # a stability grid point this far (log10) from a material is flagged
 
 MONO = ("PVC", "Al", "Ti", "SS")
 COLUMNS = ("claim_id", "claim", "paper", "ours", "verdict", "convention", "basis", "detail", "rule")
@@ -94,13 +94,13 @@ class Claim:
 @dataclass
 class _Context:
     convention: str
-    hops: pd.DataFrame              # usable runs only
+    hops: pd.DataFrame  # usable runs only
     runs: pd.DataFrame | None
     stability: pd.DataFrame | None
     basis: str
     alpha: float
     timestep_s: float | None
-    bad: pd.DataFrame = field(default_factory=pd.DataFrame)   # unusable runs: design, behaviour, experiment, why
+    bad: pd.DataFrame = field(default_factory=pd.DataFrame)  # unusable runs: design, behaviour, experiment, why
     _cache: dict = field(default_factory=dict)
 
     def experiment(self, exps) -> pd.DataFrame:
@@ -184,16 +184,20 @@ def _missing_or_untestable(ctx, designs, behaviours, exps) -> Outcome:
     probs = ctx.problems(designs, behaviours, exps)
     missing = ctx.missing(designs, behaviours, exps)
     if probs:
-        return Outcome("; ".join(probs), NOT_TESTABLE, "no usable comparison"
-                       + (f"; not run: {', '.join(missing)}" if missing else ""))
+        return Outcome(
+            "; ".join(probs),
+            NOT_TESTABLE,
+            "no usable comparison" + (f"; not run: {', '.join(missing)}" if missing else ""),
+        )
     return Outcome("not run", NOT_RUN, f"no results of {', '.join(designs)} on {', '.join(behaviours)}")
 
 
 def _claim_hop_height(ctx: _Context) -> Outcome:
     t = ctx.hops
     if len(t) == 0:
-        return _missing_or_untestable(ctx, list(ctx.bad["design"].unique()) if len(ctx.bad) else ["any design"],
-                                      list(BEHAVIOUR_NAMES), None)
+        return _missing_or_untestable(
+            ctx, list(ctx.bad["design"].unique()) if len(ctx.bad) else ["any design"], list(BEHAVIOUR_NAMES), None
+        )
     basis = ctx.basis_for(t)
     s = ctx.sample(t, basis)
     keys = [c for c in ("design", "behaviour") if c in s.columns]
@@ -206,16 +210,21 @@ def _claim_hop_height(ctx: _Context) -> Outcome:
     k, n = int((means["err"] <= HOP_HEIGHT_TOL_M).sum()), len(means)
     verdict = HOLDS if k == n else PARTLY if k >= n / 2 else FAILS
     worst = means.sort_values("err", ascending=False).head(3)
-    detail = "furthest from 1 m: " + ", ".join(f"{r['design']} {r['behaviour']} {r['hop_height_m']:.3f} m"
-                                               for r in worst.to_dict("records"))
+    detail = "furthest from 1 m: " + ", ".join(
+        f"{r['design']} {r['behaviour']} {r['hop_height_m']:.3f} m" for r in worst.to_dict("records")
+    )
     lo, hi = means["hop_height_m"].min(), means["hop_height_m"].max()
     n_bad = len(ctx.bad)
     probs = ctx.problems(list(ctx.bad["design"].unique()) if len(ctx.bad) else [], list(BEHAVIOUR_NAMES))
     if probs:
         verdict = _cap(verdict)
         detail += "; unusable: " + "; ".join(probs)
-    return Outcome(f"{k}/{n} design-behaviour means within ±{HOP_HEIGHT_TOL_M:g} m; "
-                   f"{lo:.3f}-{hi:.3f} m" + (f"; {n_bad} runs unusable" if n_bad else ""), verdict, detail)
+    return Outcome(
+        f"{k}/{n} design-behaviour means within ±{HOP_HEIGHT_TOL_M:g} m; "
+        f"{lo:.3f}-{hi:.3f} m" + (f"; {n_bad} runs unusable" if n_bad else ""),
+        verdict,
+        detail,
+    )
 
 
 def _comparison_rows(ctx, exps, designs, behaviours, metric, baseline="MD"):
@@ -236,14 +245,24 @@ def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1
         verdict = fraction_verdict(k, n_needed)
         word = "lower" if direction < 0 else "higher"
         misses = rows[~good.to_numpy()]
-        detail = ("not: " + ", ".join(f"{r.behaviour} {r.design} {_pct(r.pct_change)} (p_holm={r.p_holm:.2g})"
-                                      for r in misses.itertuples())) if len(misses) else "all"
+        detail = (
+            (
+                "not: "
+                + ", ".join(
+                    f"{r.behaviour} {r.design} {_pct(r.pct_change)} (p_holm={r.p_holm:.2g})"
+                    for r in misses.itertuples()
+                )
+            )
+            if len(misses)
+            else "all"
+        )
         probs = ctx.problems(["MD", *designs], behaviours, exps)
         if probs or len(rows) < n_needed:
             verdict = _cap(verdict) if len(rows) else verdict
             if probs:
                 detail += "; unusable: " + "; ".join(probs)
         return Outcome(f"{k}/{n_needed} significantly {word} (Holm p < {ctx.alpha:g})", verdict, detail)
+
     return evaluate
 
 
@@ -306,6 +325,7 @@ def _claim_pct(design, metric, paper_pct, baseline="MD", behaviour="ramp", exps=
         if np.isfinite(r.get("ci_low", np.nan)):
             ours += f" (95 % CI {r['ci_low']:+.0f} to {r['ci_high']:+.0f} %)"
         return Outcome(ours, verdict, _ci_detail(rows))
+
     return evaluate
 
 
@@ -323,8 +343,9 @@ def _sweep_points(ctx: _Context):
 def _claim_density_over_modulus(ctx: _Context) -> Outcome:
     pts, basis = _sweep_points(ctx)
     if pts is None:
-        return _missing_or_untestable(ctx, list(ctx.bad["design"].unique()) if len(ctx.bad) else ["sweeps"],
-                                      ["forward"], ("exp2",))
+        return _missing_or_untestable(
+            ctx, list(ctx.bad["design"].unique()) if len(ctx.bad) else ["sweeps"], ["forward"], ("exp2",)
+        )
     spans = []
     order = {b: i for i, b in enumerate(ref.SWEEPS)}
     pts = pts.sort_values("sweep_base", key=lambda c: c.map(lambda b: order.get(b, len(order))), kind="stable")
@@ -338,7 +359,8 @@ def _claim_density_over_modulus(ctx: _Context) -> Outcome:
     k = sum(sd > sm for _, sd, sm in spans)
     verdict = fraction_verdict(k, len(spans))
     detail = "span of mean tracking error, density vs modulus sweep: " + ", ".join(
-        f"{b} {sd * 1e3:.1f} vs {sm * 1e3:.1f} mm" for b, sd, sm in spans)
+        f"{b} {sd * 1e3:.1f} vs {sm * 1e3:.1f} mm" for b, sd, sm in spans
+    )
     probs = ctx.problems(list(ctx.bad["design"].unique()) if len(ctx.bad) else [], ["forward"], ("exp2",))
     if probs or len(spans) < len(ref.SWEEPS):
         verdict = _cap(verdict)
@@ -350,8 +372,9 @@ def _claim_density_over_modulus(ctx: _Context) -> Outcome:
 def _claim_low_modulus(ctx: _Context) -> Outcome:
     pts, basis = _sweep_points(ctx)
     if pts is None:
-        return _missing_or_untestable(ctx, list(ctx.bad["design"].unique()) if len(ctx.bad) else ["sweeps"],
-                                      ["forward"], ("exp2",))
+        return _missing_or_untestable(
+            ctx, list(ctx.bad["design"].unique()) if len(ctx.bad) else ["sweeps"], ["forward"], ("exp2",)
+        )
     pts = pts.drop_duplicates(["density_g_cm3", "modulus_gpa"])
     low = pts.loc[pts["modulus_gpa"] <= ref.CLAIM_LOW_MODULUS_GPA, "tracking_error_m"].dropna()
     high = pts.loc[pts["modulus_gpa"] >= ref.CLAIM_HIGH_MODULUS_GPA, "tracking_error_m"].dropna()
@@ -363,10 +386,14 @@ def _claim_low_modulus(ctx: _Context) -> Outcome:
         verdict = PARTLY
     else:
         verdict = FAILS
-    ours = (f"median {low.median() * 1e3:.1f} mm (E <= {ref.CLAIM_LOW_MODULUS_GPA:g} GPa, n={len(low)}) vs "
-            f"{high.median() * 1e3:.1f} mm (E >= {ref.CLAIM_HIGH_MODULUS_GPA:g} GPa, n={len(high)})")
-    detail = (f"low-modulus range {low.min() * 1e3:.1f}-{low.max() * 1e3:.1f} mm, high-modulus range "
-              f"{high.min() * 1e3:.1f}-{high.max() * 1e3:.1f} mm (sweep points of experiment 2)")
+    ours = (
+        f"median {low.median() * 1e3:.1f} mm (E <= {ref.CLAIM_LOW_MODULUS_GPA:g} GPa, n={len(low)}) vs "
+        f"{high.median() * 1e3:.1f} mm (E >= {ref.CLAIM_HIGH_MODULUS_GPA:g} GPa, n={len(high)})"
+    )
+    detail = (
+        f"low-modulus range {low.min() * 1e3:.1f}-{low.max() * 1e3:.1f} mm, high-modulus range "
+        f"{high.min() * 1e3:.1f}-{high.max() * 1e3:.1f} mm (sweep points of experiment 2)"
+    )
     probs = ctx.problems(list(ctx.bad["design"].unique()) if len(ctx.bad) else [], ["forward"], ("exp2",))
     if probs:
         verdict = _cap(verdict)
@@ -403,8 +430,9 @@ def _claim_timestep_materials(ctx: _Context) -> Outcome:
         where = f"{s['density_g_cm3'].iloc[i]:g} g/cm³, {s['modulus_gpa'].iloc[i]:g} GPa"
         notes.append(f"{name} at {where}" + (" (far from the material)" if dist[i] > GRID_FAR_DECADES else ""))
         close.append(np.isfinite(dt) and abs(math.log10(dt / paper_dt)) <= TIMESTEP_TOL_DECADES)
-    ordered = all(np.isfinite(v) for v in found.values()) and \
-        found["PVC"] > max(v for k, v in found.items() if k != "PVC")
+    ordered = all(np.isfinite(v) for v in found.values()) and found["PVC"] > max(
+        v for k, v in found.items() if k != "PVC"
+    )
     verdict = HOLDS if all(close) else PARTLY if (any(close) or ordered) else FAILS
     ours = ", ".join(f"{k} {seconds(v)} s" if np.isfinite(v) else f"{k} none stable" for k, v in found.items())
     return Outcome(ours, verdict, f"measured column {col}; nearest grid points: " + "; ".join(notes))
@@ -415,8 +443,9 @@ def _claim_timestep_trend(ctx: _Context) -> Outcome:
     if s is None:
         return Outcome("not run", NOT_RUN, "no stable-time-step map for this convention")
     ok = s[np.isfinite(s[col].astype(float)) & (s[col].astype(float) > 0)]
-    x = np.column_stack([np.ones(len(ok)), np.log10(ok["density_g_cm3"].astype(float)),
-                         np.log10(ok["modulus_gpa"].astype(float))])
+    x = np.column_stack(
+        [np.ones(len(ok)), np.log10(ok["density_g_cm3"].astype(float)), np.log10(ok["modulus_gpa"].astype(float))]
+    )
     y = np.log10(ok[col].astype(float).to_numpy())
     if len(ok) < 4 or np.ptp(x[:, 1]) == 0 or np.ptp(x[:, 2]) == 0:
         return Outcome(f"{len(ok)} stable grid points: too few for a fit", NOT_TESTABLE)

@@ -93,62 +93,122 @@ from ._claim_checks import (  # noqa: F401 (public names of this module)
 )
 from .stats import seconds
 
-_PCT_RULE = (f"same sign and within max({MATCH_REL_TOL:.0%} of the paper's, {MATCH_ABS_TOL_PCT:g} points): holds; "
-             f"same sign and >= {PARTLY_MIN_FRACTION:.0%} of its size: partly")
+_PCT_RULE = (
+    f"same sign and within max({MATCH_REL_TOL:.0%} of the paper's, {MATCH_ABS_TOL_PCT:g} points): holds; "
+    f"same sign and >= {PARTLY_MIN_FRACTION:.0%} of its size: partly"
+)
 _COUNT_RULE = f"all comparisons the claimed way with Holm p < {ALPHA:g}: holds; at least half: partly"
 
 CLAIMS: tuple[Claim, ...] = (
-    Claim("hop_height", "Every design holds a mean hop height of 1 m",
-          f"{ref.CLAIM_HOP_HEIGHT_M:g} m, every design and behaviour",
-          f"every design-behaviour mean within {HOP_HEIGHT_TOL_M:g} m of 1 m: holds; at least half: partly",
-          _claim_hop_height),
-    Claim("tracking_all_beat_md", "Tracking error: every physical material beats MD significantly",
-          "PVC, Al, Ti, SS lower than MD, p < 0.05, all four behaviours", _COUNT_RULE,
-          _claim_count_significant("tracking_error_m", list(MONO), list(BEHAVIOUR_NAMES), -1)),
-    Claim("tracking_ss_55", "Tracking error: SS lower than MD by at least 55 % on every behaviour",
-          f"<= {ref.CLAIM_SS_TRACKING_PCT:+.0f} % on every behaviour",
-          f"every behaviour <= {ref.CLAIM_SS_TRACKING_PCT:+.0f} %: holds; every behaviour lower, or half of them "
-          f"<= {ref.CLAIM_SS_TRACKING_PCT:+.0f} %: partly", _claim_ss_tracking),
-    Claim("power_higher_dynamic", "Power: higher for materials than MD on the dynamic behaviours (2-4)",
-          "PVC, Al, Ti, SS higher than MD on forward, ramp, circle", _COUNT_RULE,
-          _claim_count_significant("power_w", list(MONO), list(ref.DYNAMIC_BEHAVIOURS), +1)),
-    Claim("power_ss_max", "Power: up to +193 % for SS against MD",
-          f"{ref.CLAIM_SS_POWER_MAX_PCT:+.0f} % (largest, SS)", _PCT_RULE + " (on our largest increase)",
-          _claim_ss_power),
-    Claim("density_over_modulus", "Density moves tracking error more than modulus",
-          "density sweeps change tracking error more than modulus sweeps",
-          "span of mean tracking error over the density sweep larger than over the modulus sweep for every "
-          "base material: holds; for at least half: partly", _claim_density_over_modulus),
-    Claim("low_modulus_tracks_worse", "Moduli <= 9 GPa track worse than moduli >= 20 GPa",
-          f"E <= {ref.CLAIM_LOW_MODULUS_GPA:g} GPa much higher tracking error than E >= {ref.CLAIM_HIGH_MODULUS_GPA:g} GPa",
-          "every low-modulus sweep point above every high-modulus one: holds; medians in that order: partly",
-          _claim_low_modulus),
-    Claim("ramp_rho_inc_tracking", "Ramp: rho-inc against MD, tracking error",
-          _pct(ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT), _PCT_RULE,
-          _claim_pct("rho-inc", "tracking_error_m", ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT)),
-    Claim("ramp_rho_inc_power", "Ramp: rho-inc against MD, power",
-          _pct(ref.CLAIM_RAMP_RHO_INC_POWER_PCT), _PCT_RULE,
-          _claim_pct("rho-inc", "power_w", ref.CLAIM_RAMP_RHO_INC_POWER_PCT)),
-    Claim("ramp_ss_tracking", "Ramp: SS against MD, tracking error",
-          _pct(ref.CLAIM_RAMP_SS_TRACKING_PCT), _PCT_RULE,
-          _claim_pct("SS", "tracking_error_m", ref.CLAIM_RAMP_SS_TRACKING_PCT)),
-    Claim("ramp_ss_power", "Ramp: SS against MD, power",
-          _pct(ref.CLAIM_RAMP_SS_POWER_PCT), _PCT_RULE,
-          _claim_pct("SS", "power_w", ref.CLAIM_RAMP_SS_POWER_PCT)),
-    Claim("headline_tracking", "Ramp: rho-inc against SS, tracking error (abstract)",
-          _pct(ref.CLAIM_HEADLINE_TRACKING_PCT), _PCT_RULE,
-          _claim_pct("rho-inc", "tracking_error_m", ref.CLAIM_HEADLINE_TRACKING_PCT, baseline="SS")),
-    Claim("headline_power", "Ramp: rho-inc against SS, power (abstract)",
-          _pct(ref.CLAIM_HEADLINE_POWER_PCT), _PCT_RULE,
-          _claim_pct("rho-inc", "power_w", ref.CLAIM_HEADLINE_POWER_PCT, baseline="SS")),
-    Claim("timestep_materials", "Stable time step: PVC about 1e-3 s, Al and SS about 1e-4 s",
-          ", ".join(f"{k} {seconds(v)} s" for k, v in ref.CLAIM_STABLE_TIMESTEP_S.items()),
-          f"every material within a factor {10 ** TIMESTEP_TOL_DECADES:.0f} of the paper's: holds; some, or PVC's the largest: "
-          "partly", _claim_timestep_materials),
-    Claim("timestep_trend", "Stable time step log-linear in density and modulus; light or stiff need smaller steps",
-          "log-linear; grows with density, shrinks with modulus",
-          f"plane fit in log-log with density slope > 0, modulus slope < 0 and R² >= {TREND_MIN_R2:g}: holds; "
-          "right signs with a poorer fit, or one right sign: partly", _claim_timestep_trend),
+    Claim(
+        "hop_height",
+        "Every design holds a mean hop height of 1 m",
+        f"{ref.CLAIM_HOP_HEIGHT_M:g} m, every design and behaviour",
+        f"every design-behaviour mean within {HOP_HEIGHT_TOL_M:g} m of 1 m: holds; at least half: partly",
+        _claim_hop_height,
+    ),
+    Claim(
+        "tracking_all_beat_md",
+        "Tracking error: every physical material beats MD significantly",
+        "PVC, Al, Ti, SS lower than MD, p < 0.05, all four behaviours",
+        _COUNT_RULE,
+        _claim_count_significant("tracking_error_m", list(MONO), list(BEHAVIOUR_NAMES), -1),
+    ),
+    Claim(
+        "tracking_ss_55",
+        "Tracking error: SS lower than MD by at least 55 % on every behaviour",
+        f"<= {ref.CLAIM_SS_TRACKING_PCT:+.0f} % on every behaviour",
+        f"every behaviour <= {ref.CLAIM_SS_TRACKING_PCT:+.0f} %: holds; every behaviour lower, or half of them "
+        f"<= {ref.CLAIM_SS_TRACKING_PCT:+.0f} %: partly",
+        _claim_ss_tracking,
+    ),
+    Claim(
+        "power_higher_dynamic",
+        "Power: higher for materials than MD on the dynamic behaviours (2-4)",
+        "PVC, Al, Ti, SS higher than MD on forward, ramp, circle",
+        _COUNT_RULE,
+        _claim_count_significant("power_w", list(MONO), list(ref.DYNAMIC_BEHAVIOURS), +1),
+    ),
+    Claim(
+        "power_ss_max",
+        "Power: up to +193 % for SS against MD",
+        f"{ref.CLAIM_SS_POWER_MAX_PCT:+.0f} % (largest, SS)",
+        _PCT_RULE + " (on our largest increase)",
+        _claim_ss_power,
+    ),
+    Claim(
+        "density_over_modulus",
+        "Density moves tracking error more than modulus",
+        "density sweeps change tracking error more than modulus sweeps",
+        "span of mean tracking error over the density sweep larger than over the modulus sweep for every "
+        "base material: holds; for at least half: partly",
+        _claim_density_over_modulus,
+    ),
+    Claim(
+        "low_modulus_tracks_worse",
+        "Moduli <= 9 GPa track worse than moduli >= 20 GPa",
+        f"E <= {ref.CLAIM_LOW_MODULUS_GPA:g} GPa much higher tracking error than E >= {ref.CLAIM_HIGH_MODULUS_GPA:g} GPa",
+        "every low-modulus sweep point above every high-modulus one: holds; medians in that order: partly",
+        _claim_low_modulus,
+    ),
+    Claim(
+        "ramp_rho_inc_tracking",
+        "Ramp: rho-inc against MD, tracking error",
+        _pct(ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT),
+        _PCT_RULE,
+        _claim_pct("rho-inc", "tracking_error_m", ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT),
+    ),
+    Claim(
+        "ramp_rho_inc_power",
+        "Ramp: rho-inc against MD, power",
+        _pct(ref.CLAIM_RAMP_RHO_INC_POWER_PCT),
+        _PCT_RULE,
+        _claim_pct("rho-inc", "power_w", ref.CLAIM_RAMP_RHO_INC_POWER_PCT),
+    ),
+    Claim(
+        "ramp_ss_tracking",
+        "Ramp: SS against MD, tracking error",
+        _pct(ref.CLAIM_RAMP_SS_TRACKING_PCT),
+        _PCT_RULE,
+        _claim_pct("SS", "tracking_error_m", ref.CLAIM_RAMP_SS_TRACKING_PCT),
+    ),
+    Claim(
+        "ramp_ss_power",
+        "Ramp: SS against MD, power",
+        _pct(ref.CLAIM_RAMP_SS_POWER_PCT),
+        _PCT_RULE,
+        _claim_pct("SS", "power_w", ref.CLAIM_RAMP_SS_POWER_PCT),
+    ),
+    Claim(
+        "headline_tracking",
+        "Ramp: rho-inc against SS, tracking error (abstract)",
+        _pct(ref.CLAIM_HEADLINE_TRACKING_PCT),
+        _PCT_RULE,
+        _claim_pct("rho-inc", "tracking_error_m", ref.CLAIM_HEADLINE_TRACKING_PCT, baseline="SS"),
+    ),
+    Claim(
+        "headline_power",
+        "Ramp: rho-inc against SS, power (abstract)",
+        _pct(ref.CLAIM_HEADLINE_POWER_PCT),
+        _PCT_RULE,
+        _claim_pct("rho-inc", "power_w", ref.CLAIM_HEADLINE_POWER_PCT, baseline="SS"),
+    ),
+    Claim(
+        "timestep_materials",
+        "Stable time step: PVC about 1e-3 s, Al and SS about 1e-4 s",
+        ", ".join(f"{k} {seconds(v)} s" for k, v in ref.CLAIM_STABLE_TIMESTEP_S.items()),
+        f"every material within a factor {10**TIMESTEP_TOL_DECADES:.0f} of the paper's: holds; some, or PVC's the largest: "
+        "partly",
+        _claim_timestep_materials,
+    ),
+    Claim(
+        "timestep_trend",
+        "Stable time step log-linear in density and modulus; light or stiff need smaller steps",
+        "log-linear; grows with density, shrinks with modulus",
+        f"plane fit in log-log with density slope > 0, modulus slope < 0 and R² >= {TREND_MIN_R2:g}: holds; "
+        "right signs with a poorer fit, or one right sign: partly",
+        _claim_timestep_trend,
+    ),
 )
 
 
@@ -163,9 +223,16 @@ def _by_convention(table: pd.DataFrame | None, convention: str) -> pd.DataFrame 
     return table[table["convention"] == convention]
 
 
-def claims_table(hops: pd.DataFrame | None, runs: pd.DataFrame | None = None,
-                 stability: pd.DataFrame | None = None, *, conventions=CONVENTIONS, basis: str = "auto",
-                 alpha: float = ALPHA, timestep_s: float | None = None) -> pd.DataFrame:
+def claims_table(
+    hops: pd.DataFrame | None,
+    runs: pd.DataFrame | None = None,
+    stability: pd.DataFrame | None = None,
+    *,
+    conventions=CONVENTIONS,
+    basis: str = "auto",
+    alpha: float = ALPHA,
+    timestep_s: float | None = None,
+) -> pd.DataFrame:
     """Every claim of the paper beside ours, per stiffness convention.
 
     hops: the per-hop table of experiments 1-3 (all conventions; columns of
@@ -204,11 +271,26 @@ def claims_table(hops: pd.DataFrame | None, runs: pd.DataFrame | None = None,
                 out = Outcome("not run", NOT_RUN, f"no {conv}-convention hopping results")
             else:
                 out = claim.evaluate(ctx)
-            used = ("" if out.verdict in (NOT_RUN, NOT_TESTABLE) else
-                    "stability map" if is_stab else _basis_used(ctx, claim))
-            rows.append({"claim_id": claim.claim_id, "claim": claim.claim, "paper": claim.paper, "ours": out.ours,
-                         "verdict": out.verdict, "convention": conv, "basis": used, "detail": out.detail,
-                         "rule": claim.rule})
+            used = (
+                ""
+                if out.verdict in (NOT_RUN, NOT_TESTABLE)
+                else "stability map"
+                if is_stab
+                else _basis_used(ctx, claim)
+            )
+            rows.append(
+                {
+                    "claim_id": claim.claim_id,
+                    "claim": claim.claim,
+                    "paper": claim.paper,
+                    "ours": out.ours,
+                    "verdict": out.verdict,
+                    "convention": conv,
+                    "basis": used,
+                    "detail": out.detail,
+                    "rule": claim.rule,
+                }
+            )
     out = pd.DataFrame(rows, columns=list(COLUMNS))
     if len(profiles) == 1:
         out.insert(len(COLUMNS) - 3, "profile", profiles.pop())
@@ -216,9 +298,9 @@ def claims_table(hops: pd.DataFrame | None, runs: pd.DataFrame | None = None,
 
 
 def _basis_used(ctx: _Context, claim: Claim) -> str:
-    exps = {"density_over_modulus": ("exp2",), "low_modulus_tracks_worse": ("exp2",),
-            "hop_height": None}.get(claim.claim_id, ("exp1", "exp3") if claim.claim_id.startswith(("ramp", "headline"))
-                                    else ("exp1",))
+    exps = {"density_over_modulus": ("exp2",), "low_modulus_tracks_worse": ("exp2",), "hop_height": None}.get(
+        claim.claim_id, ("exp1", "exp3") if claim.claim_id.startswith(("ramp", "headline")) else ("exp1",)
+    )
     t = ctx.hops if exps is None else ctx.experiment(exps)
     return {"hops": "hop cycles", "replicates": "replicate means"}[ctx.basis_for(t)]
 

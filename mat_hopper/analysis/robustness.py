@@ -31,13 +31,14 @@ import numpy as np
 import pandas as pd
 
 from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES, behaviour as get_behaviour
+from ..behaviours import BEHAVIOUR_NAMES
+from ..behaviours import behaviour as get_behaviour
 from ..materials import MONO_NAMES, parse_design
 from ..perturbations import Perturbation
 from .stats import percent_change
 
 DEFAULT_LATENCIES = (0, 1, 2, 5, 10)
-FACTOR = 2.0                       # "moves more than 2x"
+FACTOR = 2.0  # "moves more than 2x"
 KEEPS, MOVES, FLIPS, NO_VALUE = "keeps", "moves > 2x", "flips", "no value"
 CLASSES = (KEEPS, MOVES, FLIPS, NO_VALUE)
 
@@ -66,17 +67,54 @@ def _quantities() -> tuple[Quantity, ...]:
             claim = "SS tracks >= 55 % better than MD" if m == "SS" else "every material tracks better than MD"
             out.append(Quantity(f"tracking {m} vs MD, {b}", claim, "tracking_error_m", m, "MD", b, paper))
     for b in ref.DYNAMIC_BEHAVIOURS:
-        out.append(Quantity(f"power SS vs MD, {b}", "materials need more power (up to +193 % for SS)",
-                            "power_w", "SS", "MD", b, ref.CLAIM_SS_POWER_MAX_PCT if b == "ramp" else None))
+        out.append(
+            Quantity(
+                f"power SS vs MD, {b}",
+                "materials need more power (up to +193 % for SS)",
+                "power_w",
+                "SS",
+                "MD",
+                b,
+                ref.CLAIM_SS_POWER_MAX_PCT if b == "ramp" else None,
+            )
+        )
     out += [
-        Quantity("tracking rho-inc vs MD, ramp", "ramp: rho-inc -82 % tracking", "tracking_error_m", "rho-inc",
-                 "MD", "ramp", ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT),
-        Quantity("power rho-inc vs MD, ramp", "ramp: rho-inc +123 % power", "power_w", "rho-inc", "MD", "ramp",
-                 ref.CLAIM_RAMP_RHO_INC_POWER_PCT),
-        Quantity("tracking rho-inc vs SS, ramp", "headline: rho-inc -35 % tracking vs SS", "tracking_error_m",
-                 "rho-inc", "SS", "ramp", ref.CLAIM_HEADLINE_TRACKING_PCT),
-        Quantity("power rho-inc vs SS, ramp", "headline: rho-inc -23 % power vs SS", "power_w", "rho-inc", "SS",
-                 "ramp", ref.CLAIM_HEADLINE_POWER_PCT),
+        Quantity(
+            "tracking rho-inc vs MD, ramp",
+            "ramp: rho-inc -82 % tracking",
+            "tracking_error_m",
+            "rho-inc",
+            "MD",
+            "ramp",
+            ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT,
+        ),
+        Quantity(
+            "power rho-inc vs MD, ramp",
+            "ramp: rho-inc +123 % power",
+            "power_w",
+            "rho-inc",
+            "MD",
+            "ramp",
+            ref.CLAIM_RAMP_RHO_INC_POWER_PCT,
+        ),
+        Quantity(
+            "tracking rho-inc vs SS, ramp",
+            "headline: rho-inc -35 % tracking vs SS",
+            "tracking_error_m",
+            "rho-inc",
+            "SS",
+            "ramp",
+            ref.CLAIM_HEADLINE_TRACKING_PCT,
+        ),
+        Quantity(
+            "power rho-inc vs SS, ramp",
+            "headline: rho-inc -23 % power vs SS",
+            "power_w",
+            "rho-inc",
+            "SS",
+            "ramp",
+            ref.CLAIM_HEADLINE_POWER_PCT,
+        ),
     ]
     return tuple(out)
 
@@ -109,6 +147,7 @@ def variants(latencies=DEFAULT_LATENCIES, conventions=("paper", "axial"), replic
     (paper convention), one per other convention (authors' timing), one per
     replicate seed 0 .. replicates - 1 (default settings, perturbed)."""
     from ..control import sensor_timing_name
+
     out = [DEFAULT]
     for lat in latencies:
         name = sensor_timing_name(int(lat))
@@ -137,15 +176,22 @@ def tasks(profile, variant_list=None) -> list:
     """RunSpecs of every run of the study under ``profile`` (a Profile);
     their labels carry ``variant``, ``convention`` and ``sensor_timing``."""
     from ..experiments import RunSpec
+
     out = []
     for v in variant_list or variants():
         prof = profile.for_convention(v.convention).for_sensor_timing(v.sensor_timing)
         pert = None if v.replicate is None else Perturbation.replicate(v.replicate)
         settings = prof.sim_settings(pert)
         for d, b in designs_and_behaviours():
-            labels = {"study": "robustness", "profile": profile.name, "variant": v.label, "variant_kind": v.kind,
-                      "convention": v.convention, "sensor_timing": settings.sensor_timing,
-                      "replicate": -1 if v.replicate is None else v.replicate}
+            labels = {
+                "study": "robustness",
+                "profile": profile.name,
+                "variant": v.label,
+                "variant_kind": v.kind,
+                "convention": v.convention,
+                "sensor_timing": settings.sensor_timing,
+                "replicate": -1 if v.replicate is None else v.replicate,
+            }
             out.append(RunSpec(parse_design(d), get_behaviour(b), settings, labels))
     return out
 
@@ -161,8 +207,7 @@ def quantity_values(hops: pd.DataFrame, runs: pd.DataFrame | None = None) -> pd.
     if runs is not None and len(runs) and "status" in runs.columns:
         ok = runs[runs["status"] == "ok"]
         usable = set(zip(ok["variant"], ok["design"], ok["behaviour"]))
-    means = hops.groupby(["variant", "design", "behaviour"], sort=False)[
-        sorted({q.metric for q in QUANTITIES})].mean()
+    means = hops.groupby(["variant", "design", "behaviour"], sort=False)[sorted({q.metric for q in QUANTITIES})].mean()
     rows = []
     for v in hops["variant"].unique() if len(hops) else []:
         for q in QUANTITIES:
@@ -171,8 +216,15 @@ def quantity_values(hops: pd.DataFrame, runs: pd.DataFrame | None = None) -> pd.
             if usable is not None:
                 have = have and a in usable and b in usable
             value = percent_change(means.loc[a, q.metric], means.loc[b, q.metric]) if have else np.nan
-            rows.append({"variant": v, "quantity_id": q.quantity_id, "claim": q.claim, "paper_pct": q.paper_pct,
-                         "value_pct": float(value)})
+            rows.append(
+                {
+                    "variant": v,
+                    "quantity_id": q.quantity_id,
+                    "claim": q.claim,
+                    "paper_pct": q.paper_pct,
+                    "value_pct": float(value),
+                }
+            )
     return pd.DataFrame(rows, columns=["variant", "quantity_id", "claim", "paper_pct", "value_pct"])
 
 
@@ -207,10 +259,16 @@ def summary(table: pd.DataFrame, default: str = DEFAULT.label) -> pd.DataFrame:
     for qid, g in t.groupby("quantity_id", sort=False):
         counts = g["class"].value_counts()
         d = table[(table["variant"] == default) & (table["quantity_id"] == qid)]
-        rows.append({"quantity_id": qid, "paper_pct": g["paper_pct"].iloc[0],
-                     "default_pct": float(d["value_pct"].iloc[0]) if len(d) else np.nan,
-                     "min_pct": g["value_pct"].min(), "max_pct": g["value_pct"].max(),
-                     **{c: int(counts.get(c, 0)) for c in CLASSES},
-                     "flipped_by": ", ".join(g.loc[g["class"] == FLIPS, "variant"]),
-                     "moved_by": ", ".join(g.loc[g["class"] == MOVES, "variant"])})
+        rows.append(
+            {
+                "quantity_id": qid,
+                "paper_pct": g["paper_pct"].iloc[0],
+                "default_pct": float(d["value_pct"].iloc[0]) if len(d) else np.nan,
+                "min_pct": g["value_pct"].min(),
+                "max_pct": g["value_pct"].max(),
+                **{c: int(counts.get(c, 0)) for c in CLASSES},
+                "flipped_by": ", ".join(g.loc[g["class"] == FLIPS, "variant"]),
+                "moved_by": ", ".join(g.loc[g["class"] == MOVES, "variant"]),
+            }
+        )
     return pd.DataFrame(rows)

@@ -86,7 +86,7 @@ FAMILY_COLUMNS = ("experiment", "profile", "convention")
 # Columns that identify one run in a per-hop table.
 RUN_COLUMNS = FAMILY_COLUMNS + ("design", "behaviour", "replicate")
 SWEEP_COLUMNS = ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa")
-UNPERTURBED = -1          # replicate id of the unperturbed run
+UNPERTURBED = -1  # replicate id of the unperturbed run
 BASES = ("hops", "replicates")
 
 
@@ -98,8 +98,10 @@ def _check_metrics(table: pd.DataFrame, metrics) -> tuple[str, ...]:
     metrics = tuple(metrics)
     missing = [m for m in metrics if m not in table.columns]
     if missing:
-        raise ValueError(f"metrics {missing} are not columns of the table; accepted: "
-                         f"{[m for m in ALL_METRICS if m in table.columns]}")
+        raise ValueError(
+            f"metrics {missing} are not columns of the table; accepted: "
+            f"{[m for m in ALL_METRICS if m in table.columns]}"
+        )
     return metrics
 
 
@@ -136,8 +138,12 @@ def unusable_runs(runs: pd.DataFrame | None, timestep_s: float | None = None) ->
     if runs is None or len(runs) == 0:
         return pd.DataFrame(columns=cols)
     status = runs["status"].astype(str) if "status" in runs.columns else pd.Series("", index=runs.index)
-    stable = runs["stable"].fillna(False).astype(bool) if "stable" in runs.columns else pd.Series(True, index=runs.index)
-    upright = runs["upright"].fillna(False).astype(bool) if "upright" in runs.columns else pd.Series(True, index=runs.index)
+    stable = (
+        runs["stable"].fillna(False).astype(bool) if "stable" in runs.columns else pd.Series(True, index=runs.index)
+    )
+    upright = (
+        runs["upright"].fillna(False).astype(bool) if "upright" in runs.columns else pd.Series(True, index=runs.index)
+    )
     diverged = (status == "diverged") | ~stable
     failed = status == "failed"
     fallen = ~diverged & ~failed & ((status == "fallen") | ~upright)
@@ -170,8 +176,20 @@ def drop_unusable(hops: pd.DataFrame, bad: pd.DataFrame | None) -> pd.DataFrame:
         return hops
     if "key" in hops.columns and bad["key"].notna().all():
         return hops[~hops["key"].isin(set(bad["key"]))]
-    keys = [c for c in ("experiment", "profile", "convention", "design", "behaviour", "replicate",
-                        "density_g_cm3", "modulus_gpa") if c in hops.columns and bad[c].notna().all()]
+    keys = [
+        c
+        for c in (
+            "experiment",
+            "profile",
+            "convention",
+            "design",
+            "behaviour",
+            "replicate",
+            "density_g_cm3",
+            "modulus_gpa",
+        )
+        if c in hops.columns and bad[c].notna().all()
+    ]
     marker = bad[keys].drop_duplicates().assign(_bad=True)
     m = hops.merge(marker, on=keys, how="left")
     return hops[~m["_bad"].fillna(False).to_numpy(bool)]
@@ -193,7 +211,9 @@ def combine_experiments(hops: pd.DataFrame, experiments=None) -> pd.DataFrame:
     ``experiment`` column becomes their names joined by "+"."""
     if "experiment" not in hops.columns or len(hops) == 0:
         return hops
-    exps = [str(e) for e in (experiments if experiments is not None else sorted(hops["experiment"].astype(str).unique()))]
+    exps = [
+        str(e) for e in (experiments if experiments is not None else sorted(hops["experiment"].astype(str).unique()))
+    ]
     t = hops[hops["experiment"].astype(str).isin(exps)]
     rank = t["experiment"].astype(str).map({e: i for i, e in enumerate(exps)})
     keys = _present(t, ("profile", "convention", "design", "behaviour"))
@@ -203,8 +223,14 @@ def combine_experiments(hops: pd.DataFrame, experiments=None) -> pd.DataFrame:
     return out
 
 
-def summary_table(hops: pd.DataFrame, *, by=("design", "behaviour"), metrics=METRICS,
-                  baseline: str | None = "MD", replicate: int | None = UNPERTURBED) -> pd.DataFrame:
+def summary_table(
+    hops: pd.DataFrame,
+    *,
+    by=("design", "behaviour"),
+    metrics=METRICS,
+    baseline: str | None = "MD",
+    replicate: int | None = UNPERTURBED,
+) -> pd.DataFrame:
     """Mean, median and IQR of each metric per design and behaviour (per
     family), tidy, with the percent change of mean and median against the
     baseline design in the same family and behaviour (nan without one).
@@ -229,8 +255,15 @@ def summary_table(hops: pd.DataFrame, *, by=("design", "behaviour"), metrics=MET
     return out
 
 
-def compare_hops(hops: pd.DataFrame, baseline: str = "MD", *, by: str = "behaviour", metrics=METRICS,
-                 alpha: float = 0.05, replicate: int | None = UNPERTURBED) -> pd.DataFrame:
+def compare_hops(
+    hops: pd.DataFrame,
+    baseline: str = "MD",
+    *,
+    by: str = "behaviour",
+    metrics=METRICS,
+    alpha: float = 0.05,
+    replicate: int | None = UNPERTURBED,
+) -> pd.DataFrame:
     """The paper's comparison on hop cycles: every design against `baseline`
     per `by` group and metric (:func:`mat_hopper.metrics.compare`), one Holm
     family per metric, experiment, profile and convention. By default only
@@ -241,8 +274,10 @@ def compare_hops(hops: pd.DataFrame, baseline: str = "MD", *, by: str = "behavio
     hops = select_replicates(hops, replicate)
     frames = [res for _, res in _compare_families(hops, baseline, by, metrics, alpha)]
     if not frames:
-        raise ValueError(f"baseline {baseline!r} not among the designs of any family: "
-                         f"{sorted(set(hops['design'])) if len(hops) else []}")
+        raise ValueError(
+            f"baseline {baseline!r} not among the designs of any family: "
+            f"{sorted(set(hops['design'])) if len(hops) else []}"
+        )
     out = pd.concat(frames, ignore_index=True)
     out["basis"] = "hops"
     return out
@@ -267,8 +302,9 @@ def replicate_means(hops: pd.DataFrame, *, metrics=ALL_METRICS, include_unpertur
     return out.reset_index()
 
 
-def bootstrap_pct_change(values, baseline_values, *, n_boot: int = 10000, confidence: float = 0.95,
-                         seed: int = 0) -> tuple[float, float, float]:
+def bootstrap_pct_change(
+    values, baseline_values, *, n_boot: int = 10000, confidence: float = 0.95, seed: int = 0
+) -> tuple[float, float, float]:
     """Percent change of the mean of `values` against the mean of
     `baseline_values`, and its percentile bootstrap interval (%).
 
@@ -300,9 +336,17 @@ def bootstrap_pct_change(values, baseline_values, *, n_boot: int = 10000, confid
     return (pct, float(lo), float(hi))
 
 
-def compare_replicates(hops: pd.DataFrame, baseline: str = "MD", *, by: str = "behaviour",
-                       metrics=METRICS, alpha: float = 0.05, n_boot: int = 10000,
-                       confidence: float = 0.95, seed: int = 0) -> pd.DataFrame:
+def compare_replicates(
+    hops: pd.DataFrame,
+    baseline: str = "MD",
+    *,
+    by: str = "behaviour",
+    metrics=METRICS,
+    alpha: float = 0.05,
+    n_boot: int = 10000,
+    confidence: float = 0.95,
+    seed: int = 0,
+) -> pd.DataFrame:
     """Designs against `baseline` on replicate means (see module doc).
 
     `hops` is a per-hop table with a ``replicate`` column (the unperturbed
@@ -330,8 +374,9 @@ def compare_replicates(hops: pd.DataFrame, baseline: str = "MD", *, by: str = "b
         res["ci_low"], res["ci_high"] = lows, highs
         frames.append(res)
     if not frames:
-        raise ValueError(f"baseline {baseline!r} has no replicate runs; designs with replicates: "
-                         f"{sorted(set(means['design']))}")
+        raise ValueError(
+            f"baseline {baseline!r} has no replicate runs; designs with replicates: {sorted(set(means['design']))}"
+        )
     out = pd.concat(frames, ignore_index=True)
     out["basis"] = "replicates"
     return out
@@ -351,8 +396,16 @@ def has_replicates(hops: pd.DataFrame, min_replicates: int = 2) -> bool:
     return len(counts) == len(all_keys) and int(counts.min()) >= min_replicates
 
 
-def compare_designs(hops: pd.DataFrame, baseline: str = "MD", *, basis: str = "auto", by: str = "behaviour",
-                    metrics=METRICS, alpha: float = 0.05, **kwargs) -> pd.DataFrame:
+def compare_designs(
+    hops: pd.DataFrame,
+    baseline: str = "MD",
+    *,
+    basis: str = "auto",
+    by: str = "behaviour",
+    metrics=METRICS,
+    alpha: float = 0.05,
+    **kwargs,
+) -> pd.DataFrame:
     """Compare designs against `baseline` on ``basis`` "hops" (the paper's,
     unperturbed run), "replicates", or "auto" (replicates when every design
     and behaviour has at least 2, else hops). Extra keyword arguments go to

@@ -24,8 +24,15 @@ def design_table(designs: dict[str, LegDesign] | None = None) -> pd.DataFrame:
     rows = []
     for name, d in designs.items():
         for i, m in enumerate(d.segments, start=1):
-            rows.append({"design": name, "segment": i, "material": m.name, "density_g_cm3": m.density_g_cm3,
-                         "modulus_gpa": np.nan if m.modulus_gpa is None else m.modulus_gpa})
+            rows.append(
+                {
+                    "design": name,
+                    "segment": i,
+                    "material": m.name,
+                    "density_g_cm3": m.density_g_cm3,
+                    "modulus_gpa": np.nan if m.modulus_gpa is None else m.modulus_gpa,
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -38,6 +45,7 @@ def joint_table(design: LegDesign | str = "SS", convention: str = "paper") -> pd
     unlimited), the body it moves."""
     from ..materials import parse_design
     from ..model import build_model
+
     d = parse_design(design) if isinstance(design, str) else design
     m = build_model(d, convention=convention).model
     rows = []
@@ -45,9 +53,17 @@ def joint_table(design: LegDesign | str = "SS", convention: str = "paper") -> pd
         jt = m.joint(j)
         limited = bool(m.jnt_limited[j])
         lo, hi = (float(m.jnt_range[j, 0]), float(m.jnt_range[j, 1])) if limited else (np.nan, np.nan)
-        rows.append({"joint": jt.name, "type": _JOINT_TYPES.get(int(m.jnt_type[j]), str(m.jnt_type[j])),
-                     "body": m.body(int(m.jnt_bodyid[j])).name, "stiffness": float(m.jnt_stiffness[j]),
-                     "damping": float(m.dof_damping[m.jnt_dofadr[j]]), "range_low": lo, "range_high": hi})
+        rows.append(
+            {
+                "joint": jt.name,
+                "type": _JOINT_TYPES.get(int(m.jnt_type[j]), str(m.jnt_type[j])),
+                "body": m.body(int(m.jnt_bodyid[j])).name,
+                "stiffness": float(m.jnt_stiffness[j]),
+                "damping": float(m.dof_damping[m.jnt_dofadr[j]]),
+                "range_low": lo,
+                "range_high": hi,
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -56,16 +72,23 @@ def replicate_table(comparison: pd.DataFrame, metrics=("tracking_error_m", "powe
     metric, percent change of the mean with its 95 % bootstrap interval,
     the Holm-adjusted p and a star where p < 0.05."""
     c = comparison[comparison["metric"].isin(metrics)]
-    return pd.DataFrame({
-        "design": c["design"], "metric": c["metric"], "n": c["n"],
-        "change": [f"{p:+.0f} % [{lo:+.0f}, {hi:+.0f}]" for p, lo, hi in zip(c["pct_change"], c["ci_low"], c["ci_high"])],
-        "p (Holm)": c["p_holm"].map(lambda p: f"{p:.3g}"),
-        "": np.where(c["significant"], "*", ""),
-    }).reset_index(drop=True)
+    return pd.DataFrame(
+        {
+            "design": c["design"],
+            "metric": c["metric"],
+            "n": c["n"],
+            "change": [
+                f"{p:+.0f} % [{lo:+.0f}, {hi:+.0f}]" for p, lo, hi in zip(c["pct_change"], c["ci_low"], c["ci_high"])
+            ],
+            "p (Holm)": c["p_holm"].map(lambda p: f"{p:.3g}"),
+            "": np.where(c["significant"], "*", ""),
+        }
+    ).reset_index(drop=True)
 
 
-def pct_change_table(hops: pd.DataFrame, metric: str, baseline: str = "MD", *, designs=None,
-                     behaviours=None) -> pd.DataFrame:
+def pct_change_table(
+    hops: pd.DataFrame, metric: str, baseline: str = "MD", *, designs=None, behaviours=None
+) -> pd.DataFrame:
     """Percent change of the mean of `metric` against `baseline` (same
     behaviour, unperturbed runs), designs as rows and behaviours as
     columns (from :func:`mat_hopper.analysis.stats.summary_table`). Where the
@@ -73,6 +96,7 @@ def pct_change_table(hops: pd.DataFrame, metric: str, baseline: str = "MD", *, d
     e.g. the tracking error of hopping in place) the change is nan: a
     percentage of nothing means nothing."""
     from . import stats
+
     s = stats.summary_table(hops, metrics=(metric,), baseline=baseline)
     if designs is not None:
         s = s[s["design"].isin(designs)]
@@ -103,8 +127,10 @@ def outcome_table(runs: pd.DataFrame) -> pd.DataFrame:
         if st == "diverged" and pd.notna(row.get("diverged_at_s", np.nan)):
             return f"diverged at {row['diverged_at_s']:.2g} s"
         return str(st)
-    t = r.assign(outcome=r.apply(cell, axis=1)).pivot_table(index="design", columns="behaviour", values="outcome",
-                                                            aggfunc="first")
+
+    t = r.assign(outcome=r.apply(cell, axis=1)).pivot_table(
+        index="design", columns="behaviour", values="outcome", aggfunc="first"
+    )
     t = t.reindex(index=order_designs(t.index), columns=order_behaviours(t.columns))
     t.columns.name = None
     return t
@@ -130,6 +156,7 @@ def metric_table(hops: pd.DataFrame, metric: str, stat: str = "mean", *, scale: 
     the unperturbed runs, times `scale` (e.g. 1e3 for mm), designs as rows
     and behaviours as columns."""
     from . import stats
+
     if stat not in ("mean", "median"):
         raise ValueError(f"stat must be mean or median, got {stat!r}")
     s = stats.summary_table(hops, metrics=(metric,), baseline=None)
@@ -154,17 +181,27 @@ def sweep_spans(hops: pd.DataFrame, metric: str = "tracking_error_m") -> pd.Data
     for (base, prop), g in h.groupby(["sweep_base", "sweep_property"], sort=False):
         col = "density_g_cm3" if prop == "density" else "modulus_gpa"
         means = g.groupby(col)[metric].mean()
-        rows.append({"sweep_base": base, "sweep_property": prop, "n_points": len(means),
-                     "min": means.min(), "at_min": means.idxmin(), "max": means.max(), "at_max": means.idxmax(),
-                     "span": means.max() - means.min()})
+        rows.append(
+            {
+                "sweep_base": base,
+                "sweep_property": prop,
+                "n_points": len(means),
+                "min": means.min(),
+                "at_min": means.idxmin(),
+                "max": means.max(),
+                "at_max": means.idxmax(),
+                "span": means.max() - means.min(),
+            }
+        )
     return pd.DataFrame(rows)
 
 
 ORDER_PAIRS = (("rho-inc", "rho-dec"), ("PVC-Ti-SS", "SS-Ti-PVC"))
 
 
-def order_effect(hops: pd.DataFrame, pairs=ORDER_PAIRS, metrics=("tracking_error_m", "power_w", "jerk_m_s3"),
-                 alpha: float = 0.05) -> pd.DataFrame:
+def order_effect(
+    hops: pd.DataFrame, pairs=ORDER_PAIRS, metrics=("tracking_error_m", "power_w", "jerk_m_s3"), alpha: float = 0.05
+) -> pd.DataFrame:
     """Does segment order matter? For each pair of designs made of the same
     segments in opposite orders: the percent change of the second's mean
     against the first's, per behaviour and metric, with the Mann-Whitney U
@@ -172,6 +209,7 @@ def order_effect(hops: pd.DataFrame, pairs=ORDER_PAIRS, metrics=("tracking_error
     behaviours and metrics). Columns pair, behaviour, metric, pct_change,
     p_holm, significant."""
     from . import stats
+
     frames = []
     for first, second in pairs:
         sub = hops[hops["design"].isin([first, second])]
@@ -185,8 +223,13 @@ def order_effect(hops: pd.DataFrame, pairs=ORDER_PAIRS, metrics=("tracking_error
     return pd.concat(frames, ignore_index=True)
 
 
-def starred(table: pd.DataFrame, rows=("pair", "metric"), column: str = "behaviour", value: str = "pct_change",
-            flag: str = "significant") -> pd.DataFrame:
+def starred(
+    table: pd.DataFrame,
+    rows=("pair", "metric"),
+    column: str = "behaviour",
+    value: str = "pct_change",
+    flag: str = "significant",
+) -> pd.DataFrame:
     """A tidy comparison as a wide table for the page: `value` (a percent
     change) as "+12 %" with a star where `flag` is true, `rows` as the
     index and `column` values as columns ("–" where nan)."""
@@ -196,6 +239,7 @@ def starred(table: pd.DataFrame, rows=("pair", "metric"), column: str = "behavio
         if not np.isfinite(v):
             return "–"
         return f"{v:+.0f} %" + (" *" if bool(r[flag]) else "")
+
     t = table.assign(_cell=table.apply(cell, axis=1))
     out = t.pivot_table(index=list(rows), columns=column, values="_cell", aggfunc="first", sort=False)
     if column == "behaviour":
@@ -207,26 +251,37 @@ def starred(table: pd.DataFrame, rows=("pair", "metric"), column: str = "behavio
 CHAPTER_CLAIMS = {
     "mono": ("hop_height", "tracking_all_beat_md", "tracking_ss_55", "power_higher_dynamic", "power_ss_max"),
     "one_property": ("density_over_modulus", "low_modulus_tracks_worse"),
-    "gradients": ("ramp_rho_inc_tracking", "ramp_rho_inc_power", "ramp_ss_tracking", "ramp_ss_power",
-                  "headline_tracking", "headline_power"),
+    "gradients": (
+        "ramp_rho_inc_tracking",
+        "ramp_rho_inc_power",
+        "ramp_ss_tracking",
+        "ramp_ss_power",
+        "headline_tracking",
+        "headline_power",
+    ),
     "stability": ("timestep_materials", "timestep_trend"),
 }
 
 
 def _concat(tables: dict, suffix: str) -> pd.DataFrame | None:
-    frames = [t for name, t in sorted(tables.items()) if name.startswith("exp") and name.endswith(suffix)
-              and t is not None and len(t)]
+    frames = [
+        t
+        for name, t in sorted(tables.items())
+        if name.startswith("exp") and name.endswith(suffix) and t is not None and len(t)
+    ]
     return pd.concat(frames, ignore_index=True) if frames else None
 
 
-def claims_for(tables: dict, chapter: str | None = None, *, conventions=None,
-               columns=("claim", "paper", "ours", "verdict")) -> pd.DataFrame:
+def claims_for(
+    tables: dict, chapter: str | None = None, *, conventions=None, columns=("claim", "paper", "ours", "verdict")
+) -> pd.DataFrame:
     """The paper's claims beside ours (:func:`mat_hopper.analysis.claims.claims_table`)
     from a reproduction's tables (``exp*_hops``, ``exp*_runs``,
     ``stability``), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
     (None). conventions: default those present in the tables. columns:
     which to keep (None: all)."""
     from . import claims
+
     if chapter is not None and chapter not in CHAPTER_CLAIMS:
         raise ValueError(f"chapter must be one of {', '.join(CHAPTER_CLAIMS)} or None, got {chapter!r}")
     hops, runs, stab = _concat(tables, "_hops"), _concat(tables, "_runs"), tables.get("stability")
@@ -240,8 +295,11 @@ def claims_for(tables: dict, chapter: str | None = None, *, conventions=None,
     if chapter is not None:
         ids = CHAPTER_CLAIMS[chapter]
         table = table[table["claim_id"].isin(ids)]
-        table = table.assign(_o=table["claim_id"].map({c: i for i, c in enumerate(ids)})).sort_values(
-            ["_o", "convention"], kind="stable").drop(columns="_o")
+        table = (
+            table.assign(_o=table["claim_id"].map({c: i for i, c in enumerate(ids)}))
+            .sort_values(["_o", "convention"], kind="stable")
+            .drop(columns="_o")
+        )
     table = table.reset_index(drop=True)
     return table if columns is None else table[[c for c in columns if c in table.columns]]
 
@@ -250,6 +308,7 @@ def claim_rules() -> pd.DataFrame:
     """The rule behind each claim's verdict (:data:`mat_hopper.analysis.claims.CLAIMS`):
     columns claim, rule."""
     from . import claims
+
     return pd.DataFrame([{"claim": c.claim, "rule": c.rule} for c in claims.CLAIMS])
 
 
@@ -260,6 +319,7 @@ def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
     :mod:`mat_hopper.metrics` does at the record rate. The authors logged
     at about 10 Hz of wall time. Columns rate_hz, mean_jerk_m_s3."""
     from ..sim import C
+
     d = rollout.data
     t, az = d[:, C["t"]], d[:, C["az"]]
     if len(t) < 4:
@@ -279,8 +339,11 @@ def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def setting_comparison(hops: pd.DataFrame, pairs=(("rho-inc", "MD"), ("SS", "MD"), ("rho-inc", "SS")),
-                       metrics=("tracking_error_m", "power_w")) -> pd.DataFrame:
+def setting_comparison(
+    hops: pd.DataFrame,
+    pairs=(("rho-inc", "MD"), ("SS", "MD"), ("rho-inc", "SS")),
+    metrics=("tracking_error_m", "power_w"),
+) -> pd.DataFrame:
     """Percent change of the mean of each metric for each (design,
     baseline) pair, per ``setting`` of the table (e.g. from
     :func:`axial_check`): rows setting, columns "<metric>: <design> vs

@@ -21,19 +21,34 @@ Example::
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import pandas as pd
 
 from ._cpu import evaluate_cpu
-from ._designs import (as_design, designs_from_csv, designs_from_frame, designs_to_frame, group_by_topology,
-                       parse_design_list, topology_key)
+from ._designs import (
+    as_design,
+    designs_from_csv,
+    designs_from_frame,
+    designs_to_frame,
+    group_by_topology,
+    parse_design_list,
+    topology_key,
+)
 from ._settings import BACKENDS, EXTRA_COLUMNS, RESULT_COLUMNS, BatchSettings
 
 
-def evaluate(designs: Sequence, behaviour, settings: BatchSettings | None = None, *, backend: str = "mujoco",
-             device: str | None = None, workers: int | None = None, max_batch: int | None = None,
-             progress: bool = False) -> pd.DataFrame:
+def evaluate(
+    designs: Sequence,
+    behaviour,
+    settings: BatchSettings | None = None,
+    *,
+    backend: str = "mujoco",
+    device: str | None = None,
+    workers: int | None = None,
+    max_batch: int | None = None,
+    progress: bool = False,
+) -> pd.DataFrame:
     """One row per design, in input order (see the module doc).
 
     designs: LegDesigns or names; behaviour: a Behaviour or a name;
@@ -44,6 +59,7 @@ def evaluate(designs: Sequence, behaviour, settings: BatchSettings | None = None
         return evaluate_cpu(designs, behaviour, settings, workers=workers, progress=progress)
     if backend == "warp":
         from ._warp import evaluate_warp
+
         return evaluate_warp(designs, behaviour, settings, device=device, max_batch=max_batch, progress=progress)
     raise ValueError(f"unknown backend {backend!r}; accepted: {', '.join(BACKENDS)}")
 
@@ -52,11 +68,29 @@ def __getattr__(name):
     # The warp side imports lazily: mujoco-warp is an optional dependency.
     if name in ("WarpBatch", "WarpUnavailable", "evaluate_warp", "require_warp", "warp_available", "design_fields"):
         from . import _warp
+
         return getattr(_warp, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["BACKENDS", "EXTRA_COLUMNS", "RESULT_COLUMNS", "BatchSettings", "WarpBatch", "WarpUnavailable",
-           "as_design", "design_fields", "designs_from_csv", "designs_from_frame", "designs_to_frame", "evaluate",
-           "evaluate_cpu", "evaluate_warp", "group_by_topology", "parse_design_list", "require_warp",
-           "topology_key", "warp_available"]
+__all__ = [
+    "BACKENDS",
+    "EXTRA_COLUMNS",
+    "RESULT_COLUMNS",
+    "BatchSettings",
+    "WarpBatch",
+    "WarpUnavailable",
+    "as_design",
+    "design_fields",
+    "designs_from_csv",
+    "designs_from_frame",
+    "designs_to_frame",
+    "evaluate",
+    "evaluate_cpu",
+    "evaluate_warp",
+    "group_by_topology",
+    "parse_design_list",
+    "require_warp",
+    "topology_key",
+    "warp_available",
+]

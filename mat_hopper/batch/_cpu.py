@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
-from typing import Sequence
 
 import pandas as pd
 
@@ -22,21 +22,36 @@ from ._settings import BatchSettings, result_frame
 def _row(design, beh, settings: BatchSettings) -> dict:
     from ..metrics import run_summary
     from ..sim import simulate
+
     r = simulate(design, beh, settings=settings.sim_settings())
     s = run_summary(r)
-    return {"design": design.name, "n_hops": int(s["n_hops"]), "hop_height_m": s["mean_hop_height_m"],
-            "tracking_error_m": s["mean_tracking_error_m"], "power_w": s["mean_power_w"],
-            "stable": bool(s["stable"]), "behaviour": beh.name, "sensor_timing": s["sensor_timing"],
-            "diverged_at_s": s["diverged_at_s"],
-            "total_mass_kg": s["total_mass_kg"], "backend": "mujoco"}
+    return {
+        "design": design.name,
+        "n_hops": int(s["n_hops"]),
+        "hop_height_m": s["mean_hop_height_m"],
+        "tracking_error_m": s["mean_tracking_error_m"],
+        "power_w": s["mean_power_w"],
+        "stable": bool(s["stable"]),
+        "behaviour": beh.name,
+        "sensor_timing": s["sensor_timing"],
+        "diverged_at_s": s["diverged_at_s"],
+        "total_mass_kg": s["total_mass_kg"],
+        "backend": "mujoco",
+    }
 
 
 def _row_star(args):
     return _row(*args)
 
 
-def evaluate_cpu(designs: Sequence, behaviour, settings: BatchSettings | None = None, *,
-                 workers: int | None = None, progress: bool = False) -> pd.DataFrame:
+def evaluate_cpu(
+    designs: Sequence,
+    behaviour,
+    settings: BatchSettings | None = None,
+    *,
+    workers: int | None = None,
+    progress: bool = False,
+) -> pd.DataFrame:
     """One row per design (input order): n_hops, hop_height_m,
     tracking_error_m, power_w, stable (see :data:`RESULT_COLUMNS`), from
     one CPU rollout each. workers: processes (default: every core; 1 runs
@@ -48,6 +63,7 @@ def evaluate_cpu(designs: Sequence, behaviour, settings: BatchSettings | None = 
     tasks = [(d, beh, settings) for d in designs]
     if progress:
         from tqdm import tqdm
+
         bar = tqdm(total=len(tasks), unit="design", desc="mujoco")
     else:
         bar = None
@@ -59,8 +75,9 @@ def evaluate_cpu(designs: Sequence, behaviour, settings: BatchSettings | None = 
                 if bar:
                     bar.update(1)
         else:
-            ctx = multiprocessing.get_context("forkserver" if "forkserver" in multiprocessing.get_all_start_methods()
-                                              else "spawn")
+            ctx = multiprocessing.get_context(
+                "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+            )
             with ProcessPoolExecutor(workers, mp_context=ctx) as pool:
                 for row in pool.map(_row_star, tasks):
                     rows.append(row)

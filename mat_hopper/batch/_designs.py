@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import re
 from collections import OrderedDict
-from typing import Iterable, Sequence
+from collections.abc import Iterable, Sequence
 
 import pandas as pd
 
@@ -45,7 +45,7 @@ def topology_key(design: LegDesign) -> tuple[bool, ...]:
     return tuple(m.rigid for m in design.segments)
 
 
-def group_by_topology(designs: Sequence[LegDesign]) -> "OrderedDict[tuple[bool, ...], list[int]]":
+def group_by_topology(designs: Sequence[LegDesign]) -> OrderedDict[tuple[bool, ...], list[int]]:
     """Indices of the designs per topology, groups and indices in input order."""
     groups: OrderedDict[tuple[bool, ...], list[int]] = OrderedDict()
     for i, d in enumerate(designs):
@@ -89,8 +89,9 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
                 try:
                     mods.append(float(e))
                 except ValueError:
-                    raise ValueError(f"{source}, row {row_no}: modulus_{i} must be a number in GPa or 'rigid', "
-                                     f"got {e!r}") from None
+                    raise ValueError(
+                        f"{source}, row {row_no}: modulus_{i} must be a number in GPa or 'rigid', got {e!r}"
+                    ) from None
         if not dens:
             raise ValueError(f"{source}, row {row_no}: no densities (density_1 is empty)")
         name = _cell(row["design"]) if "design" in frame.columns else ""

@@ -62,28 +62,44 @@ PATH_CIRCLE = wp.constant(_beh.PATH_CIRCLE)
 PATH_TABLE = wp.constant(_beh.PATH_TABLE)
 
 # Per-world metric accumulators (float64 columns).
-A_OPEN = 0          # 1 while a hop cycle is open (after the first lift-off)
-A_START = 1         # s, start of the open cycle
-A_N = 2             # samples in the open cycle
-A_ERR = 3           # sum of planar tracking error over them (m)
-A_POW = 4           # sum of hip power norm over them (W)
-A_ZMAX = 5          # max base z over them (m)
-A_HOPS = 6          # scored cycles
-A_HEIGHT_SUM = 7    # sums over scored cycles of the per-cycle values
+A_OPEN = 0  # 1 while a hop cycle is open (after the first lift-off)
+A_START = 1  # s, start of the open cycle
+A_N = 2  # samples in the open cycle
+A_ERR = 3  # sum of planar tracking error over them (m)
+A_POW = 4  # sum of hip power norm over them (W)
+A_ZMAX = 5  # max base z over them (m)
+A_HOPS = 6  # scored cycles
+A_HEIGHT_SUM = 7  # sums over scored cycles of the per-cycle values
 A_ERR_SUM = 8
 A_POW_SUM = 9
 N_ACC = 10
-_A = {k: wp.constant(v) for k, v in dict(A_OPEN=A_OPEN, A_START=A_START, A_N=A_N, A_ERR=A_ERR, A_POW=A_POW,
-                                          A_ZMAX=A_ZMAX, A_HOPS=A_HOPS, A_HEIGHT_SUM=A_HEIGHT_SUM,
-                                          A_ERR_SUM=A_ERR_SUM, A_POW_SUM=A_POW_SUM).items()}
+_A = {
+    k: wp.constant(v)
+    for k, v in dict(
+        A_OPEN=A_OPEN,
+        A_START=A_START,
+        A_N=A_N,
+        A_ERR=A_ERR,
+        A_POW=A_POW,
+        A_ZMAX=A_ZMAX,
+        A_HOPS=A_HOPS,
+        A_HEIGHT_SUM=A_HEIGHT_SUM,
+        A_ERR_SUM=A_ERR_SUM,
+        A_POW_SUM=A_POW_SUM,
+    ).items()
+}
 W_OPEN, W_START, W_N, W_ERR, W_POW = _A["A_OPEN"], _A["A_START"], _A["A_N"], _A["A_ERR"], _A["A_POW"]
-W_ZMAX, W_HOPS, W_HEIGHT_SUM, W_ERR_SUM, W_POW_SUM = (_A["A_ZMAX"], _A["A_HOPS"], _A["A_HEIGHT_SUM"],
-                                                      _A["A_ERR_SUM"], _A["A_POW_SUM"])
+W_ZMAX, W_HOPS, W_HEIGHT_SUM, W_ERR_SUM, W_POW_SUM = (
+    _A["A_ZMAX"],
+    _A["A_HOPS"],
+    _A["A_HEIGHT_SUM"],
+    _A["A_ERR_SUM"],
+    _A["A_POW_SUM"],
+)
 
 
 def _struct(name: str, fields, dtype):
-    cls = type(name, (), {"__annotations__": {f: dtype for f in fields}, "__module__": __name__,
-                          "__qualname__": name})
+    cls = type(name, (), {"__annotations__": {f: dtype for f in fields}, "__module__": __name__, "__qualname__": name})
     return wp.struct(cls)
 
 
@@ -136,7 +152,7 @@ def update_phase(t: F64, touch: F64, z: F64, vz: F64, g: GainsW, state: wp.array
         state[w, S_PHASE] = F64(STANCE)
         state[w, S_T_SWITCH] = t
         state[w, S_TOUCHDOWNS] = state[w, S_TOUCHDOWNS] + one
-        if state[w, S_LIFTOFFS] > zero:          # the very first touchdown adapts nothing
+        if state[w, S_LIFTOFFS] > zero:  # the very first touchdown adapts nothing
             height = state[w, S_Z_MAX]
             state[w, S_LAST_HEIGHT] = height
             adapted = state[w, S_THRUST] + g.thrust_adapt_gain * (g.hop_height_target_m - height)
@@ -183,9 +199,20 @@ def desired_state(t: F64, kind: int, params: wp.array(dtype=F64), table: wp.arra
 
 
 @wp.func
-def controller_step(t: F64, touch: F64, pos: wp.vec3d, quat: wp.vec4d, gyro: wp.vec3d, vel: wp.vec3d,
-                    hip_angle: wp.vec2d, hip_rate: wp.vec2d, desired: wp.vec4d, g: GainsW,
-                    state: wp.array2d(dtype=F64), w: int):
+def controller_step(
+    t: F64,
+    touch: F64,
+    pos: wp.vec3d,
+    quat: wp.vec4d,
+    gyro: wp.vec3d,
+    vel: wp.vec3d,
+    hip_angle: wp.vec2d,
+    hip_rate: wp.vec2d,
+    desired: wp.vec4d,
+    g: GainsW,
+    state: wp.array2d(dtype=F64),
+    w: int,
+):
     """control.controller_step for world w: returns (controls (hip_y, hip_x, thrust), event)."""
     zero = F64(0.0)
     two = F64(2.0)
@@ -220,10 +247,10 @@ def controller_step(t: F64, touch: F64, pos: wp.vec3d, quat: wp.vec4d, gyro: wp.
 
     u_y = zero
     u_x = zero
-    if touch > zero:   # stance: attitude correction through the hips
+    if touch > zero:  # stance: attitude correction through the hips
         u_y = g.stance_kp * pitch + g.stance_kd * pitch_rate
         u_x = g.stance_kp * roll + g.stance_kd * roll_rate
-    else:              # flight: PD to the foot placement targets
+    else:  # flight: PD to the foot placement targets
         u_y = -g.flight_kp * (hip_angle[0] - target_y) - g.flight_kd * (hip_rate[0] - target_rate_y)
         u_x = -g.flight_kp * (hip_angle[1] - target_x) - g.flight_kd * (hip_rate[1] - target_rate_x)
     thrust = zero
@@ -233,15 +260,27 @@ def controller_step(t: F64, touch: F64, pos: wp.vec3d, quat: wp.vec4d, gyro: wp.
 
 
 @wp.kernel
-def control_kernel(clock: wp.array(dtype=wp.int32), dt: F64, g: GainsW, lay: LayoutW, path_kind: int,
-                   path_params: wp.array(dtype=F64), path_table: wp.array2d(dtype=F64),
-                   sensordata: wp.array2d(dtype=float), qpos_init: wp.array2d(dtype=float),
-                   diverged: wp.array(dtype=wp.int32), state: wp.array2d(dtype=F64),
-                   qpos: wp.array2d(dtype=float), qvel: wp.array2d(dtype=float),
-                   qacc_warmstart: wp.array2d(dtype=float), ctrl: wp.array2d(dtype=float),
-                   event: wp.array(dtype=wp.int32), hip_rate_seen: wp.array2d(dtype=F64)):
+def control_kernel(
+    clock: wp.array(dtype=wp.int32),
+    dt: F64,
+    g: GainsW,
+    lay: LayoutW,
+    path_kind: int,
+    path_params: wp.array(dtype=F64),
+    path_table: wp.array2d(dtype=F64),
+    sensordata: wp.array2d(dtype=float),
+    qpos_init: wp.array2d(dtype=float),
+    diverged: wp.array(dtype=wp.int32),
+    state: wp.array2d(dtype=F64),
+    qpos: wp.array2d(dtype=float),
+    qvel: wp.array2d(dtype=float),
+    qacc_warmstart: wp.array2d(dtype=float),
+    ctrl: wp.array2d(dtype=float),
+    event: wp.array(dtype=wp.int32),
+    hip_rate_seen: wp.array2d(dtype=F64),
+):
     w = wp.tid()
-    if diverged[w] >= 0:   # parked: initial pose, at rest, no controls
+    if diverged[w] >= 0:  # parked: initial pose, at rest, no controls
         for k in range(qpos.shape[1]):
             qpos[w, k] = qpos_init[w, k]
         for k in range(qvel.shape[1]):
@@ -253,14 +292,23 @@ def control_kernel(clock: wp.array(dtype=wp.int32), dt: F64, g: GainsW, lay: Lay
         return
     t = F64(clock[0]) * dt
     touch = F64(sensordata[w, lay.touch])
-    pos = wp.vec3d(F64(sensordata[w, lay.base_pos]), F64(sensordata[w, lay.base_pos + 1]),
-                   F64(sensordata[w, lay.base_pos + 2]))
-    quat = wp.vec4d(F64(sensordata[w, lay.base_quat]), F64(sensordata[w, lay.base_quat + 1]),
-                    F64(sensordata[w, lay.base_quat + 2]), F64(sensordata[w, lay.base_quat + 3]))
-    gyro = wp.vec3d(F64(sensordata[w, lay.base_gyro]), F64(sensordata[w, lay.base_gyro + 1]),
-                    F64(sensordata[w, lay.base_gyro + 2]))
-    vel = wp.vec3d(F64(sensordata[w, lay.base_linvel]), F64(sensordata[w, lay.base_linvel + 1]),
-                   F64(sensordata[w, lay.base_linvel + 2]))
+    pos = wp.vec3d(
+        F64(sensordata[w, lay.base_pos]), F64(sensordata[w, lay.base_pos + 1]), F64(sensordata[w, lay.base_pos + 2])
+    )
+    quat = wp.vec4d(
+        F64(sensordata[w, lay.base_quat]),
+        F64(sensordata[w, lay.base_quat + 1]),
+        F64(sensordata[w, lay.base_quat + 2]),
+        F64(sensordata[w, lay.base_quat + 3]),
+    )
+    gyro = wp.vec3d(
+        F64(sensordata[w, lay.base_gyro]), F64(sensordata[w, lay.base_gyro + 1]), F64(sensordata[w, lay.base_gyro + 2])
+    )
+    vel = wp.vec3d(
+        F64(sensordata[w, lay.base_linvel]),
+        F64(sensordata[w, lay.base_linvel + 1]),
+        F64(sensordata[w, lay.base_linvel + 2]),
+    )
     hip_angle = wp.vec2d(F64(qpos[w, lay.hip_y_qpos]), F64(qpos[w, lay.hip_x_qpos]))
     hip_rate = wp.vec2d(F64(qvel[w, lay.hip_y_dof]), F64(qvel[w, lay.hip_x_dof]))
     desired = desired_state(t, path_kind, path_params, path_table)
@@ -274,13 +322,25 @@ def control_kernel(clock: wp.array(dtype=wp.int32), dt: F64, g: GainsW, lay: Lay
 
 
 @wp.kernel
-def metrics_kernel(clock: wp.array(dtype=wp.int32), dt: F64, transient: F64, every: int, qacc_limit: F64,
-                   lay: LayoutW, path_kind: int, path_params: wp.array(dtype=F64),
-                   path_table: wp.array2d(dtype=F64), sensordata: wp.array2d(dtype=float),
-                   qfrc_actuator: wp.array2d(dtype=float), qpos: wp.array2d(dtype=float),
-                   qacc: wp.array2d(dtype=float), event: wp.array(dtype=wp.int32),
-                   hip_rate_seen: wp.array2d(dtype=F64), diverged: wp.array(dtype=wp.int32),
-                   acc: wp.array2d(dtype=F64)):
+def metrics_kernel(
+    clock: wp.array(dtype=wp.int32),
+    dt: F64,
+    transient: F64,
+    every: int,
+    qacc_limit: F64,
+    lay: LayoutW,
+    path_kind: int,
+    path_params: wp.array(dtype=F64),
+    path_table: wp.array2d(dtype=F64),
+    sensordata: wp.array2d(dtype=float),
+    qfrc_actuator: wp.array2d(dtype=float),
+    qpos: wp.array2d(dtype=float),
+    qacc: wp.array2d(dtype=float),
+    event: wp.array(dtype=wp.int32),
+    hip_rate_seen: wp.array2d(dtype=F64),
+    diverged: wp.array(dtype=wp.int32),
+    acc: wp.array2d(dtype=F64),
+):
     w = wp.tid()
     if diverged[w] >= 0:
         return
@@ -316,7 +376,7 @@ def metrics_kernel(clock: wp.array(dtype=wp.int32), dt: F64, transient: F64, eve
         acc[w, W_ZMAX] = wp.max(acc[w, W_ZMAX], z)
     bad = bool(False)
     for k in range(qacc.shape[1]):
-        if not (wp.abs(F64(qacc[w, k])) <= qacc_limit):   # catches nan too
+        if not (wp.abs(F64(qacc[w, k])) <= qacc_limit):  # catches nan too
             bad = True
     for k in range(qpos.shape[1]):
         if not wp.isfinite(qpos[w, k]):

@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .. import reference as ref
 from .. import control as _ctl
+from .. import reference as ref
 from ..control import ControllerSettings
 from ..materials import DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
 from ..sim import DEFAULT_RECORD_RATE_HZ, SimSettings
@@ -57,7 +57,7 @@ class BatchSettings:
         lat = self.sensor_latency_steps
         if isinstance(lat, (bool, np.bool_)) or not isinstance(lat, (int, np.integer)):
             raise ValueError(f"sensor_latency_steps must be an integer number of physics steps, got {lat!r}")
-        _ctl.sensor_latency_steps(int(lat))       # control.py's range check
+        _ctl.sensor_latency_steps(int(lat))  # control.py's range check
         # SimSettings holds the shared checks (finite, timestep range, duration > transient, ...).
         self.sim_settings()
         check_convention(self.convention)
@@ -70,10 +70,16 @@ class BatchSettings:
 
     def sim_settings(self) -> SimSettings:
         """The same run as :class:`~mat_hopper.sim.SimSettings` (the CPU path)."""
-        return SimSettings(duration_s=self.duration_s, timestep_s=self.timestep_s, transient_s=self.transient_s,
-                           convention=self.convention, record_rate_hz=self.record_rate_hz,
-                           controller=self.controller, sensor_timing=int(self.sensor_latency_steps),
-                           segment_mass=self.segment_mass)
+        return SimSettings(
+            duration_s=self.duration_s,
+            timestep_s=self.timestep_s,
+            transient_s=self.transient_s,
+            convention=self.convention,
+            record_rate_hz=self.record_rate_hz,
+            controller=self.controller,
+            sensor_timing=int(self.sensor_latency_steps),
+            segment_mass=self.segment_mass,
+        )
 
     @property
     def n_steps(self) -> int:

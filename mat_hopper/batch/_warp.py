@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import copy
 import warnings
-from typing import Sequence
+from collections.abc import Sequence
 
 import mujoco
 import numpy as np
@@ -63,8 +63,9 @@ def require_warp():
     try:
         import warp as wp
     except Exception as e:  # ImportError, or a broken install
-        raise WarpUnavailable(f"the warp backend needs warp-lang, which does not import ({e}); "
-                              f"{INSTALL_HINT}") from None
+        raise WarpUnavailable(
+            f"the warp backend needs warp-lang, which does not import ({e}); {INSTALL_HINT}"
+        ) from None
     # Warp logs every kernel module it loads at INFO, its default level: keep to warnings.
     if getattr(wp.config, "log_level", None) == getattr(wp, "LOG_INFO", 20) and hasattr(wp, "LOG_WARNING"):
         wp.config.log_level = wp.LOG_WARNING
@@ -72,8 +73,9 @@ def require_warp():
     try:
         import mujoco_warp as mjw
     except Exception as e:
-        raise WarpUnavailable(f"the warp backend needs mujoco-warp, which does not import ({e}); "
-                              f"{INSTALL_HINT}") from None
+        raise WarpUnavailable(
+            f"the warp backend needs mujoco-warp, which does not import ({e}); {INSTALL_HINT}"
+        ) from None
     wp.init()
     return wp, mjw
 
@@ -100,8 +102,10 @@ def _device(wp, device):
 
 def _check_latency(settings: BatchSettings) -> None:
     if settings.sensor_latency_steps not in SUPPORTED_SENSOR_LATENCY:
-        raise ValueError(f"the warp backend implements sensor_latency_steps=1 only (the authors' loop: "
-                         f"sensors one physics step old), got {settings.sensor_latency_steps!r}")
+        raise ValueError(
+            f"the warp backend implements sensor_latency_steps=1 only (the authors' loop: "
+            f"sensors one physics step old), got {settings.sensor_latency_steps!r}"
+        )
 
 
 def _model_arrays(model) -> dict:
@@ -125,8 +129,10 @@ def _check_same(ref_arrays: dict, model, design: LegDesign, ref_name: str) -> No
             continue
         b = getattr(model, name)
         if a.shape != b.shape or not np.array_equal(a, b, equal_nan=True):
-            raise ValueError(f"design {design.name!r} changes model field {name} against {ref_name!r}: it "
-                             f"cannot share their batch (only {', '.join(DESIGN_FIELDS)} may differ)")
+            raise ValueError(
+                f"design {design.name!r} changes model field {name} against {ref_name!r}: it "
+                f"cannot share their batch (only {', '.join(DESIGN_FIELDS)} may differ)"
+            )
 
 
 def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettings):
@@ -134,12 +140,18 @@ def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettin
     plus the derived fields as MuJoCo's compiler gives them (for checks),
     the topology's model and its total masses (kg)."""
     beh = get_behaviour(behaviour)
-    build = dict(ramp_grade_deg=beh.ramp_grade_deg, timestep=settings.timestep_s,
-                 convention=settings.convention, sensors="control", segment_mass=settings.segment_mass)
+    build = dict(
+        ramp_grade_deg=beh.ramp_grade_deg,
+        timestep_s=settings.timestep_s,
+        convention=settings.convention,
+        sensors="control",
+        segment_mass=settings.segment_mass,
+    )
     base = build_model(designs[0], **build)
     ref_arrays = _model_arrays(base.model)
-    spring_jnt = {i: base.model.joint(f"mat_spring_{i}").id
-                  for i, m in enumerate(designs[0].segments, start=1) if not m.rigid}
+    spring_jnt = {
+        i: base.model.joint(f"mat_spring_{i}").id for i, m in enumerate(designs[0].segments, start=1) if not m.rigid
+    }
     compiled = {}
     fields = {f: [] for f in DESIGN_FIELDS + DERIVED_FIELDS}
     mass = []
@@ -153,7 +165,7 @@ def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettin
         for f in DESIGN_FIELDS + DERIVED_FIELDS:
             fields[f].append(np.array(getattr(m, f), dtype=np.float64))
         k = fields["jnt_stiffness"][-1]
-        for i, j in spring_jnt.items():     # the stiffness of this design, whoever compiled the masses
+        for i, j in spring_jnt.items():  # the stiffness of this design, whoever compiled the masses
             k[j] = spring_stiffness(d.segments[i - 1].modulus_gpa, settings.convention, d.n_segments)
         mass.append(float(m.body_subtreemass[0]))
     return {f: np.stack(v) for f, v in fields.items()}, base, np.array(mass)
@@ -164,10 +176,12 @@ class WarpBatch:
     device ("cpu", "cuda", "cuda:1", ...). :meth:`run` simulates,
     :meth:`results` gives the per-design table."""
 
-    def __init__(self, designs: Sequence, behaviour, settings: BatchSettings | None = None, *,
-                 device: str | None = None):
+    def __init__(
+        self, designs: Sequence, behaviour, settings: BatchSettings | None = None, *, device: str | None = None
+    ):
         wp, mjw = require_warp()
         from . import _kernels as K
+
         self._wp, self._mjw, self._K = wp, mjw, K
         self.settings = settings = settings or BatchSettings()
         _check_latency(settings)
@@ -175,8 +189,10 @@ class WarpBatch:
         if not self.designs:
             raise ValueError("a batch needs at least one design")
         if len(group_by_topology(self.designs)) != 1:
-            raise ValueError("one batch holds one topology (same segment count, same rigid segments); "
-                             "evaluate_warp groups designs for you")
+            raise ValueError(
+                "one batch holds one topology (same segment count, same rigid segments); "
+                "evaluate_warp groups designs for you"
+            )
         self.behaviour = get_behaviour(behaviour)
         self.device = _device(wp, device)
         nw = self.nworld = len(self.designs)
@@ -189,7 +205,7 @@ class WarpBatch:
         mjm.opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)
         self.mjm = mjm
         with wp.ScopedDevice(self.device), warnings.catch_warnings():
-            warnings.simplefilter("ignore")          # put_model's advisory notes (e.g. torsional friction)
+            warnings.simplefilter("ignore")  # put_model's advisory notes (e.g. torsional friction)
             m = mjw.put_model(mjm, batch_sizes={f: nw for f in DESIGN_FIELDS + DERIVED_FIELDS})
             d = mjw.make_data(mjm, nworld=nw)
             for f in DESIGN_FIELDS:
@@ -201,7 +217,7 @@ class WarpBatch:
             qpos0 = np.tile(np.asarray(data0.qpos, dtype=np.float32), (nw, 1))
             d.qpos.assign(qpos0)
             d.qvel.zero_()
-            mjw.forward(m, d)             # sensors of the initial state: what step 0 reads
+            mjw.forward(m, d)  # sensors of the initial state: what step 0 reads
             self.m, self.d = m, d
             self._qpos_init = wp.array(qpos0, dtype=wp.float32)
             st = np.tile(initial_state(settings.controller), (nw, 1))
@@ -226,15 +242,53 @@ class WarpBatch:
         wp, mjw, K, d, s = self._wp, self._mjw, self._K, self.d, self.settings
         beh = self.behaviour
         dt = float(s.timestep_s)
-        wp.launch(K.control_kernel, dim=self.nworld, inputs=[
-            self._clock, dt, self._gains, self._layout, beh.path_code, self._path_params, self._path_table,
-            d.sensordata, self._qpos_init, self._diverged, self._state, d.qpos, d.qvel, d.qacc_warmstart,
-            d.ctrl, self._event, self._hip_rate])
+        wp.launch(
+            K.control_kernel,
+            dim=self.nworld,
+            inputs=[
+                self._clock,
+                dt,
+                self._gains,
+                self._layout,
+                beh.path_code,
+                self._path_params,
+                self._path_table,
+                d.sensordata,
+                self._qpos_init,
+                self._diverged,
+                self._state,
+                d.qpos,
+                d.qvel,
+                d.qacc_warmstart,
+                d.ctrl,
+                self._event,
+                self._hip_rate,
+            ],
+        )
         mjw.step(self.m, d)
-        wp.launch(K.metrics_kernel, dim=self.nworld, inputs=[
-            self._clock, dt, float(s.transient_s), s.record_every, float(ref.DIVERGENCE_QACC), self._layout,
-            beh.path_code, self._path_params, self._path_table, d.sensordata, d.qfrc_actuator, d.qpos, d.qacc,
-            self._event, self._hip_rate, self._diverged, self._acc])
+        wp.launch(
+            K.metrics_kernel,
+            dim=self.nworld,
+            inputs=[
+                self._clock,
+                dt,
+                float(s.transient_s),
+                s.record_every,
+                float(ref.DIVERGENCE_QACC),
+                self._layout,
+                beh.path_code,
+                self._path_params,
+                self._path_table,
+                d.sensordata,
+                d.qfrc_actuator,
+                d.qpos,
+                d.qacc,
+                self._event,
+                self._hip_rate,
+                self._diverged,
+                self._acc,
+            ],
+        )
         wp.launch(K.tick_kernel, dim=1, inputs=[self._clock])
 
     def _capture(self, n: int) -> bool:
@@ -244,8 +298,8 @@ class WarpBatch:
             with wp.ScopedCapture(device=self.device) as cap:
                 for _ in range(n):
                     self._launch_step()
-        except Exception as e:      # pragma: no cover (GPU only)
-            warnings.warn(f"CUDA graph capture failed ({e}); stepping without graphs", RuntimeWarning)
+        except Exception as e:  # pragma: no cover (GPU only)
+            warnings.warn(f"CUDA graph capture failed ({e}); stepping without graphs", RuntimeWarning, stacklevel=2)
             self._graph_failed = True
             return False
         self._graph, self._graph_steps = cap.graph, n
@@ -260,11 +314,11 @@ class WarpBatch:
         with wp.ScopedDevice(self.device):
             done = 0
             if self.device.is_cuda:
-                if self.step == 0:           # compile every kernel before any capture
+                if self.step == 0:  # compile every kernel before any capture
                     self._launch_step()
                     done = 1
                 if self._graph is None and not self._graph_failed and n - done >= self.graph_steps:
-                    self._capture(self.graph_steps)       # recorded now, run by the launches below
+                    self._capture(self.graph_steps)  # recorded now, run by the launches below
                 while self._graph is not None and n - done >= self._graph_steps:
                     wp.capture_launch(self._graph)
                     done += self._graph_steps
@@ -274,18 +328,24 @@ class WarpBatch:
             wp.synchronize_device(self.device)
         self.step += n
 
-    graph_steps = 500     # steps per CUDA graph
+    graph_steps = 500  # steps per CUDA graph
 
-    def run(self, *, progress: bool = False, chunk_steps: int | None = None) -> "WarpBatch":
+    def run(self, *, progress: bool = False, chunk_steps: int | None = None) -> WarpBatch:
         """Simulate to the end; progress: a tqdm bar over simulated time."""
         s = self.settings
         chunk = int(chunk_steps or (self.graph_steps if self.device.is_cuda else 200))
         bar = None
         if progress:
             from tqdm import tqdm
+
             # counts steps, shows simulated seconds (unit_scale multiplies both by dt)
-            bar = tqdm(total=s.n_steps, initial=self.step, unit_scale=s.timestep_s, desc=f"warp x{self.nworld}",
-                       bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} sim s [{elapsed}<{remaining}]")
+            bar = tqdm(
+                total=s.n_steps,
+                initial=self.step,
+                unit_scale=s.timestep_s,
+                desc=f"warp x{self.nworld}",
+                bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} sim s [{elapsed}<{remaining}]",
+            )
         try:
             while self.step < s.n_steps:
                 before = self.step
@@ -312,20 +372,33 @@ class WarpBatch:
         rows = []
         for w, design in enumerate(self.designs):
             n = int(acc[w, K.A_HOPS])
-            rows.append({"design": design.name, "n_hops": n,
-                         "hop_height_m": mean_or_nan(acc[w, K.A_HEIGHT_SUM], n),
-                         "tracking_error_m": mean_or_nan(acc[w, K.A_ERR_SUM], n),
-                         "power_w": mean_or_nan(acc[w, K.A_POW_SUM], n),
-                         "stable": bool(div[w] < 0), "behaviour": self.behaviour.name,
-                         "sensor_timing": self.settings.sensor_timing,
-                         "diverged_at_s": None if div[w] < 0 else float(div[w] * self.settings.timestep_s),
-                         "total_mass_kg": float(self.total_mass_kg[w]), "backend": "warp"})
+            rows.append(
+                {
+                    "design": design.name,
+                    "n_hops": n,
+                    "hop_height_m": mean_or_nan(acc[w, K.A_HEIGHT_SUM], n),
+                    "tracking_error_m": mean_or_nan(acc[w, K.A_ERR_SUM], n),
+                    "power_w": mean_or_nan(acc[w, K.A_POW_SUM], n),
+                    "stable": bool(div[w] < 0),
+                    "behaviour": self.behaviour.name,
+                    "sensor_timing": self.settings.sensor_timing,
+                    "diverged_at_s": None if div[w] < 0 else float(div[w] * self.settings.timestep_s),
+                    "total_mass_kg": float(self.total_mass_kg[w]),
+                    "backend": "warp",
+                }
+            )
         return result_frame(rows)
 
 
-def evaluate_warp(designs: Sequence, behaviour, settings: BatchSettings | None = None, *,
-                  device: str | None = None, max_batch: int | None = None,
-                  progress: bool = False) -> pd.DataFrame:
+def evaluate_warp(
+    designs: Sequence,
+    behaviour,
+    settings: BatchSettings | None = None,
+    *,
+    device: str | None = None,
+    max_batch: int | None = None,
+    progress: bool = False,
+) -> pd.DataFrame:
     """One row per design (input order), like :func:`evaluate_cpu`: designs
     are grouped by topology and each group (in slices of at most max_batch
     worlds) runs as one batch on the Warp device."""
@@ -341,9 +414,12 @@ def evaluate_warp(designs: Sequence, behaviour, settings: BatchSettings | None =
     for idx in group_by_topology(designs).values():
         size = max_batch or len(idx)
         for a in range(0, len(idx), size):
-            part = idx[a:a + size]
-            table = WarpBatch([designs[i] for i in part], behaviour, settings, device=device).run(
-                progress=progress).results()
+            part = idx[a : a + size]
+            table = (
+                WarpBatch([designs[i] for i in part], behaviour, settings, device=device)
+                .run(progress=progress)
+                .results()
+            )
             for i, row in zip(part, table.to_dict("records")):
                 rows[i] = row
     return result_frame(rows)

@@ -27,8 +27,10 @@ COMMAND_MODULES = (
 
 def build_parser() -> argparse.ArgumentParser:
     from .. import __version__
-    p = argparse.ArgumentParser(prog="mat-hopper", description=(
-        "Materials Matter, executable: simulate graded robot legs on a MuJoCo hopper."))
+
+    p = argparse.ArgumentParser(
+        prog="mat-hopper", description=("Materials Matter, executable: simulate graded robot legs on a MuJoCo hopper.")
+    )
     p.add_argument("--version", action="version", version=f"mat-hopper {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMAND_MODULES:
@@ -54,5 +56,3 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
-
-

@@ -53,24 +53,36 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
     n = args.segments if args.segments is not None else sp.n_segments
     kinds = args.space if args.space is not None else (sp.kinds if n == sp.n_segments else sp.kinds[0])
     if isinstance(kinds, str) and kinds.strip().lower() in ("mix", "mixed"):
-        raise ValueError(f"--space mix: give one kind per segment, e.g. catalogue,continuous,continuous "
-                         f"(kinds: {', '.join(KINDS)})")
+        raise ValueError(
+            f"--space mix: give one kind per segment, e.g. catalogue,continuous,continuous (kinds: {', '.join(KINDS)})"
+        )
     space = SearchSpace(
-        n_segments=n, kinds=kinds,
+        n_segments=n,
+        kinds=kinds,
         density_g_cm3=_pair(args.density_bounds, "--density-bounds") or sp.density_g_cm3,
         modulus_gpa=_pair(args.modulus_bounds, "--modulus-bounds") or sp.modulus_gpa,
-        materials=args.materials if args.materials is not None else sp.materials)
+        materials=args.materials if args.materials is not None else sp.materials,
+    )
     objective = Objective(
         behaviours=args.behaviour if args.behaviour is not None else ob.behaviours,
         profile=get_profile(args.profile) if args.profile is not None else ob.profile,
         convention=args.convention if args.convention is not None else ob.convention,
-        hop_height_target_m=ob.hop_height_target_m, hop_height_tolerance_m=ob.hop_height_tolerance_m)
+        hop_height_target_m=ob.hop_height_target_m,
+        hop_height_tolerance_m=ob.hop_height_tolerance_m,
+    )
     return StudyConfig(args.study, space, objective)
 
 
 def _options_from_args(args, trials: int = 1) -> RunOptions:
-    return RunOptions(trials=trials, workers=args.workers, sampler=args.sampler, seed=args.seed,
-                      storage=args.storage, studies_dir=args.studies_dir, progress=not args.no_progress)
+    return RunOptions(
+        trials=trials,
+        workers=args.workers,
+        sampler=args.sampler,
+        seed=args.seed,
+        storage=args.storage,
+        studies_dir=args.studies_dir,
+        progress=not args.no_progress,
+    )
 
 
 def open_existing(name: str, args):
@@ -106,18 +118,21 @@ def cmd_optimize(args) -> int:
         raise ValueError(f"--trials must be an integer >= 1, got {args.trials!r}")
     options = _options_from_args(args, args.trials)
     check_sampler(options.sampler)
-    config_from_args(args, None)              # bad settings fail here, before any file is made
+    config_from_args(args, None)  # bad settings fail here, before any file is made
     storage = options.open(args.study)
     config = config_from_args(args, stored_config(args.study, storage))
     del storage
     res = run_study(config, options)
-    print(f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
-          + (f", {res.running} still running elsewhere" if res.running else ""))
+    print(
+        f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
+        + (f", {res.running} still running elsewhere" if res.running else "")
+    )
     if res.dead_workers:
-        print(f"{len(res.dead_workers)} worker(s) died (pid, exit code): {res.dead_workers}; "
-              f"trials failed and re-queued: {res.recovered}")
-    print(f"report: mat-hopper optimize --report {res.study}"
-          + (f" --storage '{res.url}'" if args.storage else ""))
+        print(
+            f"{len(res.dead_workers)} worker(s) died (pid, exit code): {res.dead_workers}; "
+            f"trials failed and re-queued: {res.recovered}"
+        )
+    print(f"report: mat-hopper optimize --report {res.study}" + (f" --storage '{res.url}'" if args.storage else ""))
     if not res.finished and not res.running:
         print("the study is short of its target: run the same command again to resume", file=sys.stderr)
         return 1
@@ -126,26 +141,39 @@ def cmd_optimize(args) -> int:
 
 def register_cli(sub) -> None:
     p = sub.add_parser(
-        "optimize", help="search leg designs with Optuna (multi-objective, resumable, parallel)",
+        "optimize",
+        help="search leg designs with Optuna (multi-objective, resumable, parallel)",
         description="Search per-segment densities and moduli (or catalogue materials) for low tracking "
-                    "error and hip power, hop height 1 +- 0.05 m and stable runs. Starts from the "
-                    "paper's SS, rho-inc and PVC-Ti-SS designs.")
+        "error and hip power, hop height 1 +- 0.05 m and stable runs. Starts from the "
+        "paper's SS, rho-inc and PVC-Ti-SS designs.",
+    )
     p.add_argument("--study", help="study name (letters, digits, _ . -); resumes if it exists")
     p.add_argument("--trials", type=int, default=200, help="study size: finished trials to reach (200)")
-    p.add_argument("--behaviour", "--behavior", dest="behaviour",
-                   help="behaviour, or comma-separated behaviours (objectives averaged), default ramp")
+    p.add_argument(
+        "--behaviour",
+        "--behavior",
+        dest="behaviour",
+        help="behaviour, or comma-separated behaviours (objectives averaged), default ramp",
+    )
     p.add_argument("--segments", type=int, help="segments per leg (default 3)")
-    p.add_argument("--space", help="continuous (default), catalogue, or one kind per segment, e.g. "
-                                   "catalogue,continuous,continuous")
+    p.add_argument(
+        "--space", help="continuous (default), catalogue, or one kind per segment, e.g. catalogue,continuous,continuous"
+    )
     p.add_argument("--density-bounds", help="MIN,MAX g/cm^3 for continuous segments (default 0.9,20)")
     p.add_argument("--modulus-bounds", help="MIN,MAX GPa for continuous segments (default 0.1,1000)")
     p.add_argument("--materials", help="catalogue choices, comma-separated (default: all with a modulus)")
-    p.add_argument("--profile", help=f"run profile: {' or '.join(PROFILES)} (default $MAT_HOPPER_PROFILE, else paper: 60 s runs, "
-                                     "20 s transient, 1e-4 s step; quick: 12 s, 4 s)")
+    p.add_argument(
+        "--profile",
+        help=f"run profile: {' or '.join(PROFILES)} (default $MAT_HOPPER_PROFILE, else paper: 60 s runs, "
+        "20 s transient, 1e-4 s step; quick: 12 s, 4 s)",
+    )
     p.add_argument("--convention", help="stiffness convention: paper (default) or axial")
     p.add_argument("--workers", type=int, default=DEFAULT_WORKERS, help="worker processes here (2)")
-    p.add_argument("--storage", help="Optuna storage URL (default sqlite:///STUDIES_DIR/NAME.db); "
-                                     "postgresql://USER@HOST:PORT/DB or journal:///PATH for shared studies")
+    p.add_argument(
+        "--storage",
+        help="Optuna storage URL (default sqlite:///STUDIES_DIR/NAME.db); "
+        "postgresql://USER@HOST:PORT/DB or journal:///PATH for shared studies",
+    )
     p.add_argument("--studies-dir", default="studies", help="folder of the default SQLite files (studies)")
     p.add_argument("--sampler", default="tpe", help=f"one of {', '.join(SAMPLERS)} (tpe)")
     p.add_argument("--seed", type=int, default=0, help="sampler seed (0)")
@@ -180,15 +208,22 @@ def cmd_replay(name: str, storage, args) -> int:
     for i, m in enumerate(design.segments, 1):
         print(f"  segment {i}: {m.density_g_cm3:.6g} g/cm^3, {m.modulus_gpa:.6g} GPa ({m.name})")
     for r in ev.per_behaviour:
-        print(f"  {r['behaviour']}: tracking error {r['tracking_error_m']:.6g} m, power {r['power_w']:.6g} W, "
-              f"hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
-              f"{'upright' if r['upright'] else 'UNSTABLE'}")
-    print(f"objectives {ev.values[0]:.6g} m, {ev.values[1]:.6g} W; "
-          f"{'feasible' if ev.feasible else 'infeasible'} (constraints {ev.constraints[0]:.4g}, {ev.constraints[1]:g})")
+        print(
+            f"  {r['behaviour']}: tracking error {r['tracking_error_m']:.6g} m, power {r['power_w']:.6g} W, "
+            f"hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
+            f"{'upright' if r['upright'] else 'UNSTABLE'}"
+        )
+    print(
+        f"objectives {ev.values[0]:.6g} m, {ev.values[1]:.6g} W; "
+        f"{'feasible' if ev.feasible else 'infeasible'} (constraints {ev.constraints[0]:.4g}, {ev.constraints[1]:g})"
+    )
     if t.state == TrialState.COMPLETE:
         same = tuple(t.values) == tuple(ev.values)
-        print("replay matches the stored values exactly" if same else
-              f"replay differs from the stored values {tuple(t.values)}")
+        print(
+            "replay matches the stored values exactly"
+            if same
+            else f"replay differs from the stored values {tuple(t.values)}"
+        )
     if args.render:
         return _render(design, config, args)
     return 0 if t.state != TrialState.COMPLETE or tuple(t.values) == tuple(ev.values) else 1
@@ -201,7 +236,13 @@ def _render(design: LegDesign, config: StudyConfig, args) -> int:
     backend = choose_backend()
     for b in config.objective.behaviours:
         stem = os.path.join(folder, f"{args.study}-trial{args.replay}-{b}")
-        for path in render_files(design, b, tiles=f"{stem}-tiles.png", video=f"{stem}.mp4",
-                                 convention=config.objective.convention, backend=backend):
+        for path in render_files(
+            design,
+            b,
+            tiles=f"{stem}-tiles.png",
+            video=f"{stem}.mp4",
+            convention=config.objective.convention,
+            backend=backend,
+        ):
             print(f"wrote {path}")
     return 0

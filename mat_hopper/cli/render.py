@@ -14,32 +14,49 @@ def cmd_render(args) -> int:
         raise ValueError("nothing to render: give --tiles FILE, --video FILE and/or --still FILE")
     size = parse_size(args.size)
     design = design_from_args(args)
-    try:                                               # a named error before any work
+    try:  # a named error before any work
         backend = choose_backend({"MUJOCO_GL": args.backend} if args.backend else None)
     except RenderBackendError as e:
         print(f"mat-hopper render: error: {e}", file=sys.stderr)
         return 3
-    for path in render_files(design, args.behaviour, tiles=args.tiles, video=args.video, still=args.still,
-                             seconds=args.seconds, start_s=args.start, tile_start_s=args.tile_start, fps=args.fps,
-                             size=size, convention=args.convention, backend=backend):
+    for path in render_files(
+        design,
+        args.behaviour,
+        tiles=args.tiles,
+        video=args.video,
+        still=args.still,
+        seconds=args.seconds,
+        start_s=args.start,
+        tile_start_s=args.tile_start,
+        fps=args.fps,
+        size=size,
+        convention=args.convention,
+        backend=backend,
+    ):
         print(f"wrote {path}")
     return 0
 
 
 def register_cli(sub) -> None:
-    p = sub.add_parser("render", help="render gait tiles, a video or a still of a design, off-screen",
-                       description="Render gait tiles (PNG), a video (MP4 or GIF) or a still of one design "
-                                   "on one behaviour, off-screen (OSMesa by default, EGL with MUJOCO_GL=egl).")
+    p = sub.add_parser(
+        "render",
+        help="render gait tiles, a video or a still of a design, off-screen",
+        description="Render gait tiles (PNG), a video (MP4 or GIF) or a still of one design "
+        "on one behaviour, off-screen (OSMesa by default, EGL with MUJOCO_GL=egl).",
+    )
     add_sim_arguments(p)
     p.add_argument("--tiles", help="gait-tile figure to write (.png, .svg, .pdf, .jpg)")
     p.add_argument("--video", help="video to write (.mp4 or .gif)")
     p.add_argument("--still", help="picture of the model at rest to write (.png, .jpg)")
     p.add_argument("--seconds", type=float, default=10.0, help="simulated seconds of video (10)")
     p.add_argument("--start", type=float, default=0.0, help="video starts at this simulated time, s (0)")
-    p.add_argument("--tile-start", type=float, default=5.0,
-                   help="gait tiles start this many seconds after --start (5)")
+    p.add_argument("--tile-start", type=float, default=5.0, help="gait tiles start this many seconds after --start (5)")
     p.add_argument("--fps", type=float, default=30.0, help="video frames per simulated second (30)")
     p.add_argument("--size", default="640x480", help="video and still size WIDTHxHEIGHT in pixels")
-    p.add_argument("--backend", choices=tuple(_LIBS), default=None,
-                   help="OpenGL backend (default: $MUJOCO_GL if osmesa or egl, else osmesa, else egl)")
+    p.add_argument(
+        "--backend",
+        choices=tuple(_LIBS),
+        default=None,
+        help="OpenGL backend (default: $MUJOCO_GL if osmesa or egl, else osmesa, else egl)",
+    )
     p.set_defaults(func=cmd_render)

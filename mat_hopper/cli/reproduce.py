@@ -14,12 +14,23 @@ def cmd_reproduce(args) -> int:
     profile = get_profile(args.profile)
     if args.workers is not None and args.scheduler:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
-    rep = reproduce(profile, args.experiments, args.out, workers=args.workers, scheduler=args.scheduler,
-                    replicates=args.replicates, cache_dir=args.cache, progress=not args.no_progress,
-                    figures=not args.no_figures, conventions=args.conventions)
+    rep = reproduce(
+        profile,
+        args.experiments,
+        args.out,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        replicates=args.replicates,
+        cache_dir=args.cache,
+        progress=not args.no_progress,
+        figures=not args.no_figures,
+        conventions=args.conventions,
+    )
     total = sum(rep.wall_s.values())
-    print(f"wrote {len(rep.files)} files to {rep.out_dir} in {total:.1f} s wall "
-          f"({', '.join(f'{k} {v:.1f} s' for k, v in rep.wall_s.items())})")
+    print(
+        f"wrote {len(rep.files)} files to {rep.out_dir} in {total:.1f} s wall "
+        f"({', '.join(f'{k} {v:.1f} s' for k, v in rep.wall_s.items())})"
+    )
     n_failed = sum(rep.failed.values())
     if n_failed:
         print(f"{n_failed} tasks failed (see the status and error columns); rerun to retry them", file=sys.stderr)
@@ -28,24 +39,37 @@ def cmd_reproduce(args) -> int:
 
 
 def register_cli(sub) -> None:
-    p = sub.add_parser("reproduce", help="run the paper's experiments, write tables, figures and claims",
-                       description=("Run the paper's experiments under one profile (cached, resumable, "
-                                    "in parallel), write their tables as CSV into --out, then the figures "
-                                    "and the claims table (claims.md, claims.csv)."))
-    p.add_argument("--profile", default=None,
-                   help=f"{' or '.join(PROFILES)} (default ${PROFILE_ENV}, else paper)")
-    p.add_argument("--experiments", default="1,2,3,stability",
-                   help="comma-separated: 1, 2, 3, stability (default all four)")
+    p = sub.add_parser(
+        "reproduce",
+        help="run the paper's experiments, write tables, figures and claims",
+        description=(
+            "Run the paper's experiments under one profile (cached, resumable, "
+            "in parallel), write their tables as CSV into --out, then the figures "
+            "and the claims table (claims.md, claims.csv)."
+        ),
+    )
+    p.add_argument("--profile", default=None, help=f"{' or '.join(PROFILES)} (default ${PROFILE_ENV}, else paper)")
+    p.add_argument(
+        "--experiments", default="1,2,3,stability", help="comma-separated: 1, 2, 3, stability (default all four)"
+    )
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
     p.add_argument("--out", default=None, help="output folder (default results/<profile>/)")
-    p.add_argument("--replicates", type=int, default=0,
-                   help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default 0)")
-    p.add_argument("--conventions", default="paper",
-                   help="stiffness conventions of experiments 1-3: paper, axial or paper,axial "
-                        "(axial runs at the profile's smaller axial time step; default paper)")
-    p.add_argument("--cache", default=None,
-                   help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})")
+    p.add_argument(
+        "--replicates",
+        type=int,
+        default=0,
+        help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default 0)",
+    )
+    p.add_argument(
+        "--conventions",
+        default="paper",
+        help="stiffness conventions of experiments 1-3: paper, axial or paper,axial "
+        "(axial runs at the profile's smaller axial time step; default paper)",
+    )
+    p.add_argument(
+        "--cache", default=None, help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})"
+    )
     p.add_argument("--no-figures", action="store_true", help="tables only")
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
     p.set_defaults(func=cmd_reproduce)

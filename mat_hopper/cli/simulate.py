@@ -46,34 +46,49 @@ def design_from_args(args) -> LegDesign:
 
 def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     """Design and run options shared by commands that simulate one design."""
-    p.add_argument("--design", default="SS",
-                   help="material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec")
+    p.add_argument(
+        "--design",
+        default="SS",
+        help="material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec",
+    )
     p.add_argument("--density", help="per-segment densities, g/cm^3, e.g. 1.39,4.43,8")
     p.add_argument("--modulus", help="per-segment moduli, GPa (or 'rigid'), e.g. 70,70,70")
-    p.add_argument("--segments", type=int, default=ref.REFERENCE_SEGMENTS,
-                   help="segments for a single-material design (default 3)")
-    p.add_argument("--behaviour", "--behavior", dest="behaviour", default="forward",
-                   help=f"one of {', '.join(BEHAVIOUR_NAMES)}")
+    p.add_argument(
+        "--segments", type=int, default=ref.REFERENCE_SEGMENTS, help="segments for a single-material design (default 3)"
+    )
+    p.add_argument(
+        "--behaviour", "--behavior", dest="behaviour", default="forward", help=f"one of {', '.join(BEHAVIOUR_NAMES)}"
+    )
     p.add_argument("--timestep", type=float, default=ref.TIMESTEP_S, help="physics time step, s")
     p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
-    p.add_argument("--sensor-timing", default="authors",
-                   help="when the controller reads the base sensors: authors (default: one physics step old, "
-                        "as the authors' loop), fresh, or an integer latency in physics steps")
+    p.add_argument(
+        "--sensor-timing",
+        default="authors",
+        help="when the controller reads the base sensors: authors (default: one physics step old, "
+        "as the authors' loop), fresh, or an integer latency in physics steps",
+    )
 
 
 def cmd_simulate(args) -> int:
     from ..sim import SimSettings, simulate
+
     design = design_from_args(args)
     beh = behaviour(args.behaviour)
-    settings = SimSettings(duration_s=args.duration, timestep_s=args.timestep,
-                           transient_s=args.transient, convention=args.convention,
-                           sensor_timing=_timing(args.sensor_timing))
+    settings = SimSettings(
+        duration_s=args.duration,
+        timestep_s=args.timestep,
+        transient_s=args.transient,
+        convention=args.convention,
+        sensor_timing=_timing(args.sensor_timing),
+    )
     rollout = simulate(design, beh, settings=settings)
     hops = hop_table(rollout)
     s = run_summary(rollout)
-    print(f"{design.name} on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
-          f"convention={settings.convention}, sensor timing={settings.sensor_timing}, "
-          f"mass {rollout.total_mass_kg:.2f} kg")
+    print(
+        f"{design.name} on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
+        f"convention={settings.convention}, sensor timing={settings.sensor_timing}, "
+        f"mass {rollout.total_mass_kg:.2f} kg"
+    )
     if not rollout.stable:
         print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s")
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
@@ -90,11 +105,15 @@ def cmd_simulate(args) -> int:
 
 
 def register_cli(sub) -> None:
-    p = sub.add_parser("simulate", help="simulate one design on one behaviour, print a per-hop summary",
-                       description="Simulate one leg design on one behaviour and summarize its hop cycles.")
+    p = sub.add_parser(
+        "simulate",
+        help="simulate one design on one behaviour, print a per-hop summary",
+        description="Simulate one leg design on one behaviour and summarize its hop cycles.",
+    )
     add_sim_arguments(p)
     p.add_argument("--duration", type=float, default=ref.DURATION_S, help="simulated seconds (60)")
-    p.add_argument("--transient", type=float, default=ref.TRANSIENT_S,
-                   help="seconds before the first scored hop cycle (20)")
+    p.add_argument(
+        "--transient", type=float, default=ref.TRANSIENT_S, help="seconds before the first scored hop cycle (20)"
+    )
     p.add_argument("--csv", help="write the per-hop table (one row per scored hop cycle) here")
     p.set_defaults(func=cmd_simulate)

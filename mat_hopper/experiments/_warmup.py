@@ -14,5 +14,5 @@ try:
     from ..sim import SimSettings, simulate
 
     simulate("MD", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
-except Exception:      # pragma: no cover
+except Exception:  # pragma: no cover
     pass

@@ -55,11 +55,15 @@ class DesignPoint:
 
     design: LegDesign
     label: str
-    tags: tuple = ()      # ((column, value), ...)
+    tags: tuple = ()  # ((column, value), ...)
 
     def labels(self) -> dict:
-        return {"design": self.label, **dict(self.tags),
-                "densities_g_cm3": _fmt(self.design.densities_g_cm3), "moduli_gpa": _fmt(self.design.moduli_gpa)}
+        return {
+            "design": self.label,
+            **dict(self.tags),
+            "densities_g_cm3": _fmt(self.design.densities_g_cm3),
+            "moduli_gpa": _fmt(self.design.moduli_gpa),
+        }
 
 
 @dataclass(frozen=True)
@@ -95,8 +99,15 @@ class Experiment:
                 beh = get_behaviour(bname)
                 for rep in [UNPERTURBED, *range(replicates)]:
                     pert = None if rep == UNPERTURBED else Perturbation.replicate(rep)
-                    labels = {"experiment": self.name, "profile": profile.name, "convention": profile.convention,
-                              "design": point.label, "behaviour": beh.name, "replicate": rep, **point.labels()}
+                    labels = {
+                        "experiment": self.name,
+                        "profile": profile.name,
+                        "convention": profile.convention,
+                        "design": point.label,
+                        "behaviour": beh.name,
+                        "replicate": rep,
+                        **point.labels(),
+                    }
                     out.append(RunSpec(point.design, beh, profile.sim_settings(pert), labels))
         return out
 
@@ -112,25 +123,39 @@ class StabilityMap:
 
     def axes(self, profile: Profile | str | None = None):
         from ..stability import stability_grid
+
         return stability_grid(get_profile(profile).stability_grid_size)
 
     def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
         """One StabilitySpec per grid cell (replicates do not apply)."""
         from ..stability import StabilitySpec
+
         profile = get_profile(profile)
         dens, mods = self.axes(profile)
         out = []
         for d in dens:
             for e in mods:
                 d, e = float(d), float(e)
-                design = LegDesign((Material(f"rho{d:g}-E{e:g}", d, e),) * self.n_segments,
-                                   name=f"rho={d:g} E={e:g}")
-                labels = {"experiment": self.name, "profile": profile.name, "convention": profile.convention,
-                          "design": design.name, "density_g_cm3": d, "modulus_gpa": e}
-                out.append(StabilitySpec(design, duration_s=profile.stability_duration_s,
-                                         tolerance=profile.stability_tolerance,
-                                         max_iter=profile.stability_max_iter, scan=profile.stability_scan,
-                                         convention=profile.convention, labels=labels))
+                design = LegDesign((Material(f"rho{d:g}-E{e:g}", d, e),) * self.n_segments, name=f"rho={d:g} E={e:g}")
+                labels = {
+                    "experiment": self.name,
+                    "profile": profile.name,
+                    "convention": profile.convention,
+                    "design": design.name,
+                    "density_g_cm3": d,
+                    "modulus_gpa": e,
+                }
+                out.append(
+                    StabilitySpec(
+                        design,
+                        duration_s=profile.stability_duration_s,
+                        tolerance=profile.stability_tolerance,
+                        max_iter=profile.stability_max_iter,
+                        scan=profile.stability_scan,
+                        convention=profile.convention,
+                        labels=labels,
+                    )
+                )
         return out
 
 
@@ -167,9 +192,15 @@ def experiment_2() -> Experiment:
                 else:
                     label = f"{base} {SWEEP_SHORT[prop]}={v:g}"
                     design = LegDesign.mono(Material(label, rho, e), ref.REFERENCE_SEGMENTS)
-                tags = (("group", f"{base} {prop}"), ("sweep_base", base), ("sweep_property", prop),
-                        ("sweep_value", float(v)), ("density_g_cm3", float(rho)), ("modulus_gpa", float(e)),
-                        ("is_base", bool(is_base)))
+                tags = (
+                    ("group", f"{base} {prop}"),
+                    ("sweep_base", base),
+                    ("sweep_property", prop),
+                    ("sweep_value", float(v)),
+                    ("density_g_cm3", float(rho)),
+                    ("modulus_gpa", float(e)),
+                    ("is_base", bool(is_base)),
+                )
                 points.append(DesignPoint(design, label, tags))
     return Experiment("exp2", "One property at a time, forward hopping", tuple(points), ("forward",))
 
@@ -180,8 +211,9 @@ def experiment_3() -> Experiment:
     grads = ("rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC")
     points = tuple(DesignPoint(designs[n], n, (("group", "gradient"),)) for n in grads)
     points += tuple(DesignPoint(designs[n], n, (("group", "baseline"),)) for n in ("MD", "SS"))
-    return Experiment("exp3", "Functional gradients x four behaviours, against MD and SS", points,
-                      BEHAVIOUR_NAMES, ("MD", "SS"))
+    return Experiment(
+        "exp3", "Functional gradients x four behaviours, against MD and SS", points, BEHAVIOUR_NAMES, ("MD", "SS")
+    )
 
 
 EXPERIMENTS = {"exp1": experiment_1, "exp2": experiment_2, "exp3": experiment_3, "stability": StabilityMap}
@@ -218,8 +250,9 @@ def get_experiment(name: str) -> Experiment | StabilityMap:
 # the book's extra checks (each through the runner: cached, in parallel)
 
 
-def convention_tasks(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
-                     conventions=CONVENTIONS) -> list:
+def convention_tasks(
+    names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None, conventions=CONVENTIONS
+) -> list:
     """Stable-time-step measurements (runner tasks, cached) of designs
     (names as :func:`~mat_hopper.materials.parse_design` reads them, or
     LegDesigns; default the mono-materials) under each convention, with
@@ -233,14 +266,28 @@ def convention_tasks(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profi
         for n in names:
             d = parse_design(n) if isinstance(n, str) else n
             labels = {"experiment": "conventions", "profile": prof.name, "convention": conv, "design": d.name}
-            out.append(StabilitySpec(d, duration_s=prof.stability_duration_s, tolerance=prof.stability_tolerance,
-                                     max_iter=prof.stability_max_iter, scan=False, convention=conv,
-                                     labels=labels))
+            out.append(
+                StabilitySpec(
+                    d,
+                    duration_s=prof.stability_duration_s,
+                    tolerance=prof.stability_tolerance,
+                    max_iter=prof.stability_max_iter,
+                    scan=False,
+                    convention=conv,
+                    labels=labels,
+                )
+            )
     return out
 
 
-def convention_stability(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None,
-                         conventions=CONVENTIONS, *, cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+def convention_stability(
+    names=("MD", "PVC", "Al", "Ti", "SS"),
+    profile: str | Profile | None = None,
+    conventions=CONVENTIONS,
+    *,
+    cache_dir=None,
+    workers: int | None = None,
+) -> pd.DataFrame:
     """Largest stable time step per design (see :func:`convention_tasks`)
     and convention: measured (the bracket [max_stable_timestep_s,
     unstable_timestep_s] of :mod:`mat_hopper.stability`) and estimated
@@ -249,21 +296,37 @@ def convention_stability(names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | P
     stance attitude damping, the same for every leg), one row each, with
     the stiffest material spring (material_spring_n_m; nan for the rigid
     MD leg)."""
-    res = run_grid(convention_tasks(names, profile, conventions), cache_dir, workers=workers, progress=False,
-                   desc="conventions")
+    res = run_grid(
+        convention_tasks(names, profile, conventions), cache_dir, workers=workers, progress=False, desc="conventions"
+    )
     s = res.summary
     if (s["status"] == FAILED).any():
         bad = s[s["status"] == FAILED]
-        raise RuntimeError("stability measurement failed: " + "; ".join(
-            f"{r.design} ({r.convention}): {r.error}" for r in bad.itertuples()))
-    keep = ["design", "convention", "max_material_spring_n_m", "analytic_timestep_s", "controller_timestep_s",
-            "max_stable_timestep_s", "unstable_timestep_s"]
+        raise RuntimeError(
+            "stability measurement failed: "
+            + "; ".join(f"{r.design} ({r.convention}): {r.error}" for r in bad.itertuples())
+        )
+    keep = [
+        "design",
+        "convention",
+        "max_material_spring_n_m",
+        "analytic_timestep_s",
+        "controller_timestep_s",
+        "max_stable_timestep_s",
+        "unstable_timestep_s",
+    ]
     out = s[keep].rename(columns={"max_material_spring_n_m": "material_spring_n_m"})
     return out.reset_index(drop=True)
 
 
-def in_place_replicates(profile: str | Profile | None = None, n: int | None = None, *, behaviour: str = "static",
-                        cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+def in_place_replicates(
+    profile: str | Profile | None = None,
+    n: int | None = None,
+    *,
+    behaviour: str = "static",
+    cache_dir=None,
+    workers: int | None = None,
+) -> pd.DataFrame:
     """Experiment 1's five legs hopping in place (or on `behaviour`), the
     unperturbed run and n perturbed replicates each (seeds 0..n-1,
     :meth:`~mat_hopper.perturbations.Perturbation.replicate`; n from the
@@ -282,8 +345,15 @@ def in_place_replicates(profile: str | Profile | None = None, n: int | None = No
 CLOCK_FACTORS = (1.0, 1.5, 2.0)
 
 
-def clock_drift(profile: str | Profile | None = None, designs=("MD", "SS"), factors=CLOCK_FACTORS,
-                behaviour: str = "forward", *, cache_dir=None, workers: int | None = None) -> pd.DataFrame:
+def clock_drift(
+    profile: str | Profile | None = None,
+    designs=("MD", "SS"),
+    factors=CLOCK_FACTORS,
+    behaviour: str = "forward",
+    *,
+    cache_dir=None,
+    workers: int | None = None,
+) -> pd.DataFrame:
     """What the authors' wall-clock desired path does. Their loop sleeps to
     stay in real time, so on a machine that simulates r times slower than
     real time the desired path advances r times faster in simulated time.
@@ -302,19 +372,33 @@ def clock_drift(profile: str | Profile | None = None, designs=("MD", "SS"), fact
             if not (isinstance(r, (int, float)) and math.isfinite(r) and r > 0):
                 raise ValueError(f"clock factors must be finite numbers > 0, got {r!r}")
             beh = get_behaviour(behaviour, speed_m_s=ref.SPEED_M_S * float(r))
-            labels = {"experiment": "clock", "profile": profile.name, "design": design.name,
-                      "behaviour": behaviour, "clock_factor": float(r), "speed_m_s": beh.speed_m_s}
+            labels = {
+                "experiment": "clock",
+                "profile": profile.name,
+                "design": design.name,
+                "behaviour": behaviour,
+                "clock_factor": float(r),
+                "speed_m_s": beh.speed_m_s,
+            }
             tasks.append(RunSpec(design, beh, profile.sim_settings(), labels))
     res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="clock")
     s = res.summary
     if (s["status"] == FAILED).any():
         raise RuntimeError("clock_drift: runs failed: " + "; ".join(s.loc[s["status"] == FAILED, "error"]))
-    return s[["design", "clock_factor", "speed_m_s", "status", "n_hops", "mean_tracking_error_m",
-              "mean_power_w"]].reset_index(drop=True)
+    return s[
+        ["design", "clock_factor", "speed_m_s", "status", "n_hops", "mean_tracking_error_m", "mean_power_w"]
+    ].reset_index(drop=True)
 
 
-def axial_check(profile: str | Profile | None = None, designs=("MD", "SS", "rho-inc"), behaviour: str = "ramp", *,
-                timestep_s: float | None = None, cache_dir=None, workers: int | None = None) -> dict:
+def axial_check(
+    profile: str | Profile | None = None,
+    designs=("MD", "SS", "rho-inc"),
+    behaviour: str = "ramp",
+    *,
+    timestep_s: float | None = None,
+    cache_dir=None,
+    workers: int | None = None,
+) -> dict:
     """The paper's headline comparison under the physical (axial) stiffness
     convention. The axial springs need a smaller time step: by default the
     profile's ``axial_timestep_s`` (the step ``mat-hopper reproduce
@@ -340,16 +424,24 @@ def axial_check(profile: str | Profile | None = None, designs=("MD", "SS", "rho-
     plan += [(d, axial) for d in designs if not all(m.rigid for m in legs[d].segments)]
     tasks = []
     for d, st in plan:
-        labels = {"experiment": "axial-check", "profile": prof.name, "convention": st.convention, "design": d,
-                  "behaviour": beh.name, "setting": name(st), "timestep_s": st.timestep_s}
+        labels = {
+            "experiment": "axial-check",
+            "profile": prof.name,
+            "convention": st.convention,
+            "design": d,
+            "behaviour": beh.name,
+            "setting": name(st),
+            "timestep_s": st.timestep_s,
+        }
         tasks.append(RunSpec(legs[d], beh, st, labels))
     res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="axial")
     if (res.summary["status"] == FAILED).any():
-        raise RuntimeError("axial_check: runs failed: " + "; ".join(res.summary.loc[res.summary["status"] == FAILED,
-                                                                                    "error"]))
+        raise RuntimeError(
+            "axial_check: runs failed: " + "; ".join(res.summary.loc[res.summary["status"] == FAILED, "error"])
+        )
     hops, runs = res.tables, res.summary
     rigid = [d for d in designs if all(m.rigid for m in legs[d].segments)]
-    if rigid:      # a rigid leg has no springs: its run at the small step stands for both conventions
+    if rigid:  # a rigid leg has no springs: its run at the small step stands for both conventions
         extra_h = hops[hops["design"].isin(rigid) & (hops["setting"] == name(small))].assign(setting=name(axial))
         extra_r = runs[runs["design"].isin(rigid) & (runs["setting"] == name(small))].assign(setting=name(axial))
         hops = pd.concat([hops, extra_h], ignore_index=True)

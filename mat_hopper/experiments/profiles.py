@@ -64,7 +64,7 @@ class Profile:
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"profile name must be a non-empty string, got {self.name!r}")
-        self.sim_settings()            # validates duration, transient, time step, convention
+        self.sim_settings()  # validates duration, transient, time step, convention
         if int(self.stability_grid_size) < 1:
             raise ValueError(f"stability_grid_size must be >= 1, got {self.stability_grid_size!r}")
         if not self.stability_duration_s > 0:
@@ -84,14 +84,20 @@ class Profile:
         return replace(self, convention=convention, timestep_s=dt)
 
     def sim_settings(self, perturbation: Perturbation | None = None) -> SimSettings:
-        return SimSettings(duration_s=self.duration_s, timestep_s=self.timestep_s, transient_s=self.transient_s,
-                           convention=self.convention, record_rate_hz=self.record_rate_hz,
-                           perturbation=perturbation)
+        return SimSettings(
+            duration_s=self.duration_s,
+            timestep_s=self.timestep_s,
+            transient_s=self.transient_s,
+            convention=self.convention,
+            record_rate_hz=self.record_rate_hz,
+            perturbation=perturbation,
+        )
 
 
 PROFILES = {
-    "paper": Profile("paper", ref.DURATION_S, ref.TRANSIENT_S, ref.TIMESTEP_S, ref.STABILITY_GRID_SIZE,
-                     ref.STABILITY_TEST_DURATION_S),
+    "paper": Profile(
+        "paper", ref.DURATION_S, ref.TRANSIENT_S, ref.TIMESTEP_S, ref.STABILITY_GRID_SIZE, ref.STABILITY_TEST_DURATION_S
+    ),
     "quick": Profile("quick", 12.0, 4.0, ref.TIMESTEP_S, 4, 1.0, stability_tolerance=1.5, book_replicates=3),
 }
 
@@ -128,6 +134,8 @@ def profile_table(profile: str | Profile | None = None) -> pd.DataFrame:
     profile): columns setting, meaning, this build, paper."""
     prof = get_profile(profile)
     paper = PROFILES["paper"]
-    rows = [{"setting": f, "meaning": m, "this build": getattr(prof, f), "paper": getattr(paper, f)}
-            for f, m in _PROFILE_FIELDS]
+    rows = [
+        {"setting": f, "meaning": m, "this build": getattr(prof, f), "paper": getattr(paper, f)}
+        for f, m in _PROFILE_FIELDS
+    ]
     return pd.DataFrame(rows)

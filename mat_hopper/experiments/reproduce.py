@@ -47,9 +47,20 @@ def default_out_dir(profile_name: str) -> str:
     return os.path.join("results", profile_name)
 
 
-def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, workers: int | None = None,
-              scheduler=None, replicates: int = 0, cache_dir: str | None = None, progress: bool = True,
-              figures: bool = True, conventions=("paper",), log=print) -> Reproduction:
+def reproduce(
+    profile=None,
+    experiments=None,
+    out_dir: str | None = None,
+    *,
+    workers: int | None = None,
+    scheduler=None,
+    replicates: int = 0,
+    cache_dir: str | None = None,
+    progress: bool = True,
+    figures: bool = True,
+    conventions=("paper",),
+    log=print,
+) -> Reproduction:
     """Run experiments (names or '1,2,3,stability'; default all) under a
     profile (name or Profile; default $MAT_HOPPER_PROFILE or paper), write
     their tables into out_dir, then figures and claims. Every input is
@@ -62,22 +73,30 @@ def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, wor
     one that was not asked for)."""
     prof = get_profile(profile)
     conventions = _check_conventions(conventions)
-    names = parse_experiments(experiments if experiments is None or isinstance(experiments, str)
-                              else ",".join(experiments))
+    names = parse_experiments(
+        experiments if experiments is None or isinstance(experiments, str) else ",".join(experiments)
+    )
     replicates = check_replicates(replicates)
     check_workers(workers)
     out_dir = out_dir or default_out_dir(prof.name)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise ValueError(f"--out {out_dir!r} exists and is not a folder")
     plan = {n: get_experiment(n) for n in names}
-    tasks = {n: (e.tasks(prof, replicates) if n == "stability" else
-                 [t for c in conventions for t in e.tasks(prof.for_convention(c), replicates)])
-             for n, e in plan.items()}
+    tasks = {
+        n: (
+            e.tasks(prof, replicates)
+            if n == "stability"
+            else [t for c in conventions for t in e.tasks(prof.for_convention(c), replicates)]
+        )
+        for n, e in plan.items()
+    }
     os.makedirs(out_dir, exist_ok=True)
     rep = Reproduction(prof.name, out_dir)
-    log(f"profile {prof.name}: {prof.duration_s:g} s runs, transient {prof.transient_s:g} s, "
+    log(
+        f"profile {prof.name}: {prof.duration_s:g} s runs, transient {prof.transient_s:g} s, "
         f"dt {prof.timestep_s:g} s; stability grid {prof.stability_grid_size}x{prof.stability_grid_size}; "
-        f"replicates {replicates}; conventions {', '.join(conventions)}; out {out_dir}")
+        f"replicates {replicates}; conventions {', '.join(conventions)}; out {out_dir}"
+    )
     with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as runner:
         for name in names:
             t0 = time.perf_counter()
@@ -88,8 +107,12 @@ def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, wor
             rep.computed[name] = res.n_computed
             if name == "stability":
                 from ..stability import agreement
-                made = {"stability": res.summary, "stability_tries": res.tables,
-                        "stability_agreement": agreement(res.summary)}
+
+                made = {
+                    "stability": res.summary,
+                    "stability_tries": res.tables,
+                    "stability_agreement": agreement(res.summary),
+                }
             else:
                 made = {f"{name}_hops": res.tables, f"{name}_runs": res.summary}
             for tname, frame in made.items():
@@ -97,8 +120,10 @@ def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, wor
                 write_csv(frame, path)
                 rep.tables[tname] = frame
                 rep.files.append(path)
-            log(f"{name}: {res.n_tasks} tasks ({res.n_unique} unique): {res.n_cached} cached, "
-                f"{res.n_computed - res.n_failed} computed, {res.n_failed} failed in {wall:.1f} s wall")
+            log(
+                f"{name}: {res.n_tasks} tasks ({res.n_unique} unique): {res.n_cached} cached, "
+                f"{res.n_computed - res.n_failed} computed, {res.n_failed} failed in {wall:.1f} s wall"
+            )
             if res.n_failed:
                 bad = res.summary[res.summary["status"] == "failed"]
                 for row in bad.head(5).itertuples():
@@ -107,9 +132,14 @@ def reproduce(profile=None, experiments=None, out_dir: str | None = None, *, wor
         a = rep.tables["stability_agreement"]
         for est in ("spring", "combined"):
             q = dict(zip(a.loc[a["estimate"] == est, "quantity"], a.loc[a["estimate"] == est, "value"]))
-            log(f"stability, {est} estimate vs measured: " + ", ".join(
-                f"{k} {q[k]:.3g}" for k in ("median_ratio_measured_to_estimate", "loglog_pearson_r",
-                                            "fraction_within_factor_2") if k in q))
+            log(
+                f"stability, {est} estimate vs measured: "
+                + ", ".join(
+                    f"{k} {q[k]:.3g}"
+                    for k in ("median_ratio_measured_to_estimate", "loglog_pearson_r", "fraction_within_factor_2")
+                    if k in q
+                )
+            )
     if figures:
         t0 = time.perf_counter()
         rep.files += _figures_and_claims(rep, log)
@@ -123,6 +153,7 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
     from the tables of this reproduction."""
     from ..analysis import claims
     from ..viz import figures as plots
+
     files = [str(p) for p in plots.write_figures(rep.tables, rep.out_dir)]
     hops = _concat([rep.tables.get(f"{e}_hops") for e in ("exp1", "exp2", "exp3")])
     runs = _concat([rep.tables.get(f"{e}_runs") for e in ("exp1", "exp2", "exp3")])
@@ -148,8 +179,16 @@ def _concat(frames) -> pd.DataFrame | None:
     return pd.concat(frames, ignore_index=True) if frames else None
 
 
-def run_experiments(profile, experiments: str, *, out_dir=None, cache_dir=None, replicates: int = 0,
-                    workers: int | None = None, quiet: bool = False) -> dict[str, pd.DataFrame]:
+def run_experiments(
+    profile,
+    experiments: str,
+    *,
+    out_dir=None,
+    cache_dir=None,
+    replicates: int = 0,
+    workers: int | None = None,
+    quiet: bool = False,
+) -> dict[str, pd.DataFrame]:
     """Run (or load from the cache) experiments ('1', '2', '3',
     'stability', comma-separated) under a profile with :func:`reproduce`
     (tables only, no figures, no log), which also writes their tables to
@@ -161,8 +200,17 @@ def run_experiments(profile, experiments: str, *, out_dir=None, cache_dir=None, 
     prof = get_profile(profile)
     out_dir = str(out_dir) if out_dir is not None else None
     cache_dir = str(cache_dir) if cache_dir is not None else None
-    rep = reproduce(prof, experiments, out_dir, workers=workers, replicates=replicates, cache_dir=cache_dir,
-                    progress=False, figures=False, log=lambda *a, **k: None)
+    rep = reproduce(
+        prof,
+        experiments,
+        out_dir,
+        workers=workers,
+        replicates=replicates,
+        cache_dir=cache_dir,
+        progress=False,
+        figures=False,
+        log=lambda *a, **k: None,
+    )
     failed = {k: v for k, v in rep.failed.items() if v}
     if failed:
         raise RuntimeError(f"tasks failed in {failed}; see the error column of the runs tables in {rep.out_dir}")

@@ -73,8 +73,20 @@ OK, DIVERGED, FALLEN, FAILED = "ok", "diverged", "fallen", "failed"
 
 # Modules whose code makes or summarises a result: their source is part of every key.
 # Paths relative to the package folder, "/"-separated.
-RESULT_MODULES = ("reference", "materials", "model", "control", "behaviours", "_loop", "sim", "perturbations", "metrics",
-                  "modes", "stability", "experiments/runner")
+RESULT_MODULES = (
+    "reference",
+    "materials",
+    "model",
+    "control",
+    "behaviours",
+    "_loop",
+    "sim",
+    "perturbations",
+    "metrics",
+    "modes",
+    "stability",
+    "experiments/runner",
+)
 
 
 @functools.lru_cache(maxsize=1)
@@ -95,25 +107,35 @@ def versions() -> dict:
     import mujoco
 
     from .. import __version__
+
     return {"mat_hopper": __version__, "source": source_digest(), "mujoco": mujoco.__version__}
 
 
 def design_key(design: LegDesign) -> dict:
     """A design as the physics sees it: per-segment density (g/cm^3) and
     modulus (GPa, None = rigid). The name is a label, not physics."""
-    return {"n_segments": design.n_segments, "densities_g_cm3": list(design.densities_g_cm3),
-            "moduli_gpa": list(design.moduli_gpa)}
+    return {
+        "n_segments": design.n_segments,
+        "densities_g_cm3": list(design.densities_g_cm3),
+        "moduli_gpa": list(design.moduli_gpa),
+    }
 
 
 def settings_key(settings: SimSettings) -> dict:
     """Every field of SimSettings (controller gains and perturbation included)."""
     p = settings.perturbation
-    return {"duration_s": settings.duration_s, "timestep_s": settings.timestep_s,
-            "transient_s": settings.transient_s, "convention": settings.convention,
-            "sensor_timing": settings.sensor_timing, "segment_mass": settings.segment_mass,
-            "substeps": settings.substeps,
-            "record_rate_hz": settings.record_rate_hz, "controller": asdict(settings.controller),
-            "perturbation": None if p is None else asdict(p)}
+    return {
+        "duration_s": settings.duration_s,
+        "timestep_s": settings.timestep_s,
+        "transient_s": settings.transient_s,
+        "convention": settings.convention,
+        "sensor_timing": settings.sensor_timing,
+        "segment_mass": settings.segment_mass,
+        "substeps": settings.substeps,
+        "record_rate_hz": settings.record_rate_hz,
+        "controller": asdict(settings.controller),
+        "perturbation": None if p is None else asdict(p),
+    }
 
 
 def _json_default(o):
@@ -153,8 +175,13 @@ class RunSpec:
     kind = "run"
 
     def key_dict(self) -> dict:
-        return {"kind": self.kind, "design": design_key(self.design), "behaviour": self.behaviour.key(),
-                "settings": settings_key(self.settings), "versions": versions()}
+        return {
+            "kind": self.kind,
+            "design": design_key(self.design),
+            "behaviour": self.behaviour.key(),
+            "settings": settings_key(self.settings),
+            "versions": versions(),
+        }
 
     def key(self) -> str:
         return f"{self.kind}-{hash_key(self.key_dict())}"
@@ -167,6 +194,7 @@ class RunSpec:
         divergence: an unstable run is a summary with status 'diverged'."""
         from ..metrics import hop_table, run_summary
         from ..sim import C, simulate
+
         rollout = simulate(self.design, self.behaviour, settings=self.settings)
         hops = hop_table(rollout).drop(columns=["design", "behaviour"])
         summary = run_summary(rollout)
@@ -176,8 +204,11 @@ class RunSpec:
             summary["diverged_at_s"] = math.nan
         summary["upright"] = bool(rollout.upright)
         summary["final_base_z_m"] = float(rollout.data[-1, C["z"]]) if len(rollout.data) else math.nan
-        summary.update(duration_s=self.settings.duration_s, timestep_s=self.settings.timestep_s,
-                       transient_s=self.settings.transient_s)
+        summary.update(
+            duration_s=self.settings.duration_s,
+            timestep_s=self.settings.timestep_s,
+            transient_s=self.settings.transient_s,
+        )
         summary["status"] = OK if rollout.upright else (DIVERGED if not rollout.stable else FALLEN)
         return hops, summary
 
@@ -202,12 +233,12 @@ class Cache:
 
     def keys(self) -> set[str]:
         """Keys of the complete results on disk (temp files excluded)."""
-        return {f[:-8] for f in os.listdir(self.root)
-                if f.endswith(".parquet") and not f.startswith(TEMP_PREFIX)}
+        return {f[:-8] for f in os.listdir(self.root) if f.endswith(".parquet") and not f.startswith(TEMP_PREFIX)}
 
     def load(self, key: str) -> tuple[pd.DataFrame, dict] | None:
         """(table, summary) or None when absent or unreadable."""
         import pyarrow.parquet as pq
+
         path = self.path(key)
         if not os.path.isfile(path):
             return None
@@ -215,7 +246,7 @@ class Cache:
             table = pq.read_table(path)
             meta = json.loads(table.schema.metadata[_META_KEY])
             frame = table.to_pandas()
-        except Exception:       # unreadable (not ours, damaged): recompute, never trust
+        except Exception:  # unreadable (not ours, damaged): recompute, never trust
             return None
         return frame, meta["summary"]
 
@@ -223,10 +254,12 @@ class Cache:
         """Write atomically: temp file in the cache folder, then os.replace."""
         import pyarrow as pa
         import pyarrow.parquet as pq
+
         t = pa.Table.from_pandas(table.reset_index(drop=True), preserve_index=False)
         meta = dict(t.schema.metadata or {})
-        meta[_META_KEY] = json.dumps({"summary": summary, "key": key_dict},
-                                     default=_json_default, allow_nan=True).encode()
+        meta[_META_KEY] = json.dumps(
+            {"summary": summary, "key": key_dict}, default=_json_default, allow_nan=True
+        ).encode()
         t = t.replace_schema_metadata(meta)
         with atomic_path(self.path(key), prefix=TEMP_PREFIX, fsync=True) as tmp:
             pq.write_table(t, tmp)
@@ -260,7 +293,7 @@ def _execute(task) -> tuple[str, pd.DataFrame | None, dict | None, str | None]:
     try:
         table, summary = task.compute()
         return key, table, summary, None
-    except Exception as e:    # a failed row, not a crashed grid
+    except Exception as e:  # a failed row, not a crashed grid
         tb = traceback.format_exception_only(type(e), e)[-1].strip()
         return key, None, None, tb
 
@@ -269,7 +302,7 @@ def default_workers() -> int:
     """All cores this process may use."""
     try:
         return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:      # pragma: no cover (not Linux)
+    except AttributeError:  # pragma: no cover (not Linux)
         return max(1, os.cpu_count() or 1)
 
 
@@ -312,8 +345,9 @@ class Runner:
         if scheduler is not None and self.workers is not None:
             raise ValueError("give either workers (local processes) or scheduler (Dask), not both")
         if scheduler is not None and not isinstance(scheduler, str) and not hasattr(scheduler, "submit"):
-            raise ValueError(f"scheduler must be an address like tcp://host:8786 or a distributed.Client, "
-                             f"got {scheduler!r}")
+            raise ValueError(
+                f"scheduler must be an address like tcp://host:8786 or a distributed.Client, got {scheduler!r}"
+            )
         if isinstance(scheduler, str) and not scheduler.strip():
             raise ValueError("scheduler address is empty (e.g. tcp://127.0.0.1:8786)")
         self.cache = Cache(cache_dir)
@@ -349,7 +383,7 @@ class Runner:
                 # workers fork from a server that already loaded everything (no effect
                 # if this process's forkserver is already running)
                 ctx.set_forkserver_preload(["mat_hopper.experiments._warmup"])
-            else:                    # pragma: no cover (not Linux)
+            else:  # pragma: no cover (not Linux)
                 ctx = multiprocessing.get_context("spawn")
             self._pool = ProcessPoolExecutor(self.n_workers, mp_context=ctx)
         return self._pool
@@ -358,6 +392,7 @@ class Runner:
         if self._client is None:
             if isinstance(self.scheduler, str):
                 from distributed import Client
+
                 try:
                     self._client = Client(self.scheduler, timeout="20s")
                 except OSError as e:
@@ -391,13 +426,21 @@ class Runner:
         todo = [k for k in unique if k not in results]
 
         from tqdm.auto import tqdm
-        bar = tqdm(total=len(unique), initial=n_cached, desc=desc, unit="run", disable=not self.progress,
-                   dynamic_ncols=True, leave=False)
+
+        bar = tqdm(
+            total=len(unique),
+            initial=n_cached,
+            desc=desc,
+            unit="run",
+            disable=not self.progress,
+            dynamic_ncols=True,
+            leave=False,
+        )
         try:
             for key, table, summary, err in self._compute(todo, unique):
                 if err is None:
                     self.cache.store(key, table, summary, unique[key].key_dict())
-                    got = self.cache.load(key)     # tables always come from the stored form
+                    got = self.cache.load(key)  # tables always come from the stored form
                     if got is None:
                         err = "result could not be read back from the cache"
                     else:
@@ -430,10 +473,14 @@ class Runner:
                 try:
                     yield fut.result()
                 except BrokenProcessPool as e:
-                    self._pool = None      # a worker died (killed, out of memory): fresh pool next time
-                    yield k, None, None, (f"worker process died ({e}); from a script, start the "
-                                          "grid under if __name__ == '__main__':")
-                except Exception as e:     # pickling and the like
+                    self._pool = None  # a worker died (killed, out of memory): fresh pool next time
+                    yield (
+                        k,
+                        None,
+                        None,
+                        (f"worker process died ({e}); from a script, start the grid under if __name__ == '__main__':"),
+                    )
+                except Exception as e:  # pickling and the like
                     yield k, None, None, f"{type(e).__name__}: {e}"
         except BaseException:
             for f in futures:
@@ -442,6 +489,7 @@ class Runner:
 
     def _compute_dask(self, todo, unique):
         from distributed import as_completed as dask_completed
+
         client = self._get_client()
         futures = {}
         for k in todo:
@@ -480,14 +528,19 @@ def _assemble(tasks, keys, results, errors) -> tuple[pd.DataFrame, pd.DataFrame]
                 if len(f):
                     frames.append(f)
                 else:
-                    empty = f       # keeps the columns when no task has a row
+                    empty = f  # keeps the columns when no task has a row
             row = {**labels, **{c: v for c, v in summary.items() if c not in labels}, "error": ""}
         else:
             row = {**labels, "status": FAILED, "error": errors.get(k, "not computed")}
         row["key"] = k
         rows.append(row)
-    tables = (pd.concat(frames, ignore_index=True) if frames
-              else empty.reset_index(drop=True) if empty is not None else pd.DataFrame())
+    tables = (
+        pd.concat(frames, ignore_index=True)
+        if frames
+        else empty.reset_index(drop=True)
+        if empty is not None
+        else pd.DataFrame()
+    )
     summary = pd.DataFrame(rows)
     if "status" in summary.columns:
         cols = [c for c in summary.columns if c not in ("status", "error", "key")]
@@ -495,8 +548,15 @@ def _assemble(tasks, keys, results, errors) -> tuple[pd.DataFrame, pd.DataFrame]
     return tables, summary
 
 
-def run_grid(tasks: Sequence, cache_dir=None, *, workers: int | None = None, scheduler=None,
-             progress: bool = True, desc: str = "runs") -> GridResult:
+def run_grid(
+    tasks: Sequence,
+    cache_dir=None,
+    *,
+    workers: int | None = None,
+    scheduler=None,
+    progress: bool = True,
+    desc: str = "runs",
+) -> GridResult:
     """Run a grid once (see :class:`Runner`)."""
     with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as r:
         return r.run(tasks, desc=desc)
@@ -523,9 +583,14 @@ class RolloutSpec:
     kind = "rollout"
 
     def key_dict(self) -> dict:
-        return {"kind": self.kind, "design": design_key(self.design), "behaviour": self.behaviour.key(),
-                "settings": settings_key(self.settings), "record_qpos": bool(self.record_qpos),
-                "versions": versions()}
+        return {
+            "kind": self.kind,
+            "design": design_key(self.design),
+            "behaviour": self.behaviour.key(),
+            "settings": settings_key(self.settings),
+            "record_qpos": bool(self.record_qpos),
+            "versions": versions(),
+        }
 
     def key(self) -> str:
         return f"{self.kind}-{hash_key(self.key_dict())}"
@@ -539,12 +604,23 @@ class RolloutSpec:
         r = simulate(self.design, self.behaviour, settings=self.settings, record_qpos=self.record_qpos)
         table = pd.DataFrame(np.asarray(r.data, dtype=float), columns=list(CHANNELS))
         if self.record_qpos:
-            table = pd.concat([table, pd.DataFrame(np.asarray(r.qpos, dtype=float),
-                                                   columns=[f"qpos_{i}" for i in range(r.qpos.shape[1])])], axis=1)
+            table = pd.concat(
+                [
+                    table,
+                    pd.DataFrame(
+                        np.asarray(r.qpos, dtype=float), columns=[f"qpos_{i}" for i in range(r.qpos.shape[1])]
+                    ),
+                ],
+                axis=1,
+            )
         ev = np.asarray(r.events, dtype=float)
-        summary = {"events": ev.ravel().tolist(), "events_shape": list(ev.shape),
-                   "diverged_step": int(r.diverged_step), "total_mass_kg": float(r.total_mass_kg),
-                   "spring_stiffness_n_m": [float(k) for k in r.spring_stiffness_n_m]}
+        summary = {
+            "events": ev.ravel().tolist(),
+            "events_shape": list(ev.shape),
+            "diverged_step": int(r.diverged_step),
+            "total_mass_kg": float(r.total_mass_kg),
+            "spring_stiffness_n_m": [float(k) for k in r.spring_stiffness_n_m],
+        }
         return table, summary
 
     def rollout(self, table: pd.DataFrame, summary: dict):
@@ -555,12 +631,29 @@ class RolloutSpec:
         qcols = [c for c in table.columns if c.startswith("qpos_")]
         qpos = table[qcols].to_numpy(float) if self.record_qpos else None
         events = np.asarray(summary["events"], dtype=float).reshape(summary["events_shape"])
-        return Rollout(self.design, self.behaviour, self.settings, data, events, int(summary["diverged_step"]),
-                       float(summary["total_mass_kg"]), tuple(summary["spring_stiffness_n_m"]), qpos)
+        return Rollout(
+            self.design,
+            self.behaviour,
+            self.settings,
+            data,
+            events,
+            int(summary["diverged_step"]),
+            float(summary["total_mass_kg"]),
+            tuple(summary["spring_stiffness_n_m"]),
+            qpos,
+        )
 
 
-def rollouts(designs, behaviours, settings: SimSettings, *, record_rate_hz: float | None = None,
-             record_qpos: bool = False, cache_dir=None, workers: int | None = None) -> list:
+def rollouts(
+    designs,
+    behaviours,
+    settings: SimSettings,
+    *,
+    record_rate_hz: float | None = None,
+    record_qpos: bool = False,
+    cache_dir=None,
+    workers: int | None = None,
+) -> list:
     """Whole rollouts (:class:`~mat_hopper.sim.Rollout`) of every design
     (names or LegDesigns) on every behaviour (names or Behaviours) under
     `settings` (e.g. ``profile.sim_settings()``), for time series and gait
@@ -576,9 +669,16 @@ def rollouts(designs, behaviours, settings: SimSettings, *, record_rate_hz: floa
         from dataclasses import replace
 
         settings = replace(settings, record_rate_hz=float(record_rate_hz))
-    specs = [RolloutSpec(parse_design(d) if isinstance(d, str) else d,
-                         get_behaviour(b) if isinstance(b, str) else b, settings, bool(record_qpos))
-             for d in designs for b in behaviours]
+    specs = [
+        RolloutSpec(
+            parse_design(d) if isinstance(d, str) else d,
+            get_behaviour(b) if isinstance(b, str) else b,
+            settings,
+            bool(record_qpos),
+        )
+        for d in designs
+        for b in behaviours
+    ]
     if not specs:
         raise ValueError("rollouts: give at least one design and one behaviour")
     with Runner(cache_dir, workers=workers, progress=False) as runner:

@@ -49,8 +49,8 @@ from ..sim import C, RolloutRunner
 OBJECTIVES = ("tracking_error_m", "power_w")
 CONSTRAINTS = ("hop_height", "unstable")
 HOP_HEIGHT_TOLERANCE_M = 0.05
-NO_DATA_VALUE = 1e6      # objective value only when a run recorded no finite sample
-CHUNK_S = 0.5            # simulated s per compiled chunk (lets the heartbeat thread run)
+NO_DATA_VALUE = 1e6  # objective value only when a run recorded no finite sample
+CHUNK_S = 0.5  # simulated s per compiled chunk (lets the heartbeat thread run)
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,7 @@ class Objective:
     height constraint: target and tolerance in m."""
 
     behaviours: tuple[str, ...] = ("ramp",)
-    profile: Profile = field(default_factory=get_profile)     # $MAT_HOPPER_PROFILE, else paper
+    profile: Profile = field(default_factory=get_profile)  # $MAT_HOPPER_PROFILE, else paper
     convention: str = DEFAULT_CONVENTION
     hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
     hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
@@ -87,15 +87,23 @@ class Objective:
                 raise ValueError(f"{name} must be a finite number > 0 m, got {v!r}")
 
     def key(self) -> dict:
-        return {"behaviours": list(self.behaviours), "profile": asdict(self.profile),
-                "convention": self.convention, "hop_height_target_m": self.hop_height_target_m,
-                "hop_height_tolerance_m": self.hop_height_tolerance_m}
+        return {
+            "behaviours": list(self.behaviours),
+            "profile": asdict(self.profile),
+            "convention": self.convention,
+            "hop_height_target_m": self.hop_height_target_m,
+            "hop_height_tolerance_m": self.hop_height_tolerance_m,
+        }
 
     @classmethod
     def from_key(cls, key: dict) -> Objective:
-        return cls(behaviours=tuple(key["behaviours"]), profile=Profile(**key["profile"]),
-                   convention=key["convention"], hop_height_target_m=key["hop_height_target_m"],
-                   hop_height_tolerance_m=key["hop_height_tolerance_m"])
+        return cls(
+            behaviours=tuple(key["behaviours"]),
+            profile=Profile(**key["profile"]),
+            convention=key["convention"],
+            hop_height_target_m=key["hop_height_target_m"],
+            hop_height_tolerance_m=key["hop_height_tolerance_m"],
+        )
 
 
 @dataclass
@@ -148,11 +156,18 @@ def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, 
     else:
         tracking, power = _whole_run_means(rollout)
     height = float(hops["hop_height_m"].mean()) if len(hops) else float("nan")
-    return {"behaviour": behaviour_name, "tracking_error_m": tracking, "power_w": power,
-            "hop_height_m": height, "n_hops": int(len(hops)), "stable": bool(rollout.stable),
-            "upright": ok, "diverged_at_s": rollout.diverged_at_s,
-            "simulated_s": float(runner.step * settings.timestep_s),
-            "total_mass_kg": float(rollout.total_mass_kg)}
+    return {
+        "behaviour": behaviour_name,
+        "tracking_error_m": tracking,
+        "power_w": power,
+        "hop_height_m": height,
+        "n_hops": int(len(hops)),
+        "stable": bool(rollout.stable),
+        "upright": ok,
+        "diverged_at_s": rollout.diverged_at_s,
+        "simulated_s": float(runner.step * settings.timestep_s),
+        "total_mass_kg": float(rollout.total_mass_kg),
+    }
 
 
 @contextlib.contextmanager
@@ -164,7 +179,7 @@ def mujoco_warnings_to(sink: list):
     mujoco.set_mju_user_warning(sink.append)
     try:
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", UserWarning)    # the same text, raised at model compile
+            warnings.simplefilter("ignore", UserWarning)  # the same text, raised at model compile
             yield sink
     finally:
         mujoco.set_mju_user_warning(old)
@@ -180,14 +195,16 @@ def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluatio
             row = run_behaviour(design, b, objective, tick=tick)
         row["mujoco_warnings"] = len(sink)
         rows.append(row)
-    values = (float(np.mean([r["tracking_error_m"] for r in rows])),
-              float(np.mean([r["power_w"] for r in rows])))
+    values = (float(np.mean([r["tracking_error_m"] for r in rows])), float(np.mean([r["power_w"] for r in rows])))
     target, tol = objective.hop_height_target_m, objective.hop_height_tolerance_m
-    height_violation = max((abs(r["hop_height_m"] - target) - tol) if r["n_hops"] else target - tol
-                           for r in rows)
+    height_violation = max((abs(r["hop_height_m"] - target) - tol) if r["n_hops"] else target - tol for r in rows)
     unstable = 0.0 if all(r["upright"] for r in rows) else 1.0
     heights = [r["hop_height_m"] for r in rows if r["n_hops"]]
-    return Evaluation(values=values, constraints=(float(height_violation), unstable),
-                      hop_height_m=float(np.mean(heights)) if heights else float("nan"),
-                      per_behaviour=rows, total_mass_kg=rows[0]["total_mass_kg"],
-                      simulated_s=float(sum(r["simulated_s"] for r in rows)))
+    return Evaluation(
+        values=values,
+        constraints=(float(height_violation), unstable),
+        hop_height_m=float(np.mean(heights)) if heights else float("nan"),
+        per_behaviour=rows,
+        total_mass_kg=rows[0]["total_mass_kg"],
+        simulated_s=float(sum(r["simulated_s"] for r in rows)),
+    )

@@ -47,9 +47,9 @@ KINDS = ("continuous", "catalogue")
 
 _SWEEP_DENSITIES = [v for s in ref.SWEEPS.values() for v in s["density"]]
 _SWEEP_MODULI = [v for s in ref.SWEEPS.values() for v in s["modulus"]]
-POLYMER_DENSITY_FLOOR_G_CM3 = 0.9   # polyolefins (Ashby 2011, app. C)
-DENSITY_BOUNDS_G_CM3 = (POLYMER_DENSITY_FLOOR_G_CM3, float(max(_SWEEP_DENSITIES)))   # (0.9, 20)
-MODULUS_BOUNDS_GPA = (float(min(_SWEEP_MODULI)), float(max(_SWEEP_MODULI)))          # (0.1, 1000)
+POLYMER_DENSITY_FLOOR_G_CM3 = 0.9  # polyolefins (Ashby 2011, app. C)
+DENSITY_BOUNDS_G_CM3 = (POLYMER_DENSITY_FLOOR_G_CM3, float(max(_SWEEP_DENSITIES)))  # (0.9, 20)
+MODULUS_BOUNDS_GPA = (float(min(_SWEEP_MODULI)), float(max(_SWEEP_MODULI)))  # (0.1, 1000)
 DEFAULT_MATERIALS = tuple(m.name for m in CATALOGUE.values() if not m.rigid)
 # The paper's designs every study starts from (enqueued in this order).
 PAPER_SEEDS = ("SS", "rho-inc", "PVC-Ti-SS")
@@ -102,7 +102,7 @@ class SearchSpace:
             mats = tuple(p for p in mats.split(",") if p.strip())
         names = []
         for name in mats:
-            m = material(name)                 # ValueError names the accepted materials
+            m = material(name)  # ValueError names the accepted materials
             if m.rigid:
                 raise ValueError(f"materials: {m.name} is rigid (no modulus); choose materials with a modulus")
             if m.name not in names:
@@ -118,9 +118,9 @@ class SearchSpace:
         for i, kind in enumerate(self.kinds, 1):
             if kind == "continuous":
                 params[f"seg{i}_density_g_cm3"] = trial.suggest_float(
-                    f"seg{i}_density_g_cm3", *self.density_g_cm3, log=True)
-                params[f"seg{i}_modulus_gpa"] = trial.suggest_float(
-                    f"seg{i}_modulus_gpa", *self.modulus_gpa, log=True)
+                    f"seg{i}_density_g_cm3", *self.density_g_cm3, log=True
+                )
+                params[f"seg{i}_modulus_gpa"] = trial.suggest_float(f"seg{i}_modulus_gpa", *self.modulus_gpa, log=True)
             else:
                 params[f"seg{i}_material"] = trial.suggest_categorical(f"seg{i}_material", self.materials)
         return self.design(params)
@@ -152,8 +152,10 @@ class SearchSpace:
             if kind == "continuous":
                 if m.rigid:
                     return None
-                if not (self.density_g_cm3[0] <= m.density_g_cm3 <= self.density_g_cm3[1]
-                        and self.modulus_gpa[0] <= m.modulus_gpa <= self.modulus_gpa[1]):
+                if not (
+                    self.density_g_cm3[0] <= m.density_g_cm3 <= self.density_g_cm3[1]
+                    and self.modulus_gpa[0] <= m.modulus_gpa <= self.modulus_gpa[1]
+                ):
                     return None
                 params[f"seg{i}_density_g_cm3"] = float(m.density_g_cm3)
                 params[f"seg{i}_modulus_gpa"] = float(m.modulus_gpa)
@@ -176,15 +178,23 @@ class SearchSpace:
 
     def key(self) -> dict:
         """Plain dict (JSON) that identifies the space."""
-        return {"n_segments": self.n_segments, "kinds": list(self.kinds),
-                "density_g_cm3": list(self.density_g_cm3), "modulus_gpa": list(self.modulus_gpa),
-                "materials": list(self.materials)}
+        return {
+            "n_segments": self.n_segments,
+            "kinds": list(self.kinds),
+            "density_g_cm3": list(self.density_g_cm3),
+            "modulus_gpa": list(self.modulus_gpa),
+            "materials": list(self.materials),
+        }
 
     @classmethod
     def from_key(cls, key: dict) -> SearchSpace:
-        return cls(n_segments=int(key["n_segments"]), kinds=tuple(key["kinds"]),
-                   density_g_cm3=tuple(key["density_g_cm3"]), modulus_gpa=tuple(key["modulus_gpa"]),
-                   materials=tuple(key["materials"]))
+        return cls(
+            n_segments=int(key["n_segments"]),
+            kinds=tuple(key["kinds"]),
+            density_g_cm3=tuple(key["density_g_cm3"]),
+            modulus_gpa=tuple(key["modulus_gpa"]),
+            materials=tuple(key["materials"]),
+        )
 
 
 def resample(design: LegDesign, n_segments: int) -> tuple[Material, ...]:
@@ -193,8 +203,7 @@ def resample(design: LegDesign, n_segments: int) -> tuple[Material, ...]:
     on 6 segments doubles each material; on 2 segments it keeps the top
     and bottom thirds' materials)."""
     src = design.segments
-    return tuple(src[min(len(src) - 1, (2 * j + 1) * len(src) // (2 * n_segments))]
-                 for j in range(n_segments))
+    return tuple(src[min(len(src) - 1, (2 * j + 1) * len(src) // (2 * n_segments))] for j in range(n_segments))
 
 
 def describe(segments) -> str:

@@ -50,17 +50,19 @@ from optuna.trial import TrialState
 STUDY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,99}$")
 SQLITE_LOCK_TIMEOUT_S = 60
 CONNECT_TIMEOUT_S = 10
-WORKER_ATTR = "worker"            # trial user attr: {"host", "boot", "pid"}
+WORKER_ATTR = "worker"  # trial user attr: {"host", "boot", "pid"}
 FAIL_REASON_ATTR = "fail_reason"  # trial user attr set on trials of dead workers
-ERROR_ATTR = "error"              # trial user attr set when the evaluation raised
-PAPER_ATTR = "paper_design"       # trial user attr of the enqueued paper designs
+ERROR_ATTR = "error"  # trial user attr set when the evaluation raised
+PAPER_ATTR = "paper_design"  # trial user attr of the enqueued paper designs
 KEEP_ON_RETRY = (PAPER_ATTR,)
 
 
 def check_study_name(name) -> str:
     if not isinstance(name, str) or not STUDY_NAME.match(name):
-        raise ValueError(f"study name must be 1-100 characters of letters, digits, '_', '.', '-' "
-                         f"(starting with a letter or digit), got {name!r}")
+        raise ValueError(
+            f"study name must be 1-100 characters of letters, digits, '_', '.', '-' "
+            f"(starting with a letter or digit), got {name!r}"
+        )
     return name
 
 
@@ -74,13 +76,14 @@ def redact(url: str) -> str:
     """The URL with any password hidden (for messages)."""
     try:
         from sqlalchemy.engine import make_url
+
         return make_url(url).render_as_string(hide_password=True)
     except Exception:
         return re.sub(r"://([^:/@]+):[^@]*@", r"://\1:***@", str(url))
 
 
 def _journal_path(url: str) -> str:
-    rest = url[len("journal:"):]
+    rest = url[len("journal:") :]
     if rest.startswith("//"):
         rest = rest[2:]
     if not rest:
@@ -94,6 +97,7 @@ def storage_file(url: str) -> str | None:
         return os.path.abspath(_journal_path(url))
     try:
         from sqlalchemy.engine import make_url
+
         u = make_url(url)
     except Exception:
         return None
@@ -106,11 +110,14 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
     """An Optuna storage for `url`, checked to be reachable (ValueError, one
     line, if not). See the module doc for the accepted URLs."""
     if not isinstance(url, str) or not url.strip():
-        raise ValueError("--storage must be a URL such as sqlite:///studies/x.db, "
-                         "postgresql://user@host:5432/db or journal:///path/x.log")
+        raise ValueError(
+            "--storage must be a URL such as sqlite:///studies/x.db, "
+            "postgresql://user@host:5432/db or journal:///path/x.log"
+        )
     url = url.strip()
     if url.startswith("journal:"):
         from optuna.storages.journal import JournalFileBackend, JournalStorage
+
         path = os.path.abspath(_journal_path(url))
         if not os.path.isdir(os.path.dirname(path)):
             raise ValueError(f"journal storage: folder {os.path.dirname(path)} does not exist")
@@ -121,20 +128,25 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
 
     import sqlalchemy
     from sqlalchemy.engine import make_url
+
     try:
         parsed = make_url(url)
         parsed.get_dialect()
     except Exception:
         scheme = url.split(":", 1)[0] if ":" in url else url
-        raise ValueError(f"unknown storage scheme {scheme!r} in {redact(url)!r}; accepted: sqlite:///PATH, "
-                         "postgresql://USER@HOST:PORT/DB (or another SQLAlchemy database URL), "
-                         "journal:///PATH") from None
+        raise ValueError(
+            f"unknown storage scheme {scheme!r} in {redact(url)!r}; accepted: sqlite:///PATH, "
+            "postgresql://USER@HOST:PORT/DB (or another SQLAlchemy database URL), "
+            "journal:///PATH"
+        ) from None
     engine_kwargs: dict = {}
     if parsed.get_backend_name() == "sqlite":
         db = parsed.database
         if not db or db == ":memory:" or db.startswith("file::memory:"):
-            raise ValueError("an in-memory SQLite database cannot be shared by worker processes; "
-                             "give a file: sqlite:///studies/NAME.db")
+            raise ValueError(
+                "an in-memory SQLite database cannot be shared by worker processes; "
+                "give a file: sqlite:///studies/NAME.db"
+            )
         folder = os.path.dirname(os.path.abspath(db))
         if not os.path.isdir(folder):
             raise ValueError(f"sqlite storage: folder {folder} does not exist")
@@ -153,8 +165,12 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
             storage = optuna.storages.RDBStorage(
-                url, engine_kwargs=engine_kwargs, heartbeat_interval=heartbeat_s, grace_period=grace_s,
-                heartbeat_stale_trial_callback=RetryStaleTrial(max_retry))
+                url,
+                engine_kwargs=engine_kwargs,
+                heartbeat_interval=heartbeat_s,
+                grace_period=grace_s,
+                heartbeat_stale_trial_callback=RetryStaleTrial(max_retry),
+            )
         if parsed.get_backend_name() == "sqlite":
             _sqlite_immediate(storage.engine)
         return storage
@@ -171,15 +187,15 @@ def _sqlite_immediate(engine) -> None:
     from sqlalchemy import event
 
     def on_connect(dbapi_connection, record):
-        dbapi_connection.isolation_level = None       # the driver leaves BEGIN to us
-        dbapi_connection.execute("PRAGMA synchronous=NORMAL")   # WAL: no fsync per commit
+        dbapi_connection.isolation_level = None  # the driver leaves BEGIN to us
+        dbapi_connection.execute("PRAGMA synchronous=NORMAL")  # WAL: no fsync per commit
 
     def on_begin(connection):
         connection.exec_driver_sql("BEGIN IMMEDIATE")
 
     event.listen(engine, "connect", on_connect)
     event.listen(engine, "begin", on_begin)
-    engine.dispose()                                  # pooled connections predate the hooks
+    engine.dispose()  # pooled connections predate the hooks
 
 
 def _sqlite_wal(path: str) -> None:
@@ -194,6 +210,7 @@ def _sqlite_wal(path: str) -> None:
 
 
 # --- worker identity and dead workers ------------------------------------
+
 
 def _boot_id() -> str:
     try:
@@ -216,7 +233,7 @@ def _alive(pid: int) -> bool:
         return False
     except PermissionError:
         return True
-    try:                                   # a zombie is dead too
+    try:  # a zombie is dead too
         with open(f"/proc/{pid}/stat") as f:
             return f.read().rsplit(")", 1)[1].split()[0] != "Z"
     except (OSError, IndexError):
@@ -231,11 +248,18 @@ def retry_trial(study, trial, max_retry: int = 3) -> bool:
     history = list(trial.system_attrs.get("retry_history", [])) + [trial.number]
     if len(history) > max_retry:
         return False
-    study.add_trial(optuna.trial.create_trial(
-        state=TrialState.WAITING, params=trial.params, distributions=trial.distributions,
-        user_attrs={k: v for k, v in trial.user_attrs.items() if k in KEEP_ON_RETRY},
-        system_attrs={"failed_trial": trial.system_attrs.get("failed_trial", trial.number),
-                      "retry_history": history}))
+    study.add_trial(
+        optuna.trial.create_trial(
+            state=TrialState.WAITING,
+            params=trial.params,
+            distributions=trial.distributions,
+            user_attrs={k: v for k, v in trial.user_attrs.items() if k in KEEP_ON_RETRY},
+            system_attrs={
+                "failed_trial": trial.system_attrs.get("failed_trial", trial.number),
+                "retry_history": history,
+            },
+        )
+    )
     return True
 
 

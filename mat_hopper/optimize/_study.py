@@ -86,6 +86,7 @@ POLL_S = 1.0
 
 # --- settings ---------------------------------------------------------------
 
+
 @dataclass(frozen=True)
 class StudyConfig:
     """What a study is: its name, search space and objective. Stored in the
@@ -149,19 +150,23 @@ class RunOptions:
         return default_url(study_name, self.studies_dir)
 
     def open(self, study_name: str):
-        return open_storage(self.storage_url(study_name), heartbeat_s=self.heartbeat_s,
-                            grace_s=self.grace_s, max_retry=self.max_retry)
+        return open_storage(
+            self.storage_url(study_name), heartbeat_s=self.heartbeat_s, grace_s=self.grace_s, max_retry=self.max_retry
+        )
 
 
 # --- samplers and constraints ---------------------------------------------
+
 
 def check_sampler(name: str) -> str:
     name = str(name).strip().lower()
     if name not in SAMPLERS:
         raise ValueError(f"unknown sampler {name!r}; accepted: {', '.join(SAMPLERS)}")
     if name == "gp" and importlib.util.find_spec("torch") is None:
-        raise ValueError("--sampler gp needs PyTorch, which is not installed "
-                         "(pip install torch, the CPU build is enough); use tpe or nsga2")
+        raise ValueError(
+            "--sampler gp needs PyTorch, which is not installed "
+            "(pip install torch, the CPU build is enough); use tpe or nsga2"
+        )
     return name
 
 
@@ -186,6 +191,7 @@ def worker_seed(seed: int, n_existing: int, index: int) -> int:
 
 
 # --- studies ----------------------------------------------------------------
+
 
 def _quiet() -> None:
     optuna.logging.set_verbosity(optuna.logging.WARNING)
@@ -224,8 +230,13 @@ def create_or_load(config: StudyConfig, storage, sampler=None) -> optuna.Study:
     enqueued first, or loaded and checked against `config` (ValueError on
     a mismatch)."""
     _quiet()
-    study = optuna.create_study(study_name=config.name, storage=storage, sampler=sampler,
-                                directions=["minimize"] * len(OBJECTIVES), load_if_exists=True)
+    study = optuna.create_study(
+        study_name=config.name,
+        storage=storage,
+        sampler=sampler,
+        directions=["minimize"] * len(OBJECTIVES),
+        load_if_exists=True,
+    )
     stored = study.user_attrs.get(CONFIG_ATTR)
     if stored is None:
         study.set_user_attr(CONFIG_ATTR, config.key())
@@ -236,8 +247,10 @@ def create_or_load(config: StudyConfig, storage, sampler=None) -> optuna.Study:
             study.enqueue_trial(params, user_attrs={PAPER_ATTR: name}, skip_if_exists=True)
     elif stored != config.key():
         diff = _differences(stored, config.key())
-        raise ValueError(f"study {config.name!r} exists with other settings ({'; '.join(diff)}); "
-                         "use a new --study name or the study's own settings")
+        raise ValueError(
+            f"study {config.name!r} exists with other settings ({'; '.join(diff)}); "
+            "use a new --study name or the study's own settings"
+        )
     return study
 
 
@@ -254,6 +267,7 @@ def counts(study) -> tuple[int, int]:
 
 
 # --- the objective, in a worker -------------------------------------------
+
 
 def _finite(x):
     return None if x is None or (isinstance(x, float) and not math.isfinite(x)) else x
@@ -282,9 +296,17 @@ class TrialObjective:
         rows = [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour]
         for name, value in zip(CONSTRAINTS, ev.constraints):
             trial.set_constraint(name, value)
-        trial.set_user_attr(RESULT_ATTR, {
-            "feasible": ev.feasible, "hop_height_m": _finite(ev.hop_height_m), "design": design.name,
-            "total_mass_kg": ev.total_mass_kg, "simulated_s": ev.simulated_s, "per_behaviour": rows})
+        trial.set_user_attr(
+            RESULT_ATTR,
+            {
+                "feasible": ev.feasible,
+                "hop_height_m": _finite(ev.hop_height_m),
+                "design": design.name,
+                "total_mass_kg": ev.total_mass_kg,
+                "simulated_s": ev.simulated_s,
+                "per_behaviour": rows,
+            },
+        )
         return ev.values
 
 
@@ -315,7 +337,7 @@ class _Job:
 
 def _worker_main(job: _Job, tickets, conn) -> None:
     """One worker process: claim, run one trial, repeat; report what it told."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)       # the coordinator handles Ctrl-C
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the coordinator handles Ctrl-C
     _quiet()
     o = job.options
     storage = open_storage(job.url, heartbeat_s=o.heartbeat_s, grace_s=o.grace_s, max_retry=o.max_retry)
@@ -328,11 +350,12 @@ def _worker_main(job: _Job, tickets, conn) -> None:
     try:
         conn.send({"pid": os.getpid(), "seed": job.seed, "told": told})
         conn.close()
-    except OSError:          # the coordinator is gone; the study has everything
+    except OSError:  # the coordinator is gone; the study has everything
         pass
 
 
 # --- the coordinator ---------------------------------------------------------
+
 
 def _start_method() -> str:
     """fork when this process has no other thread (workers start at once,
@@ -348,11 +371,12 @@ def _warm_up() -> None:
     """Load the compiled rollout (numba's on-disk cache, about 0.6 s) once
     here, so that forked workers start with it."""
     from ..sim import SimSettings, simulate
+
     simulate("SS", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
 
 
 class _Bar(tqdm):
-    monitor_interval = 0       # no monitor thread: we refresh it ourselves, and fork stays safe
+    monitor_interval = 0  # no monitor thread: we refresh it ourselves, and fork stays safe
 
 
 @dataclass
@@ -407,11 +431,13 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
     def spawn(n):
         nonlocal spawned
         for _ in range(n):
-            job = _Job(config.name, config.key(), options, url,
-                       worker_seed(options.seed, n_existing, spawned), options.trials)
+            job = _Job(
+                config.name, config.key(), options, url, worker_seed(options.seed, n_existing, spawned), options.trials
+            )
             parent_end, child_end = ctx.Pipe(duplex=False)
-            p = ctx.Process(target=_worker_main, args=(job, tickets, child_end), daemon=True,
-                            name=f"mat-hopper-worker-{spawned}")
+            p = ctx.Process(
+                target=_worker_main, args=(job, tickets, child_end), daemon=True, name=f"mat-hopper-worker-{spawned}"
+            )
             p.start()
             child_end.close()
             live[p.pid] = (p, parent_end)
@@ -435,15 +461,24 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
             del live[pid]
             if p.exitcode != 0:
                 result.dead_workers.append((pid, p.exitcode))
-                lost = recover_dead(study, pids={pid}, max_retry=options.max_retry,
-                                    reason=f"worker exited with code {p.exitcode}")
+                lost = recover_dead(
+                    study, pids={pid}, max_retry=options.max_retry, reason=f"worker exited with code {p.exitcode}"
+                )
                 result.recovered += lost
-                with tickets.get_lock():   # its ticket back (the storage check in _claim still caps the total)
+                with tickets.get_lock():  # its ticket back (the storage check in _claim still caps the total)
                     tickets.value += max(1, len(lost))
 
     spawn(min(options.workers, budget))
-    bar = _Bar(total=options.trials, initial=min(done, options.trials), unit="trial", desc=config.name,
-               disable=not options.progress, dynamic_ncols=True, file=sys.stderr, mininterval=1.0)
+    bar = _Bar(
+        total=options.trials,
+        initial=min(done, options.trials),
+        unit="trial",
+        desc=config.name,
+        disable=not options.progress,
+        dynamic_ncols=True,
+        file=sys.stderr,
+        mininterval=1.0,
+    )
     max_spawn = options.workers + options.workers * (options.max_retry + 1)
     told_before, recovered_before = 0, len(result.recovered)
     try:

@@ -64,6 +64,7 @@ def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
 
 # --- tables -----------------------------------------------------------------
 
+
 def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
     """One row per trial (see module doc). No wall-clock columns."""
     rows = []
@@ -71,11 +72,17 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
     for t in sorted(study.get_trials(deepcopy=False), key=lambda t: t.number):
         ua = t.user_attrs
         res = ua.get(RESULT_ATTR) or {}
-        row = {"trial": t.number, "state": t.state.name, "paper_design": ua.get(PAPER_ATTR, ""),
-               "design": res.get("design", ""), "feasible": bool(res.get("feasible", False)),
-               "tracking_error_m": np.nan, "power_w": np.nan,
-               "hop_height_m": res.get("hop_height_m") if res.get("hop_height_m") is not None else np.nan,
-               "total_mass_kg": res.get("total_mass_kg", np.nan)}
+        row = {
+            "trial": t.number,
+            "state": t.state.name,
+            "paper_design": ua.get(PAPER_ATTR, ""),
+            "design": res.get("design", ""),
+            "feasible": bool(res.get("feasible", False)),
+            "tracking_error_m": np.nan,
+            "power_w": np.nan,
+            "hop_height_m": res.get("hop_height_m") if res.get("hop_height_m") is not None else np.nan,
+            "total_mass_kg": res.get("total_mass_kg", np.nan),
+        }
         if t.state == TrialState.COMPLETE and t.values is not None:
             row.update(dict(zip(OBJECTIVES, t.values)))
         c = t.constraints
@@ -88,7 +95,7 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
             if not row["design"]:
                 row["design"] = design.name
         except ValueError:
-            pass                                  # a trial that never got its parameters
+            pass  # a trial that never got its parameters
         row.update({f"param_{k}": v for k, v in sorted(t.params.items())})
         w = ua.get(WORKER_ATTR) or {}
         row["worker"] = f"{w.get('host', '')}:{w.get('pid', '')}" if w else ""
@@ -206,6 +213,7 @@ def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> 
 
 # --- the report -------------------------------------------------------------
 
+
 def write_report(name: str, storage, out_dir: str) -> dict:
     """Every output of the module doc, written into out_dir. Returns
     {output name: path} and the tables."""
@@ -216,10 +224,18 @@ def write_report(name: str, storage, out_dir: str) -> dict:
     front = pareto_frame(frame, base, best=[t.number for t in study.best_trials])
     hv, ref_point = hypervolume_history(frame)
     imp = importances(study)
-    paths = {k: os.path.join(out_dir, f) for k, f in (
-        ("trials", "trials.csv"), ("pareto", "pareto.csv"), ("pareto_plot", "pareto.png"),
-        ("hypervolume", "hypervolume.csv"), ("hypervolume_plot", "hypervolume.png"),
-        ("importances", "importances.csv"), ("importances_plot", "importances.png"))}
+    paths = {
+        k: os.path.join(out_dir, f)
+        for k, f in (
+            ("trials", "trials.csv"),
+            ("pareto", "pareto.csv"),
+            ("pareto_plot", "pareto.png"),
+            ("hypervolume", "hypervolume.csv"),
+            ("hypervolume_plot", "hypervolume.png"),
+            ("importances", "importances.csv"),
+            ("importances_plot", "importances.png"),
+        )
+    }
     write_csv(frame, paths["trials"])
     write_csv(front, paths["pareto"])
     write_csv(hv, paths["hypervolume"])
@@ -228,11 +244,22 @@ def write_report(name: str, storage, out_dir: str) -> dict:
     what = f"{name}: {beh}, {config.objective.profile.name} profile, {config.space.n_segments} segments"
     save_figure(study_plots.pareto_figure(frame, front, base, what), paths["pareto_plot"], formats=("png",), dpi=130)
     ref_text = ", ".join(f"{v:.4g}" for v in ref_point)
-    save_figure(study_plots.hypervolume_figure(study, ref_point, f"{what}\nreference point ({ref_text})"),
-                paths["hypervolume_plot"], formats=("png",), dpi=130)
+    save_figure(
+        study_plots.hypervolume_figure(study, ref_point, f"{what}\nreference point ({ref_text})"),
+        paths["hypervolume_plot"],
+        formats=("png",),
+        dpi=130,
+    )
     save_figure(study_plots.importances_figure(study, what), paths["importances_plot"], formats=("png",), dpi=130)
-    return {"paths": paths, "trials": frame, "pareto": front, "hypervolume": hv, "importances": imp,
-            "baselines": base, "reference": ref_point}
+    return {
+        "paths": paths,
+        "trials": frame,
+        "pareto": front,
+        "hypervolume": hv,
+        "importances": imp,
+        "baselines": base,
+        "reference": ref_point,
+    }
 
 
 def replay(name: str, storage, number: int):
@@ -249,14 +276,21 @@ def replay(name: str, storage, number: int):
 # --- the book's study ----------------------------------------------------------
 
 
-STUDY_TRIALS = {"paper": 24, "quick": 12}   # trials of the book's own study, per profile
+STUDY_TRIALS = {"paper": 24, "quick": 12}  # trials of the book's own study, per profile
 
 
 STUDY_BEHAVIOURS = ("ramp",)
 
 
-def book_study(profile=None, *, studies_dir="studies", out_dir="results/study", trials: int | None = None,
-               behaviours=STUDY_BEHAVIOURS, seed: int = 0) -> dict:
+def book_study(
+    profile=None,
+    *,
+    studies_dir="studies",
+    out_dir="results/study",
+    trials: int | None = None,
+    behaviours=STUDY_BEHAVIOURS,
+    seed: int = 0,
+) -> dict:
     """Run (or resume, or just load) the book's design study with
     :func:`mat_hopper.optimize._study.run_study`: continuous density and modulus
     per segment (3 segments), tracking error and hip power on `behaviours`
@@ -281,8 +315,7 @@ def book_study(profile=None, *, studies_dir="studies", out_dir="results/study", 
     objective = Objective(behaviours=tuple(behaviours), profile=profile)
     probe = StudyConfig("probe", SearchSpace(), objective)
     digest = hashlib.sha256(json.dumps(probe.key(), sort_keys=True).encode()).hexdigest()[:8]
-    config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{profile.name}-{digest}", SearchSpace(),
-                         objective)
+    config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{profile.name}-{digest}", SearchSpace(), objective)
     options = RunOptions(trials=n, workers=1, seed=seed, progress=False, studies_dir=str(studies_dir))
     run_study(config, options)
     url = options.storage_url(config.name)
@@ -296,11 +329,15 @@ def front_table(front: pd.DataFrame) -> pd.DataFrame:
     the page: trial, the paper's design it is (if any), tracking error
     (mm), hip power (mW), hop height (m) and the percent changes against
     the baselines, with short column names."""
-    out = pd.DataFrame({"trial": front["trial"].astype(int),
-                        "paper design": front.get("paper_design", pd.Series([""] * len(front))).fillna(""),
-                        "tracking error (mm)": front["tracking_error_m"] * 1e3,
-                        "hip power (mW)": front["power_w"] * 1e3,
-                        "hop height (m)": front["hop_height_m"]})
+    out = pd.DataFrame(
+        {
+            "trial": front["trial"].astype(int),
+            "paper design": front.get("paper_design", pd.Series([""] * len(front))).fillna(""),
+            "tracking error (mm)": front["tracking_error_m"] * 1e3,
+            "hip power (mW)": front["power_w"] * 1e3,
+            "hop height (m)": front["hop_height_m"],
+        }
+    )
     for col in front.columns:
         m = re.fullmatch(r"(tracking_error|power)_vs_(.+)_pct", col)
         if m:

@@ -23,8 +23,14 @@ def convention_figure(table: pd.DataFrame):
     spring's stiffness (N/m) and the largest stable time step (s; bar:
     measured, with its bracket; marker: the estimate 2 / w_max), log
     scales. table: from :func:`convention_stability`."""
-    need = ("design", "convention", "material_spring_n_m", "analytic_timestep_s", "max_stable_timestep_s",
-            "unstable_timestep_s")
+    need = (
+        "design",
+        "convention",
+        "material_spring_n_m",
+        "analytic_timestep_s",
+        "max_stable_timestep_s",
+        "unstable_timestep_s",
+    )
     missing = [c for c in need if c not in table.columns]
     if missing:
         raise ValueError(f"convention_figure needs columns {missing}")
@@ -47,8 +53,15 @@ def convention_figure(table: pd.DataFrame):
             ax_dt.bar(x[ok], lo[ok], w * 0.9, color=colours.get(conv), alpha=0.85)
             both = ok & np.isfinite(hi)
             ax_dt.vlines(x[both], lo[both], hi[both], color="black", lw=1.0)
-            ax_dt.plot(x, sub["analytic_timestep_s"].to_numpy(float), "D", ms=4.5, color="black",
-                       markerfacecolor="white", zorder=4)
+            ax_dt.plot(
+                x,
+                sub["analytic_timestep_s"].to_numpy(float),
+                "D",
+                ms=4.5,
+                color="black",
+                markerfacecolor="white",
+                zorder=4,
+            )
         for ax in (ax_k, ax_dt):
             ax.set_yscale("log")
             ax.set_xticks(np.arange(len(designs)))
@@ -56,29 +69,57 @@ def convention_figure(table: pd.DataFrame):
             ax.grid(False, axis="x")
         for i, d in enumerate(designs):
             if d in table["design"].values and table.loc[table["design"] == d, "material_spring_n_m"].isna().all():
-                ax_k.text(i, 0.02, "rigid:\nno spring", transform=ax_k.get_xaxis_transform(), ha="center",
-                          va="bottom", fontsize=7, color="#555555")
+                ax_k.text(
+                    i,
+                    0.02,
+                    "rigid:\nno spring",
+                    transform=ax_k.get_xaxis_transform(),
+                    ha="center",
+                    va="bottom",
+                    fontsize=7,
+                    color="#555555",
+                )
         k_all = table["material_spring_n_m"].to_numpy(float)
         if np.isfinite(k_all).any():
             ax_k.set_ylim(np.nanmin(k_all) / 5, np.nanmax(k_all) * 2)
-        dt_all = table[[c for c in ("max_stable_timestep_s", "analytic_timestep_s", "controller_timestep_s")
-                        if c in table.columns]].to_numpy(float)
+        dt_all = table[
+            [c for c in ("max_stable_timestep_s", "analytic_timestep_s", "controller_timestep_s") if c in table.columns]
+        ].to_numpy(float)
         if np.isfinite(dt_all).any():
             ax_dt.set_ylim(np.nanmin(dt_all) / 3, np.nanmax(dt_all) * 3)
         ax_k.set_ylabel("Material spring stiffness (N/m)")
         ax_dt.set_ylabel("Largest stable time step (s)")
         ax_dt.axhline(ref.TIMESTEP_S, color="#555555", lw=0.8, ls=":")
-        ax_dt.text(1.0, ref.TIMESTEP_S, " paper's dt", transform=ax_dt.get_yaxis_transform(), va="center",
-                   ha="left", fontsize=7, color="#555555")
+        ax_dt.text(
+            1.0,
+            ref.TIMESTEP_S,
+            " paper's dt",
+            transform=ax_dt.get_yaxis_transform(),
+            va="center",
+            ha="left",
+            fontsize=7,
+            color="#555555",
+        )
         if "controller_timestep_s" in table.columns and np.isfinite(table["controller_timestep_s"]).any():
             ctrl = float(np.nanmin(table["controller_timestep_s"].to_numpy(float)))
             ax_dt.axhline(ctrl, color="#d55e00", lw=0.8, ls="--")
-            ax_dt.text(1.0, ctrl, " controller limit", transform=ax_dt.get_yaxis_transform(), va="center",
-                       ha="left", fontsize=7, color="#d55e00")
+            ax_dt.text(
+                1.0,
+                ctrl,
+                " controller limit",
+                transform=ax_dt.get_yaxis_transform(),
+                va="center",
+                ha="left",
+                fontsize=7,
+                color="#d55e00",
+            )
         handles = [Patch(color=colours.get(c), label=f"{c} convention") for c in convs]
-        handles += [Line2D([], [], color="black", lw=1.0, label="measured bracket (stable to unstable)"),
-                    Line2D([], [], ls="none", marker="D", ms=4.5, color="black", markerfacecolor="white",
-                           label="estimate 2/ω_max")]
+        handles += [
+            Line2D([], [], color="black", lw=1.0, label="measured bracket (stable to unstable)"),
+            Line2D(
+                [], [], ls="none", marker="D", ms=4.5, color="black", markerfacecolor="white", label="estimate 2/ω_max"
+            ),
+        ]
         fig.legend(handles=handles, loc="outside upper center", ncols=len(handles))
     return fig
 
@@ -91,6 +132,7 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
     spring, hip pitch angle against its target, base x against the
     desired x. Times are simulated seconds."""
     from ..sim import C
+
     d = rollout.data
     if len(d) < 2:
         raise ValueError("controller_figure: the rollout recorded fewer than 2 samples")
@@ -104,8 +146,9 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
     sel = (t >= w0) & (t <= w1)
     err = np.hypot(d[:, C["x"]] - d[:, C["x_des"]], d[:, C["y"]] - d[:, C["y_des"]])
     from ..control import TOUCHDOWN
+
     ev = rollout.events[rollout.events[:, 1] == TOUCHDOWN]
-    apex_t, apex_h = ev[:, 0], ev[:, 2]        # the controller's hop height, logged at each touchdown
+    apex_t, apex_h = ev[:, 0], ev[:, 2]  # the controller's hop height, logged at each touchdown
     ok = np.isfinite(apex_h)
     stance = d[:, C["phase"]] > 0.5
     transient = rollout.settings.transient_s
@@ -139,8 +182,9 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
         axes[1, 1].plot(tw, d[sel, C["force_thrust"]], color="#d55e00", lw=1.2)
         axes[1, 1].set_ylabel("Thrust force (N)")
         axes[2, 1].plot(tw, np.degrees(d[sel, C["hip_y"]]), color="#029e73", lw=1.2, label="angle")
-        axes[2, 1].plot(tw, np.degrees(d[sel, C["hip_y_target"]]), color="black", lw=0.9, ls="--",
-                        label="flight target")
+        axes[2, 1].plot(
+            tw, np.degrees(d[sel, C["hip_y_target"]]), color="black", lw=0.9, ls="--", label="flight target"
+        )
         axes[2, 1].set_ylabel("Hip pitch (deg)")
         axes[2, 1].legend(loc="lower right")
         axes[3, 1].plot(tw, d[sel, C["x"]], color="#cc78bc", lw=1.2, label="base x")
@@ -185,12 +229,11 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
         behs = order_behaviours(power.columns)
         x = np.arange(len(behs))
         for i, (label, row) in enumerate(power.iterrows()):
-            c.bar(x - 0.2 + 0.4 * i, row[behs].to_numpy(float), 0.38, label=label,
-                  color=("#0173b2", "#de8f05")[i % 2])
+            c.bar(x - 0.2 + 0.4 * i, row[behs].to_numpy(float), 0.38, label=label, color=("#0173b2", "#de8f05")[i % 2])
         c.axhline(0, color="black", lw=0.8)
         vals = power[behs].to_numpy(float)
         vals = vals[np.isfinite(vals)]
-        if len(vals):               # head room for the legend above the bars
+        if len(vals):  # head room for the legend above the bars
             lo, hi = min(0.0, float(vals.min())), max(0.0, float(vals.max()))
             c.set_ylim(lo - 0.05 * (hi - lo), hi + 0.45 * (hi - lo))
         c.set_xticks(x)
@@ -200,6 +243,7 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
         c.legend(loc="upper left")
         c.grid(False, axis="x")
         for ax, letter in zip((a, b, c), "ABC"):
-            ax.text(-0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold", ha="right",
-                    va="bottom")
+            ax.text(
+                -0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold", ha="right", va="bottom"
+            )
     return fig

@@ -59,8 +59,9 @@ from .style import (
 # --- grouped box plots -----------------------------------------------------------
 
 
-def _grouped_boxes(ax, table, metric, groups, designs, *, group_col="behaviour", factor=1.0,
-                   stars=None, width=0.8, points=None):
+def _grouped_boxes(
+    ax, table, metric, groups, designs, *, group_col="behaviour", factor=1.0, stars=None, width=0.8, points=None
+):
     """Box plots of `metric` at x = group index, one box per design side by
     side. stars: set of (group, design) to mark; points: a table of values
     to draw as black dots over the boxes (replicate means). Returns the
@@ -68,8 +69,11 @@ def _grouped_boxes(ax, table, metric, groups, designs, *, group_col="behaviour",
     n = max(len(designs), 1)
     w = width / n
     cells = {k: v.to_numpy(float) * factor for k, v in table.groupby([group_col, "design"], sort=False)[metric]}
-    pts = ({k: v.to_numpy(float) * factor for k, v in points.groupby([group_col, "design"], sort=False)[metric]}
-           if points is not None and len(points) else {})
+    pts = (
+        {k: v.to_numpy(float) * factor for k, v in points.groupby([group_col, "design"], sort=False)[metric]}
+        if points is not None and len(points)
+        else {}
+    )
     tops = []
     for di, d in enumerate(designs):
         colour = design_colour(d, di)
@@ -91,17 +95,30 @@ def _grouped_boxes(ax, table, metric, groups, designs, *, group_col="behaviour",
                 top = max(top, float(p.max()))
             tops.append(top)
             if stars and (g, d) in stars:
-                ax.annotate("*", xy=(pos, top), xytext=(0, 0.5), textcoords="offset points",
-                            ha="center", va="bottom", fontsize=11, fontweight="bold")
+                ax.annotate(
+                    "*",
+                    xy=(pos, top),
+                    xytext=(0, 0.5),
+                    textcoords="offset points",
+                    ha="center",
+                    va="bottom",
+                    fontsize=11,
+                    fontweight="bold",
+                )
         if not data:
             continue
-        ax.boxplot(data, positions=positions, widths=w * 0.8, patch_artist=True, manage_ticks=False,
-                   boxprops=dict(facecolor=colour, edgecolor="#333333", linewidth=0.6),
-                   medianprops=dict(color="black", linewidth=1.0),
-                   whiskerprops=dict(color="#333333", linewidth=0.6),
-                   capprops=dict(color="#333333", linewidth=0.6),
-                   flierprops=dict(marker="o", markersize=1.5, markerfacecolor=colour,
-                                   markeredgecolor="none", alpha=0.6))
+        ax.boxplot(
+            data,
+            positions=positions,
+            widths=w * 0.8,
+            patch_artist=True,
+            manage_ticks=False,
+            boxprops=dict(facecolor=colour, edgecolor="#333333", linewidth=0.6),
+            medianprops=dict(color="black", linewidth=1.0),
+            whiskerprops=dict(color="#333333", linewidth=0.6),
+            capprops=dict(color="#333333", linewidth=0.6),
+            flierprops=dict(marker="o", markersize=1.5, markerfacecolor=colour, markeredgecolor="none", alpha=0.6),
+        )
         if dot_x:
             ax.plot(dot_x, dot_y, "o", ms=2.2, color="black", alpha=0.8, zorder=3, gid="replicate-means")
     ax.set_xticks(range(len(groups)))
@@ -137,27 +154,40 @@ def _dropped_note(bad: pd.DataFrame, designs, behaviours) -> str | None:
 
 
 def _legend_designs(fig, designs, note: str | None = None, points: bool = False, dropped: str | None = None):
-    handles = [Patch(facecolor=design_colour(d, i), edgecolor="#333333", linewidth=0.6, label=design_label(d))
-               for i, d in enumerate(designs)]
+    handles = [
+        Patch(facecolor=design_colour(d, i), edgecolor="#333333", linewidth=0.6, label=design_label(d))
+        for i, d in enumerate(designs)
+    ]
     if note:
         handles.append(Line2D([], [], linestyle="none", marker="$*$", markersize=7, color="black", label=note))
     if points:
-        handles.append(Line2D([], [], linestyle="none", marker="o", markersize=3, color="black",
-                              label="replicate means (boxes: their hop cycles)"))
+        handles.append(
+            Line2D(
+                [],
+                [],
+                linestyle="none",
+                marker="o",
+                markersize=3,
+                color="black",
+                label="replicate means (boxes: their hop cycles)",
+            )
+        )
     if dropped:
         handles.append(Line2D([], [], linestyle="none", marker="x", markersize=5, color="#555555", label=dropped))
     n = len(designs)
-    if fig.get_figwidth() < 10.0 and len(handles) > n:     # inches: too narrow for one row
+    if fig.get_figwidth() < 10.0 and len(handles) > n:  # inches: too narrow for one row
         fig.legend(handles=handles[:n], loc="outside upper center", ncols=n, handlelength=1.2, columnspacing=1.2)
-        fig.legend(handles=handles[n:], loc="outside lower center", ncols=len(handles) - n, handlelength=1.2,
-                   columnspacing=1.2)
+        fig.legend(
+            handles=handles[n:], loc="outside lower center", ncols=len(handles) - n, handlelength=1.2, columnspacing=1.2
+        )
     else:
-        fig.legend(handles=handles, loc="outside upper center", ncols=len(handles), handlelength=1.2,
-                   columnspacing=1.2)
+        fig.legend(handles=handles, loc="outside upper center", ncols=len(handles), handlelength=1.2, columnspacing=1.2)
 
 
 def _basis_note(comparison, baseline: str, alpha: float) -> str:
-    basis = comparison["basis"].iloc[0] if comparison is not None and len(comparison) and "basis" in comparison else "hops"
+    basis = (
+        comparison["basis"].iloc[0] if comparison is not None and len(comparison) and "basis" in comparison else "hops"
+    )
     what = "hop cycles" if basis == "hops" else "replicate means"
     return f"Holm p < {alpha:g} vs {design_label(baseline)} (Mann-Whitney U, {what})"
 
@@ -165,7 +195,9 @@ def _basis_note(comparison, baseline: str, alpha: float) -> str:
 def _drawn(table: pd.DataFrame, comparison: pd.DataFrame | None):
     """What the boxes show: the unperturbed run's hop cycles (basis hops),
     or the perturbed replicates' cycles with their means (basis replicates)."""
-    basis = comparison["basis"].iloc[0] if comparison is not None and len(comparison) and "basis" in comparison else "hops"
+    basis = (
+        comparison["basis"].iloc[0] if comparison is not None and len(comparison) and "basis" in comparison else "hops"
+    )
     if basis == "replicates" and "replicate" in table.columns:
         reps = table[table["replicate"] != _stats.UNPERTURBED]
         return reps, _stats.replicate_means(reps)
@@ -183,10 +215,19 @@ def _one_experiment(hops: pd.DataFrame, designs, behaviours) -> pd.DataFrame:
     return t
 
 
-def figure4_mono(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
-                 metrics=("power_w", "jerk_m_s3", "tracking_error_m"), designs=None, behaviours=None,
-                 baseline: str = "MD", basis: str = "hops", alpha: float = 0.05,
-                 log_metrics=("jerk_m_s3",), runs: pd.DataFrame | None = None) -> Figure:
+def figure4_mono(
+    hops: pd.DataFrame,
+    comparison: pd.DataFrame | None = None,
+    *,
+    metrics=("power_w", "jerk_m_s3", "tracking_error_m"),
+    designs=None,
+    behaviours=None,
+    baseline: str = "MD",
+    basis: str = "hops",
+    alpha: float = 0.05,
+    log_metrics=("jerk_m_s3",),
+    runs: pd.DataFrame | None = None,
+) -> Figure:
     """Fig. 4 A-C: one box plot panel per metric, behaviours on x, one box
     per design, a star where the design differs from `baseline`.
 
@@ -201,8 +242,9 @@ def figure4_mono(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
     out (:func:`mat_hopper.analysis.stats.drop_unusable`)."""
     _require(hops, ("design", "behaviour", *metrics), "figure4_mono")
     bad = _stats.unusable_runs(runs)
-    designs = order_designs(designs or [d for d in ("MD", "PVC", "Al", "Ti", "SS")
-                                        if d in set(hops["design"]) | set(bad["design"])])
+    designs = order_designs(
+        designs or [d for d in ("MD", "PVC", "Al", "Ti", "SS") if d in set(hops["design"]) | set(bad["design"])]
+    )
     behaviours = order_behaviours(behaviours or hops["behaviour"].unique())
     dropped = _dropped_note(bad, designs, behaviours)
     hops = _stats.drop_unusable(hops, bad)
@@ -213,30 +255,41 @@ def figure4_mono(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
         comparison = _stats.compare_designs(table, baseline, basis=basis, metrics=metrics, alpha=alpha)
     drawn, means = _drawn(table, comparison)
     with rc_context(STYLE):
-        panel_in = 4.0 if len(behaviours) >= 3 else 2.8     # one or two behaviours: narrower panels
+        panel_in = 4.0 if len(behaviours) >= 3 else 2.8  # one or two behaviours: narrower panels
         fig = _new_figure(panel_in * len(metrics), 3.4)
         axes = fig.subplots(1, len(metrics), squeeze=False)[0]
         for i, (ax, m) in enumerate(zip(axes, metrics)):
             factor, ylabel = metric_scale(m, drawn[m])
             if m in log_metrics:
                 ax.set_yscale("log")
-            _grouped_boxes(ax, drawn, m, behaviours, designs, factor=factor, stars=_stars(comparison, m),
-                           points=means)
+            _grouped_boxes(ax, drawn, m, behaviours, designs, factor=factor, stars=_stars(comparison, m), points=means)
             if m in log_metrics:
                 plain_log_ticks(ax.yaxis)
             ax.set_ylabel(ylabel)
             _panel_label(ax, "ABCDEFGH"[i])
-        _legend_designs(fig, [d for d in designs if d in set(drawn["design"])],
-                        _basis_note(comparison, baseline, alpha) if comparison is not None else None,
-                        points=means is not None, dropped=dropped)
+        _legend_designs(
+            fig,
+            [d for d in designs if d in set(drawn["design"])],
+            _basis_note(comparison, baseline, alpha) if comparison is not None else None,
+            points=means is not None,
+            dropped=dropped,
+        )
     return fig
 
 
-def figure5_gradients(hops: pd.DataFrame, comparison: pd.DataFrame | None = None, *,
-                      panels=(("MD", "SS", "rho-inc", "rho-dec"), ("MD", "SS", "PVC-Ti-SS", "SS-Ti-PVC")),
-                      metrics=("power_w", "jerk_m_s3", "tracking_error_m"), behaviours=None,
-                      baseline: str = "MD", basis: str = "hops", alpha: float = 0.05,
-                      log_metrics=("jerk_m_s3",), runs: pd.DataFrame | None = None) -> Figure:
+def figure5_gradients(
+    hops: pd.DataFrame,
+    comparison: pd.DataFrame | None = None,
+    *,
+    panels=(("MD", "SS", "rho-inc", "rho-dec"), ("MD", "SS", "PVC-Ti-SS", "SS-Ti-PVC")),
+    metrics=("power_w", "jerk_m_s3", "tracking_error_m"),
+    behaviours=None,
+    baseline: str = "MD",
+    basis: str = "hops",
+    alpha: float = 0.05,
+    log_metrics=("jerk_m_s3",),
+    runs: pd.DataFrame | None = None,
+) -> Figure:
     """Fig. 5 A-B: columns A (density gradients) and B (material gradients)
     beside MD and SS; one row per metric; stars vs `baseline`.
 
@@ -266,21 +319,27 @@ def figure5_gradients(hops: pd.DataFrame, comparison: pd.DataFrame | None = None
                 factor, ylabel = metric_scale(m, drawn[m])
                 if m in log_metrics:
                     ax.set_yscale("log")
-                _grouped_boxes(ax, drawn, m, behaviours, designs, factor=factor, stars=_stars(comparison, m),
-                           points=means)
+                _grouped_boxes(
+                    ax, drawn, m, behaviours, designs, factor=factor, stars=_stars(comparison, m), points=means
+                )
                 if m in log_metrics:
                     plain_log_ticks(ax.yaxis)
                 if j == 0:
                     ax.set_ylabel(ylabel)
                 if i == 0:
-                    ax.set_title(" / ".join(design_label(d) for d in panel if d not in ("MD", "SS"))
-                                 + " beside MD and SS")
+                    ax.set_title(
+                        " / ".join(design_label(d) for d in panel if d not in ("MD", "SS")) + " beside MD and SS"
+                    )
                     _panel_label(ax, "ABCDEFGH"[j])
                 if i < len(metrics) - 1:
                     ax.tick_params(labelbottom=False)
-        _legend_designs(fig, [d for d in all_designs if d in present],
-                        _basis_note(comparison, baseline, alpha) if comparison is not None else None,
-                        points=means is not None, dropped=dropped)
+        _legend_designs(
+            fig,
+            [d for d in all_designs if d in present],
+            _basis_note(comparison, baseline, alpha) if comparison is not None else None,
+            points=means is not None,
+            dropped=dropped,
+        )
     return fig
 
 
@@ -289,9 +348,15 @@ def figure5_gradients(hops: pd.DataFrame, comparison: pd.DataFrame | None = None
 SWEEP_PROPERTIES = {"density": ("density_g_cm3", "Density (g/cm³)"), "modulus": ("modulus_gpa", "Modulus (GPa)")}
 
 
-def figure4_sweeps(hops: pd.DataFrame, baseline_hops: pd.DataFrame | None = None, *,
-                   metric: str = "tracking_error_m", baseline: str = "MD", alpha: float = 0.05,
-                   runs: pd.DataFrame | None = None) -> Figure:
+def figure4_sweeps(
+    hops: pd.DataFrame,
+    baseline_hops: pd.DataFrame | None = None,
+    *,
+    metric: str = "tracking_error_m",
+    baseline: str = "MD",
+    alpha: float = 0.05,
+    runs: pd.DataFrame | None = None,
+) -> Figure:
     """Fig. 4 D-E: `metric` against density (D) and against modulus (E),
     one line per base material: mean over hop cycles with the interquartile
     range as bars; the base material's own point has a black edge.
@@ -317,8 +382,10 @@ def figure4_sweeps(hops: pd.DataFrame, baseline_hops: pd.DataFrame | None = None
     if len(table) == 0:
         table = hops
     keys = ["sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa"]
-    table = table.assign(_point=table[keys].astype(str).agg("|".join, axis=1),
-                         **{c: pd.to_numeric(table[c], errors="coerce") for c in (metric, "density_g_cm3", "modulus_gpa")})
+    table = table.assign(
+        _point=table[keys].astype(str).agg("|".join, axis=1),
+        **{c: pd.to_numeric(table[c], errors="coerce") for c in (metric, "density_g_cm3", "modulus_gpa")},
+    )
     significant = None
     base = None
     if baseline_hops is not None and len(baseline_hops):
@@ -326,10 +393,15 @@ def figure4_sweeps(hops: pd.DataFrame, baseline_hops: pd.DataFrame | None = None
         if "behaviour" in base.columns and "behaviour" in table.columns:
             base = base[base["behaviour"].isin(set(table["behaviour"]))]
         if len(base):
-            joint = pd.concat([table.assign(design=table["_point"])[["design", metric]].assign(behaviour="sweep"),
-                               base.assign(design="__baseline__")[["design", metric]].assign(behaviour="sweep")],
-                              ignore_index=True)
+            joint = pd.concat(
+                [
+                    table.assign(design=table["_point"])[["design", metric]].assign(behaviour="sweep"),
+                    base.assign(design="__baseline__")[["design", metric]].assign(behaviour="sweep"),
+                ],
+                ignore_index=True,
+            )
             from ..metrics import compare
+
             cmp = compare(joint, "__baseline__", by="behaviour", metrics=(metric,), alpha=alpha)
             significant = set(cmp.loc[cmp["significant"].astype(bool), "design"])
     factor, ylabel = metric_scale(metric, table[metric])
@@ -353,23 +425,61 @@ def figure4_sweeps(hops: pd.DataFrame, baseline_hops: pd.DataFrame | None = None
                 x = pts[col].to_numpy(float)
                 y = pts["mean"].to_numpy(float) * factor
                 yerr = np.vstack([y - pts["q1"].to_numpy(float) * factor, pts["q3"].to_numpy(float) * factor - y])
-                ax.errorbar(x, y, yerr=np.clip(yerr, 0, None), color=colour, lw=1.2, capsize=2, elinewidth=0.8,
-                            marker="none", label=b, zorder=2)
+                ax.errorbar(
+                    x,
+                    y,
+                    yerr=np.clip(yerr, 0, None),
+                    color=colour,
+                    lw=1.2,
+                    capsize=2,
+                    elinewidth=0.8,
+                    marker="none",
+                    label=b,
+                    zorder=2,
+                )
                 nominal = ref.MONO_MATERIALS.get(b, (None, None))
                 for xi, yi, pt in zip(x, y, pts["_point"]):
                     filled = significant is None or pt in significant
-                    ax.plot(xi, yi, "o", ms=5, color=colour, zorder=3,
-                            markerfacecolor=colour if filled else "white", markeredgewidth=1.0,
-                            markeredgecolor=colour)
-                nom = s[(np.isclose(s["density_g_cm3"], nominal[0] or -1)) & (np.isclose(s["modulus_gpa"], nominal[1] or -1))]
+                    ax.plot(
+                        xi,
+                        yi,
+                        "o",
+                        ms=5,
+                        color=colour,
+                        zorder=3,
+                        markerfacecolor=colour if filled else "white",
+                        markeredgewidth=1.0,
+                        markeredgecolor=colour,
+                    )
+                nom = s[
+                    (np.isclose(s["density_g_cm3"], nominal[0] or -1))
+                    & (np.isclose(s["modulus_gpa"], nominal[1] or -1))
+                ]
                 if len(nom):
-                    ax.plot(float(nom[col].iloc[0]), float(nom[metric].mean()) * factor, "o", ms=10,
-                            markerfacecolor="none", markeredgecolor="black", markeredgewidth=1.2, zorder=4)
+                    ax.plot(
+                        float(nom[col].iloc[0]),
+                        float(nom[metric].mean()) * factor,
+                        "o",
+                        ms=10,
+                        markerfacecolor="none",
+                        markeredgecolor="black",
+                        markeredgewidth=1.2,
+                        zorder=4,
+                    )
             lost = bad[bad["sweep_property"] == prop] if len(bad) else bad
             for _, row in lost.iterrows():
                 bi = bases.index(row["sweep_base"]) if row["sweep_base"] in bases else 0
-                ax.plot(float(row[col]), 0.03 + 0.05 * bi, marker="x", ms=6, mew=1.6, color=design_colour(row["sweep_base"], bi),
-                        clip_on=False, zorder=5, transform=ax.get_xaxis_transform())
+                ax.plot(
+                    float(row[col]),
+                    0.03 + 0.05 * bi,
+                    marker="x",
+                    ms=6,
+                    mew=1.6,
+                    color=design_colour(row["sweep_base"], bi),
+                    clip_on=False,
+                    zorder=5,
+                    transform=ax.get_xaxis_transform(),
+                )
             if base is not None and len(base):
                 v = base[metric].to_numpy(float) * factor
                 ax.axhline(np.mean(v), color=design_colour(baseline), ls="--", lw=1.0, zorder=1)
@@ -381,17 +491,44 @@ def figure4_sweeps(hops: pd.DataFrame, baseline_hops: pd.DataFrame | None = None
             _panel_label(ax, letter)
         axes[0].set_ylabel(ylabel)
         handles = [Line2D([], [], color=design_colour(b, i), marker="o", lw=1.2, label=b) for i, b in enumerate(bases)]
-        handles.append(Line2D([], [], ls="none", marker="o", ms=10, markerfacecolor="none", markeredgecolor="black",
-                              markeredgewidth=1.2, label="base material"))
+        handles.append(
+            Line2D(
+                [],
+                [],
+                ls="none",
+                marker="o",
+                ms=10,
+                markerfacecolor="none",
+                markeredgecolor="black",
+                markeredgewidth=1.2,
+                label="base material",
+            )
+        )
         if len(bad):
             why = "diverged" if bad["why"].str.startswith("unstable").all() else "diverged, fell or failed"
-            handles.append(Line2D([], [], ls="none", marker="x", ms=7, mew=1.6, color="#555555",
-                                  label=f"run {why}"))
+            handles.append(Line2D([], [], ls="none", marker="x", ms=7, mew=1.6, color="#555555", label=f"run {why}"))
         if base is not None and len(base):
-            handles.append(Patch(facecolor=design_colour(baseline), alpha=0.3, edgecolor=design_colour(baseline),
-                                 linestyle="--", label=f"{design_label(baseline)} mean, IQR"))
-            handles.append(Line2D([], [], ls="none", marker="o", ms=5, markerfacecolor="white",
-                                  markeredgecolor="#555555", label=f"open: not significant vs {design_label(baseline)}"))
+            handles.append(
+                Patch(
+                    facecolor=design_colour(baseline),
+                    alpha=0.3,
+                    edgecolor=design_colour(baseline),
+                    linestyle="--",
+                    label=f"{design_label(baseline)} mean, IQR",
+                )
+            )
+            handles.append(
+                Line2D(
+                    [],
+                    [],
+                    ls="none",
+                    marker="o",
+                    ms=5,
+                    markerfacecolor="white",
+                    markeredgecolor="#555555",
+                    label=f"open: not significant vs {design_label(baseline)}",
+                )
+            )
         fig.legend(handles=handles, loc="outside upper center", ncols=min(len(handles), 5), columnspacing=1.0)
     return fig
 
@@ -404,6 +541,7 @@ def rollout_series(rollout) -> pd.DataFrame:
     mid-time (s) and the metrics of :func:`mat_hopper.metrics.hop_table`
     (hop height m, tracking error m, hip power W, ...), one row per cycle."""
     from ..metrics import hop_table
+
     t = hop_table(rollout, transient_s=0.0)
     return t.assign(t_mid_s=(t["t_start_s"].astype(float) + t["t_end_s"].astype(float)) / 2)
 
@@ -411,8 +549,9 @@ def rollout_series(rollout) -> pd.DataFrame:
 TIMESERIES_METRICS = ("hop_height_m", "tracking_error_m", "power_w")
 
 
-def figure5_timeseries(rollouts, *, behaviours=None, metrics=TIMESERIES_METRICS,
-                       transient_s: float | None = None) -> Figure:
+def figure5_timeseries(
+    rollouts, *, behaviours=None, metrics=TIMESERIES_METRICS, transient_s: float | None = None
+) -> Figure:
     """Fig. 5 C: hop height, tracking error and hip power against simulated
     time, one point per hop cycle (lift-off to lift-off, the metrics'
     own cycles) at its mid-time, one column per behaviour (forward, then
@@ -438,8 +577,9 @@ def figure5_timeseries(rollouts, *, behaviours=None, metrics=TIMESERIES_METRICS,
                 di = designs.index(r.design.name)
                 colour = design_colour(r.design.name, di)
                 for i, m in enumerate(metrics):
-                    axes[i, j].plot(s["t_mid_s"], s[m].astype(float) * scales[i][0], color=colour, lw=1.1,
-                                    marker="o", ms=1.8)
+                    axes[i, j].plot(
+                        s["t_mid_s"], s[m].astype(float) * scales[i][0], color=colour, lw=1.1, marker="o", ms=1.8
+                    )
                 if not r.stable:
                     axes[0, j].axvline(r.diverged_at_s, color=colour, ls=":", lw=1.0)
             for i in range(len(metrics)):
@@ -453,12 +593,20 @@ def figure5_timeseries(rollouts, *, behaviours=None, metrics=TIMESERIES_METRICS,
             axes[-1, j].set_xlabel("Simulated time (s)")
             axes[0, j].set_xlim(left=0)
         _panel_label(axes[0, 0], "C")
-        handles = [Line2D([], [], color=design_colour(d, i), lw=1.5, marker="o", ms=2.5, label=design_label(d))
-                   for i, d in enumerate(designs)]
+        handles = [
+            Line2D([], [], color=design_colour(d, i), lw=1.5, marker="o", ms=2.5, label=design_label(d))
+            for i, d in enumerate(designs)
+        ]
         if transient > 0:
             handles.append(Patch(facecolor="#000000", alpha=0.1, label=f"transient (< {transient:g} s, not scored)"))
-        fig.legend(handles=handles, loc="outside upper center", ncols=min(len(handles), 6), columnspacing=1.0,
-                   title="one point per hop cycle (lift-off to lift-off)", title_fontsize=8)
+        fig.legend(
+            handles=handles,
+            loc="outside upper center",
+            ncols=min(len(handles), 6),
+            columnspacing=1.0,
+            title="one point per hop cycle (lift-off to lift-off)",
+            title_fontsize=8,
+        )
     return fig
 
 
@@ -477,8 +625,9 @@ def _of_convention(t: pd.DataFrame | None, convention: str) -> pd.DataFrame | No
     return t if len(t) else None
 
 
-def write_figures(tables: dict, out_dir, *, rollouts=None, basis: str = "auto", formats=("png", "svg"),
-                  dpi: int = DPI) -> list[Path]:
+def write_figures(
+    tables: dict, out_dir, *, rollouts=None, basis: str = "auto", formats=("png", "svg"), dpi: int = DPI
+) -> list[Path]:
     """Every figure the tables allow, as PNG and SVG in ``<out_dir>/figures/``.
 
     tables: a reproduction's tables by name (``exp1_hops``, ``exp1_runs``,
@@ -507,8 +656,11 @@ def write_figures(tables: dict, out_dir, *, rollouts=None, basis: str = "auto", 
         runs = _of_convention(runs_all, conv)
         e1, e2, e3 = (_of_convention(get(f"exp{i}_hops"), conv) for i in (1, 2, 3))
         reps = any(t is not None and _stats.has_replicates(t) for t in (e1, e3))
-        bases = {"hops": ["hops"], "replicates": ["replicates"] if reps else [],
-                 "auto": ["hops", "replicates"] if reps else ["hops"]}[basis]
+        bases = {
+            "hops": ["hops"],
+            "replicates": ["replicates"] if reps else [],
+            "auto": ["hops", "replicates"] if reps else ["hops"],
+        }[basis]
         for b in bases:
             tail = "" if b == "hops" else "_replicates"
             if e1 is not None:
@@ -520,8 +672,7 @@ def write_figures(tables: dict, out_dir, *, rollouts=None, basis: str = "auto", 
             base = _concat_tables([e1, e3])
             if base is not None:
                 base = base[(base["design"] == "MD") & (base["behaviour"] == "forward")]
-            save(figure4_sweeps(e2, base if base is not None and len(base) else None, runs=runs),
-                 f"fig4_sweeps{sfx}")
+            save(figure4_sweeps(e2, base if base is not None and len(base) else None, runs=runs), f"fig4_sweeps{sfx}")
         stab = _of_convention(get("stability"), conv)
         if stab is not None:
             save(stability_figure(stab, convention=conv), f"stability_map{sfx}")

@@ -37,16 +37,23 @@ from .style import (
 # 40-400 GPa, technical ceramics 2.2-16 g/cm^3 and 100-1000 GPa; polymers
 # 0.9-2 g/cm^3 and 0.2-10 GPa, natural materials 0.4-2 g/cm^3 and 0.1-30 GPa.
 CLASS_REGIONS = {
-    "metals and ceramics": {"density_g_cm3": (1.5, 22.0), "modulus_gpa": (30.0, 1200.0),
-                            "classes": ("metal", "ceramic"), "colour": "#0173b2"},
-    "polymers and natural composites": {"density_g_cm3": (0.4, 2.2), "modulus_gpa": (0.08, 30.0),
-                                        "label": "polymers and\nnatural composites",
-                                        "classes": ("polymer", "natural"), "colour": "#029e73"},
+    "metals and ceramics": {
+        "density_g_cm3": (1.5, 22.0),
+        "modulus_gpa": (30.0, 1200.0),
+        "classes": ("metal", "ceramic"),
+        "colour": "#0173b2",
+    },
+    "polymers and natural composites": {
+        "density_g_cm3": (0.4, 2.2),
+        "modulus_gpa": (0.08, 30.0),
+        "label": "polymers and\nnatural composites",
+        "classes": ("polymer", "natural"),
+        "colour": "#029e73",
+    },
 }
 # Design bounds of the material search (paper, Fig. 2 B: about 0.9-20 g/cm^3
 # and 0.1-1000 GPa): the optimizer's own (mat_hopper.optimize._space).
 DESIGN_BOUNDS = {"density_g_cm3": DENSITY_BOUNDS_G_CM3, "modulus_gpa": MODULUS_BOUNDS_GPA}
-
 
 
 # --- stability ---------------------------------------------------------------------
@@ -63,12 +70,21 @@ def _edges(centres: np.ndarray) -> np.ndarray:
 
 MEASURED_COLUMNS = ("max_stable_timestep_s", "dt_stable_s", "spec_timestep_s", "dt_spec_s")
 ANALYTIC_COLUMNS = ("analytic_timestep_s", "dt_estimate_s")
-ANALYTIC_LABELS = {"analytic_timestep_s": "2/ω_max", "dt_estimate_s": "2/ω_max",
-                   "combined_timestep_s": "min(2/ω_max, controller limit)"}
+ANALYTIC_LABELS = {
+    "analytic_timestep_s": "2/ω_max",
+    "dt_estimate_s": "2/ω_max",
+    "combined_timestep_s": "min(2/ω_max, controller limit)",
+}
 
 
-def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"), convention: str | None = None,
-                     measured: str | None = None, analytic: str | None = None) -> Figure:
+def stability_figure(
+    stab: pd.DataFrame,
+    *,
+    materials=("PVC", "Al", "Ti", "SS"),
+    convention: str | None = None,
+    measured: str | None = None,
+    analytic: str | None = None,
+) -> Figure:
     """The largest stable time step (s) over density and modulus, measured
     (heat map, log colour scale; hatched: no tried step was stable) with
     the analytic estimate 2 / omega_max as labelled contours (left), and
@@ -96,8 +112,8 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
     _require(stab, ("density_g_cm3", "modulus_gpa", measured, analytic), "stability_figure")
     an_label = ANALYTIC_LABELS.get(analytic, "")
     stab = stab.rename(columns={measured: "_measured", analytic: "_analytic"})[
-        ["density_g_cm3", "modulus_gpa", "_measured", "_analytic"]].rename(
-        columns={"_measured": "max_stable_timestep_s", "_analytic": "analytic_timestep_s"})
+        ["density_g_cm3", "modulus_gpa", "_measured", "_analytic"]
+    ].rename(columns={"_measured": "max_stable_timestep_s", "_analytic": "analytic_timestep_s"})
     stab = stab.apply(pd.to_numeric, errors="coerce")
     cols = ("density_g_cm3", "modulus_gpa", "max_stable_timestep_s", "analytic_timestep_s")
     if len(stab) == 0:
@@ -106,11 +122,16 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
     rho = np.sort(t["density_g_cm3"].unique())
     mod = np.sort(t["modulus_gpa"].unique())
     grid = t.pivot(index="modulus_gpa", columns="density_g_cm3", values="max_stable_timestep_s").reindex(
-        index=mod, columns=rho)
-    present = t.assign(one=1.0).pivot(index="modulus_gpa", columns="density_g_cm3", values="one").reindex(
-        index=mod, columns=rho)
+        index=mod, columns=rho
+    )
+    present = (
+        t.assign(one=1.0)
+        .pivot(index="modulus_gpa", columns="density_g_cm3", values="one")
+        .reindex(index=mod, columns=rho)
+    )
     analytic = t.pivot(index="modulus_gpa", columns="density_g_cm3", values="analytic_timestep_s").reindex(
-        index=mod, columns=rho)
+        index=mod, columns=rho
+    )
     measured = grid.to_numpy(float)
     finite = measured[np.isfinite(measured) & (measured > 0)]
     an = analytic.to_numpy(float)
@@ -127,8 +148,18 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
         mesh = ax.pcolormesh(xe, ye, np.ma.masked_invalid(measured), norm=norm, cmap="viridis", shading="flat")
         unstable = np.isfinite(present.to_numpy(float)) & ~np.isfinite(measured)
         if unstable.any():
-            ax.pcolormesh(xe, ye, np.ma.masked_where(~unstable, np.ones_like(measured)), cmap="Greys", vmin=0,
-                          vmax=4, hatch="///", shading="flat", edgecolor="#777777", linewidth=0)
+            ax.pcolormesh(
+                xe,
+                ye,
+                np.ma.masked_where(~unstable, np.ones_like(measured)),
+                cmap="Greys",
+                vmin=0,
+                vmax=4,
+                hatch="///",
+                shading="flat",
+                edgecolor="#777777",
+                linewidth=0,
+            )
         cb = fig.colorbar(mesh, ax=ax, pad=0.02)
         cb.set_label("Largest stable time step, measured (s)" + (" (spec scan)" if "spec" in measured else ""))
         plain_log_ticks(cb.ax.yaxis)
@@ -137,8 +168,9 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
             levels = 10 ** np.arange(lo, hi + 0.01, 0.5)
             levels = levels[(levels > an_ok.min()) & (levels < an_ok.max())]
             if len(levels):
-                cs = ax.contour(rho, mod, np.ma.masked_invalid(an), levels=levels, colors="white",
-                                linewidths=0.9, linestyles="--")
+                cs = ax.contour(
+                    rho, mod, np.ma.masked_invalid(an), levels=levels, colors="white", linewidths=0.9, linestyles="--"
+                )
                 ax.clabel(cs, fmt=lambda v: f"{v:.0e} s".replace("e-0", "e-"), fontsize=7, inline=True)
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -155,8 +187,15 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
             if not (xe[0] <= m.density_g_cm3 <= xe[-1] and ye[0] <= m.modulus_gpa <= ye[-1]):
                 continue
             ax.plot(m.density_g_cm3, m.modulus_gpa, "o", ms=6, markerfacecolor="white", markeredgecolor="black")
-            ax.annotate(m.name, (m.density_g_cm3, m.modulus_gpa), xytext=(5, 4), textcoords="offset points",
-                        fontsize=8, color="white", fontweight="bold")
+            ax.annotate(
+                m.name,
+                (m.density_g_cm3, m.modulus_gpa),
+                xytext=(5, 4),
+                textcoords="offset points",
+                fontsize=8,
+                color="white",
+                fontweight="bold",
+            )
         ax.set_title("Largest stable time step" + (f", {convention} convention" if convention else ""))
         _panel_label(ax, "A")
         handles = [Line2D([], [], color="black", ls="--", lw=0.9, label=f"analytic {an_label}")]
@@ -165,8 +204,15 @@ def stability_figure(stab: pd.DataFrame, *, materials=("PVC", "Al", "Ti", "SS"),
         ax.legend(handles=handles, loc="lower right", frameon=True, fontsize=7)
 
         ok = t[np.isfinite(t["max_stable_timestep_s"]) & np.isfinite(t["analytic_timestep_s"])]
-        sc = ax2.scatter(ok["analytic_timestep_s"], ok["max_stable_timestep_s"], c=ok["density_g_cm3"],
-                         cmap="cividis", norm=LogNorm(), s=16, edgecolor="none")
+        sc = ax2.scatter(
+            ok["analytic_timestep_s"],
+            ok["max_stable_timestep_s"],
+            c=ok["density_g_cm3"],
+            cmap="cividis",
+            norm=LogNorm(),
+            s=16,
+            edgecolor="none",
+        )
         cb2 = fig.colorbar(sc, ax=ax2, pad=0.02)
         cb2.set_label("Density (g/cm³)")
         plain_log_ticks(cb2.ax.yaxis)
@@ -192,9 +238,18 @@ def catalogue_table(catalogue=None) -> pd.DataFrame:
     """The material catalogue as a table: name, density_g_cm3, modulus_gpa
     (nan for rigid), material_class, source."""
     mats = (catalogue or CATALOGUE).values() if isinstance(catalogue or CATALOGUE, dict) else catalogue
-    return pd.DataFrame([{"name": m.name, "density_g_cm3": m.density_g_cm3,
-                          "modulus_gpa": np.nan if m.modulus_gpa is None else m.modulus_gpa,
-                          "material_class": m.material_class, "source": m.source} for m in mats])
+    return pd.DataFrame(
+        [
+            {
+                "name": m.name,
+                "density_g_cm3": m.density_g_cm3,
+                "modulus_gpa": np.nan if m.modulus_gpa is None else m.modulus_gpa,
+                "material_class": m.material_class,
+                "source": m.source,
+            }
+            for m in mats
+        ]
+    )
 
 
 def _superellipse(x_range, y_range, n: float = 6.0, points: int = 200) -> np.ndarray:
@@ -208,8 +263,9 @@ def _superellipse(x_range, y_range, n: float = 6.0, points: int = 200) -> np.nda
     return 10 ** np.column_stack([x, y])
 
 
-def ashby_figure(materials: pd.DataFrame | None = None, *, regions=None, bounds=None,
-                 highlight=("PVC", "Al", "Ti", "SS")) -> Figure:
+def ashby_figure(
+    materials: pd.DataFrame | None = None, *, regions=None, bounds=None, highlight=("PVC", "Al", "Ti", "SS")
+) -> Figure:
     """Density (g/cm^3) against modulus (GPa), log-log: the catalogue's
     materials by class, the paper's two material classes as shaded regions
     (:data:`CLASS_REGIONS`) and the design bounds (:data:`DESIGN_BOUNDS`,
@@ -225,11 +281,28 @@ def ashby_figure(materials: pd.DataFrame | None = None, *, regions=None, bounds=
         ax = fig.subplots()
         for name, r in regions.items():
             verts = _superellipse(r["density_g_cm3"], r["modulus_gpa"])
-            ax.add_patch(Polygon(verts, closed=True, facecolor=r["colour"], alpha=0.12, edgecolor=r["colour"],
-                                 linewidth=1.0, zorder=0))
-            ax.text(math.sqrt(r["density_g_cm3"][0] * r["density_g_cm3"][1]), r["modulus_gpa"][1] * 0.8,
-                    r.get("label", name),
-                    ha="center", va="top", color=r["colour"], fontsize=8.5, fontweight="bold", zorder=1)
+            ax.add_patch(
+                Polygon(
+                    verts,
+                    closed=True,
+                    facecolor=r["colour"],
+                    alpha=0.12,
+                    edgecolor=r["colour"],
+                    linewidth=1.0,
+                    zorder=0,
+                )
+            )
+            ax.text(
+                math.sqrt(r["density_g_cm3"][0] * r["density_g_cm3"][1]),
+                r["modulus_gpa"][1] * 0.8,
+                r.get("label", name),
+                ha="center",
+                va="top",
+                color=r["colour"],
+                fontsize=8.5,
+                fontweight="bold",
+                zorder=1,
+            )
         (r0, r1), (e0, e1) = bounds["density_g_cm3"], bounds["modulus_gpa"]
         ax.add_patch(Rectangle((r0, e0), r1 - r0, e1 - e0, fill=False, ls="--", lw=1.0, edgecolor="black", zorder=1))
         ax.text(r1 * 0.93, e0 * 1.25, "design bounds", ha="right", va="bottom", fontsize=8)
@@ -238,14 +311,36 @@ def ashby_figure(materials: pd.DataFrame | None = None, *, regions=None, bounds=
             s = t[t["material_class"] == cls]
             colour = CLASS_COLOURS.get(cls, "#333333")
             big = s["name"].isin(highlight)
-            ax.scatter(s["density_g_cm3"][~big], s["modulus_gpa"][~big], s=28, color=colour, edgecolor="white",
-                       linewidth=0.6, zorder=3, label=cls)
-            ax.scatter(s["density_g_cm3"][big], s["modulus_gpa"][big], s=60, color=colour, edgecolor="black",
-                       linewidth=0.9, zorder=4, label=None if (~big).any() else cls)
+            ax.scatter(
+                s["density_g_cm3"][~big],
+                s["modulus_gpa"][~big],
+                s=28,
+                color=colour,
+                edgecolor="white",
+                linewidth=0.6,
+                zorder=3,
+                label=cls,
+            )
+            ax.scatter(
+                s["density_g_cm3"][big],
+                s["modulus_gpa"][big],
+                s=60,
+                color=colour,
+                edgecolor="black",
+                linewidth=0.9,
+                zorder=4,
+                label=None if (~big).any() else cls,
+            )
             for _, row in s.iterrows():
-                ax.annotate(row["name"], (row["density_g_cm3"], row["modulus_gpa"]), xytext=(5, -3),
-                            textcoords="offset points", fontsize=7.5, zorder=5,
-                            fontweight="bold" if row["name"] in highlight else "normal")
+                ax.annotate(
+                    row["name"],
+                    (row["density_g_cm3"], row["modulus_gpa"]),
+                    xytext=(5, -3),
+                    textcoords="offset points",
+                    fontsize=7.5,
+                    zorder=5,
+                    fontweight="bold" if row["name"] in highlight else "normal",
+                )
         ax.set_xscale("log")
         ax.set_yscale("log")
         xs = [*t["density_g_cm3"], r0, r1] + [v for r in regions.values() for v in r["density_g_cm3"]]
@@ -258,10 +353,21 @@ def ashby_figure(materials: pd.DataFrame | None = None, *, regions=None, bounds=
         ax.set_ylabel("Young's modulus E (GPa)")
         ax.grid(True, which="major", alpha=0.25, axis="both")
         handles, labels = ax.get_legend_handles_labels()
-        handles.append(Line2D([], [], ls="none", marker="o", ms=8, markerfacecolor="white", markeredgecolor="black",
-                              label="the paper's materials"))
-        ax.legend(handles=handles, loc="upper left", frameon=True, fontsize=7.5, title="material class",
-                  title_fontsize=8)
+        handles.append(
+            Line2D(
+                [],
+                [],
+                ls="none",
+                marker="o",
+                ms=8,
+                markerfacecolor="white",
+                markeredgecolor="black",
+                label="the paper's materials",
+            )
+        )
+        ax.legend(
+            handles=handles, loc="upper left", frameon=True, fontsize=7.5, title="material class", title_fontsize=8
+        )
     return fig
 
 
@@ -277,21 +383,31 @@ def designs_figure(designs: dict[str, LegDesign] | None = None):
     with rc_context({**STYLE, "axes.grid": False}):
         fig = Figure(figsize=(9.0, 3.0), layout="constrained")
         axes = fig.subplots(1, 2)
-        for ax, col, label, cmap in ((axes[0], "density_g_cm3", "Density (g/cm³)", "cividis"),
-                                     (axes[1], "modulus_gpa", "Modulus (GPa)", "viridis")):
+        for ax, col, label, cmap in (
+            (axes[0], "density_g_cm3", "Density (g/cm³)", "cividis"),
+            (axes[1], "modulus_gpa", "Modulus (GPa)", "viridis"),
+        ):
             grid = np.full((n_seg, len(names)), np.nan)
             for r in t.itertuples():
                 grid[r.segment - 1, names.index(r.design)] = getattr(r, col)
             vals = grid[np.isfinite(grid)]
             norm = LogNorm(vmin=vals.min(), vmax=vals.max())
             ax.set_facecolor("#bbbbbb")
-            mesh = ax.pcolormesh(np.arange(len(names) + 1), np.arange(n_seg + 1), np.ma.masked_invalid(grid),
-                                 norm=norm, cmap=cmap, edgecolors="white", linewidth=1.5)
+            mesh = ax.pcolormesh(
+                np.arange(len(names) + 1),
+                np.arange(n_seg + 1),
+                np.ma.masked_invalid(grid),
+                norm=norm,
+                cmap=cmap,
+                edgecolors="white",
+                linewidth=1.5,
+            )
             for (i, j), v in np.ndenumerate(grid):
                 txt = "rigid" if not np.isfinite(v) else f"{v:.3g}"
                 light = np.isfinite(v) and norm(v) < 0.5
-                ax.text(j + 0.5, i + 0.5, txt, ha="center", va="center", fontsize=8,
-                        color="white" if light else "black")
+                ax.text(
+                    j + 0.5, i + 0.5, txt, ha="center", va="center", fontsize=8, color="white" if light else "black"
+                )
             ax.set_xticks(np.arange(len(names)) + 0.5)
             ax.set_xticklabels([design_label(n) for n in names], rotation=45, ha="right")
             ax.set_yticks(np.arange(n_seg) + 0.5)

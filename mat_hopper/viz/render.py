@@ -33,7 +33,7 @@ from ..materials import DEFAULT_CONVENTION, LegDesign
 from ..model import build_spec, reset_to_start
 from ..sim import Rollout, _as_design, simulate
 
-DENSITY_RANGE_G_CM3 = (0.9, 20.0)      # colour scale: the optimizer's density bounds
+DENSITY_RANGE_G_CM3 = (0.9, 20.0)  # colour scale: the optimizer's density bounds
 VIDEO_EXTENSIONS = (".mp4", ".gif")
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".svg", ".pdf")
 
@@ -60,24 +60,30 @@ def choose_backend(env=None, find_library=ctypes.util.find_library) -> str:
     if asked in _LIBS:
         lib, pkg = _LIBS[asked]
         if find_library(lib) is None:
-            raise RenderBackendError(f"MUJOCO_GL={asked} but lib{lib} was not found "
-                                     f"(Debian package {pkg}; scripts/setup.sh installs it as root)")
+            raise RenderBackendError(
+                f"MUJOCO_GL={asked} but lib{lib} was not found "
+                f"(Debian package {pkg}; scripts/setup.sh installs it as root)"
+            )
         return asked
     for name in ("osmesa", "egl"):
         if find_library(_LIBS[name][0]) is not None:
             return name
-    raise RenderBackendError("no off-screen OpenGL library: neither libOSMesa (Debian package libosmesa6) "
-                             "nor libEGL (libegl1) was found; run scripts/setup.sh as root")
+    raise RenderBackendError(
+        "no off-screen OpenGL library: neither libOSMesa (Debian package libosmesa6) "
+        "nor libEGL (libegl1) was found; run scripts/setup.sh as root"
+    )
 
 
 def _gl_context_class(backend: str):
     """The MuJoCo GL context class of a backend (sets PyOpenGL's platform
     first, unless the user already chose one)."""
-    if not os.environ.get("PYOPENGL_PLATFORM", "").strip():      # unset or empty: ours to choose
+    if not os.environ.get("PYOPENGL_PLATFORM", "").strip():  # unset or empty: ours to choose
         os.environ["PYOPENGL_PLATFORM"] = backend
     if os.environ["PYOPENGL_PLATFORM"].lower() != backend:
-        raise RenderBackendError(f"PYOPENGL_PLATFORM={os.environ['PYOPENGL_PLATFORM']} conflicts with the "
-                                 f"{backend} backend; unset it or set MUJOCO_GL to match")
+        raise RenderBackendError(
+            f"PYOPENGL_PLATFORM={os.environ['PYOPENGL_PLATFORM']} conflicts with the "
+            f"{backend} backend; unset it or set MUJOCO_GL to match"
+        )
     try:
         if backend == "osmesa":
             from mujoco.osmesa import GLContext
@@ -95,6 +101,7 @@ def _gl_context_class(backend: str):
 def density_color(density_g_cm3: float) -> np.ndarray:
     """RGBA of a density (g/cm^3) on the viridis scale over log density."""
     from matplotlib import colormaps
+
     lo, hi = np.log(DENSITY_RANGE_G_CM3)
     u = float(np.clip((math.log(density_g_cm3) - lo) / (hi - lo), 0.0, 1.0))
     return np.array(colormaps["viridis"](u))
@@ -108,8 +115,15 @@ def _surface_z(behaviour: Behaviour, x: np.ndarray) -> np.ndarray:
     return np.where((x >= 0) & (x <= top), x * math.tan(math.radians(behaviour.ramp_grade_deg)), 0.0)
 
 
-def render_spec(design: LegDesign, behaviour: Behaviour, *, convention: str = DEFAULT_CONVENTION,
-                path_until_s: float = 60.0, width: int = 640, height: int = 480) -> mujoco.MjSpec:
+def render_spec(
+    design: LegDesign,
+    behaviour: Behaviour,
+    *,
+    convention: str = DEFAULT_CONVENTION,
+    path_until_s: float = 60.0,
+    width: int = 640,
+    height: int = 480,
+) -> mujoco.MjSpec:
     """The simulation's spec, dressed for pictures: segment colours by
     density, a checker floor, sky, and markers along the desired path.
     Joints are unchanged, so recorded qpos replays on it."""
@@ -124,7 +138,7 @@ def render_spec(design: LegDesign, behaviour: Behaviour, *, convention: str = DE
     spec.visual.global_.offwidth = max(width, 640)
     spec.visual.global_.offheight = max(height, 480)
     spec.visual.quality.shadowsize = 2048
-    spec.visual.map.shadowclip = 1.5            # shadow-map extent, in units of the model's extent
+    spec.visual.map.shadowclip = 1.5  # shadow-map extent, in units of the model's extent
     spec.visual.headlight.ambient = [0.22, 0.22, 0.22]
     spec.visual.headlight.diffuse = [0.22, 0.22, 0.22]
     spec.visual.headlight.specular = [0.05, 0.05, 0.05]
@@ -134,31 +148,57 @@ def render_spec(design: LegDesign, behaviour: Behaviour, *, convention: str = DE
     sun = spec.light("sun")
     sun.castshadow, sun.diffuse, sun.specular = False, [0.22, 0.22, 0.22], [0, 0, 0]
     key = np.array([0.35, 0.6, -1.0])
-    spec.worldbody.add_light(name="key", type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
-                             mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM, pos=list(-3.0 * key),
-                             dir=list(key / np.linalg.norm(key)), castshadow=True,
-                             diffuse=[0.5, 0.5, 0.48], specular=[0.2, 0.2, 0.2])
-    spec.add_texture(name="sky", type=mujoco.mjtTexture.mjTEXTURE_SKYBOX,
-                     builtin=mujoco.mjtBuiltin.mjBUILTIN_GRADIENT, rgb1=[0.75, 0.85, 0.95],
-                     rgb2=[1, 1, 1], width=256, height=256)
-    spec.add_texture(name="checker", type=mujoco.mjtTexture.mjTEXTURE_2D,
-                     builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, rgb1=[0.86, 0.86, 0.83],
-                     rgb2=[0.74, 0.74, 0.71], width=256, height=256)
-    mat = spec.add_material(name="floor", texrepeat=[8, 8])   # no reflection pass: half the cost
+    spec.worldbody.add_light(
+        name="key",
+        type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+        mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM,
+        pos=list(-3.0 * key),
+        dir=list(key / np.linalg.norm(key)),
+        castshadow=True,
+        diffuse=[0.5, 0.5, 0.48],
+        specular=[0.2, 0.2, 0.2],
+    )
+    spec.add_texture(
+        name="sky",
+        type=mujoco.mjtTexture.mjTEXTURE_SKYBOX,
+        builtin=mujoco.mjtBuiltin.mjBUILTIN_GRADIENT,
+        rgb1=[0.75, 0.85, 0.95],
+        rgb2=[1, 1, 1],
+        width=256,
+        height=256,
+    )
+    spec.add_texture(
+        name="checker",
+        type=mujoco.mjtTexture.mjTEXTURE_2D,
+        builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+        rgb1=[0.86, 0.86, 0.83],
+        rgb2=[0.74, 0.74, 0.71],
+        width=256,
+        height=256,
+    )
+    mat = spec.add_material(name="floor", texrepeat=[8, 8])  # no reflection pass: half the cost
     mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "checker"
     ground = spec.geom("ground")
     ground.material, ground.rgba, ground.size = "floor", [1, 1, 1, 1], [8, 8, 0.1]
     if behaviour.ramp_grade_deg is not None:
         spec.geom("ramp").rgba = [0.5, 0.62, 0.8, 1]
     # The desired path: small flat discs every 5 cm of path (or 0.5 s).
-    ts = np.arange(0.0, path_until_s, max(0.05 / max(behaviour.speed_m_s, 1e-9), 0.5)
-                   if behaviour.speed_m_s > 0 else path_until_s)
+    ts = np.arange(
+        0.0, path_until_s, max(0.05 / max(behaviour.speed_m_s, 1e-9), 0.5) if behaviour.speed_m_s > 0 else path_until_s
+    )
     xy = np.array([behaviour.desired(t)[:2] for t in ts]) if len(ts) else np.zeros((0, 2))
     z = _surface_z(behaviour, xy[:, 0]) if len(xy) else []
     for k, ((x, y), zz) in enumerate(zip(xy, z)):
-        spec.worldbody.add_geom(name=f"path{k}", type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-                                size=[0.02, 0.002, 0], pos=[x, y, zz + 0.004], rgba=[0.85, 0.2, 0.15, 1],
-                                contype=0, conaffinity=0, mass=0)
+        spec.worldbody.add_geom(
+            name=f"path{k}",
+            type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+            size=[0.02, 0.002, 0],
+            pos=[x, y, zz + 0.004],
+            rgba=[0.85, 0.2, 0.15, 1],
+            contype=0,
+            conaffinity=0,
+            mass=0,
+        )
     return spec
 
 
@@ -170,7 +210,7 @@ class Camera:
     distance_m: float = 2.8
     azimuth_deg: float = 90.0
     elevation_deg: float = -8.0
-    height_m: float = 0.6           # look-at height above the ground under the base
+    height_m: float = 0.6  # look-at height above the ground under the base
 
     def place(self, cam: mujoco.MjvCamera, base_xyz, behaviour: Behaviour) -> None:
         cam.type = mujoco.mjtCamera.mjCAMERA_FREE
@@ -192,11 +232,13 @@ class OffscreenRenderer:
             self._ctx.make_current()
         except RenderBackendError:
             raise
-        except Exception as e:   # e.g. PyOpenGL already bound to another platform in this process
+        except Exception as e:  # e.g. PyOpenGL already bound to another platform in this process
             lib, pkg = _LIBS[self.backend]
-            raise RenderBackendError(f"could not create a {self.backend} OpenGL context ({e}); it needs lib{lib} "
-                                     f"(Debian package {pkg}) and PyOpenGL, and MUJOCO_GL={self.backend} set "
-                                     "before anything else imports OpenGL") from e
+            raise RenderBackendError(
+                f"could not create a {self.backend} OpenGL context ({e}); it needs lib{lib} "
+                f"(Debian package {pkg}) and PyOpenGL, and MUJOCO_GL={self.backend} set "
+                "before anything else imports OpenGL"
+            ) from e
         self._con = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._con)
         self._scene = mujoco.MjvScene(model, maxgeom=10000)
@@ -207,12 +249,13 @@ class OffscreenRenderer:
     def frame(self, qpos: np.ndarray, camera: Camera, behaviour: Behaviour) -> np.ndarray:
         self.data.qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
-        mujoco.mj_comPos(self.model, self.data)      # the key light tracks the centre of mass
-        mujoco.mj_camlight(self.model, self.data)    # place the lights (else they have no direction)
+        mujoco.mj_comPos(self.model, self.data)  # the key light tracks the centre of mass
+        mujoco.mj_camlight(self.model, self.data)  # place the lights (else they have no direction)
         camera.place(self._cam, self.data.body("base").xpos, behaviour)
         self._ctx.make_current()
-        mujoco.mjv_updateScene(self.model, self.data, self._opt, None, self._cam,
-                               mujoco.mjtCatBit.mjCAT_ALL, self._scene)
+        mujoco.mjv_updateScene(
+            self.model, self.data, self._opt, None, self._cam, mujoco.mjtCatBit.mjCAT_ALL, self._scene
+        )
         mujoco.mjr_render(self._rect, self._scene, self._con)
         rgb = np.empty((self.height, self.width, 3), dtype=np.uint8)
         mujoco.mjr_readPixels(rgb, None, self._rect, self._con)
@@ -259,37 +302,52 @@ def _check_extension(path: str, allowed: tuple) -> str:
     return ext
 
 
-def record(design, behaviour, seconds: float, *, start_s: float = 0.0,
-           convention: str = DEFAULT_CONVENTION) -> Rollout:
+def record(design, behaviour, seconds: float, *, start_s: float = 0.0, convention: str = DEFAULT_CONVENTION) -> Rollout:
     """A rollout with joint positions recorded up to start_s + seconds (s)."""
     if not (math.isfinite(seconds) and seconds > 0):
         raise ValueError(f"seconds must be > 0, got {seconds!r}")
     if not (math.isfinite(start_s) and start_s >= 0):
         raise ValueError(f"start must be >= 0 s, got {start_s!r}")
-    return simulate(design, behaviour, duration_s=start_s + seconds, transient_s=0.0, convention=convention,
-                    record_qpos=True)
+    return simulate(
+        design, behaviour, duration_s=start_s + seconds, transient_s=0.0, convention=convention, record_qpos=True
+    )
 
 
-def iter_frames(rollout: Rollout, times_s, *, size=(640, 480), camera: Camera | None = None,
-                backend: str | None = None, progress: bool = False):
+def iter_frames(
+    rollout: Rollout,
+    times_s,
+    *,
+    size=(640, 480),
+    camera: Camera | None = None,
+    backend: str | None = None,
+    progress: bool = False,
+):
     """Yield RGB frames (height, width, 3) of a rollout at the given times
     (s), one at a time (a long video never sits in memory)."""
     if rollout.qpos is None:
         raise ValueError("the rollout has no joint positions: simulate(..., record_qpos=True)")
     w, h = size
-    spec = render_spec(rollout.design, rollout.behaviour, convention=rollout.settings.convention,
-                       path_until_s=float(rollout.time[-1]) + 1.0, width=w, height=h)
+    spec = render_spec(
+        rollout.design,
+        rollout.behaviour,
+        convention=rollout.settings.convention,
+        path_until_s=float(rollout.time[-1]) + 1.0,
+        width=w,
+        height=h,
+    )
     model = spec.compile()
     idx = np.clip(np.searchsorted(rollout.time, np.asarray(times_s, float)), 0, len(rollout.time) - 1)
     camera = camera or Camera()
     from tqdm import tqdm
+
     with OffscreenRenderer(model, w, h, backend) as r:
         for i in tqdm(idx, desc="render", unit="frame", disable=not progress):
             yield r.frame(rollout.qpos[i], camera, rollout.behaviour)
 
 
-def render_frames(rollout: Rollout, times_s, *, size=(640, 480), camera: Camera | None = None,
-                  backend: str | None = None) -> np.ndarray:
+def render_frames(
+    rollout: Rollout, times_s, *, size=(640, 480), camera: Camera | None = None, backend: str | None = None
+) -> np.ndarray:
     """RGB frames (n, height, width, 3) of a rollout at the given times (s)."""
     return np.stack(list(iter_frames(rollout, times_s, size=size, camera=camera, backend=backend)))
 
@@ -308,7 +366,7 @@ def standing_qpos(model: mujoco.MjModel, behaviour: Behaviour) -> np.ndarray:
     d.qpos[bx], d.qpos[bx + 1] = behaviour.start_xy_m
     foot = model.geom("foot").id
     terrain = [i for i in range(model.ngeom) if model.geom(i).name in ("ground", "ramp")]
-    for _ in range(8):              # a slanted surface needs a few vertical steps
+    for _ in range(8):  # a slanted surface needs a few vertical steps
         mujoco.mj_kinematics(model, d)
         gap = min(mujoco.mj_geomDistance(model, d, foot, g, 10.0, None) for g in terrain)
         if abs(gap) < 1e-6:
@@ -317,8 +375,15 @@ def standing_qpos(model: mujoco.MjModel, behaviour: Behaviour) -> np.ndarray:
     return d.qpos.copy()
 
 
-def render_still(design, behaviour="static", *, size=(640, 480), camera: Camera | None = None,
-                 standing: bool = True, backend: str | None = None) -> np.ndarray:
+def render_still(
+    design,
+    behaviour="static",
+    *,
+    size=(640, 480),
+    camera: Camera | None = None,
+    standing: bool = True,
+    backend: str | None = None,
+) -> np.ndarray:
     """One RGB picture (height, width, 3) of the hopper at its start pose,
     standing on its foot (standing=False: at the simulation's start height,
     0.56 m up), segments coloured by density, the behaviour's path marked."""
@@ -329,9 +394,11 @@ def render_still(design, behaviour="static", *, size=(640, 480), camera: Camera 
     qpos = standing_qpos(model, beh)
     if not standing:
         qpos[int(model.joint("base_z").qposadr[0])] = 0.0
-    camera = camera or (Camera(distance_m=1.75, azimuth_deg=125.0, elevation_deg=-10.0, height_m=0.42)
-                        if standing else Camera(distance_m=2.2, azimuth_deg=125.0, elevation_deg=-12.0,
-                                                height_m=0.75))
+    camera = camera or (
+        Camera(distance_m=1.75, azimuth_deg=125.0, elevation_deg=-10.0, height_m=0.42)
+        if standing
+        else Camera(distance_m=2.2, azimuth_deg=125.0, elevation_deg=-12.0, height_m=0.75)
+    )
     with OffscreenRenderer(model, w, h, backend) as r:
         return r.frame(qpos, camera, beh)
 
@@ -340,6 +407,7 @@ def _density_legend(fig, ax, design: LegDesign) -> None:
     """A density colour bar whose labelled ticks are the design's segments
     (``seg 1 1.39``, hip first), plus round numbers that do not crowd them."""
     import matplotlib as mpl
+
     norm = mpl.colors.LogNorm(*DENSITY_RANGE_G_CM3)
     cb = fig.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, fraction=0.025, pad=0.01)
     cb.set_label("segment density (g/cm$^3$)")
@@ -349,16 +417,24 @@ def _density_legend(fig, ax, design: LegDesign) -> None:
         cb.ax.plot([0, 1], [d, d], color="white", lw=1.5)
     lo, hi = DENSITY_RANGE_G_CM3
     rounds = [t for t in (1, 2, 5, 10, 20) if lo <= t <= hi and all(abs(math.log(t / d)) > 0.3 for d in segs)]
-    ticks = sorted([(t, f"{t:g}") for t in rounds]
-                   + [(d, f"seg {','.join(ids)}: {d:g}") for d, ids in segs.items()])
+    ticks = sorted([(t, f"{t:g}") for t in rounds] + [(d, f"seg {','.join(ids)}: {d:g}") for d, ids in segs.items()])
     cb.set_ticks([t for t, _ in ticks], labels=[lab for _, lab in ticks])
     cb.ax.minorticks_off()
     cb.ax.tick_params(labelsize=7)
 
 
-def gait_tiles(design, behaviour="forward", *, rollout: Rollout | None = None, start_s: float = 5.0,
-               seconds: float = 0.7, n_frames: int = 8, size=(280, 400), camera: Camera | None = None,
-               backend: str | None = None):
+def gait_tiles(
+    design,
+    behaviour="forward",
+    *,
+    rollout: Rollout | None = None,
+    start_s: float = 5.0,
+    seconds: float = 0.7,
+    n_frames: int = 8,
+    size=(280, 400),
+    camera: Camera | None = None,
+    backend: str | None = None,
+):
     """The paper's gait-tile figure: n_frames of a hop sequence (one hop
     cycle, about 0.7 s, by default) side by side, the desired path marked, segments coloured by density. Returns a
     matplotlib Figure (frames also in ``fig.frames``)."""
@@ -386,8 +462,9 @@ def gait_tiles(design, behaviour="forward", *, rollout: Rollout | None = None, s
     return fig
 
 
-def video_times(rollout: Rollout, *, start_s: float = 0.0, seconds: float | None = None,
-                fps: float = 30.0) -> np.ndarray:
+def video_times(
+    rollout: Rollout, *, start_s: float = 0.0, seconds: float | None = None, fps: float = 30.0
+) -> np.ndarray:
     """Simulated times (s) of the frames: start_s + k / fps up to the end of
     the window (start_s + seconds) or of the rollout, both ends included."""
     fps = _check_fps(fps)
@@ -398,23 +475,44 @@ def video_times(rollout: Rollout, *, start_s: float = 0.0, seconds: float | None
     return start_s + np.arange(n) / fps
 
 
-def video_frames(rollout: Rollout, *, start_s: float = 0.0, seconds: float | None = None, fps: float = 30.0,
-                 size=(640, 480), camera: Camera | None = None, backend: str | None = None) -> np.ndarray:
+def video_frames(
+    rollout: Rollout,
+    *,
+    start_s: float = 0.0,
+    seconds: float | None = None,
+    fps: float = 30.0,
+    size=(640, 480),
+    camera: Camera | None = None,
+    backend: str | None = None,
+) -> np.ndarray:
     """Frames (n, height, width, 3) of a rollout at fps frames per simulated second."""
-    return render_frames(rollout, video_times(rollout, start_s=start_s, seconds=seconds, fps=fps), size=size,
-                         camera=camera, backend=backend)
+    return render_frames(
+        rollout,
+        video_times(rollout, start_s=start_s, seconds=seconds, fps=fps),
+        size=size,
+        camera=camera,
+        backend=backend,
+    )
 
 
 def write_video(frames, path: str, fps: float) -> str:
     """Write frames (an array or any iterable of (h, w, 3) uint8 images) as
     MP4 (H.264, imageio-ffmpeg; streamed) or GIF, atomically."""
     import imageio.v2 as imageio
+
     ext = _check_extension(path, VIDEO_EXTENSIONS)
     fps = _check_fps(fps)
     with atomic_path(path) as tmp:
         if ext == ".mp4":
-            with imageio.get_writer(tmp, fps=fps, codec="libx264", quality=7, macro_block_size=8,
-                                    ffmpeg_log_level="error", pixelformat="yuv420p") as w:
+            with imageio.get_writer(
+                tmp,
+                fps=fps,
+                codec="libx264",
+                quality=7,
+                macro_block_size=8,
+                ffmpeg_log_level="error",
+                pixelformat="yuv420p",
+            ) as w:
                 for f in frames:
                     w.append_data(f)
         else:
@@ -422,9 +520,19 @@ def write_video(frames, path: str, fps: float) -> str:
     return path
 
 
-def save_video(design, behaviour, path: str, *, seconds: float = 10.0, fps: float = 30.0, size=(640, 480),
-               start_s: float = 0.0, rollout: Rollout | None = None, backend: str | None = None,
-               progress: bool = False) -> str:
+def save_video(
+    design,
+    behaviour,
+    path: str,
+    *,
+    seconds: float = 10.0,
+    fps: float = 30.0,
+    size=(640, 480),
+    start_s: float = 0.0,
+    rollout: Rollout | None = None,
+    backend: str | None = None,
+    progress: bool = False,
+) -> str:
     """Simulate (unless a rollout with qpos is given) and write a video,
     frames streamed to the file as they are rendered."""
     _check_extension(path, VIDEO_EXTENSIONS)
@@ -442,16 +550,29 @@ def save_image(fig_or_rgb, path: str) -> str:
     with atomic_path(path) as tmp:
         if isinstance(fig_or_rgb, np.ndarray):
             import imageio.v2 as imageio
+
             imageio.imwrite(tmp, fig_or_rgb)
         else:
             fig_or_rgb.savefig(tmp, metadata={"Software": None} if ext == ".png" else None)
     return path
 
 
-def render_files(design, behaviour, *, tiles: str | None = None, video: str | None = None,
-                 still: str | None = None, seconds: float = 10.0, start_s: float = 0.0, tile_start_s: float = 5.0,
-                 fps: float = 30.0, size=(640, 480), convention: str = DEFAULT_CONVENTION,
-                 backend: str | None = None, log=print) -> list[str]:
+def render_files(
+    design,
+    behaviour,
+    *,
+    tiles: str | None = None,
+    video: str | None = None,
+    still: str | None = None,
+    seconds: float = 10.0,
+    start_s: float = 0.0,
+    tile_start_s: float = 5.0,
+    fps: float = 30.0,
+    size=(640, 480),
+    convention: str = DEFAULT_CONVENTION,
+    backend: str | None = None,
+    log=print,
+) -> list[str]:
     """Write gait tiles (`tiles`: .png, .svg, .pdf, .jpg), a video (`video`:
     .mp4 or .gif; `seconds` of simulated time from `start_s` at `fps`) and/or
     a still of the model at rest (`still`) of one design on one behaviour.
@@ -469,8 +590,11 @@ def render_files(design, behaviour, *, tiles: str | None = None, video: str | No
     design = _as_design(design)
     beh = get_behaviour(behaviour) if isinstance(behaviour, str) else behaviour
     backend = choose_backend({"MUJOCO_GL": backend} if backend else None)
-    rollout = record(design, beh, max(seconds, tile_start_s + 1.0), start_s=start_s,
-                     convention=convention) if (tiles or video) else None
+    rollout = (
+        record(design, beh, max(seconds, tile_start_s + 1.0), start_s=start_s, convention=convention)
+        if (tiles or video)
+        else None
+    )
     if rollout is not None and not rollout.stable:
         log(f"note: {design.name} diverged at t = {rollout.diverged_at_s:.3f} s; frames stop there")
     written = []

@@ -36,15 +36,34 @@ def pareto_figure(frame: pd.DataFrame, front: pd.DataFrame, base: dict, title: s
     if not ok.empty:
         ax.scatter(ok["tracking_error_m"], ok["power_w"], s=14, c="tab:blue", alpha=0.6, label=f"feasible ({len(ok)})")
     if not bad.empty:
-        ax.scatter(bad["tracking_error_m"], bad["power_w"], s=14, c="0.6", marker="x", alpha=0.6,
-                   label=f"infeasible ({len(bad)})")
+        ax.scatter(
+            bad["tracking_error_m"],
+            bad["power_w"],
+            s=14,
+            c="0.6",
+            marker="x",
+            alpha=0.6,
+            label=f"infeasible ({len(bad)})",
+        )
     if not front.empty:
-        ax.plot(front["tracking_error_m"], front["power_w"], "-o", c="tab:red", ms=5, drawstyle="steps-post",
-                label=f"Pareto front ({len(front)})")
+        ax.plot(
+            front["tracking_error_m"],
+            front["power_w"],
+            "-o",
+            c="tab:red",
+            ms=5,
+            drawstyle="steps-post",
+            label=f"Pareto front ({len(front)})",
+        )
     for _, r in done[done["paper_design"] != ""].iterrows() if not done.empty else ():
         ax.scatter([r["tracking_error_m"]], [r["power_w"]], marker="*", s=160, c="gold", edgecolors="k", zorder=5)
-        ax.annotate(r["paper_design"] + ("" if r["feasible"] else " (infeasible)"),
-                    (r["tracking_error_m"], r["power_w"]), textcoords="offset points", xytext=(6, 6), fontsize=8)
+        ax.annotate(
+            r["paper_design"] + ("" if r["feasible"] else " (infeasible)"),
+            (r["tracking_error_m"], r["power_w"]),
+            textcoords="offset points",
+            xytext=(6, 6),
+            fontsize=8,
+        )
     for name, (te, pw) in base.items():
         if done.empty or name not in set(done["paper_design"]):
             ax.scatter([te], [pw], marker="*", s=160, c="white", edgecolors="k", zorder=5)
@@ -77,7 +96,7 @@ def hypervolume_figure(study, reference_point, title: str) -> Figure:
     against `reference_point` (both objectives minimized)."""
     from optuna.visualization.matplotlib import plot_hypervolume_history
 
-    if not reference_point:          # no feasible trial yet: an empty plot with the title
+    if not reference_point:  # no feasible trial yet: an empty plot with the title
         fig = Figure(figsize=(6.4, 3.6), layout="constrained")
         ax = fig.subplots()
         ax.set_xlabel("trial")
@@ -85,7 +104,7 @@ def hypervolume_figure(study, reference_point, title: str) -> Figure:
         ax.set_title(title, fontsize=10)
         return fig
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")        # ExperimentalWarning
+        warnings.simplefilter("ignore")  # ExperimentalWarning
         ax = plot_hypervolume_history(study, list(reference_point))
     ax.set_ylabel("hypervolume (m W)")
     ax.set_title(title, fontsize=10)
@@ -102,7 +121,7 @@ def importances_figure(study, title: str) -> Figure:
     if len(complete) >= 4:
         try:
             with warnings.catch_warnings():
-                warnings.simplefilter("ignore")        # ExperimentalWarning
+                warnings.simplefilter("ignore")  # ExperimentalWarning
                 ax = plot_param_importances(study)
             ax.set_title(title, fontsize=10)
             return _optuna_axes_figure(ax)

@@ -55,8 +55,14 @@ _FALLBACK = ("#ece133", "#fbafe4", "#1f77b4", "#2ca02c", "#9467bd", "#17becf")
 DESIGN_ORDER = tuple(DESIGN_COLOURS)
 DESIGN_LABELS = {"rho-inc": "ρ-inc", "rho-dec": "ρ-dec"}
 BEHAVIOUR_LABELS = {"static": "Static", "forward": "Forward", "ramp": "Ramp", "circle": "Circle"}
-CLASS_COLOURS = {"metal": "#0173b2", "ceramic": "#d55e00", "polymer": "#029e73",
-                 "natural": "#de8f05", "composite": "#cc78bc", "reference": "#949494"}
+CLASS_COLOURS = {
+    "metal": "#0173b2",
+    "ceramic": "#d55e00",
+    "polymer": "#029e73",
+    "natural": "#de8f05",
+    "composite": "#cc78bc",
+    "reference": "#949494",
+}
 
 # metric column -> (label, SI unit, allow SI prefixes)
 METRIC_INFO = {
@@ -68,6 +74,7 @@ METRIC_INFO = {
     "energy_j": ("Energy per hop", "J", True),
 }
 _PREFIXES = ((1.0, ""), (1e-3, "m"), (1e-6, "µ"))
+
 
 # Ashby-chart envelopes of the two material classes the paper uses (g/cm^3,
 # GPa), drawn as rounded boxes in log-log space. Approximate extents read
@@ -117,8 +124,7 @@ def metric_scale(metric: str, values=None) -> tuple[float, str]:
 
 
 def _panel_label(ax, letter: str):
-    ax.text(-0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold",
-            ha="right", va="bottom")
+    ax.text(-0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold", ha="right", va="bottom")
 
 
 def plain_log_ticks(axis) -> None:
@@ -165,9 +171,10 @@ def save_figure(fig: Figure, path_stem, *, formats=("png", "svg"), dpi: int = DP
             raise ValueError(f"formats must be among png, svg, pdf; got {fmt!r}")
         target = stem.parent / f"{stem.name}.{fmt}"
         meta = {"Software": None} if fmt == "png" else {"Date": None} if fmt == "svg" else {"CreationDate": None}
-        with atomic_path(target) as tmp, \
-                rc_context({"svg.hashsalt": STYLE["svg.hashsalt"], "svg.fonttype": STYLE["svg.fonttype"]}):
+        with (
+            atomic_path(target) as tmp,
+            rc_context({"svg.hashsalt": STYLE["svg.hashsalt"], "svg.fonttype": STYLE["svg.fonttype"]}),
+        ):
             fig.savefig(tmp, format=fmt, dpi=dpi, metadata=meta)
         written.append(target)
     return written
-

@@ -62,8 +62,10 @@ from mat_hopper.viz import maps
 
 b = book.setup()
 print(b.describe())
-print(f"the paper's headline (ramp, density increasing toward the foot, against stainless steel): "
-      f"tracking error {ref.CLAIM_HEADLINE_TRACKING_PCT:+.0f} %, power {ref.CLAIM_HEADLINE_POWER_PCT:+.0f} %")
+print(
+    f"the paper's headline (ramp, density increasing toward the foot, against stainless steel): "
+    f"tracking error {ref.CLAIM_HEADLINE_TRACKING_PCT:+.0f} %, power {ref.CLAIM_HEADLINE_POWER_PCT:+.0f} %"
+)
 book.show(book.environment_table())
 
 # %% [markdown]

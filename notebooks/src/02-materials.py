@@ -80,8 +80,8 @@ from mat_hopper import reference as ref
 
 rows = []
 for base, sweeps in ref.SWEEPS.items():
-    rho_s = materials.material(base).density_g_cm3     # the solid's own density
+    rho_s = materials.material(base).density_g_cm3  # the solid's own density
     for rho in sweeps["density"]:
-        phi = 1.0 - rho / rho_s                         # Φ = 1 - ρ_b / ρ_s; < 0: denser than the solid
+        phi = 1.0 - rho / rho_s  # Φ = 1 - ρ_b / ρ_s; < 0: denser than the solid
         rows.append({"base": base, "density_g_cm3": rho, "porosity": phi, "reachable_by_porosity": phi >= 0})
 book.show(pd.DataFrame(rows), {"porosity": "{:+.0%}"})

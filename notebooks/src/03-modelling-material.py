@@ -31,8 +31,9 @@ b = book.setup()
 def segment_xml(design: str, i: int = 1) -> str:
     """The MJCF lines of material segment i, as MuJoCo writes the model."""
     keys = (f'name="seg{i}_upper"', f'<body name="seg{i}"', f'name="mat_spring_{i}"', f'name="seg{i}_lower"')
-    return "\n".join(ln.strip() for ln in build_spec(parse_design(design)).to_xml().splitlines()
-                     if any(k in ln for k in keys))
+    return "\n".join(
+        ln.strip() for ln in build_spec(parse_design(design)).to_xml().splitlines() if any(k in ln for k in keys)
+    )
 
 
 print(segment_xml("SS"))
@@ -57,17 +58,25 @@ print(segment_xml("MD"))
 # %%
 rows = []
 for name, design in materials.paper_designs().items():
-    seg = materials.segment_masses(design)                    # m = ρ V per segment, kg
-    rows.append({"design": name, "densities_g_cm3": "/".join(f"{x:g}" for x in design.densities_g_cm3),
-                 "segment_masses_kg": "/".join(f"{x:.3f}" for x in seg), "leg_material_kg": sum(seg),
-                 "total_mass_kg": build_model(design).total_mass_kg})    # MuJoCo's own total
+    seg = materials.segment_masses(design)  # m = ρ V per segment, kg
+    rows.append(
+        {
+            "design": name,
+            "densities_g_cm3": "/".join(f"{x:g}" for x in design.densities_g_cm3),
+            "segment_masses_kg": "/".join(f"{x:.3f}" for x in seg),
+            "leg_material_kg": sum(seg),
+            "total_mass_kg": build_model(design).total_mass_kg,
+        }
+    )  # MuJoCo's own total
 masses = pd.DataFrame(rows)
 book.show(masses, {"leg_material_kg": "{:.3f}", "total_mass_kg": "{:.2f}"})
 
 # %%
 by_name = masses.set_index("design")["total_mass_kg"]
-print(f"MD: {by_name['MD']:.2f} kg (the authors' model: {ref.MASS_MD_KG} kg); "
-      f"SS: {by_name['SS']:.2f} kg (theirs: {ref.MASS_SS_KG} kg)")
+print(
+    f"MD: {by_name['MD']:.2f} kg (the authors' model: {ref.MASS_MD_KG} kg); "
+    f"SS: {by_name['SS']:.2f} kg (theirs: {ref.MASS_SS_KG} kg)"
+)
 
 # %% [markdown]
 # The gradients all weigh the same: they use the same three densities in
@@ -93,11 +102,17 @@ print(f"MD: {by_name['MD']:.2f} kg (the authors' model: {ref.MASS_MD_KG} kg); "
 # Both are linear in E, so they differ by one factor:
 
 # %%
-springs = pd.DataFrame([
-    {"material": n, "modulus_gpa": materials.material(n).modulus_gpa,
-     "k_paper_n_m": materials.spring_stiffness(materials.material(n).modulus_gpa, "paper"),
-     "k_axial_n_m": materials.spring_stiffness(materials.material(n).modulus_gpa, "axial")}
-    for n in ("PVC", "Al", "Ti", "SS")])
+springs = pd.DataFrame(
+    [
+        {
+            "material": n,
+            "modulus_gpa": materials.material(n).modulus_gpa,
+            "k_paper_n_m": materials.spring_stiffness(materials.material(n).modulus_gpa, "paper"),
+            "k_axial_n_m": materials.spring_stiffness(materials.material(n).modulus_gpa, "axial"),
+        }
+        for n in ("PVC", "Al", "Ti", "SS")
+    ]
+)
 springs["axial_over_paper"] = springs["k_axial_n_m"] / springs["k_paper_n_m"]
 print(f"axial / paper: {springs['axial_over_paper'].iloc[0]:.1f} times stiffer, for every material")
 book.show(springs, {"axial_over_paper": "{:.1f}"}, precision=3)
@@ -141,9 +156,11 @@ chapters.convention_figure(steps)
 # %%
 paper_conv = steps[steps["convention"] == "paper"].set_index("design")
 for name, claimed in ref.CLAIM_STABLE_TIMESTEP_S.items():
-    print(f"{name:>3} (paper convention): stable up to {paper_conv.loc[name, 'max_stable_timestep_s']:.1e} s, "
-          f"spring-chain estimate {paper_conv.loc[name, 'analytic_timestep_s']:.1e} s; "
-          f"the paper: about {claimed:.0e} s")
+    print(
+        f"{name:>3} (paper convention): stable up to {paper_conv.loc[name, 'max_stable_timestep_s']:.1e} s, "
+        f"spring-chain estimate {paper_conv.loc[name, 'analytic_timestep_s']:.1e} s; "
+        f"the paper: about {claimed:.0e} s"
+    )
 print(f"controller limit 2 I / c: {steps['controller_timestep_s'].min():.1e} s, for every leg")
 
 # %% [markdown]

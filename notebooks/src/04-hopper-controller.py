@@ -112,6 +112,14 @@ book.show(hops.drop(columns=["design", "behaviour", "convention"]).head(), preci
 
 # %%
 summary = run_summary(rollout)
-keys = ["stable", "n_hops", "total_mass_kg", "mean_hop_height_m", "mean_tracking_error_m", "mean_jerk_m_s3",
-        "mean_power_w", "distance_m"]
+keys = [
+    "stable",
+    "n_hops",
+    "total_mass_kg",
+    "mean_hop_height_m",
+    "mean_tracking_error_m",
+    "mean_jerk_m_s3",
+    "mean_power_w",
+    "distance_m",
+]
 book.show(pd.Series(summary)[keys].to_frame("value"), index=True, precision=3)

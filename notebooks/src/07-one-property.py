@@ -25,7 +25,9 @@ from mat_hopper.viz import figures as plots
 b = book.setup()
 for base, sweep in ref.SWEEPS.items():
     rho, e = ref.MONO_MATERIALS[base]
-    print(f"{base:>3}: density {sweep['density']} g/cm³ at {e:g} GPa\n     modulus {sweep['modulus']} GPa at {rho:g} g/cm³")
+    print(
+        f"{base:>3}: density {sweep['density']} g/cm³ at {e:g} GPa\n     modulus {sweep['modulus']} GPa at {rho:g} g/cm³"
+    )
 
 # %% [markdown]
 # Each sweep includes the base material itself (added where the paper's
@@ -35,7 +37,9 @@ for base, sweep in ref.SWEEPS.items():
 
 # %%
 tables = reproduce.run_experiments(b.profile, "2", out_dir=b.out_dir, cache_dir=b.cache_dir)
-mono = reproduce.run_experiments(b.profile, "1", out_dir=b.out_dir, cache_dir=b.cache_dir, quiet=True)   # MD's forward hopping: the reference line
+mono = reproduce.run_experiments(
+    b.profile, "1", out_dir=b.out_dir, cache_dir=b.cache_dir, quiet=True
+)  # MD's forward hopping: the reference line
 tables.update(mono)
 sweeps = tables["exp2_hops"]
 
@@ -98,5 +102,7 @@ from mat_hopper.materials import spring_stiffness
 
 softest = min(min(s["modulus"]) for s in ref.SWEEPS.values())
 k = spring_stiffness(softest)
-print(f"softest swept modulus {softest:g} GPa: material spring {k:.3g} N/m, "
-      f"{k / ref.FOOT_SPRING_STIFFNESS:.0f} times the foot spring ({ref.FOOT_SPRING_STIFFNESS:g} N/m)")
+print(
+    f"softest swept modulus {softest:g} GPa: material spring {k:.3g} N/m, "
+    f"{k / ref.FOOT_SPRING_STIFFNESS:.0f} times the foot spring ({ref.FOOT_SPRING_STIFFNESS:g} N/m)"
+)

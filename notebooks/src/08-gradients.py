@@ -32,10 +32,12 @@ from mat_hopper.experiments import reproduce, runner
 from mat_hopper.viz import figures as plots
 
 b = book.setup()
-print(f"the paper, ramp: rho-inc vs MD {ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT:+.0f} % tracking error at "
-      f"{ref.CLAIM_RAMP_RHO_INC_POWER_PCT:+.0f} % power; SS vs MD {ref.CLAIM_RAMP_SS_TRACKING_PCT:+.0f} % at "
-      f"{ref.CLAIM_RAMP_SS_POWER_PCT:+.0f} %;\n           rho-inc vs SS {ref.CLAIM_HEADLINE_TRACKING_PCT:+.0f} % "
-      f"tracking error, {ref.CLAIM_HEADLINE_POWER_PCT:+.0f} % power (the abstract)")
+print(
+    f"the paper, ramp: rho-inc vs MD {ref.CLAIM_RAMP_RHO_INC_TRACKING_PCT:+.0f} % tracking error at "
+    f"{ref.CLAIM_RAMP_RHO_INC_POWER_PCT:+.0f} % power; SS vs MD {ref.CLAIM_RAMP_SS_TRACKING_PCT:+.0f} % at "
+    f"{ref.CLAIM_RAMP_SS_POWER_PCT:+.0f} %;\n           rho-inc vs SS {ref.CLAIM_HEADLINE_TRACKING_PCT:+.0f} % "
+    f"tracking error, {ref.CLAIM_HEADLINE_POWER_PCT:+.0f} % power (the abstract)"
+)
 
 # %%
 tables = reproduce.run_experiments(b.profile, "3", out_dir=b.out_dir, cache_dir=b.cache_dir)
@@ -87,8 +89,9 @@ book.show(tab.pct_change_table(hops, "power_w", baseline="SS"), index=True, patt
 
 # %%
 designs = ["MD", "SS", "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC"]
-series = runner.rollouts(designs, ["forward", "ramp"], b.profile.sim_settings(), record_rate_hz=250,
-                         cache_dir=b.cache_dir)
+series = runner.rollouts(
+    designs, ["forward", "ramp"], b.profile.sim_settings(), record_rate_hz=250, cache_dir=b.cache_dir
+)
 plots.figure5_timeseries(series)
 
 # %% [markdown]

@@ -47,8 +47,10 @@ from mat_hopper.viz import maps
 b = book.setup()
 study = optimize.book_study(b.profile, studies_dir=b.root / "studies", out_dir=b.out_dir / "study")
 trials = study["trials"]
-print(f"study {study['name']}: {len(trials)} trials, "
-      f"{int(trials['feasible'].sum())} feasible, {len(study['pareto'])} on the Pareto front")
+print(
+    f"study {study['name']}: {len(trials)} trials, "
+    f"{int(trials['feasible'].sum())} feasible, {len(study['pareto'])} on the Pareto front"
+)
 
 # %% [markdown]
 # Every trial: hip power against tracking error, feasible and infeasible,

@@ -24,7 +24,10 @@ from mat_hopper.viz import chapters
 b = book.setup()
 tables = reproduce.run_experiments(b.profile, "1,2,3,stability", out_dir=b.out_dir, cache_dir=b.cache_dir)
 claims = tab.claims_for(tables, None, columns=None)
-print(f"{b.describe()}\n{len(claims)} claims: " + ", ".join(f"{n} {v}" for v, n in claims["verdict"].value_counts().items()))
+print(
+    f"{b.describe()}\n{len(claims)} claims: "
+    + ", ".join(f"{n} {v}" for v, n in claims["verdict"].value_counts().items())
+)
 
 # %% [markdown]
 # ## The claims table

@@ -45,9 +45,9 @@ def test_partly_and_does_not_hold():
     v = _verdicts(claims.claims_table(hops, runs, conventions=("paper",)))
     assert v["tracking_ss_55"] == claims.PARTLY
     assert v["ramp_rho_inc_tracking"] == claims.FAILS
-    assert v["headline_tracking"] == claims.FAILS          # rho-inc now tracks worse than SS
+    assert v["headline_tracking"] == claims.FAILS  # rho-inc now tracks worse than SS
     assert v["ramp_ss_tracking"] == claims.HOLDS
-    assert v["timestep_materials"] == claims.NOT_RUN       # no stability map given
+    assert v["timestep_materials"] == claims.NOT_RUN  # no stability map given
 
 
 def test_unstable_runs_are_not_testable_never_numbers(paper_results):
@@ -59,10 +59,10 @@ def test_unstable_runs_are_not_testable_never_numbers(paper_results):
     ax = t[t["convention"] == "axial"].set_index("claim_id")
     assert ax.loc["tracking_ss_55", "verdict"] == claims.NOT_TESTABLE
     assert "SS unstable at dt=1e-4 s" in ax.loc["tracking_ss_55", "ours"]
-    assert ax.loc["ramp_rho_inc_tracking", "verdict"] == claims.HOLDS        # MD and rho-inc are fine
-    assert ax.loc["tracking_all_beat_md", "verdict"] == claims.PARTLY        # judged on PVC and Al only
+    assert ax.loc["ramp_rho_inc_tracking", "verdict"] == claims.HOLDS  # MD and rho-inc are fine
+    assert ax.loc["tracking_all_beat_md", "verdict"] == claims.PARTLY  # judged on PVC and Al only
     assert "unusable" in ax.loc["tracking_all_beat_md", "detail"]
-    assert _verdicts(t)["tracking_ss_55"] == claims.HOLDS                    # the paper convention untouched
+    assert _verdicts(t)["tracking_ss_55"] == claims.HOLDS  # the paper convention untouched
 
 
 def test_replicate_basis_is_used_when_present():
@@ -70,14 +70,14 @@ def test_replicate_basis_is_used_when_present():
     t = claims.claims_table(hops, runs, conventions=("paper",))
     row = t.set_index("claim_id").loc["ramp_ss_tracking"]
     assert row["basis"] == "replicate means" and "CI" in row["detail"]
-    assert t.set_index("claim_id").loc["density_over_modulus", "basis"] == "hop cycles"   # exp2: no replicates
+    assert t.set_index("claim_id").loc["density_over_modulus", "basis"] == "hop cycles"  # exp2: no replicates
 
 
 def test_match_percent_rule():
     assert claims.match_percent(-80.0, -82.0) == claims.HOLDS
-    assert claims.match_percent(-30.0, -35.0) == claims.HOLDS        # within 10 points
+    assert claims.match_percent(-30.0, -35.0) == claims.HOLDS  # within 10 points
     assert claims.match_percent(-40.0, -82.0) == claims.PARTLY
-    assert claims.match_percent(-10.0, -82.0) == claims.FAILS        # under a quarter of the size
+    assert claims.match_percent(-10.0, -82.0) == claims.FAILS  # under a quarter of the size
     assert claims.match_percent(5.0, -82.0) == claims.FAILS
     assert claims.match_percent(np.nan, -82.0) == claims.NOT_TESTABLE
 
@@ -86,7 +86,7 @@ def test_stability_claims_from_the_map():
     s = stability_table()
     v = _verdicts(claims.claims_table(None, None, s, conventions=("paper",)))
     assert v["timestep_materials"] == claims.HOLDS and v["timestep_trend"] == claims.HOLDS
-    flipped = s.assign(max_stable_timestep_s=1e-7 / s["max_stable_timestep_s"])   # the trend reversed
+    flipped = s.assign(max_stable_timestep_s=1e-7 / s["max_stable_timestep_s"])  # the trend reversed
     v = _verdicts(claims.claims_table(None, None, flipped, conventions=("paper",)))
     assert v["timestep_trend"] == claims.FAILS and v["timestep_materials"] == claims.FAILS
 

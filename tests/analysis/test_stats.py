@@ -10,14 +10,24 @@ from mat_hopper.sim import simulate
 
 def _table(values: dict, behaviour="forward", **labels):
     """Per-hop table from {design: array of tracking errors}."""
-    frames = [pd.DataFrame({"design": d, "behaviour": behaviour, "tracking_error_m": np.asarray(v, float),
-                            "power_w": np.asarray(v, float) * 10, **labels}) for d, v in values.items()]
+    frames = [
+        pd.DataFrame(
+            {
+                "design": d,
+                "behaviour": behaviour,
+                "tracking_error_m": np.asarray(v, float),
+                "power_w": np.asarray(v, float) * 10,
+                **labels,
+            }
+        )
+        for d, v in values.items()
+    ]
     return pd.concat(frames, ignore_index=True)
 
 
 def test_percent_change():
     assert stats.percent_change(110.0, 100.0) == pytest.approx(10.0)
-    assert stats.percent_change(20.0, -40.0) == pytest.approx(150.0)   # relative to |baseline|
+    assert stats.percent_change(20.0, -40.0) == pytest.approx(150.0)  # relative to |baseline|
     assert np.isnan(stats.percent_change(1.0, 0.0))
     np.testing.assert_allclose(stats.percent_change([1, 3], [2, 2]), [-50.0, 50.0])
 
@@ -26,7 +36,7 @@ def test_summary_table_known_values():
     hops = _table({"MD": [1, 2, 3, 4, 5], "SS": [2, 4, 6, 8, 10]})
     s = stats.summary_table(hops, metrics=("tracking_error_m",))
     ss = s[s["design"] == "SS"].iloc[0]
-    assert ss["mean"] == 6 and ss["median"] == 6 and ss["iqr"] == pytest.approx(4.0)   # 8 - 4
+    assert ss["mean"] == 6 and ss["median"] == 6 and ss["iqr"] == pytest.approx(4.0)  # 8 - 4
     assert ss["pct_change_mean"] == pytest.approx(100.0)
     assert s.loc[s["design"] == "MD", "pct_change_mean"].iloc[0] == 0
 
@@ -35,12 +45,17 @@ def test_compare_hops_holm_per_family():
     rng = np.random.default_rng(1)
     parts = []
     for conv, shift in (("paper", 1.0), ("axial", 0.0)):
-        parts.append(_table({"MD": rng.normal(1, 0.05, 25), "SS": rng.normal(1 + shift, 0.05, 25),
-                             "Al": rng.normal(1, 0.05, 25)}, convention=conv, experiment="exp1"))
+        parts.append(
+            _table(
+                {"MD": rng.normal(1, 0.05, 25), "SS": rng.normal(1 + shift, 0.05, 25), "Al": rng.normal(1, 0.05, 25)},
+                convention=conv,
+                experiment="exp1",
+            )
+        )
     c = stats.compare_hops(pd.concat(parts), "MD", metrics=("tracking_error_m",))
     assert set(c["basis"]) == {"hops"}
     for _, fam in c.groupby("convention"):
-        np.testing.assert_allclose(fam["p_holm"], metrics.holm(fam["p"]))   # one Holm family per convention
+        np.testing.assert_allclose(fam["p_holm"], metrics.holm(fam["p"]))  # one Holm family per convention
         assert (fam["p_holm"] >= fam["p"]).all()
     paper_ss = c[(c["convention"] == "paper") & (c["design"] == "SS")].iloc[0]
     assert paper_ss["significant"] and paper_ss["pct_change"] == pytest.approx(100, abs=3)
@@ -53,7 +68,7 @@ def test_holm_matches_hand_computation():
 
 def test_bootstrap_ci_contains_truth_and_is_deterministic():
     rng = np.random.default_rng(7)
-    a, b = rng.normal(2.0, 0.1, 20), rng.normal(1.0, 0.05, 20)       # truth: +100 %
+    a, b = rng.normal(2.0, 0.1, 20), rng.normal(1.0, 0.05, 20)  # truth: +100 %
     pct, lo, hi = stats.bootstrap_pct_change(a, b, n_boot=4000, seed=3)
     assert lo < 100 < hi and lo > 0
     assert hi - lo < 20
@@ -69,8 +84,11 @@ def test_replicate_means_and_comparison():
     for rep in range(-1, 10):
         for design, level in (("MD", 0.10), ("SS", 0.03)):
             run_level = level * (1 + rng.normal(0, 0.05))
-            frames.append(_table({design: run_level + rng.normal(0, 0.002, 15)}, replicate=rep,
-                                 experiment="exp1", convention="paper"))
+            frames.append(
+                _table(
+                    {design: run_level + rng.normal(0, 0.002, 15)}, replicate=rep, experiment="exp1", convention="paper"
+                )
+            )
     hops = pd.concat(frames, ignore_index=True)
     means = stats.replicate_means(hops)
     assert len(means) == 20 and (means["replicate"] >= 0).all() and (means["n_hops"] == 15).all()
@@ -78,9 +96,9 @@ def test_replicate_means_and_comparison():
     c = stats.compare_designs(hops, "MD", metrics=("tracking_error_m",), n_boot=2000)
     row = c.iloc[0]
     assert row["basis"] == "replicates" and row["n"] == 10 and row["significant"]
-    assert row["ci_low"] < -70 < row["ci_high"]            # truth: -70 %
+    assert row["ci_low"] < -70 < row["ci_high"]  # truth: -70 %
     hop_based = stats.compare_designs(hops, "MD", basis="hops", metrics=("tracking_error_m",))
-    assert hop_based["basis"].iloc[0] == "hops" and hop_based["n"].iloc[0] == 15   # the unperturbed run only
+    assert hop_based["basis"].iloc[0] == "hops" and hop_based["n"].iloc[0] == 15  # the unperturbed run only
     assert not stats.has_replicates(hops[hops["replicate"] < 0])
 
 
@@ -89,7 +107,7 @@ def test_combine_experiments_takes_each_design_once():
     b = _table({"MD": [9.0, 9.0], "rho-inc": [0.2, 0.3]}, experiment="exp3")
     t = stats.combine_experiments(pd.concat([a, b]))
     assert sorted(t["design"].unique()) == ["MD", "SS", "rho-inc"]
-    assert t.loc[t["design"] == "MD", "tracking_error_m"].max() < 2     # MD from exp1
+    assert t.loc[t["design"] == "MD", "tracking_error_m"].max() < 2  # MD from exp1
     assert set(t["experiment"]) == {"exp1+exp3"}
 
 
@@ -110,5 +128,7 @@ def test_static_hopping_needs_replicates():
     motion (tracking error exactly 0); a replicate's perturbation gives some."""
     still = metrics.hop_table(simulate("SS", "static", duration_s=4, transient_s=1))
     assert len(still) >= 2 and (still["tracking_error_m"] == 0.0).all()
-    moved = metrics.hop_table(simulate("SS", "static", duration_s=4, transient_s=1, perturbation=Perturbation.replicate(0)))
+    moved = metrics.hop_table(
+        simulate("SS", "static", duration_s=4, transient_s=1, perturbation=Perturbation.replicate(0))
+    )
     assert len(moved) >= 2 and (moved["tracking_error_m"] > 1e-4).all()

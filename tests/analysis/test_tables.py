@@ -35,9 +35,9 @@ def test_pct_change_and_metric_tables(synthetic):
     t = tab.pct_change_table(exp1, "tracking_error_m")
     assert list(t.index) == ["PVC", "Al", "Ti", "SS"]
     assert list(t.columns) == ["static", "forward", "ramp", "circle"]
-    assert abs(t.loc["SS", "ramp"] - (0.028 / 0.10 - 1) * 100) < 3     # set by construction (3 % noise)
+    assert abs(t.loc["SS", "ramp"] - (0.028 / 0.10 - 1) * 100) < 3  # set by construction (3 % noise)
     zero = exp1.assign(tracking_error_m=np.where(exp1["design"] == "MD", 1e-17, exp1["tracking_error_m"]))
-    assert tab.pct_change_table(zero, "tracking_error_m").isna().all().all()   # % of round-off: none
+    assert tab.pct_change_table(zero, "tracking_error_m").isna().all().all()  # % of round-off: none
     vs_ss = tab.pct_change_table(hops[hops["experiment"] == "exp3"], "power_w", baseline="SS")
     assert "SS" not in vs_ss.index and abs(vs_ss.loc["rho-inc", "ramp"] - (2.23 / 2.93 - 1) * 100) < 3
     m = tab.metric_table(exp1, "hop_height_m")
@@ -49,9 +49,16 @@ def test_pct_change_and_metric_tables(synthetic):
 
 
 def test_outcome_table():
-    runs = pd.DataFrame({"design": ["SS", "SS", "MD"], "behaviour": ["ramp", "static", "static"],
-                         "replicate": [-1, -1, -1], "status": ["diverged", "ok", "fallen"],
-                         "n_hops": [3, 40, 10], "diverged_at_s": [12.5, np.nan, np.nan]})
+    runs = pd.DataFrame(
+        {
+            "design": ["SS", "SS", "MD"],
+            "behaviour": ["ramp", "static", "static"],
+            "replicate": [-1, -1, -1],
+            "status": ["diverged", "ok", "fallen"],
+            "n_hops": [3, 40, 10],
+            "diverged_at_s": [12.5, np.nan, np.nan],
+        }
+    )
     t = tab.outcome_table(runs)
     assert list(t.index) == ["MD", "SS"] and list(t.columns) == ["static", "ramp"]
     assert t.loc["SS", "ramp"] == "diverged at 12 s"
@@ -71,7 +78,7 @@ def test_sweep_spans(synthetic):
     # by construction density moves tracking error strongly, modulus little
     for base in ref.SWEEPS:
         assert s.loc[(base, "density"), "span"] > s.loc[(base, "modulus"), "span"]
-    assert s.loc[("Ti", "density"), "at_max"] == min(ref.SWEEPS["Ti"]["density"])   # lightest tracks worst
+    assert s.loc[("Ti", "density"), "at_max"] == min(ref.SWEEPS["Ti"]["density"])  # lightest tracks worst
     assert s.loc[("Ti", "density"), "n_points"] == len(ref.SWEEPS["Ti"]["density"])
 
 
@@ -94,6 +101,7 @@ def test_claims_for_chapters(synthetic):
     tables = {f"{e}_hops": hops[hops["experiment"] == e] for e in ("exp1", "exp2", "exp3")}
     tables.update({f"{e}_runs": runs[runs["experiment"] == e] for e in ("exp1", "exp2", "exp3")})
     from mat_hopper.analysis import claims
+
     known = {c.claim_id for c in claims.CLAIMS}
     for ids in tab.CHAPTER_CLAIMS.values():
         assert set(ids) <= known
@@ -103,7 +111,7 @@ def test_claims_for_chapters(synthetic):
     assert list(mono["claim_id"]) == list(tab.CHAPTER_CLAIMS["mono"])
     assert list(tab.claims_for(tables, "gradients").columns) == ["claim", "paper", "ours", "verdict"]
     ramp = mono = tab.claims_for(tables, "gradients", columns=None).set_index("claim_id")
-    assert ramp.loc["ramp_rho_inc_tracking", "verdict"] == "holds"        # -82 % by construction
+    assert ramp.loc["ramp_rho_inc_tracking", "verdict"] == "holds"  # -82 % by construction
     with pytest.raises(ValueError, match="chapter"):
         tab.claims_for(tables, "nope")
 

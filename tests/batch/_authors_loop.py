@@ -31,7 +31,7 @@ def authors_rollout(design, behaviour, settings, *, trace_qpos: int = 0):
     design = parse_design(design) if isinstance(design, str) else design
     beh = get_behaviour(behaviour)
     sim = settings.sim_settings()
-    hm, d = prepare(design, beh, sim)          # mj_forward done: sensors of the initial state
+    hm, d = prepare(design, beh, sim)  # mj_forward done: sensors of the initial state
     m, lay = hm.model, hm.layout
     gains = settings.controller.gains()
     state = initial_state(settings.controller)
@@ -43,10 +43,10 @@ def authors_rollout(design, behaviour, settings, *, trace_qpos: int = 0):
     for i in range(n_steps):
         t = i * dt
         sd = d.sensordata
-        pos = sd[lay.base_pos:lay.base_pos + 3].copy()
-        vel = sd[lay.base_linvel:lay.base_linvel + 3].copy()
-        quat = sd[lay.base_quat:lay.base_quat + 4].copy()
-        gyro = sd[lay.base_gyro:lay.base_gyro + 3].copy()
+        pos = sd[lay.base_pos : lay.base_pos + 3].copy()
+        vel = sd[lay.base_linvel : lay.base_linvel + 3].copy()
+        quat = sd[lay.base_quat : lay.base_quat + 4].copy()
+        gyro = sd[lay.base_gyro : lay.base_gyro + 3].copy()
         touch = float(sd[lay.touch])
         hip_angle = np.array([d.qpos[lay.hip_y_qpos], d.qpos[lay.hip_x_qpos]])
         hip_rate = np.array([d.qvel[lay.hip_y_dof], d.qvel[lay.hip_x_dof]])
@@ -63,17 +63,17 @@ def authors_rollout(design, behaviour, settings, *, trace_qpos: int = 0):
         if i % every == 0 or bad:
             r = np.zeros(len(CHANNELS))
             r[_C["t"]] = t
-            r[_C["x"]:_C["z"] + 1] = d.sensordata[lay.base_pos:lay.base_pos + 3]    # state at t_i
-            r[_C["vx"]:_C["vz"] + 1] = d.sensordata[lay.base_linvel:lay.base_linvel + 3]
-            r[_C["ax"]:_C["az"] + 1] = d.qacc[lay.base_dof:lay.base_dof + 3]
-            r[_C["roll"]:_C["yaw"] + 1] = euler_zyx(d.sensordata[lay.base_quat:lay.base_quat + 4])
-            r[_C["roll_rate"]:_C["pitch_rate"] + 1] = d.sensordata[lay.base_gyro:lay.base_gyro + 2]
-            r[_C["x_des"]:_C["vy_des"] + 1] = desired
-            r[_C["hip_y"]:_C["hip_x"] + 1] = hip_angle
-            r[_C["hip_y_rate"]:_C["hip_x_rate"] + 1] = hip_rate
-            r[_C["hip_y_target"]:_C["hip_x_target_rate"] + 1] = out[3:7]
-            r[_C["ctrl_hip_y"]:_C["ctrl_thrust"] + 1] = out[:3]
-            r[_C["torque_hip_y"]] = d.qfrc_actuator[lay.hip_y_dof]       # joint space: gear x control
+            r[_C["x"] : _C["z"] + 1] = d.sensordata[lay.base_pos : lay.base_pos + 3]  # state at t_i
+            r[_C["vx"] : _C["vz"] + 1] = d.sensordata[lay.base_linvel : lay.base_linvel + 3]
+            r[_C["ax"] : _C["az"] + 1] = d.qacc[lay.base_dof : lay.base_dof + 3]
+            r[_C["roll"] : _C["yaw"] + 1] = euler_zyx(d.sensordata[lay.base_quat : lay.base_quat + 4])
+            r[_C["roll_rate"] : _C["pitch_rate"] + 1] = d.sensordata[lay.base_gyro : lay.base_gyro + 2]
+            r[_C["x_des"] : _C["vy_des"] + 1] = desired
+            r[_C["hip_y"] : _C["hip_x"] + 1] = hip_angle
+            r[_C["hip_y_rate"] : _C["hip_x_rate"] + 1] = hip_rate
+            r[_C["hip_y_target"] : _C["hip_x_target_rate"] + 1] = out[3:7]
+            r[_C["ctrl_hip_y"] : _C["ctrl_thrust"] + 1] = out[:3]
+            r[_C["torque_hip_y"]] = d.qfrc_actuator[lay.hip_y_dof]  # joint space: gear x control
             r[_C["torque_hip_x"]] = d.qfrc_actuator[lay.hip_x_dof]
             r[_C["force_thrust"]] = d.qfrc_actuator[lay.spring_dof]
             r[_C["touch"]] = d.sensordata[lay.touch]
@@ -93,10 +93,17 @@ def authors_rollout(design, behaviour, settings, *, trace_qpos: int = 0):
 def summary_row(rollout) -> dict:
     """The batch row of a rollout, by mat_hopper.metrics.run_summary."""
     from mat_hopper.metrics import run_summary
+
     s = run_summary(rollout)
-    return {"design": rollout.design.name, "n_hops": int(s["n_hops"]), "hop_height_m": s["mean_hop_height_m"],
-            "tracking_error_m": s["mean_tracking_error_m"], "power_w": s["mean_power_w"],
-            "stable": bool(s["stable"]), "diverged_at_s": s["diverged_at_s"]}
+    return {
+        "design": rollout.design.name,
+        "n_hops": int(s["n_hops"]),
+        "hop_height_m": s["mean_hop_height_m"],
+        "tracking_error_m": s["mean_tracking_error_m"],
+        "power_w": s["mean_power_w"],
+        "stable": bool(s["stable"]),
+        "diverged_at_s": s["diverged_at_s"],
+    }
 
 
 def rel(a: float, b: float) -> float:

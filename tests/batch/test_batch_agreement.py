@@ -17,15 +17,21 @@ import pytest
 
 pytest.importorskip("mujoco_warp")
 
+from _authors_loop import authors_rollout, rel, summary_row  # noqa: E402
+
 from mat_hopper.batch import BatchSettings, evaluate  # noqa: E402
 from mat_hopper.materials import LegDesign  # noqa: E402
 
-from _authors_loop import authors_rollout, rel, summary_row  # noqa: E402
-
 SETTINGS = BatchSettings(duration_s=3.0, timestep_s=2e-4, transient_s=1.0)
-DESIGNS = ["PVC", LegDesign.from_properties([1.1], [4.0] * 3), LegDesign.from_properties([2.5], [4.0] * 3),
-           LegDesign.from_properties([1.39], [0.45] * 3), "SS",                 # one sprung batch
-           "MD", LegDesign.from_properties([2.0], [None] * 3)]                  # one rigid batch
+DESIGNS = [
+    "PVC",
+    LegDesign.from_properties([1.1], [4.0] * 3),
+    LegDesign.from_properties([2.5], [4.0] * 3),
+    LegDesign.from_properties([1.39], [0.45] * 3),
+    "SS",  # one sprung batch
+    "MD",
+    LegDesign.from_properties([2.0], [None] * 3),
+]  # one rigid batch
 
 
 @pytest.fixture(scope="module")
@@ -39,7 +45,7 @@ def _check(w, c, label):
     if not c["stable"]:
         assert abs(w["diverged_at_s"] - c["diverged_at_s"]) <= 1e-3, label
         return
-    assert c["n_hops"] >= 2, label                       # something was compared
+    assert c["n_hops"] >= 2, label  # something was compared
     assert abs(w["n_hops"] - c["n_hops"]) <= 1, label
     assert abs(w["hop_height_m"] - c["hop_height_m"]) <= 0.01, label
     assert rel(w["tracking_error_m"], c["tracking_error_m"]) <= 0.10, label
@@ -52,7 +58,7 @@ def test_warp_matches_the_mujoco_backend(warp_table):
     assert (cpu["sensor_timing"] == "authors").all() and (warp_table["sensor_timing"] == "authors").all()
     for (_, w), (_, c) in zip(warp_table.iterrows(), cpu.iterrows()):
         _check(w, c, f"{w['design']}: warp {w.to_dict()} vs mujoco {c.to_dict()}")
-    assert warp_table["stable"].sum() == len(DESIGNS) - 1      # SS alone diverges
+    assert warp_table["stable"].sum() == len(DESIGNS) - 1  # SS alone diverges
 
 
 @pytest.mark.slow

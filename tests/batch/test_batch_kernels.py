@@ -39,11 +39,11 @@ def _random_inputs(rng, n, lay, nsens, nq, nv, dt, step):
     t = step * dt
     touch = np.where(rng.random(n) < 0.5, 0.0, rng.uniform(1, 500, n))
     sens[:, lay.touch] = touch
-    sens[:, lay.base_pos:lay.base_pos + 3] = rng.normal([0.1, -0.05, 0.9], 0.2, (n, 3))
+    sens[:, lay.base_pos : lay.base_pos + 3] = rng.normal([0.1, -0.05, 0.9], 0.2, (n, 3))
     q = rng.normal([1, 0, 0, 0], [0.05, 0.1, 0.1, 0.6], (n, 4))
-    sens[:, lay.base_quat:lay.base_quat + 4] = q / np.linalg.norm(q, axis=1, keepdims=True)
-    sens[:, lay.base_gyro:lay.base_gyro + 3] = rng.normal(0, 1.0, (n, 3))
-    sens[:, lay.base_linvel:lay.base_linvel + 3] = rng.normal(0, 0.5, (n, 3))
+    sens[:, lay.base_quat : lay.base_quat + 4] = q / np.linalg.norm(q, axis=1, keepdims=True)
+    sens[:, lay.base_gyro : lay.base_gyro + 3] = rng.normal(0, 1.0, (n, 3))
+    sens[:, lay.base_linvel : lay.base_linvel + 3] = rng.normal(0, 0.5, (n, 3))
     st = np.tile(ctl.initial_state(ctl.ControllerSettings()), (n, 1))
     st[:, ctl.S_PHASE] = rng.integers(0, 2, n)
     # switch times: some within the phase lock, some long ago, some never
@@ -51,7 +51,7 @@ def _random_inputs(rng, n, lay, nsens, nq, nv, dt, step):
     st[rng.random(n) < 0.1, ctl.S_T_SWITCH] = -np.inf
     st[:, ctl.S_THRUST] = rng.uniform(100, 300, n)
     st[:, ctl.S_Z_MAX] = rng.uniform(0.5, 1.3, n)
-    low = rng.random(n) < 0.3           # thrust adaptation that would go negative (clamped at 0)
+    low = rng.random(n) < 0.3  # thrust adaptation that would go negative (clamped at 0)
     st[low, ctl.S_THRUST] = rng.uniform(0, 20, low.sum())
     st[low, ctl.S_Z_MAX] = rng.uniform(1.5, 2.5, low.sum())
     st[:, ctl.S_LIFTOFFS] = rng.integers(0, 3, n)
@@ -67,15 +67,41 @@ def test_controller_kernel_is_control_py(layout):
     beh = behaviour("circle")
     sens, qpos, qvel, st = _random_inputs(rng, n, layout, nsens, nq, nv, dt, step)
     with wp.ScopedDevice(DEV):
-        a = dict(sens=wp.array(sens, dtype=wp.float32), qpos=wp.array(qpos, dtype=wp.float32),
-                 qvel=wp.array(qvel, dtype=wp.float32), st=wp.array(st, dtype=wp.float64),
-                 ctrl=wp.zeros((n, nu), dtype=wp.float32), ws=wp.zeros((n, nv), dtype=wp.float32),
-                 ev=wp.zeros(n, dtype=wp.int32), hr=wp.zeros((n, 2), dtype=wp.float64),
-                 div=wp.array(np.full(n, -1, np.int32), dtype=wp.int32), clock=wp.array([step], dtype=wp.int32))
-        wp.launch(K.control_kernel, dim=n, inputs=[
-            a["clock"], dt, K.make_gains(settings), K.make_layout(layout), beh.path_code,
-            wp.array(beh.path_params, dtype=wp.float64), wp.array(beh.table_xy_m, dtype=wp.float64),
-            a["sens"], a["qpos"], a["div"], a["st"], a["qpos"], a["qvel"], a["ws"], a["ctrl"], a["ev"], a["hr"]])
+        a = dict(
+            sens=wp.array(sens, dtype=wp.float32),
+            qpos=wp.array(qpos, dtype=wp.float32),
+            qvel=wp.array(qvel, dtype=wp.float32),
+            st=wp.array(st, dtype=wp.float64),
+            ctrl=wp.zeros((n, nu), dtype=wp.float32),
+            ws=wp.zeros((n, nv), dtype=wp.float32),
+            ev=wp.zeros(n, dtype=wp.int32),
+            hr=wp.zeros((n, 2), dtype=wp.float64),
+            div=wp.array(np.full(n, -1, np.int32), dtype=wp.int32),
+            clock=wp.array([step], dtype=wp.int32),
+        )
+        wp.launch(
+            K.control_kernel,
+            dim=n,
+            inputs=[
+                a["clock"],
+                dt,
+                K.make_gains(settings),
+                K.make_layout(layout),
+                beh.path_code,
+                wp.array(beh.path_params, dtype=wp.float64),
+                wp.array(beh.table_xy_m, dtype=wp.float64),
+                a["sens"],
+                a["qpos"],
+                a["div"],
+                a["st"],
+                a["qpos"],
+                a["qvel"],
+                a["ws"],
+                a["ctrl"],
+                a["ev"],
+                a["hr"],
+            ],
+        )
         got_ctrl, got_state, got_ev = a["ctrl"].numpy(), a["st"].numpy(), a["ev"].numpy()
     gains = settings.gains()
     lay = layout
@@ -85,15 +111,28 @@ def test_controller_kernel_is_control_py(layout):
         out = np.zeros(ctl.OUT_SIZE)
         sd = sens[w].astype(np.float64)
         ev = ctl.controller_step.py_func(
-            step * dt, sd[lay.touch], sd[lay.base_pos:lay.base_pos + 3], sd[lay.base_quat:lay.base_quat + 4],
-            sd[lay.base_gyro:lay.base_gyro + 3], sd[lay.base_linvel:lay.base_linvel + 3],
+            step * dt,
+            sd[lay.touch],
+            sd[lay.base_pos : lay.base_pos + 3],
+            sd[lay.base_quat : lay.base_quat + 4],
+            sd[lay.base_gyro : lay.base_gyro + 3],
+            sd[lay.base_linvel : lay.base_linvel + 3],
             qpos[w, [lay.hip_y_qpos, lay.hip_x_qpos]].astype(np.float64),
             qvel[w, [lay.hip_y_dof, lay.hip_x_dof]].astype(np.float64),
-            np.array(beh.desired(step * dt)), gains, s, out)
+            np.array(beh.desired(step * dt)),
+            gains,
+            s,
+            out,
+        )
         want_ev[w] = ev
         np.testing.assert_allclose(got_state[w], s, rtol=1e-12, atol=1e-12, err_msg=f"state, world {w}")
-        np.testing.assert_allclose(got_ctrl[w, [lay.act_hip_y, lay.act_hip_x, lay.act_thrust]],
-                                   out[:3].astype(np.float32), rtol=1e-6, atol=1e-6, err_msg=f"controls, world {w}")
+        np.testing.assert_allclose(
+            got_ctrl[w, [lay.act_hip_y, lay.act_hip_x, lay.act_thrust]],
+            out[:3].astype(np.float32),
+            rtol=1e-6,
+            atol=1e-6,
+            err_msg=f"controls, world {w}",
+        )
     np.testing.assert_array_equal(got_ev, want_ev)
     # every branch was reached: all three events, stance and flight controls, thrust on and off
     assert set(want_ev) == {ctl.NO_EVENT, ctl.TOUCHDOWN, ctl.LIFTOFF}
@@ -113,36 +152,74 @@ def test_parked_world_is_reset_and_silent(layout):
         div = wp.array(np.array([-1, 10], np.int32), dtype=wp.int32)
         st = wp.array(np.tile(ctl.initial_state(ctl.ControllerSettings()), (n, 1)), dtype=wp.float64)
         beh = behaviour("forward")
-        wp.launch(K.control_kernel, dim=n, inputs=[
-            wp.array([11], dtype=wp.int32), 1e-3, K.make_gains(ctl.ControllerSettings()), K.make_layout(layout),
-            beh.path_code, wp.array(beh.path_params, dtype=wp.float64), wp.array(beh.table_xy_m, dtype=wp.float64),
-            wp.zeros((n, 14), dtype=wp.float32), wp.array(init, dtype=wp.float32), div, st, qpos, qvel,
-            wp.zeros((n, nv), dtype=wp.float32), ctrl, ev, wp.zeros((n, 2), dtype=wp.float64)])
+        wp.launch(
+            K.control_kernel,
+            dim=n,
+            inputs=[
+                wp.array([11], dtype=wp.int32),
+                1e-3,
+                K.make_gains(ctl.ControllerSettings()),
+                K.make_layout(layout),
+                beh.path_code,
+                wp.array(beh.path_params, dtype=wp.float64),
+                wp.array(beh.table_xy_m, dtype=wp.float64),
+                wp.zeros((n, 14), dtype=wp.float32),
+                wp.array(init, dtype=wp.float32),
+                div,
+                st,
+                qpos,
+                qvel,
+                wp.zeros((n, nv), dtype=wp.float32),
+                ctrl,
+                ev,
+                wp.zeros((n, 2), dtype=wp.float64),
+            ],
+        )
         np.testing.assert_array_equal(qpos.numpy()[1], init[1])
         assert (qvel.numpy()[1] == 0).all() and (ctrl.numpy()[1] == 0).all() and ev.numpy()[1] == ctl.NO_EVENT
-        assert np.isnan(qpos.numpy()[0]).all()        # a live world is not touched
+        assert np.isnan(qpos.numpy()[0]).all()  # a live world is not touched
 
 
-@pytest.mark.parametrize("beh", [
-    behaviour("forward"), behaviour("circle"), behaviour("static"),
-    Behaviour("heading", "line", 0.07, heading_rad=0.6, start_xy_m=(0.3, -0.2)),
-    Behaviour.from_function("fig8", lambda t: (0.3 * np.sin(0.1 * t), 0.15 * np.sin(0.2 * t)), duration=5.0,
-                            dt_s=0.01),
-], ids=lambda b: b.name)
+@pytest.mark.parametrize(
+    "beh",
+    [
+        behaviour("forward"),
+        behaviour("circle"),
+        behaviour("static"),
+        Behaviour("heading", "line", 0.07, heading_rad=0.6, start_xy_m=(0.3, -0.2)),
+        Behaviour.from_function(
+            "fig8", lambda t: (0.3 * np.sin(0.1 * t), 0.15 * np.sin(0.2 * t)), duration_s=5.0, dt_s=0.01
+        ),
+    ],
+    ids=lambda b: b.name,
+)
 def test_desired_path_is_behaviours(beh):
     ts = np.concatenate([np.linspace(-0.5, 7.0, 301), [0.0, 5.0, 4.995]])
 
     @wp.kernel
-    def eval_path(ts: wp.array(dtype=wp.float64), kind: int, params: wp.array(dtype=wp.float64),
-                  table: wp.array2d(dtype=wp.float64), out: wp.array(dtype=wp.vec4d)):
+    def eval_path(
+        ts: wp.array(dtype=wp.float64),
+        kind: int,
+        params: wp.array(dtype=wp.float64),
+        table: wp.array2d(dtype=wp.float64),
+        out: wp.array(dtype=wp.vec4d),
+    ):
         i = wp.tid()
         out[i] = K.desired_state(ts[i], kind, params, table)
 
     with wp.ScopedDevice(DEV):
         out = wp.zeros(len(ts), dtype=wp.vec4d)
-        wp.launch(eval_path, dim=len(ts), inputs=[wp.array(ts, dtype=wp.float64), beh.path_code,
-                                                  wp.array(beh.path_params, dtype=wp.float64),
-                                                  wp.array(beh.table_xy_m, dtype=wp.float64), out])
+        wp.launch(
+            eval_path,
+            dim=len(ts),
+            inputs=[
+                wp.array(ts, dtype=wp.float64),
+                beh.path_code,
+                wp.array(beh.path_params, dtype=wp.float64),
+                wp.array(beh.table_xy_m, dtype=wp.float64),
+                out,
+            ],
+        )
         got = out.numpy()
     want = np.array([desired_state.py_func(t, beh.path_code, beh.path_params, beh.table_xy_m) for t in ts])
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12)
@@ -181,7 +258,7 @@ def test_metrics_kernel_is_metrics_py(layout):
         lw = K.make_layout(lay)
         for i in range(n_steps):
             s = np.zeros((n, nsens), np.float32)
-            s[:, lay.base_pos:lay.base_pos + 3] = sens_seq[i]
+            s[:, lay.base_pos : lay.base_pos + 3] = sens_seq[i]
             f = np.zeros((n, nv), np.float32)
             f[:, lay.hip_y_dof], f[:, lay.hip_x_dof] = qfrc_seq[i, :, 0], qfrc_seq[i, :, 1]
             q = np.zeros((n, nq), np.float32)
@@ -193,15 +270,35 @@ def test_metrics_kernel_is_metrics_py(layout):
             qpos.assign(q)
             ev.assign(np.where(lift[i], ctl.LIFTOFF, ctl.NO_EVENT).astype(np.int32))
             hr.assign(rate_seq[i])
-            wp.launch(K.metrics_kernel, dim=n, inputs=[clock, dt, settings.transient_s, every, 1e6, lw,
-                                                       beh.path_code, params, table, sens, qfrc, qpos, qacc, ev,
-                                                       hr, div, acc])
+            wp.launch(
+                K.metrics_kernel,
+                dim=n,
+                inputs=[
+                    clock,
+                    dt,
+                    settings.transient_s,
+                    every,
+                    1e6,
+                    lw,
+                    beh.path_code,
+                    params,
+                    table,
+                    sens,
+                    qfrc,
+                    qpos,
+                    qacc,
+                    ev,
+                    hr,
+                    div,
+                    acc,
+                ],
+            )
             wp.launch(K.tick_kernel, dim=1, inputs=[clock])
         got, got_div = acc.numpy(), div.numpy()
     # The same samples as a recorded rollout, scored by mat_hopper.metrics.
     design = parse_design("PVC")
     sim = settings.sim_settings()
-    f32 = lambda v: np.float64(np.float32(v))   # noqa: E731  what the float32 device arrays hold
+    f32 = lambda v: np.float64(np.float32(v))  # noqa: E731  what the float32 device arrays hold
     for w in range(n):
         end = diverge_at.get(w, n_steps - 1)
         rows, events = [], []
@@ -212,13 +309,14 @@ def test_metrics_kernel_is_metrics_py(layout):
             if i % every == 0 or i == end and w in diverge_at:
                 r = np.zeros(len(CHANNELS))
                 r[C["t"]] = t
-                r[C["x"]:C["z"] + 1] = [f32(v) for v in sens_seq[i, w]]
-                r[C["x_des"]:C["vy_des"] + 1] = beh.desired(t)
+                r[C["x"] : C["z"] + 1] = [f32(v) for v in sens_seq[i, w]]
+                r[C["x_des"] : C["vy_des"] + 1] = beh.desired(t)
                 r[C["torque_hip_y"]], r[C["torque_hip_x"]] = f32(qfrc_seq[i, w, 0]), f32(qfrc_seq[i, w, 1])
                 r[C["hip_y_rate"]], r[C["hip_x_rate"]] = rate_seq[i, w]
                 rows.append(r)
-        ro = Rollout(design, beh, sim, np.array(rows), np.array(events).reshape(-1, 3),
-                     diverge_at.get(w, -1), 1.0, (0.0,))
+        ro = Rollout(
+            design, beh, sim, np.array(rows), np.array(events).reshape(-1, 3), diverge_at.get(w, -1), 1.0, (0.0,)
+        )
         s = run_summary(ro)
         n_hops = int(got[w, K.A_HOPS])
         assert n_hops == s["n_hops"], w

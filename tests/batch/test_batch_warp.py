@@ -6,12 +6,12 @@ import pytest
 
 pytest.importorskip("mujoco_warp")
 
+from _authors_loop import authors_rollout  # noqa: E402
+
 from mat_hopper.batch import BatchSettings, WarpBatch, as_design, evaluate  # noqa: E402
 from mat_hopper.batch._warp import DERIVED_FIELDS, DESIGN_FIELDS  # noqa: E402
 from mat_hopper.materials import LegDesign  # noqa: E402
 from mat_hopper.model import build_model  # noqa: E402
-
-from _authors_loop import authors_rollout  # noqa: E402
 
 SHORT = BatchSettings(duration_s=0.45, timestep_s=2e-4, transient_s=0.1)
 
@@ -29,13 +29,14 @@ def test_per_world_fields_are_mujocos_compile(sprung_batch):
     design on its own."""
     b = sprung_batch
     for w, design in enumerate(b.designs):
-        hm = build_model(design, timestep=SHORT.timestep_s, sensors="control")
+        hm = build_model(design, timestep_s=SHORT.timestep_s, sensors="control")
         for f in DESIGN_FIELDS + DERIVED_FIELDS:
             got = getattr(b.m, f).numpy()
             assert got.shape[0] == b.nworld, f
             want = np.asarray(getattr(hm.model, f), dtype=np.float64)
-            np.testing.assert_allclose(got[w].reshape(want.shape), want, rtol=2e-6, atol=1e-9,
-                                       err_msg=f"{f} of {design.name}")
+            np.testing.assert_allclose(
+                got[w].reshape(want.shape), want, rtol=2e-6, atol=1e-9, err_msg=f"{f} of {design.name}"
+            )
         k = b.m.jnt_stiffness.numpy()[w]
         springs = [k[hm.model.joint(f"mat_spring_{i}").id] for i in range(1, design.n_segments + 1)]
         np.testing.assert_allclose(springs, hm.spring_stiffness_n_m, rtol=1e-6)
@@ -55,7 +56,7 @@ def test_segment_mass_convention_reaches_the_worlds(segment_mass):
     designs = [LegDesign.from_properties([1.39, 8.0], [4.0, 193.0]), LegDesign.from_properties([2.7], [70.0] * 2)]
     b = WarpBatch(designs, "forward", s, device="cpu")
     for w, d in enumerate(designs):
-        want = build_model(d, timestep=s.timestep_s, sensors="control", segment_mass=segment_mass).model.body_mass
+        want = build_model(d, timestep_s=s.timestep_s, sensors="control", segment_mass=segment_mass).model.body_mass
         np.testing.assert_allclose(b.m.body_mass.numpy()[w], want, rtol=1e-6)
     other = "capsule" if segment_mass == "leg" else "leg"
     assert not np.allclose(b.m.body_mass.numpy()[0], build_model(designs[0], segment_mass=other).model.body_mass)
@@ -63,8 +64,9 @@ def test_segment_mass_convention_reaches_the_worlds(segment_mass):
 
 def test_the_device_model_resets_nothing_itself(sprung_batch):
     import mujoco
-    assert sprung_batch.hopper.model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET   # host: as built
-    assert not sprung_batch.mjm.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET       # device copy
+
+    assert sprung_batch.hopper.model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET  # host: as built
+    assert not sprung_batch.mjm.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET  # device copy
 
 
 @pytest.mark.parametrize("latency", [0, 2])

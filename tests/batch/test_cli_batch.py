@@ -21,14 +21,34 @@ def _cli(*args, env_code: str = ""):
 
 def test_mujoco_backend_rows_are_cpu_rollouts(tmp_path, capsys):
     out = tmp_path / "out.csv"
-    rc = main(["batch", "--designs", "MD,PVC", "--behaviour", "forward", "--duration", "3", "--transient", "0.4",
-               "--timestep", "2e-4", "--backend", "mujoco", "--workers", "1", "--quiet", "--csv", str(out)])
+    rc = main(
+        [
+            "batch",
+            "--designs",
+            "MD,PVC",
+            "--behaviour",
+            "forward",
+            "--duration",
+            "3",
+            "--transient",
+            "0.4",
+            "--timestep",
+            "2e-4",
+            "--backend",
+            "mujoco",
+            "--workers",
+            "1",
+            "--quiet",
+            "--csv",
+            str(out),
+        ]
+    )
     assert rc == 0
     table = pd.read_csv(out)
     assert list(table.columns) == list(RESULT_COLUMNS)
     assert list(table.design) == ["MD", "PVC"]
-    for _, row in table.iterrows():      # each row is that design's own CPU rollout, summarised by metrics.py
-        s = run_summary(simulate(row.design, "forward", 3.0, 2e-4, transient=0.4))
+    for _, row in table.iterrows():  # each row is that design's own CPU rollout, summarised by metrics.py
+        s = run_summary(simulate(row.design, "forward", 3.0, 2e-4, transient_s=0.4))
         assert row.n_hops == s["n_hops"] and row.n_hops >= 1 and bool(row.stable) == s["stable"]
         assert row.hop_height_m == pytest.approx(s["mean_hop_height_m"], rel=1e-9)
         assert row.tracking_error_m == pytest.approx(s["mean_tracking_error_m"], rel=1e-9)
@@ -37,8 +57,11 @@ def test_mujoco_backend_rows_are_cpu_rollouts(tmp_path, capsys):
 
 
 def test_designs_csv_round_trip_and_parallel_cpu(tmp_path):
-    designs = [parse_design("rho-inc"), LegDesign.from_properties([1.0, 2.0], [None, 4.0], name="half-rigid"),
-               parse_design("MD")]
+    designs = [
+        parse_design("rho-inc"),
+        LegDesign.from_properties([1.0, 2.0], [None, 4.0], name="half-rigid"),
+        parse_design("MD"),
+    ]
     path = tmp_path / "designs.csv"
     designs_to_frame(designs).to_csv(path, index=False)
     back = designs_from_csv(path)
@@ -51,15 +74,18 @@ def test_designs_csv_round_trip_and_parallel_cpu(tmp_path):
     pd.testing.assert_frame_equal(serial, parallel)
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--designs", "kryptonite"], "unknown material"),
-    (["--designs", "SS", "--behaviour", "moonwalk"], "unknown behaviour"),
-    (["--designs", "SS", "--timestep", "0"], "timestep"),
-    (["--designs", "SS", "--duration", "10"], "duration"),
-    (["--designs", "SS", "--device", "cuda"], "--device is for --backend warp"),
-    (["--designs", "SS", "--workers", "0"], "--workers"),
-    (["--designs-csv", "no/such/file.csv"], "No such file"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--designs", "kryptonite"], "unknown material"),
+        (["--designs", "SS", "--behaviour", "moonwalk"], "unknown behaviour"),
+        (["--designs", "SS", "--timestep", "0"], "timestep"),
+        (["--designs", "SS", "--duration", "10"], "duration"),
+        (["--designs", "SS", "--device", "cuda"], "--device is for --backend warp"),
+        (["--designs", "SS", "--workers", "0"], "--workers"),
+        (["--designs-csv", "no/such/file.csv"], "No such file"),
+    ],
+)
 def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
     out = tmp_path / "out.csv"
     p = _cli("batch", *args, "--csv", str(out))
@@ -78,8 +104,18 @@ def test_bad_designs_csv(tmp_path):
 
 def test_missing_mujoco_warp_is_a_one_line_error(tmp_path):
     out = tmp_path / "out.csv"
-    p = _cli("batch", "--designs", "PVC", "--backend", "warp", "--device", "cpu", "--csv", str(out),
-             env_code="sys.modules['mujoco_warp'] = None   # as if not installed")
+    p = _cli(
+        "batch",
+        "--designs",
+        "PVC",
+        "--backend",
+        "warp",
+        "--device",
+        "cpu",
+        "--csv",
+        str(out),
+        env_code="sys.modules['mujoco_warp'] = None   # as if not installed",
+    )
     assert p.returncode == 2, p.stderr
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and "mujoco-warp" in lines[0] and "Traceback" not in p.stderr, p.stderr
@@ -89,13 +125,41 @@ def test_missing_mujoco_warp_is_a_one_line_error(tmp_path):
 def test_warp_backend_cli_on_cpu_device(tmp_path):
     pytest.importorskip("mujoco_warp")
     out = tmp_path / "out.csv"
-    p = _cli("batch", "--designs", "PVC,Nylon", "--behaviour", "forward", "--duration", "0.2", "--transient", "0.1",
-             "--timestep", "2e-4", "--backend", "warp", "--device", "cpu", "--csv", str(out))
+    p = _cli(
+        "batch",
+        "--designs",
+        "PVC,Nylon",
+        "--behaviour",
+        "forward",
+        "--duration",
+        "0.2",
+        "--transient",
+        "0.1",
+        "--timestep",
+        "2e-4",
+        "--backend",
+        "warp",
+        "--device",
+        "cpu",
+        "--csv",
+        str(out),
+    )
     assert p.returncode == 0, p.stderr
     table = pd.read_csv(out)
     assert list(table.columns) == list(RESULT_COLUMNS) and list(table.design) == ["PVC", "Nylon"]
-    assert table.stable.all() and (table.n_hops == 0).all()      # 0.2 s: still falling, no hop yet
-    assert "sim s" in p.stderr                                    # the progress bar over simulated time
-    p = _cli("batch", "--designs", "PVC", "--backend", "warp", "--device", "nosuch", "--duration", "0.2",
-             "--transient", "0.1")
+    assert table.stable.all() and (table.n_hops == 0).all()  # 0.2 s: still falling, no hop yet
+    assert "sim s" in p.stderr  # the progress bar over simulated time
+    p = _cli(
+        "batch",
+        "--designs",
+        "PVC",
+        "--backend",
+        "warp",
+        "--device",
+        "nosuch",
+        "--duration",
+        "0.2",
+        "--transient",
+        "0.1",
+    )
     assert p.returncode == 2 and "not available" in p.stderr.strip().splitlines()[-1]

@@ -10,17 +10,19 @@ from mat_hopper.cli import main
 REQUIRED = ["design", "behaviour", "hop", "t_start_s", "hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w"]
 
 
-@pytest.mark.parametrize("args, name", [
-    (["--design", "ss"], "SS"),
-    (["--design", "PVC-Ti-SS"], "PVC-Ti-SS"),
-    (["--design", "rho-inc"], "rho-inc"),
-    (["--design", "rho-dec"], "rho-dec"),
-    (["--density", "1.39,4.43,8", "--modulus", "70,70,70"], None),
-])
+@pytest.mark.parametrize(
+    "args, name",
+    [
+        (["--design", "ss"], "SS"),
+        (["--design", "PVC-Ti-SS"], "PVC-Ti-SS"),
+        (["--design", "rho-inc"], "rho-inc"),
+        (["--design", "rho-dec"], "rho-dec"),
+        (["--density", "1.39,4.43,8", "--modulus", "70,70,70"], None),
+    ],
+)
 def test_simulate_every_design_form(tmp_path, args, name, capsys):
     out = tmp_path / "hops.csv"
-    rc = main(["simulate", *args, "--behavior", "forward", "--duration", "5", "--transient", "2",
-               "--csv", str(out)])
+    rc = main(["simulate", *args, "--behavior", "forward", "--duration", "5", "--transient", "2", "--csv", str(out)])
     assert rc == 0
     table = pd.read_csv(out)
     assert set(REQUIRED) <= set(table.columns) and len(table) >= 2
@@ -29,21 +31,25 @@ def test_simulate_every_design_form(tmp_path, args, name, capsys):
     assert "hop cycles scored" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--design", "kryptonite"], "unknown material"),
-    (["--behaviour", "moonwalk"], "unknown behaviour"),
-    (["--convention", "beam"], "convention"),
-    (["--density", "1,0,3", "--modulus", "4"], "density"),
-    (["--density", "1,2,3", "--modulus", "4,nan,4"], "modulus"),
-    (["--density", "1,2,3", "--modulus", "-4"], "modulus"),
-    (["--timestep", "0"], "timestep"),
-    (["--duration", "10"], "duration"),
-    (["--segments", "0"], "n_segments"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--design", "kryptonite"], "unknown material"),
+        (["--behaviour", "moonwalk"], "unknown behaviour"),
+        (["--convention", "beam"], "convention"),
+        (["--density", "1,0,3", "--modulus", "4"], "density"),
+        (["--density", "1,2,3", "--modulus", "4,nan,4"], "modulus"),
+        (["--density", "1,2,3", "--modulus", "-4"], "modulus"),
+        (["--timestep", "0"], "timestep"),
+        (["--duration", "10"], "duration"),
+        (["--segments", "0"], "n_segments"),
+    ],
+)
 def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
     out = tmp_path / "hops.csv"
-    p = subprocess.run([sys.executable, "-m", "mat_hopper", "simulate", *args, "--csv", str(out)],
-                       capture_output=True, text=True)
+    p = subprocess.run(
+        [sys.executable, "-m", "mat_hopper", "simulate", *args, "--csv", str(out)], capture_output=True, text=True
+    )
     assert p.returncode == 2
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0]

@@ -36,11 +36,15 @@ def test_convention_stability_measures_both_conventions(tmp_path):
 
 
 def test_rollouts_are_cached_bit_identical(tmp_path):
-    rs = runner.rollouts(["SS"], ["forward", "ramp"], TINY.sim_settings(), record_rate_hz=500, cache_dir=tmp_path, workers=1)
+    rs = runner.rollouts(
+        ["SS"], ["forward", "ramp"], TINY.sim_settings(), record_rate_hz=500, cache_dir=tmp_path, workers=1
+    )
     assert [r.behaviour.name for r in rs] == ["forward", "ramp"]
-    files = sorted(tmp_path.glob("rollout-*.parquet"))       # the runner's one cache
+    files = sorted(tmp_path.glob("rollout-*.parquet"))  # the runner's one cache
     assert len(files) == 2
-    again = runner.rollouts(["SS"], ["forward", "ramp"], TINY.sim_settings(), record_rate_hz=500, cache_dir=tmp_path, workers=1)
+    again = runner.rollouts(
+        ["SS"], ["forward", "ramp"], TINY.sim_settings(), record_rate_hz=500, cache_dir=tmp_path, workers=1
+    )
     fresh = simulate("SS", "ramp", settings=replace(TINY.sim_settings(), record_rate_hz=500.0))
     for r in (again[1], rs[1]):
         assert np.array_equal(r.data, fresh.data)
@@ -89,7 +93,7 @@ def test_jerk_by_rate_subsamples(tmp_path):
 
 
 def test_axial_check_three_settings(tmp_path):
-    hopping = Profile("hopping", 2.0, 0.3, 1e-4, 1, 0.3)       # long enough for a few scored hops
+    hopping = Profile("hopping", 2.0, 0.3, 1e-4, 1, 0.3)  # long enough for a few scored hops
     out = paper.axial_check(hopping, cache_dir=tmp_path, designs=("MD", "SS"), timestep_s=1e-5, workers=1)
     assert out["timestep_s"] == 1e-5
     settings = set(out["runs"]["setting"])

@@ -36,7 +36,7 @@ def test_experiment_2_has_the_spec_sweeps_forward_only():
         for prop, values in sweeps.items():
             pts = [t for t in tasks if t.labels["sweep_base"] == base and t.labels["sweep_property"] == prop]
             assert [t.labels["sweep_value"] for t in pts] == list(values)
-            for t in pts:   # the design carries the swept value, the other property at the base's
+            for t in pts:  # the design carries the swept value, the other property at the base's
                 want_rho = t.labels["sweep_value"] if prop == "density" else rho0
                 want_e = t.labels["sweep_value"] if prop == "modulus" else e0
                 assert t.design.densities_g_cm3 == (want_rho,) * 3
@@ -69,7 +69,7 @@ def test_experiment_3_gradients_and_shared_baselines():
     pts = next(t for t in grads if t.labels["design"] == "PVC-Ti-SS").design
     assert pts.densities_g_cm3 == tuple(ref.MONO_MATERIALS[m][0] for m in ("PVC", "Ti", "SS"))
     exp1_keys = {t.key() for t in experiment_1().tasks("paper")}
-    assert {t.key() for t in bases} <= exp1_keys          # reused through the cache
+    assert {t.key() for t in bases} <= exp1_keys  # reused through the cache
     assert not ({t.key() for t in grads} & exp1_keys)
 
 
@@ -79,7 +79,7 @@ def test_stability_map_is_the_spec_grid():
     assert d[0] == round(ref.STABILITY_DENSITY_RANGE[0], 1) and d[-1] == ref.STABILITY_DENSITY_RANGE[1]
     assert e[0] == ref.STABILITY_MODULUS_RANGE[0] and e[-1] == ref.STABILITY_MODULUS_RANGE[1]
     assert all(round(x, 1) == x for x in list(d) + list(e))
-    ratios = e[1:] / e[:-1]                                # log-spaced (up to the rounding)
+    ratios = e[1:] / e[:-1]  # log-spaced (up to the rounding)
     assert max(ratios) / min(ratios) < 1.05
     tasks = get_experiment("stability").tasks("paper")
     assert len(tasks) == 400
@@ -100,8 +100,7 @@ def test_replicates_add_seeded_runs_beside_the_unperturbed_one():
 
 def test_profiles_paper_and_quick(monkeypatch):
     paper = get_profile("paper")
-    assert (paper.duration_s, paper.transient_s, paper.timestep_s) == (ref.DURATION_S, ref.TRANSIENT_S,
-                                                                        ref.TIMESTEP_S)
+    assert (paper.duration_s, paper.transient_s, paper.timestep_s) == (ref.DURATION_S, ref.TRANSIENT_S, ref.TIMESTEP_S)
     assert paper.stability_grid_size == ref.STABILITY_GRID_SIZE
     quick = get_profile("quick")
     assert quick.duration_s < paper.duration_s and quick.stability_grid_size < paper.stability_grid_size

@@ -1,7 +1,6 @@
 """``mat-hopper reproduce``: bad input fails before any work; a tiny
 profile runs end to end (tables, figures, claims) and then from the cache."""
 
-
 import pandas as pd
 import pytest
 
@@ -12,15 +11,18 @@ from mat_hopper.experiments.reproduce import reproduce
 TINY = Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5, stability_tolerance=1.5, stability_scan=False)
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--experiments", "1,9"], "unknown experiment"),
-    (["--workers", "-1"], "workers"),
-    (["--workers", "0"], "workers"),
-    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
-    (["--profile", "fast"], "unknown profile"),
-    (["--replicates", "-3"], "replicates"),
-    (["--conventions", "paper,beam"], "convention"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--experiments", "1,9"], "unknown experiment"),
+        (["--workers", "-1"], "workers"),
+        (["--workers", "0"], "workers"),
+        (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
+        (["--profile", "fast"], "unknown profile"),
+        (["--replicates", "-3"], "replicates"),
+        (["--conventions", "paper,beam"], "convention"),
+    ],
+)
 def test_bad_input_is_a_one_line_error_before_any_work(tmp_path, capsys, args, message):
     out, cache = tmp_path / "out", tmp_path / "cache"
     rc = main(["reproduce", "--out", str(out), "--cache", str(cache), "--no-progress", *args])
@@ -44,11 +46,13 @@ def test_tiny_reproduction_writes_tables_figures_claims(tmp_path):
     assert (out / "claims.md").is_file() and (out / "claims.csv").is_file()
     assert any(f.endswith(".png") for f in rep.files)
     assert rep.computed == {"exp1": 20, "stability": 4} and not any(rep.failed.values())
-    again = reproduce(TINY, ["exp1"], str(out), workers=1, cache_dir=str(cache), progress=False, figures=False,
-                      log=lines.append)
+    again = reproduce(
+        TINY, ["exp1"], str(out), workers=1, cache_dir=str(cache), progress=False, figures=False, log=lines.append
+    )
     assert again.computed == {"exp1": 0}
-    pd.testing.assert_frame_equal(again.tables["exp1_runs"].reset_index(drop=True),
-                                  rep.tables["exp1_runs"].reset_index(drop=True))
+    pd.testing.assert_frame_equal(
+        again.tables["exp1_runs"].reset_index(drop=True), rep.tables["exp1_runs"].reset_index(drop=True)
+    )
     assert any("20 cached" in line for line in lines)
 
 
@@ -56,8 +60,16 @@ def test_axial_convention_runs_beside_paper_at_its_own_time_step(tmp_path):
     out, cache = tmp_path / "out", tmp_path / "cache"
     one = Profile("one", 1.5, 0.5, 1e-4, 2, 0.5, axial_timestep_s=2e-5)
     assert one.for_convention("axial").timestep_s == 2e-5 and one.for_convention("paper") is one
-    rep = reproduce(one, "1", str(out), workers=2, cache_dir=str(cache), progress=False,
-                    conventions="paper,axial", log=lambda *a: None)
+    rep = reproduce(
+        one,
+        "1",
+        str(out),
+        workers=2,
+        cache_dir=str(cache),
+        progress=False,
+        conventions="paper,axial",
+        log=lambda *a: None,
+    )
     runs = rep.tables["exp1_runs"]
     assert len(runs) == 40
     assert dict(runs.groupby("convention")["timestep_s"].first()) == {"axial": 2e-5, "paper": 1e-4}

@@ -38,6 +38,7 @@ def small_grid(n=4):
 
 # --- keys -------------------------------------------------------------------
 
+
 def test_cache_key_changes_with_every_setting(monkeypatch):
     base = spec()
     variants = {
@@ -69,8 +70,9 @@ def test_cache_key_changes_with_every_setting(monkeypatch):
 
 # --- caching, failures ----------------------------------------------------------
 
+
 def test_grid_caches_and_reuses_results(tmp_path):
-    tasks = small_grid(3) + [small_grid(1)[0]]         # a duplicate runs once
+    tasks = small_grid(3) + [small_grid(1)[0]]  # a duplicate runs once
     first = run_grid(tasks, tmp_path, workers=1, progress=False)
     assert (first.n_tasks, first.n_unique, first.n_computed, first.n_cached, first.n_failed) == (4, 3, 3, 0, 0)
     assert len(Cache(tmp_path).keys()) == 3
@@ -89,7 +91,7 @@ def test_grid_caches_and_reuses_results(tmp_path):
 
 
 def test_diverged_run_is_a_cached_result(tmp_path):
-    bad = spec("SS", "static", dataclasses.replace(SHORT, timestep_s=1e-3))   # beyond SS's stable step
+    bad = spec("SS", "static", dataclasses.replace(SHORT, timestep_s=1e-3))  # beyond SS's stable step
     res = run_grid([bad, spec("MD", "static")], tmp_path, workers=1, progress=False)
     row = res.summary.iloc[0]
     assert row["status"] == "diverged" and not row["stable"] and 0 < row["diverged_at_s"] < 2.5
@@ -125,7 +127,7 @@ def test_a_failing_task_is_a_failed_row_not_a_crash(tmp_path):
     bad = res.summary.iloc[1]
     assert bad["status"] == "failed" and "boom in bad-leg" in bad["error"]
     assert res.summary.iloc[0]["status"] == "ok"
-    assert "explode-bad-leg" not in Cache(tmp_path).keys()      # failures are retried next time
+    assert "explode-bad-leg" not in Cache(tmp_path).keys()  # failures are retried next time
     again = run_grid(tasks, tmp_path, workers=1, progress=False)
     assert again.n_cached == 1 and again.n_computed == 1 and again.n_failed == 1
 
@@ -158,8 +160,12 @@ def test_resume_after_sigkill_computes_only_what_is_missing(tmp_path):
     cache = tmp_path / "cache"
     script = tmp_path / "grid.py"
     script.write_text(KILL_SCRIPT)
-    proc = subprocess.Popen([sys.executable, str(script), str(cache)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, start_new_session=True)
+    proc = subprocess.Popen(
+        [sys.executable, str(script), str(cache)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
     deadline = time.monotonic() + 120
     try:
         while time.monotonic() < deadline:
@@ -169,7 +175,7 @@ def test_resume_after_sigkill_computes_only_what_is_missing(tmp_path):
                 break
             time.sleep(0.02)
     finally:
-        os.killpg(proc.pid, signal.SIGKILL)       # the runner and its workers, mid-grid
+        os.killpg(proc.pid, signal.SIGKILL)  # the runner and its workers, mid-grid
         proc.wait()
     done = Cache(cache).keys()
     assert 3 <= len(done) < 8, "the grid should have been killed part-way"
@@ -188,23 +194,27 @@ def test_resume_after_sigkill_computes_only_what_is_missing(tmp_path):
 
 # --- Dask ------------------------------------------------------------------------------
 
+
 def test_dask_local_cluster_gives_identical_tables(tmp_path):
     distributed = pytest.importorskip("distributed")
     tasks = small_grid(4) + [Exploding("on-dask")]
     local = run_grid(tasks, tmp_path / "local", workers=2, progress=False)
-    with distributed.LocalCluster(processes=True, n_workers=2, threads_per_worker=1, dashboard_address=None,
-                                  silence_logs=40) as cluster:
+    with distributed.LocalCluster(
+        processes=True, n_workers=2, threads_per_worker=1, dashboard_address=None, silence_logs=40
+    ) as cluster:
         with distributed.Client(cluster) as client:
             dask = run_grid(tasks, tmp_path / "dask", scheduler=client, progress=False)
         by_address = run_grid(tasks[:1], tmp_path / "addr", scheduler=cluster.scheduler_address, progress=False)
     assert dask.n_computed == 5 and dask.n_failed == 1
     pd.testing.assert_frame_equal(local.tables, dask.tables)
     pd.testing.assert_frame_equal(local.summary, dask.summary)
-    pd.testing.assert_frame_equal(local.tables[local.tables["key"] == tasks[0].key()].reset_index(drop=True),
-                                  by_address.tables)
+    pd.testing.assert_frame_equal(
+        local.tables[local.tables["key"] == tasks[0].key()].reset_index(drop=True), by_address.tables
+    )
 
 
 # --- bad input ------------------------------------------------------------------------
+
 
 def test_bad_grid_input_fails_before_any_work(tmp_path):
     with pytest.raises(ValueError, match="empty"):
@@ -220,11 +230,14 @@ def test_bad_grid_input_fails_before_any_work(tmp_path):
 
 
 def test_replicates_run_with_their_seeded_perturbation(tmp_path):
-    tasks = [t for t in experiment_1().tasks(TINY, replicates=2)
-             if t.labels["design"] == "SS" and t.behaviour.name == "forward"]
+    tasks = [
+        t
+        for t in experiment_1().tasks(TINY, replicates=2)
+        if t.labels["design"] == "SS" and t.behaviour.name == "forward"
+    ]
     res = run_grid(tasks, tmp_path, workers=1, progress=False)
     assert list(res.summary["replicate"]) == [-1, 0, 1] and set(res.summary["status"]) == {"ok"}
     h = res.tables
     assert set(h["replicate"]) == {-1, 0, 1}
     errs = h.groupby("replicate")["tracking_error_m"].mean()
-    assert errs[-1] != errs[0] and errs[0] != errs[1]        # perturbed runs differ, seed by seed
+    assert errs[-1] != errs[0] and errs[0] != errs[1]  # perturbed runs differ, seed by seed

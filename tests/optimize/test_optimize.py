@@ -59,6 +59,7 @@ def _trials(url, name):
 
 # --- a real PostgreSQL server ------------------------------------------------
 
+
 def _pg_bin():
     dirs = glob.glob("/usr/lib/postgresql/*/bin")
     dirs = [d for d in dirs if os.path.exists(os.path.join(d, "pg_ctl"))]
@@ -84,30 +85,46 @@ def pg_url():
         port = s.getsockname()[1]
     run = lambda cmd: subprocess.run(as_user(cmd), check=True, capture_output=True, text=True)
     run([f"{bindir}/initdb", "-D", data, "-A", "trust", "-U", "postgres", "--no-sync", "-E", "UTF8"])
-    run([f"{bindir}/pg_ctl", "-D", data, "-l", log, "-w", "-t", "60", "-o",
-         f"-p {port} -k {tmp} -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=50", "start"])
+    run(
+        [
+            f"{bindir}/pg_ctl",
+            "-D",
+            data,
+            "-l",
+            log,
+            "-w",
+            "-t",
+            "60",
+            "-o",
+            f"-p {port} -k {tmp} -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=50",
+            "start",
+        ]
+    )
     try:
         run([f"{bindir}/createdb", "-h", "127.0.0.1", "-p", str(port), "-U", "postgres", "optuna"])
         yield f"postgresql+psycopg2://postgres@127.0.0.1:{port}/optuna"
     finally:
-        subprocess.run(as_user([f"{bindir}/pg_ctl", "-D", data, "-m", "immediate", "-w", "stop"]),
-                       capture_output=True)
+        subprocess.run(as_user([f"{bindir}/pg_ctl", "-D", data, "-m", "immediate", "-w", "stop"]), capture_output=True)
         shutil.rmtree(tmp, ignore_errors=True)
 
 
 # --- search space -----------------------------------------------------------
 
-@pytest.mark.parametrize("kwargs, field", [
-    ({"density_g_cm3": (5.0, 5.0)}, "density_g_cm3"),
-    ({"density_g_cm3": (10.0, 1.0)}, "density_g_cm3"),
-    ({"modulus_gpa": (100.0, 10.0)}, "modulus_gpa"),
-    ({"modulus_gpa": (0.0, 10.0)}, "modulus_gpa"),
-    ({"n_segments": 0}, "n_segments"),
-    ({"kinds": ("continuous", "catalogue")}, "kinds"),
-    ({"kinds": "grid"}, "kinds"),
-    ({"kinds": "catalogue", "materials": ("Unobtainium",)}, "unknown material"),
-    ({"kinds": "catalogue", "materials": ("MD",)}, "rigid"),
-])
+
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        ({"density_g_cm3": (5.0, 5.0)}, "density_g_cm3"),
+        ({"density_g_cm3": (10.0, 1.0)}, "density_g_cm3"),
+        ({"modulus_gpa": (100.0, 10.0)}, "modulus_gpa"),
+        ({"modulus_gpa": (0.0, 10.0)}, "modulus_gpa"),
+        ({"n_segments": 0}, "n_segments"),
+        ({"kinds": ("continuous", "catalogue")}, "kinds"),
+        ({"kinds": "grid"}, "kinds"),
+        ({"kinds": "catalogue", "materials": ("Unobtainium",)}, "unknown material"),
+        ({"kinds": "catalogue", "materials": ("MD",)}, "rigid"),
+    ],
+)
 def test_space_rejects_bad_bounds_and_kinds(kwargs, field):
     with pytest.raises(ValueError, match=field):
         SearchSpace(**kwargs)
@@ -124,8 +141,13 @@ def test_default_bounds_span_the_paper_classes():
 
 @pytest.mark.parametrize("sampler", ["tpe", "nsga2"])
 def test_suggested_designs_respect_bounds(sampler):
-    space = SearchSpace(n_segments=4, kinds=("continuous", "catalogue", "continuous", "continuous"),
-                        density_g_cm3=(2.0, 3.0), modulus_gpa=(50.0, 60.0), materials=("PVC", "Ti"))
+    space = SearchSpace(
+        n_segments=4,
+        kinds=("continuous", "catalogue", "continuous", "continuous"),
+        density_g_cm3=(2.0, 3.0),
+        modulus_gpa=(50.0, 60.0),
+        materials=("PVC", "Ti"),
+    )
     study = optuna.create_study(directions=["minimize"] * 2, sampler=make_sampler(sampler, 1))
     seen = set()
     for i in range(60):
@@ -146,11 +168,19 @@ def test_suggested_designs_respect_bounds(sampler):
 def test_paper_designs_seed_every_space():
     seeds = dict(SearchSpace().seeds())
     assert list(seeds) == ["SS", "rho-inc", "PVC-Ti-SS"]
-    assert seeds["rho-inc"] == {"seg1_density_g_cm3": 1.39, "seg1_modulus_gpa": 70.0, "seg2_density_g_cm3": 4.43,
-                                "seg2_modulus_gpa": 70.0, "seg3_density_g_cm3": 8.0, "seg3_modulus_gpa": 70.0}
+    assert seeds["rho-inc"] == {
+        "seg1_density_g_cm3": 1.39,
+        "seg1_modulus_gpa": 70.0,
+        "seg2_density_g_cm3": 4.43,
+        "seg2_modulus_gpa": 70.0,
+        "seg3_density_g_cm3": 8.0,
+        "seg3_modulus_gpa": 70.0,
+    }
     cat = dict(SearchSpace(kinds="catalogue").seeds())
-    assert cat == {"SS": {f"seg{i}_material": "SS" for i in (1, 2, 3)},
-                   "PVC-Ti-SS": {"seg1_material": "PVC", "seg2_material": "Ti", "seg3_material": "SS"}}
+    assert cat == {
+        "SS": {f"seg{i}_material": "SS" for i in (1, 2, 3)},
+        "PVC-Ti-SS": {"seg1_material": "PVC", "seg2_material": "Ti", "seg3_material": "SS"},
+    }
     six = SearchSpace(n_segments=6).seeds()
     rho = dict(six)["rho-inc"]
     assert [rho[f"seg{i}_density_g_cm3"] for i in range(1, 7)] == [1.39, 1.39, 4.43, 4.43, 8.0, 8.0]
@@ -160,6 +190,7 @@ def test_paper_designs_seed_every_space():
 
 
 # --- objective and constraints ---------------------------------------------
+
 
 def test_constraints_feasible_design_and_diverging_design():
     quick = Objective(profile=Profile("quick", 8.0, 3.0))
@@ -188,16 +219,25 @@ def test_behaviour_sets_average_and_bad_names():
 
 # --- helpers of the report --------------------------------------------------
 
+
 def test_pareto_frame_keeps_optunas_front_once_with_percent_changes():
     # trials 0-2 are Optuna's best_trials; trial 3 repeats trial 0's values (a retried design)
-    frame = pd.DataFrame({"trial": [0, 1, 2, 3, 4], "state": ["COMPLETE"] * 5, "feasible": [True] * 4 + [False],
-                          "design": list("abcde"), "paper_design": [""] * 5,
-                          "tracking_error_m": [1.0, 2.0, 3.0, 1.0, 0.5], "power_w": [3.0, 2.0, 1.0, 3.0, 0.5],
-                          "hop_height_m": [1.0] * 5})
+    frame = pd.DataFrame(
+        {
+            "trial": [0, 1, 2, 3, 4],
+            "state": ["COMPLETE"] * 5,
+            "feasible": [True] * 4 + [False],
+            "design": list("abcde"),
+            "paper_design": [""] * 5,
+            "tracking_error_m": [1.0, 2.0, 3.0, 1.0, 0.5],
+            "power_w": [3.0, 2.0, 1.0, 3.0, 0.5],
+            "hop_height_m": [1.0] * 5,
+        }
+    )
     front = pareto_frame(frame, {"SS": (2.0, 4.0)}, best=[0, 1, 2, 3])
     assert front["trial"].tolist() == [0, 1, 2]
-    assert front["tracking_error_vs_SS_pct"].tolist() == [-50.0, 0.0, 50.0]     # (1-2)/2, (2-2)/2, (3-2)/2
-    assert front["power_vs_SS_pct"].tolist() == [-25.0, -50.0, -75.0]           # (3-4)/4, (2-4)/4, (1-4)/4
+    assert front["tracking_error_vs_SS_pct"].tolist() == [-50.0, 0.0, 50.0]  # (1-2)/2, (2-2)/2, (3-2)/2
+    assert front["power_vs_SS_pct"].tolist() == [-25.0, -50.0, -75.0]  # (3-4)/4, (2-4)/4, (1-4)/4
     assert pareto_frame(frame, best=[]).empty
 
 
@@ -210,24 +250,28 @@ def test_hypervolume():
 
 # --- bad input: one line, exit 2, before any work ---------------------------
 
-@pytest.mark.parametrize("argv, text", [
-    (["--sampler", "cmaes"], "unknown sampler"),
-    (["--behaviour", "moonwalk"], "unknown behaviour"),
-    (["--storage", "foo://bar/baz"], "unknown storage scheme"),
-    (["--density-bounds", "5,1"], "min must be < max"),
-    (["--modulus-bounds", "10,10"], "min must be < max"),
-    (["--trials", "0"], "trials must be"),
-    (["--workers", "0"], "workers must be"),
-    (["--profile", "slow"], "unknown profile"),
-    (["--storage", "postgresql+psycopg2://nobody@127.0.0.1:1/none"], "cannot reach storage"),
-])
+
+@pytest.mark.parametrize(
+    "argv, text",
+    [
+        (["--sampler", "cmaes"], "unknown sampler"),
+        (["--behaviour", "moonwalk"], "unknown behaviour"),
+        (["--storage", "foo://bar/baz"], "unknown storage scheme"),
+        (["--density-bounds", "5,1"], "min must be < max"),
+        (["--modulus-bounds", "10,10"], "min must be < max"),
+        (["--trials", "0"], "trials must be"),
+        (["--workers", "0"], "workers must be"),
+        (["--profile", "slow"], "unknown profile"),
+        (["--storage", "postgresql+psycopg2://nobody@127.0.0.1:1/none"], "cannot reach storage"),
+    ],
+)
 def test_bad_input_is_one_line_exit_2(argv, text, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     code = main(["optimize", "--study", "bad", "--trials", "5", *argv])
     err = capsys.readouterr().err.strip()
     assert code == 2
     assert text in err and len(err.splitlines()) == 1
-    assert not (tmp_path / "studies").exists()          # nothing was made
+    assert not (tmp_path / "studies").exists()  # nothing was made
 
 
 def test_gp_sampler_needs_torch_or_builds():
@@ -241,6 +285,7 @@ def test_gp_sampler_needs_torch_or_builds():
 
 
 # --- studies on SQLite ------------------------------------------------------
+
 
 def _check_run(res, trials, url, name, workers):
     """Every trial recorded once: COMPLETE trials = the union of what the
@@ -281,16 +326,19 @@ def test_sqlite_study_two_workers_paper_designs_first_report_replay(tmp_path, mo
     assert len(rep["trials"]) == 7 and set(rep["baselines"]) == {"SS", "rho-inc"}
     front = rep["pareto"]
     ok = rep["trials"][(rep["trials"].state == "COMPLETE") & rep["trials"].feasible]
-    for _, r in front.iterrows():     # nothing feasible dominates a front member
-        dom = (ok.tracking_error_m <= r.tracking_error_m) & (ok.power_w <= r.power_w) & (
-            (ok.tracking_error_m < r.tracking_error_m) | (ok.power_w < r.power_w))
+    for _, r in front.iterrows():  # nothing feasible dominates a front member
+        dom = (
+            (ok.tracking_error_m <= r.tracking_error_m)
+            & (ok.power_w <= r.power_w)
+            & ((ok.tracking_error_m < r.tracking_error_m) | (ok.power_w < r.power_w))
+        )
         assert not dom.any()
     if "SS" in set(front.paper_design):
         assert front.loc[front.paper_design == "SS", "tracking_error_vs_SS_pct"].iloc[0] == 0.0
     hv = rep["hypervolume"]["hypervolume"].to_numpy()
     assert np.all(np.diff(hv) >= 0)
     t, design, ev, _ = replay(name, open_storage(url), 4)
-    assert tuple(ev.values) == tuple(t.values)           # bit-identical
+    assert tuple(ev.values) == tuple(t.values)  # bit-identical
     monkeypatch.chdir(tmp_path)
     assert main(["optimize", "--study", name, "--replay", "1"]) == 0
     assert "matches the stored values exactly" in capsys.readouterr().out
@@ -310,8 +358,9 @@ def test_each_enqueued_trial_is_taken_by_one_worker(kind, tmp_path):
     study = create_or_load(config, open_storage(url))
     rng = np.random.default_rng(0)
     for _ in range(17):
-        study.enqueue_trial({f"seg{i}_{p}": float(rng.uniform(1.0, 9.0)) for i in (1, 2, 3)
-                             for p in ("density_g_cm3", "modulus_gpa")})
+        study.enqueue_trial(
+            {f"seg{i}_{p}": float(rng.uniform(1.0, 9.0)) for i in (1, 2, 3) for p in ("density_g_cm3", "modulus_gpa")}
+        )
     res = run_study(config, RunOptions(trials=22, workers=2, storage=url, progress=False))
     assert res.dead_workers == [] and res.finished
     _check_run(res, 22, url, name, workers=2)
@@ -343,7 +392,7 @@ def test_diverging_and_failing_designs_never_crash_the_study(tmp_path):
     assert ts[3].state == TrialState.FAIL and "invalid" in ts[3].user_attrs[ERROR_ATTR]
     done = [t for t in ts if t.state == TrialState.COMPLETE]
     assert len(done) == 5
-    for t in done:       # a 20 ms step diverges for every design: infeasible, finite, recorded
+    for t in done:  # a 20 ms step diverges for every design: infeasible, finite, recorded
         assert t.constraints["unstable"] == 1.0 and not t.user_attrs["result"]["feasible"]
         assert all(np.isfinite(t.values))
     with pytest.raises(ValueError, match="exists with other settings"):
@@ -352,9 +401,16 @@ def test_diverging_and_failing_designs_never_crash_the_study(tmp_path):
 
 # --- PostgreSQL: workers, resume by a third process, dead workers ------------
 
+
 def _cli(*args, **kw):
-    return subprocess.run([sys.executable, "-m", "mat_hopper", "optimize", *args], env=ENV,
-                          capture_output=True, text=True, timeout=120, **kw)
+    return subprocess.run(
+        [sys.executable, "-m", "mat_hopper", "optimize", *args],
+        env=ENV,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        **kw,
+    )
 
 
 @pytest.mark.slow
@@ -394,9 +450,27 @@ def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
     name = "kill"
     config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
     create_or_load(config, open_storage(pg_url))
-    proc = subprocess.Popen([sys.executable, "-m", "mat_hopper", "optimize", "--study", name, "--trials", "6",
-                             "--workers", "2", "--storage", pg_url, "--no-progress"],
-                            env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "mat_hopper",
+            "optimize",
+            "--study",
+            name,
+            "--trials",
+            "6",
+            "--workers",
+            "2",
+            "--storage",
+            pg_url,
+            "--no-progress",
+        ],
+        env=ENV,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         victim, pid = _wait_running(pg_url, name)
         os.kill(pid, signal.SIGKILL)
@@ -425,9 +499,27 @@ def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
     name = "hb"
     config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
     create_or_load(config, open_storage(pg_url))
-    proc = subprocess.Popen([sys.executable, "-m", "mat_hopper", "optimize", "--study", name, "--trials", "3",
-                             "--workers", "1", "--storage", pg_url, "--no-progress"],
-                            env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "mat_hopper",
+            "optimize",
+            "--study",
+            name,
+            "--trials",
+            "3",
+            "--workers",
+            "1",
+            "--storage",
+            pg_url,
+            "--no-progress",
+        ],
+        env=ENV,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     try:
         victim, _ = _wait_running(pg_url, name)
     finally:

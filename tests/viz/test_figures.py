@@ -24,13 +24,13 @@ def _stars(fig) -> int:
 
 def test_save_figure_png_and_svg_atomic_and_deterministic(tmp_path):
     fig = maps.ashby_figure()
-    paths = style.save_figure(fig, tmp_path / "sub" / "ashby.png", dpi=60)       # a suffix is dropped
+    paths = style.save_figure(fig, tmp_path / "sub" / "ashby.png", dpi=60)  # a suffix is dropped
     assert [p.name for p in paths] == ["ashby.png", "ashby.svg"]
     assert paths[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     svg = paths[1].read_bytes()
     assert svg.lstrip().startswith(b"<?xml") and b"<svg" in svg
     again = style.save_figure(maps.ashby_figure(), tmp_path / "again", dpi=60)
-    assert [p.read_bytes() for p in again] == [p.read_bytes() for p in paths]   # same figure, same files
+    assert [p.read_bytes() for p in again] == [p.read_bytes() for p in paths]  # same figure, same files
     assert not [p for p in (tmp_path / "sub").iterdir() if p.name.startswith(".tmp-")]
     with pytest.raises(ValueError, match="formats"):
         style.save_figure(fig, tmp_path / "x", formats=("jpg",))
@@ -44,12 +44,12 @@ def test_figure4_mono_stars_follow_the_comparison(tables):
     cmp = stats.compare_designs(exp1, "MD", basis="hops", metrics=("power_w", "jerk_m_s3", "tracking_error_m"))
     assert _stars(fig) == int(cmp["significant"].sum()) > 0
     ylabels = [ax.get_ylabel() for ax in fig.axes]
-    assert ylabels == ["Hip power (W)", "Jerk (m/s³)", "Tracking error (mm)"]    # units, SI prefix chosen
+    assert ylabels == ["Hip power (W)", "Jerk (m/s³)", "Tracking error (mm)"]  # units, SI prefix chosen
     # replicate basis: 2 replicates cannot reach Holm significance; dots for the replicate means
     fig = plots.figure4_mono(exp1, basis="replicates")
     assert _stars(fig) == 0
     dots = [ln for ax in fig.axes for ln in ax.lines if ln.get_gid() == "replicate-means"]
-    assert sum(len(ln.get_xdata()) for ln in dots) == 3 * 4 * 5 * 2   # metrics x behaviours x designs x replicates
+    assert sum(len(ln.get_xdata()) for ln in dots) == 3 * 4 * 5 * 2  # metrics x behaviours x designs x replicates
 
 
 def test_figure4_mono_leaves_out_diverged_runs(tables):
@@ -96,7 +96,7 @@ def test_figure5_timeseries_from_rollouts():
 
 def test_stability_figure_both_column_names_and_unstable_cells():
     s = stability_table(size=5)
-    s.loc[0, "max_stable_timestep_s"] = np.nan                      # no tried step stable
+    s.loc[0, "max_stable_timestep_s"] = np.nan  # no tried step stable
     fig = maps.stability_figure(s)
     assert fig.axes[0].get_xlabel() == "Density (g/cm³)" and fig.axes[0].get_yscale() == "log"
     stab_a = s.rename(columns={"max_stable_timestep_s": "dt_stable_s", "analytic_timestep_s": "dt_estimate_s"})
@@ -118,7 +118,11 @@ def test_ashby_figure_regions_and_points():
 
 def test_write_figures_from_reproduction_tables(tmp_path, tables):
     hops, runs = tables
-    t = {f"{e}_{k}": v[v["experiment"] == e] for e in ("exp1", "exp2", "exp3") for k, v in (("hops", hops), ("runs", runs))}
+    t = {
+        f"{e}_{k}": v[v["experiment"] == e]
+        for e in ("exp1", "exp2", "exp3")
+        for k, v in (("hops", hops), ("runs", runs))
+    }
     t["stability"] = stability_table()
     paths = plots.write_figures(t, tmp_path, basis="hops", formats=("png",), dpi=40)
     names = sorted({p.stem for p in paths})

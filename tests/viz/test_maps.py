@@ -14,4 +14,4 @@ def test_design_table_and_figure():
     assert tuple(inc["density_g_cm3"]) == ref.GRADIENT_DENSITIES
     assert t.loc[t["design"] == "MD", "modulus_gpa"].isna().all()
     fig = maps.designs_figure()
-    assert len(fig.axes) == 4          # two panels, two colour bars
+    assert len(fig.axes) == 4  # two panels, two colour bars

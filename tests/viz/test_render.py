@@ -40,7 +40,7 @@ def test_frames_have_shape_and_show_the_hopper(rollout):
     # The same scene with the camera turned away from the hopper differs where the hopper is.
     empty = render_frames(rollout, [0.5], size=SIZE, camera=Camera(elevation_deg=80.0, height_m=-5.0))
     assert np.abs(frames[0].astype(int) - empty[0]).sum(axis=2).astype(bool).mean() > 0.05
-    assert frames[0].std() > 10          # not a blank image
+    assert frames[0].std() > 10  # not a blank image
 
 
 def test_same_rollout_same_pixels(rollout):
@@ -56,6 +56,7 @@ def test_video_has_the_expected_frames(rollout, tmp_path):
     gif = write_video(frames, str(tmp_path / "hop.gif"), fps=10)
     assert len(iio.imread(gif, index=None)) == 11
     import imageio.v2 as imageio
+
     with imageio.get_reader(mp4) as r:
         assert r.count_frames() == 11
     assert sorted(p.name for p in tmp_path.iterdir()) == ["hop.gif", "hop.mp4"]
@@ -105,10 +106,32 @@ def test_bad_input(tmp_path, rollout):
 
 def test_cli_render_writes_files_and_rejects_bad_input(tmp_path):
     from mat_hopper.cli import main
+
     tiles, video = tmp_path / "t.png", tmp_path / "v.gif"
-    assert main(["render", "--design", "PVC-Ti-SS", "--behaviour", "forward", "--tiles", str(tiles),
-                 "--video", str(video), "--seconds", "1", "--tile-start", "0.2", "--fps", "5",
-                 "--size", "96x64"]) == 0
+    assert (
+        main(
+            [
+                "render",
+                "--design",
+                "PVC-Ti-SS",
+                "--behaviour",
+                "forward",
+                "--tiles",
+                str(tiles),
+                "--video",
+                str(video),
+                "--seconds",
+                "1",
+                "--tile-start",
+                "0.2",
+                "--fps",
+                "5",
+                "--size",
+                "96x64",
+            ]
+        )
+        == 0
+    )
     assert tiles.stat().st_size > 1000 and len(iio.imread(video, index=None)) == 6
     assert main(["render", "--design", "SS", "--video", str(tmp_path / "x.mp4"), "--size", "10"]) == 2
     assert main(["render", "--design", "SS", "--video", str(tmp_path / "x.mov")]) == 2
@@ -121,14 +144,15 @@ def test_lights_are_placed_and_the_key_light_follows_the_hopper(rollout):
         lit = r.frame(rollout.qpos[500], Camera(), rollout.behaviour)
         dirs = r.data.light_xdir.copy()
         key = r.data.light_xpos[model.light("key").id] - r.data.subtree_com[0]
-    assert np.all(np.linalg.norm(dirs, axis=1) > 0.99)       # no light left without a direction
-    assert np.linalg.norm(key) > 1.0 and lit.std() > 10      # placed relative to the centre of mass
+    assert np.all(np.linalg.norm(dirs, axis=1) > 0.99)  # no light left without a direction
+    assert np.linalg.norm(key) > 1.0 and lit.std() > 10  # placed relative to the centre of mass
 
 
 @pytest.mark.parametrize("name", ["static", "ramp"])
 def test_still_pose_stands_on_the_terrain(name):
     """The foot touches the ground or ramp as MuJoCo's own geometry sees it."""
     import mujoco
+
     beh = behaviour(name)
     model = render_spec(parse_design("SS"), beh, width=64, height=48).compile()
     d = mujoco.MjData(model)
@@ -141,17 +165,20 @@ def test_still_pose_stands_on_the_terrain(name):
 
 def test_save_video_streams_an_mp4(rollout, tmp_path):
     import imageio.v2 as imageio
+
     path = save_video(None, None, str(tmp_path / "s.mp4"), rollout=rollout, seconds=0.5, fps=8, size=SIZE)
     with imageio.get_reader(path) as r:
-        assert r.count_frames() == 5      # t = 0, 1/8, ..., 4/8 s
+        assert r.count_frames() == 5  # t = 0, 1/8, ..., 4/8 s
     assert [p.name for p in tmp_path.iterdir()] == ["s.mp4"]
 
 
 def test_cli_names_the_missing_gl_library(tmp_path):
     out = tmp_path / "t.png"
-    code = ("import ctypes.util, sys; ctypes.util.find_library = lambda name: None\n"
-            "from mat_hopper.cli import main\n"
-            f"sys.exit(main(['render', '--design', 'SS', '--still', {str(out)!r}]))")
+    code = (
+        "import ctypes.util, sys; ctypes.util.find_library = lambda name: None\n"
+        "from mat_hopper.cli import main\n"
+        f"sys.exit(main(['render', '--design', 'SS', '--still', {str(out)!r}]))"
+    )
     res = run_python(code, {"MUJOCO_GL": "", "PYOPENGL_PLATFORM": ""}, timeout=120)
     assert res.returncode == 3, res.stderr
     assert "libOSMesa" in res.stderr and "libosmesa6" in res.stderr and "libEGL" in res.stderr
