@@ -13,7 +13,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
+
+from ._checks import negative_list_argv
 
 # Modules that contribute subcommands (each defines register_cli(subparsers)).
 COMMAND_MODULES = (
@@ -25,14 +28,22 @@ COMMAND_MODULES = (
 )
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: "mat-hopper CMD: error: ...", exit 2
+    (argparse's default prints the whole usage first)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .. import __version__
 
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="mat-hopper", description=("Materials Matter, executable: simulate graded robot legs on a MuJoCo hopper.")
     )
     p.add_argument("--version", action="version", version=f"mat-hopper {__version__}")
-    sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True, parser_class=_Parser)
     for name in COMMAND_MODULES:
         importlib.import_module(name).register_cli(sub)
     return p
@@ -42,17 +53,67 @@ class UsageError(ValueError):
     """Bad input found by a command (reported as one line, exit code 2)."""
 
 
+# Options whose value may be a list starting with a minus sign ("-1,2,3"):
+# rewritten to --opt=VALUE before argparse sees them (see _checks).
+NEGATIVE_OK = ("--density", "--modulus", "--density-bounds", "--modulus-bounds")
+
+
+def describe_error(e: BaseException) -> str:
+    """One line naming what went wrong: the error's own text for bad input;
+    for file-system, SQLite and database errors the deepest cause (SQLAlchemy
+    and Optuna wrap the driver's message, e.g. "database is locked", in
+    pages of context), with the file it concerns."""
+    seen, chain, cur = set(), [], e
+    while cur is not None and id(cur) not in seen:
+        seen.add(id(cur))
+        chain.append(cur)
+        cur = getattr(cur, "orig", None) or cur.__cause__ or cur.__context__
+    root = chain[-1]
+    if isinstance(root, OSError) and not isinstance(e, ValueError):
+        what = root.strerror or str(root)
+        files = [f for f in (root.filename, root.filename2) if f]
+        return f"{what}: {' -> '.join(map(str, files))}" if files else what
+    if isinstance(e, ValueError):
+        return str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+    text = str(root).strip().splitlines()
+    return f"{text[0]}" if text else type(root).__name__
+
+
+def _storage_errors() -> tuple:
+    """Database errors turned into one line (imported only when present)."""
+    import sqlite3
+
+    out = [sqlite3.Error]
+    for mod, name in (("sqlalchemy.exc", "SQLAlchemyError"), ("optuna.exceptions", "StorageInternalError")):
+        module = sys.modules.get(mod)
+        if module is not None:
+            out.append(getattr(module, name))
+    return tuple(out)
+
+
 def main(argv=None) -> int:
     from ..sim import route_mujoco_warnings
 
     route_mujoco_warnings()
     parser = build_parser()
-    args = parser.parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = parser.parse_args(negative_list_argv(argv, NEGATIVE_OK))
     try:
         return int(args.func(args) or 0)
-    except (ValueError, FileNotFoundError) as e:
-        print(f"mat-hopper {args.command}: error: {e}", file=sys.stderr)
+    except BrokenPipeError:
+        # the reader went away (`mat-hopper ... | head`): stop quietly, as a
+        # shell tool killed by SIGPIPE does; stdout is pointed at /dev/null so
+        # that the interpreter's final flush does not fail again
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        return 141
+    except KeyboardInterrupt as e:
+        sig = getattr(e, "signal_name", None)
+        print(f"interrupted{f' by {sig}' if sig else ''}", file=sys.stderr)
+        return 128 + int(getattr(e, "signal_number", 2))
+    except (ValueError, OSError, *_storage_errors()) as e:
+        print(f"mat-hopper {args.command}: error: {describe_error(e)}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130

@@ -3,22 +3,41 @@
 
 from __future__ import annotations
 
+import math
 import sys
 
 from ..viz.render import _LIBS, RenderBackendError, choose_backend, parse_size, render_files
-from .simulate import add_sim_arguments, design_from_args
+from ._checks import check_output_file
+from .simulate import add_sim_arguments, describe_settings, design_from_args, sim_settings_from_args
 
 
 def cmd_render(args) -> int:
     if not args.tiles and not args.video and not args.still:
         raise ValueError("nothing to render: give --tiles FILE, --video FILE and/or --still FILE")
+    for flag in ("tiles", "video", "still"):
+        check_output_file(getattr(args, flag), f"--{flag}")
     size = parse_size(args.size)
     design = design_from_args(args)
+    # every run setting (time step or auto, sensor timing, segment mass) and the
+    # run size are checked here, before any work: the run simulates start + the
+    # longer of the video and the tile window
+    for flag, v, ok, need in (
+        ("--seconds", args.seconds, args.seconds > 0, "> 0"),
+        ("--start", args.start, args.start >= 0, ">= 0"),
+        ("--tile-start", args.tile_start, args.tile_start >= 0, ">= 0"),
+    ):
+        if not (math.isfinite(v) and ok):
+            raise ValueError(f"{flag} must be {need} simulated seconds, got {v!r}")
+    seconds = max(args.seconds, args.tile_start + 1.0)
+    settings = sim_settings_from_args(args, design, args.start + seconds, 0.0)
     try:  # a named error before any work
         backend = choose_backend({"MUJOCO_GL": args.backend} if args.backend else None)
     except RenderBackendError as e:
         print(f"mat-hopper render: error: {e}", file=sys.stderr)
         return 3
+    print(
+        f"{design.name} on {args.behaviour}: {describe_settings(settings, str(args.timestep).strip().lower() == 'auto')}"
+    )
     for path in render_files(
         design,
         args.behaviour,
@@ -32,6 +51,7 @@ def cmd_render(args) -> int:
         size=size,
         convention=args.convention,
         backend=backend,
+        settings=settings,
     ):
         print(f"wrote {path}")
     return 0

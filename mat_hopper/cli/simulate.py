@@ -4,44 +4,68 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 
 from .. import reference as ref
 from ..atomic import write_csv
 from ..behaviours import BEHAVIOUR_NAMES, behaviour
-from ..materials import CONVENTIONS, LegDesign, parse_design
+from ..control import sensor_latency_steps
+from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
+from ..materials import (
+    CONVENTIONS,
+    DENSITY_RANGE_G_CM3,
+    MODULUS_RANGE_GPA,
+    SEGMENT_MASSES,
+    LegDesign,
+    check_n_segments,
+    parse_design,
+)
 from ..metrics import METRICS, hop_table, run_summary
+from ._checks import check_output_file, parse_list
 
-
-def _floats(text: str, field: str) -> list[float | None]:
-    out = []
-    for part in text.split(","):
-        part = part.strip()
-        if part.lower() in ("rigid", "inf"):
-            out.append(None)
-            continue
-        try:
-            out.append(float(part))
-        except ValueError:
-            raise ValueError(f"{field} must be comma-separated numbers, got {text!r}") from None
-    return out
+AUTO = "auto"
+PROGRESS_CHUNK_S = 1.0  # simulated seconds per progress-bar update
 
 
 def _timing(text: str):
-    """--sensor-timing: a name, or digits for a latency in physics steps."""
+    """--sensor-timing: a name, or digits for a latency in physics steps
+    (checked here, before any work, by the controller's own parser)."""
     text = str(text).strip()
-    return int(text) if text.isdigit() else text
+    timing = int(text) if text.isdigit() else text
+    sensor_latency_steps(timing)  # ValueError naming the accepted values
+    return timing
+
+
+def _timestep(text):
+    """--timestep: seconds, or 'auto' (physics substeps of the controller's
+    1e-4 s period, chosen from the spring chain's bound)."""
+    if text is None:
+        return None
+    if str(text).strip().lower() == AUTO:
+        return AUTO
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"--timestep must be a number of seconds (e.g. 1e-4) or 'auto', got {text!r}") from None
 
 
 def design_from_args(args) -> LegDesign:
     """--design NAME, or --density/--modulus lists (g/cm^3, GPa)."""
+    n = check_n_segments(args.segments)  # an integer in [1, 64] whatever the design form
     if args.density is not None or args.modulus is not None:
         if args.density is None or args.modulus is None:
             raise ValueError("--density and --modulus go together (one value per segment)")
-        dens = _floats(args.density, "--density")
-        if any(d is None for d in dens):
-            raise ValueError("--density must be numbers in g/cm^3 (> 0)")
-        return LegDesign.from_properties(dens, _floats(args.modulus, "--modulus"))
-    return parse_design(args.design, n_segments=args.segments)
+        dens = parse_list(args.density, "--density", unit="g/cm^3")
+        mods = parse_list(args.modulus, "--modulus", rigid=True, unit="GPa")
+        for flag, vals, (lo, hi), unit in (
+            ("--density", dens, DENSITY_RANGE_G_CM3, "g/cm^3"),
+            ("--modulus", mods, MODULUS_RANGE_GPA, "GPa"),
+        ):
+            bad = [v for v in vals if v is not None and v <= 0]
+            if bad:
+                raise ValueError(f"{flag} must be > 0 {unit} (accepted {lo:g} to {hi:g}), got {bad[0]:g}")
+        return LegDesign.from_properties(dens, mods)
+    return parse_design(args.design, n_segments=n)
 
 
 def add_sim_arguments(p: argparse.ArgumentParser) -> None:
@@ -51,15 +75,23 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         default="SS",
         help="material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec",
     )
-    p.add_argument("--density", help="per-segment densities, g/cm^3, e.g. 1.39,4.43,8")
-    p.add_argument("--modulus", help="per-segment moduli, GPa (or 'rigid'), e.g. 70,70,70")
+    p.add_argument("--density", help="per-segment densities, g/cm^3, e.g. 1.39,4.43,8 (0.001-30)")
+    p.add_argument("--modulus", help="per-segment moduli, GPa (1e-6-2000, or 'rigid'), e.g. 70,70,70")
     p.add_argument(
-        "--segments", type=int, default=ref.REFERENCE_SEGMENTS, help="segments for a single-material design (default 3)"
+        "--segments",
+        type=int,
+        default=ref.REFERENCE_SEGMENTS,
+        help="segments for a single-material design (default 3, at most 64)",
     )
     p.add_argument(
         "--behaviour", "--behavior", dest="behaviour", default="forward", help=f"one of {', '.join(BEHAVIOUR_NAMES)}"
     )
-    p.add_argument("--timestep", type=float, default=ref.TIMESTEP_S, help="physics time step, s")
+    p.add_argument(
+        "--timestep",
+        default=None,
+        help="physics time step, s, or 'auto' (substeps of the 1e-4 s control period chosen from the "
+        f"design's spring bound); default: the profile's (1e-4; ${PROFILE_ENV})",
+    )
     p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
     p.add_argument(
         "--sensor-timing",
@@ -67,27 +99,88 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         help="when the controller reads the base sensors: authors (default: one physics step old, "
         "as the authors' loop), fresh, or an integer latency in physics steps",
     )
+    p.add_argument(
+        "--segment-mass",
+        default="leg",
+        choices=SEGMENT_MASSES,
+        help="leg: leg mass independent of the number of segments (default, the authors' model at 3); "
+        "capsule: the authors' per-capsule density at any number",
+    )
+
+
+def sim_settings_from_args(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
+    """SimSettings of the run options, checked (run-size limits included)
+    before any work; --timestep auto resolved for this design."""
+    from ..sim import SimSettings, auto_timestep
+
+    dt = _timestep(args.timestep)
+    substeps = 1
+    if dt is None:
+        dt = get_profile().timestep_s
+    elif dt == AUTO:
+        substeps, dt = auto_timestep(design, args.convention, args.segment_mass)
+    return SimSettings(
+        duration_s=duration_s,
+        timestep_s=dt,
+        transient_s=transient_s,
+        convention=args.convention,
+        sensor_timing=_timing(args.sensor_timing),
+        segment_mass=args.segment_mass,
+        substeps=substeps,
+        **extra,
+    )
+
+
+def describe_settings(settings, auto: bool = False) -> str:
+    step = f"dt={settings.timestep_s:g} s"
+    if auto or settings.substeps > 1:
+        step += f" ({settings.substeps} physics substeps per {settings.control_period_s:g} s control period)"
+    return (
+        f"{step}, convention={settings.convention}, sensor timing={settings.sensor_timing}, "
+        f"segment mass={settings.segment_mass}"
+    )
+
+
+def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: bool = False):
+    """The rollout, advanced in chunks of PROGRESS_CHUNK_S simulated seconds
+    with a tqdm bar on stderr (off when stderr is not a terminal or
+    progress is false). Chunked and single-call rollouts are bit-identical."""
+    from tqdm import tqdm
+
+    from ..sim import RolloutRunner
+
+    runner = RolloutRunner(design, beh, settings, record_qpos=record_qpos)
+    chunk = max(1, int(round(PROGRESS_CHUNK_S / settings.timestep_s)))
+    with tqdm(
+        total=round(settings.duration_s, 6),
+        unit="sim s",
+        desc=design.name,
+        file=sys.stderr,
+        disable=not (progress and sys.stderr.isatty()),
+        dynamic_ncols=True,
+        leave=False,
+        bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} simulated s [{elapsed}<{remaining}]",
+    ) as bar:
+        while not runner.done:
+            runner.advance(chunk)
+            bar.update(runner.step * settings.timestep_s - bar.n)
+    return runner.result()
 
 
 def cmd_simulate(args) -> int:
-    from ..sim import SimSettings, simulate
-
+    profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
+    check_output_file(args.csv, "--csv")
     design = design_from_args(args)
     beh = behaviour(args.behaviour)
-    settings = SimSettings(
-        duration_s=args.duration,
-        timestep_s=args.timestep,
-        transient_s=args.transient,
-        convention=args.convention,
-        sensor_timing=_timing(args.sensor_timing),
-    )
-    rollout = simulate(design, beh, settings=settings)
+    duration = profile.duration_s if args.duration is None else args.duration
+    transient = profile.transient_s if args.transient is None else args.transient
+    settings = sim_settings_from_args(args, design, duration, transient)
+    rollout = run_with_progress(design, beh, settings, progress=not args.no_progress)
     hops = hop_table(rollout)
     s = run_summary(rollout)
     print(
-        f"{design.name} on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
-        f"convention={settings.convention}, sensor timing={settings.sensor_timing}, "
-        f"mass {rollout.total_mass_kg:.2f} kg"
+        f"{design.name} on {beh.name}: {settings.duration_s:g} s ({profile.name} profile) at "
+        f"{describe_settings(settings, _timestep(args.timestep) == AUTO)}, mass {rollout.total_mass_kg:.2f} kg"
     )
     if not rollout.stable:
         print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s")
@@ -99,6 +192,9 @@ def cmd_simulate(args) -> int:
         cot = f"{cot:.3g}" if math.isfinite(cot) else "none (no distance travelled)"
         print(f"energy {s['energy_j']:.1f} J, cost of transport {cot}")
     if args.csv:
+        at = list(hops.columns).index("segment_mass") + 1
+        hops.insert(at, "timestep_s", settings.timestep_s)
+        hops.insert(at + 1, "substeps", settings.substeps)
         write_csv(hops, args.csv)
         print(f"wrote {len(hops)} rows to {args.csv}")
     return 0 if rollout.stable else 1
@@ -108,12 +204,25 @@ def register_cli(sub) -> None:
     p = sub.add_parser(
         "simulate",
         help="simulate one design on one behaviour, print a per-hop summary",
-        description="Simulate one leg design on one behaviour and summarize its hop cycles.",
+        description="Simulate one leg design on one behaviour and summarize its hop cycles. Run sizes are "
+        "capped (2e9 physics steps, 5e6 recorded samples, 64 segments) and checked before any work.",
     )
     add_sim_arguments(p)
-    p.add_argument("--duration", type=float, default=ref.DURATION_S, help="simulated seconds (60)")
     p.add_argument(
-        "--transient", type=float, default=ref.TRANSIENT_S, help="seconds before the first scored hop cycle (20)"
+        "--profile",
+        default=None,
+        help=f"run profile for the defaults of --duration, --transient and --timestep: {' or '.join(PROFILES)} "
+        f"(default ${PROFILE_ENV}, else paper: 60 s, 20 s transient)",
+    )
+    p.add_argument("--duration", type=float, default=None, help="simulated seconds (the profile's: paper 60)")
+    p.add_argument(
+        "--transient",
+        type=float,
+        default=None,
+        help="seconds before the first scored hop cycle (the profile's: paper 20)",
     )
     p.add_argument("--csv", help="write the per-hop table (one row per scored hop cycle) here")
+    p.add_argument(
+        "--no-progress", action="store_true", help="no progress bar (it is off when stderr is not a terminal)"
+    )
     p.set_defaults(func=cmd_simulate)

@@ -18,6 +18,7 @@ dotted line of small markers on the ground or ramp.
 from __future__ import annotations
 
 import ctypes.util
+import dataclasses
 import math
 import os
 from dataclasses import dataclass
@@ -31,7 +32,7 @@ from ..behaviours import Behaviour
 from ..behaviours import behaviour as get_behaviour
 from ..materials import DEFAULT_CONVENTION, LegDesign
 from ..model import build_spec, reset_to_start
-from ..sim import Rollout, _as_design, simulate
+from ..sim import Rollout, SimSettings, _as_design, simulate
 
 DENSITY_RANGE_G_CM3 = (0.9, 20.0)  # colour scale: the optimizer's density bounds
 VIDEO_EXTENSIONS = (".mp4", ".gif")
@@ -302,12 +303,25 @@ def _check_extension(path: str, allowed: tuple) -> str:
     return ext
 
 
-def record(design, behaviour, seconds: float, *, start_s: float = 0.0, convention: str = DEFAULT_CONVENTION) -> Rollout:
-    """A rollout with joint positions recorded up to start_s + seconds (s)."""
+def record(
+    design,
+    behaviour,
+    seconds: float,
+    *,
+    start_s: float = 0.0,
+    convention: str = DEFAULT_CONVENTION,
+    settings: SimSettings | None = None,
+) -> Rollout:
+    """A rollout with joint positions recorded up to start_s + seconds (s).
+    settings: the run's other settings (time step, substeps, sensor timing,
+    segment mass, convention; its duration and transient are replaced)."""
     if not (math.isfinite(seconds) and seconds > 0):
         raise ValueError(f"seconds must be > 0, got {seconds!r}")
     if not (math.isfinite(start_s) and start_s >= 0):
         raise ValueError(f"start must be >= 0 s, got {start_s!r}")
+    if settings is not None:
+        settings = dataclasses.replace(settings, duration_s=start_s + seconds, transient_s=0.0)
+        return simulate(design, behaviour, settings=settings, record_qpos=True)
     return simulate(
         design, behaviour, duration_s=start_s + seconds, transient_s=0.0, convention=convention, record_qpos=True
     )
@@ -572,11 +586,14 @@ def render_files(
     convention: str = DEFAULT_CONVENTION,
     backend: str | None = None,
     log=print,
+    settings: SimSettings | None = None,
 ) -> list[str]:
     """Write gait tiles (`tiles`: .png, .svg, .pdf, .jpg), a video (`video`:
     .mp4 or .gif; `seconds` of simulated time from `start_s` at `fps`) and/or
     a still of the model at rest (`still`) of one design on one behaviour.
-    Every input is checked before any work. Returns the paths written."""
+    Every input is checked before any work. settings: the run's time step,
+    sensor timing and segment mass (:func:`record`); its convention wins.
+    Returns the paths written."""
     if not tiles and not video and not still:
         raise ValueError("nothing to render: give tiles, video and/or still")
     fps = _check_fps(fps)
@@ -591,7 +608,7 @@ def render_files(
     beh = get_behaviour(behaviour) if isinstance(behaviour, str) else behaviour
     backend = choose_backend({"MUJOCO_GL": backend} if backend else None)
     rollout = (
-        record(design, beh, max(seconds, tile_start_s + 1.0), start_s=start_s, convention=convention)
+        record(design, beh, max(seconds, tile_start_s + 1.0), start_s=start_s, convention=convention, settings=settings)
         if (tiles or video)
         else None
     )

@@ -1,0 +1,163 @@
+"""Checks every command makes before any work: one parser for comma lists,
+output paths that can be written, and folders left behind by a failure.
+
+Every function raises ValueError with one line naming the option and what
+was wrong; :func:`mat_hopper.cli.main` prints it and exits with code 2.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import shutil
+from contextlib import contextmanager
+
+# A value argparse would take for an option: "-1", "-1.5e3", "-1,2,3".
+NEGATIVE_LIST = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
+RIGID_WORDS = ("rigid", "inf")
+
+
+def parse_list(text, flag: str, *, rigid: bool = False, unit: str = "") -> list[float | None]:
+    """A comma-separated list of finite numbers, the one parser of every
+    comma list on the command line (--density, --modulus, --density-bounds,
+    --modulus-bounds). Empty items ("1,,2", "1,2,") are refused; with
+    `rigid`, "rigid" or "inf" stands for a rigid segment (None). Ranges
+    are checked by the library (materials, search space), not here."""
+    what = f"{flag} must be comma-separated numbers{f' in {unit}' if unit else ''}"
+    if text is None or not str(text).strip():
+        raise ValueError(f"{what}, got an empty value")
+    out: list[float | None] = []
+    for part in str(text).split(","):
+        p = part.strip()
+        if not p:
+            raise ValueError(f"{what}, got {text!r} (an empty item)")
+        if rigid and p.lower() in RIGID_WORDS:
+            out.append(None)
+            continue
+        try:
+            x = float(p)
+        except ValueError:
+            raise ValueError(f"{what}{' (or rigid)' if rigid else ''}, got {text!r}") from None
+        if not math.isfinite(x):
+            raise ValueError(f"{what}, got {text!r} (not finite)")
+        out.append(x)
+    return out
+
+
+def parse_pair(text, flag: str, unit: str = "") -> tuple[float, float] | None:
+    """MIN,MAX through :func:`parse_list` (None when not given)."""
+    if text is None:
+        return None
+    vals = parse_list(text, flag, unit=unit)
+    if len(vals) != 2:
+        raise ValueError(f"{flag} must be two numbers MIN,MAX{f' in {unit}' if unit else ''}, got {text!r}")
+    return vals[0], vals[1]
+
+
+def negative_list_argv(argv, options) -> list[str]:
+    """argv with ``--opt -1,2,3`` rewritten to ``--opt=-1,2,3`` for the
+    given options: argparse takes a value that starts with '-' for an
+    option and answers "expected one argument"; the user should hear what
+    is wrong with the value instead (e.g. density must be > 0)."""
+    argv = list(argv)
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a in options and i + 1 < len(argv) and NEGATIVE_LIST.match(argv[i + 1]):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
+
+
+# --- output paths -------------------------------------------------------------
+
+
+def _existing_ancestor(path: str) -> str:
+    p = os.path.abspath(path)
+    while not os.path.exists(p):
+        parent = os.path.dirname(p)
+        if parent == p:
+            break
+        p = parent
+    return p
+
+
+def _check_folder_can_hold(path: str, flag: str, what: str) -> None:
+    """The folder that will hold `path` exists and is writable, or can be made."""
+    anc = _existing_ancestor(path)
+    if not os.path.isdir(anc):
+        raise ValueError(f"{flag} {what}: {anc} is a file, not a folder")
+    if not os.access(anc, os.W_OK | os.X_OK):
+        raise ValueError(f"{flag} {what}: folder {anc} is not writable")
+
+
+def check_output_file(path, flag: str) -> str | None:
+    """A file the command will write: not an existing folder, and its folder
+    exists and is writable or can be made (nothing is created here)."""
+    if path is None:
+        return None
+    path = os.fspath(path)
+    if not path.strip():
+        raise ValueError(f"{flag}: empty file name")
+    if os.path.isdir(path) or path.endswith(os.sep):
+        raise ValueError(f"{flag} {path}: is a folder; give a file name")
+    if os.path.exists(path) and not os.access(path, os.W_OK):
+        raise ValueError(f"{flag} {path}: file is not writable")
+    _check_folder_can_hold(path, flag, path)
+    return path
+
+
+def check_output_dir(path, flag: str) -> str | None:
+    """A folder the command will write into: an existing writable folder,
+    or one that can be made (nothing is created here)."""
+    if path is None:
+        return None
+    path = os.fspath(path)
+    if not path.strip():
+        raise ValueError(f"{flag}: empty folder name")
+    if os.path.exists(path):
+        if not os.path.isdir(path):
+            raise ValueError(f"{flag} {path}: is a file, not a folder")
+        if not os.access(path, os.W_OK | os.X_OK):
+            raise ValueError(f"{flag} {path}: folder is not writable")
+        return path
+    _check_folder_can_hold(path, flag, path)
+    return path
+
+
+def missing_folders(*paths) -> list[str]:
+    """Of each path and its ancestors, those that do not exist yet (deepest
+    first): what a command may create and must remove if it fails."""
+    out: list[str] = []
+    for path in paths:
+        if path is None:
+            continue
+        p = os.path.abspath(os.fspath(path))
+        while not os.path.exists(p):
+            if p not in out:
+                out.append(p)
+            parent = os.path.dirname(p)
+            if parent == p:
+                break
+            p = parent
+    return sorted(out, key=lambda p: -p.count(os.sep))
+
+
+@contextmanager
+def nothing_left_behind(*folders):
+    """On failure (an exception), remove those of `folders` that did not
+    exist on entry and hold nothing but empty folders now: a command that
+    failed leaves no empty output or cache folder behind. A folder that
+    got a file (a finished result, which a rerun reuses) is kept."""
+    made = missing_folders(*folders)
+    try:
+        yield
+    except BaseException:
+        for p in made:  # deepest first
+            if os.path.isdir(p) and not any(files for _, _, files in os.walk(p)):
+                shutil.rmtree(p, ignore_errors=True)
+        raise
