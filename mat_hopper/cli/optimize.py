@@ -21,6 +21,7 @@ from ..optimize import (
     check_sampler,
     check_study_name,
     describe,
+    open_storage,
     redact,
     replay,
     run_study,
@@ -29,20 +30,11 @@ from ..optimize import (
     study_exists,
     write_report,
 )
-from ..optimize.report import feasible_complete
+from ..optimize._storage import SQLITE_LOCK_TIMEOUT_S, dispose, storage_errors
+from ..optimize._study import CONFIG_ATTR, check_objectives_vary
+from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
-
-
-def _pair(text, flag):
-    if text is None:
-        return None
-    parts = [p for p in str(text).split(",") if p.strip()]
-    if len(parts) != 2:
-        raise ValueError(f"{flag} must be MIN,MAX, got {text!r}")
-    try:
-        return tuple(float(p) for p in parts)
-    except ValueError:
-        raise ValueError(f"{flag} must be two numbers MIN,MAX, got {text!r}") from None
+from ._checks import check_output_dir, nothing_left_behind, parse_pair
 
 
 def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
@@ -59,8 +51,8 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
     space = SearchSpace(
         n_segments=n,
         kinds=kinds,
-        density_g_cm3=_pair(args.density_bounds, "--density-bounds") or sp.density_g_cm3,
-        modulus_gpa=_pair(args.modulus_bounds, "--modulus-bounds") or sp.modulus_gpa,
+        density_g_cm3=parse_pair(args.density_bounds, "--density-bounds", "g/cm^3") or sp.density_g_cm3,
+        modulus_gpa=parse_pair(args.modulus_bounds, "--modulus-bounds", "GPa") or sp.modulus_gpa,
         materials=args.materials if args.materials is not None else sp.materials,
     )
     objective = Objective(
@@ -85,9 +77,13 @@ def _options_from_args(args, trials: int = 1) -> RunOptions:
     )
 
 
-def open_existing(name: str, args):
-    """Storage holding an existing study `name` (ValueError if none)."""
+def open_existing(name: str, args, *, read_only: bool = False):
+    """Storage holding an existing study `name` (ValueError if none);
+    read_only for reports (a SQLite file opened read-only: never waits for
+    a writer, never removes its -wal/-shm files)."""
     check_study_name(name)
+    if not args.storage:
+        check_output_dir(args.studies_dir, "--studies-dir")
     options = _options_from_args(args)
     if not args.storage:
         path = os.path.join(args.studies_dir, f"{name}.db")
@@ -97,32 +93,58 @@ def open_existing(name: str, args):
         path = storage_file(args.storage)
         if path and not os.path.exists(path):
             raise ValueError(f"no study {name!r}: {path} does not exist")
-    storage = options.open(name)
+    url = options.storage_url(name)
+    storage = open_storage(url, read_only=read_only)
     if not study_exists(name, storage):
         raise ValueError(f"no study {name!r} in {redact(options.storage_url(name))}")
     return storage
 
 
 def cmd_optimize(args) -> int:
+    url = args.storage or os.path.join(args.studies_dir, f"{args.report or args.study}.db")
+    try:
+        with storage_errors(url):
+            return _cmd_optimize(args)
+    except ValueError as e:
+        if "database is locked" in str(e) and str(SQLITE_LOCK_TIMEOUT_S) not in str(e):
+            raise ValueError(f"{e} (waited {SQLITE_LOCK_TIMEOUT_S} s for the write lock)") from None
+        raise
+
+
+def _cmd_optimize(args) -> int:
+    if not args.storage or (args.report and not args.out):
+        check_output_dir(args.studies_dir, "--studies-dir")
     if args.report or args.replay is not None:
         name = args.report or args.study
         if not name:
             raise ValueError("--replay TRIAL needs --study NAME (or --report NAME)")
-        storage = open_existing(name, args)
         if args.replay is not None:
-            return cmd_replay(name, storage, args)
-        return cmd_report(name, storage, args)
+            if args.render:
+                check_output_dir(args.out or args.studies_dir, "--out")
+            return cmd_replay(name, open_existing(name, args), args)
+        out = check_output_dir(args.out or os.path.join(args.studies_dir, f"{name}-report"), "--out")
+        with nothing_left_behind(out):
+            return cmd_report(name, args, out)
     if not args.study:
         raise ValueError("give --study NAME (or --report NAME)")
     if args.trials is None or args.trials < 1:
         raise ValueError(f"--trials must be an integer >= 1, got {args.trials!r}")
     options = _options_from_args(args, args.trials)
     check_sampler(options.sampler)
-    config_from_args(args, None)  # bad settings fail here, before any file is made
-    storage = options.open(args.study)
-    config = config_from_args(args, stored_config(args.study, storage))
-    del storage
-    res = run_study(config, options)
+    fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
+    check_objectives_vary(fresh.objective)
+    check_study_name(args.study)
+    studies_dir = None if args.storage else args.studies_dir
+    with nothing_left_behind(studies_dir):
+        if not args.storage:  # the study's own SQLite file: checked before it is made
+            path = os.path.join(args.studies_dir, f"{args.study}.db")
+            if os.path.isdir(path):
+                raise ValueError(f"sqlite storage {os.path.abspath(path)}: is a folder, not a database file")
+        storage = options.open(args.study)
+        stored = stored_config(args.study, storage)
+        config = config_from_args(args, stored) if stored else fresh
+        dispose(storage)  # no connection of this process may reach the forked workers
+        res = run_study(config, options)
     print(
         f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
         + (f", {res.running} still running elsewhere" if res.running else "")
@@ -185,8 +207,36 @@ def register_cli(sub) -> None:
     p.set_defaults(func=cmd_optimize)
 
 
-def cmd_report(name: str, storage, args) -> int:
-    out = args.out or os.path.join(args.studies_dir, f"{name}-report")
+def _needs_baselines(name: str, storage) -> bool:
+    """Whether the report must run (and store) a paper baseline the study
+    lacks: its space cannot express SS or rho-inc (the report then writes
+    to the study, so it needs a writable storage)."""
+    import optuna
+
+    study = optuna.load_study(study_name=name, storage=storage)
+    have = {
+        t.user_attrs.get("paper_design")
+        for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
+        if t.user_attrs.get("paper_design")
+    }
+    attrs = study.user_attrs
+    return any(b not in have and f"baseline:{b}" not in attrs for b in BASELINES)
+
+
+def cmd_report(name: str, args, out: str) -> int:
+    storage = open_existing(name, args, read_only=True)
+    key = storage.get_study_user_attrs(storage.get_study_id_from_name(name)).get(CONFIG_ATTR)
+    if key:
+        try:
+            check_objectives_vary(StudyConfig.from_key(name, key).objective)
+        except ValueError:
+            behs = ",".join(key["objective"].get("behaviours", []))
+            raise ValueError(
+                f"study {name!r} optimizes {behs} alone: tracking error and hip power are zero by symmetry "
+                "for every design (round-off only); no Pareto front, hypervolume or importances to report"
+            ) from None
+    if _needs_baselines(name, storage):
+        storage = open_existing(name, args)  # writes the baselines it runs into the study
     rep = write_report(name, storage, out)
     frame, front = rep["trials"], rep["pareto"]
     states = frame["state"].value_counts().to_dict() if len(frame) else {}

@@ -3,29 +3,56 @@
 
 from __future__ import annotations
 
+import os
 import sys
 
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
-from ..experiments.reproduce import reproduce
+from ..experiments.reproduce import default_out_dir, reproduce
 from ..experiments.runner import CACHE_ENV, DEFAULT_CACHE_DIR
+from ._checks import check_output_dir, nothing_left_behind
+
+
+def _connect(address: str):
+    """A Dask client of the scheduler at `address`, before anything is
+    written (ValueError, one line, if it cannot be reached)."""
+    if not str(address).strip():
+        raise ValueError("--scheduler address is empty (e.g. tcp://127.0.0.1:8786)")
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("--scheduler needs Dask distributed (pip install 'mat-hopper[cluster]')") from None
+    try:
+        return Client(address, timeout="20s")
+    except (OSError, TimeoutError, ValueError) as e:
+        cause = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        raise ValueError(f"cannot reach the Dask scheduler at {address!r}: {cause}") from None
 
 
 def cmd_reproduce(args) -> int:
     profile = get_profile(args.profile)
     if args.workers is not None and args.scheduler:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
-    rep = reproduce(
-        profile,
-        args.experiments,
-        args.out,
-        workers=args.workers,
-        scheduler=args.scheduler,
-        replicates=args.replicates,
-        cache_dir=args.cache,
-        progress=not args.no_progress,
-        figures=not args.no_figures,
-        conventions=args.conventions,
-    )
+    out = check_output_dir(args.out or default_out_dir(profile.name), "--out")
+    cache = check_output_dir(args.cache or os.environ.get(CACHE_ENV) or DEFAULT_CACHE_DIR, "--cache")
+    # a failed run leaves no empty --out or cache folder behind
+    with nothing_left_behind(out, cache):
+        client = _connect(args.scheduler) if args.scheduler else None
+        try:
+            rep = reproduce(
+                profile,
+                args.experiments,
+                out,
+                workers=args.workers,
+                scheduler=client,
+                replicates=args.replicates,
+                cache_dir=cache,
+                progress=not args.no_progress,
+                figures=not args.no_figures,
+                conventions=args.conventions,
+            )
+        finally:
+            if client is not None:
+                client.close()
     total = sum(rep.wall_s.values())
     print(
         f"wrote {len(rep.files)} files to {rep.out_dir} in {total:.1f} s wall "

@@ -39,10 +39,14 @@ run that died.
 from __future__ import annotations
 
 import os
+import random
 import re
 import socket
 import sqlite3
+import time
 import warnings
+from contextlib import contextmanager
+from urllib.parse import quote
 
 import optuna
 from optuna.trial import TrialState
@@ -50,6 +54,8 @@ from optuna.trial import TrialState
 STUDY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,99}$")
 SQLITE_LOCK_TIMEOUT_S = 60
 CONNECT_TIMEOUT_S = 10
+SCHEMA_ATTEMPTS = 10  # tries to create the tables when first starts race
+SCHEMA_LOCK_KEY = 0x6D61_7468  # PostgreSQL advisory lock held while the tables are made
 WORKER_ATTR = "worker"  # trial user attr: {"host", "boot", "pid"}
 FAIL_REASON_ATTR = "fail_reason"  # trial user attr set on trials of dead workers
 ERROR_ATTR = "error"  # trial user attr set when the evaluation raised
@@ -106,9 +112,110 @@ def storage_file(url: str) -> str | None:
     return None
 
 
-def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retry: int = 3):
+def _sqlite_path_check(db: str) -> None:
+    if not db or db == ":memory:" or db.startswith("file::memory:"):
+        raise ValueError(
+            "an in-memory SQLite database cannot be shared by worker processes; give a file: sqlite:///studies/NAME.db"
+        )
+    path = os.path.abspath(db)
+    folder = os.path.dirname(path)
+    if os.path.isdir(path):
+        raise ValueError(f"sqlite storage {path}: is a folder, not a database file")
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise ValueError(f"sqlite storage {path}: {folder} is a file, not a folder")
+    if not os.path.isdir(folder):
+        raise ValueError(f"sqlite storage: folder {folder} does not exist")
+
+
+def _cause(e: BaseException) -> str:
+    """The deepest message of an error chain (the driver's own words, e.g.
+    "database is locked"), one line."""
+    seen, cur = set(), e
+    while id(cur) not in seen:
+        seen.add(id(cur))
+        nxt = getattr(cur, "orig", None) or cur.__cause__ or cur.__context__
+        if nxt is None:
+            break
+        cur = nxt
+    lines = str(cur).strip().splitlines()
+    return lines[0].strip() if lines else type(cur).__name__
+
+
+def storage_error(url: str, e: BaseException) -> ValueError:
+    """One line naming the storage and the cause of a database error; a
+    locked SQLite file says how long it waited."""
+    cause = _cause(e)
+    if "database is locked" in cause or "database table is locked" in cause:
+        cause += f" (another process held the write lock for more than {SQLITE_LOCK_TIMEOUT_S} s)"
+    return ValueError(f"storage {redact(url)}: {cause}")
+
+
+def db_errors() -> tuple:
+    """The database errors :func:`storage_errors` turns into one line."""
+    import sqlalchemy
+
+    return (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, sqlite3.Error)
+
+
+@contextmanager
+def storage_errors(url: str):
+    """Turn database errors (SQLAlchemy's, Optuna's StorageInternalError,
+    sqlite3's) raised inside into :func:`storage_error`'s one line."""
+    try:
+        yield
+    except db_errors() as e:
+        raise storage_error(url, e) from None
+
+
+def _retry_schema_race(make, url: str, attempts: int = SCHEMA_ATTEMPTS):
+    """make(), again when it lost a race with another process creating the
+    same tables (two first starts at once: "table studies already exists"
+    on SQLite, "duplicate key value violates unique constraint" on
+    PostgreSQL). The winner's tables are complete when the loser retries."""
+    import sqlalchemy
+
+    rng = random.Random(os.getpid())
+    for i in range(attempts):
+        try:
+            return make()
+        except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError) as e:
+            cause = _cause(e).lower()
+            race = any(w in cause for w in ("already exists", "duplicate", "unique constraint", "database is locked"))
+            if not race or i == attempts - 1:
+                raise
+            time.sleep(0.05 + rng.random() * 0.2 * (i + 1))
+
+
+@contextmanager
+def _schema_lock(engine, backend: str):
+    """PostgreSQL: hold a session advisory lock while the schema is made,
+    so that concurrent first starts create it one at a time (the retry of
+    :func:`_retry_schema_race` covers every other backend)."""
+    if backend != "postgresql":
+        yield
+        return
+    import sqlalchemy
+
+    with engine.connect() as con:
+        con.execute(sqlalchemy.text("SELECT pg_advisory_lock(:k)"), {"k": SCHEMA_LOCK_KEY})
+        con.commit()
+        try:
+            yield
+        finally:
+            con.execute(sqlalchemy.text("SELECT pg_advisory_unlock(:k)"), {"k": SCHEMA_LOCK_KEY})
+            con.commit()
+
+
+def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retry: int = 3, read_only: bool = False):
     """An Optuna storage for `url`, checked to be reachable (ValueError, one
-    line, if not). See the module doc for the accepted URLs."""
+    line, if not). See the module doc for the accepted URLs.
+
+    ``postgresql://`` URLs use SQLAlchemy's default driver, psycopg 3
+    (installed, pinned in environment.txt); ``postgresql+psycopg2://``
+    picks psycopg2. read_only: for reports, a SQLite file is opened
+    read-only (``mode=ro``): no write lock is taken, so a report never waits
+    for a writer, and a read-only connection never checkpoints nor removes
+    the ``-wal``/``-shm`` files a writer holds."""
     if not isinstance(url, str) or not url.strip():
         raise ValueError(
             "--storage must be a URL such as sqlite:///studies/x.db, "
@@ -119,12 +226,14 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
         from optuna.storages.journal import JournalFileBackend, JournalStorage
 
         path = os.path.abspath(_journal_path(url))
+        if os.path.isdir(path):
+            raise ValueError(f"journal storage {path}: is a folder, not a file")
         if not os.path.isdir(os.path.dirname(path)):
             raise ValueError(f"journal storage: folder {os.path.dirname(path)} does not exist")
         try:
             return JournalStorage(JournalFileBackend(path))
         except OSError as e:
-            raise ValueError(f"cannot open journal storage {path}: {e}") from None
+            raise ValueError(f"cannot open journal storage {path}: {e.strerror or e}") from None
 
     import sqlalchemy
     from sqlalchemy.engine import make_url
@@ -132,6 +241,8 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
     try:
         parsed = make_url(url)
         parsed.get_dialect()
+    except ImportError as e:
+        raise ValueError(f"storage {redact(url)}: the database driver is not installed ({e})") from None
     except Exception:
         scheme = url.split(":", 1)[0] if ":" in url else url
         raise ValueError(
@@ -139,51 +250,68 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
             "postgresql://USER@HOST:PORT/DB (or another SQLAlchemy database URL), "
             "journal:///PATH"
         ) from None
-    engine_kwargs: dict = {}
-    if parsed.get_backend_name() == "sqlite":
-        db = parsed.database
-        if not db or db == ":memory:" or db.startswith("file::memory:"):
-            raise ValueError(
-                "an in-memory SQLite database cannot be shared by worker processes; "
-                "give a file: sqlite:///studies/NAME.db"
-            )
-        folder = os.path.dirname(os.path.abspath(db))
-        if not os.path.isdir(folder):
-            raise ValueError(f"sqlite storage: folder {folder} does not exist")
-        _sqlite_wal(db)
-        engine_kwargs["connect_args"] = {"timeout": SQLITE_LOCK_TIMEOUT_S}
-    elif parsed.get_backend_name() == "postgresql":
-        engine_kwargs["pool_pre_ping"] = True
-        if parsed.get_driver_name() in ("psycopg2", "psycopg"):
-            engine_kwargs["connect_args"] = {"connect_timeout": CONNECT_TIMEOUT_S}
     for name, v in (("heartbeat_s", heartbeat_s), ("grace_s", grace_s)):
         if isinstance(v, bool) or not isinstance(v, int) or v < 1:
             raise ValueError(f"{name} must be an integer >= 1 s, got {v!r}")
     if grace_s <= heartbeat_s:
         raise ValueError(f"grace_s must exceed heartbeat_s ({heartbeat_s} s), got {grace_s!r}")
+    backend = parsed.get_backend_name()
+    engine_kwargs: dict = {}
+    open_url = url
+    if backend == "sqlite":
+        db = parsed.database
+        _sqlite_path_check(db)
+        engine_kwargs["connect_args"] = {"timeout": SQLITE_LOCK_TIMEOUT_S}
+        if read_only:
+            if not os.path.isfile(db):
+                raise ValueError(f"sqlite storage {os.path.abspath(db)} does not exist")
+            open_url = f"sqlite:///file:{quote(os.path.abspath(db))}?mode=ro&uri=true"
+        else:
+            _sqlite_wal(db)
+    elif backend == "postgresql":
+        engine_kwargs["pool_pre_ping"] = True
+        if parsed.get_driver_name() in ("psycopg2", "psycopg"):
+            engine_kwargs["connect_args"] = {"connect_timeout": CONNECT_TIMEOUT_S}
+    # reachable? (the only failure called "cannot reach")
     try:
+        probe = sqlalchemy.create_engine(open_url, **engine_kwargs)
+        with probe.connect():
+            pass
+    except ImportError as e:
+        raise ValueError(f"storage {redact(url)}: the database driver is not installed ({e})") from None
+    except (sqlalchemy.exc.SQLAlchemyError, OSError) as e:
+        raise ValueError(f"cannot reach storage {redact(url)}: {_cause(e)}") from None
+
+    def make():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-            storage = optuna.storages.RDBStorage(
-                url,
+            return optuna.storages.RDBStorage(
+                open_url,
                 engine_kwargs=engine_kwargs,
                 heartbeat_interval=heartbeat_s,
                 grace_period=grace_s,
                 heartbeat_stale_trial_callback=RetryStaleTrial(max_retry),
+                skip_table_creation=read_only,
             )
-        if parsed.get_backend_name() == "sqlite":
+
+    try:
+        with _schema_lock(probe, backend):
+            storage = _retry_schema_race(make, url)
+        if backend == "sqlite" and not read_only:
             _sqlite_immediate(storage.engine)
         return storage
-    except (sqlalchemy.exc.SQLAlchemyError, ImportError, OSError) as e:
-        msg = str(getattr(e, "orig", None) or e).strip().splitlines()
-        raise ValueError(f"cannot reach storage {redact(url)}: {msg[0] if msg else type(e).__name__}") from None
+    except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, OSError, RuntimeError) as e:
+        raise storage_error(url, e) from None
+    finally:
+        probe.dispose()
 
 
 def _sqlite_immediate(engine) -> None:
     """Begin every SQLite transaction with BEGIN IMMEDIATE (take the write
     lock first). SQLite has no SELECT ... FOR UPDATE, so without this two
     workers can both read a WAITING trial and both set it RUNNING: both
-    would run the same enqueued trial. PostgreSQL and MySQL lock the row."""
+    would run the same enqueued trial. PostgreSQL and MySQL lock the row.
+    Reports open the file read-only instead (no lock, never waiting)."""
     from sqlalchemy import event
 
     def on_connect(dbapi_connection, record):
@@ -200,13 +328,25 @@ def _sqlite_immediate(engine) -> None:
 
 def _sqlite_wal(path: str) -> None:
     """Switch the SQLite file to WAL journaling (a persistent setting)."""
-    con = sqlite3.connect(path, timeout=SQLITE_LOCK_TIMEOUT_S)
+    try:
+        con = sqlite3.connect(path, timeout=SQLITE_LOCK_TIMEOUT_S)
+    except sqlite3.Error as e:
+        raise ValueError(f"cannot open sqlite storage {path}: {e}") from None
     try:
         con.execute("PRAGMA journal_mode=WAL")
-    except sqlite3.DatabaseError as e:
-        raise ValueError(f"cannot open sqlite storage {path}: {e}") from None
+    except sqlite3.Error as e:
+        raise storage_error(f"sqlite:///{os.path.abspath(path)}", e) from None
     finally:
         con.close()
+
+
+def dispose(storage) -> None:
+    """Close a storage's pooled database connections (before a fork: no
+    connection may cross into a child process, where SQLite's POSIX locks
+    would be released by the child closing its copy)."""
+    engine = getattr(storage, "engine", None)
+    if engine is not None:
+        engine.dispose()
 
 
 # --- worker identity and dead workers ------------------------------------

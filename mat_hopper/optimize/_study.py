@@ -55,6 +55,7 @@ import sys
 import threading
 import time
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -62,6 +63,7 @@ import optuna
 from optuna.trial import TrialState
 from tqdm.std import tqdm
 
+from ..materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
 from ._objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
 from ._space import SearchSpace
 from ._storage import (
@@ -70,9 +72,11 @@ from ._storage import (
     WORKER_ATTR,
     check_study_name,
     default_url,
+    dispose,
     open_storage,
     recover_dead,
     redact,
+    storage_errors,
     worker_identity,
 )
 
@@ -82,9 +86,46 @@ CONFIG_ATTR = "mat_hopper_config"
 RESULT_ATTR = "result"
 CONFIG_VERSION = 1
 POLL_S = 1.0
+CREATE_WAIT_S = 30.0  # how long a second first start waits for the creator's config
 
 
 # --- settings ---------------------------------------------------------------
+
+
+# Behaviours whose objectives vary between designs. Hopping in place
+# ("static") alone has none: its desired path is the start point and the
+# hopper is symmetric, so tracking error and hip power are zero up to
+# round-off (2e-15 m, 7e-26 W) for every design; a front, hypervolume or
+# importances computed from them would be noise.
+DEGENERATE_BEHAVIOURS = ("static",)
+
+
+def check_physical_bounds(space: SearchSpace) -> None:
+    """The search box inside the physical ranges every design must keep
+    (:data:`mat_hopper.materials.DENSITY_RANGE_G_CM3`,
+    :data:`~mat_hopper.materials.MODULUS_RANGE_GPA`): the same ranges
+    the simulator checks, named in one line, before any trial."""
+    for field_name, bounds, (lo, hi), unit in (
+        ("density_g_cm3", space.density_g_cm3, DENSITY_RANGE_G_CM3, "g/cm^3"),
+        ("modulus_gpa", space.modulus_gpa, MODULUS_RANGE_GPA, "GPa"),
+    ):
+        if bounds is None:
+            continue
+        if not (lo <= bounds[0] and bounds[1] <= hi):
+            raise ValueError(
+                f"{field_name} bounds must lie in the physical range [{lo:g}, {hi:g}] {unit}, "
+                f"got {bounds[0]:g} to {bounds[1]:g}"
+            )
+
+
+def check_objectives_vary(objective: Objective) -> None:
+    """Refuse a study whose objectives cannot vary (static hopping alone)."""
+    if all(b in DEGENERATE_BEHAVIOURS for b in objective.behaviours):
+        raise ValueError(
+            f"--behaviour {','.join(objective.behaviours)} alone cannot be optimized: hopping in place, "
+            "tracking error and hip power are zero by symmetry for every design (round-off only); "
+            "add a moving behaviour, e.g. --behaviour static,ramp"
+        )
 
 
 @dataclass(frozen=True)
@@ -102,6 +143,7 @@ class StudyConfig:
             raise ValueError("space must be a SearchSpace")
         if not isinstance(self.objective, Objective):
             raise ValueError("objective must be an Objective")
+        check_physical_bounds(self.space)
 
     def key(self) -> dict:
         return {"version": CONFIG_VERSION, "space": self.space.key(), "objective": self.objective.key()}
@@ -225,26 +267,41 @@ def _differences(a: dict, b: dict, prefix: str = "") -> list[str]:
     return out
 
 
-def create_or_load(config: StudyConfig, storage, sampler=None) -> optuna.Study:
+def create_or_load(config: StudyConfig, storage, sampler=None, *, wait_s: float = CREATE_WAIT_S) -> optuna.Study:
     """The study `config.name` in `storage`: created with the paper's designs
     enqueued first, or loaded and checked against `config` (ValueError on
-    a mismatch)."""
+    a mismatch).
+
+    Safe when several processes start the same new study at once: the
+    study's creation is atomic in the storage (a unique name), and only
+    its creator enqueues the paper's designs, then stores the config last,
+    as the mark that the study is ready. The others wait for that mark (up
+    to `wait_s`; a creator that died before setting it is replaced)."""
     _quiet()
-    study = optuna.create_study(
-        study_name=config.name,
-        storage=storage,
-        sampler=sampler,
-        directions=["minimize"] * len(OBJECTIVES),
-        load_if_exists=True,
-    )
+    check_objectives_vary(config.objective)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        try:
+            study = optuna.create_study(
+                study_name=config.name, storage=storage, sampler=sampler, directions=["minimize"] * len(OBJECTIVES)
+            )
+            created = True
+        except optuna.exceptions.DuplicatedStudyError:
+            study = optuna.load_study(study_name=config.name, storage=storage, sampler=sampler)
+            created = False
     stored = study.user_attrs.get(CONFIG_ATTR)
+    if stored is None and not created:
+        deadline = time.monotonic() + wait_s
+        while stored is None and time.monotonic() < deadline:
+            time.sleep(0.1)
+            stored = study.user_attrs.get(CONFIG_ATTR)
     if stored is None:
-        study.set_user_attr(CONFIG_ATTR, config.key())
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
             study.set_metric_names(list(OBJECTIVES))
         for name, params in config.space.seeds():
             study.enqueue_trial(params, user_attrs={PAPER_ATTR: name}, skip_if_exists=True)
+        study.set_user_attr(CONFIG_ATTR, config.key())  # last: the study is ready
     elif stored != config.key():
         diff = _differences(stored, config.key())
         raise ValueError(
@@ -335,23 +392,61 @@ class _Job:
     target: int
 
 
-def _worker_main(job: _Job, tickets, conn) -> None:
-    """One worker process: claim, run one trial, repeat; report what it told."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the coordinator handles Ctrl-C
+def _orphaned(parent: int) -> bool:
+    return os.getppid() != parent
+
+
+def _die_with_parent() -> None:
+    """Linux: SIGTERM this worker when its coordinator dies, even by
+    SIGKILL (prctl PR_SET_PDEATHSIG), so that no worker runs on orphaned;
+    its trial is failed and re-queued by the next run (or the heartbeat)."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGTERM, 0, 0, 0)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
+def _worker_main(job: _Job, tickets, conn, parent: int) -> None:
+    """One worker process: claim, run one trial, repeat; report what it told.
+    It opens its own storage (no connection crosses the fork), ignores
+    Ctrl-C and hang-ups (the coordinator handles them and stops it), stops
+    claiming when its coordinator is gone, and reports a storage failure as
+    one line (exit code 3) instead of a traceback."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    _die_with_parent()
+    if _orphaned(parent):
+        os._exit(4)
     _quiet()
     o = job.options
-    storage = open_storage(job.url, heartbeat_s=o.heartbeat_s, grace_s=o.grace_s, max_retry=o.max_retry)
-    study = optuna.load_study(study_name=job.name, storage=storage, sampler=make_sampler(o.sampler, job.seed))
-    objective = TrialObjective(StudyConfig.from_key(job.name, job.config_key))
     told = []
-    record = lambda s, t: told.append((t.number, t.state.name))
-    while _claim(tickets, study, job.target):
-        study.optimize(objective, n_trials=1, catch=(Exception,), callbacks=[record])
+    report = {"pid": os.getpid(), "seed": job.seed, "told": told}
+    code = 0
     try:
-        conn.send({"pid": os.getpid(), "seed": job.seed, "told": told})
+        with storage_errors(job.url):
+            storage = open_storage(job.url, heartbeat_s=o.heartbeat_s, grace_s=o.grace_s, max_retry=o.max_retry)
+            study = optuna.load_study(study_name=job.name, storage=storage, sampler=make_sampler(o.sampler, job.seed))
+            objective = TrialObjective(StudyConfig.from_key(job.name, job.config_key))
+            record = lambda s, t: told.append((t.number, t.state.name))
+            while not _orphaned(parent) and _claim(tickets, study, job.target):
+                study.optimize(objective, n_trials=1, catch=(Exception,), callbacks=[record])
+    except ValueError as e:
+        report["error"] = str(e).splitlines()[0]
+        code = 3
+    try:
+        conn.send(report)
         conn.close()
     except OSError:  # the coordinator is gone; the study has everything
         pass
+    if code:
+        sys.stderr.flush()
+        os._exit(code)
 
 
 # --- the coordinator ---------------------------------------------------------
@@ -401,12 +496,67 @@ class RunResult:
         return self.done >= self.target
 
 
+class Interrupted(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, handled like Ctrl-C (KeyboardInterrupt): the
+    coordinator stops its workers, fails and re-queues their trials."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signal_number = int(signum)
+        self.signal_name = signal.Signals(signum).name
+
+
+@contextmanager
+def stop_signals():
+    """In the main thread: SIGTERM and SIGHUP raise :class:`Interrupted`
+    (as Ctrl-C raises KeyboardInterrupt) until the block ends; the
+    previous handlers are restored. Elsewhere: nothing (Python delivers
+    signals to the main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise Interrupted(signum)
+
+    old = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGHUP)}
+    try:
+        yield
+    finally:
+        for sig, h in old.items():
+            signal.signal(sig, h)
+
+
+@contextmanager
+def _signals_ignored():
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    sigs = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+    old = {sig: signal.signal(sig, signal.SIG_IGN) for sig in sigs}
+    try:
+        yield
+    finally:
+        for sig, h in old.items():
+            signal.signal(sig, h)
+
+
 def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunResult:
     """Run `config`'s study until it holds options.trials finished trials,
     with options.workers local worker processes (see the module doc).
-    Bad settings or an unreachable storage raise ValueError before any work."""
+    Bad settings or an unreachable storage raise ValueError before any work;
+    a database error later is one line too (ValueError naming the storage
+    and its cause, e.g. "database is locked"). Ctrl-C, SIGTERM and SIGHUP
+    stop the workers, fail and re-queue their running trials, and raise
+    KeyboardInterrupt (:class:`Interrupted` for the signals)."""
     check_sampler(options.sampler)
+    check_objectives_vary(config.objective)
     url = options.storage_url(config.name)
+    with stop_signals(), storage_errors(url):
+        return _run(config, options, url)
+
+
+def _run(config: StudyConfig, options: RunOptions, url: str) -> RunResult:
     storage = options.open(config.name)
     study = create_or_load(config, storage)
     recovered = recover_dead(study, max_retry=options.max_retry, reason="worker of an earlier run died")
@@ -426,38 +576,46 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
     tickets = ctx.Value("i", budget)
     n_existing = len(study.get_trials(deepcopy=False))
     live: dict[int, tuple] = {}
+    errors: list[str] = []
     spawned = 0
 
     def spawn(n):
         nonlocal spawned
+        dispose(storage)  # no pooled connection crosses the fork (reopened on next use)
         for _ in range(n):
             job = _Job(
                 config.name, config.key(), options, url, worker_seed(options.seed, n_existing, spawned), options.trials
             )
             parent_end, child_end = ctx.Pipe(duplex=False)
             p = ctx.Process(
-                target=_worker_main, args=(job, tickets, child_end), daemon=True, name=f"mat-hopper-worker-{spawned}"
+                target=_worker_main,
+                args=(job, tickets, child_end, os.getpid()),
+                daemon=True,
+                name=f"mat-hopper-worker-{spawned}",
             )
             p.start()
             child_end.close()
             live[p.pid] = (p, parent_end)
             spawned += 1
 
+    def receive(conn):
+        while conn.poll():
+            try:
+                rep = conn.recv()
+            except (EOFError, OSError):
+                return
+            if "error" in rep:
+                errors.append(rep["error"])
+            result.worker_reports.append(rep)
+
     def reap():
         for pid, (p, conn) in list(live.items()):
-            if conn.poll():
-                try:
-                    result.worker_reports.append(conn.recv())
-                except EOFError:
-                    pass
+            receive(conn)
             if p.is_alive():
                 continue
             p.join()
-            if conn.poll():
-                try:
-                    result.worker_reports.append(conn.recv())
-                except EOFError:
-                    pass
+            receive(conn)
+            conn.close()
             del live[pid]
             if p.exitcode != 0:
                 result.dead_workers.append((pid, p.exitcode))
@@ -467,6 +625,16 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
                 result.recovered += lost
                 with tickets.get_lock():  # its ticket back (the storage check in _claim still caps the total)
                     tickets.value += max(1, len(lost))
+
+    def stop(reason: str):
+        for p, _ in live.values():
+            p.terminate()
+        for p, conn in live.values():
+            p.join(10)
+            conn.close()
+        with storage_errors(url):
+            recover_dead(study, pids=set(live), max_retry=options.max_retry, reason=reason)
+        live.clear()
 
     spawn(min(options.workers, budget))
     bar = _Bar(
@@ -484,6 +652,9 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
     try:
         while True:
             reap()
+            if errors:  # a storage failure in a worker: the others would meet it too
+                stop("stopped after a storage error")
+                raise ValueError(errors[0])
             done, running = counts(study)
             bar.n = min(done, options.trials)
             bar.set_postfix(running=running, dead=len(result.dead_workers), refresh=False)
@@ -497,12 +668,13 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
                     continue
                 break
             time.sleep(POLL_S)
-    except KeyboardInterrupt:
-        for p, _ in live.values():
-            p.terminate()
-        for p, _ in live.values():
-            p.join(10)
-        recover_dead(study, pids=set(live), max_retry=options.max_retry, reason="interrupted")
+    except KeyboardInterrupt as e:
+        with _signals_ignored():  # a second Ctrl-C or SIGTERM does not cut the clean-up short
+            stop(f"interrupted ({getattr(e, 'signal_name', 'SIGINT')})")
+        raise
+    except BaseException:
+        if live:
+            stop("stopped by an error in the coordinator")
         raise
     finally:
         bar.close()
