@@ -54,3 +54,57 @@ def write_csv(frame, path) -> str:
     with atomic_path(path) as tmp:
         frame.to_csv(tmp, index=False)
     return str(path)
+
+
+# --- what killed processes leave in the temp folder ---------------------------
+
+MP_TEMP_PREFIX = "pymp-"  # multiprocessing's temp folders (forkserver sockets)
+STALE_MP_AGE_S = 60.0
+
+
+def _bound_unix_sockets() -> set[str] | None:
+    """Paths of the Unix sockets some process has bound (Linux's
+    /proc/net/unix), or None where that table cannot be read."""
+    try:
+        with open("/proc/net/unix") as f:
+            next(f)
+            return {parts[7] for parts in (line.split() for line in f) if len(parts) >= 8}
+    except (OSError, StopIteration):
+        return None
+
+
+def remove_stale_mp_dirs(temp_dir: str | None = None, min_age_s: float = STALE_MP_AGE_S) -> list[str]:
+    """Remove the ``pymp-*`` folders that killed processes left in the temp
+    folder: multiprocessing makes one per process for its forkserver's
+    socket and removes it at a normal exit, which a SIGKILL (or a signal
+    without a handler) skips. A folder is removed only when it is ours,
+    older than `min_age_s`, and holds nothing but sockets no process has
+    bound (or nothing at all); a live process's folder is left alone.
+    Returns the folders removed."""
+    import shutil
+    import stat
+    import time
+
+    temp_dir = temp_dir or tempfile.gettempdir()
+    bound = _bound_unix_sockets()
+    removed = []
+    try:
+        names = [n for n in os.listdir(temp_dir) if n.startswith(MP_TEMP_PREFIX)]
+    except OSError:
+        return removed
+    now = time.time()
+    for name in names:
+        d = os.path.join(temp_dir, name)
+        try:
+            st = os.lstat(d)
+            if not stat.S_ISDIR(st.st_mode) or st.st_uid != os.getuid() or now - st.st_mtime < min_age_s:
+                continue
+            entries = [os.path.join(d, e) for e in os.listdir(d)]
+            if entries and bound is None:
+                continue
+            if all(stat.S_ISSOCK(os.lstat(e).st_mode) and e not in bound for e in entries):
+                shutil.rmtree(d)
+                removed.append(d)
+        except OSError:
+            continue
+    return removed

@@ -98,8 +98,13 @@ def main(argv=None) -> int:
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(negative_list_argv(argv, NEGATIVE_OK))
+    from ..atomic import remove_stale_mp_dirs
+    from ..optimize._study import stop_signals
+
+    remove_stale_mp_dirs()  # what killed runs left in the temp folder
     try:
-        return int(args.func(args) or 0)
+        with stop_signals():  # SIGTERM, SIGHUP: like Ctrl-C (workers stopped, nothing half-written)
+            return int(args.func(args) or 0)
     except BrokenPipeError:
         # the reader went away (`mat-hopper ... | head`): stop quietly, as a
         # shell tool killed by SIGPIPE does; stdout is pointed at /dev/null so

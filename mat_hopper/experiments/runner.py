@@ -18,7 +18,9 @@ of mat-hopper and MuJoCo, and a digest of the source of the modules that
 make results, so an edited simulation never reuses old results). The summary and the key dict ride in
 the file's metadata, so a result is one file, written atomically (temp
 file in the same folder, then ``os.replace``): a reader sees the whole file
-or none. Temp files (``.tmp-*``) are never read. A run killed half-way
+or none. Every file carries a SHA-256 content checksum of its columns and
+metadata (:func:`content_checksum`), verified on load: a damaged file (a
+flipped bit, a truncated write) is logged and recomputed, never loaded. Temp files (``.tmp-*``) are never read. A run killed half-way
 keeps every result it finished; the next run loads them and computes only
 the missing ones. A diverged simulation is a result (cached); an exception
 in a task is not (it becomes a ``failed`` row with the error text, and the
@@ -39,6 +41,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
+import logging
 import math
 import multiprocessing
 import os
@@ -58,9 +61,12 @@ from ..behaviours import Behaviour
 from ..materials import LegDesign
 from ..sim import SimSettings, route_mujoco_warnings
 
+_log = logging.getLogger("mat_hopper.cache")
+
 DEFAULT_CACHE_DIR = os.path.join("results", "cache")
 CACHE_ENV = "MAT_HOPPER_CACHE"
 _META_KEY = b"mat_hopper"
+_CHECKSUM_KEY = b"mat_hopper_sha256"
 _STALE_TEMP_S = 3600.0
 
 # Status of a task's summary row.
@@ -236,7 +242,9 @@ class Cache:
         return {f[:-8] for f in os.listdir(self.root) if f.endswith(".parquet") and not f.startswith(TEMP_PREFIX)}
 
     def load(self, key: str) -> tuple[pd.DataFrame, dict] | None:
-        """(table, summary) or None when absent or unreadable."""
+        """(table, summary) or None when absent, unreadable or damaged: a
+        file whose content checksum does not match (a flipped bit on disk)
+        is logged and recomputed, never loaded."""
         import pyarrow.parquet as pq
 
         path = self.path(key)
@@ -244,22 +252,30 @@ class Cache:
             return None
         try:
             table = pq.read_table(path)
-            meta = json.loads(table.schema.metadata[_META_KEY])
-            frame = table.to_pandas()
-        except Exception:  # unreadable (not ours, damaged): recompute, never trust
+            payload = table.schema.metadata[_META_KEY]
+            stored = table.schema.metadata[_CHECKSUM_KEY].decode("ascii")
+            ok = stored == content_checksum(table, payload)
+            meta = json.loads(payload) if ok else None
+            frame = table.to_pandas() if ok else None
+        except Exception:  # unreadable (not ours, damaged, no checksum): recompute, never trust
+            ok = False
+        if not ok:
+            _log.warning("cache file %s is damaged (content checksum mismatch or unreadable): recomputing", path)
             return None
         return frame, meta["summary"]
 
     def store(self, key: str, table: pd.DataFrame, summary: dict, key_dict: dict) -> None:
-        """Write atomically: temp file in the cache folder, then os.replace."""
+        """Write atomically: temp file in the cache folder, then os.replace.
+        The file's metadata holds the summary, the key and a SHA-256 content
+        checksum of both and of every column (:func:`content_checksum`)."""
         import pyarrow as pa
         import pyarrow.parquet as pq
 
         t = pa.Table.from_pandas(table.reset_index(drop=True), preserve_index=False)
+        payload = json.dumps({"summary": summary, "key": key_dict}, default=_json_default, allow_nan=True).encode()
         meta = dict(t.schema.metadata or {})
-        meta[_META_KEY] = json.dumps(
-            {"summary": summary, "key": key_dict}, default=_json_default, allow_nan=True
-        ).encode()
+        meta[_META_KEY] = payload
+        meta[_CHECKSUM_KEY] = content_checksum(t, payload).encode("ascii")
         t = t.replace_schema_metadata(meta)
         with atomic_path(self.path(key), prefix=TEMP_PREFIX, fsync=True) as tmp:
             pq.write_table(t, tmp)
@@ -278,6 +294,38 @@ class Cache:
                 except OSError:
                     pass
         return n
+
+
+def content_checksum(table, payload: bytes) -> str:
+    """SHA-256 of a cached result's content: every column's name, null mask
+    and values, the metadata payload (summary and key), the other schema
+    metadata and the column types. Computed from
+    the values, not from Arrow's memory layout, so the table written and
+    the table read back from parquet give the same digest; any change to a
+    stored number, string or the summary gives another. Ours because
+    parquet's own page checksums are optional and not verified on read by
+    default."""
+    import pyarrow as pa
+
+    h = hashlib.sha256()
+    for name, col in zip(table.column_names, table.columns):
+        arr = col.combine_chunks() if isinstance(col, pa.ChunkedArray) else col
+        h.update(json.dumps(name).encode() + b"\0")
+        h.update(np.asarray(arr.is_null().to_numpy(zero_copy_only=False), dtype=bool).tobytes())
+        if pa.types.is_floating(arr.type) or pa.types.is_integer(arr.type) or pa.types.is_boolean(arr.type):
+            vals = arr.fill_null(False if pa.types.is_boolean(arr.type) else 0).to_numpy(zero_copy_only=False)
+            h.update(np.ascontiguousarray(vals).tobytes())
+        else:
+            h.update(json.dumps(arr.to_pylist(), default=str).encode())
+        h.update(b"\1")
+    h.update(payload)
+    # the rest of the schema metadata (pandas' dtypes and column order) and the
+    # column types steer how the values come back as a DataFrame
+    meta = table.schema.metadata or {}
+    for k in sorted(k for k in meta if k not in (_META_KEY, _CHECKSUM_KEY)):
+        h.update(k + b"\0" + meta[k] + b"\1")
+    h.update(json.dumps([str(t) for t in table.schema.types]).encode())
+    return h.hexdigest()
 
 
 # ---------------------------------------------------------------------------
