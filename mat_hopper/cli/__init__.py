@@ -104,7 +104,9 @@ def main(argv=None) -> int:
     remove_stale_mp_dirs()  # what killed runs left in the temp folder
     try:
         with stop_signals():  # SIGTERM, SIGHUP: like Ctrl-C (workers stopped, nothing half-written)
-            return int(args.func(args) or 0)
+            code = int(args.func(args) or 0)
+            sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's final flush
+            return code
     except BrokenPipeError:
         # the reader went away (`mat-hopper ... | head`): stop quietly, as a
         # shell tool killed by SIGPIPE does; stdout is pointed at /dev/null so

@@ -30,7 +30,7 @@ from ..optimize import (
     study_exists,
     write_report,
 )
-from ..optimize._storage import SQLITE_LOCK_TIMEOUT_S, dispose, storage_errors
+from ..optimize._storage import dispose, storage_errors
 from ..optimize._study import CONFIG_ATTR, check_objectives_vary
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
@@ -102,13 +102,8 @@ def open_existing(name: str, args, *, read_only: bool = False):
 
 def cmd_optimize(args) -> int:
     url = args.storage or os.path.join(args.studies_dir, f"{args.report or args.study}.db")
-    try:
-        with storage_errors(url):
-            return _cmd_optimize(args)
-    except ValueError as e:
-        if "database is locked" in str(e) and str(SQLITE_LOCK_TIMEOUT_S) not in str(e):
-            raise ValueError(f"{e} (waited {SQLITE_LOCK_TIMEOUT_S} s for the write lock)") from None
-        raise
+    with storage_errors(url):  # a database error: one line naming the storage and the cause
+        return _cmd_optimize(args)
 
 
 def _cmd_optimize(args) -> int:

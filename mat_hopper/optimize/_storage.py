@@ -54,6 +54,12 @@ from optuna.trial import TrialState
 STUDY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,99}$")
 SQLITE_LOCK_TIMEOUT_S = 60
 CONNECT_TIMEOUT_S = 10
+# Connection errors that mean the server was not reached (anything else: it answered).
+UNREACHABLE = re.compile(
+    r"refused|timed? ?out|could not translate host|name or service not known|no route to host|"
+    r"network is unreachable|could not connect|no such host|unable to open database file",
+    re.IGNORECASE,
+)
 SCHEMA_ATTEMPTS = 10  # tries to create the tables when first starts race
 SCHEMA_LOCK_KEY = 0x6D61_7468  # PostgreSQL advisory lock held while the tables are made
 WORKER_ATTR = "worker"  # trial user attr: {"host", "boot", "pid"}
@@ -180,7 +186,7 @@ def _retry_schema_race(make, url: str, attempts: int = SCHEMA_ATTEMPTS):
             return make()
         except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError) as e:
             cause = _cause(e).lower()
-            race = any(w in cause for w in ("already exists", "duplicate", "unique constraint", "database is locked"))
+            race = any(w in cause for w in ("already exists", "duplicate", "unique constraint"))
             if not race or i == attempts - 1:
                 raise
             time.sleep(0.05 + rng.random() * 0.2 * (i + 1))
@@ -280,7 +286,10 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
     except ImportError as e:
         raise ValueError(f"storage {redact(url)}: the database driver is not installed ({e})") from None
     except (sqlalchemy.exc.SQLAlchemyError, OSError) as e:
-        raise ValueError(f"cannot reach storage {redact(url)}: {_cause(e)}") from None
+        cause = _cause(e)
+        if UNREACHABLE.search(cause):
+            raise ValueError(f"cannot reach storage {redact(url)}: {cause}") from None
+        raise ValueError(f"cannot open storage {redact(url)}: {cause}") from None  # reached, but refused
 
     def make():
         with warnings.catch_warnings():

@@ -4,16 +4,11 @@ reports. Runs use a 2 s profile (tiny) so the file stays short."""
 
 from __future__ import annotations
 
-import glob
 import json
 import os
-import pwd
-import shutil
 import signal
-import socket
 import subprocess
 import sys
-import tempfile
 import time
 import warnings
 
@@ -57,55 +52,7 @@ def _trials(url, name):
     return sorted(study.get_trials(), key=lambda t: t.number), study
 
 
-# --- a real PostgreSQL server ------------------------------------------------
-
-
-def _pg_bin():
-    dirs = glob.glob("/usr/lib/postgresql/*/bin")
-    dirs = [d for d in dirs if os.path.exists(os.path.join(d, "pg_ctl"))]
-    return sorted(dirs, key=lambda d: int(d.split("/")[-2]) if d.split("/")[-2].isdigit() else 0)[-1] if dirs else None
-
-
-@pytest.fixture(scope="module")
-def pg_url():
-    """A throw-away PostgreSQL server on a free localhost port (as user
-    postgres when we are root), with an empty database; stopped after."""
-    bindir = _pg_bin()
-    if bindir is None:
-        pytest.skip("PostgreSQL server binaries not found in /usr/lib/postgresql/*/bin")
-    root = os.geteuid() == 0
-    as_user = (lambda cmd: ["runuser", "-u", "postgres", "--", *cmd]) if root else (lambda cmd: cmd)
-    tmp = tempfile.mkdtemp(prefix="mat-hopper-pg-")
-    if root:
-        pw = pwd.getpwnam("postgres")
-        os.chown(tmp, pw.pw_uid, pw.pw_gid)
-    data, log = os.path.join(tmp, "data"), os.path.join(tmp, "server.log")
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    run = lambda cmd: subprocess.run(as_user(cmd), check=True, capture_output=True, text=True)
-    run([f"{bindir}/initdb", "-D", data, "-A", "trust", "-U", "postgres", "--no-sync", "-E", "UTF8"])
-    run(
-        [
-            f"{bindir}/pg_ctl",
-            "-D",
-            data,
-            "-l",
-            log,
-            "-w",
-            "-t",
-            "60",
-            "-o",
-            f"-p {port} -k {tmp} -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=50",
-            "start",
-        ]
-    )
-    try:
-        run([f"{bindir}/createdb", "-h", "127.0.0.1", "-p", str(port), "-U", "postgres", "optuna"])
-        yield f"postgresql+psycopg2://postgres@127.0.0.1:{port}/optuna"
-    finally:
-        subprocess.run(as_user([f"{bindir}/pg_ctl", "-D", data, "-m", "immediate", "-w", "stop"]), capture_output=True)
-        shutil.rmtree(tmp, ignore_errors=True)
+# --- a real PostgreSQL server: the pg_url fixture of conftest.py -------------
 
 
 # --- search space -----------------------------------------------------------
