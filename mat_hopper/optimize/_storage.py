@@ -13,15 +13,28 @@ Storage choices (``--storage``):
   row locks, and without it two workers could both take the same enqueued
   (WAITING) trial. It keeps Optuna's heartbeat (below), which the journal
   file backend lacks; that is why it is the default for ``--workers N`` on
-  one machine.
+  one machine. Reports open the file read-only (``mode=ro``): no lock, so
+  they never wait for a writer, and they never checkpoint nor remove the
+  ``-wal``/``-shm`` files a writer holds.
 - any SQLAlchemy/Optuna RDB URL, e.g.
   ``postgresql://USER:PASSWORD@HOST:5432/DB``: the way to run many workers
   on many machines (every machine runs the same ``mat-hopper optimize``
-  command against the same URL).
+  command against the same URL). ``postgresql://`` uses SQLAlchemy 2's
+  default driver, psycopg 3 (pinned in environment.txt);
+  ``postgresql+psycopg2://`` picks psycopg2.
 - ``journal:///PATH/study.log``: Optuna's journal file backend, for a
   shared file system without a database server (NFS v3+; symlink lock).
   No heartbeat: a machine that dies mid-trial leaves that trial RUNNING
   until a worker on the same machine restarts (see :func:`recover_dead`).
+
+First starts. Several processes may open one fresh storage at once: the
+tables are created under a PostgreSQL advisory lock, and a process that
+loses a creation race elsewhere (SQLite: "table studies already exists")
+retries; the study itself is created once (see
+:func:`mat_hopper.optimize._study.create_or_load`).
+
+Errors are one line naming the cause (:func:`storage_error`): "cannot
+reach" only when the server was not reached.
 
 Dead workers. On RDB storages Optuna's heartbeat is on: a running trial
 records a heartbeat every ``heartbeat_s``; one silent for ``grace_s`` is
