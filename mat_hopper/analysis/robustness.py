@@ -243,6 +243,11 @@ def quantity_values(hops: pd.DataFrame, runs: pd.DataFrame | None = None) -> pd.
     metrics; runs: one row per run with variant, design, behaviour and
     ``status`` ("ok" when usable) -- runs that diverged or fell give no
     value. Returns columns variant, quantity_id, claim, paper_pct, value_pct."""
+    columns = ["variant", "quantity_id", "claim", "paper_pct", "value_pct"]
+    if "variant" not in hops.columns and (runs is None or "variant" not in runs.columns):
+        return pd.DataFrame(columns=columns)
+    if "variant" not in hops.columns:
+        hops = pd.DataFrame(columns=["variant", "design", "behaviour", *{q.metric for q in QUANTITIES}])
     usable = None
     if runs is not None and len(runs) and "status" in runs.columns:
         ok = runs[runs["status"] == "ok"]
