@@ -322,3 +322,16 @@ def summary(table: pd.DataFrame, default: str = DEFAULT.label) -> pd.DataFrame:
             }
         )
     return pd.DataFrame(rows)
+
+
+FINE_LABEL = "2e-5 s physics (control 1e-4 s)"
+
+
+def fine_step_hops(robustness_hops: pd.DataFrame | None) -> pd.DataFrame | None:
+    """The robustness study's finer-physics runs (2e-5 s, five substeps per
+    control period, the same 1e-4 s sensor delay) as the claims table's
+    time-step check reads them (paper convention, unperturbed)."""
+    if robustness_hops is None or len(robustness_hops) == 0 or "variant" not in robustness_hops.columns:
+        return None
+    fine = robustness_hops[robustness_hops["variant"] == FINE_PHYSICS]
+    return fine.drop(columns=["sensor_timing"], errors="ignore") if len(fine) else None

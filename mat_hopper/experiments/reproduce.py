@@ -176,6 +176,8 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
     hops = _concat([rep.tables.get(f"{e}_hops") for e in ("exp1", "exp2", "exp3")])
     runs = _concat([rep.tables.get(f"{e}_runs") for e in ("exp1", "exp2", "exp3")])
     stab = rep.tables.get("stability")
+    from ..analysis.robustness import FINE_LABEL, fine_step_hops
+
     fine = fine_step_hops(rep.tables.get("robustness_hops"))
     table = claims.claims_table(
         hops, runs, stab, conventions=CONVENTIONS, fine_hops=fine, fine_label=FINE_LABEL if fine is not None else ""
@@ -184,21 +186,6 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
     rep.tables["claims"] = table
     log(f"figures and claims: {len(files)} files in {rep.out_dir}")
     return files
-
-
-FINE_LABEL = "2e-5 s physics (control 1e-4 s)"
-
-
-def fine_step_hops(robustness_hops: pd.DataFrame | None) -> pd.DataFrame | None:
-    """The robustness study's finer-physics runs (2e-5 s, five substeps per
-    control period, the same 1e-4 s sensor delay) as the claims table's
-    time-step check reads them (paper convention, unperturbed)."""
-    from ..analysis.robustness import FINE_PHYSICS
-
-    if robustness_hops is None or len(robustness_hops) == 0 or "variant" not in robustness_hops.columns:
-        return None
-    fine = robustness_hops[robustness_hops["variant"] == FINE_PHYSICS]
-    return fine.drop(columns=["sensor_timing"], errors="ignore") if len(fine) else None
 
 
 def _check_conventions(conventions) -> tuple:
@@ -221,7 +208,7 @@ def run_experiments(
     *,
     out_dir=None,
     cache_dir=None,
-    replicates: int = 0,
+    replicates: int | None = None,
     workers: int | None = None,
     quiet: bool = False,
 ) -> dict[str, pd.DataFrame]:
