@@ -3,6 +3,9 @@ import sys
 
 import pytest
 
+# the throw-away PostgreSQL server's fixtures (pg_server, pg_url, fresh_pg_url)
+pytest_plugins = ["pg_server"]
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 

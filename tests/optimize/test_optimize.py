@@ -52,7 +52,7 @@ def _trials(url, name):
     return sorted(study.get_trials(), key=lambda t: t.number), study
 
 
-# --- a real PostgreSQL server: the pg_url fixture of conftest.py -------------
+# --- a real PostgreSQL server: tests/pg_server.py ----------------------------
 
 
 # --- search space -----------------------------------------------------------

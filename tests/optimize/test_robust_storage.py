@@ -17,6 +17,7 @@ import time
 import optuna
 import pytest
 from optuna.trial import TrialState
+from pg_server import new_database
 
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
@@ -361,8 +362,6 @@ def test_two_optimize_commands_on_one_fresh_postgresql_study(fresh_pg_url, tmp_p
 
 @pytest.mark.slow
 def test_concurrent_first_start_on_a_fresh_postgresql_database(pg_server):
-    from conftest import new_database  # tests/optimize/conftest.py
-
     for _ in range(3):
         url = new_database(pg_server)
         results = _start_together(url, n=3)

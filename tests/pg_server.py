@@ -1,4 +1,5 @@
-"""A throw-away PostgreSQL server for the optimizer's storage tests."""
+"""A throw-away PostgreSQL server for the optimizer's storage tests (fixtures:
+import them into a test module, ``from pg_server import pg_server, pg_url``)."""
 
 from __future__ import annotations
 
