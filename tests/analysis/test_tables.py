@@ -126,3 +126,24 @@ def test_power_formula_and_defects_figure(synthetic):
     assert len(chapters.defects_figure(clock, jerk, p).axes) == 3
     rules = tab.claim_rules()
     assert len(rules) == len(tab.claims_for({"exp1_hops": hops[hops["experiment"] == "exp1"]}, None))
+
+
+def test_jerk_by_rate_raw_and_metric_by_hand():
+    """A hand-made record at 1 kHz: vertical acceleration a = 2 t (m/s^2),
+    so every finite difference is exactly 2 m/s^3; the metric's channel
+    jerk_z holds -3 m/s^3, so its mean |jerk| is 3 at every rate."""
+    from mat_hopper.behaviours import behaviour
+    from mat_hopper.materials import parse_design
+    from mat_hopper.sim import CHANNELS, C, Rollout, SimSettings
+
+    t = np.arange(2001) * 1e-3
+    data = np.zeros((len(t), len(CHANNELS)))
+    data[:, C["t"]], data[:, C["az"]], data[:, C["jerk_z"]] = t, 2.0 * t, -3.0
+    settings = SimSettings(duration_s=2.0, transient_s=0.5, timestep_s=1e-4)
+    r = Rollout(parse_design("SS"), behaviour("forward"), settings, data, np.zeros((0, 3)), -1, 1.0, ())
+    j = tab.jerk_by_rate(r, rates_hz=(1000.0, 100.0))
+    assert list(j["rate_hz"]) == pytest.approx([1000.0, 100.0])
+    assert list(j["raw_jerk_m_s3"]) == pytest.approx([2.0, 2.0])
+    assert list(j["metric_jerk_m_s3"]) == pytest.approx([3.0, 3.0])
+    assert list(j["mean_jerk_m_s3"]) == list(j["raw_jerk_m_s3"])
+    assert len(chapters.jerk_rate_figure({"SS": j}).axes) == 1
