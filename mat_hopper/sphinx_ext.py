@@ -1,4 +1,5 @@
-"""A Sphinx extension for the book: runtime per chapter at both profiles.
+"""A Sphinx extension for the book: runtime per chapter at both profiles
+(and one fix of the HTML, :func:`_unique_scripts`).
 
 myst-nb's ``nb-exec-table`` shows how long each notebook of *this* build
 took to execute. A reader also wants the other profile's cost (what does
@@ -189,7 +190,27 @@ class RuntimeTablePostTransform(SphinxPostTransform):
         return table
 
 
+def _unique_scripts(app, pagename, templatename, context, doctree):
+    """html-page-context: drop repeated script tags. Jupyter Book 1 sets up
+    sphinx-thebe so that its configuration script (``const THEBE_JS_URL =
+    ...``) lands on every page twice, and a browser then reports a
+    SyntaxError for the second ``const``."""
+    scripts = context.get("script_files")
+    if not scripts:
+        return
+    seen, unique = set(), []
+    for js in scripts:
+        # an inline script comes with filename None or "" (the same body added twice)
+        name = getattr(js, "filename", str(js)) or ""
+        key = (name, tuple(sorted((k, str(v)) for k, v in getattr(js, "attributes", {}).items())))
+        if key not in seen:
+            seen.add(key)
+            unique.append(js)
+    scripts[:] = unique
+
+
 def setup(app):
+    app.connect("html-page-context", _unique_scripts)
     app.add_node(RuntimeTableNode)
     app.add_directive("runtime-table", RuntimeTableDirective)
     app.add_post_transform(RuntimeTablePostTransform)

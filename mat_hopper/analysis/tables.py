@@ -401,3 +401,66 @@ def power_formula_table(hops: pd.DataFrame, design: str = "SS", baseline: str = 
     out = pd.DataFrame(rows).T
     out.columns.name = f"power: {design} vs {baseline} (%)"
     return out
+
+
+def leg_mass_table(runs: pd.DataFrame) -> pd.DataFrame:
+    """The runs of a sweep with the mass of the leg's material (the sum of
+    :func:`mat_hopper.materials.segment_masses`, kg, from the runs'
+    per-segment ``densities_g_cm3`` "a/b/c" and ``segment_mass``
+    convention) as ``leg_mass_kg``; unperturbed runs only. Columns: those of
+    `runs` plus leg_mass_kg."""
+    from ..materials import LegDesign, segment_masses
+
+    need = ("densities_g_cm3",)
+    missing = [c for c in need if c not in runs.columns]
+    if missing:
+        raise ValueError(f"leg_mass_table needs columns {missing}")
+    r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs
+    masses = []
+    for text, conv in zip(r["densities_g_cm3"].astype(str), r.get("segment_mass", pd.Series("leg", index=r.index))):
+        rho = [float(x) for x in text.split("/")]
+        d = LegDesign.from_properties(rho, [None] * len(rho))
+        masses.append(sum(segment_masses(d, conv)))
+    return r.assign(leg_mass_kg=masses).reset_index(drop=True)
+
+
+def failure_table(runs: pd.DataFrame) -> pd.DataFrame:
+    """Every unperturbed run that did not end upright, told apart:
+    ``numerical`` (the numbers blew up while the body was still up: a time
+    step above the design's stable step, chapter 5), ``fell, then
+    diverged`` (the body was already below 0.1 m, the paper's criterion,
+    when the numbers blew up: the hopper failed first), ``fell`` (ended
+    below 0.1 m without blowing up) or ``failed`` (an error). Columns:
+    design, behaviour, kind, at_s (time of the blow-up, s; nan for a plain
+    fall), final_base_z_m (the last recorded body height), n_hops."""
+    from .. import reference as ref
+
+    need = ("design", "behaviour", "status", "final_base_z_m")
+    missing = [c for c in need if c not in runs.columns]
+    if missing:
+        raise ValueError(f"failure_table needs columns {missing}")
+    r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs
+    upright = r["upright"].astype(bool) if "upright" in r.columns else r["status"] == "ok"
+    bad = r[(r["status"] != "ok") | ~upright]
+    rows = []
+    for row in bad.itertuples(index=False):
+        z = float(row.final_base_z_m)
+        low = not (z >= ref.STABLE_MIN_BASE_Z)
+        if row.status == "diverged":
+            kind = "fell, then diverged" if low else "numerical"
+            at = float(row.diverged_at_s)
+        elif row.status == "failed":
+            kind, at = "failed", np.nan
+        else:
+            kind, at = "fell", np.nan
+        rows.append(
+            {
+                "design": row.design,
+                "behaviour": row.behaviour,
+                "kind": kind,
+                "at_s": at,
+                "final_base_z_m": z,
+                "n_hops": int(row.n_hops) if pd.notna(getattr(row, "n_hops", np.nan)) else 0,
+            }
+        )
+    return pd.DataFrame(rows, columns=["design", "behaviour", "kind", "at_s", "final_base_z_m", "n_hops"])

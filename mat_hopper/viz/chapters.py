@@ -268,3 +268,42 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
                 -0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold", ha="right", va="bottom"
             )
     return fig
+
+
+def leg_mass_figure(table: pd.DataFrame, md_tracking_m: float | None = None):
+    """Mean tracking error (mm) of every sweep point that ended upright
+    against the mass of its leg's material (kg), from
+    :func:`mat_hopper.analysis.tables.leg_mass_table` of experiment 2's
+    runs: density sweeps filled and joined per base material, modulus
+    sweeps (which leave the mass alone) hollow; `md_tracking_m`, the rigid
+    MD leg's forward tracking error, as a dashed line."""
+    need = ("sweep_base", "sweep_property", "sweep_value", "leg_mass_kg", "mean_tracking_error_m")
+    missing = [c for c in need if c not in table.columns]
+    if missing:
+        raise ValueError(f"leg_mass_figure needs columns {missing}")
+    t = table[table["upright"].astype(bool)] if "upright" in table.columns else table
+    with rc_context(STYLE):
+        fig = Figure(figsize=(6.4, 4.0), layout="constrained")
+        ax = fig.subplots()
+        for i, (base, g) in enumerate(t.groupby("sweep_base", sort=False)):
+            colour = design_colour(base, i)
+            dens = g[g["sweep_property"] == "density"].sort_values("leg_mass_kg")
+            ax.plot(
+                dens["leg_mass_kg"], dens["mean_tracking_error_m"] * 1e3, "o-", color=colour, label=f"{base}: density"
+            )
+            mod = g[g["sweep_property"] == "modulus"]
+            ax.plot(
+                mod["leg_mass_kg"],
+                mod["mean_tracking_error_m"] * 1e3,
+                "o",
+                mfc="none",
+                color=colour,
+                label=f"{base}: modulus",
+            )
+        if md_tracking_m is not None and np.isfinite(md_tracking_m):
+            ax.axhline(md_tracking_m * 1e3, color="black", ls="--", lw=0.8, label="MD")
+        ax.set_xlabel("Mass of the leg's material (kg)")
+        ax.set_ylabel("Tracking error (mm)")
+        ax.set_title("Experiment 2: tracking error against leg mass")
+        ax.legend(fontsize="small", ncol=2)
+    return fig

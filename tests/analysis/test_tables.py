@@ -147,3 +147,31 @@ def test_jerk_by_rate_raw_and_metric_by_hand():
     assert list(j["metric_jerk_m_s3"]) == pytest.approx([3.0, 3.0])
     assert list(j["mean_jerk_m_s3"]) == list(j["raw_jerk_m_s3"])
     assert len(chapters.jerk_rate_figure({"SS": j}).axes) == 1
+
+
+def test_leg_mass_table_by_hand():
+    # a 0.1 m segment at 1 g/cm^3 weighs 0.327 kg with its end caps
+    # (docs/reference-hopper.md): three of them 0.982 kg; at 8 g/cm^3, 8 times that.
+    runs = pd.DataFrame({"design": ["MD-like", "SS"], "densities_g_cm3": ["1/1/1", "8/8/8"], "replicate": [-1, -1]})
+    t = tab.leg_mass_table(runs)
+    assert t["leg_mass_kg"].tolist() == pytest.approx([3 * 0.327, 24 * 0.327], rel=2e-3)
+
+
+def test_failure_table_tells_numerical_from_falls():
+    runs = pd.DataFrame(
+        {
+            "design": ["A", "B", "C", "D"],
+            "behaviour": ["forward"] * 4,
+            "replicate": [-1] * 4,
+            "status": ["ok", "diverged", "diverged", "fallen"],
+            "upright": [True, False, False, False],
+            "diverged_at_s": [np.nan, 0.0012, 9.4, np.nan],
+            "final_base_z_m": [0.9, 1.2, 0.01, 0.05],
+            "n_hops": [10, 0, 8, 3],
+        }
+    )
+    f = tab.failure_table(runs).set_index("design")
+    assert list(f.index) == ["B", "C", "D"]
+    assert f.loc["B", "kind"] == "numerical" and f.loc["B", "at_s"] == 0.0012
+    assert f.loc["C", "kind"] == "fell, then diverged" and f.loc["C", "at_s"] == 9.4
+    assert f.loc["D", "kind"] == "fell" and np.isnan(f.loc["D", "at_s"])
