@@ -140,7 +140,7 @@ def _whole_run_means(rollout) -> tuple[float, float]:
 def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None) -> dict:
     """Simulate one behaviour in chunks of CHUNK_S simulated s (calling
     tick() between chunks) and score it."""
-    settings = objective.profile.for_convention(objective.convention).sim_settings()
+    settings = objective.profile.for_convention(objective.convention).sim_settings(design=design)
     runner = RolloutRunner(design, get_behaviour(behaviour_name), settings)
     chunk = max(1, int(round(CHUNK_S / settings.timestep_s)))
     while not runner.done:

@@ -167,7 +167,7 @@ from mat_hopper.analysis import stats
 
 reps = paper.in_place_replicates(b.profile, cache_dir=b.cache_dir)
 in_place = stats.compare_replicates(reps, "MD")
-print(f"{b.profile.book_replicates} replicates per design ({b.profile.name} profile)")
+print(f"{b.profile.replicates} replicates per design ({b.profile.name} profile)")
 glue("fig-mono-replicates", plots.figure4_mono(reps, in_place), display=False)
 b.downloads({"exp1_static_replicates_hops": reps, "exp1_static_replicates_comparison": in_place})
 
