@@ -36,6 +36,8 @@ MIN_FIGURES = {
     "08-gradients": 4,  # gradients, time series, gait tiles forward and ramp
     "09-optimizing-gradients": 1,  # the Pareto front
     "10-reproduction-report": 1,  # a defect measured
+    "11-robustness": 1,  # what moves the claims
+    "12-convergence": 1,  # results against the number of segments
 }
 
 
