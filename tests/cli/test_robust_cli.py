@@ -305,7 +305,7 @@ def test_sigterm_on_reproduce_leaves_no_temp_folder_nor_partial_file(tmp_path):
     # once the pool's workers run (the first result stored): a kill during the
     # pool's own start-up meets a CPython race (a worker still unpickling its
     # queue's semaphore when the parent removes it), not ours
-    while not (cache.is_dir() and [n for n in os.listdir(cache) if n.endswith(".parquet")]):
+    while not (cache.is_dir() and [n for n in os.listdir(cache) if n.endswith(".parquet") and n[0] != "."]):
         assert time.monotonic() < deadline and p.poll() is None, "no result stored"
         time.sleep(0.1)
     assert [n for n in os.listdir(tmp) if n.startswith("pymp-")], "no multiprocessing temp folder to remove"
@@ -316,8 +316,10 @@ def test_sigterm_on_reproduce_leaves_no_temp_folder_nor_partial_file(tmp_path):
     assert [n for n in os.listdir(tmp) if n.startswith("pymp-")] == []
     import pyarrow.parquet as pq
 
-    for f in os.listdir(tmp_path / "cache"):
-        pq.read_table(tmp_path / "cache" / f)  # whole files only
+    stored = os.listdir(cache)
+    assert stored and not [f for f in stored if f.startswith(".")]  # finished results kept, no temp file
+    for f in stored:
+        pq.read_table(cache / f)  # whole files only
 
 
 def test_stale_temp_folders_of_killed_runs_are_removed(tmp_path):

@@ -216,6 +216,8 @@ def test_no_database_connection_crosses_the_fork(tmp_path, monkeypatch):
         return real_open(url, **kw)
 
     monkeypatch.setattr(study_mod, "open_storage", spy)
+    # fork even when an earlier test left a thread running (run_study would spawn)
+    monkeypatch.setattr(study_mod, "_start_method", lambda: "fork")
     res = run_study(
         tiny("fork"), RunOptions(trials=5, workers=2, storage=f"sqlite:///{tmp_path}/fork.db", progress=False)
     )
