@@ -74,7 +74,9 @@ def run_batch(args) -> int:
     from ..atomic import write_csv
     from ..batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, evaluate, parse_design_list
     from ..behaviours import behaviour
+    from ._checks import check_output_file
 
+    check_output_file(args.csv, "--csv")  # before any work
     designs = designs_from_csv(args.designs_csv) if args.designs_csv else parse_design_list(args.designs)
     beh = behaviour(args.behaviour)
     settings = BatchSettings(

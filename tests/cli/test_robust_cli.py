@@ -343,3 +343,13 @@ def test_stale_temp_folders_of_killed_runs_are_removed(tmp_path):
         live.close()
     assert sorted(os.path.basename(r) for r in removed) == ["pymp-deadsock", "pymp-empty"]
     assert sorted(os.listdir(tmp_path)) == ["other", "pymp-files", "pymp-live", "pymp-young"]
+
+
+@pytest.mark.parametrize(
+    "csv, text", [("a_folder", "--csv a_folder: is a folder"), ("a_file/x.csv", "a_file is a file, not a folder")]
+)
+def test_batch_csv_checked_before_work(here, capsys, csv, text):
+    _one_line_exit_2(
+        ["batch", "--designs", "SS,PVC", "--duration", "3000", "--transient", "1", "--csv", csv], capsys, text
+    )
+    assert _made(here) == []
