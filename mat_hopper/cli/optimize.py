@@ -119,10 +119,11 @@ def cmd_optimize(args) -> int:
     options = _options_from_args(args, args.trials)
     check_sampler(options.sampler)
     config_from_args(args, None)  # bad settings fail here, before any file is made
+    _check_backend(args)
     storage = options.open(args.study)
     config = config_from_args(args, stored_config(args.study, storage))
     del storage
-    res = run_study(config, options)
+    res = _run_backend(config, options, args)
     print(
         f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
         + (f", {res.running} still running elsewhere" if res.running else "")
@@ -137,6 +138,32 @@ def cmd_optimize(args) -> int:
         print("the study is short of its target: run the same command again to resume", file=sys.stderr)
         return 1
     return 0
+
+
+def _check_backend(args) -> None:
+    """--backend's options, and mujoco-warp for warp: one-line errors before any file is made."""
+    if args.backend != "warp":
+        if args.device is not None or args.batch_size is not None:
+            raise ValueError("--device and --batch-size are for --backend warp")
+        return
+    if args.batch_size is not None and args.batch_size < 1:
+        raise ValueError(f"--batch-size must be an integer >= 1, got {args.batch_size}")
+    from ..batch import WarpUnavailable, require_warp
+
+    try:
+        require_warp()
+    except WarpUnavailable as e:  # one line, exit 2, as mat-hopper batch
+        raise ValueError(str(e)) from None
+
+
+def _run_backend(config: StudyConfig, options: RunOptions, args):
+    """The study on --backend mujoco (CPU workers, the reference) or warp
+    (MuJoCo Warp batches of --batch-size trials, mat_hopper.optimize._batch)."""
+    if args.backend != "warp":
+        return run_study(config, options)
+    from ..optimize import DEFAULT_BATCH_SIZE, run_batch_study
+
+    return run_batch_study(config, options, device=args.device, batch_size=args.batch_size or DEFAULT_BATCH_SIZE)
 
 
 def register_cli(sub) -> None:
@@ -178,6 +205,14 @@ def register_cli(sub) -> None:
     p.add_argument("--sampler", default="tpe", help=f"one of {', '.join(SAMPLERS)} (tpe)")
     p.add_argument("--seed", type=int, default=0, help="sampler seed (0)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--backend",
+        choices=("mujoco", "warp"),
+        default="mujoco",
+        help="mujoco: CPU rollouts in --workers processes, the reference (default); warp: MuJoCo Warp batches",
+    )
+    p.add_argument("--device", help="Warp device for --backend warp: cpu or cuda (default: cuda where Warp sees a GPU)")
+    p.add_argument("--batch-size", type=int, help="--backend warp: trials asked and simulated together (64)")
     p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
     p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
     p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")

@@ -123,6 +123,12 @@ class Evaluation:
         return all(c <= 0 for c in self.constraints)
 
 
+def whole_run_value(mean: float) -> float:
+    """A whole-run mean as an objective value: capped at NO_DATA_VALUE, and
+    NO_DATA_VALUE when the run recorded no finite sample (mean is nan)."""
+    return float(min(mean, NO_DATA_VALUE)) if math.isfinite(mean) else NO_DATA_VALUE
+
+
 def _whole_run_means(rollout) -> tuple[float, float]:
     """Tracking error (m) and hip power (W) over every finite sample."""
     d = rollout.data
@@ -133,8 +139,14 @@ def _whole_run_means(rollout) -> tuple[float, float]:
     out = []
     for v in (err, power):
         v = v[np.isfinite(v)]
-        out.append(float(min(v.mean(), NO_DATA_VALUE)) if len(v) else NO_DATA_VALUE)
+        out.append(whole_run_value(float(v.mean())) if len(v) else NO_DATA_VALUE)
     return out[0], out[1]
+
+
+def scored_by_hops(n_hops: int, upright: bool) -> bool:
+    """Whether a run's objective values are its per-hop means (it scored
+    hop cycles and ended upright) rather than its whole-run means."""
+    return n_hops > 0 and upright
 
 
 def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None) -> dict:
@@ -150,7 +162,7 @@ def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, 
     rollout = runner.result()
     hops = hop_table(rollout)
     ok = bool(rollout.upright)
-    if len(hops) and ok:
+    if scored_by_hops(len(hops), ok):
         tracking = float(hops["tracking_error_m"].mean())
         power = float(hops["power_w"].mean())
     else:
@@ -195,6 +207,14 @@ def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluatio
             row = run_behaviour(design, b, objective, tick=tick)
         row["mujoco_warnings"] = len(sink)
         rows.append(row)
+    return aggregate(rows, objective)
+
+
+def aggregate(rows: list[dict], objective: Objective) -> Evaluation:
+    """One design's Evaluation from its per-behaviour rows (keys
+    behaviour, tracking_error_m, power_w, hop_height_m, n_hops, upright,
+    simulated_s, total_mass_kg), as the module doc defines it. Used by the
+    CPU path (:func:`evaluate`) and the batch path (``_batch``) alike."""
     values = (float(np.mean([r["tracking_error_m"] for r in rows])), float(np.mean([r["power_w"] for r in rows])))
     target, tol = objective.hop_height_target_m, objective.hop_height_tolerance_m
     height_violation = max((abs(r["hop_height_m"] - target) - tol) if r["n_hops"] else target - tol for r in rows)

@@ -80,6 +80,7 @@ SAMPLERS = ("tpe", "nsga2", "gp")
 DEFAULT_WORKERS = 2
 CONFIG_ATTR = "mat_hopper_config"
 RESULT_ATTR = "result"
+BACKEND_ATTR = "mat_hopper_backend"  # study user attr: the simulator of its trials ("warp"; absent: the CPU path)
 CONFIG_VERSION = 1
 POLL_S = 1.0
 
@@ -225,10 +226,10 @@ def _differences(a: dict, b: dict, prefix: str = "") -> list[str]:
     return out
 
 
-def create_or_load(config: StudyConfig, storage, sampler=None) -> optuna.Study:
+def create_or_load(config: StudyConfig, storage, sampler=None, backend: str = "mujoco") -> optuna.Study:
     """The study `config.name` in `storage`: created with the paper's designs
     enqueued first, or loaded and checked against `config` (ValueError on
-    a mismatch)."""
+    a mismatch, or when its trials come from another backend)."""
     _quiet()
     study = optuna.create_study(
         study_name=config.name,
@@ -238,6 +239,13 @@ def create_or_load(config: StudyConfig, storage, sampler=None) -> optuna.Study:
         load_if_exists=True,
     )
     stored = study.user_attrs.get(CONFIG_ATTR)
+    has = study.user_attrs.get(BACKEND_ATTR, "mujoco" if stored is not None else backend)
+    if has != backend:  # one study, one simulator (mat_hopper.optimize._batch)
+        raise ValueError(
+            f"study {config.name!r} holds trials of the {has} backend: use a new --study name for {backend}"
+        )
+    if backend != "mujoco":
+        study.set_user_attr(BACKEND_ATTR, backend)
     if stored is None:
         study.set_user_attr(CONFIG_ATTR, config.key())
         with warnings.catch_warnings():
