@@ -167,7 +167,9 @@ def test_suggested_designs_respect_bounds(sampler):
 
 def test_paper_designs_seed_every_space():
     seeds = dict(SearchSpace().seeds())
-    assert list(seeds) == ["SS", "rho-inc", "PVC-Ti-SS"]
+    # all nine paper designs but the rigid MD, which a continuous segment cannot express
+    assert list(seeds) == ["SS", "rho-inc", "PVC-Ti-SS", "SS-Ti-PVC", "rho-dec", "PVC", "Al", "Ti"]
+    assert seeds["SS-Ti-PVC"]["seg1_modulus_gpa"] == 193.0 and seeds["SS-Ti-PVC"]["seg3_density_g_cm3"] == 1.39
     assert seeds["rho-inc"] == {
         "seg1_density_g_cm3": 1.39,
         "seg1_modulus_gpa": 70.0,
@@ -180,13 +182,17 @@ def test_paper_designs_seed_every_space():
     assert cat == {
         "SS": {f"seg{i}_material": "SS" for i in (1, 2, 3)},
         "PVC-Ti-SS": {"seg1_material": "PVC", "seg2_material": "Ti", "seg3_material": "SS"},
+        "SS-Ti-PVC": {"seg1_material": "SS", "seg2_material": "Ti", "seg3_material": "PVC"},
+        "PVC": {f"seg{i}_material": "PVC" for i in (1, 2, 3)},
+        "Al": {f"seg{i}_material": "Al" for i in (1, 2, 3)},
+        "Ti": {f"seg{i}_material": "Ti" for i in (1, 2, 3)},
     }
     six = SearchSpace(n_segments=6).seeds()
     rho = dict(six)["rho-inc"]
     assert [rho[f"seg{i}_density_g_cm3"] for i in range(1, 7)] == [1.39, 1.39, 4.43, 4.43, 8.0, 8.0]
     assert [m.name for m in resample(paper_designs()["PVC-Ti-SS"], 2)] == ["PVC", "SS"]
     # bounds that exclude SS's 193 GPa leave it out
-    assert [n for n, _ in SearchSpace(modulus_gpa=(1.0, 150.0)).seeds()] == ["rho-inc"]
+    assert [n for n, _ in SearchSpace(modulus_gpa=(1.0, 150.0)).seeds()] == ["rho-inc", "rho-dec", "PVC", "Al", "Ti"]
 
 
 # --- objective and constraints ---------------------------------------------
@@ -262,6 +268,9 @@ def test_hypervolume():
         (["--trials", "0"], "trials must be"),
         (["--workers", "0"], "workers must be"),
         (["--profile", "slow"], "unknown profile"),
+        (["--ashby-classes", "metal,plastics"], "unknown Ashby class 'plastics'"),
+        (["--ashby-classes", "metal", "--density-bounds", "1,9"], "give either bounds or ashby_classes"),
+        (["--segment-mass", "per-capsule"], "unknown segment mass convention"),
         (["--storage", "postgresql+psycopg2://nobody@127.0.0.1:1/none"], "cannot reach storage"),
     ],
 )
