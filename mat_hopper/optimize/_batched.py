@@ -160,14 +160,16 @@ def run_batched(
     *,
     trials: int,
     batch: int = DEFAULT_BATCH,
-    sampler: str = "tpe",
+    sampler="tpe",
     seed: int = 0,
     cache_dir=None,
     workers: int | None = None,
     progress: bool = False,
 ) -> optuna.Study:
     """Run (or resume) study `config` in `storage` (a URL or an Optuna
-    storage) up to `trials` finished trials, `batch` trials at a time (module
+    storage) up to `trials` finished trials with `sampler` (a name of
+    :data:`~mat_hopper.optimize._study.SAMPLERS`, seeded from `seed`, or an
+    Optuna sampler as it is), `batch` trials at a time (module
     doc); runs through the runner's cache (`cache_dir`, default
     results/cache) and pool (`workers`, default all cores). Returns the
     study."""
@@ -177,7 +179,9 @@ def run_batched(
         raise ValueError(f"trials must be an integer >= 1, got {trials!r}")
     _quiet()
     n_existing = len(create_or_load(config, storage).trials)
-    study = create_or_load(config, storage, sampler=make_sampler(sampler, worker_seed(seed, n_existing, 0)))
+    if isinstance(sampler, str):
+        sampler = make_sampler(sampler, worker_seed(seed, n_existing, 0))
+    study = create_or_load(config, storage, sampler=sampler)
     space, objective = config.space, config.objective
     with Runner(cache_dir, workers=workers, progress=progress) as runner:
         stale = study.get_trials(deepcopy=False, states=(TrialState.RUNNING,))
