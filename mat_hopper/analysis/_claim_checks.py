@@ -30,7 +30,21 @@ TREND_MIN_R2 = 0.8
 GRID_FAR_DECADES = 0.15  # a stability grid point this far (log10) from a material is flagged
 
 MONO = ("PVC", "Al", "Ti", "SS")
-COLUMNS = ("claim_id", "claim", "paper", "ours", "verdict", "convention", "basis", "detail", "rule")
+COLUMNS = (
+    "claim_id",
+    "claim",
+    "paper",
+    "ours",
+    "verdict",
+    "convention",
+    "sensor_timing",
+    "basis",
+    "n_replicates",
+    "timestep_check",
+    "detail",
+    "rule",
+)
+TIMESTEP_MOVE_TOL = 0.10  # a run "moves" when a metric's mean changes by more than 10 % at the finer step
 MEASURED_TIMESTEP_COLUMNS = ("max_stable_timestep_s", "dt_stable_s", "spec_timestep_s", "dt_spec_s")
 
 
@@ -234,11 +248,11 @@ def _comparison_rows(ctx, exps, designs, behaviours, metric, baseline="MD"):
     return c[c["design"].isin(designs) & c["behaviour"].isin(behaviours) & (c["metric"] == metric)], basis
 
 
-def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1",)):
+def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1",), baseline="MD"):
     def evaluate(ctx: _Context) -> Outcome:
-        rows, basis = _comparison_rows(ctx, exps, designs, behaviours, metric)
+        rows, basis = _comparison_rows(ctx, exps, designs, behaviours, metric, baseline)
         if len(rows) == 0:
-            return _missing_or_untestable(ctx, ["MD", *designs], behaviours, exps)
+            return _missing_or_untestable(ctx, [baseline, *designs], behaviours, exps)
         good = rows["significant"].fillna(False).astype(bool) & (np.sign(rows["pct_change"]) == direction)
         n_needed = len(designs) * len(behaviours)
         k = int(good.sum())
@@ -256,7 +270,7 @@ def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1
             if len(misses)
             else "all"
         )
-        probs = ctx.problems(["MD", *designs], behaviours, exps)
+        probs = ctx.problems([baseline, *designs], behaviours, exps)
         if probs or len(rows) < n_needed:
             verdict = _cap(verdict) if len(rows) else verdict
             if probs:

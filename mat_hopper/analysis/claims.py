@@ -57,6 +57,7 @@ import pandas as pd
 from .. import reference as ref
 from ..atomic import write_text
 from ..behaviours import BEHAVIOUR_NAMES
+from ..control import DEFAULT_SENSOR_TIMING
 from ..materials import CONVENTIONS
 from . import stats as _stats
 from ._claim_checks import (  # noqa: F401 (public names of this module)
@@ -72,6 +73,7 @@ from ._claim_checks import (  # noqa: F401 (public names of this module)
     NOT_TESTABLE,
     PARTLY,
     PARTLY_MIN_FRACTION,
+    TIMESTEP_MOVE_TOL,
     TIMESTEP_TOL_DECADES,
     TREND_MIN_R2,
     VERDICTS,
@@ -91,6 +93,7 @@ from ._claim_checks import (  # noqa: F401 (public names of this module)
     fraction_verdict,
     match_percent,
 )
+from .change import percent_change
 from .stats import seconds
 
 _PCT_RULE = (
@@ -194,6 +197,15 @@ CLAIMS: tuple[Claim, ...] = (
         _claim_pct("rho-inc", "power_w", ref.CLAIM_HEADLINE_POWER_PCT, baseline="SS"),
     ),
     Claim(
+        "jerk_gradient",
+        "Jerk: the increasing-density gradient lower than SS",
+        "rho-inc lower jerk than SS (the paper's Fig. 5C and conclusion)",
+        _COUNT_RULE,
+        _claim_count_significant(
+            "jerk_m_s3", ["rho-inc"], list(BEHAVIOUR_NAMES), -1, exps=("exp1", "exp3"), baseline="SS"
+        ),
+    ),
+    Claim(
         "timestep_materials",
         "Stable time step: PVC about 1e-3 s, Al and SS about 1e-4 s",
         ", ".join(f"{k} {seconds(v)} s" for k, v in ref.CLAIM_STABLE_TIMESTEP_S.items()),
@@ -210,6 +222,64 @@ CLAIMS: tuple[Claim, ...] = (
         _claim_timestep_trend,
     ),
 )
+
+
+# What each hopping claim reads: experiments (None: all), designs and behaviours (None: all), metrics.
+# The time-step check compares exactly these runs at the finer step.
+_ALL4 = tuple(BEHAVIOUR_NAMES)
+_DYN = tuple(ref.DYNAMIC_BEHAVIOURS)
+USES = {
+    "hop_height": (None, None, None, ("hop_height_m",)),
+    "tracking_all_beat_md": (("exp1",), ("MD", *MONO), _ALL4, ("tracking_error_m",)),
+    "tracking_ss_55": (("exp1",), ("MD", "SS"), _ALL4, ("tracking_error_m",)),
+    "power_higher_dynamic": (("exp1",), ("MD", *MONO), _DYN, ("power_w",)),
+    "power_ss_max": (("exp1",), ("MD", "SS"), _DYN, ("power_w",)),
+    "density_over_modulus": (("exp2",), None, ("forward",), ("tracking_error_m",)),
+    "low_modulus_tracks_worse": (("exp2",), None, ("forward",), ("tracking_error_m",)),
+    "ramp_rho_inc_tracking": (("exp1", "exp3"), ("MD", "rho-inc"), ("ramp",), ("tracking_error_m",)),
+    "ramp_rho_inc_power": (("exp1", "exp3"), ("MD", "rho-inc"), ("ramp",), ("power_w",)),
+    "ramp_ss_tracking": (("exp1",), ("MD", "SS"), ("ramp",), ("tracking_error_m",)),
+    "ramp_ss_power": (("exp1",), ("MD", "SS"), ("ramp",), ("power_w",)),
+    "headline_tracking": (("exp1", "exp3"), ("SS", "rho-inc"), ("ramp",), ("tracking_error_m",)),
+    "headline_power": (("exp1", "exp3"), ("SS", "rho-inc"), ("ramp",), ("power_w",)),
+    "jerk_gradient": (("exp1", "exp3"), ("SS", "rho-inc"), _ALL4, ("jerk_m_s3",)),
+}
+
+
+def _unperturbed_means(hops: pd.DataFrame, metrics) -> pd.DataFrame:
+    t = hops
+    if "replicate" in t.columns:
+        t = t[t["replicate"] == _stats.UNPERTURBED]
+    return t.groupby(["design", "behaviour"])[list(metrics)].mean()
+
+
+def timestep_check(claim_id: str, hops: pd.DataFrame, fine_hops: pd.DataFrame | None, label: str) -> str:
+    """Which of the claim's runs move by more than TIMESTEP_MOVE_TOL (10 %)
+    between ``hops`` and ``fine_hops`` (the same runs at a finer step), in
+    words: "converged (n runs)", "moves > 10 %: MD ramp tracking_error_m
+    +410 %; ..." (a moving baseline named first), "not checked"."""
+    use = USES.get(claim_id)
+    if use is None or fine_hops is None or len(fine_hops) == 0 or len(hops) == 0:
+        return "not checked"
+    exps, designs, behaviours, metrics = use
+    base = _unperturbed_means(hops, metrics)
+    fine = _unperturbed_means(fine_hops, metrics)
+    moved, n = [], 0
+    for (d, b), row in base.iterrows():
+        if (designs is not None and d not in designs) or (behaviours is not None and b not in behaviours):
+            continue
+        if (d, b) not in fine.index:
+            continue
+        n += 1
+        for m in metrics:
+            change = percent_change(fine.loc[(d, b), m], row[m])
+            if not abs(change) <= 100 * TIMESTEP_MOVE_TOL:  # nan (a diverged fine run) counts as moving
+                moved.append((d != "MD", f"{d} {b} {m} {change:+.0f} %"))
+    if n == 0:
+        return "not checked"
+    if not moved:
+        return f"converged at {label} ({n} runs within {100 * TIMESTEP_MOVE_TOL:.0f} %)"
+    return f"moves > {100 * TIMESTEP_MOVE_TOL:.0f} % at {label}: " + "; ".join(t for _, t in sorted(moved))
 
 
 # --- the table -----------------------------------------------------------------------------
@@ -232,6 +302,8 @@ def claims_table(
     basis: str = "auto",
     alpha: float = ALPHA,
     timestep_s: float | None = None,
+    fine_hops: pd.DataFrame | None = None,
+    fine_label: str = "the finer step",
 ) -> pd.DataFrame:
     """Every claim of the paper beside ours, per stiffness convention.
 
@@ -243,8 +315,14 @@ def claims_table(
     per grid point; a ``convention`` column, else taken as ``paper``);
     basis: ``hops``, ``replicates`` or ``auto``; timestep_s: the runs' time
     step (s), named in "unstable at dt=..." when runs has no timestep_s
-    column. Columns: claim_id, claim, paper, ours, verdict, convention,
-    basis, detail, rule (and profile, when the tables have one)."""
+    column; fine_hops: the unperturbed runs the claims use (design,
+    behaviour, metrics) at a finer step, for the ``timestep_check`` column
+    (:func:`timestep_check`; "not checked" without them), fine_label names
+    that step. Columns: claim_id, claim, paper, ours, verdict, convention,
+    sensor_timing, basis, n_replicates (per design and behaviour, 0 on the
+    hop-cycle basis), timestep_check, detail, rule (and profile, when the
+    tables have one). The tables must hold one profile and one sensor
+    timing (ValueError otherwise)."""
     if basis not in _stats.BASES + ("auto",):
         raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
     hops = pd.DataFrame() if hops is None else hops
@@ -254,6 +332,13 @@ def claims_table(
             profiles |= set(t["profile"].dropna().astype(str))
     if len(profiles) > 1:
         raise ValueError(f"the tables hold several profiles {sorted(profiles)}; pass one profile's results")
+    timings = set()
+    for t in (hops, runs):
+        if t is not None and "sensor_timing" in t.columns:
+            timings |= set(t["sensor_timing"].dropna().astype(str))
+    if len(timings) > 1:
+        raise ValueError(f"the tables hold several sensor timings {sorted(timings)}; pass one timing's results")
+    timing = timings.pop() if timings else DEFAULT_SENSOR_TIMING
     rows = []
     for conv in conventions:
         if conv not in CONVENTIONS:
@@ -271,13 +356,10 @@ def claims_table(
                 out = Outcome("not run", NOT_RUN, f"no {conv}-convention hopping results")
             else:
                 out = claim.evaluate(ctx)
-            used = (
-                ""
-                if out.verdict in (NOT_RUN, NOT_TESTABLE)
-                else "stability map"
-                if is_stab
-                else _basis_used(ctx, claim)
-            )
+            used, n_rep = ("", 0) if out.verdict in (NOT_RUN, NOT_TESTABLE) else _basis_used(ctx, claim)
+            if is_stab and out.verdict not in (NOT_RUN, NOT_TESTABLE):
+                used, n_rep = "stability map", 0
+            check = "" if is_stab else timestep_check(claim.claim_id, h, _by_convention(fine_hops, conv), fine_label)
             rows.append(
                 {
                     "claim_id": claim.claim_id,
@@ -286,23 +368,40 @@ def claims_table(
                     "ours": out.ours,
                     "verdict": out.verdict,
                     "convention": conv,
+                    "sensor_timing": timing,
                     "basis": used,
+                    "n_replicates": n_rep,
+                    "timestep_check": check,
                     "detail": out.detail,
                     "rule": claim.rule,
                 }
             )
     out = pd.DataFrame(rows, columns=list(COLUMNS))
     if len(profiles) == 1:
-        out.insert(len(COLUMNS) - 3, "profile", profiles.pop())
+        out.insert(list(out.columns).index("detail"), "profile", profiles.pop())
     return out
 
 
-def _basis_used(ctx: _Context, claim: Claim) -> str:
-    exps = {"density_over_modulus": ("exp2",), "low_modulus_tracks_worse": ("exp2",), "hop_height": None}.get(
-        claim.claim_id, ("exp1", "exp3") if claim.claim_id.startswith(("ramp", "headline")) else ("exp1",)
-    )
+def _basis_used(ctx: _Context, claim: Claim) -> tuple[str, int]:
+    """("replicate means" or "hop cycles (description only)", replicates
+    per design and behaviour, the fewest among the claim's runs)."""
+    exps = USES.get(claim.claim_id, (None,))[0]
     t = ctx.hops if exps is None else ctx.experiment(exps)
-    return {"hops": "hop cycles", "replicates": "replicate means"}[ctx.basis_for(t)]
+    if ctx.basis_for(t) == "replicates":
+        reps = t[t["replicate"] != _stats.UNPERTURBED] if "replicate" in t.columns else t
+        n = int(reps.groupby(["design", "behaviour"])["replicate"].nunique().min()) if len(reps) else 0
+        return "replicate means", n
+    return "hop cycles (description only)", 0
+
+
+def smallest_p(n_replicates: int, family_size: int = 1) -> float:
+    """The smallest Holm-adjusted p a family of `family_size` two-sided
+    Mann-Whitney U tests of n against n replicates can reach: the exact
+    two-sided minimum 2 / C(2n, n), times the family size (Holm's first
+    step). n = 6 and 16 comparisons (4 materials x 4 behaviours): 0.035."""
+    if n_replicates < 1:
+        return math.nan
+    return min(1.0, family_size * 2.0 / math.comb(2 * n_replicates, n_replicates))
 
 
 # --- writers ---------------------------------------------------------------------------------
@@ -313,7 +412,10 @@ def _md_cell(x) -> str:
     return s.replace("|", "\\|").replace("\n", " ")
 
 
-def to_markdown(table: pd.DataFrame, columns=("claim", "convention", "paper", "ours", "verdict", "basis")) -> str:
+def to_markdown(
+    table: pd.DataFrame,
+    columns=("claim", "convention", "paper", "ours", "verdict", "basis", "timestep_check"),
+) -> str:
     """The claims as a markdown table (one row per claim and convention),
     the rules listed below it."""
     cols = [c for c in columns if c in table.columns]

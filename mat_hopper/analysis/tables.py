@@ -291,7 +291,10 @@ def claims_for(
             if t is not None and "convention" in t.columns:
                 present |= set(t["convention"].dropna().astype(str))
         conventions = [c for c in CONVENTIONS if c in present] or ["paper"]
-    table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions))
+    from .robustness import FINE_LABEL, fine_step_hops
+
+    fine = fine_step_hops(tables.get("robustness_hops"))
+    table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions), fine_hops=fine, fine_label=FINE_LABEL)
     if chapter is not None:
         ids = CHAPTER_CLAIMS[chapter]
         table = table[table["claim_id"].isin(ids)]

@@ -22,6 +22,7 @@ COMMAND_MODULES = (
     "mat_hopper.cli.optimize",
     "mat_hopper.cli.render",
     "mat_hopper.cli.batch",
+    "mat_hopper.cli.modes",
 )
 
 

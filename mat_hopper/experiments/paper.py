@@ -34,6 +34,7 @@ from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..materials import CONVENTIONS, LegDesign, Material, paper_designs, parse_design
 from ..perturbations import Perturbation
+from ..sim import AUTO
 from .profiles import Profile, check_replicates, get_profile
 from .runner import FAILED, RunSpec, run_grid
 
@@ -103,12 +104,13 @@ class Experiment:
                         "experiment": self.name,
                         "profile": profile.name,
                         "convention": profile.convention,
+                        "sensor_timing": profile.sensor_timing,
                         "design": point.label,
                         "behaviour": beh.name,
                         "replicate": rep,
                         **point.labels(),
                     }
-                    out.append(RunSpec(point.design, beh, profile.sim_settings(pert), labels))
+                    out.append(RunSpec(point.design, beh, profile.sim_settings(pert, design=point.design), labels))
         return out
 
 
@@ -216,23 +218,49 @@ def experiment_3() -> Experiment:
     )
 
 
-EXPERIMENTS = {"exp1": experiment_1, "exp2": experiment_2, "exp3": experiment_3, "stability": StabilityMap}
+@dataclass(frozen=True)
+class RobustnessStudy:
+    """How robust the paper's numbers are (book chapter "How robust are the
+    paper's numbers?"): the runs the quantitative claims rest on under
+    other sensor latencies, the axial convention, finer steps and perturbed
+    replicates (:mod:`mat_hopper.analysis.robustness`)."""
+
+    name: str = "robustness"
+    max_replicates: int = 3  # replicate variants shown beside the others (the claims use all of them)
+
+    def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
+        from ..analysis import robustness
+
+        profile = get_profile(profile)
+        n = min(check_replicates(replicates), self.max_replicates)
+        return robustness.tasks(profile, robustness.variants(replicates=n))
+
+
+EXPERIMENTS = {
+    "exp1": experiment_1,
+    "exp2": experiment_2,
+    "exp3": experiment_3,
+    "stability": StabilityMap,
+    "robustness": RobustnessStudy,
+}
 EXPERIMENT_NAMES = tuple(EXPERIMENTS)
 
 
 def experiment_name(text: str) -> str:
     """Canonical name: '1' or 'exp1' -> 'exp1'; 'stability' (or 'stab', '4')."""
     key = str(text).strip().lower()
-    alias = {"1": "exp1", "2": "exp2", "3": "exp3", "4": "stability", "stab": "stability"}
+    alias = {"1": "exp1", "2": "exp2", "3": "exp3", "4": "stability", "stab": "stability", "robust": "robustness"}
     key = alias.get(key, key)
     if key not in EXPERIMENTS:
-        raise ValueError(f"unknown experiment {text!r}; accepted: 1, 2, 3, stability (or {', '.join(EXPERIMENTS)})")
+        raise ValueError(
+            f"unknown experiment {text!r}; accepted: 1, 2, 3, stability, robustness (or {', '.join(EXPERIMENTS)})"
+        )
     return key
 
 
 def parse_experiments(text: str | None) -> list[str]:
     """'1,2,3,stability' -> ['exp1', 'exp2', 'exp3', 'stability'] (order
-    kept, duplicates dropped); None or 'all': all four."""
+    kept, duplicates dropped); None or 'all': all five (with robustness)."""
     if text is None or str(text).strip().lower() == "all":
         return list(EXPERIMENT_NAMES)
     names = [experiment_name(p) for p in str(text).split(",") if p.strip()]
@@ -241,7 +269,7 @@ def parse_experiments(text: str | None) -> list[str]:
     return list(dict.fromkeys(names))
 
 
-def get_experiment(name: str) -> Experiment | StabilityMap:
+def get_experiment(name: str) -> Experiment | StabilityMap | RobustnessStudy:
     """An experiment by name (see :func:`experiment_name`)."""
     return EXPERIMENTS[experiment_name(name)]()
 
@@ -330,11 +358,11 @@ def in_place_replicates(
     """Experiment 1's five legs hopping in place (or on `behaviour`), the
     unperturbed run and n perturbed replicates each (seeds 0..n-1,
     :meth:`~mat_hopper.perturbations.Perturbation.replicate`; n from the
-    profile's ``book_replicates`` by default), run or loaded through the
+    profile's ``replicates`` by default), run or loaded through the
     result cache. Returns the per-hop table (column ``replicate``, -1 for
     the unperturbed run), for :func:`mat_hopper.analysis.stats.compare_replicates`."""
     profile = get_profile(profile)
-    n = profile.book_replicates if n is None else n
+    n = profile.replicates if n is None else n
     exp = replace(experiment_1(), behaviours=(behaviour,))
     res = run_grid(exp.tasks(profile, n), cache_dir, workers=workers, progress=False)
     if res.n_failed:
@@ -380,7 +408,7 @@ def clock_drift(
                 "clock_factor": float(r),
                 "speed_m_s": beh.speed_m_s,
             }
-            tasks.append(RunSpec(design, beh, profile.sim_settings(), labels))
+            tasks.append(RunSpec(design, beh, profile.sim_settings(design=design), labels))
     res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="clock")
     s = res.summary
     if (s["status"] == FAILED).any():
@@ -405,33 +433,42 @@ def axial_check(
     --conventions`` uses; chapter 3 measures the stable steps). Runs, through the
     runner (cached), every design in three settings: the paper's
     convention at the profile's step (the runs of experiments 1 and 3),
-    the paper's convention at the small step (what the step alone
-    changes), and the axial convention at the small step (what the
-    convention changes). A rigid leg has no springs, so its small-step run
+    the paper's convention at the axial run's physics step and substeps
+    (what the step alone changes), and the axial convention there (what
+    the convention changes). With ``"auto"`` each design gets the substeps
+    its axial springs need while the controller keeps its 1e-4 s period. A rigid leg has no springs, so its small-step run
     stands for both conventions. Returns {"timestep_s", "hops" (per-hop
-    table with a ``setting`` column, e.g. "paper, dt 0.0001 s",
-    "axial, dt 1e-05 s"), "runs"}."""
+    table with ``setting`` ("paper, profile step", "paper, axial's steps",
+    "axial, axial's steps"), ``timestep_s`` and ``substeps`` columns),
+    "runs"}."""
     prof = get_profile(profile)
     legs = {d: parse_design(d) for d in designs}
     if timestep_s is None:
         timestep_s = prof.axial_timestep_s
     beh = get_behaviour(behaviour)
-    base = prof.sim_settings()
-    small = replace(base, timestep_s=float(timestep_s))
-    axial = replace(small, convention="axial")
-    name = lambda st: f"{st.convention}, dt {st.timestep_s:g} s"
-    plan = [(d, st) for d in designs for st in (base, small)]
-    plan += [(d, axial) for d in designs if not all(m.rigid for m in legs[d].segments)]
+    plan = []
+    for d, leg in legs.items():
+        base = prof.sim_settings(design=leg)
+        axial = prof.for_convention("axial")
+        if timestep_s != AUTO:
+            axial = replace(axial, timestep_s=float(timestep_s))
+        axial = axial.sim_settings(design=leg)
+        small = replace(axial, convention=prof.convention)  # the same steps, the paper's convention
+        plan += [(d, base, f"{prof.convention}, profile step"), (d, small, f"{prof.convention}, axial's steps")]
+        # a rigid leg has no springs: its small-step run stands for both conventions (one cached run)
+        rigid = all(m.rigid for m in leg.segments)
+        plan.append((d, small if rigid else axial, "axial, axial's steps"))
     tasks = []
-    for d, st in plan:
+    for d, st, setting in plan:
         labels = {
             "experiment": "axial-check",
             "profile": prof.name,
             "convention": st.convention,
             "design": d,
             "behaviour": beh.name,
-            "setting": name(st),
+            "setting": setting,
             "timestep_s": st.timestep_s,
+            "substeps": st.substeps,
         }
         tasks.append(RunSpec(legs[d], beh, st, labels))
     res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="axial")
@@ -440,10 +477,4 @@ def axial_check(
             "axial_check: runs failed: " + "; ".join(res.summary.loc[res.summary["status"] == FAILED, "error"])
         )
     hops, runs = res.tables, res.summary
-    rigid = [d for d in designs if all(m.rigid for m in legs[d].segments)]
-    if rigid:  # a rigid leg has no springs: its run at the small step stands for both conventions
-        extra_h = hops[hops["design"].isin(rigid) & (hops["setting"] == name(small))].assign(setting=name(axial))
-        extra_r = runs[runs["design"].isin(rigid) & (runs["setting"] == name(small))].assign(setting=name(axial))
-        hops = pd.concat([hops, extra_h], ignore_index=True)
-        runs = pd.concat([runs, extra_r], ignore_index=True)
-    return {"timestep_s": float(timestep_s), "hops": hops, "runs": runs}
+    return {"timestep_s": timestep_s if timestep_s == AUTO else float(timestep_s), "hops": hops, "runs": runs}

@@ -13,9 +13,10 @@ from dataclasses import dataclass, replace
 import pandas as pd
 
 from .. import reference as ref
-from ..materials import check_convention
+from ..control import DEFAULT_SENSOR_TIMING, sensor_timing_name
+from ..materials import DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
 from ..perturbations import Perturbation
-from ..sim import SimSettings
+from ..sim import AUTO, SimSettings, auto_timestep
 
 PROFILE_ENV = "MAT_HOPPER_PROFILE"
 
@@ -37,15 +38,21 @@ class Profile:
     factor; stability_max_iter: bisection tries at most; stability_scan:
     also run the 20-step protocol of docs/reference-hopper.md; record_rate_hz: samples per
     simulated second; convention: modulus-to-stiffness convention;
-    axial_timestep_s: the time step (s) of runs under the ``axial``
+    axial_timestep_s: the physics step of runs under the ``axial``
     convention, whose springs (k = E A / L, SS 3.8e9 N/m) diverge at the
-    paper's 1e-4 s: every catalogue design is stable at 2e-5 s;
-    book_replicates: perturbed replicate runs per design where the book
-    compares replicates (hopping in place, chapter 6). With n per design
-    the smallest Holm-adjusted p of that family of four comparisons is
-    4 x 2 / C(2n, n): 0.11 at n = 4, 0.032 at n = 5, 0.0087 at n = 6; the
-    paper profile's 6 leaves room below 0.05 for runs that do not
-    separate perfectly, the quick profile's 3 cannot reach it."""
+    paper's 1e-4 s: ``"auto"`` (default) keeps the controller at its
+    1e-4 s period and gives each design the physics substeps its analytic
+    bound needs (:func:`mat_hopper.sim.auto_timestep`), or a number (s);
+    sensor_timing: when the controller reads the base (``"authors"``,
+    ``"fresh"``, ``"latency-L"``; :mod:`mat_hopper.control`);
+    segment_mass: ``"leg"`` or ``"capsule"`` (:mod:`mat_hopper.materials`);
+    replicates: perturbed replicate runs per design and behaviour, the
+    claims' inferential basis (``reproduce`` runs them for every hopping
+    experiment) and chapter 6's. Two-sided Mann-Whitney U with n against
+    n runs reaches p = 2 / C(2n, n) at best, times the Holm family's size:
+    n = 6 reaches 0.035 for a family of 16 comparisons (4 materials x 4
+    behaviours), the paper profile's; the quick profile's 3 cannot reach
+    0.05 (:func:`mat_hopper.analysis.claims.smallest_p`)."""
 
     name: str
     duration_s: float
@@ -58,20 +65,29 @@ class Profile:
     stability_scan: bool = True
     record_rate_hz: float = 1000.0
     convention: str = "paper"
-    axial_timestep_s: float = 2e-5
-    book_replicates: int = 6
+    axial_timestep_s: float | str = AUTO
+    replicates: int = 6
+    sensor_timing: str = DEFAULT_SENSOR_TIMING
+    segment_mass: str = DEFAULT_SEGMENT_MASS
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"profile name must be a non-empty string, got {self.name!r}")
-        self.sim_settings()  # validates duration, transient, time step, convention
+        object.__setattr__(self, "sensor_timing", sensor_timing_name(self.sensor_timing))
+        check_segment_mass(self.segment_mass)
+        for name in ("timestep_s", "axial_timestep_s"):
+            value = getattr(self, name)
+            if isinstance(value, str) and value != AUTO:
+                raise ValueError(f"{name} must be a number (s) or {AUTO!r}, got {value!r}")
+        if self.timestep_s != AUTO:
+            self.sim_settings()  # validates duration, transient, time step, convention
         if int(self.stability_grid_size) < 1:
             raise ValueError(f"stability_grid_size must be >= 1, got {self.stability_grid_size!r}")
         if not self.stability_duration_s > 0:
             raise ValueError(f"stability_duration_s must be > 0 s, got {self.stability_duration_s!r}")
         if not self.stability_tolerance > 1:
             raise ValueError(f"stability_tolerance must be a factor > 1, got {self.stability_tolerance!r}")
-        check_replicates(self.book_replicates)
+        check_replicates(self.replicates)
         if int(self.stability_max_iter) < 0:
             raise ValueError(f"stability_max_iter must be >= 0, got {self.stability_max_iter!r}")
 
@@ -83,14 +99,30 @@ class Profile:
         dt = self.axial_timestep_s if convention == "axial" else ref.TIMESTEP_S
         return replace(self, convention=convention, timestep_s=dt)
 
-    def sim_settings(self, perturbation: Perturbation | None = None) -> SimSettings:
+    def for_sensor_timing(self, sensor_timing) -> Profile:
+        """This profile with the controller reading its base sensors at
+        another moment (a name or a latency in physics steps)."""
+        name = sensor_timing_name(sensor_timing)
+        return self if name == self.sensor_timing else replace(self, sensor_timing=name)
+
+    def sim_settings(self, perturbation: Perturbation | None = None, design=None) -> SimSettings:
+        """The SimSettings of one run. With ``timestep_s="auto"`` the
+        physics substeps depend on the leg: pass its ``design``."""
+        timestep_s, substeps = self.timestep_s, 1
+        if timestep_s == AUTO:
+            if design is None:
+                raise ValueError("this profile's time step is 'auto': pass the design (its substeps depend on it)")
+            substeps, timestep_s = auto_timestep(design, self.convention, self.segment_mass)
         return SimSettings(
             duration_s=self.duration_s,
-            timestep_s=self.timestep_s,
+            timestep_s=timestep_s,
             transient_s=self.transient_s,
             convention=self.convention,
             record_rate_hz=self.record_rate_hz,
             perturbation=perturbation,
+            sensor_timing=self.sensor_timing,
+            segment_mass=self.segment_mass,
+            substeps=substeps,
         )
 
 
@@ -98,7 +130,7 @@ PROFILES = {
     "paper": Profile(
         "paper", ref.DURATION_S, ref.TRANSIENT_S, ref.TIMESTEP_S, ref.STABILITY_GRID_SIZE, ref.STABILITY_TEST_DURATION_S
     ),
-    "quick": Profile("quick", 12.0, 4.0, ref.TIMESTEP_S, 4, 1.0, stability_tolerance=1.5, book_replicates=3),
+    "quick": Profile("quick", 12.0, 4.0, ref.TIMESTEP_S, 4, 1.0, stability_tolerance=1.5, replicates=3),
 }
 
 
@@ -122,10 +154,12 @@ _PROFILE_FIELDS = (
     ("timestep_s", "physics time step (s)"),
     ("record_rate_hz", "recorded samples per simulated second (Hz)"),
     ("convention", "modulus-to-stiffness convention"),
-    ("axial_timestep_s", "time step of runs under the axial convention (s)"),
+    ("axial_timestep_s", "time step of runs under the axial convention (s, or auto substeps)"),
+    ("sensor_timing", "when the controller reads the base sensors"),
+    ("segment_mass", "segment mass convention"),
     ("stability_grid_size", "stable-time-step map: designs per axis"),
     ("stability_duration_s", "stable-time-step map: static hopping per try (s)"),
-    ("book_replicates", "perturbed replicates per design, hopping in place (chapter 6)"),
+    ("replicates", "perturbed replicates per design and behaviour (claims, chapter 6)"),
 )
 
 

@@ -10,7 +10,14 @@ the claims table through :mod:`mat_hopper.viz.figures` and
 - ``exp{1,2,3}_hops.csv``: one row per scored hop cycle of every run;
 - ``exp{1,2,3}_runs.csv``: one row per run (outcome, means, energy);
 - ``stability.csv``: one row per design of the map; ``stability_tries.csv``:
-  every try; ``stability_agreement.csv``: analytic estimate vs measured.
+  every try; ``stability_agreement.csv``: analytic estimate vs measured;
+- ``robustness_hops.csv``, ``robustness_runs.csv``: the robustness study's
+  runs; ``robustness.csv``: each quantity per variant, classified;
+  ``robustness_summary.csv``: per quantity, how many variants keep, move
+  or flip it (:mod:`mat_hopper.analysis.robustness`).
+
+By default every hopping experiment also runs the profile's perturbed
+replicates (``Profile.replicates``), the claims' inferential basis.
 """
 
 from __future__ import annotations
@@ -54,7 +61,7 @@ def reproduce(
     *,
     workers: int | None = None,
     scheduler=None,
-    replicates: int = 0,
+    replicates: int | None = None,
     cache_dir: str | None = None,
     progress: bool = True,
     figures: bool = True,
@@ -76,7 +83,7 @@ def reproduce(
     names = parse_experiments(
         experiments if experiments is None or isinstance(experiments, str) else ",".join(experiments)
     )
-    replicates = check_replicates(replicates)
+    replicates = prof.replicates if replicates is None else check_replicates(replicates)
     check_workers(workers)
     out_dir = out_dir or default_out_dir(prof.name)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
@@ -85,7 +92,7 @@ def reproduce(
     tasks = {
         n: (
             e.tasks(prof, replicates)
-            if n == "stability"
+            if n in ("stability", "robustness")
             else [t for c in conventions for t in e.tasks(prof.for_convention(c), replicates)]
         )
         for n, e in plan.items()
@@ -112,6 +119,17 @@ def reproduce(
                     "stability": res.summary,
                     "stability_tries": res.tables,
                     "stability_agreement": agreement(res.summary),
+                }
+            elif name == "robustness":
+                from ..analysis import robustness
+
+                values = robustness.quantity_values(res.tables, res.summary)
+                table = robustness.robustness_table(values)
+                made = {
+                    "robustness_hops": res.tables,
+                    "robustness_runs": res.summary,
+                    "robustness": table,
+                    "robustness_summary": robustness.summary(table),
                 }
             else:
                 made = {f"{name}_hops": res.tables, f"{name}_runs": res.summary}
@@ -158,7 +176,12 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
     hops = _concat([rep.tables.get(f"{e}_hops") for e in ("exp1", "exp2", "exp3")])
     runs = _concat([rep.tables.get(f"{e}_runs") for e in ("exp1", "exp2", "exp3")])
     stab = rep.tables.get("stability")
-    table = claims.claims_table(hops, runs, stab, conventions=CONVENTIONS)
+    from ..analysis.robustness import FINE_LABEL, fine_step_hops
+
+    fine = fine_step_hops(rep.tables.get("robustness_hops"))
+    table = claims.claims_table(
+        hops, runs, stab, conventions=CONVENTIONS, fine_hops=fine, fine_label=FINE_LABEL if fine is not None else ""
+    )
     files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
     rep.tables["claims"] = table
     log(f"figures and claims: {len(files)} files in {rep.out_dir}")
@@ -185,7 +208,7 @@ def run_experiments(
     *,
     out_dir=None,
     cache_dir=None,
-    replicates: int = 0,
+    replicates: int | None = None,
     workers: int | None = None,
     quiet: bool = False,
 ) -> dict[str, pd.DataFrame]:

@@ -75,7 +75,7 @@ class TrialRun:
             "kind": self.kind,
             "design": design_key(self.design),
             "behaviour": get_behaviour(self.behaviour).key(),
-            "settings": settings_key(ob.sim_settings()),
+            "settings": settings_key(ob.sim_settings(design=self.design)),
             "score": {"objective_source": _objective_source()},
             "versions": versions(),
         }

@@ -72,7 +72,7 @@ class Objective:
     convention: str = DEFAULT_CONVENTION
     hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
     hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
-    segment_mass: str = DEFAULT_SEGMENT_MASS
+    segment_mass: str | None = None  # None: the profile's
 
     def __post_init__(self):
         behs = self.behaviours
@@ -91,6 +91,8 @@ class Objective:
             raise ValueError("profile must be a Profile")
         if self.convention not in CONVENTIONS:
             raise ValueError(f"unknown stiffness convention {self.convention!r}; accepted: {', '.join(CONVENTIONS)}")
+        if self.segment_mass is None:
+            object.__setattr__(self, "segment_mass", getattr(self.profile, "segment_mass", DEFAULT_SEGMENT_MASS))
         check_segment_mass(self.segment_mass)
         for name in ("hop_height_target_m", "hop_height_tolerance_m"):
             v = getattr(self, name)
@@ -122,12 +124,13 @@ class Objective:
             segment_mass=key.get("segment_mass", DEFAULT_SEGMENT_MASS),
         )
 
-    def sim_settings(self, perturbation=None):
-        """The SimSettings of every run of this objective."""
+    def sim_settings(self, perturbation=None, design=None):
+        """The SimSettings of a run of this objective (`design`: needed when
+        the time step is ``"auto"``, as under ``axial``)."""
         from dataclasses import replace
 
-        st = self.profile.for_convention(self.convention).sim_settings(perturbation)
-        return replace(st, segment_mass=self.segment_mass)
+        prof = replace(self.profile.for_convention(self.convention), segment_mass=self.segment_mass)
+        return prof.sim_settings(perturbation, design=design)
 
 
 @dataclass
@@ -164,7 +167,7 @@ def _whole_run_means(rollout) -> tuple[float, float]:
 def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None) -> dict:
     """Simulate one behaviour in chunks of CHUNK_S simulated s (calling
     tick() between chunks) and score it."""
-    settings = objective.sim_settings()
+    settings = objective.sim_settings(design=design)
     runner = RolloutRunner(design, get_behaviour(behaviour_name), settings)
     chunk = max(1, int(round(CHUNK_S / settings.timestep_s)))
     while not runner.done:

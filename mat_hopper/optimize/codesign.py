@@ -20,7 +20,7 @@ its own gains and compares again:
    tell in order): the same trials on any machine, every run cached, so a
    rerun costs nothing.
 2. **Compare.** Every design at the authors' gains and at its own best
-   gains, on perturbed replicates (the profile's ``book_replicates``),
+   gains, on perturbed replicates (the profile's ``replicates``),
    compared against the baseline (MD) on replicate means with
    :func:`mat_hopper.analysis.stats.compare_replicates` (percent change
    with a bootstrap interval, Holm-corrected Mann-Whitney U; one family per
@@ -91,8 +91,8 @@ def _score_row(summary: dict, target_m: float) -> dict:
     }
 
 
-def _settings(profile: Profile, gains: dict, perturbation=None):
-    st = profile.sim_settings(perturbation)
+def _settings(profile: Profile, gains: dict, perturbation=None, design=None):
+    st = profile.sim_settings(perturbation, design=design)
     return replace(st, controller=replace(ControllerSettings(), **gains))
 
 
@@ -128,7 +128,10 @@ def tune(
         while len(study.trials) < trials:
             asked = [study.ask() for _ in range(min(batch, trials - len(study.trials)))]
             gains = [{k: t.suggest_float(k, *GAIN_BOUNDS[k], log=True) for k in GAIN_BOUNDS} for t in asked]
-            tasks = [RunSpec(design, beh, _settings(profile, g), {"trial": t.number}) for t, g in zip(asked, gains)]
+            tasks = [
+                RunSpec(design, beh, _settings(profile, g, design=design), {"trial": t.number})
+                for t, g in zip(asked, gains)
+            ]
             res = runner.run(tasks, desc=f"tuning {design.name}")
             for t, g, summ in zip(asked, gains, res.summary.to_dict("records")):
                 if summ.get("status") == FAILED:
@@ -182,7 +185,7 @@ def codesign(
     ``comparison`` (:func:`compare_replicates` against `baseline`),
     ``tunings`` ({design: Tuning}) and ``answer`` (text)."""
     profile = get_profile(profile)
-    n = profile.book_replicates if replicates is None else int(replicates)
+    n = profile.replicates if replicates is None else int(replicates)
     if n < 2:
         raise ValueError(f"comparing materials needs at least 2 replicates, got {n}")
     legs = {d if isinstance(d, str) else d.name: parse_design(d) if isinstance(d, str) else d for d in designs}
@@ -198,7 +201,7 @@ def codesign(
         for name, leg in legs.items():
             for setting, gains in ((DEFAULT, {}), (TUNED, tunings[name].gains)):
                 for r in range(n):
-                    st = _settings(profile, gains, Perturbation.replicate(r))
+                    st = _settings(profile, gains, Perturbation.replicate(r), leg)
                     labels = {"experiment": setting, "profile": profile.name, "design": name, "replicate": r}
                     tasks.append(RunSpec(leg, beh, st, labels))
         res = runner.run(tasks, desc="materials at their own gains")

@@ -12,7 +12,7 @@ artefact. Each front design is therefore simulated again (every run is a
 ``replicate``
     seeded perturbed replicates
     (:meth:`~mat_hopper.perturbations.Perturbation.replicate`, seeds 0..n-1,
-    n = the profile's ``book_replicates`` by default) on the study's
+    n = the profile's ``replicates`` by default) on the study's
     behaviours; the paper's nine designs get the same replicates, for the
     comparison below;
 ``behaviour``
@@ -78,7 +78,7 @@ N_BOOT = 10000
 
 def check_settings(design: LegDesign, objective: Objective) -> dict:
     """{check: SimSettings} of the study's behaviours for one design (module doc)."""
-    base = objective.sim_settings()
+    base = objective.sim_settings(design=design)
     k, dt = auto_timestep(design, "axial", objective.segment_mass)
     return {
         NOMINAL: base,
@@ -104,15 +104,15 @@ def validation_tasks(front: dict, objective: Objective, replicates: int, paper: 
         for name, d in designs.items():
             for b in objective.behaviours:
                 for r in range(replicates):
-                    add(role, name, d, b, objective.sim_settings(Perturbation.replicate(r)), REPLICATE, r)
+                    add(role, name, d, b, objective.sim_settings(Perturbation.replicate(r), d), REPLICATE, r)
                 if role == "paper":
-                    add(role, name, d, b, objective.sim_settings(), NOMINAL)
+                    add(role, name, d, b, objective.sim_settings(design=d), NOMINAL)
                     continue
                 for check, st in check_settings(d, objective).items():
                     add(role, name, d, b, st, check)
             if role == "front":
                 for b in others:
-                    add(role, name, d, b, objective.sim_settings(), BEHAVIOUR)
+                    add(role, name, d, b, objective.sim_settings(design=d), BEHAVIOUR)
     return tasks
 
 
@@ -217,7 +217,7 @@ def validate_front(
     ``runs`` (one row per run: role, design, behaviour, check, replicate,
     the runner's summary), ``intervals``, ``paper_best`` (names),
     ``verdicts`` and ``survivors`` ({name: LegDesign})."""
-    n = objective.profile.book_replicates if replicates is None else int(replicates)
+    n = objective.profile.replicates if replicates is None else int(replicates)
     if n < 2:
         raise ValueError(f"validating a front needs at least 2 replicates per design, got {n}")
     tasks = validation_tasks(front, objective, n)

@@ -105,7 +105,7 @@ from mat_hopper.analysis import stats
 
 reps = paper.in_place_replicates(b.profile, cache_dir=b.cache_dir)
 in_place = stats.compare_replicates(reps, "MD")
-print(f"{b.profile.book_replicates} replicates per design ({b.profile.name} profile)")
+print(f"{b.profile.replicates} replicates per design ({b.profile.name} profile)")
 plots.figure4_mono(reps, in_place)
 
 # %% [markdown]

@@ -12,17 +12,28 @@
 # This chapter collects the paper's quantitative claims, sets our numbers
 # beside them with a verdict computed by a stated rule, and then asks
 # where and why our numbers differ. The paper's numbers come from
-# `mat_hopper/reference.py`; ours from the runs of chapters 5 to 8 (all in
-# the result cache by now).
+# `mat_hopper/reference.py`; ours from the runs of chapters 5 to 8 and the
+# robustness study of chapter 11 (all in the result cache by now).
+#
+# Each row says under which conventions it was computed: the stiffness
+# convention, the **sensor timing** (by default `authors`: the controller
+# reads the base sensors one physics step late, exactly as the authors'
+# read-control-`mj_step` loop does), the **basis** of the comparison
+# (means of seeded perturbed replicates, with their number; hop cycles of
+# one deterministic run are only a description, since they are not
+# independent samples) and a **time-step check**: every run the claim rests
+# on, rerun with 2e-5 s physics under the same 1e-4 s controller, and the
+# runs whose metric moves by more than 10 %.
 
 # %%
 from mat_hopper import book
 from mat_hopper.analysis import tables as tab
 from mat_hopper.experiments import paper, reproduce, runner
+from mat_hopper.metrics import hop_table
 from mat_hopper.viz import chapters
 
 b = book.setup()
-tables = reproduce.run_experiments(b.profile, "1,2,3,stability", out_dir=b.out_dir, cache_dir=b.cache_dir)
+tables = reproduce.run_experiments(b.profile, "1,2,3,stability,robustness", out_dir=b.out_dir, cache_dir=b.cache_dir)
 claims = tab.claims_for(tables, None, columns=None)
 print(
     f"{b.describe()}\n{len(claims)} claims: "
@@ -33,14 +44,34 @@ print(
 # ## The claims table
 
 # %%
-book.show(claims[["claim", "paper", "ours", "verdict", "basis"]])
+book.show(claims[["claim", "convention", "paper", "ours", "verdict", "basis", "n_replicates"]])
+
+# %% [markdown]
+# How small a p-value the replicates can give: a two-sided Mann-Whitney U
+# test of n runs against n reaches at best 2 / C(2n, n), times the size of
+# the Holm family (16 comparisons for "every material beats MD"):
+
+# %%
+from mat_hopper.analysis.claims import smallest_p
+
+n = b.profile.replicates
+print(
+    f"{n} replicates per design and behaviour ({b.profile.name} profile): smallest p {smallest_p(n):.2g}; "
+    f"smallest Holm-adjusted p in a family of 16: {smallest_p(n, 16):.2g}"
+)
+
+# %% [markdown]
+# The time-step check of each claim:
+
+# %%
+book.show(claims.query("convention == 'paper'")[["claim", "verdict", "timestep_check"]])
 
 # %% [markdown]
 # The same table, with the details each verdict rests on, is written to
 # `results/<profile>/claims.md` and `claims.csv` by `mat-hopper reproduce`.
-# The rules, from `mat_hopper/claims.py` (percent changes are of means
-# against the baseline, significance is a Mann-Whitney U test on hop
-# cycles with Holm's correction):
+# The rules, from `mat_hopper/analysis/claims.py` (percent changes are of
+# means against the baseline, significance is a Mann-Whitney U test with
+# Holm's correction):
 
 # %%
 book.show(tab.claim_rules())
@@ -69,6 +100,26 @@ book.show(claims[["claim", "detail"]])
 #   the paper's static results carry the accidental disturbances of its
 #   wall-clock loop.
 # - **The defects below**, each measured where we can.
+# - **When the controller reads its sensors.** The first release of this
+#   book read the base sensors from the current state ("fresh"), one
+#   physics step earlier than the authors' loop does, and took the hip
+#   power in actuator space (600 times too small; percent changes survived
+#   that, absolute watts did not). Both are fixed; the same ramp numbers
+#   under the old timing, from the robustness study (chapter 11):
+
+# %%
+
+rob = tables["robustness"]
+ramp = [q for q in rob["quantity_id"].unique() if q.endswith("ramp") and ("rho-inc" in q or "SS vs MD" in q)]
+before_after = (
+    rob[rob["quantity_id"].isin(ramp) & rob["variant"].isin(["authors", "fresh"])]
+    .pivot(index="quantity_id", columns="variant", values="value_pct")
+    .rename(columns={"authors": "authors' timing (now)", "fresh": "fresh timing (first release)"})
+)
+before_after.insert(0, "paper", rob.drop_duplicates("quantity_id").set_index("quantity_id")["paper_pct"])
+book.show(before_after, index=True, pattern="{:+.0f} %")
+
+# %% [markdown]
 #
 # ## The authors' code defects, measured
 #
@@ -94,9 +145,8 @@ book.show(clock, precision=3)
 # results, every run.
 #
 # **2. Sampling.** They log about every 0.1 s of wall time and take the
-# jerk as a finite difference over those samples; we record at 1 kHz of
-# simulated time. The same runs (forward hopping), their jerk computed from
-# samples at decreasing rates:
+# jerk as a finite difference over those samples. The same runs (forward
+# hopping), their jerk computed that way from samples at decreasing rates:
 
 # %%
 rollouts = runner.rollouts(["MD", "SS"], ["forward"], b.profile.sim_settings(), cache_dir=b.cache_dir)
@@ -105,16 +155,25 @@ for name, t in jerk.items():
     print(name, ", ".join(f"{row.rate_hz:g} Hz: {row.mean_jerk_m_s3:.4g} m/s³" for row in t.itertuples()))
 
 # %% [markdown]
-# Sparse samples smooth the hops' sharp accelerations away, so the jerk
-# scale (and the ratio between designs) depends on the rate: our jerk
-# values are not on the paper's scale.
+# The finite difference measures the sampling, not the physics: the leg's
+# axial modes (2.5-4 kHz, barely damped) lie above the 500 Hz Nyquist
+# frequency of 1 kHz samples, so the number is aliased ringing, and sparse
+# samples smooth the hops' accelerations away. Our `jerk_m_s3` is instead
+# computed at the physics rate, from the base's vertical acceleration
+# low-passed by a second-order Butterworth filter at 50 Hz (Winter, 2009),
+# and does not depend on the record rate:
+
+# %%
+for r in rollouts:
+    print(r.design.name, f"jerk_m_s3 (ours, any record rate): {hop_table(r)['jerk_m_s3'].mean():.4g} m/s³")
 #
 # **3. Power.** Their power metric multiplies the hip pitch command by both
 # hip rates (the roll torque is never used) and uses the flight PD command
 # even in stance, before the gear. We measure the real mechanical power of
-# the hip motors (`power_w`) and keep the authors' formula beside it
-# (`power_paper_w`). The paper's largest claim is about SS against MD;
-# both measures of it:
+# the hip motors (`power_w`: MuJoCo's joint torque `qfrc_actuator`, gear 600
+# x control, times the joint rate) and keep the authors' formula beside it
+# (`power_paper_w`, in actuator space, as they compute it). The paper's
+# largest claim is about SS against MD; both measures of it:
 
 # %%
 power = tab.power_formula_table(tables["exp1_hops"])
@@ -127,13 +186,16 @@ chapters.defects_figure(clock, jerk, power)
 # **4. Modulus to stiffness.** Their conversion (chapter 3) makes the
 # springs about twenty times softer than an axial rod of the material. We
 # rerun the headline comparison (ramp hopping, ρ-inc, SS and MD) under the
-# physical `axial` convention. Its springs need a smaller time step; to
-# tell the step's effect from the convention's, the paper's convention
-# runs at that step too:
+# physical `axial` convention. Its springs need a smaller physics step:
+# the controller keeps its 1e-4 s period and each leg gets the physics
+# substeps its analytic bound needs (`timestep_s="auto"`). To tell the
+# step's effect from the convention's, the paper's convention runs at
+# those steps too:
 
 # %%
 axial = paper.axial_check(b.profile, cache_dir=b.cache_dir)
-print(f"time step for the axial runs: {axial['timestep_s']:g} s")
+steps = axial["runs"].query('setting == "axial, axial\'s steps"')[["design", "timestep_s", "substeps"]]
+book.show(steps.rename(columns={"timestep_s": "physics step (s)", "substeps": "substeps per 1e-4 s"}))
 book.show(tab.setting_comparison(axial["hops"]).T, index=True, pattern="{:+.0f} %")
 
 # %% [markdown]

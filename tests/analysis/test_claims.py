@@ -1,3 +1,5 @@
+import math
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -70,7 +72,7 @@ def test_replicate_basis_is_used_when_present():
     t = claims.claims_table(hops, runs, conventions=("paper",))
     row = t.set_index("claim_id").loc["ramp_ss_tracking"]
     assert row["basis"] == "replicate means" and "CI" in row["detail"]
-    assert t.set_index("claim_id").loc["density_over_modulus", "basis"] == "hop cycles"  # exp2: no replicates
+    assert t.set_index("claim_id").loc["density_over_modulus", "basis"] == "hop cycles (description only)"  # exp2: none
 
 
 def test_match_percent_rule():
@@ -117,3 +119,35 @@ def test_claim_numbers_come_from_reference():
     paper = {c.claim_id: c.paper for c in claims.CLAIMS}
     assert paper["ramp_rho_inc_power"] == f"{ref.CLAIM_RAMP_RHO_INC_POWER_PCT:+.0f} %"
     assert paper["headline_power"] == f"{ref.CLAIM_HEADLINE_POWER_PCT:+.0f} %"
+
+
+def test_smallest_reachable_p_by_hand():
+    # n = 6 against 6: the most extreme ranking has probability 1 / C(12, 6) = 1 / 924 each way
+    assert claims.smallest_p(6) == pytest.approx(2 / 924)
+    assert claims.smallest_p(6, 16) == pytest.approx(0.0346, abs=1e-4)
+    assert claims.smallest_p(3, 4) == pytest.approx(0.4)  # 4 x 2 / 20: the quick profile cannot reach 0.05
+    assert math.isnan(claims.smallest_p(0))
+
+
+def test_timestep_check_names_the_runs_that_move():
+    base = pd.DataFrame(
+        {
+            "design": ["MD", "MD", "SS", "SS"],
+            "behaviour": ["ramp"] * 4,
+            "replicate": [-1] * 4,
+            "tracking_error_m": [0.02, 0.02, 0.01, 0.01],
+            "power_w": [1.0] * 4,
+        }
+    )
+    fine = base.assign(tracking_error_m=[0.05, 0.05, 0.0105, 0.0105])  # MD +150 %, SS +5 %
+    text = claims.timestep_check("ramp_ss_tracking", base, fine, "2e-5 s")
+    assert text.startswith("moves > 10 % at 2e-5 s") and "MD ramp tracking_error_m +150 %" in text
+    assert "SS" not in text
+    assert claims.timestep_check("ramp_ss_power", base, fine, "2e-5 s").startswith("converged")
+    assert claims.timestep_check("ramp_ss_power", base, None, "2e-5 s") == "not checked"
+
+
+def test_one_sensor_timing_per_table():
+    hops = pd.DataFrame({"design": ["MD", "SS"], "behaviour": ["forward"] * 2, "sensor_timing": ["authors", "fresh"]})
+    with pytest.raises(ValueError, match="sensor timings"):
+        claims.claims_table(hops)

@@ -68,7 +68,7 @@ def test_clock_drift_moves_the_path(tmp_path):
 
 
 def test_in_place_replicates_compare_on_run_means(tmp_path):
-    prof = Profile("short", 4.0, 1.0, book_replicates=3)
+    prof = Profile("short", 4.0, 1.0, replicates=3)
     reps = paper.in_place_replicates(prof, cache_dir=tmp_path, workers=1)
     assert set(reps["behaviour"]) == {"static"}
     assert set(reps["design"]) == set(ref.MONO_MATERIALS)
@@ -80,7 +80,7 @@ def test_in_place_replicates_compare_on_run_means(tmp_path):
     assert set(t["design"]) == set(ref.MONO_MATERIALS) - {"MD"}
     assert (t["n"] == 3).all() and t["change"].str.match(r"[+-]\d+ % \[").all()
     with pytest.raises(ValueError, match="replicates"):
-        Profile("bad", 4.0, 1.0, book_replicates=-1)
+        Profile("bad", 4.0, 1.0, replicates=-1)
 
 
 def test_jerk_by_rate_subsamples(tmp_path):
@@ -97,7 +97,9 @@ def test_axial_check_three_settings(tmp_path):
     out = paper.axial_check(hopping, cache_dir=tmp_path, designs=("MD", "SS"), timestep_s=1e-5, workers=1)
     assert out["timestep_s"] == 1e-5
     settings = set(out["runs"]["setting"])
-    assert settings == {"paper, dt 0.0001 s", "paper, dt 1e-05 s", "axial, dt 1e-05 s"}
+    assert settings == {"paper, profile step", "paper, axial's steps", "axial, axial's steps"}
+    small = out["runs"][out["runs"]["setting"] != "paper, profile step"]
+    assert set(small["timestep_s"]) == {1e-5}
     # the rigid leg has no springs: one small-step run stands for both conventions
     md = out["runs"][out["runs"]["design"] == "MD"]
     assert len(md) == 3 and md["key"].nunique() == 2
@@ -107,3 +109,15 @@ def test_axial_check_three_settings(tmp_path):
     assert np.isfinite(cmp.to_numpy()).all()
     with pytest.raises(ValueError, match="setting"):
         tab.setting_comparison(out["hops"].drop(columns="setting"))
+
+
+def test_axial_check_auto_substeps(tmp_path):
+    """With the profile's axial step 'auto' the stiff SS leg gets physics
+    substeps of the 1e-4 s control period; the rigid MD leg needs none."""
+    hopping = Profile("hopping", 1.0, 0.3, 1e-4, 1, 0.3)
+    out = paper.axial_check(hopping, cache_dir=tmp_path, designs=("MD", "SS"), workers=1)
+    runs = out["runs"].set_index(["design", "setting"])
+    ss = runs.loc[("SS", "axial, axial's steps")]
+    assert ss["substeps"] > 1 and ss["timestep_s"] * ss["substeps"] == pytest.approx(1e-4)
+    assert runs.loc[("MD", "axial, axial's steps"), "substeps"] == 1
+    assert ss["status"] == "ok"

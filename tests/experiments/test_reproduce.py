@@ -8,7 +8,7 @@ from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.experiments.reproduce import reproduce
 
-TINY = Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5, stability_tolerance=1.5, stability_scan=False)
+TINY = Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5, stability_tolerance=1.5, stability_scan=False, replicates=0)
 
 
 @pytest.mark.parametrize(
@@ -58,7 +58,7 @@ def test_tiny_reproduction_writes_tables_figures_claims(tmp_path):
 
 def test_axial_convention_runs_beside_paper_at_its_own_time_step(tmp_path):
     out, cache = tmp_path / "out", tmp_path / "cache"
-    one = Profile("one", 1.5, 0.5, 1e-4, 2, 0.5, axial_timestep_s=2e-5)
+    one = Profile("one", 1.5, 0.5, 1e-4, 2, 0.5, axial_timestep_s=2e-5, replicates=0)
     assert one.for_convention("axial").timestep_s == 2e-5 and one.for_convention("paper") is one
     rep = reproduce(
         one,
@@ -75,3 +75,42 @@ def test_axial_convention_runs_beside_paper_at_its_own_time_step(tmp_path):
     assert dict(runs.groupby("convention")["timestep_s"].first()) == {"axial": 2e-5, "paper": 1e-4}
     claims = rep.tables["claims"]
     assert set(claims["convention"]) == {"paper", "axial"}
+
+
+def test_replicates_default_to_the_profile_and_become_the_claims_basis(tmp_path):
+    two = Profile("two", 2.5, 0.5, 1e-4, 2, 0.5, replicates=2)
+    rep = reproduce(
+        two, "1", str(tmp_path / "out"), workers=2, cache_dir=str(tmp_path / "c"), progress=False, log=lambda *a: None
+    )
+    runs = rep.tables["exp1_runs"]
+    assert len(runs) == 20 * 3 and sorted(set(runs["replicate"])) == [-1, 0, 1]
+    claims = rep.tables["claims"].query("convention == 'paper'").set_index("claim_id")
+    row = claims.loc["ramp_ss_tracking"]
+    assert row["basis"] == "replicate means" and row["n_replicates"] == 2
+    assert row["sensor_timing"] == "authors" and row["timestep_check"] == "not checked"
+
+
+@pytest.mark.slow
+def test_robustness_study_end_to_end(tmp_path):
+    """The study's every variant on a tiny profile: tables written, the
+    default's value against each variant's classified, and the claims'
+    time-step check fed from the finer-physics runs."""
+    tiny = Profile("tiny", 2.0, 0.5, 1e-4, 2, 0.5, replicates=1)
+    rep = reproduce(
+        tiny,
+        "1,3,robustness",
+        str(tmp_path / "out"),
+        workers=2,
+        cache_dir=str(tmp_path / "c"),
+        progress=False,
+        log=lambda *a: None,
+    )
+    table = rep.tables["robustness"]
+    assert set(table["variant"]) >= {"authors", "fresh", "latency-5", "axial", "2e-5 s physics", "replicate 0"}
+    assert set(table["class"]) <= {"keeps", "moves > 2x", "flips", "no value"}
+    assert (table.loc[table["variant"] == "authors", "class"].isin(["keeps", "no value"])).all()
+    # latency 5 diverges at 1e-4 s: no values
+    assert (table.loc[table["variant"] == "latency-5", "class"] == "no value").all()
+    claims = rep.tables["claims"].query("convention == 'paper'").set_index("claim_id")
+    assert claims.loc["ramp_ss_tracking", "timestep_check"] != "not checked"
+    assert (tmp_path / "out" / "robustness_summary.csv").is_file()

@@ -46,7 +46,7 @@ def test_survival_rule_by_hand():
 
 
 def test_tuning_starts_from_the_authors_gains_and_is_reproducible(tmp_path):
-    tiny = Profile("tiny", duration_s=4.0, transient_s=1.0, book_replicates=2)
+    tiny = Profile("tiny", duration_s=4.0, transient_s=1.0, replicates=2)
     from mat_hopper.experiments.runner import Runner
 
     with Runner(tmp_path, workers=1, progress=False) as runner:
@@ -66,7 +66,7 @@ def test_tuning_starts_from_the_authors_gains_and_is_reproducible(tmp_path):
 
 
 def test_codesign_end_to_end(tmp_path):
-    tiny = Profile("tiny", duration_s=4.0, transient_s=1.0, book_replicates=2)
+    tiny = Profile("tiny", duration_s=4.0, transient_s=1.0, replicates=2)
     out = codesign(["MD", "SS"], profile=tiny, trials=4, cache_dir=tmp_path, workers=2)
     assert list(out["gains"]["design"]) == ["MD", "SS"]
     assert set(out["comparison"]["experiment"]) == {DEFAULT, TUNED}

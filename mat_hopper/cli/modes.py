@@ -1,0 +1,74 @@
+"""``mat-hopper modes``: a leg's axial natural frequencies, lumped chain
+beside the continuum rod, and its analytic stable time step."""
+
+from __future__ import annotations
+
+from .. import reference as ref
+from ..atomic import write_csv
+from ..control import DEFAULT_SENSOR_TIMING
+from ..materials import CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
+from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, controller_timestep, estimate_timestep
+from .simulate import design_from_args
+
+BOUNDARY_CONDITIONS = (
+    "boundary conditions: the rod carries the mass above it (base, hips, stub) at its top end and the foot's "
+    "upper capsule at its lower end; the foot below its 8000 N/m spring is left out of both"
+)
+FORMULA = (
+    "rod: (a1 a2 z^2 - 1) sin z = (a1 + a2) z cos z, w = z sqrt(E A L / m) / L, a1 = M_top / m, a2 = M_bot / m "
+    "(longitudinal vibration of a bar with end masses; S. S. Rao, Vibration of Continuous Systems, 2nd ed., "
+    "Wiley 2019, ch. 9); chain: eigh(K, M) of the compiled model's lumped masses and springs"
+)
+
+
+def cmd_modes(args) -> int:
+    design = design_from_args(args)
+    table = axial_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=args.modes)
+    print(
+        f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass "
+        f"{args.segment_mass}: axial modes (Hz)"
+    )
+    print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+    print(BOUNDARY_CONDITIONS)
+    print(FORMULA)
+    w, spring = estimate_timestep(design, args.convention, args.segment_mass)
+    control = controller_timestep(design, args.convention, sensor_timing=args.sensor_timing)
+    which = "the spring chain (2 / w_max)" if spring < control else "the controller's delayed stance damping"
+    print(
+        f"analytic stable time step: {min(spring, control):.3g} s, set by {which}; spring chain 2 / w_max = "
+        f"{spring:.3g} s (w_max {w:.4g} rad/s), controller c(L) I / (Kd gear) = {control:.3g} s "
+        f"(sensor timing {args.sensor_timing})"
+    )
+    k, dt, _ = auto_substeps(design, args.convention, args.segment_mass)
+    print(
+        f"--timestep auto: {k} physics substep(s) of {dt:.3g} s per {ref.TIMESTEP_S:g} s control period "
+        f"(at most {AUTO_SAFETY:g} x the spring bound)"
+    )
+    if args.csv:
+        write_csv(table, args.csv)
+        print(f"wrote {len(table)} rows to {args.csv}")
+    return 0
+
+
+def register_cli(sub) -> None:
+    p = sub.add_parser(
+        "modes",
+        help="a leg's axial natural frequencies (lumped chain vs continuum rod) and its stable time step",
+        description="Axial natural frequencies of a one-material leg: the lumped spring chain the model uses "
+        "beside the continuum rod of the same mass per length and E A, under the same end masses; and the "
+        "analytic stable time step with the limit that sets it.",
+    )
+    p.add_argument("--design", default="SS", help="one elastic material (SS, Ti, Al, PVC, ...)")
+    p.add_argument("--density", help="densities, g/cm^3 (one value per segment, all equal)")
+    p.add_argument("--modulus", help="moduli, GPa (one value per segment, all equal)")
+    p.add_argument("--segments", type=int, default=ref.REFERENCE_SEGMENTS, help="number of segments (default 3)")
+    p.add_argument(
+        "--convention", default="axial", choices=CONVENTIONS, help="stiffness convention (default axial: E A N / L)"
+    )
+    p.add_argument("--segment-mass", default=DEFAULT_SEGMENT_MASS, choices=SEGMENT_MASSES, help="segment mass")
+    p.add_argument(
+        "--sensor-timing", default=DEFAULT_SENSOR_TIMING, help="for the controller's limit (authors, fresh, or steps)"
+    )
+    p.add_argument("--modes", type=int, default=5, help="how many modes (default 5)")
+    p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here")
+    p.set_defaults(func=cmd_modes)

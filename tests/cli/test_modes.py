@@ -1,0 +1,20 @@
+import pandas as pd
+
+from mat_hopper.cli import main
+
+
+def test_modes_prints_chain_beside_rod_and_writes_csv(tmp_path, capsys):
+    csv = tmp_path / "modes.csv"
+    assert main(["modes", "--design", "SS", "--segments", "16", "--convention", "axial", "--csv", str(csv)]) == 0
+    out = capsys.readouterr().out
+    assert "chain_hz" in out and "rod_hz" in out and "boundary conditions" in out
+    assert "set by the spring chain" in out and "--timestep auto:" in out
+    t = pd.read_csv(csv)
+    assert list(t.columns[:3]) == ["mode", "chain_hz", "rod_hz"]
+    assert abs(t["chain_hz"][0] / t["rod_hz"][0] - 1) < 0.01  # mode 1 within 1 % at N = 16
+
+
+def test_modes_refuses_a_graded_leg(capsys):
+    assert main(["modes", "--design", "rho-inc"]) == 2
+    err = capsys.readouterr().err
+    assert "one elastic material" in err and len(err.strip().splitlines()) == 1
