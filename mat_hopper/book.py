@@ -73,6 +73,34 @@ class Book:
     cache_dir: Path
     out_dir: Path
 
+    def downloads(self, tables: dict[str, pd.DataFrame], *, subdir: str | None = None):
+        """Write each table as ``<out_dir>[/subdir]/<name>.csv`` (atomically,
+        :func:`mat_hopper.atomic.write_csv`) and return an IPython Markdown
+        object with a download link to each: MyST ``{download}`` roles, which
+        the book renders (``nb_render_markdown_format: myst``) by copying
+        the file into the built HTML. Names: letters, digits, ``-``, ``_``."""
+        import re
+
+        from IPython.display import Markdown
+
+        from .atomic import write_csv
+
+        if not tables:
+            raise ValueError("downloads: no tables given")
+        folder = self.out_dir / subdir if subdir else self.out_dir
+        links = []
+        for name, frame in tables.items():
+            if not re.fullmatch(r"[A-Za-z0-9_-]+", str(name)):
+                raise ValueError(f"downloads: table name {name!r} must be letters, digits, '-' or '_'")
+            if not isinstance(frame, pd.DataFrame):
+                raise ValueError(f"downloads: {name!r} is a {type(frame).__name__}, not a pandas DataFrame")
+            path = folder / f"{name}.csv"
+            path.parent.mkdir(parents=True, exist_ok=True)
+            write_csv(frame, path)
+            rel = path.relative_to(self.root).as_posix()
+            links.append(f"{{download}}`{name}.csv </{rel}>` ({len(frame)} rows)")
+        return Markdown(f"Result tables of this build ({self.profile.name} profile), CSV: " + "; ".join(links) + ".")
+
     def describe(self) -> str:
         p = self.profile
         return (

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set up everything mat-hopper needs, idempotently:
 #   - system libraries (when run as root on Debian/Ubuntu): OSMesa for
-#     off-screen rendering, PostgreSQL for the distributed-optimizer tests;
+#     off-screen rendering, PostgreSQL for the distributed-optimizer tests,
+#     Chromium for the test that opens the built book in a browser;
 #   - a virtual environment in .venv with the pinned requirements
 #     (environment.txt) and the package itself (editable).
 # Re-running is cheap: the venv is rebuilt only when the pins change.
@@ -9,7 +10,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PY=${PYTHON:-python3}
-SYSTEM_PACKAGES="libosmesa6 libgl1 libglx-mesa0 postgresql"
+SYSTEM_PACKAGES="libosmesa6 libgl1 libglx-mesa0 postgresql chromium"
 
 if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
   missing=""

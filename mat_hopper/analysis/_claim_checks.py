@@ -248,6 +248,16 @@ def _comparison_rows(ctx, exps, designs, behaviours, metric, baseline="MD"):
     return c[c["design"].isin(designs) & c["behaviour"].isin(behaviours) & (c["metric"] == metric)], basis
 
 
+def smallest_p(n_replicates: int, family_size: int = 1) -> float:
+    """The smallest Holm-adjusted p a family of `family_size` two-sided
+    Mann-Whitney U tests of n against n replicates can reach: the exact
+    two-sided minimum 2 / C(2n, n), times the family size (Holm's first
+    step). n = 6 and 16 comparisons (4 materials x 4 behaviours): 0.035."""
+    if n_replicates < 1:
+        return math.nan
+    return min(1.0, family_size * 2.0 / math.comb(2 * n_replicates, n_replicates))
+
+
 def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1",), baseline="MD"):
     def evaluate(ctx: _Context) -> Outcome:
         rows, basis = _comparison_rows(ctx, exps, designs, behaviours, metric, baseline)
@@ -258,6 +268,16 @@ def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1
         k = int(good.sum())
         verdict = fraction_verdict(k, n_needed)
         word = "lower" if direction < 0 else "higher"
+        family = len(ctx.compare(exps, metric, baseline)[0])
+        n_min = int(min(rows["n"].min(), rows["n_baseline"].min())) if basis == "replicates" else 0
+        if basis == "replicates" and smallest_p(n_min, family) >= ctx.alpha:
+            same_way = int((np.sign(rows["pct_change"]) == direction).sum())
+            return Outcome(
+                f"{same_way}/{n_needed} {word}; significance untestable: {n_min} replicates reach Holm p "
+                f">= {smallest_p(n_min, family):.2g} at best in this family of {family}",
+                NOT_TESTABLE,
+                "more replicates are needed (the paper profile runs 6)",
+            )
         misses = rows[~good.to_numpy()]
         detail = (
             (

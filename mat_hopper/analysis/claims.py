@@ -92,6 +92,7 @@ from ._claim_checks import (  # noqa: F401 (public names of this module)
     _pct,
     fraction_verdict,
     match_percent,
+    smallest_p,
 )
 from .change import percent_change
 from .stats import seconds
@@ -356,10 +357,20 @@ def claims_table(
                 out = Outcome("not run", NOT_RUN, f"no {conv}-convention hopping results")
             else:
                 out = claim.evaluate(ctx)
-            used, n_rep = ("", 0) if out.verdict in (NOT_RUN, NOT_TESTABLE) else _basis_used(ctx, claim)
-            if is_stab and out.verdict not in (NOT_RUN, NOT_TESTABLE):
+            used, n_rep = ("", 0) if out.verdict == NOT_RUN else _basis_used(ctx, claim)
+            if is_stab and out.verdict != NOT_RUN:
                 used, n_rep = "stability map", 0
-            check = "" if is_stab else timestep_check(claim.claim_id, h, _by_convention(fine_hops, conv), fine_label)
+            exps = USES.get(claim.claim_id, (None,))[0]
+            check = (
+                ""
+                if is_stab or out.verdict == NOT_RUN
+                else timestep_check(
+                    claim.claim_id,
+                    h if exps is None else ctx.experiment(exps),
+                    _by_convention(fine_hops, conv),
+                    fine_label,
+                )
+            )
             rows.append(
                 {
                     "claim_id": claim.claim_id,
@@ -392,16 +403,6 @@ def _basis_used(ctx: _Context, claim: Claim) -> tuple[str, int]:
         n = int(reps.groupby(["design", "behaviour"])["replicate"].nunique().min()) if len(reps) else 0
         return "replicate means", n
     return "hop cycles (description only)", 0
-
-
-def smallest_p(n_replicates: int, family_size: int = 1) -> float:
-    """The smallest Holm-adjusted p a family of `family_size` two-sided
-    Mann-Whitney U tests of n against n replicates can reach: the exact
-    two-sided minimum 2 / C(2n, n), times the family size (Holm's first
-    step). n = 6 and 16 comparisons (4 materials x 4 behaviours): 0.035."""
-    if n_replicates < 1:
-        return math.nan
-    return min(1.0, family_size * 2.0 / math.comb(2 * n_replicates, n_replicates))
 
 
 # --- writers ---------------------------------------------------------------------------------

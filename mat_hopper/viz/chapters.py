@@ -201,6 +201,34 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
     return fig
 
 
+def jerk_rate_panel(ax, jerk: dict) -> None:
+    """Mean |jerk| against the record rate on `ax`, per design ({design:
+    table from :func:`mat_hopper.analysis.tables.jerk_by_rate`}, log-log):
+    solid, the old finite difference of the recorded acceleration (aliased
+    leg ringing, labelled as such); dashed, the book's metric (50 Hz
+    low-pass at the physics rate), flat in the rate."""
+    for i, (d, t) in enumerate(jerk.items()):
+        colour = design_colour(d, i)
+        raw = t["raw_jerk_m_s3"] if "raw_jerk_m_s3" in t else t["mean_jerk_m_s3"]
+        ax.plot(t["rate_hz"], raw, "o-", color=colour, label=f"{d}, finite difference (old)")
+        if "metric_jerk_m_s3" in t:
+            ax.plot(t["rate_hz"], t["metric_jerk_m_s3"], "s--", color=colour, label=f"{d}, 50 Hz low-pass (metric)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("Record rate (Hz)")
+    ax.set_ylabel("Mean |jerk| (m/s³)")
+    ax.set_title("Jerk against the record rate")
+    ax.legend(fontsize="small")
+
+
+def jerk_rate_figure(jerk: dict):
+    """One panel: :func:`jerk_rate_panel`."""
+    with rc_context(STYLE):
+        fig = Figure(figsize=(5.2, 3.6), layout="constrained")
+        jerk_rate_panel(fig.subplots(), jerk)
+    return fig
+
+
 def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
     """Three of the authors' code defects, measured: (A) tracking error
     against the wall-clock factor of the desired path (table from
@@ -218,14 +246,7 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
         a.set_ylabel("Tracking error (mm)")
         a.set_title("Desired path on the wall clock")
         a.legend()
-        for i, (d, t) in enumerate(jerk.items()):
-            b.plot(t["rate_hz"], t["mean_jerk_m_s3"], "o-", color=design_colour(d, i), label=d)
-        b.set_xscale("log")
-        b.set_yscale("log")
-        b.set_xlabel("Sampling rate (Hz)")
-        b.set_ylabel("Mean |jerk| (m/s³)")
-        b.set_title("Jerk from sparse samples")
-        b.legend()
+        jerk_rate_panel(b, jerk)
         behs = order_behaviours(power.columns)
         x = np.arange(len(behs))
         for i, (label, row) in enumerate(power.iterrows()):
@@ -246,4 +267,43 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
             ax.text(
                 -0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold", ha="right", va="bottom"
             )
+    return fig
+
+
+def leg_mass_figure(table: pd.DataFrame, md_tracking_m: float | None = None):
+    """Mean tracking error (mm) of every sweep point that ended upright
+    against the mass of its leg's material (kg), from
+    :func:`mat_hopper.analysis.tables.leg_mass_table` of experiment 2's
+    runs: density sweeps filled and joined per base material, modulus
+    sweeps (which leave the mass alone) hollow; `md_tracking_m`, the rigid
+    MD leg's forward tracking error, as a dashed line."""
+    need = ("sweep_base", "sweep_property", "sweep_value", "leg_mass_kg", "mean_tracking_error_m")
+    missing = [c for c in need if c not in table.columns]
+    if missing:
+        raise ValueError(f"leg_mass_figure needs columns {missing}")
+    t = table[table["upright"].astype(bool)] if "upright" in table.columns else table
+    with rc_context(STYLE):
+        fig = Figure(figsize=(6.4, 4.0), layout="constrained")
+        ax = fig.subplots()
+        for i, (base, g) in enumerate(t.groupby("sweep_base", sort=False)):
+            colour = design_colour(base, i)
+            dens = g[g["sweep_property"] == "density"].sort_values("leg_mass_kg")
+            ax.plot(
+                dens["leg_mass_kg"], dens["mean_tracking_error_m"] * 1e3, "o-", color=colour, label=f"{base}: density"
+            )
+            mod = g[g["sweep_property"] == "modulus"]
+            ax.plot(
+                mod["leg_mass_kg"],
+                mod["mean_tracking_error_m"] * 1e3,
+                "o",
+                mfc="none",
+                color=colour,
+                label=f"{base}: modulus",
+            )
+        if md_tracking_m is not None and np.isfinite(md_tracking_m):
+            ax.axhline(md_tracking_m * 1e3, color="black", ls="--", lw=0.8, label="MD")
+        ax.set_xlabel("Mass of the leg's material (kg)")
+        ax.set_ylabel("Tracking error (mm)")
+        ax.set_title("Experiment 2: tracking error against leg mass")
+        ax.legend(fontsize="small", ncol=2)
     return fig

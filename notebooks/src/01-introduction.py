@@ -17,7 +17,12 @@
 # Matter* (Schulz, Ahmad & Tucker, ICRA 2025), asks whether such material
 # properties change how well a robot does its job, and answers it with a
 # simulated one-legged hopper whose leg is made of three material
-# segments.
+# segments {cite:p}`schulz2025materials`. The authors published their code
+# (<https://github.com/dynamicmobility/mat-hopper>; we read its commit
+# `c213300`) and a video (<https://youtu.be/SEuEXRi80XU>); the page
+# {doc}`../book/cite` says how to cite the paper and this book, and the
+# {doc}`../book/glossary` defines the words used here in a sense of their
+# own.
 #
 # Two properties of a segment are varied:
 #
@@ -37,7 +42,8 @@
 # This book rebuilds the study from the authors' published numbers, runs
 # it, and sets our results beside the paper's claims. Where the authors'
 # code has defects we say so, follow a documented convention, and measure
-# what the defect changes (chapter 10).
+# what the defect changes (chapter 10). The simulator is MuJoCo
+# {cite:p}`todorov2012mujoco`.
 
 # %% [markdown]
 # ## How to read this book
@@ -109,7 +115,9 @@ book.show(profiles.profile_table(b.profile))
 # result (design, behaviour, duration, time step, stiffness convention,
 # controller gains, the versions of mat-hopper and MuJoCo). A second build
 # therefore only re-reads results and redraws figures. Delete
-# `results/cache/` to recompute everything.
+# `results/cache/` to recompute everything. The page {doc}`../book/runtime`
+# says how long each chapter took to execute, for this build's profile and
+# for the other one.
 #
 # To work with one chapter, open it in Jupyter with the repository's
 # environment (the kernel is `Python 3 (ipykernel)` of `.venv`) and run it
@@ -128,16 +136,30 @@ book.show(profiles.profile_table(b.profile))
 # %% [markdown]
 # ## The designs
 #
-# The paper compares nine legs. Five are mono-materials: the rigid
-# *MuJoCo default* leg (MD: density 1 g/cm³ and no springs at all, the
-# usual rigid-body model), PVC, aluminium (Al), titanium (Ti) and stainless
-# steel (SS). Four are functional gradients: density increasing from hip
-# to foot (ρ-inc) or decreasing (ρ-dec), both at 70 GPa throughout, and
-# the three materials PVC, Ti and SS stacked in either order. Segment 1 is
-# the one nearest the body.
+# The paper compares nine legs ({numref}`fig-designs`). Five are
+# {term}`mono-materials <mono-material>`: the rigid *MuJoCo default* leg
+# ({term}`MD`: density 1 g/cm³ and no springs at all, the usual rigid-body
+# model), PVC, aluminium (Al), titanium (Ti) and stainless steel (SS).
+# Four are {term}`functional gradients <functional gradient>`: density
+# increasing from hip to foot ({term}`ρ-inc`) or decreasing
+# ({term}`ρ-dec`), both at 70 GPa throughout, and the three materials PVC,
+# Ti and SS stacked in either order ({term}`PVC-Ti-SS`). Segment 1 is the
+# one nearest the body.
 
 # %%
-maps.designs_figure()
+from myst_nb import glue
+
+glue("fig-designs", maps.designs_figure(), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-designs
+# :name: fig-designs
+# :alt: The nine leg designs drawn as three stacked segments each, coloured by density and labelled with each segment's density and modulus; the rigid MD leg has no modulus.
+#
+# The paper's nine legs, segment 1 (at the hip) on top: five mono-materials
+# and four functional gradients, each segment's density (g/cm³) and
+# modulus (GPa).
+# ```
 
 # %% [markdown]
 # The remaining chapters follow the paper: what the materials are

@@ -14,19 +14,30 @@
 # (metals, ceramics, polymers, natural materials) gather in a region of
 # their own. The paper uses the density-modulus chart to choose the range
 # of its designs: the class of metals and ceramics, and the class of
-# polymers and natural composites. The chart below is drawn from our
-# catalogue: the paper's four materials (bold), a few natural and technical
-# ones for context, the two class regions and the bounds of the design
-# space.
+# polymers and natural composites. The chart ({numref}`fig-ashby`) is
+# drawn from our catalogue: the paper's four materials (bold), a few
+# natural and technical ones for context {cite:p}`ashby2011materials,wegst2004mechanical`,
+# the two class regions and the bounds of the design space.
 
 # %%
 import pandas as pd
+from myst_nb import glue
 
 from mat_hopper import book, materials
 from mat_hopper.viz import maps
 
 b = book.setup()
-maps.ashby_figure()
+glue("fig-ashby", maps.ashby_figure(), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-ashby
+# :name: fig-ashby
+# :alt: Log-log chart of elastic modulus (GPa) against density (g/cm³) with the catalogue's materials as labelled points, shaded regions for metals and ceramics and for polymers and natural materials, and the paper's design box.
+#
+# {term}`Ashby chart` of the catalogue: modulus against density, log-log.
+# The paper's materials in bold, the two material classes shaded, the
+# bounds of the design space outlined.
+# ```
 
 # %% [markdown]
 # The paper's materials sit in two clusters: PVC among the polymers (light
@@ -39,8 +50,9 @@ maps.ashby_figure()
 #
 # Every material the library knows, with the source of its numbers. The
 # paper's five come from the authors' code; the others are typical
-# mid-range values from Ashby's handbook and from Wegst & Ashby's survey of
-# natural materials. A rigid material (MD, the simulator's default) has no
+# mid-range values from Ashby's handbook {cite:p}`ashby2011materials` and
+# from Wegst & Ashby's survey of natural materials
+# {cite:p}`wegst2004mechanical`. A rigid material (MD, the simulator's default) has no
 # modulus.
 
 # %%
@@ -49,7 +61,7 @@ book.show(maps.catalogue_table())
 # %% [markdown]
 # ## Porosity and density
 #
-# A porous material is a solid with holes. Its bulk density ρ_b is what
+# A porous material is a solid with holes ({term}`porosity`). Its bulk density ρ_b is what
 # the leg weighs per volume; its porosity is the fraction of the volume
 # that is empty:
 #

@@ -9,7 +9,7 @@
 # %% [markdown]
 # # Modelling material in MuJoCo
 #
-# MuJoCo simulates rigid bodies. The paper gives a rigid-body simulator
+# MuJoCo {cite:p}`todorov2012mujoco` simulates rigid bodies. The paper gives a rigid-body simulator
 # two material properties with two simple devices: **density becomes
 # mass**, and **modulus becomes a spring**. Each of the leg's material
 # segments is a capsule of radius 2.5 cm and length 10 cm, cut in two
@@ -18,6 +18,8 @@
 # models and looks at what the two devices do.
 
 # %%
+import math
+
 import pandas as pd
 
 from mat_hopper import book, materials
@@ -85,17 +87,45 @@ print(
 #
 # ## Springs from modulus: two conventions
 #
-# The paper converts a modulus E into a spring stiffness with the beam
-# formula k = 3EI/L³. Its code, however, puts in E as the bare number of
-# GPa (193 for steel, not 193e9 Pa), the second moment of area as
-# I = π r · 4 (for I = π r⁴ / 4) and L = 0.01 m (the segments are 0.1 m
-# long). The net effect is a constant: 9.42e5 N/m per GPa, whatever the
-# segment's size. We keep this as the **paper** convention, so that our
-# results can be compared with the paper's, and offer the physical one
-# beside it:
+# The paper converts a modulus E into a spring stiffness with the
+# cantilever formula k = 3EI/L³ {cite:p}`schulz2025materials`. Its code
+# evaluates it with E as the bare number of GPa (193 for steel, not
+# 193e9 Pa), the second moment of area as I = π r · 4 (for I = π r⁴ / 4)
+# and L = 0.01 m (the segments are 0.1 m long). The result is one constant
+# per GPa, whatever the segment's size. Those slips look like a unit
+# defect, but they nearly cancel: the paper's own formula done in SI units
+# for its segment (r = 2.5 cm, L = 10 cm) lands within a few percent of
+# the code's constant.
+
+# %%
+from mat_hopper.materials import segment_length
+
+r_m, length_m = ref.MATERIAL_RADIUS, segment_length(ref.REFERENCE_SEGMENTS)
+i_m4 = math.pi * r_m**4 / 4  # second moment of area of the round section
+k_bending_si = 3 * 1e9 * i_m4 / length_m**3  # 3 E I / L^3 for E = 1 GPa, in N/m
+k_code = materials.spring_stiffness(1.0, "paper")  # the authors' constant, N/m per GPa
+k_rod = materials.spring_stiffness(1.0, "axial")  # E A / L, N/m per GPa
+print(f"the authors' code:           {k_code:.3e} N/m per GPa")
+print(
+    f"3EI/L^3 in SI (r = {r_m * 100:g} cm, L = {length_m * 100:g} cm): {k_bending_si:.3e} N/m per GPa "
+    f"({(k_code / k_bending_si - 1) * 100:+.1f} %)"
+)
+print(f"E A / L, a rod in tension:   {k_rod:.3e} N/m per GPa ({k_rod / k_bending_si:.1f} times the bending stiffness)")
+
+# %% [markdown]
+# So the authors' number is, to a few percent, what their formula says.
+# The real modelling choice is the formula itself: 3EI/L³ is the
+# stiffness of a cantilever *bent* sideways at its tip, and it sets a
+# spring that the leg compresses *along its axis*, which a rod resists
+# with E A / L. For a round rod the ratio of the two is 4L²/(3r²), about
+# 21 for these segments: the paper's legs are about twenty times softer
+# along their axis than rods of their materials would be. We keep the
+# authors' constant as the **paper** {term}`stiffness convention`, so that
+# our results can be compared with the paper's, and offer the rod beside
+# it:
 #
-# - `paper`: k = 9.42e5 N/m per GPa (the authors' conversion, as their
-#   code computes it);
+# - `paper`: k = 9.42e5 N/m per GPa (the authors' constant, a bending
+#   stiffness);
 # - `axial`: k = E A / L, the axial stiffness of a rod of cross-section
 #   A = π r² and length L (0.1 m for three segments).
 #
@@ -133,15 +163,20 @@ book.show(springs, {"axial_over_paper": "{:.1f}"}, precision=3)
 #
 # A second limit has nothing to do with the material: in stance the
 # controller damps the body's pitch and roll through the hips, a damper
-# of 1 × 600 N m s/rad computed from the state at the start of each step,
-# acting on the body's inertia about the hip. Explicit damping is stable
-# for Δt < 2 I / c, the same for every leg (`mat_hopper/stability.py`).
+# of c = 1 × 600 N m s/rad acting on the body's inertia I about the hip.
+# Explicit damping computed from the current state is stable for
+# Δt < 2 I / c; the authors' controller reads the body's gyro one physics
+# step old (their {term}`sensor timing`), and a rate feedback read L steps
+# late is stable only for Δt < c(L) I / c with c(L) = 2 cos(Lπ / (2L + 1))
+# {cite:p}`levin1976note`: c(1) = 1, half the undelayed limit, the same for
+# every leg (`mat_hopper/modes.py`, `mat_hopper/stability.py`).
 #
 # We also measure the largest stable step: static hopping at a given step
 # counts as stable when it ends without NaN, without any acceleration
 # above 1e6 and with the body above 0.1 m (the paper's criterion). The
-# search starts at 1e-2 s, steps down until a run survives, then bisects
-# (chapter 5 has the details). Both conventions, every mono-material:
+# search starts at the estimate, steps by factors of 1.5 until the outcome
+# changes, then bisects (chapter 5 has the details). Both conventions,
+# every mono-material:
 
 # %%
 from mat_hopper.experiments import paper
@@ -151,7 +186,20 @@ steps = paper.convention_stability(profile=b.profile, cache_dir=b.cache_dir)
 book.show(steps, precision=3)
 
 # %%
-chapters.convention_figure(steps)
+from myst_nb import glue
+
+glue("fig-conventions", chapters.convention_figure(steps), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-conventions
+# :name: fig-conventions
+# :alt: Per mono-material leg, the paper and axial stiffness conventions compared: spring stiffness in N/m on a log axis, and the measured largest stable time step beside its spring-chain estimate, with the paper's 1e-4 s step and the controller's limit drawn as lines.
+#
+# The two {term}`stiffness conventions <stiffness convention>` for every
+# mono-material: the springs they give, and the largest stable time step,
+# measured and estimated. Dotted: the paper's time step of 1e-4 s;
+# dashed: the controller's limit.
+# ```
 
 # %%
 paper_conv = steps[steps["convention"] == "paper"].set_index("design")
@@ -161,18 +209,19 @@ for name, claimed in ref.CLAIM_STABLE_TIMESTEP_S.items():
         f"spring-chain estimate {paper_conv.loc[name, 'analytic_timestep_s']:.1e} s; "
         f"the paper: about {claimed:.0e} s"
     )
-print(f"controller limit 2 I / c: {steps['controller_timestep_s'].min():.1e} s, for every leg")
+print(f"controller limit c(1) I / c: {steps['controller_timestep_s'].min():.1e} s, for every leg")
 
 # %% [markdown]
 # Under the paper's convention the measured limits of the metals lie near
 # the paper's own time step of 1e-4 s (dotted line), and PVC, the softest,
-# allows the largest step. Wherever a material spring sets the limit, the
-# chain estimate lands close to the measurement. The physical `axial`
+# allows the largest step of the five sprung legs (the numbers are printed
+# above). Wherever a material spring sets the limit, the chain estimate
+# lands close to the measurement; where it does not, the delayed stance
+# damping does (dashed line), and it caps every leg, MD included, whose
+# chain estimate only sees the soft foot spring. The physical `axial`
 # springs are about twenty times stiffer, so the stable step shrinks by
 # roughly the square root of that: the metals then need steps well below
-# 1e-4 s, and the paper's time step makes them diverge. The rigid MD leg
-# has no material springs: its chain estimate only sees the soft foot
-# spring, and its measured limit is the controller's (dashed line).
+# 1e-4 s, and the paper's time step makes them diverge.
 #
 # Everything in chapters 5 to 9 uses the `paper` convention, as the
 # paper's results do. Chapter 10 measures what the `axial` convention

@@ -9,7 +9,8 @@
 # %% [markdown]
 # # The hopper and its controller
 #
-# The robot is a 3D version of Raibert's one-legged hopping machine (1984):
+# The robot is a 3D version of Raibert's one-legged hopping machine
+# {cite:p}`raibert1984experiments,raibert1986legged`:
 # a 15 kg body free to move and turn in space, a leg on a two-axis hip,
 # and a sprung foot whose spring a linear actuator can push. Between hip
 # and foot sit the three material segments of chapter 3. The numbers are
@@ -36,14 +37,25 @@ b = book.setup()
 # drives. Only the foot touches the ground. Rendered off-screen, the
 # hopper with the ρ-inc leg standing at the foot of the ramp, its segments
 # coloured by density (light at the hip, dense at the foot); the dotted
-# line is the desired path:
+# line is the desired path ({numref}`fig-model`):
 
 # %%
+from myst_nb import glue
 from PIL import Image
 
 from mat_hopper.viz import render
 
-Image.fromarray(render.render_still("rho-inc", "ramp", size=(720, 480)))
+glue("fig-model", Image.fromarray(render.render_still("rho-inc", "ramp", size=(720, 480))), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-model
+# :name: fig-model
+# :alt: Off-screen rendering of the hopper standing at the foot of the ramp: a cross-shaped body, the leg below it with segments shaded from light at the hip to dark at the foot, and a dotted line marking the desired path up the ramp.
+#
+# The hopper with the {term}`ρ-inc` leg at the foot of the 3.5 % ramp,
+# rendered off-screen by MuJoCo: segments coloured by density, the
+# desired path dotted.
+# ```
 
 # %% [markdown]
 # The joints of the stainless-steel leg:
@@ -87,7 +99,7 @@ book.show(pd.DataFrame(asdict(ControllerSettings()).items(), columns=["setting",
 # ## One rollout
 #
 # The stainless-steel leg hopping forward, for one run of this build's
-# profile. Left, the whole run: the hop apexes approach the 1 m target as
+# {term}`profile` ({numref}`fig-rollout`). Left, the whole run: the hop apexes approach the 1 m target as
 # the thrust adapts; the shaded start is the transient, whose hop cycles
 # are not scored. Right, a short window (marked orange on the left): the
 # body's height with stance shaded, the thrust pushing the foot spring
@@ -96,15 +108,28 @@ book.show(pd.DataFrame(asdict(ControllerSettings()).items(), columns=["setting",
 
 # %%
 rollout = simulate("SS", "forward", settings=b.profile.sim_settings())
-chapters.controller_figure(rollout)
+glue("fig-rollout", chapters.controller_figure(rollout), display=False)
 
 # %% [markdown]
-# Every hop cycle (lift-off to the next lift-off) after the transient
-# yields one row of metrics: hop height (max body z), tracking error
-# (mean planar distance between body and desired path), jerk (mean |d³z/dt³|
-# of the body) and hip power (mean norm of the hip motors' mechanical
-# power). The first few scored cycles of this run, and the run in one
-# line:
+# ```{glue:figure} fig-rollout
+# :name: fig-rollout
+# :alt: Time series of one stainless-steel forward run: left, every hop apex approaching the 1 m target over the run with the transient shaded; right, a short window of body height with stance shaded, thrust, hip angle against its target, and body x against the desired x.
+#
+# One rollout of the SS leg hopping forward. Left: hop apexes over the
+# run, the {term}`transient` shaded. Right: a short window (orange on the
+# left) of the body's height, the thrust, the hip and the body's x.
+# ```
+
+# %% [markdown]
+# Every {term}`hop cycle` (lift-off to the next lift-off) after the
+# transient yields one row of metrics: {term}`hop height` (max body z in
+# world coordinates, what the controller regulates, and beside it the
+# apex above the ground under the body), {term}`tracking error` (mean
+# planar distance between body and desired path), {term}`jerk` (mean
+# |d³z/dt³| of the body, from its vertical acceleration low-passed at
+# 50 Hz at the physics rate) and {term}`hip power` (mean norm of the hip
+# motors' mechanical power). The first few scored cycles of this run, and
+# the run in one line:
 
 # %%
 hops = hop_table(rollout)
@@ -123,3 +148,45 @@ keys = [
     "distance_m",
 ]
 book.show(pd.Series(summary)[keys].to_frame("value"), index=True, precision=3)
+
+# %% [markdown]
+# ## Try your own leg
+#
+# Everything above is a public call, so a leg of your own is one cell
+# away. Change the densities (g/cm³, segment 1 at the hip), the moduli
+# (GPa; `None` for a rigid segment) or the path (a function from time in
+# s to the desired position (x, y) in m), and run the cell. Here: a
+# bone-like leg, two segments of cortical bone above one of tendon (the
+# catalogue's values, chapter 2), weaving 10 cm to each side while it
+# moves forward at 5 cm/s; the SS run above beside it.
+
+# %%
+import math
+
+from mat_hopper import Behaviour, LegDesign, material
+
+bone, tendon = material("CorticalBone"), material("Tendon")
+my_leg = LegDesign.from_properties(
+    densities_g_cm3=[bone.density_g_cm3, bone.density_g_cm3, tendon.density_g_cm3],
+    moduli_gpa=[bone.modulus_gpa, bone.modulus_gpa, tendon.modulus_gpa],
+    name="bone-bone-tendon",
+)
+my_path = Behaviour.from_function(
+    "weave", lambda t: (0.05 * t, 0.1 * math.sin(2 * math.pi * t / 20.0)), duration_s=b.profile.duration_s
+)
+mine = simulate(my_leg, my_path, settings=b.profile.sim_settings())
+book.show(
+    pd.DataFrame(
+        {"SS, forward": pd.Series(summary)[keys], f"{my_leg.name}, {my_path.name}": pd.Series(run_summary(mine))[keys]}
+    ),
+    index=True,
+    precision=3,
+)
+
+# %% [markdown]
+# `simulate` takes the same settings as every run of this book
+# (`b.profile.sim_settings()`: duration, time step, stiffness convention,
+# sensor timing); `SimSettings` and `simulate`'s docstring list them. A
+# leg whose springs are too stiff for the time step diverges rather than
+# raising: `mine.stable` and `mine.diverged_at_s` say so (chapter 5 tells
+# how to choose the step).

@@ -29,7 +29,8 @@
 #
 # - the paper's: 20 steps log-spaced from 1e-3 s down to 1e-5 s, the first
 #   that survives;
-# - ours: from 1e-2 s down in factors of √10 until a try survives, then
+# - ours: from the estimate below, in steps of a factor 1.5 up while a
+#   try survives or down while it fails, until the outcome changes; then
 #   bisection (in log scale) between the last failure and the first
 #   survivor, down to a bracket of a factor 1.25 (the `quick` profile:
 #   1.5). It finds steps above 1e-3 s too, and the bracket says how sharp
@@ -38,9 +39,10 @@
 # Beside the measurement, the two estimates of chapter 3: the leg's axial
 # mass-spring chain has a highest natural frequency ω_max, and the
 # explicit spring update is stable while Δt < 2 / ω_max (`spring`); the
-# controller's explicit attitude damping is stable while Δt < 2 I / c,
-# the same for every leg (`controller`); the smaller of the two is the
-# `combined` estimate.
+# controller's explicit attitude damping, read one step late (the
+# authors' {term}`sensor timing`), is stable while Δt < I / c
+# {cite:p}`levin1976note`, the same for every leg (`controller`); the
+# smaller of the two is the `combined` estimate.
 
 # %%
 from mat_hopper import book
@@ -54,13 +56,23 @@ tables = reproduce.run_experiments(b.profile, "stability", out_dir=b.out_dir, ca
 stab = tables["stability"]
 
 # %%
-maps.stability_figure(stab, convention=b.profile.convention)
+from myst_nb import glue
+
+glue("fig-stability", maps.stability_figure(stab, convention=b.profile.convention), display=False)
+b.downloads({"stability": stab, "stability_agreement": tables["stability_agreement"]})
 
 # %% [markdown]
-# Left: the measured largest stable step over the grid (colour) and the
-# estimate's contours (dashed), with the paper's materials marked. Right:
-# measured against estimated, one point per design. How close the
-# estimate is, over the whole map:
+# ```{glue:figure} fig-stability
+# :name: fig-stability
+# :alt: Left, a heat map of the measured largest stable time step over density (g/cm³) and modulus (GPa) on log axes, with dashed contours of the analytic estimate and the paper's materials marked; right, a scatter of measured against estimated stable time step on log axes with the line of equality.
+#
+# The {term}`stable time step` over the design space. Left: measured
+# (colour) with the estimate's contours (dashed) and the paper's materials
+# marked. Right: measured against estimated, one point per design.
+# ```
+#
+# How close the estimate is, over the whole map
+# ({numref}`fig-stability`):
 
 # %%
 book.show(agreement(stab), precision=3)

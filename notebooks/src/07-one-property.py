@@ -44,14 +44,40 @@ tables.update(mono)
 sweeps = tables["exp2_hops"]
 
 # %%
-from IPython.display import Markdown
+from IPython.display import Markdown, display
 
-Markdown(tab.outcome_summary(tables["exp2_runs"]))
+display(Markdown(tab.outcome_summary(tables["exp2_runs"])))
+b.downloads({"exp2_hops": sweeps, "exp2_runs": tables["exp2_runs"]})
 
 # %% [markdown]
-# A sweep point that diverges in its first steps is a light or stiff leg
-# whose stable time step (chapter 5) lies below the paper's 1e-4 s: it has
-# no hop cycles and drops out of the figure below.
+# ## Blow-ups and falls
+#
+# A run can end early in two different ways, and they mean different
+# things. A run whose numbers blow up while the body is still up
+# ({term}`diverged`) is numerical: a light or stiff leg whose stable time
+# step (chapter 5) lies below the paper's 1e-4 s, and it blows up within
+# its first steps. A run whose body is already down when the numbers blow
+# up {term}`fell` first: the hopper failed, and the crash then broke the
+# integration. The runs table keeps the time of the blow-up
+# (`diverged_at_s`) and the last recorded body height; each failed sweep
+# point, told apart:
+
+# %%
+failures = tab.failure_table(tables["exp2_runs"])
+display(book.show(failures, {"at_s": "{:.4g}", "final_base_z_m": "{:.3f}"}))
+for kind, g in failures.groupby("kind", sort=False):
+    print(
+        f"{kind}: "
+        + ", ".join(f"{r.design} ({r.at_s:.3g} s)" if r.at_s == r.at_s else r.design for r in g.itertuples())
+    )
+
+# %% [markdown]
+# The early blow-ups are the light or stiff points, as chapter 5
+# predicts. The late ones are the densest legs, which chapter 5 says are
+# numerically the *most* stable: they were already on the ground (the body
+# height above) when the integration broke. They are falls of a leg too
+# heavy for the controller, not a numerical limit. Points without hop
+# cycles drop out of the figures below.
 
 # %% [markdown]
 # ## Tracking error against density and against modulus
@@ -63,7 +89,20 @@ Markdown(tab.outcome_summary(tables["exp2_runs"]))
 # hop cycles, Holm over all points), open ones do not.
 
 # %%
-plots.figure4_sweeps(sweeps, tables["exp1_hops"])
+from myst_nb import glue
+
+glue("fig-sweeps", plots.figure4_sweeps(sweeps, tables["exp1_hops"]), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-sweeps
+# :name: fig-sweeps
+# :alt: Two panels of mean tracking error in mm with interquartile bars: left against density in g/cm³, right against modulus in GPa on a log axis, one line per base material (PVC, Al, Ti, SS), with the rigid MD leg's forward tracking error as a dashed line and band.
+#
+# Experiment 2: tracking error against density (left) and modulus
+# (right), one line per base material; dashed, {term}`MD` hopping forward.
+# Filled markers: Holm-adjusted Mann-Whitney U p < 0.05 against MD over
+# hop cycles (a description of one run each).
+# ```
 
 # %% [markdown]
 # How far each sweep moves the tracking error: the smallest and largest
@@ -73,6 +112,74 @@ plots.figure4_sweeps(sweeps, tables["exp1_hops"])
 spans = tab.sweep_spans(sweeps)
 spans[["min", "max", "span"]] *= 1e3
 book.show(spans.rename(columns={"min": "min (mm)", "max": "max (mm)", "span": "span (mm)"}), precision=3)
+
+# %% [markdown]
+# ## Tracking error is a leg-mass effect
+#
+# Density acts through mass only, and the four density sweeps start from
+# four different materials. Plotted against the mass of the leg's
+# material instead of its density ({numref}`fig-leg-mass`), the four sweeps
+# fall on one curve: a leg of a given mass tracks about as well whatever
+# its modulus, so what the density sweeps measure is the leg's mass.
+
+# %%
+import numpy as np
+import scipy.stats
+
+from mat_hopper.viz import chapters
+
+masses = tab.leg_mass_table(tables["exp2_runs"])
+md_fwd = tables["exp1_runs"].query("design == 'MD' and behaviour == 'forward' and replicate == -1")
+glue(
+    "fig-leg-mass",
+    chapters.leg_mass_figure(masses, float(md_fwd["mean_tracking_error_m"].iloc[0])),
+    display=False,
+)
+dens = masses[(masses["sweep_property"] == "density") & masses["upright"].astype(bool)]
+rho_s, p_s = scipy.stats.spearmanr(dens["leg_mass_kg"], dens["mean_tracking_error_m"])
+print(
+    f"{len(dens)} upright density-sweep points of {dens['sweep_base'].nunique()} base materials: "
+    f"Spearman rank correlation of tracking error with leg mass {rho_s:+.2f} (p = {p_s:.2g})"
+)
+# points of different base materials (and so different moduli) at nearly the same leg mass
+near = []
+rows = list(dens.itertuples())
+for i, a in enumerate(rows):
+    for c in rows[i + 1 :]:
+        if a.sweep_base != c.sweep_base and abs(a.leg_mass_kg / c.leg_mass_kg - 1) < 0.1:
+            near.append((a, c))
+for a, c in near:
+    print(
+        f"{a.sweep_base} at {a.density_g_cm3:g} g/cm³ ({a.modulus_gpa:g} GPa, leg {a.leg_mass_kg:.2f} kg): "
+        f"{a.mean_tracking_error_m * 1e3:.1f} mm;  {c.sweep_base} at {c.density_g_cm3:g} g/cm³ "
+        f"({c.modulus_gpa:g} GPa, leg {c.leg_mass_kg:.2f} kg): {c.mean_tracking_error_m * 1e3:.1f} mm"
+    )
+if near:
+    diffs = [abs(a.mean_tracking_error_m / c.mean_tracking_error_m - 1) for a, c in near]
+    print(
+        f"at nearly equal leg mass, tracking errors differ by at most {max(diffs):.0%}; over all density-sweep "
+        f"points they span {dens['mean_tracking_error_m'].min() * 1e3:.1f} to "
+        f"{dens['mean_tracking_error_m'].max() * 1e3:.1f} mm ({np.ptp(dens['leg_mass_kg']):.1f} kg of leg mass)"
+    )
+b.downloads({"exp2_leg_mass": masses})
+
+# %% [markdown]
+# ```{glue:figure} fig-leg-mass
+# :name: fig-leg-mass
+# :alt: Mean tracking error in mm against the mass of the leg's material in kg for every upright sweep point of experiment 2: the density sweeps of PVC, Al, Ti and SS as filled markers joined per material, lying along one falling curve; the modulus sweeps as hollow markers stacked at each base material's mass; a dashed line for MD.
+#
+# Experiment 2 against the leg's mass: the density sweeps of all four
+# base materials (filled) lie on one curve; the modulus sweeps (hollow)
+# leave the mass unchanged. Dashed: {term}`MD` hopping forward.
+# ```
+#
+# The pairs above are legs of different materials and moduli at nearly
+# the same mass; set the difference of their tracking errors against the
+# span of the whole curve (both printed above): the curve is one of mass,
+# not of material. This also
+# reads the paper's first claim below differently: density "matters more"
+# than modulus because it is the only one of the two that changes the
+# leg's mass.
 
 # %% [markdown]
 # ## Beside the paper

@@ -126,3 +126,52 @@ def test_power_formula_and_defects_figure(synthetic):
     assert len(chapters.defects_figure(clock, jerk, p).axes) == 3
     rules = tab.claim_rules()
     assert len(rules) == len(tab.claims_for({"exp1_hops": hops[hops["experiment"] == "exp1"]}, None))
+
+
+def test_jerk_by_rate_raw_and_metric_by_hand():
+    """A hand-made record at 1 kHz: vertical acceleration a = 2 t (m/s^2),
+    so every finite difference is exactly 2 m/s^3; the metric's channel
+    jerk_z holds -3 m/s^3, so its mean |jerk| is 3 at every rate."""
+    from mat_hopper.behaviours import behaviour
+    from mat_hopper.materials import parse_design
+    from mat_hopper.sim import CHANNELS, C, Rollout, SimSettings
+
+    t = np.arange(2001) * 1e-3
+    data = np.zeros((len(t), len(CHANNELS)))
+    data[:, C["t"]], data[:, C["az"]], data[:, C["jerk_z"]] = t, 2.0 * t, -3.0
+    settings = SimSettings(duration_s=2.0, transient_s=0.5, timestep_s=1e-4)
+    r = Rollout(parse_design("SS"), behaviour("forward"), settings, data, np.zeros((0, 3)), -1, 1.0, ())
+    j = tab.jerk_by_rate(r, rates_hz=(1000.0, 100.0))
+    assert list(j["rate_hz"]) == pytest.approx([1000.0, 100.0])
+    assert list(j["raw_jerk_m_s3"]) == pytest.approx([2.0, 2.0])
+    assert list(j["metric_jerk_m_s3"]) == pytest.approx([3.0, 3.0])
+    assert list(j["mean_jerk_m_s3"]) == list(j["raw_jerk_m_s3"])
+    assert len(chapters.jerk_rate_figure({"SS": j}).axes) == 1
+
+
+def test_leg_mass_table_by_hand():
+    # a 0.1 m segment at 1 g/cm^3 weighs 0.327 kg with its end caps
+    # (docs/reference-hopper.md): three of them 0.982 kg; at 8 g/cm^3, 8 times that.
+    runs = pd.DataFrame({"design": ["MD-like", "SS"], "densities_g_cm3": ["1/1/1", "8/8/8"], "replicate": [-1, -1]})
+    t = tab.leg_mass_table(runs)
+    assert t["leg_mass_kg"].tolist() == pytest.approx([3 * 0.327, 24 * 0.327], rel=2e-3)
+
+
+def test_failure_table_tells_numerical_from_falls():
+    runs = pd.DataFrame(
+        {
+            "design": ["A", "B", "C", "D"],
+            "behaviour": ["forward"] * 4,
+            "replicate": [-1] * 4,
+            "status": ["ok", "diverged", "diverged", "fallen"],
+            "upright": [True, False, False, False],
+            "diverged_at_s": [np.nan, 0.0012, 9.4, np.nan],
+            "final_base_z_m": [0.9, 1.2, 0.01, 0.05],
+            "n_hops": [10, 0, 8, 3],
+        }
+    )
+    f = tab.failure_table(runs).set_index("design")
+    assert list(f.index) == ["B", "C", "D"]
+    assert f.loc["B", "kind"] == "numerical" and f.loc["B", "at_s"] == 0.0012
+    assert f.loc["C", "kind"] == "fell, then diverged" and f.loc["C", "at_s"] == 9.4
+    assert f.loc["D", "kind"] == "fell" and np.isnan(f.loc["D", "at_s"])

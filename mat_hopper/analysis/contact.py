@@ -1,0 +1,59 @@
+"""Contact chatter: how often the toe's raw touch signal switches per
+touchdown.
+
+A clean stance switches the touch signal twice: contact on at touchdown,
+off at lift-off. The authors' hip laws switch on the raw signal (attitude
+law while touching, flight PD while not), so a contact that chatters in
+stance alternates the hips between the two laws within one stance. Chapter
+8 uses this to explain the rigid MD leg's ramp baseline.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ..control import TOUCHDOWN
+
+
+def contact_toggles(rollout, transient_s: float | None = None) -> float:
+    """Mean number of changes of the toe's contact state (touch sensor
+    > 0 N: contact) per controller touchdown, over the recorded samples
+    from `transient_s` on (default: the rollout's scored window,
+    ``rollout.settings.transient_s``). 2.0 is a clean hop (on, off); more
+    is chatter.
+
+    Counted on the recorded samples: record at the physics rate
+    (``record_rate_hz = 1 / timestep_s``) to see every toggle; a coarser
+    record can only undercount. Raises ValueError when no touchdown falls
+    in the window."""
+    t0 = rollout.settings.transient_s if transient_s is None else float(transient_s)
+    t = rollout.time
+    keep = t >= t0
+    contact = rollout.touch[keep] > 0.0
+    toggles = int(np.count_nonzero(contact[1:] != contact[:-1]))
+    ev = rollout.events
+    touchdowns = int(np.count_nonzero((ev[:, 1] == TOUCHDOWN) & (ev[:, 0] >= t0)))
+    if touchdowns == 0:
+        raise ValueError(
+            f"contact_toggles: no touchdown at or after {t0:g} s in this rollout "
+            f"({rollout.design.name}, {rollout.behaviour.name})"
+        )
+    return toggles / touchdowns
+
+
+def contact_table(rollouts) -> pd.DataFrame:
+    """:func:`contact_toggles` of each rollout, one row each: design,
+    behaviour, timestep_s, record_rate_hz, toggles_per_touchdown."""
+    rows = []
+    for r in rollouts:
+        rows.append(
+            {
+                "design": r.design.name,
+                "behaviour": r.behaviour.name,
+                "timestep_s": r.settings.timestep_s,
+                "record_rate_hz": r.settings.record_rate_hz,
+                "toggles_per_touchdown": contact_toggles(r),
+            }
+        )
+    return pd.DataFrame(rows)

@@ -1,0 +1,221 @@
+"""A Sphinx extension for the book: runtime per chapter at both profiles
+(and one fix of the HTML, :func:`_unique_scripts`).
+
+myst-nb's ``nb-exec-table`` shows how long each notebook of *this* build
+took to execute. A reader also wants the other profile's cost (what does
+``make book`` cost, when CI only builds the quick book?), which no build
+measures at once. So this extension
+
+- records, once every notebook of a build has executed (Sphinx's
+  ``env-updated``), each chapter's execution time as myst-nb measured it
+  into ``results/<profile>/runtimes.csv`` (the profile from
+  ``$MAT_HOPPER_PROFILE``), and
+- renders the ``runtime-table`` directive as a table with one row per
+  chapter and one column per profile: this build's times, measured now,
+  and the other profile's from the record of its last build in the same
+  folder (with the date of that build), or "–" where it has not been built
+  there.
+
+The times are myst-nb's own measurement (``exec_data["runtime"]``), not
+ours; we keep only the record across builds, which myst-nb does not.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import posixpath
+from pathlib import Path
+
+import pandas as pd
+from docutils import nodes
+from sphinx.addnodes import pending_xref
+from sphinx.transforms.post_transforms import SphinxPostTransform
+from sphinx.util.docutils import SphinxDirective
+
+from .experiments.profiles import PROFILES, get_profile
+
+RUNTIME_CSV = "runtimes.csv"
+_KEY = "mat_hopper_runtime_table"
+
+
+def runtime_record(exec_data: dict[str, dict], titles: dict[str, str] | None = None) -> pd.DataFrame:
+    """The runtimes of one build as a table: one row per executed document
+    (docname, title, runtime_s, succeeded), in document order, from
+    myst-nb's per-document ``exec_data``; documents without a runtime are
+    left out."""
+    titles = titles or {}
+    rows = []
+    for doc in sorted(exec_data):
+        data = exec_data[doc] or {}
+        rt = data.get("runtime")
+        if rt is None:
+            continue
+        rows.append(
+            {
+                "docname": doc,
+                "title": titles.get(doc, doc),
+                "runtime_s": float(rt),
+                "succeeded": bool(data.get("succeeded", False)),
+            }
+        )
+    return pd.DataFrame(rows, columns=["docname", "title", "runtime_s", "succeeded"])
+
+
+def runtime_table(records: dict[str, pd.DataFrame | None]) -> pd.DataFrame:
+    """Chapters as rows, profiles as columns (``<profile>_s``, seconds; nan
+    where that profile has no record of the chapter), from each profile's
+    :func:`runtime_record`, and a last row ``total``. Columns: docname,
+    title, then one per profile in :data:`PROFILES` order."""
+    frames = {p: r for p, r in records.items() if r is not None and len(r)}
+    docs: dict[str, str] = {}
+    for r in frames.values():
+        for d, t in zip(r["docname"], r["title"]):
+            docs.setdefault(d, t)
+    order = sorted(docs)
+    out = pd.DataFrame({"docname": order, "title": [docs[d] for d in order]})
+    for p in PROFILES:
+        r = frames.get(p)
+        col = f"{p}_s"
+        out[col] = float("nan") if r is None else out["docname"].map(r.set_index("docname")["runtime_s"]).astype(float)
+    total = {"docname": "", "title": "total"}
+    for p in PROFILES:
+        col = f"{p}_s"
+        total[col] = float(out[col].sum()) if out[col].notna().any() else float("nan")
+    return pd.concat([out, pd.DataFrame([total])], ignore_index=True)
+
+
+def _record_path(srcdir, profile: str) -> Path:
+    return Path(srcdir) / "results" / profile / RUNTIME_CSV
+
+
+def _exec_data(env) -> dict[str, dict]:
+    from myst_nb.sphinx_ import NbMetadataCollector
+
+    return {d: v.get("exec_data") for d, v in NbMetadataCollector.get_doc_data(env).items() if v.get("exec_data")}
+
+
+def _titles(env) -> dict[str, str]:
+    return {d: t.astext() for d, t in env.titles.items()}
+
+
+def _record(app, env):
+    """env-updated: write this build's runtimes (when any notebook ran)."""
+    from .atomic import write_csv
+
+    rec = runtime_record(_exec_data(env), _titles(env))
+    if len(rec):
+        profile = get_profile(None).name
+        path = _record_path(app.srcdir, profile)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_csv(rec.assign(built_at=_dt.datetime.now().isoformat(timespec="minutes")), path)
+    from myst_nb.sphinx_ import NbMetadataCollector
+
+    return [d for d, v in NbMetadataCollector.get_doc_data(env).items() if v.get(_KEY)]
+
+
+class RuntimeTableNode(nodes.General, nodes.Element):
+    pass
+
+
+class RuntimeTableDirective(SphinxDirective):
+    has_content = False
+
+    def run(self):
+        from myst_nb.sphinx_ import NbMetadataCollector
+
+        NbMetadataCollector.set_doc_data(self.env, self.env.docname, _KEY, True)
+        return [RuntimeTableNode()]
+
+
+class RuntimeTablePostTransform(SphinxPostTransform):
+    default_priority = 8  # before the reference resolvers, as myst-nb's nb-exec-table
+
+    def run(self, **kwargs):
+        for node in list(self.document.findall(RuntimeTableNode)):
+            node.replace_self(self._table())
+
+    def _table(self):
+        env = self.env
+        this = get_profile(None).name
+        records, dates = {}, {}
+        for p in PROFILES:
+            if p == this:
+                records[p] = runtime_record(_exec_data(env), _titles(env))
+                dates[p] = "this build"
+                continue
+            path = _record_path(env.srcdir, p)
+            if path.is_file():
+                r = pd.read_csv(path)
+                records[p] = r
+                dates[p] = f"last built here {r['built_at'].iloc[0]}" if "built_at" in r and len(r) else ""
+            else:
+                records[p], dates[p] = None, "not built in this folder yet"
+        t = runtime_table(records)
+        cols = list(PROFILES)
+        table = nodes.table(classes=["colwidths-auto"])
+        tgroup = nodes.tgroup(cols=1 + len(cols))
+        table += tgroup
+        for _ in range(1 + len(cols)):
+            tgroup += nodes.colspec(colwidth=1)
+        thead, tbody = nodes.thead(), nodes.tbody()
+        tgroup += thead
+        tgroup += tbody
+        head = nodes.row()
+        head += nodes.entry("", nodes.paragraph(text="chapter"))
+        for p in cols:
+            head += nodes.entry("", nodes.paragraph(text=f"{p} profile (s), {dates[p]}"))
+        thead += head
+        here = env.docname
+        for row in t.itertuples(index=False):
+            r = nodes.row()
+            para = nodes.paragraph()
+            if row.docname:
+                ref = pending_xref(
+                    refdoc=here,
+                    reftarget=posixpath.relpath(row.docname, posixpath.dirname(here)),
+                    reftype="doc",
+                    refdomain="std",
+                    refexplicit=True,
+                    refwarn=True,
+                )
+                ref += nodes.inline(text=row.title)
+                para += ref
+            else:
+                para += nodes.strong(text=row.title)
+            r += nodes.entry("", para)
+            for p in cols:
+                v = getattr(row, f"{p}_s")
+                r += nodes.entry("", nodes.paragraph(text="–" if pd.isna(v) else f"{v:.0f}"))
+            tbody += r
+        return table
+
+
+def _unique_scripts(app, pagename, templatename, context, doctree):
+    """html-page-context: drop repeated script tags. Jupyter Book 1 sets up
+    sphinx-thebe so that its configuration script (``const THEBE_JS_URL =
+    ...``) lands on every page twice, and a browser then reports a
+    SyntaxError for the second ``const``."""
+    scripts = context.get("script_files")
+    if not scripts:
+        return
+    seen, unique = set(), []
+    for js in scripts:
+        # an inline script comes with filename None or "" (the same body added twice)
+        name = getattr(js, "filename", str(js)) or ""
+        key = (name, tuple(sorted((k, str(v)) for k, v in getattr(js, "attributes", {}).items())))
+        if key not in seen:
+            seen.add(key)
+            unique.append(js)
+    scripts[:] = unique
+
+
+def setup(app):
+    app.connect("html-page-context", _unique_scripts)
+    app.add_node(RuntimeTableNode)
+    app.add_directive("runtime-table", RuntimeTableDirective)
+    app.add_post_transform(RuntimeTablePostTransform)
+    app.connect("env-updated", _record)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}
+
+
+__all__ = ["RUNTIME_CSV", "runtime_record", "runtime_table", "setup"]

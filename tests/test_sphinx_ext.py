@@ -1,0 +1,51 @@
+"""The book's Sphinx extension (runtime per chapter) and the chapters'
+download links (Book.downloads), without building a book."""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+import pytest
+
+from mat_hopper import book
+from mat_hopper.sphinx_ext import runtime_record, runtime_table
+
+
+def test_runtime_record_from_exec_data():
+    exec_data = {
+        "notebooks/02-b": {"runtime": 2.5, "succeeded": True},
+        "notebooks/01-a": {"runtime": 1.0, "succeeded": True},
+        "book/glossary": {"runtime": None},
+    }
+    r = runtime_record(exec_data, {"notebooks/01-a": "A"})
+    assert r["docname"].tolist() == ["notebooks/01-a", "notebooks/02-b"]
+    assert r["title"].tolist() == ["A", "notebooks/02-b"]
+    assert r["runtime_s"].tolist() == [1.0, 2.5]
+
+
+def test_runtime_table_both_profiles_and_total():
+    quick = pd.DataFrame({"docname": ["a", "b"], "title": ["A", "B"], "runtime_s": [1.0, 2.0], "succeeded": True})
+    paper = pd.DataFrame({"docname": ["a"], "title": ["A"], "runtime_s": [10.0], "succeeded": True})
+    t = runtime_table({"quick": quick, "paper": paper}).set_index("title")
+    assert t.loc["A", "quick_s"] == 1.0 and t.loc["A", "paper_s"] == 10.0
+    assert math.isnan(t.loc["B", "paper_s"])
+    assert t.loc["total", "quick_s"] == 3.0 and t.loc["total", "paper_s"] == 10.0
+    # a profile never built here: its column is empty, its total nan
+    t = runtime_table({"quick": quick, "paper": None}).set_index("title")
+    assert t["paper_s"].isna().all()
+
+
+def test_downloads_write_and_link(tmp_path, monkeypatch):
+    monkeypatch.setenv("MAT_HOPPER_PROFILE", "quick")
+    b = book.setup(chdir=False)
+    b = book.Book(tmp_path, b.profile, b.cache_dir, tmp_path / "results" / "quick")
+    md = b.downloads({"exp9_runs": pd.DataFrame({"x": [1, 2, 3]})})
+    assert (tmp_path / "results" / "quick" / "exp9_runs.csv").read_text() == "x\n1\n2\n3\n"
+    assert "{download}`exp9_runs.csv </results/quick/exp9_runs.csv>` (3 rows)" in md.data
+    with pytest.raises(ValueError, match="name"):
+        b.downloads({"../x": pd.DataFrame()})
+    with pytest.raises(ValueError, match="DataFrame"):
+        b.downloads({"x": [1, 2]})
+    with pytest.raises(ValueError, match="no tables"):
+        b.downloads({})
