@@ -88,7 +88,6 @@ def test_check_settings_keep_the_control_period_and_sensor_delay():
     assert len(checks[checks["role"] == "paper"]) == 9 * (2 + 1)
 
 
-@pytest.mark.slow
 def test_validate_front_end_to_end(tmp_path):
     """A tiny front: Ti (a mono-material) and a design far off the front
     that the paper's designs must dominate clearly."""
