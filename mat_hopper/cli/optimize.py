@@ -56,12 +56,15 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
         raise ValueError(
             f"--space mix: give one kind per segment, e.g. catalogue,continuous,continuous (kinds: {', '.join(KINDS)})"
         )
+    classes = args.ashby_classes if getattr(args, "ashby_classes", None) is not None else sp.ashby_classes
+    inherit = not classes  # bounds of an Ashby-restricted space come from its classes' hulls
     space = SearchSpace(
         n_segments=n,
         kinds=kinds,
-        density_g_cm3=_pair(args.density_bounds, "--density-bounds") or sp.density_g_cm3,
-        modulus_gpa=_pair(args.modulus_bounds, "--modulus-bounds") or sp.modulus_gpa,
+        density_g_cm3=_pair(args.density_bounds, "--density-bounds") or (sp.density_g_cm3 if inherit else None),
+        modulus_gpa=_pair(args.modulus_bounds, "--modulus-bounds") or (sp.modulus_gpa if inherit else None),
         materials=args.materials if args.materials is not None else sp.materials,
+        ashby_classes=classes,
     )
     objective = Objective(
         behaviours=args.behaviour if args.behaviour is not None else ob.behaviours,
@@ -69,6 +72,7 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
         convention=args.convention if args.convention is not None else ob.convention,
         hop_height_target_m=ob.hop_height_target_m,
         hop_height_tolerance_m=ob.hop_height_tolerance_m,
+        segment_mass=getattr(args, "segment_mass", None) or ob.segment_mass,
     )
     return StudyConfig(args.study, space, objective)
 
@@ -189,6 +193,11 @@ def register_cli(sub) -> None:
     p.add_argument("--density-bounds", help="MIN,MAX g/cm^3 for continuous segments (default 0.9,20)")
     p.add_argument("--modulus-bounds", help="MIN,MAX GPa for continuous segments (default 0.1,1000)")
     p.add_argument("--materials", help="catalogue choices, comma-separated (default: all with a modulus)")
+    p.add_argument(
+        "--ashby-classes",
+        help="restrict every segment to these catalogue classes' hulls (log density-modulus), e.g. metal,polymer",
+    )
+    p.add_argument("--segment-mass", help="segment-mass convention: leg (default, mass independent of N) or capsule")
     p.add_argument(
         "--profile",
         help=f"run profile: {' or '.join(PROFILES)} (default $MAT_HOPPER_PROFILE, else paper: 60 s runs, "
