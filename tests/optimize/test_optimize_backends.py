@@ -37,7 +37,7 @@ def test_a_study_holds_one_backend(tmp_path):
     warp = StudyConfig("warp-study", SearchSpace(), OBJ)
     study = create_or_load(warp, storage, backend="warp")
     assert study.user_attrs[BACKEND_ATTR] == "warp"
-    assert len(study.get_trials()) == 3  # the paper's designs enqueued, as on the CPU path
+    assert len(study.get_trials()) == 8  # the paper's eight expressible designs enqueued, as on the CPU path
     create_or_load(warp, storage, backend="warp")  # resuming on the same backend is fine
     with pytest.raises(ValueError, match="holds trials of the warp backend"):
         create_or_load(warp, storage)  # the CPU path (run_study) refuses it
