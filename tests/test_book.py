@@ -35,6 +35,7 @@ MIN_FIGURES = {
     "07-one-property": 1,  # sweeps
     "08-gradients": 4,  # gradients, time series, gait tiles forward and ramp
     "09-optimizing-gradients": 1,  # the Pareto front
+    "09b-control-vs-material": 1,  # materials at the authors' gains and at their own
     "10-reproduction-report": 1,  # a defect measured
     "11-robustness": 1,  # keeps / moves / flips at a glance
     "12-convergence": 1,  # hopping metrics against N

@@ -12,19 +12,22 @@ import os
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
 
+import numpy as np
 import pandas as pd
 
 from ..behaviours import behaviour as get_behaviour
 from ._designs import as_design
-from ._settings import BatchSettings, result_frame
+from ._settings import BatchSettings, finite_mean, result_frame
 
 
 def _row(design, beh, settings: BatchSettings) -> dict:
     from ..metrics import run_summary
-    from ..sim import simulate
+    from ..sim import C, simulate
 
     r = simulate(design, beh, settings=settings.sim_settings())
     s = run_summary(r)
+    err = np.hypot(*(r.base_pos[:, :2] - r.data[:, [C["x_des"], C["y_des"]]]).T)
+    power = np.hypot(*r.hip_power.T)
     return {
         "design": design.name,
         "n_hops": int(s["n_hops"]),
@@ -37,6 +40,9 @@ def _row(design, beh, settings: BatchSettings) -> dict:
         "diverged_at_s": s["diverged_at_s"],
         "total_mass_kg": s["total_mass_kg"],
         "backend": "mujoco",
+        "upright": bool(r.upright),
+        "run_tracking_error_m": finite_mean(err),
+        "run_power_w": finite_mean(power),
     }
 
 

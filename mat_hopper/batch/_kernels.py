@@ -20,7 +20,10 @@ Per physics step i (time t_i = i dt) the host launches
    desired path at t_i, hip power from ``qfrc_actuator`` (joint space,
    gear x control) times the hip rates at t_i; closes and opens hop cycles
    at lift-offs; then checks divergence (NaN/inf in qpos, or |qacc| above
-   the limit);
+   the limit); besides the hop cycles it keeps whole-run means of
+   tracking error and hip power over every finite recorded sample (the
+   divergence step's included, as the CPU rollout records it) and the base
+   z of the last recorded sample;
 4. :func:`tick_kernel`: the step counter, kept on the device so that a
    CUDA graph of many steps can be replayed.
 
@@ -72,7 +75,14 @@ A_HOPS = 6  # scored cycles
 A_HEIGHT_SUM = 7  # sums over scored cycles of the per-cycle values
 A_ERR_SUM = 8
 A_POW_SUM = 9
-N_ACC = 10
+# Whole-run accumulators, over every recorded sample (the optimizer's fallback
+# score of a run without scored hops, mat_hopper.optimize._objective):
+A_RUN_NERR = 10  # finite tracking-error samples
+A_RUN_ERR = 11  # their sum (m)
+A_RUN_NPOW = 12  # finite hip-power samples
+A_RUN_POW = 13  # their sum (W)
+A_LAST_Z = 14  # base z of the last recorded sample (m): the run's upright test
+N_ACC = 15
 _A = {
     k: wp.constant(v)
     for k, v in dict(
@@ -86,6 +96,11 @@ _A = {
         A_HEIGHT_SUM=A_HEIGHT_SUM,
         A_ERR_SUM=A_ERR_SUM,
         A_POW_SUM=A_POW_SUM,
+        A_RUN_NERR=A_RUN_NERR,
+        A_RUN_ERR=A_RUN_ERR,
+        A_RUN_NPOW=A_RUN_NPOW,
+        A_RUN_POW=A_RUN_POW,
+        A_LAST_Z=A_LAST_Z,
     ).items()
 }
 W_OPEN, W_START, W_N, W_ERR, W_POW = _A["A_OPEN"], _A["A_START"], _A["A_N"], _A["A_ERR"], _A["A_POW"]
@@ -95,6 +110,13 @@ W_ZMAX, W_HOPS, W_HEIGHT_SUM, W_ERR_SUM, W_POW_SUM = (
     _A["A_HEIGHT_SUM"],
     _A["A_ERR_SUM"],
     _A["A_POW_SUM"],
+)
+W_RUN_NERR, W_RUN_ERR, W_RUN_NPOW, W_RUN_POW, W_LAST_Z = (
+    _A["A_RUN_NERR"],
+    _A["A_RUN_ERR"],
+    _A["A_RUN_NPOW"],
+    _A["A_RUN_POW"],
+    _A["A_LAST_Z"],
 )
 
 
@@ -362,18 +384,6 @@ def metrics_kernel(
         acc[w, W_ERR] = zero
         acc[w, W_POW] = zero
         acc[w, W_ZMAX] = F64(-wp.inf)
-    if acc[w, W_OPEN] > zero and i % every == 0:
-        desired = desired_state(t, path_kind, path_params, path_table)
-        x = F64(sensordata[w, lay.base_pos])
-        y = F64(sensordata[w, lay.base_pos + 1])
-        z = F64(sensordata[w, lay.base_pos + 2])
-        err = wp.sqrt((x - desired[0]) * (x - desired[0]) + (y - desired[1]) * (y - desired[1]))
-        p_y = F64(qfrc_actuator[w, lay.hip_y_dof]) * hip_rate_seen[w, 0]
-        p_x = F64(qfrc_actuator[w, lay.hip_x_dof]) * hip_rate_seen[w, 1]
-        acc[w, W_N] = acc[w, W_N] + one
-        acc[w, W_ERR] = acc[w, W_ERR] + err
-        acc[w, W_POW] = acc[w, W_POW] + wp.sqrt(p_y * p_y + p_x * p_x)
-        acc[w, W_ZMAX] = wp.max(acc[w, W_ZMAX], z)
     bad = bool(False)
     for k in range(qacc.shape[1]):
         if not (wp.abs(F64(qacc[w, k])) <= qacc_limit):  # catches nan too
@@ -381,6 +391,28 @@ def metrics_kernel(
     for k in range(qpos.shape[1]):
         if not wp.isfinite(qpos[w, k]):
             bad = True
+    sample = i % every == 0
+    if sample or bad:  # a recorded sample (the CPU rollout also records its divergence step)
+        desired = desired_state(t, path_kind, path_params, path_table)
+        x = F64(sensordata[w, lay.base_pos])
+        y = F64(sensordata[w, lay.base_pos + 1])
+        z = F64(sensordata[w, lay.base_pos + 2])
+        err = wp.sqrt((x - desired[0]) * (x - desired[0]) + (y - desired[1]) * (y - desired[1]))
+        p_y = F64(qfrc_actuator[w, lay.hip_y_dof]) * hip_rate_seen[w, 0]
+        p_x = F64(qfrc_actuator[w, lay.hip_x_dof]) * hip_rate_seen[w, 1]
+        pw = wp.sqrt(p_y * p_y + p_x * p_x)
+        if wp.isfinite(err):
+            acc[w, W_RUN_NERR] = acc[w, W_RUN_NERR] + one
+            acc[w, W_RUN_ERR] = acc[w, W_RUN_ERR] + err
+        if wp.isfinite(pw):
+            acc[w, W_RUN_NPOW] = acc[w, W_RUN_NPOW] + one
+            acc[w, W_RUN_POW] = acc[w, W_RUN_POW] + pw
+        acc[w, W_LAST_Z] = z
+        if acc[w, W_OPEN] > zero and sample:
+            acc[w, W_N] = acc[w, W_N] + one
+            acc[w, W_ERR] = acc[w, W_ERR] + err
+            acc[w, W_POW] = acc[w, W_POW] + pw
+            acc[w, W_ZMAX] = wp.max(acc[w, W_ZMAX], z)
     if bad:
         diverged[w] = i
 

@@ -17,7 +17,20 @@ from ..sim import DEFAULT_RECORD_RATE_HZ, SimSettings
 # One row per design, in this column order (the CLI writes exactly these).
 RESULT_COLUMNS = ("design", "n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable")
 # What the library's tables carry besides.
-EXTRA_COLUMNS = ("behaviour", "sensor_timing", "diverged_at_s", "total_mass_kg", "backend")
+# upright: stable and the base above reference.STABLE_MIN_BASE_Z at the last
+# recorded sample (Rollout.upright); run_tracking_error_m, run_power_w: means
+# over every finite recorded sample of the run, hop cycles or not (the
+# optimizer's score of a run without scored hops).
+EXTRA_COLUMNS = (
+    "behaviour",
+    "sensor_timing",
+    "diverged_at_s",
+    "total_mass_kg",
+    "backend",
+    "upright",
+    "run_tracking_error_m",
+    "run_power_w",
+)
 BACKENDS = ("mujoco", "warp")
 
 
@@ -97,7 +110,15 @@ def result_frame(rows: list[dict]) -> pd.DataFrame:
     out = pd.DataFrame(rows, columns=cols)
     out["n_hops"] = out["n_hops"].astype(int)
     out["stable"] = out["stable"].astype(bool)
+    out["upright"] = out["upright"].astype(bool)
     return out
+
+
+def finite_mean(values) -> float:
+    """Mean of the finite values, nan when there is none."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    return float(v.mean()) if len(v) else math.nan
 
 
 def mean_or_nan(total: float, n: int) -> float:

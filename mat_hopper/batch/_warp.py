@@ -385,6 +385,9 @@ class WarpBatch:
                     "diverged_at_s": None if div[w] < 0 else float(div[w] * self.settings.timestep_s),
                     "total_mass_kg": float(self.total_mass_kg[w]),
                     "backend": "warp",
+                    "upright": bool(div[w] < 0 and acc[w, K.A_LAST_Z] > ref.STABLE_MIN_BASE_Z),
+                    "run_tracking_error_m": mean_or_nan(acc[w, K.A_RUN_ERR], int(acc[w, K.A_RUN_NERR])),
+                    "run_power_w": mean_or_nan(acc[w, K.A_RUN_POW], int(acc[w, K.A_RUN_NPOW])),
                 }
             )
         return result_frame(rows)

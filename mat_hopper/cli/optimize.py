@@ -48,12 +48,16 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
         raise ValueError(
             f"--space mix: give one kind per segment, e.g. catalogue,continuous,continuous (kinds: {', '.join(KINDS)})"
         )
+    classes = args.ashby_classes if getattr(args, "ashby_classes", None) is not None else sp.ashby_classes
+    inherit = not classes  # bounds of an Ashby-restricted space come from its classes' hulls
     space = SearchSpace(
         n_segments=n,
         kinds=kinds,
-        density_g_cm3=parse_pair(args.density_bounds, "--density-bounds", "g/cm^3") or sp.density_g_cm3,
-        modulus_gpa=parse_pair(args.modulus_bounds, "--modulus-bounds", "GPa") or sp.modulus_gpa,
+        density_g_cm3=parse_pair(args.density_bounds, "--density-bounds", "g/cm^3")
+        or (sp.density_g_cm3 if inherit else None),
+        modulus_gpa=parse_pair(args.modulus_bounds, "--modulus-bounds", "GPa") or (sp.modulus_gpa if inherit else None),
         materials=args.materials if args.materials is not None else sp.materials,
+        ashby_classes=classes,
     )
     objective = Objective(
         behaviours=args.behaviour if args.behaviour is not None else ob.behaviours,
@@ -61,6 +65,7 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
         convention=args.convention if args.convention is not None else ob.convention,
         hop_height_target_m=ob.hop_height_target_m,
         hop_height_tolerance_m=ob.hop_height_tolerance_m,
+        segment_mass=getattr(args, "segment_mass", None) or ob.segment_mass,
     )
     return StudyConfig(args.study, space, objective)
 
@@ -128,6 +133,7 @@ def _cmd_optimize(args) -> int:
     check_sampler(options.sampler)
     fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
     check_objectives_vary(fresh.objective)
+    _check_backend(args)
     check_study_name(args.study)
     studies_dir = None if args.storage else args.studies_dir
     with nothing_left_behind(studies_dir):
@@ -139,7 +145,7 @@ def _cmd_optimize(args) -> int:
         stored = stored_config(args.study, storage)
         config = config_from_args(args, stored) if stored else fresh
         dispose(storage)  # no connection of this process may reach the forked workers
-        res = run_study(config, options)
+        res = _run_backend(config, options, args)
     print(
         f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
         + (f", {res.running} still running elsewhere" if res.running else "")
@@ -154,6 +160,32 @@ def _cmd_optimize(args) -> int:
         print("the study is short of its target: run the same command again to resume", file=sys.stderr)
         return 1
     return 0
+
+
+def _check_backend(args) -> None:
+    """--backend's options, and mujoco-warp for warp: one-line errors before any file is made."""
+    if args.backend != "warp":
+        if args.device is not None or args.batch_size is not None:
+            raise ValueError("--device and --batch-size are for --backend warp")
+        return
+    if args.batch_size is not None and args.batch_size < 1:
+        raise ValueError(f"--batch-size must be an integer >= 1, got {args.batch_size}")
+    from ..batch import WarpUnavailable, require_warp
+
+    try:
+        require_warp()
+    except WarpUnavailable as e:  # one line, exit 2, as mat-hopper batch
+        raise ValueError(str(e)) from None
+
+
+def _run_backend(config: StudyConfig, options: RunOptions, args):
+    """The study on --backend mujoco (CPU workers, the reference) or warp
+    (MuJoCo Warp batches of --batch-size trials, mat_hopper.optimize._batch)."""
+    if args.backend != "warp":
+        return run_study(config, options)
+    from ..optimize import DEFAULT_BATCH_SIZE, run_batch_study
+
+    return run_batch_study(config, options, device=args.device, batch_size=args.batch_size or DEFAULT_BATCH_SIZE)
 
 
 def register_cli(sub) -> None:
@@ -180,6 +212,11 @@ def register_cli(sub) -> None:
     p.add_argument("--modulus-bounds", help="MIN,MAX GPa for continuous segments (default 0.1,1000)")
     p.add_argument("--materials", help="catalogue choices, comma-separated (default: all with a modulus)")
     p.add_argument(
+        "--ashby-classes",
+        help="restrict every segment to these catalogue classes' hulls (log density-modulus), e.g. metal,polymer",
+    )
+    p.add_argument("--segment-mass", help="segment-mass convention: leg (default, mass independent of N) or capsule")
+    p.add_argument(
         "--profile",
         help=f"run profile: {' or '.join(PROFILES)} (default $MAT_HOPPER_PROFILE, else paper: 60 s runs, "
         "20 s transient, 1e-4 s step; quick: 12 s, 4 s)",
@@ -195,6 +232,14 @@ def register_cli(sub) -> None:
     p.add_argument("--sampler", default="tpe", help=f"one of {', '.join(SAMPLERS)} (tpe)")
     p.add_argument("--seed", type=int, default=0, help="sampler seed (0)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--backend",
+        choices=("mujoco", "warp"),
+        default="mujoco",
+        help="mujoco: CPU rollouts in --workers processes, the reference (default); warp: MuJoCo Warp batches",
+    )
+    p.add_argument("--device", help="Warp device for --backend warp: cpu or cuda (default: cuda where Warp sees a GPU)")
+    p.add_argument("--batch-size", type=int, help="--backend warp: trials asked and simulated together (64)")
     p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
     p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
     p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")

@@ -5,13 +5,15 @@ under a hop-height and a stability constraint.
 The public names are re-exported here, as Optuna does: the search space
 (:class:`SearchSpace`), the objective (:class:`Objective`,
 :func:`evaluate`), the study (:class:`StudyConfig`, :class:`RunOptions`,
-:func:`run_study`), its storage and its report (:func:`write_report`,
+:func:`run_study`; :func:`run_batch_study`, the same on the MuJoCo Warp batch
+backend, Optuna's ask-and-tell), its storage and its report (:func:`write_report`,
 :func:`replay`). The private modules ``_space``, ``_objective``,
 ``_storage`` and ``_study`` hold them; :mod:`~mat_hopper.optimize.report`
 writes a study's tables and plots. The command line is
 :mod:`mat_hopper.cli.optimize`.
 """
 
+from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
 from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, SearchSpace, describe, resample
 from ._storage import check_study_name, default_url, open_storage, redact, storage_file
@@ -30,6 +32,9 @@ from ._study import (
 from .report import book_study, front_designs, front_table, pareto_frame, replay, trials_frame, write_report
 
 __all__ = [
+    "DEFAULT_BATCH_SIZE",
+    "evaluate_batch",
+    "run_batch_study",
     "CONSTRAINTS",
     "OBJECTIVES",
     "Evaluation",

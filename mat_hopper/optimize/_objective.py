@@ -26,6 +26,14 @@ package): ``paper`` is the paper's protocol (60 s runs, 20 s transient,
 looks: the hop height is still settling then, so quick results rank
 designs roughly, not finally. Under the ``axial`` convention trials run at
 the profile's axial time step.
+
+Equal legs only: an objective records the segment-mass convention
+(``segment_mass``, :data:`mat_hopper.materials.SEGMENT_MASSES`; default
+``leg``: a leg's mass does not depend on its number of segments) and the
+leg's total material length (:data:`LEG_MATERIAL_LENGTH_M`, 0.3 m at any
+N) in its key, so a study never mixes trials of legs of different length
+or mass convention: resuming with other settings is refused with one
+error (:func:`mat_hopper.optimize._study.create_or_load`).
 """
 
 from __future__ import annotations
@@ -42,7 +50,7 @@ from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..experiments.profiles import Profile, get_profile
-from ..materials import CONVENTIONS, DEFAULT_CONVENTION, LegDesign
+from ..materials import CONVENTIONS, DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, check_segment_mass
 from ..metrics import hop_table
 from ..sim import C, RolloutRunner
 
@@ -51,18 +59,20 @@ CONSTRAINTS = ("hop_height", "unstable")
 HOP_HEIGHT_TOLERANCE_M = 0.05
 NO_DATA_VALUE = 1e6  # objective value only when a run recorded no finite sample
 CHUNK_S = 0.5  # simulated s per compiled chunk (lets the heartbeat thread run)
+LEG_MATERIAL_LENGTH_M = ref.MATERIAL_LENGTH  # total length of the material segments, any N
 
 
 @dataclass(frozen=True)
 class Objective:
-    """Behaviours to run (names), profile, stiffness convention, and the hop
-    height constraint: target and tolerance in m."""
+    """Behaviours to run (names), profile, stiffness convention, segment-mass
+    convention, and the hop height constraint: target and tolerance in m."""
 
     behaviours: tuple[str, ...] = ("ramp",)
     profile: Profile = field(default_factory=get_profile)  # $MAT_HOPPER_PROFILE, else paper
     convention: str = DEFAULT_CONVENTION
     hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
     hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
+    segment_mass: str | None = None  # None: the profile's
 
     def __post_init__(self):
         behs = self.behaviours
@@ -81,6 +91,9 @@ class Objective:
             raise ValueError("profile must be a Profile")
         if self.convention not in CONVENTIONS:
             raise ValueError(f"unknown stiffness convention {self.convention!r}; accepted: {', '.join(CONVENTIONS)}")
+        if self.segment_mass is None:
+            object.__setattr__(self, "segment_mass", getattr(self.profile, "segment_mass", DEFAULT_SEGMENT_MASS))
+        check_segment_mass(self.segment_mass)
         for name in ("hop_height_target_m", "hop_height_tolerance_m"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
@@ -93,17 +106,31 @@ class Objective:
             "convention": self.convention,
             "hop_height_target_m": self.hop_height_target_m,
             "hop_height_tolerance_m": self.hop_height_tolerance_m,
+            "segment_mass": self.segment_mass,
+            "leg_material_length_m": LEG_MATERIAL_LENGTH_M,
         }
 
     @classmethod
     def from_key(cls, key: dict) -> Objective:
+        """The objective of a stored key. A key from before the segment-mass
+        convention was recorded reads as the default; its stored key still
+        lacks the field, so resuming that study is refused (module doc)."""
         return cls(
             behaviours=tuple(key["behaviours"]),
             profile=Profile(**key["profile"]),
             convention=key["convention"],
             hop_height_target_m=key["hop_height_target_m"],
             hop_height_tolerance_m=key["hop_height_tolerance_m"],
+            segment_mass=key.get("segment_mass", DEFAULT_SEGMENT_MASS),
         )
+
+    def sim_settings(self, perturbation=None, design=None):
+        """The SimSettings of a run of this objective (`design`: needed when
+        the time step is ``"auto"``, as under ``axial``)."""
+        from dataclasses import replace
+
+        prof = replace(self.profile.for_convention(self.convention), segment_mass=self.segment_mass)
+        return prof.sim_settings(perturbation, design=design)
 
 
 @dataclass
@@ -123,6 +150,12 @@ class Evaluation:
         return all(c <= 0 for c in self.constraints)
 
 
+def whole_run_value(mean: float) -> float:
+    """A whole-run mean as an objective value: capped at NO_DATA_VALUE, and
+    NO_DATA_VALUE when the run recorded no finite sample (mean is nan)."""
+    return float(min(mean, NO_DATA_VALUE)) if math.isfinite(mean) else NO_DATA_VALUE
+
+
 def _whole_run_means(rollout) -> tuple[float, float]:
     """Tracking error (m) and hip power (W) over every finite sample."""
     d = rollout.data
@@ -133,14 +166,20 @@ def _whole_run_means(rollout) -> tuple[float, float]:
     out = []
     for v in (err, power):
         v = v[np.isfinite(v)]
-        out.append(float(min(v.mean(), NO_DATA_VALUE)) if len(v) else NO_DATA_VALUE)
+        out.append(whole_run_value(float(v.mean())) if len(v) else NO_DATA_VALUE)
     return out[0], out[1]
+
+
+def scored_by_hops(n_hops: int, upright: bool) -> bool:
+    """Whether a run's objective values are its per-hop means (it scored
+    hop cycles and ended upright) rather than its whole-run means."""
+    return n_hops > 0 and upright
 
 
 def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None) -> dict:
     """Simulate one behaviour in chunks of CHUNK_S simulated s (calling
     tick() between chunks) and score it."""
-    settings = objective.profile.for_convention(objective.convention).sim_settings(design=design)
+    settings = objective.sim_settings(design=design)
     runner = RolloutRunner(design, get_behaviour(behaviour_name), settings)
     chunk = max(1, int(round(CHUNK_S / settings.timestep_s)))
     while not runner.done:
@@ -150,7 +189,7 @@ def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, 
     rollout = runner.result()
     hops = hop_table(rollout)
     ok = bool(rollout.upright)
-    if len(hops) and ok:
+    if scored_by_hops(len(hops), ok):
         tracking = float(hops["tracking_error_m"].mean())
         power = float(hops["power_w"].mean())
     else:
@@ -195,6 +234,14 @@ def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluatio
             row = run_behaviour(design, b, objective, tick=tick)
         row["mujoco_warnings"] = len(sink)
         rows.append(row)
+    return aggregate(rows, objective)
+
+
+def aggregate(rows: list[dict], objective: Objective) -> Evaluation:
+    """One design's Evaluation from its per-behaviour rows (keys
+    behaviour, tracking_error_m, power_w, hop_height_m, n_hops, upright,
+    simulated_s, total_mass_kg), as the module doc defines it. Used by the
+    CPU path (:func:`evaluate`) and the batch path (``_batch``) alike."""
     values = (float(np.mean([r["tracking_error_m"] for r in rows])), float(np.mean([r["power_w"] for r in rows])))
     target, tol = objective.hop_height_target_m, objective.hop_height_tolerance_m
     height_violation = max((abs(r["hop_height_m"] - target) - tol) if r["n_hops"] else target - tol for r in rows)

@@ -17,7 +17,8 @@ at the hip and two free segments below it).
 Bounds: the paper (sec. II, "Bounds for Moduli and Density") draws its
 materials from two Ashby classes, polymers/natural materials and
 metals/ceramics, and its one-property sweeps span their extremes. The
-continuous box is the hull of both classes:
+continuous box is the bounding box of both (not their hull: it also holds
+designs no class holds, e.g. 11.9 g/cm^3 at 0.96 GPa):
 
 - density 0.9 to 20 g/cm^3: the sweeps' maximum (20 g/cm^3, ``reference.SWEEPS``)
   and, below the sweeps' 1.10 g/cm^3, the polymer class's floor 0.9 g/cm^3
@@ -31,6 +32,19 @@ about 2-20 g/cm^3 and 15-1000 GPa (the paper's text: "E <= 9 GPa" against
 "E >= 20 GPa"). Parts of the box (light and very stiff) diverge at the
 paper's 1e-4 s step; those designs come out as infeasible trials.
 
+Ashby classes (``ashby_classes``, e.g. ``("metal", "polymer")``) restrict
+continuous segments to the catalogue's class hulls
+(:mod:`mat_hopper.optimize._ashby`): the search samples the hulls'
+bounding box and maps each sampled point to the nearest point of an
+allowed hull, so every simulated segment lies in one of the classes. The
+box bounds then come from the hulls (giving other bounds as well is an
+error).
+
+Seeds: every study first evaluates the paper's designs
+(:data:`PAPER_SEEDS`, all nine) that the space can express; the rigid MD
+never is (a continuous segment has a finite modulus), so reports run it as
+a baseline outside the study.
+
 Parameter names: ``seg{i}_density_g_cm3``, ``seg{i}_modulus_gpa``,
 ``seg{i}_material`` (i from 1).
 """
@@ -42,6 +56,7 @@ from dataclasses import dataclass, field
 
 from .. import reference as ref
 from ..materials import CATALOGUE, LegDesign, Material, material, paper_designs
+from ._ashby import check_classes, classes_bounds, in_classes, project
 
 KINDS = ("continuous", "catalogue")
 
@@ -51,8 +66,9 @@ POLYMER_DENSITY_FLOOR_G_CM3 = 0.9  # polyolefins (Ashby 2011, app. C)
 DENSITY_BOUNDS_G_CM3 = (POLYMER_DENSITY_FLOOR_G_CM3, float(max(_SWEEP_DENSITIES)))  # (0.9, 20)
 MODULUS_BOUNDS_GPA = (float(min(_SWEEP_MODULI)), float(max(_SWEEP_MODULI)))  # (0.1, 1000)
 DEFAULT_MATERIALS = tuple(m.name for m in CATALOGUE.values() if not m.rigid)
-# The paper's designs every study starts from (enqueued in this order).
-PAPER_SEEDS = ("SS", "rho-inc", "PVC-Ti-SS")
+# The paper's nine designs every study starts from (enqueued in this order;
+# those the space cannot express, such as the rigid MD, are left out).
+PAPER_SEEDS = ("SS", "rho-inc", "PVC-Ti-SS", "SS-Ti-PVC", "rho-dec", "PVC", "Al", "Ti", "MD")
 MAX_SEGMENTS = 12
 
 
@@ -72,13 +88,16 @@ def _bounds(value, field_name: str, unit: str) -> tuple[float, float]:
 class SearchSpace:
     """Where the optimizer looks. Bounds are (min, max) in g/cm^3 and GPa;
     kinds is "continuous", "catalogue" or one of those per segment;
-    materials are catalogue names for catalogue segments."""
+    materials are catalogue names for catalogue segments; ashby_classes
+    restricts continuous segments to those classes' hulls (module doc;
+    the bounds, left as None, then come from the hulls)."""
 
     n_segments: int = ref.REFERENCE_SEGMENTS
     kinds: tuple[str, ...] | str = "continuous"
-    density_g_cm3: tuple[float, float] = DENSITY_BOUNDS_G_CM3
-    modulus_gpa: tuple[float, float] = MODULUS_BOUNDS_GPA
+    density_g_cm3: tuple[float, float] | None = None
+    modulus_gpa: tuple[float, float] | None = None
     materials: tuple[str, ...] = field(default=DEFAULT_MATERIALS)
+    ashby_classes: tuple[str, ...] | str = ()
 
     def __post_init__(self):
         n = self.n_segments
@@ -95,8 +114,18 @@ class SearchSpace:
             if k not in KINDS:
                 raise ValueError(f"kinds: unknown segment kind {k!r}; accepted: {', '.join(KINDS)}")
         object.__setattr__(self, "kinds", kinds)
-        object.__setattr__(self, "density_g_cm3", _bounds(self.density_g_cm3, "density_g_cm3", "g/cm^3"))
-        object.__setattr__(self, "modulus_gpa", _bounds(self.modulus_gpa, "modulus_gpa", "GPa"))
+        classes = check_classes(self.ashby_classes)
+        object.__setattr__(self, "ashby_classes", classes)
+        defaults = classes_bounds(classes) if classes else (DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA)
+        for (name, unit), default in zip((("density_g_cm3", "g/cm^3"), ("modulus_gpa", "GPa")), defaults):
+            value = getattr(self, name)
+            value = default if value is None else _bounds(value, name, unit)
+            if classes and not all(math.isclose(a, b, rel_tol=1e-9) for a, b in zip(value, default)):
+                raise ValueError(
+                    f"{name}: Ashby classes set the bounds (their hulls' box, "
+                    f"{default[0]:.4g} to {default[1]:.4g} {unit}); give either bounds or ashby_classes"
+                )
+            object.__setattr__(self, name, default if classes else value)
         mats = self.materials
         if isinstance(mats, str):
             mats = tuple(p for p in mats.split(",") if p.strip())
@@ -107,8 +136,11 @@ class SearchSpace:
                 raise ValueError(f"materials: {m.name} is rigid (no modulus); choose materials with a modulus")
             if m.name not in names:
                 names.append(m.name)
+        if classes and "catalogue" in kinds:  # catalogue choices must lie in the classes too
+            names = [n for n in names if material(n).material_class in classes]
         if "catalogue" in kinds and not names:
-            raise ValueError("materials: a catalogue segment needs at least one material")
+            extra = f" of the classes {', '.join(classes)}" if classes else ""
+            raise ValueError(f"materials: a catalogue segment needs at least one material{extra}")
         object.__setattr__(self, "materials", tuple(names))
 
     # --- parameters <-> designs ---
@@ -126,7 +158,9 @@ class SearchSpace:
         return self.design(params)
 
     def design(self, params: dict, name: str = "") -> LegDesign:
-        """The leg a trial's parameters describe (the same one ``suggest`` built)."""
+        """The leg a trial's parameters describe (the same one ``suggest``
+        built): with Ashby classes, each continuous segment is the nearest
+        point of an allowed class hull (module doc)."""
         segs = []
         for i, kind in enumerate(self.kinds, 1):
             if kind == "continuous":
@@ -134,7 +168,10 @@ class SearchSpace:
                     d, e = params[f"seg{i}_density_g_cm3"], params[f"seg{i}_modulus_gpa"]
                 except KeyError as k:
                     raise ValueError(f"parameters lack {k.args[0]} (not a design of this space)") from None
-                segs.append(Material(f"seg{i}", d, e))
+                cls = "custom"
+                if self.ashby_classes:
+                    d, e, cls = project(d, e, self.ashby_classes)
+                segs.append(Material(f"seg{i}", d, e, cls))
             else:
                 try:
                     segs.append(material(params[f"seg{i}_material"]))
@@ -151,6 +188,8 @@ class SearchSpace:
         for i, (kind, m) in enumerate(zip(self.kinds, segs), 1):
             if kind == "continuous":
                 if m.rigid:
+                    return None
+                if self.ashby_classes and not in_classes(LegDesign((m,)), self.ashby_classes):
                     return None
                 if not (
                     self.density_g_cm3[0] <= m.density_g_cm3 <= self.density_g_cm3[1]
@@ -177,23 +216,29 @@ class SearchSpace:
         return out
 
     def key(self) -> dict:
-        """Plain dict (JSON) that identifies the space."""
-        return {
+        """Plain dict (JSON) that identifies the space (``ashby_classes``
+        only when set, so that older studies keep their key)."""
+        out = {
             "n_segments": self.n_segments,
             "kinds": list(self.kinds),
             "density_g_cm3": list(self.density_g_cm3),
             "modulus_gpa": list(self.modulus_gpa),
             "materials": list(self.materials),
         }
+        if self.ashby_classes:
+            out["ashby_classes"] = list(self.ashby_classes)
+        return out
 
     @classmethod
     def from_key(cls, key: dict) -> SearchSpace:
+        classes = tuple(key.get("ashby_classes") or ())
         return cls(
             n_segments=int(key["n_segments"]),
             kinds=tuple(key["kinds"]),
-            density_g_cm3=tuple(key["density_g_cm3"]),
-            modulus_gpa=tuple(key["modulus_gpa"]),
+            density_g_cm3=None if classes else tuple(key["density_g_cm3"]),
+            modulus_gpa=None if classes else tuple(key["modulus_gpa"]),
             materials=tuple(key["materials"]),
+            ashby_classes=classes,
         )
 
 

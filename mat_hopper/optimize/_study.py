@@ -84,6 +84,7 @@ SAMPLERS = ("tpe", "nsga2", "gp")
 DEFAULT_WORKERS = 2
 CONFIG_ATTR = "mat_hopper_config"
 RESULT_ATTR = "result"
+BACKEND_ATTR = "mat_hopper_backend"  # study user attr: the simulator of its trials ("warp"; absent: the CPU path)
 CONFIG_VERSION = 1
 POLL_S = 1.0
 CREATE_WAIT_S = 30.0  # how long a second first start waits for the creator's config
@@ -267,10 +268,12 @@ def _differences(a: dict, b: dict, prefix: str = "") -> list[str]:
     return out
 
 
-def create_or_load(config: StudyConfig, storage, sampler=None, *, wait_s: float = CREATE_WAIT_S) -> optuna.Study:
+def create_or_load(
+    config: StudyConfig, storage, sampler=None, backend: str = "mujoco", *, wait_s: float = CREATE_WAIT_S
+) -> optuna.Study:
     """The study `config.name` in `storage`: created with the paper's designs
     enqueued first, or loaded and checked against `config` (ValueError on
-    a mismatch).
+    a mismatch, or when its trials come from another backend).
 
     Safe when several processes start the same new study at once: the
     study's creation is atomic in the storage (a unique name), and only
@@ -289,12 +292,20 @@ def create_or_load(config: StudyConfig, storage, sampler=None, *, wait_s: float 
         except optuna.exceptions.DuplicatedStudyError:
             study = optuna.load_study(study_name=config.name, storage=storage, sampler=sampler)
             created = False
-    stored = study.user_attrs.get(CONFIG_ATTR)
-    if stored is None and not created:
+    attrs = study.user_attrs
+    if CONFIG_ATTR not in attrs and not created:
         deadline = time.monotonic() + wait_s
-        while stored is None and time.monotonic() < deadline:
+        while CONFIG_ATTR not in attrs and time.monotonic() < deadline:
             time.sleep(0.1)
-            stored = study.user_attrs.get(CONFIG_ATTR)
+            attrs = study.user_attrs
+    stored = attrs.get(CONFIG_ATTR)
+    has = attrs.get(BACKEND_ATTR, "mujoco" if stored is not None else backend)
+    if has != backend:  # one study, one simulator (mat_hopper.optimize._batch)
+        raise ValueError(
+            f"study {config.name!r} holds trials of the {has} backend: use a new --study name for {backend}"
+        )
+    if backend != "mujoco" and BACKEND_ATTR not in attrs:
+        study.set_user_attr(BACKEND_ATTR, backend)
     if stored is None:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)

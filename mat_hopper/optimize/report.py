@@ -66,10 +66,12 @@ def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
 
 
 def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
-    """One row per trial (see module doc). No wall-clock columns."""
+    """One row per trial (see module doc), queued trials not yet run
+    (WAITING) left out. No wall-clock columns."""
     rows = []
     space = config.space
-    for t in sorted(study.get_trials(deepcopy=False), key=lambda t: t.number):
+    states = tuple(s for s in TrialState if s != TrialState.WAITING)
+    for t in sorted(study.get_trials(deepcopy=False, states=states), key=lambda t: t.number):
         ua = t.user_attrs
         res = ua.get(RESULT_ATTR) or {}
         row = {
@@ -276,9 +278,9 @@ def replay(name: str, storage, number: int):
 # --- the book's study ----------------------------------------------------------
 
 
-STUDY_TRIALS = {"paper": 24, "quick": 12}  # trials of the book's own study, per profile
-
-
+STUDY_TRIALS = {"paper": 200, "quick": 32}  # trials of the book's own study, per profile
+STUDY_BATCH = 8  # trials asked before the first is told (one grid of runs)
+STUDY_SAMPLER = "tpe"  # the best of benchmarks/sampler.py's side-by-side comparison
 STUDY_BEHAVIOURS = ("ramp",)
 
 
@@ -290,35 +292,45 @@ def book_study(
     trials: int | None = None,
     behaviours=STUDY_BEHAVIOURS,
     seed: int = 0,
+    ashby_classes=(),
+    sampler: str = STUDY_SAMPLER,
+    batch: int = STUDY_BATCH,
+    cache_dir=None,
+    workers: int | None = None,
 ) -> dict:
     """Run (or resume, or just load) the book's design study with
-    :func:`mat_hopper.optimize._study.run_study`: continuous density and modulus
-    per segment (3 segments), tracking error and hip power on `behaviours`
-    under the optimizer's profile of the book's name, one worker process
-    (so a fresh study is exactly reproducible), `trials` trials (default
-    :data:`STUDY_TRIALS` of the profile). Storage: ``studies/<name>.db``;
-    the name carries a digest of the settings, so changed settings start a
-    new study instead of clashing with an old one (folder `studies_dir`). Then
-    :func:`mat_hopper.optimize.report.write_report` into
-    `out_dir`. Returns the report dict (``trials``,
-    ``pareto``, ``baselines``, ``hypervolume``, ``importances``,
-    ``paths``) plus ``name``, ``url`` and ``config``."""
+    :func:`mat_hopper.optimize._batched.run_batched`: continuous density
+    and modulus per segment (3 segments; in the hulls of `ashby_classes`
+    when given), tracking error and hip power on `behaviours` under the
+    profile, the paper's nine designs first (the rigid MD as a baseline
+    run), `trials` trials (default :data:`STUDY_TRIALS` of the profile) in
+    batches of `batch` through the runner's cache and pool, so the study is
+    the same on any machine. Storage: ``studies/<name>.db``; the name
+    carries a digest of the settings, sampler, seed and batch, so changed
+    settings start a new study instead of clashing with an old one (folder
+    `studies_dir`). Then :func:`write_report` into `out_dir`. Returns the
+    report dict (``trials``, ``pareto``, ``baselines``, ``hypervolume``,
+    ``importances``, ``paths``) plus ``name``, ``url`` and ``config``."""
     import hashlib
     import json
 
     from ..experiments.profiles import get_profile
+    from ._batched import run_batched
     from ._space import SearchSpace
-    from ._study import RunOptions, run_study
+    from ._storage import default_url
 
     profile = get_profile(profile)
     n = STUDY_TRIALS.get(profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
     objective = Objective(behaviours=tuple(behaviours), profile=profile)
-    probe = StudyConfig("probe", SearchSpace(), objective)
-    digest = hashlib.sha256(json.dumps(probe.key(), sort_keys=True).encode()).hexdigest()[:8]
-    config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{profile.name}-{digest}", SearchSpace(), objective)
-    options = RunOptions(trials=n, workers=1, seed=seed, progress=False, studies_dir=str(studies_dir))
-    run_study(config, options)
-    url = options.storage_url(config.name)
+    space = SearchSpace(ashby_classes=ashby_classes)
+    probe = StudyConfig("probe", space, objective)
+    run_key = {"config": probe.key(), "sampler": sampler, "seed": seed, "batch": batch}
+    digest = hashlib.sha256(json.dumps(run_key, sort_keys=True).encode()).hexdigest()[:8]
+    classes = f"-{'-'.join(space.ashby_classes)}" if space.ashby_classes else ""
+    config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{profile.name}{classes}-{digest}", space, objective)
+    os.makedirs(studies_dir, exist_ok=True)
+    url = default_url(config.name, str(studies_dir))
+    run_batched(config, url, trials=n, batch=batch, sampler=sampler, seed=seed, cache_dir=cache_dir, workers=workers)
     report = write_report(config.name, url, str(out_dir))
     report.update(name=config.name, url=url, config=config)
     return report

@@ -17,6 +17,7 @@ from mat_hopper.behaviours import Behaviour, behaviour, desired_state  # noqa: E
 from mat_hopper.materials import parse_design  # noqa: E402
 from mat_hopper.metrics import run_summary  # noqa: E402
 from mat_hopper.model import build_model  # noqa: E402
+from mat_hopper.optimize._objective import _whole_run_means  # noqa: E402
 from mat_hopper.sim import CHANNELS, Rollout  # noqa: E402
 
 wp, _ = require_warp()
@@ -241,6 +242,7 @@ def test_metrics_kernel_is_metrics_py(layout):
     lift[:, 5] = False
     diverge_at = {4: 517}
     sens_seq = rng.normal([0.3, 0.2, 1.0], [0.1, 0.1, 0.2], (n_steps, n, 3))
+    sens_seq[-8:, 3, 2] = 0.05  # world 3 ends fallen (base below 0.1 m): not upright
     qfrc_seq = rng.normal(0, 20, (n_steps, n, 2))
     rate_seq = rng.normal(0, 1, (n_steps, n, 2))
     with wp.ScopedDevice(DEV):
@@ -325,4 +327,12 @@ def test_metrics_kernel_is_metrics_py(layout):
             np.testing.assert_allclose(got[w, K.A_HEIGHT_SUM] / n_hops, s["mean_hop_height_m"], rtol=1e-12)
             np.testing.assert_allclose(got[w, K.A_ERR_SUM] / n_hops, s["mean_tracking_error_m"], rtol=1e-12)
             np.testing.assert_allclose(got[w, K.A_POW_SUM] / n_hops, s["mean_power_w"], rtol=1e-12)
+        # whole-run means and the upright test: the CPU objective's own functions on the same samples
+        run_err, run_pow = _whole_run_means(ro)
+        np.testing.assert_allclose(got[w, K.A_RUN_ERR] / got[w, K.A_RUN_NERR], run_err, rtol=1e-12)
+        np.testing.assert_allclose(got[w, K.A_RUN_POW] / got[w, K.A_RUN_NPOW], run_pow, rtol=1e-12)
+        assert got[w, K.A_RUN_NERR] == got[w, K.A_RUN_NPOW] == len(rows)
+        assert got[w, K.A_LAST_Z] == ro.data[-1, C["z"]]
+        assert (got_div[w] < 0 and got[w, K.A_LAST_Z] > 0.1) == ro.upright
     assert int(got[0, K.A_HOPS]) > 5 and int(got[5, K.A_HOPS]) == 0
+    assert got[3, K.A_LAST_Z] < 0.1 < got[2, K.A_LAST_Z]

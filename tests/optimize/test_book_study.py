@@ -44,12 +44,59 @@ def test_front_table_and_designs():
 
 def test_book_study_runs_and_resumes(tmp_path):
     quick = PROFILES["quick"]
-    rep = optimize.book_study(quick, studies_dir=tmp_path / "studies", out_dir=tmp_path / "study", trials=4)
+    kw = dict(studies_dir=tmp_path / "studies", out_dir=tmp_path / "study", trials=4, cache_dir=tmp_path / "cache")
+    rep = optimize.book_study(quick, **kw)
     assert rep["name"].startswith("book-ramp-quick-")
     t = rep["trials"]
-    assert len(t) == 4 and list(t["paper_design"][:3]) == ["SS", "rho-inc", "PVC-Ti-SS"]
+    assert len(t) == 4 and list(t["paper_design"]) == ["SS", "rho-inc", "PVC-Ti-SS", "SS-Ti-PVC"]
     assert (tmp_path / "studies").is_dir() and os.path.isfile(rep["paths"]["pareto_plot"])
-    again = optimize.book_study(
-        quick, studies_dir=tmp_path / "studies", out_dir=tmp_path / "study", trials=4
-    )  # resumed: nothing new to run
+    again = optimize.book_study(quick, **kw)  # resumed: nothing new to run
     pd.testing.assert_frame_equal(rep["trials"].drop(columns="worker"), again["trials"].drop(columns="worker"))
+
+
+def test_batched_study_is_the_same_with_one_or_two_processes(tmp_path):
+    """Ask a batch, run it as one grid, tell in order: the trials do not
+    depend on the number of processes (nor on the cache)."""
+    from mat_hopper.experiments.profiles import Profile
+    from mat_hopper.optimize._batched import run_batched
+
+    tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
+    config = optimize.StudyConfig("det", optimize.SearchSpace(), optimize.Objective(profile=tiny))
+    frames = []
+    for workers in (1, 2):
+        url = f"sqlite:///{tmp_path}/det{workers}.db"
+        study = run_batched(config, url, trials=11, batch=3, cache_dir=tmp_path / f"cache{workers}", workers=workers)
+        frames.append(optimize.trials_frame(study, config).drop(columns="worker"))
+    assert len(frames[0]) == 11 and (frames[0]["state"] == "COMPLETE").all()
+    assert frames[0]["paper_design"].tolist()[:8] == [
+        "SS",
+        "rho-inc",
+        "PVC-Ti-SS",
+        "SS-Ti-PVC",
+        "rho-dec",
+        "PVC",
+        "Al",
+        "Ti",
+    ]
+    pd.testing.assert_frame_equal(frames[0], frames[1])
+
+
+def test_batched_study_resumes_a_batch_left_running(tmp_path):
+    """A batch interrupted after its trials were asked: the next run
+    evaluates them from their parameters instead of leaving them running."""
+    import optuna
+
+    from mat_hopper.experiments.profiles import Profile
+    from mat_hopper.optimize._batched import run_batched
+    from mat_hopper.optimize._study import create_or_load
+
+    tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
+    config = optimize.StudyConfig("resume", optimize.SearchSpace(), optimize.Objective(profile=tiny))
+    url = f"sqlite:///{tmp_path}/r.db"
+    study = create_or_load(config, url)
+    for _ in range(2):
+        config.space.suggest(study.ask())  # asked, never told: a crash mid-batch
+    study = run_batched(config, url, trials=3, batch=2, cache_dir=tmp_path / "cache", workers=1)
+    states = [t.state for t in study.trials if t.state != optuna.trial.TrialState.WAITING]  # seeds still queued
+    assert states == [optuna.trial.TrialState.COMPLETE] * 3
+    assert [t.user_attrs["paper_design"] for t in study.trials[:3]] == ["SS", "rho-inc", "PVC-Ti-SS"]

@@ -1,0 +1,103 @@
+"""The optimizer on the warp backend (Warp's CPU device): one batch of four
+trials asked from Optuna, simulated together, told back.
+
+Two independent sources: mat_hopper.batch.evaluate on the very same designs
+(the told values must be its per-design summaries, exactly), and the CPU
+path's objective, mat_hopper.optimize.evaluate (within the batch agreement
+tests' tolerance: tracking error and power 10 %, hop height 0.01 m).
+2.5 s of forward hopping (transient 0.2 s) at 2e-4 s (the step MD and PVC hold under the
+authors' timing), PVC-like bounds so that every design is stable. A design
+that scores no hop cycle in so short a run is scored by its whole-run means,
+as on the CPU path: both branches of the objective are compared.
+"""
+
+from __future__ import annotations
+
+import time
+
+import optuna
+import pytest
+
+pytest.importorskip("mujoco_warp")
+
+from _authors_loop import rel  # noqa: E402
+
+from mat_hopper.batch import BatchSettings  # noqa: E402
+from mat_hopper.batch import evaluate as batch_evaluate
+from mat_hopper.experiments.profiles import Profile  # noqa: E402
+from mat_hopper.optimize import (  # noqa: E402
+    CONSTRAINTS,
+    Objective,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    evaluate,
+    run_batch_study,  # noqa: E402
+)
+from mat_hopper.optimize._storage import open_storage  # noqa: E402
+from mat_hopper.optimize._study import BACKEND_ATTR, RESULT_ATTR  # noqa: E402
+
+optuna.logging.set_verbosity(optuna.logging.WARNING)
+PROFILE = Profile("tiny-warp", duration_s=2.5, transient_s=0.2, timestep_s=2e-4)
+OBJ = Objective(behaviours=("forward",), profile=PROFILE)
+SPACE = SearchSpace(n_segments=3, density_g_cm3=(1.1, 2.5), modulus_gpa=(0.45, 9.0))
+SETTINGS = BatchSettings(duration_s=2.5, timestep_s=2e-4, transient_s=0.2)
+
+
+def _constraints(trial) -> tuple:
+    """The constraints as Trial.set_constraint stored them (system attrs "constraints:NAME")."""
+    return tuple(trial.system_attrs[f"constraints:{name}"] for name in CONSTRAINTS)
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("studies")
+    assert SPACE.seeds() == []  # no paper design in these bounds: four sampled designs
+    t0 = time.perf_counter()
+    res = run_batch_study(
+        StudyConfig("warp-tiny", SPACE, OBJ),
+        RunOptions(trials=4, studies_dir=str(folder), progress=False),
+        device="cpu",
+        batch_size=4,
+    )
+    print(f"4 trials, one batch: {time.perf_counter() - t0:.1f} s")
+    assert res.done == 4 and res.finished and res.start_method == "warp:cpu"
+    url = f"sqlite:///{folder / 'warp-tiny.db'}"
+    return optuna.load_study(study_name="warp-tiny", storage=open_storage(url))
+
+
+@pytest.mark.slow
+def test_warp_study_tells_the_batch_summaries(study):
+    trials = study.get_trials()
+    assert study.user_attrs[BACKEND_ATTR] == "warp"
+    assert [t.state.name for t in trials] == ["COMPLETE"] * 4
+    assert all(t.user_attrs["backend"] == "warp" for t in trials)
+    designs = [SPACE.design(t.params) for t in trials]
+    table = batch_evaluate(designs, "forward", SETTINGS, backend="warp", device="cpu")
+    scored = 0
+    for t, (_, row) in zip(trials, table.iterrows()):
+        assert row["stable"] and row["upright"], row.to_dict()
+        if row["n_hops"] >= 1:  # the per-hop means; the height constraint |h - 1 m| - 0.05 m
+            scored += 1
+            assert tuple(t.values) == (row["tracking_error_m"], row["power_w"])
+            assert t.user_attrs[RESULT_ATTR]["hop_height_m"] == row["hop_height_m"]
+            assert _constraints(t) == (abs(row["hop_height_m"] - 1.0) - 0.05, 0.0)
+        else:  # no hop scored: the whole-run means; the height constraint 1 m - 0.05 m
+            assert tuple(t.values) == (row["run_tracking_error_m"], row["run_power_w"])
+            assert _constraints(t) == (0.95, 0.0)
+    assert scored >= 2
+
+
+@pytest.mark.slow
+def test_warp_study_agrees_with_the_cpu_objective(study):
+    for t in study.get_trials():
+        cpu = evaluate(SPACE.design(t.params), OBJ)
+        label = f"trial {t.number}: warp {t.values} vs cpu {cpu.values}"
+        assert rel(t.values[0], cpu.values[0]) <= 0.10, label
+        assert rel(t.values[1], cpu.values[1]) <= 0.10, label
+        warp_row, cpu_row = t.user_attrs[RESULT_ATTR]["per_behaviour"][0], cpu.per_behaviour[0]
+        assert abs(warp_row["n_hops"] - cpu_row["n_hops"]) <= 1, label
+        if warp_row["n_hops"] and cpu_row["n_hops"]:
+            assert abs(warp_row["hop_height_m"] - cpu_row["hop_height_m"]) <= 0.01, label
+            assert abs(_constraints(t)[0] - cpu.constraints[0]) <= 0.01, label
+        assert _constraints(t)[1] == cpu.constraints[1] == 0.0
