@@ -406,7 +406,10 @@ def _wait_running(url, name, exclude=(), timeout=60.0):
 @pytest.mark.slow
 def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
     name = "kill"
-    config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
+    # bounds that hold no paper design: nothing enqueued ahead of the re-queued trial
+    space = SearchSpace(n_segments=3, density_g_cm3=(1.5, 2.5), modulus_gpa=(0.45, 9.0))
+    assert space.seeds() == []
+    config = StudyConfig(name, space, Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
     create_or_load(config, open_storage(pg_url))
     proc = subprocess.Popen(
         [
@@ -455,7 +458,10 @@ def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
     heartbeat marks the trial failed and our callback enqueues it again;
     a new run finishes the study."""
     name = "hb"
-    config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
+    # bounds that hold no paper design: nothing enqueued ahead of the re-queued trial
+    space = SearchSpace(n_segments=3, density_g_cm3=(1.5, 2.5), modulus_gpa=(0.45, 9.0))
+    assert space.seeds() == []
+    config = StudyConfig(name, space, Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
     create_or_load(config, open_storage(pg_url))
     proc = subprocess.Popen(
         [
