@@ -77,7 +77,9 @@ def register_cli(sub) -> None:
     )
     p.add_argument("--profile", default=None, help=f"{' or '.join(PROFILES)} (default ${PROFILE_ENV}, else paper)")
     p.add_argument(
-        "--experiments", default="1,2,3,stability", help="comma-separated: 1, 2, 3, stability (default all four)"
+        "--experiments",
+        default="1,2,3,stability,robustness",
+        help="comma-separated: 1, 2, 3, stability, robustness (default all five)",
     )
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
@@ -85,14 +87,15 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--replicates",
         type=int,
-        default=0,
-        help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default 0)",
+        default=None,
+        help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default: the profile's, 6 paper, "
+        "3 quick; the claims' inferential basis)",
     )
     p.add_argument(
         "--conventions",
         default="paper",
         help="stiffness conventions of experiments 1-3: paper, axial or paper,axial "
-        "(axial runs at the profile's smaller axial time step; default paper)",
+        "(axial runs with auto physics substeps under the 1e-4 s controller; default paper)",
     )
     p.add_argument(
         "--cache", default=None, help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})"
