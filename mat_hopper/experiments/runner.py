@@ -498,36 +498,20 @@ def run_grid(
 
 
 @dataclass(frozen=True, eq=False)
-class RolloutSpec:
+class RolloutSpec(RunSpec):
     """A whole rollout of one design on one behaviour (every recorded
     channel, the controller's events, optionally all joint positions): the
-    task behind time series and gait tiles. Cached like every task: the
-    table holds the recorded channels (and ``qpos_<i>`` columns), the
-    summary the events and the model's numbers."""
+    task behind time series and gait tiles. Cached like every task, under
+    :class:`RunSpec`'s key plus ``record_qpos``: the table holds the
+    recorded channels (and ``qpos_<i>`` columns), the summary the events
+    and the model's numbers."""
 
-    design: LegDesign
-    behaviour: Behaviour
-    settings: SimSettings
     record_qpos: bool = False
-    labels: dict = field(default_factory=dict)
 
     kind = "rollout"
 
     def key_dict(self) -> dict:
-        return {
-            "kind": self.kind,
-            "design": design_key(self.design),
-            "behaviour": self.behaviour.key(),
-            "settings": settings_key(self.settings),
-            "record_qpos": bool(self.record_qpos),
-            "versions": versions(),
-        }
-
-    def key(self) -> str:
-        return f"{self.kind}-{hash_key(self.key_dict())}"
-
-    def default_labels(self) -> dict:
-        return {"design": self.design.name, "behaviour": self.behaviour.name}
+        return {**super().key_dict(), "record_qpos": bool(self.record_qpos)}
 
     def compute(self) -> tuple[pd.DataFrame, dict]:
         from ..sim import CHANNELS, simulate
@@ -605,7 +589,7 @@ def rollouts(
             parse_design(d) if isinstance(d, str) else d,
             get_behaviour(b) if isinstance(b, str) else b,
             settings,
-            bool(record_qpos),
+            record_qpos=bool(record_qpos),
         )
         for d in designs
         for b in behaviours
