@@ -60,6 +60,7 @@ from ._study import (
     counts,
     create_or_load,
     make_sampler,
+    result_attr,
     worker_seed,
 )
 
@@ -171,16 +172,8 @@ def _finite(x):
 
 
 def _result_attr(design: LegDesign, ev: Evaluation) -> dict:
-    """The trial's ``result`` user attr, as the CPU path's TrialObjective writes it."""
-    return {
-        "feasible": ev.feasible,
-        "hop_height_m": _finite(ev.hop_height_m),
-        "design": design.name,
-        "total_mass_kg": ev.total_mass_kg,
-        "simulated_s": ev.simulated_s,
-        "per_behaviour": [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour],
-        "backend": BACKEND,
-    }
+    """The trial's ``result`` user attr, as the CPU path writes it, plus the backend."""
+    return {**result_attr(design, ev), "backend": BACKEND}
 
 
 def _fail(study, trial, error: str) -> None:

@@ -42,9 +42,9 @@ from optuna.trial import TrialState
 from ..behaviours import behaviour as get_behaviour
 from ..experiments.runner import FAILED, Runner, design_key, hash_key, settings_key, versions
 from ..materials import LegDesign
-from ._objective import CONSTRAINTS, Evaluation, Objective, aggregate, mujoco_warnings_to, run_behaviour
+from ._objective import Evaluation, Objective, aggregate, mujoco_warnings_to, run_behaviour
 from ._storage import ERROR_ATTR, WORKER_ATTR
-from ._study import RESULT_ATTR, StudyConfig, _quiet, create_or_load, make_sampler, worker_seed
+from ._study import StudyConfig, _quiet, create_or_load, make_sampler, record_evaluation, worker_seed
 
 DEFAULT_BATCH = 8
 
@@ -130,19 +130,7 @@ def _tell(study, trial, design: LegDesign, ev) -> None:
         study.tell(trial, state=TrialState.FAIL)
         return
     assert isinstance(ev, Evaluation)
-    for name, value in zip(CONSTRAINTS, ev.constraints):
-        trial.set_constraint(name, value)
-    trial.set_user_attr(
-        RESULT_ATTR,
-        {
-            "feasible": ev.feasible,
-            "hop_height_m": _finite(ev.hop_height_m),
-            "design": design.name,
-            "total_mass_kg": ev.total_mass_kg,
-            "simulated_s": ev.simulated_s,
-            "per_behaviour": [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour],
-        },
-    )
+    record_evaluation(trial, design, ev)
     study.tell(trial, list(ev.values))
 
 

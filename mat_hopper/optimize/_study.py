@@ -341,6 +341,26 @@ def _finite(x):
     return None if x is None or (isinstance(x, float) and not math.isfinite(x)) else x
 
 
+def result_attr(design, ev) -> dict:
+    """A trial's ``result`` user attr from its Evaluation (JSON-safe: nan and
+    inf stored as None); every path that tells a trial writes it this way."""
+    return {
+        "feasible": ev.feasible,
+        "hop_height_m": _finite(ev.hop_height_m),
+        "design": design.name,
+        "total_mass_kg": ev.total_mass_kg,
+        "simulated_s": ev.simulated_s,
+        "per_behaviour": [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour],
+    }
+
+
+def record_evaluation(trial, design, ev) -> None:
+    """Set the trial's constraints and its ``result`` user attr."""
+    for name, value in zip(CONSTRAINTS, ev.constraints):
+        trial.set_constraint(name, value)
+    trial.set_user_attr(RESULT_ATTR, result_attr(design, ev))
+
+
 class TrialObjective:
     """Optuna objective: a design from the space, simulated and scored.
     Sets the constraints (``hop_height``, ``unstable``; <= 0 feasible) and
@@ -361,20 +381,7 @@ class TrialObjective:
         except Exception as e:
             trial.set_user_attr(ERROR_ATTR, f"{type(e).__name__}: {e}"[:500])
             raise
-        rows = [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour]
-        for name, value in zip(CONSTRAINTS, ev.constraints):
-            trial.set_constraint(name, value)
-        trial.set_user_attr(
-            RESULT_ATTR,
-            {
-                "feasible": ev.feasible,
-                "hop_height_m": _finite(ev.hop_height_m),
-                "design": design.name,
-                "total_mass_kg": ev.total_mass_kg,
-                "simulated_s": ev.simulated_s,
-                "per_behaviour": rows,
-            },
-        )
+        record_evaluation(trial, design, ev)
         return ev.values
 
 
