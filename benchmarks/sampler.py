@@ -41,7 +41,7 @@ import pandas as pd
 from mat_hopper.experiments.profiles import get_profile
 from mat_hopper.optimize import Objective, SearchSpace, StudyConfig, trials_frame
 from mat_hopper.optimize._batched import run_batched
-from mat_hopper.optimize._study import make_sampler, worker_seed
+from mat_hopper.optimize._samplers import make_sampler, worker_seed
 from mat_hopper.optimize.report import HV_MARGIN, feasible_complete, hypervolume_2d
 
 

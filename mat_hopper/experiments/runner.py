@@ -38,9 +38,6 @@ and Dask runs give identical tables.
 
 from __future__ import annotations
 
-import functools
-import hashlib
-import json
 import logging
 import math
 import multiprocessing
@@ -49,7 +46,7 @@ import traceback
 from collections.abc import Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -59,15 +56,20 @@ from ..atomic import TEMP_PREFIX  # noqa: F401 (re-exported: the prefix of the c
 from ..behaviours import Behaviour
 from ..materials import LegDesign
 from ..sim import SimSettings, route_mujoco_warnings
-from ._cache import (  # noqa: F401 (Cache and its constants are re-exported)
+from ._cache import (  # noqa: F401 (the cache, its keys and constants are re-exported)
     _CHECKSUM_KEY,
     _META_KEY,
     _STALE_TEMP_S,
     CACHE_ENV,
     DEFAULT_CACHE_DIR,
+    RESULT_MODULES,
     Cache,
-    _json_default,
     content_checksum,
+    design_key,
+    hash_key,
+    settings_key,
+    source_digest,
+    versions,
 )
 
 _log = logging.getLogger("mat_hopper.cache")
@@ -75,83 +77,6 @@ _log = logging.getLogger("mat_hopper.cache")
 
 # Status of a task's summary row.
 OK, DIVERGED, FALLEN, FAILED = "ok", "diverged", "fallen", "failed"
-
-
-# ---------------------------------------------------------------------------
-# keys
-
-
-# Modules whose code makes or summarises a result: their source is part of every key.
-# Paths relative to the package folder, "/"-separated.
-RESULT_MODULES = (
-    "reference",
-    "materials",
-    "model",
-    "control",
-    "behaviours",
-    "_loop",
-    "sim",
-    "perturbations",
-    "metrics",
-    "modes",
-    "stability",
-    "experiments/runner",
-)
-
-
-@functools.lru_cache(maxsize=1)
-def source_digest() -> str:
-    """SHA-256 (short) of the source of :data:`RESULT_MODULES`: any edit to
-    the physics, controller, metrics or this runner invalidates the cache."""
-    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    h = hashlib.sha256()
-    for name in RESULT_MODULES:
-        with open(os.path.join(package, *f"{name}.py".split("/")), "rb") as f:
-            h.update(name.encode() + b"\0" + f.read())
-    return h.hexdigest()[:16]
-
-
-def versions() -> dict:
-    """What besides the settings changes results: mat-hopper's version and
-    source, and MuJoCo's version."""
-    import mujoco
-
-    from .. import __version__
-
-    return {"mat_hopper": __version__, "source": source_digest(), "mujoco": mujoco.__version__}
-
-
-def design_key(design: LegDesign) -> dict:
-    """A design as the physics sees it: per-segment density (g/cm^3) and
-    modulus (GPa, None = rigid). The name is a label, not physics."""
-    return {
-        "n_segments": design.n_segments,
-        "densities_g_cm3": list(design.densities_g_cm3),
-        "moduli_gpa": list(design.moduli_gpa),
-    }
-
-
-def settings_key(settings: SimSettings) -> dict:
-    """Every field of SimSettings (controller gains and perturbation included)."""
-    p = settings.perturbation
-    return {
-        "duration_s": settings.duration_s,
-        "timestep_s": settings.timestep_s,
-        "transient_s": settings.transient_s,
-        "convention": settings.convention,
-        "sensor_timing": settings.sensor_timing,
-        "segment_mass": settings.segment_mass,
-        "substeps": settings.substeps,
-        "record_rate_hz": settings.record_rate_hz,
-        "controller": asdict(settings.controller),
-        "perturbation": None if p is None else asdict(p),
-    }
-
-
-def hash_key(key: dict) -> str:
-    """Stable short hash (hex) of a key dict."""
-    text = json.dumps(key, sort_keys=True, default=_json_default, allow_nan=True)
-    return hashlib.sha256(text.encode()).hexdigest()[:24]
 
 
 # ---------------------------------------------------------------------------

@@ -8,22 +8,22 @@ The public names are re-exported here, as Optuna does: the search space
 :func:`run_study`; :func:`run_batch_study`, the same on the MuJoCo Warp batch
 backend, Optuna's ask-and-tell), its storage and its report (:func:`write_report`,
 :func:`replay`). The private modules ``_space``, ``_objective``,
-``_storage`` and ``_study`` hold them; :mod:`~mat_hopper.optimize.report`
+``_samplers``, ``_storage``, ``_study`` (with ``_processes``, its worker
+processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
 writes a study's tables and plots. The command line is
 :mod:`mat_hopper.cli.optimize`.
 """
 
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
+from ._samplers import SAMPLERS, check_sampler
 from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, SearchSpace, describe, resample
 from ._storage import check_study_name, default_url, open_storage, redact, storage_file
 from ._study import (
     DEFAULT_WORKERS,
-    SAMPLERS,
     RunOptions,
     RunResult,
     StudyConfig,
-    check_sampler,
     create_or_load,
     run_study,
     stored_config,

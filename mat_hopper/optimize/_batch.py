@@ -49,19 +49,24 @@ from tqdm.std import tqdm
 
 from ..control import sensor_latency_steps
 from ..materials import LegDesign
-from ._objective import CONSTRAINTS, Evaluation, Objective, aggregate, scored_by_hops, whole_run_value
+from ._objective import (
+    CONSTRAINTS,
+    RESULT_ATTR,
+    Evaluation,
+    Objective,
+    aggregate,
+    result_attr,
+    scored_by_hops,
+    whole_run_value,
+)
+from ._samplers import check_sampler, make_sampler, worker_seed
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, WORKER_ATTR, recover_dead, redact, retry_trial, worker_identity
 from ._study import (
-    RESULT_ATTR,
     RunOptions,
     RunResult,
     StudyConfig,
-    check_sampler,
     counts,
     create_or_load,
-    make_sampler,
-    result_attr,
-    worker_seed,
 )
 
 BACKEND = "warp"

@@ -21,7 +21,7 @@ a fresh study is bit-identical on any machine. An interrupted study
 resumes: trials left running are evaluated from their parameters (cached
 runs cost nothing) and told, then new batches follow. The sampler's seed
 derives from the seed and the study's size when the run starts
-(:func:`mat_hopper.optimize._study.worker_seed`), as for ``run_study``.
+(:func:`mat_hopper.optimize._samplers.worker_seed`), as for ``run_study``.
 
 Trials carry the same records as ``run_study``'s (constraints, the
 ``result`` user attr, errors), so reports read both alike.
@@ -42,9 +42,10 @@ from optuna.trial import TrialState
 from ..behaviours import behaviour as get_behaviour
 from ..experiments.runner import FAILED, Runner, design_key, hash_key, settings_key, versions
 from ..materials import LegDesign
-from ._objective import Evaluation, Objective, aggregate, mujoco_warnings_to, run_behaviour
+from ._objective import Evaluation, Objective, aggregate, mujoco_warnings_to, record_evaluation, run_behaviour
+from ._samplers import make_sampler, worker_seed
 from ._storage import ERROR_ATTR, WORKER_ATTR
-from ._study import StudyConfig, _quiet, create_or_load, make_sampler, record_evaluation, worker_seed
+from ._study import StudyConfig, _quiet, create_or_load
 
 DEFAULT_BATCH = 8
 
@@ -156,7 +157,7 @@ def run_batched(
 ) -> optuna.Study:
     """Run (or resume) study `config` in `storage` (a URL or an Optuna
     storage) up to `trials` finished trials with `sampler` (a name of
-    :data:`~mat_hopper.optimize._study.SAMPLERS`, seeded from `seed`, or an
+    :data:`~mat_hopper.optimize._samplers.SAMPLERS`, seeded from `seed`, or an
     Optuna sampler as it is), `batch` trials at a time (module
     doc); runs through the runner's cache (`cache_dir`, default
     results/cache) and pool (`workers`, default all cores). Returns the

@@ -56,6 +56,7 @@ from ..sim import C, RolloutRunner
 
 OBJECTIVES = ("tracking_error_m", "power_w")
 CONSTRAINTS = ("hop_height", "unstable")
+RESULT_ATTR = "result"  # the trial user attr holding its Evaluation (record_evaluation)
 HOP_HEIGHT_TOLERANCE_M = 0.05
 NO_DATA_VALUE = 1e6  # objective value only when a run recorded no finite sample
 CHUNK_S = 0.5  # simulated s per compiled chunk (lets the heartbeat thread run)
@@ -255,3 +256,30 @@ def aggregate(rows: list[dict], objective: Objective) -> Evaluation:
         total_mass_kg=rows[0]["total_mass_kg"],
         simulated_s=float(sum(r["simulated_s"] for r in rows)),
     )
+
+
+# --- the record of an evaluation on its trial ---------------------------------
+
+
+def _finite(x):
+    return None if x is None or (isinstance(x, float) and not math.isfinite(x)) else x
+
+
+def result_attr(design, ev) -> dict:
+    """A trial's ``result`` user attr from its Evaluation (JSON-safe: nan and
+    inf stored as None); every path that tells a trial writes it this way."""
+    return {
+        "feasible": ev.feasible,
+        "hop_height_m": _finite(ev.hop_height_m),
+        "design": design.name,
+        "total_mass_kg": ev.total_mass_kg,
+        "simulated_s": ev.simulated_s,
+        "per_behaviour": [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour],
+    }
+
+
+def record_evaluation(trial, design, ev) -> None:
+    """Set the trial's constraints and its ``result`` user attr."""
+    for name, value in zip(CONSTRAINTS, ev.constraints):
+        trial.set_constraint(name, value)
+    trial.set_user_attr(RESULT_ATTR, result_attr(design, ev))

@@ -46,25 +46,38 @@ then open http://127.0.0.1:8080/. See docs/optimizer.md.
 
 from __future__ import annotations
 
-import importlib.util
-import math
 import multiprocessing as mp
 import os
 import signal
 import sys
-import threading
 import time
 import warnings
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 
-import numpy as np
 import optuna
 from optuna.trial import TrialState
 from tqdm.std import tqdm
 
 from ..materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
-from ._objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
+from ._objective import (  # noqa: F401 (RESULT_ATTR, result_attr are re-exported)
+    CONSTRAINTS,
+    OBJECTIVES,
+    RESULT_ATTR,
+    Objective,
+    evaluate,
+    record_evaluation,
+    result_attr,
+)
+from ._processes import (  # noqa: F401 (Interrupted, stop_signals are re-exported)
+    Interrupted,
+    _die_with_parent,
+    _orphaned,
+    _signals_ignored,
+    _start_method,
+    _warm_up,
+    stop_signals,
+)
+from ._samplers import SAMPLERS, check_sampler, make_sampler, worker_seed  # noqa: F401 (re-exported)
 from ._space import SearchSpace
 from ._storage import (
     ERROR_ATTR,
@@ -80,10 +93,8 @@ from ._storage import (
     worker_identity,
 )
 
-SAMPLERS = ("tpe", "nsga2", "gp")
 DEFAULT_WORKERS = 2
 CONFIG_ATTR = "mat_hopper_config"
-RESULT_ATTR = "result"
 BACKEND_ATTR = "mat_hopper_backend"  # study user attr: the simulator of its trials ("warp"; absent: the CPU path)
 CONFIG_VERSION = 1
 POLL_S = 1.0
@@ -198,41 +209,6 @@ class RunOptions:
         )
 
 
-# --- samplers and constraints ---------------------------------------------
-
-
-def check_sampler(name: str) -> str:
-    name = str(name).strip().lower()
-    if name not in SAMPLERS:
-        raise ValueError(f"unknown sampler {name!r}; accepted: {', '.join(SAMPLERS)}")
-    if name == "gp" and importlib.util.find_spec("torch") is None:
-        raise ValueError(
-            "--sampler gp needs PyTorch, which is not installed "
-            "(pip install torch, the CPU build is enough); use tpe or nsga2"
-        )
-    return name
-
-
-def make_sampler(name: str, seed: int):
-    """A seeded multi-objective sampler. Constraints reach it through
-    ``Trial.set_constraint`` (Optuna 5 deprecated ``constraints_func``)."""
-    name = check_sampler(name)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-        if name == "tpe":
-            return optuna.samplers.TPESampler(seed=seed, multivariate=True, constant_liar=True)
-        if name == "nsga2":
-            return optuna.samplers.NSGAIISampler(seed=seed)
-        return optuna.samplers.GPSampler(seed=seed)
-
-
-def worker_seed(seed: int, n_existing: int, index: int) -> int:
-    """Sampler seed of one worker: from the run's seed, the study's size
-    when the run started and the worker's index (so resumed runs and
-    parallel workers do not repeat each other's random proposals)."""
-    return int(np.random.SeedSequence([seed, n_existing, index]).generate_state(1)[0])
-
-
 # --- studies ----------------------------------------------------------------
 
 
@@ -337,30 +313,6 @@ def counts(study) -> tuple[int, int]:
 # --- the objective, in a worker -------------------------------------------
 
 
-def _finite(x):
-    return None if x is None or (isinstance(x, float) and not math.isfinite(x)) else x
-
-
-def result_attr(design, ev) -> dict:
-    """A trial's ``result`` user attr from its Evaluation (JSON-safe: nan and
-    inf stored as None); every path that tells a trial writes it this way."""
-    return {
-        "feasible": ev.feasible,
-        "hop_height_m": _finite(ev.hop_height_m),
-        "design": design.name,
-        "total_mass_kg": ev.total_mass_kg,
-        "simulated_s": ev.simulated_s,
-        "per_behaviour": [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour],
-    }
-
-
-def record_evaluation(trial, design, ev) -> None:
-    """Set the trial's constraints and its ``result`` user attr."""
-    for name, value in zip(CONSTRAINTS, ev.constraints):
-        trial.set_constraint(name, value)
-    trial.set_user_attr(RESULT_ATTR, result_attr(design, ev))
-
-
 class TrialObjective:
     """Optuna objective: a design from the space, simulated and scored.
     Sets the constraints (``hop_height``, ``unstable``; <= 0 feasible) and
@@ -410,25 +362,6 @@ class _Job:
     target: int
 
 
-def _orphaned(parent: int) -> bool:
-    return os.getppid() != parent
-
-
-def _die_with_parent() -> None:
-    """Linux: SIGTERM this worker when its coordinator dies, even by
-    SIGKILL (prctl PR_SET_PDEATHSIG), so that no worker runs on orphaned;
-    its trial is failed and re-queued by the next run (or the heartbeat)."""
-    if not sys.platform.startswith("linux"):
-        return
-    try:
-        import ctypes
-
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(1, signal.SIGTERM, 0, 0, 0)  # PR_SET_PDEATHSIG
-    except (OSError, AttributeError):
-        pass
-
-
 def _worker_main(job: _Job, tickets, conn, parent: int) -> None:
     """One worker process: claim, run one trial, repeat; report what it told.
     It opens its own storage (no connection crosses the fork), ignores
@@ -470,24 +403,6 @@ def _worker_main(job: _Job, tickets, conn, parent: int) -> None:
 # --- the coordinator ---------------------------------------------------------
 
 
-def _start_method() -> str:
-    """fork when this process has no other thread (workers start at once,
-    with everything imported; they never touch the parent's connections and
-    open their own storage); else spawn, which re-imports MuJoCo, numba and
-    Optuna in every worker (seconds) but is safe beside threads."""
-    if "fork" in mp.get_all_start_methods() and threading.active_count() == 1:
-        return "fork"
-    return "spawn"
-
-
-def _warm_up() -> None:
-    """Load the compiled rollout (numba's on-disk cache, about 0.6 s) once
-    here, so that forked workers start with it."""
-    from ..sim import SimSettings, simulate
-
-    simulate("SS", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
-
-
 class _Bar(tqdm):
     monitor_interval = 0  # no monitor thread: we refresh it ourselves, and fork stays safe
 
@@ -512,51 +427,6 @@ class RunResult:
     @property
     def finished(self) -> bool:
         return self.done >= self.target
-
-
-class Interrupted(KeyboardInterrupt):
-    """SIGTERM or SIGHUP, handled like Ctrl-C (KeyboardInterrupt): the
-    coordinator stops its workers, fails and re-queues their trials."""
-
-    def __init__(self, signum: int):
-        super().__init__(signal.Signals(signum).name)
-        self.signal_number = int(signum)
-        self.signal_name = signal.Signals(signum).name
-
-
-@contextmanager
-def stop_signals():
-    """In the main thread: SIGTERM and SIGHUP raise :class:`Interrupted`
-    (as Ctrl-C raises KeyboardInterrupt) until the block ends; the
-    previous handlers are restored. Elsewhere: nothing (Python delivers
-    signals to the main thread only)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def handler(signum, frame):
-        raise Interrupted(signum)
-
-    old = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGHUP)}
-    try:
-        yield
-    finally:
-        for sig, h in old.items():
-            signal.signal(sig, h)
-
-
-@contextmanager
-def _signals_ignored():
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    sigs = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
-    old = {sig: signal.signal(sig, signal.SIG_IGN) for sig in sigs}
-    try:
-        yield
-    finally:
-        for sig, h in old.items():
-            signal.signal(sig, h)
 
 
 def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunResult:

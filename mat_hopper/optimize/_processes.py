@@ -1,0 +1,95 @@
+"""The optimizer's processes (private): how worker processes start, die
+with their coordinator, and how SIGTERM and SIGHUP stop a run the way
+Ctrl-C does. :mod:`mat_hopper.optimize._study` uses them.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import signal
+import sys
+import threading
+from contextlib import contextmanager
+
+
+def _orphaned(parent: int) -> bool:
+    return os.getppid() != parent
+
+
+def _die_with_parent() -> None:
+    """Linux: SIGTERM this worker when its coordinator dies, even by
+    SIGKILL (prctl PR_SET_PDEATHSIG), so that no worker runs on orphaned;
+    its trial is failed and re-queued by the next run (or the heartbeat)."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGTERM, 0, 0, 0)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
+def _start_method() -> str:
+    """fork when this process has no other thread (workers start at once,
+    with everything imported; they never touch the parent's connections and
+    open their own storage); else spawn, which re-imports MuJoCo, numba and
+    Optuna in every worker (seconds) but is safe beside threads."""
+    if "fork" in mp.get_all_start_methods() and threading.active_count() == 1:
+        return "fork"
+    return "spawn"
+
+
+def _warm_up() -> None:
+    """Load the compiled rollout (numba's on-disk cache, about 0.6 s) once
+    here, so that forked workers start with it."""
+    from ..sim import SimSettings, simulate
+
+    simulate("SS", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
+
+
+class Interrupted(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, handled like Ctrl-C (KeyboardInterrupt): the
+    coordinator stops its workers, fails and re-queues their trials."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signal_number = int(signum)
+        self.signal_name = signal.Signals(signum).name
+
+
+@contextmanager
+def stop_signals():
+    """In the main thread: SIGTERM and SIGHUP raise :class:`Interrupted`
+    (as Ctrl-C raises KeyboardInterrupt) until the block ends; the
+    previous handlers are restored. Elsewhere: nothing (Python delivers
+    signals to the main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise Interrupted(signum)
+
+    old = {sig: signal.signal(sig, handler) for sig in (signal.SIGTERM, signal.SIGHUP)}
+    try:
+        yield
+    finally:
+        for sig, h in old.items():
+            signal.signal(sig, h)
+
+
+@contextmanager
+def _signals_ignored():
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    sigs = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+    old = {sig: signal.signal(sig, signal.SIG_IGN) for sig in sigs}
+    try:
+        yield
+    finally:
+        for sig, h in old.items():
+            signal.signal(sig, h)
