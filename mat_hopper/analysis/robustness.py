@@ -18,7 +18,10 @@ does not report and that a reader cannot check from its text:
 - seeded perturbed replicates of the default (start offset, tilt, a push,
   sensor noise: :meth:`mat_hopper.perturbations.Perturbation.replicate`).
 
-and classifies each (quantity, variant) against the default's value:
+(:func:`batch_runs` runs the variants without perturbations or substeps
+on a batch backend, :mod:`mat_hopper.batch`: MuJoCo Warp, or the CPU
+rollouts as the reference) and classifies each (quantity, variant) against
+the default's value:
 ``keeps`` (same sign, within a factor 2), ``moves > 2x`` (same sign, more
 than a factor 2 away), ``flips`` (opposite sign) or ``no value`` (a needed
 run diverged or fell). The study's runs go through the result cache and
@@ -234,6 +237,80 @@ def tasks(profile, variant_list=None) -> list:
             }
             out.append(RunSpec(design, get_behaviour(b), settings, labels))
     return out
+
+
+def batch_variants(variant_list=None) -> list[Variant]:
+    """The variants a batch backend (:mod:`mat_hopper.batch`) runs: those
+    with no perturbation, no physics substeps and the paper convention
+    (its axial runs need substeps): the sensor latencies and the plain
+    ``2e-5 s step``. The default comes first, as in :func:`variants`."""
+    return [
+        v
+        for v in (variant_list or variants())
+        if v.replicate is None and v.substeps == 1 and v.convention == DEFAULT.convention
+    ]
+
+
+def batch_runs(
+    profile, variant_list=None, *, backend: str = "warp", device=None, workers=None, progress: bool = False
+) -> pd.DataFrame:
+    """The study's runs on a batch backend (:func:`mat_hopper.batch.evaluate`):
+    one row per variant, design and behaviour with the means over scored hop
+    cycles (``tracking_error_m``, ``power_w``, ``hop_height_m``, the CPU
+    path's per-hop means) and ``status`` ("ok", "diverged", "fallen", as
+    the runner's). Each variant and behaviour is one batch of its designs.
+    ``quantity_values(runs, runs)`` reads it as it reads per-hop tables.
+
+    profile: a Profile (run length, step, record rate, segment mass);
+    variant_list: default :func:`variants`; a variant no batch can run
+    (:func:`batch_variants`) raises ValueError naming it, before any work."""
+    from ..batch import BatchSettings, evaluate
+    from ..control import sensor_latency_steps
+
+    wanted = list(variant_list or batch_variants())
+    runnable = batch_variants(wanted)
+    refused = [v.label for v in wanted if v not in runnable]
+    if refused:
+        raise ValueError(
+            f"a batch backend cannot run these variants (perturbed replicates, physics substeps, the axial "
+            f"convention's substeps): {', '.join(refused)}"
+        )
+    pairs = designs_and_behaviours()
+    rows = []
+    for v in runnable:
+        settings = BatchSettings(
+            duration_s=profile.duration_s,
+            timestep_s=profile.timestep_s if v.timestep_s is None else v.timestep_s,
+            transient_s=profile.transient_s,
+            convention=v.convention,
+            record_rate_hz=profile.record_rate_hz,
+            sensor_latency_steps=sensor_latency_steps(v.sensor_timing),
+            segment_mass=profile.segment_mass,
+        )
+        for b in BEHAVIOUR_NAMES:
+            names = [d for d, beh in pairs if beh == b]
+            if not names:
+                continue
+            table = evaluate(names, b, settings, backend=backend, device=device, workers=workers, progress=progress)
+            for r in table.to_dict("records"):
+                status = "ok" if r["upright"] else ("diverged" if not r["stable"] else "fallen")
+                rows.append(
+                    {
+                        "variant": v.label,
+                        "variant_kind": v.kind,
+                        "design": r["design"],
+                        "behaviour": b,
+                        "sensor_timing": r["sensor_timing"],
+                        "timestep_s": settings.timestep_s,
+                        "n_hops": r["n_hops"],
+                        "tracking_error_m": r["tracking_error_m"],
+                        "power_w": r["power_w"],
+                        "hop_height_m": r["hop_height_m"],
+                        "status": status,
+                        "backend": r["backend"],
+                    }
+                )
+    return pd.DataFrame(rows)
 
 
 def quantity_values(hops: pd.DataFrame, runs: pd.DataFrame | None = None) -> pd.DataFrame:

@@ -12,6 +12,9 @@ stable, the definitions of :mod:`mat_hopper.metrics`):
   Needs the optional ``gpu`` extra (``mujoco-warp``, ``warp-lang``); runs
   on a GPU or, slowly, on Warp's CPU device.
 
+:func:`spec_scan_batch` runs the reference protocol's stable-time-step
+scan (experiment 4) of many designs, one batch per time step of its ladder.
+
 Example::
 
     from mat_hopper.batch import BatchSettings, evaluate
@@ -21,10 +24,7 @@ Example::
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
-import pandas as pd
-
+from ._agreement import AGREEMENT_COLUMNS, agreement
 from ._cpu import evaluate_cpu
 from ._designs import (
     as_design,
@@ -35,33 +35,9 @@ from ._designs import (
     parse_design_list,
     topology_key,
 )
+from ._evaluate import evaluate
 from ._settings import BACKENDS, EXTRA_COLUMNS, RESULT_COLUMNS, BatchSettings
-
-
-def evaluate(
-    designs: Sequence,
-    behaviour,
-    settings: BatchSettings | None = None,
-    *,
-    backend: str = "mujoco",
-    device: str | None = None,
-    workers: int | None = None,
-    max_batch: int | None = None,
-    progress: bool = False,
-) -> pd.DataFrame:
-    """One row per design, in input order (see the module doc).
-
-    designs: LegDesigns or names; behaviour: a Behaviour or a name;
-    device: Warp device for the warp backend ("cpu", "cuda"); workers:
-    processes for the mujoco backend; max_batch: most worlds in one warp
-    batch."""
-    if backend == "mujoco":
-        return evaluate_cpu(designs, behaviour, settings, workers=workers, progress=progress)
-    if backend == "warp":
-        from ._warp import evaluate_warp
-
-        return evaluate_warp(designs, behaviour, settings, device=device, max_batch=max_batch, progress=progress)
-    raise ValueError(f"unknown backend {backend!r}; accepted: {', '.join(BACKENDS)}")
+from ._stability import SCAN_COLUMNS, TRY_COLUMNS, spec_scan_batch
 
 
 def __getattr__(name):
@@ -74,9 +50,13 @@ def __getattr__(name):
 
 
 __all__ = [
+    "AGREEMENT_COLUMNS",
+    "agreement",
     "BACKENDS",
     "EXTRA_COLUMNS",
     "RESULT_COLUMNS",
+    "SCAN_COLUMNS",
+    "TRY_COLUMNS",
     "BatchSettings",
     "WarpBatch",
     "WarpUnavailable",
@@ -91,6 +71,7 @@ __all__ = [
     "group_by_topology",
     "parse_design_list",
     "require_warp",
+    "spec_scan_batch",
     "topology_key",
     "warp_available",
 ]

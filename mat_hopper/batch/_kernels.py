@@ -9,22 +9,34 @@ initial values. The desired path is :func:`mat_hopper.behaviours.desired_state`.
 
 Per physics step i (time t_i = i dt) the host launches
 
-1. :func:`control_kernel`: reads ``sensordata`` as step i-1 left it (at
-   step 0: as ``forward`` of the initial state left it) and the hips from
-   the current ``qpos``/``qvel``; writes ``ctrl``, the state machine's event
-   and the hip rates it saw; parks a diverged world (see below);
-2. ``mujoco_warp.step``: forward dynamics at t_i (sensors included), then
-   integration to t_(i+1);
-3. :func:`metrics_kernel`: the sample of t_i, as the CPU rollout records
-   it: base position from the sensors step i computed (state at t_i),
-   desired path at t_i, hip power from ``qfrc_actuator`` (joint space,
-   gear x control) times the hip rates at t_i; closes and opens hop cycles
-   at lift-offs; then checks divergence (NaN/inf in qpos, or |qacc| above
-   the limit); besides the hop cycles it keeps whole-run means of
-   tracking error and hip power over every finite recorded sample (the
-   divergence step's included, as the CPU rollout records it) and the base
-   z of the last recorded sample;
-4. :func:`tick_kernel`: the step counter, kept on the device so that a
+1. :func:`park_kernel`: a diverged world is parked (see below);
+2. ``mujoco_warp.step1``: position and velocity stages at t_i, their
+   sensors included (base position, orientation, gyro, linear velocity of
+   state s_i);
+3. :func:`push_base_kernel`: those readings into the world's ring of past
+   base readings (slot i mod ring);
+4. :func:`control_kernel`: the controller at t_i on the readings of the
+   sensor timing (:mod:`mat_hopper.control`): with a latency of L physics
+   steps the base readings of s_(i-L) and the touch force of
+   s_(i-max(L,1)) (a ground force cannot be fresher than the previous
+   control), the hips from the current ``qpos``/``qvel`` (s_i); before the
+   first step every lagged reading is the start state's. L = 1 is the
+   authors' read-control-``mj_step`` loop, L = 0 the fresh
+   ``mj_step1``-read-control-``mj_step2`` loop, as in
+   :mod:`mat_hopper._loop`. Writes ``ctrl``, the state machine's event and
+   the hip rates it saw;
+5. ``mujoco_warp.step2``: actuation, acceleration (the touch sensor of
+   s_i), integration to t_(i+1);
+6. :func:`metrics_kernel`: the sample of t_i, as the CPU rollout records
+   it: base position from the sensors of s_i, desired path at t_i, hip
+   power from ``qfrc_actuator`` (joint space, gear x control) times the hip
+   rates at t_i; closes and opens hop cycles at lift-offs; then checks
+   divergence (NaN/inf in qpos, or |qacc| above the limit); besides the hop
+   cycles it keeps whole-run means of tracking error and hip power over
+   every finite recorded sample (the divergence step's included, as the
+   CPU rollout records it) and the base z of the last recorded sample;
+7. :func:`push_touch_kernel`: s_i's touch force into the touch ring;
+8. :func:`tick_kernel`: the step counter, kept on the device so that a
    CUDA graph of many steps can be replayed.
 
 Per-hop metrics follow :mod:`mat_hopper.metrics`: a hop cycle runs from a
@@ -35,11 +47,13 @@ every ``every`` steps); the results are means over the cycles.
 
 A diverged world stops counting at its divergence step. From the next step
 on it is parked: its state is reset to the initial pose at rest with zero
-controls every step, so that it cannot slow the solver of the others.
+controls before every step, so that it cannot slow the solver of the
+others.
 """
 
 from __future__ import annotations
 
+import numpy as np
 import warp as wp
 
 from .. import behaviours as _beh
@@ -63,6 +77,21 @@ TOUCHDOWN = wp.constant(_ctl.TOUCHDOWN)
 LIFTOFF = wp.constant(_ctl.LIFTOFF)
 PATH_CIRCLE = wp.constant(_beh.PATH_CIRCLE)
 PATH_TABLE = wp.constant(_beh.PATH_TABLE)
+
+# The base readings as the ring holds them (float64 columns of one slot).
+R_POS = 0  # base position (3), m, world frame
+R_QUAT = 3  # base orientation quaternion (4), w x y z
+R_GYRO = 7  # base angular velocity (3), rad/s, body frame
+R_VEL = 10  # base linear velocity (3), m/s, world frame
+R_WIDTH = 13
+_R_POS, _R_QUAT, _R_GYRO, _R_VEL = (wp.constant(v) for v in (R_POS, R_QUAT, R_GYRO, R_VEL))
+
+
+def ring_size(latency: int) -> int:
+    """Slots of the reading rings for a latency of L physics steps: the
+    readings of s_(i-max(L,1)) .. s_i."""
+    return max(int(latency), 1) + 1
+
 
 # Per-world metric accumulators (float64 columns).
 A_OPEN = 0  # 1 while a hop cycle is open (after the first lift-off)
@@ -282,55 +311,98 @@ def controller_step(
 
 
 @wp.kernel
-def control_kernel(
-    clock: wp.array(dtype=wp.int32),
-    dt: F64,
-    g: GainsW,
-    lay: LayoutW,
-    path_kind: int,
-    path_params: wp.array(dtype=F64),
-    path_table: wp.array2d(dtype=F64),
-    sensordata: wp.array2d(dtype=float),
+def park_kernel(
     qpos_init: wp.array2d(dtype=float),
     diverged: wp.array(dtype=wp.int32),
-    state: wp.array2d(dtype=F64),
     qpos: wp.array2d(dtype=float),
     qvel: wp.array2d(dtype=float),
     qacc_warmstart: wp.array2d(dtype=float),
     ctrl: wp.array2d(dtype=float),
     event: wp.array(dtype=wp.int32),
+):
+    """A diverged world back to the initial pose, at rest, no controls."""
+    w = wp.tid()
+    if diverged[w] < 0:
+        return
+    for k in range(qpos.shape[1]):
+        qpos[w, k] = qpos_init[w, k]
+    for k in range(qvel.shape[1]):
+        qvel[w, k] = float(0.0)
+        qacc_warmstart[w, k] = float(0.0)
+    for k in range(ctrl.shape[1]):
+        ctrl[w, k] = float(0.0)
+    event[w] = NO_EVENT
+
+
+@wp.kernel
+def push_base_kernel(
+    clock: wp.array(dtype=wp.int32),
+    lay: LayoutW,
+    sensordata: wp.array2d(dtype=float),
+    base_ring: wp.array3d(dtype=F64),
+):
+    """After step1: the base readings of s_i into slot i mod ring."""
+    w = wp.tid()
+    slot = clock[0] % base_ring.shape[1]
+    for k in range(3):
+        base_ring[w, slot, _R_POS + k] = F64(sensordata[w, lay.base_pos + k])
+        base_ring[w, slot, _R_GYRO + k] = F64(sensordata[w, lay.base_gyro + k])
+        base_ring[w, slot, _R_VEL + k] = F64(sensordata[w, lay.base_linvel + k])
+    for k in range(4):
+        base_ring[w, slot, _R_QUAT + k] = F64(sensordata[w, lay.base_quat + k])
+
+
+@wp.kernel
+def push_touch_kernel(
+    clock: wp.array(dtype=wp.int32),
+    lay: LayoutW,
+    sensordata: wp.array2d(dtype=float),
+    touch_ring: wp.array2d(dtype=F64),
+):
+    """After step2: the touch force of s_i into slot i mod ring."""
+    w = wp.tid()
+    touch_ring[w, clock[0] % touch_ring.shape[1]] = F64(sensordata[w, lay.touch])
+
+
+@wp.kernel
+def control_kernel(
+    clock: wp.array(dtype=wp.int32),
+    dt: F64,
+    latency: int,
+    g: GainsW,
+    lay: LayoutW,
+    path_kind: int,
+    path_params: wp.array(dtype=F64),
+    path_table: wp.array2d(dtype=F64),
+    base_ring: wp.array3d(dtype=F64),
+    touch_ring: wp.array2d(dtype=F64),
+    diverged: wp.array(dtype=wp.int32),
+    state: wp.array2d(dtype=F64),
+    qpos: wp.array2d(dtype=float),
+    qvel: wp.array2d(dtype=float),
+    ctrl: wp.array2d(dtype=float),
+    event: wp.array(dtype=wp.int32),
     hip_rate_seen: wp.array2d(dtype=F64),
 ):
+    """The controller of world w at step i: base readings of s_(i-latency),
+    touch of s_(i-max(latency,1)) (from the rings), hips of s_i."""
     w = wp.tid()
-    if diverged[w] >= 0:  # parked: initial pose, at rest, no controls
-        for k in range(qpos.shape[1]):
-            qpos[w, k] = qpos_init[w, k]
-        for k in range(qvel.shape[1]):
-            qvel[w, k] = float(0.0)
-            qacc_warmstart[w, k] = float(0.0)
-        for k in range(ctrl.shape[1]):
-            ctrl[w, k] = float(0.0)
-        event[w] = NO_EVENT
+    if diverged[w] >= 0:  # parked (park_kernel)
         return
-    t = F64(clock[0]) * dt
-    touch = F64(sensordata[w, lay.touch])
-    pos = wp.vec3d(
-        F64(sensordata[w, lay.base_pos]), F64(sensordata[w, lay.base_pos + 1]), F64(sensordata[w, lay.base_pos + 2])
-    )
+    i = clock[0]
+    t = F64(i) * dt
+    ring = base_ring.shape[1]
+    b = (i + ring - latency) % ring
+    touch = touch_ring[w, (i + ring - wp.max(latency, 1)) % ring]
+    pos = wp.vec3d(base_ring[w, b, _R_POS], base_ring[w, b, _R_POS + 1], base_ring[w, b, _R_POS + 2])
     quat = wp.vec4d(
-        F64(sensordata[w, lay.base_quat]),
-        F64(sensordata[w, lay.base_quat + 1]),
-        F64(sensordata[w, lay.base_quat + 2]),
-        F64(sensordata[w, lay.base_quat + 3]),
+        base_ring[w, b, _R_QUAT],
+        base_ring[w, b, _R_QUAT + 1],
+        base_ring[w, b, _R_QUAT + 2],
+        base_ring[w, b, _R_QUAT + 3],
     )
-    gyro = wp.vec3d(
-        F64(sensordata[w, lay.base_gyro]), F64(sensordata[w, lay.base_gyro + 1]), F64(sensordata[w, lay.base_gyro + 2])
-    )
-    vel = wp.vec3d(
-        F64(sensordata[w, lay.base_linvel]),
-        F64(sensordata[w, lay.base_linvel + 1]),
-        F64(sensordata[w, lay.base_linvel + 2]),
-    )
+    gyro = wp.vec3d(base_ring[w, b, _R_GYRO], base_ring[w, b, _R_GYRO + 1], base_ring[w, b, _R_GYRO + 2])
+    vel = wp.vec3d(base_ring[w, b, _R_VEL], base_ring[w, b, _R_VEL + 1], base_ring[w, b, _R_VEL + 2])
     hip_angle = wp.vec2d(F64(qpos[w, lay.hip_y_qpos]), F64(qpos[w, lay.hip_x_qpos]))
     hip_rate = wp.vec2d(F64(qvel[w, lay.hip_y_dof]), F64(qvel[w, lay.hip_x_dof]))
     desired = desired_state(t, path_kind, path_params, path_table)
@@ -341,6 +413,20 @@ def control_kernel(
     event[w] = ev
     hip_rate_seen[w, 0] = hip_rate[0]
     hip_rate_seen[w, 1] = hip_rate[1]
+
+
+def rings_from_sensordata(sensordata, lay, latency: int):
+    """(base ring (nworld, ring, R_WIDTH), touch ring (nworld, ring)), numpy
+    float64, every slot holding the readings of `sensordata` (nworld,
+    nsensordata): the start state's, before the first step."""
+    sd = np.asarray(sensordata, dtype=np.float64)
+    base = np.empty((sd.shape[0], R_WIDTH))
+    base[:, R_POS : R_POS + 3] = sd[:, lay.base_pos : lay.base_pos + 3]
+    base[:, R_QUAT : R_QUAT + 4] = sd[:, lay.base_quat : lay.base_quat + 4]
+    base[:, R_GYRO : R_GYRO + 3] = sd[:, lay.base_gyro : lay.base_gyro + 3]
+    base[:, R_VEL : R_VEL + 3] = sd[:, lay.base_linvel : lay.base_linvel + 3]
+    n = ring_size(latency)
+    return np.repeat(base[:, None, :], n, axis=1), np.repeat(sd[:, lay.touch][:, None], n, axis=1)
 
 
 @wp.kernel

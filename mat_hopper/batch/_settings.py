@@ -50,7 +50,8 @@ class BatchSettings:
     it (touch, base position, quaternion, gyro and linear velocity one step
     old), hip angles and rates from the current ``qpos``/``qvel``; at step 0
     the sensors of the initial state. The mujoco backend takes any latency
-    its ``SimSettings`` takes; the warp backend implements only 1.
+    its ``SimSettings`` takes, and so does the warp backend (a ring of past
+    readings on the device, :mod:`mat_hopper.batch._kernels`).
 
     segment_mass: how segment masses scale with their number (``"leg"`` or
     ``"capsule"``, as ``SimSettings.segment_mass``). The controller runs every

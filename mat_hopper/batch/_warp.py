@@ -50,7 +50,6 @@ DERIVED_FIELDS = ("body_subtreemass", "dof_invweight0", "body_invweight0", "actu
 # Host-model fields that may differ between designs without entering MJWarp's dynamics:
 # names, dof_M0 (not in MJWarp), dof_length (sleep only; sleep is off), light_poscom0 (tracking lights).
 _IGNORED_FIELDS = ("names", "dof_M0", "dof_length", "light_poscom0")
-SUPPORTED_SENSOR_LATENCY = (1,)
 INSTALL_HINT = "pip install 'mat-hopper[gpu]' (mujoco-warp and warp-lang)"
 
 
@@ -98,14 +97,6 @@ def _device(wp, device):
         seen = ", ".join(str(d) for d in wp.get_devices())
         raise ValueError(f"device {name!r} is not available to Warp (it sees: {seen})")
     return dev
-
-
-def _check_latency(settings: BatchSettings) -> None:
-    if settings.sensor_latency_steps not in SUPPORTED_SENSOR_LATENCY:
-        raise ValueError(
-            f"the warp backend implements sensor_latency_steps=1 only (the authors' loop: "
-            f"sensors one physics step old), got {settings.sensor_latency_steps!r}"
-        )
 
 
 def _model_arrays(model) -> dict:
@@ -184,7 +175,6 @@ class WarpBatch:
 
         self._wp, self._mjw, self._K = wp, mjw, K
         self.settings = settings = settings or BatchSettings()
-        _check_latency(settings)
         self.designs = [as_design(d) for d in designs]
         if not self.designs:
             raise ValueError("a batch needs at least one design")
@@ -217,8 +207,13 @@ class WarpBatch:
             qpos0 = np.tile(np.asarray(data0.qpos, dtype=np.float32), (nw, 1))
             d.qpos.assign(qpos0)
             d.qvel.zero_()
-            mjw.forward(m, d)  # sensors of the initial state: what step 0 reads
+            mjw.forward(m, d)  # sensors of the initial state: every lagged reading of step 0
             self.m, self.d = m, d
+            base_ring, touch_ring = K.rings_from_sensordata(
+                d.sensordata.numpy(), hopper.layout, settings.sensor_latency_steps
+            )
+            self._base_ring = wp.array(base_ring, dtype=wp.float64)
+            self._touch_ring = wp.array(touch_ring, dtype=wp.float64)
             self._qpos_init = wp.array(qpos0, dtype=wp.float32)
             st = np.tile(initial_state(settings.controller), (nw, 1))
             self._state = wp.array(st, dtype=wp.float64)
@@ -239,33 +234,42 @@ class WarpBatch:
 
     # -- stepping --
     def _launch_step(self) -> None:
+        """One physics step of every world (see :mod:`._kernels` for the order)."""
         wp, mjw, K, d, s = self._wp, self._mjw, self._K, self.d, self.settings
         beh = self.behaviour
         dt = float(s.timestep_s)
+        lay = self._layout
+        wp.launch(
+            K.park_kernel,
+            dim=self.nworld,
+            inputs=[self._qpos_init, self._diverged, d.qpos, d.qvel, d.qacc_warmstart, d.ctrl, self._event],
+        )
+        mjw.step1(self.m, d)
+        wp.launch(K.push_base_kernel, dim=self.nworld, inputs=[self._clock, lay, d.sensordata, self._base_ring])
         wp.launch(
             K.control_kernel,
             dim=self.nworld,
             inputs=[
                 self._clock,
                 dt,
+                int(s.sensor_latency_steps),
                 self._gains,
-                self._layout,
+                lay,
                 beh.path_code,
                 self._path_params,
                 self._path_table,
-                d.sensordata,
-                self._qpos_init,
+                self._base_ring,
+                self._touch_ring,
                 self._diverged,
                 self._state,
                 d.qpos,
                 d.qvel,
-                d.qacc_warmstart,
                 d.ctrl,
                 self._event,
                 self._hip_rate,
             ],
         )
-        mjw.step(self.m, d)
+        mjw.step2(self.m, d)
         wp.launch(
             K.metrics_kernel,
             dim=self.nworld,
@@ -275,7 +279,7 @@ class WarpBatch:
                 float(s.transient_s),
                 s.record_every,
                 float(ref.DIVERGENCE_QACC),
-                self._layout,
+                lay,
                 beh.path_code,
                 self._path_params,
                 self._path_table,
@@ -289,6 +293,7 @@ class WarpBatch:
                 self._acc,
             ],
         )
+        wp.launch(K.push_touch_kernel, dim=self.nworld, inputs=[self._clock, lay, d.sensordata, self._touch_ring])
         wp.launch(K.tick_kernel, dim=1, inputs=[self._clock])
 
     def _capture(self, n: int) -> bool:
@@ -406,7 +411,6 @@ def evaluate_warp(
     are grouped by topology and each group (in slices of at most max_batch
     worlds) runs as one batch on the Warp device."""
     settings = settings or BatchSettings()
-    _check_latency(settings)
     require_warp()
     designs = [as_design(d) for d in designs]
     if not designs:

@@ -161,3 +161,20 @@ def nothing_left_behind(*folders):
             if os.path.isdir(p) and not any(files for _, _, files in os.walk(p)):
                 shutil.rmtree(p, ignore_errors=True)
         raise
+
+
+SENSOR_TIMING_HELP = (
+    "when the controller reads the base sensors: authors (default: one physics step old, "
+    "as the authors' loop), fresh, or an integer latency in physics steps"
+)
+
+
+def sensor_timing_arg(text: str):
+    """--sensor-timing: a name, or digits for a latency in physics steps
+    (checked here, before any work, by the controller's own parser)."""
+    from ..control import sensor_latency_steps
+
+    text = str(text).strip()
+    timing = int(text) if text.isdigit() else text
+    sensor_latency_steps(timing)  # ValueError naming the accepted values
+    return timing

@@ -9,7 +9,6 @@ import sys
 from .. import reference as ref
 from ..atomic import write_csv
 from ..behaviours import BEHAVIOUR_NAMES, behaviour
-from ..control import sensor_latency_steps
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
     CONVENTIONS,
@@ -21,19 +20,10 @@ from ..materials import (
     parse_design,
 )
 from ..metrics import METRICS, hop_table, run_summary
-from ._checks import check_output_file, parse_list
+from ._checks import SENSOR_TIMING_HELP, check_output_file, parse_list, sensor_timing_arg
 
 AUTO = "auto"
 PROGRESS_CHUNK_S = 1.0  # simulated seconds per progress-bar update
-
-
-def _timing(text: str):
-    """--sensor-timing: a name, or digits for a latency in physics steps
-    (checked here, before any work, by the controller's own parser)."""
-    text = str(text).strip()
-    timing = int(text) if text.isdigit() else text
-    sensor_latency_steps(timing)  # ValueError naming the accepted values
-    return timing
 
 
 def _timestep(text):
@@ -96,8 +86,7 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--sensor-timing",
         default="authors",
-        help="when the controller reads the base sensors: authors (default: one physics step old, "
-        "as the authors' loop), fresh, or an integer latency in physics steps",
+        help=SENSOR_TIMING_HELP,
     )
     p.add_argument(
         "--segment-mass",
@@ -124,7 +113,7 @@ def sim_settings_from_args(args, design: LegDesign, duration_s: float, transient
         timestep_s=dt,
         transient_s=transient_s,
         convention=args.convention,
-        sensor_timing=_timing(args.sensor_timing),
+        sensor_timing=sensor_timing_arg(args.sensor_timing),
         segment_mass=args.segment_mass,
         substeps=substeps,
         **extra,

@@ -60,21 +60,31 @@ def _random_inputs(rng, n, lay, nsens, nq, nv, dt, step):
     return sens, qpos, qvel, st
 
 
-def test_controller_kernel_is_control_py(layout):
-    rng = np.random.default_rng(7)
+@pytest.mark.parametrize("latency", [0, 1, 3])
+def test_controller_kernel_is_control_py(layout, latency):
+    """The kernel reads its rings at the slots of the sensor timing: filled
+    with a different random reading in every slot, it must act on the base
+    readings of s_(i-L) and the touch of s_(i-max(L,1)) exactly as control.py
+    does on those readings."""
+    rng = np.random.default_rng(7 + latency)
     n, nsens, nq, nv, nu = 512, 14, 12, 12, 3
     dt, step = 2.5e-4, 4321
+    ring = K.ring_size(latency)
     settings = ctl.ControllerSettings()
     beh = behaviour("circle")
-    sens, qpos, qvel, st = _random_inputs(rng, n, layout, nsens, nq, nv, dt, step)
+    slots = [_random_inputs(rng, n, layout, nsens, nq, nv, dt, step) for _ in range(ring)]
+    _, qpos, qvel, st = slots[0]
+    base_ring = np.zeros((n, ring, K.R_WIDTH))
+    touch_ring = np.zeros((n, ring))
+    for k, (sens, *_) in enumerate(slots):
+        b, t = K.rings_from_sensordata(sens, layout, latency)
+        base_ring[:, k], touch_ring[:, k] = b[:, 0], t[:, 0]
     with wp.ScopedDevice(DEV):
         a = dict(
-            sens=wp.array(sens, dtype=wp.float32),
             qpos=wp.array(qpos, dtype=wp.float32),
             qvel=wp.array(qvel, dtype=wp.float32),
             st=wp.array(st, dtype=wp.float64),
             ctrl=wp.zeros((n, nu), dtype=wp.float32),
-            ws=wp.zeros((n, nv), dtype=wp.float32),
             ev=wp.zeros(n, dtype=wp.int32),
             hr=wp.zeros((n, 2), dtype=wp.float64),
             div=wp.array(np.full(n, -1, np.int32), dtype=wp.int32),
@@ -86,18 +96,18 @@ def test_controller_kernel_is_control_py(layout):
             inputs=[
                 a["clock"],
                 dt,
+                latency,
                 K.make_gains(settings),
                 K.make_layout(layout),
                 beh.path_code,
                 wp.array(beh.path_params, dtype=wp.float64),
                 wp.array(beh.table_xy_m, dtype=wp.float64),
-                a["sens"],
-                a["qpos"],
+                wp.array(base_ring, dtype=wp.float64),
+                wp.array(touch_ring, dtype=wp.float64),
                 a["div"],
                 a["st"],
                 a["qpos"],
                 a["qvel"],
-                a["ws"],
                 a["ctrl"],
                 a["ev"],
                 a["hr"],
@@ -106,14 +116,19 @@ def test_controller_kernel_is_control_py(layout):
         got_ctrl, got_state, got_ev = a["ctrl"].numpy(), a["st"].numpy(), a["ev"].numpy()
     gains = settings.gains()
     lay = layout
+    # the slots the timing names, worked out by hand: step 4321, base L back, touch max(L, 1) back
+    base_slot = (step - latency) % ring
+    touch_slot = (step - max(latency, 1)) % ring
+    base_sens = slots[base_slot][0].astype(np.float64)
+    touch = slots[touch_slot][0][:, lay.touch].astype(np.float64)
     want_ev = np.zeros(n, int)
     for w in range(n):
         s = st[w].copy()
         out = np.zeros(ctl.OUT_SIZE)
-        sd = sens[w].astype(np.float64)
+        sd = base_sens[w]
         ev = ctl.controller_step.py_func(
             step * dt,
-            sd[lay.touch],
+            touch[w],
             sd[lay.base_pos : lay.base_pos + 3],
             sd[lay.base_quat : lay.base_quat + 4],
             sd[lay.base_gyro : lay.base_gyro + 3],
@@ -142,43 +157,53 @@ def test_controller_kernel_is_control_py(layout):
     assert (got_ctrl[:, lay.act_thrust] > 0).any() and (got_ctrl[:, lay.act_thrust] == 0).any()
 
 
+def test_rings_take_each_step_in_its_slot(layout):
+    """push_base_kernel (after step1) and push_touch_kernel (after step2)
+    write step i's readings into slot i mod ring, nothing else."""
+    rng = np.random.default_rng(3)
+    n, latency, step = 3, 2, 7
+    ring = K.ring_size(latency)
+    sens = rng.normal(size=(n, 14)).astype(np.float32)
+    with wp.ScopedDevice(DEV):
+        base = wp.zeros((n, ring, K.R_WIDTH), dtype=wp.float64)
+        touch = wp.zeros((n, ring), dtype=wp.float64)
+        clock = wp.array([step], dtype=wp.int32)
+        sd = wp.array(sens, dtype=wp.float32)
+        lay = K.make_layout(layout)
+        wp.launch(K.push_base_kernel, dim=n, inputs=[clock, lay, sd, base])
+        wp.launch(K.push_touch_kernel, dim=n, inputs=[clock, lay, sd, touch])
+        base, touch = base.numpy(), touch.numpy()
+    slot = step % ring  # 7 mod 3 = 1
+    assert slot == 1
+    want_base, want_touch = K.rings_from_sensordata(sens, layout, latency)
+    np.testing.assert_array_equal(base[:, slot], want_base[:, 0])
+    np.testing.assert_array_equal(touch[:, slot], want_touch[:, 0])
+    others = [k for k in range(ring) if k != slot]
+    assert (base[:, others] == 0).all() and (touch[:, others] == 0).all()
+    # the ring layout by hand: position, quaternion, gyro, velocity of the sensor rows
+    np.testing.assert_array_equal(base[0, slot, 0:3], sens[0, layout.base_pos : layout.base_pos + 3])
+    np.testing.assert_array_equal(base[0, slot, 3:7], sens[0, layout.base_quat : layout.base_quat + 4])
+    np.testing.assert_array_equal(base[0, slot, 7:10], sens[0, layout.base_gyro : layout.base_gyro + 3])
+    np.testing.assert_array_equal(base[0, slot, 10:13], sens[0, layout.base_linvel : layout.base_linvel + 3])
+    assert touch[0, slot] == sens[0, layout.touch]
+
+
 def test_parked_world_is_reset_and_silent(layout):
     n, nq, nv = 2, 12, 12
     with wp.ScopedDevice(DEV):
         init = np.arange(n * nq, dtype=np.float32).reshape(n, nq)
         qpos = wp.array(np.full((n, nq), np.nan, np.float32), dtype=wp.float32)
         qvel = wp.array(np.full((n, nv), 5.0, np.float32), dtype=wp.float32)
+        warm = wp.array(np.full((n, nv), 3.0, np.float32), dtype=wp.float32)
         ctrl = wp.array(np.ones((n, 3), np.float32), dtype=wp.float32)
         ev = wp.array(np.full(n, 9, np.int32), dtype=wp.int32)
         div = wp.array(np.array([-1, 10], np.int32), dtype=wp.int32)
-        st = wp.array(np.tile(ctl.initial_state(ctl.ControllerSettings()), (n, 1)), dtype=wp.float64)
-        beh = behaviour("forward")
-        wp.launch(
-            K.control_kernel,
-            dim=n,
-            inputs=[
-                wp.array([11], dtype=wp.int32),
-                1e-3,
-                K.make_gains(ctl.ControllerSettings()),
-                K.make_layout(layout),
-                beh.path_code,
-                wp.array(beh.path_params, dtype=wp.float64),
-                wp.array(beh.table_xy_m, dtype=wp.float64),
-                wp.zeros((n, 14), dtype=wp.float32),
-                wp.array(init, dtype=wp.float32),
-                div,
-                st,
-                qpos,
-                qvel,
-                wp.zeros((n, nv), dtype=wp.float32),
-                ctrl,
-                ev,
-                wp.zeros((n, 2), dtype=wp.float64),
-            ],
-        )
+        wp.launch(K.park_kernel, dim=n, inputs=[wp.array(init, dtype=wp.float32), div, qpos, qvel, warm, ctrl, ev])
         np.testing.assert_array_equal(qpos.numpy()[1], init[1])
-        assert (qvel.numpy()[1] == 0).all() and (ctrl.numpy()[1] == 0).all() and ev.numpy()[1] == ctl.NO_EVENT
-        assert np.isnan(qpos.numpy()[0]).all()  # a live world is not touched
+        assert (qvel.numpy()[1] == 0).all() and (warm.numpy()[1] == 0).all() and (ctrl.numpy()[1] == 0).all()
+        assert ev.numpy()[1] == ctl.NO_EVENT
+        # a live world is not touched
+        assert np.isnan(qpos.numpy()[0]).all() and (qvel.numpy()[0] == 5).all() and ev.numpy()[0] == 9
 
 
 @pytest.mark.parametrize(

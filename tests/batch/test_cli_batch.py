@@ -84,6 +84,12 @@ def test_designs_csv_round_trip_and_parallel_cpu(tmp_path):
         (["--designs", "SS", "--device", "cuda"], "--device is for --backend warp"),
         (["--designs", "SS", "--workers", "0"], "--workers"),
         (["--designs-csv", "no/such/file.csv"], "No such file"),
+        (["--designs", "SS", "--sensor-timing", "late"], "unknown sensor timing"),
+        (["--map", "0", "--stability"], "--map must be in [1, 100]"),
+        (["--map", "2", "--stability", "--duration", "3"], "--duration: not used by --stability"),
+        (["--designs", "SS", "--stability", "--behaviour", "ramp"], "--behaviour: not used by --stability"),
+        (["--designs", "SS", "--stability", "--stability-duration", "0"], "--stability-duration must be > 0"),
+        (["--designs", "SS", "--map", "2"], "not allowed with argument"),
     ],
 )
 def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
@@ -163,3 +169,33 @@ def test_warp_backend_cli_on_cpu_device(tmp_path):
         "0.1",
     )
     assert p.returncode == 2 and "not available" in p.stderr.strip().splitlines()[-1]
+
+
+def test_stability_scan_of_the_map_designs(tmp_path):
+    """--map N gives the map's N x N mono-material designs (docs/reference-hopper.md:
+    densities 1.39-8 g/cm^3 and moduli 4-340 GPa, log-spaced, rounded to 0.1);
+    --stability writes each design's first upright step of the ladder, the
+    value stability.spec_scan gives for the same design."""
+    from mat_hopper.stability import spec_scan
+
+    out = tmp_path / "map.csv"
+    rc = main(["batch", "--map", "2", "--stability", "--stability-duration", "0.5", "--quiet", "--csv", str(out)])
+    assert rc == 0
+    t = pd.read_csv(out)
+    assert t["density_g_cm3"].tolist() == [1.4, 1.4, 8.0, 8.0] and t["modulus_gpa"].tolist() == [4.0, 340.0] * 2
+    rho8_e4 = LegDesign.from_properties([8.0], [4.0] * 3)
+    assert t["spec_timestep_s"][2] == pytest.approx(spec_scan(rho8_e4, duration_s=0.5))
+
+
+def test_sensor_timing_reaches_the_runs(tmp_path):
+    """At 2e-4 s the authors' timing (latency 1) is stable for PVC and a
+    latency of 2 steps is not: the stance damping's delayed-feedback limit
+    c(L) I / (K_d gear) is 2.1e-4 s at L = 1 and 1.3e-4 s at L = 2
+    (mat_hopper.stability)."""
+    args = ["batch", "--designs", "PVC", "--duration", "0.6", "--transient", "0.1", "--timestep", "2e-4", "--quiet"]
+    stable = {}
+    for timing in ("authors", "2"):
+        out = tmp_path / f"{timing}.csv"
+        assert main([*args, "--sensor-timing", timing, "--csv", str(out)]) == 0
+        stable[timing] = bool(pd.read_csv(out)["stable"][0])
+    assert stable == {"authors": True, "2": False}
