@@ -307,3 +307,106 @@ def leg_mass_figure(table: pd.DataFrame, md_tracking_m: float | None = None):
         ax.set_title("Experiment 2: tracking error against leg mass")
         ax.legend(fontsize="small", ncol=2)
     return fig
+
+
+def codesign_figure(hops: pd.DataFrame, designs, default: str, tuned: str, *, title: str = ""):
+    """Chapter 9b: each material's replicate mean of tracking error (mm)
+    against hip power (W), at the authors' gains (open circle, experiment
+    ``default``) and at its own tuned gains (filled, experiment ``tuned``),
+    an arrow from one to the other.
+
+    hops: per-hop rows with experiment, design, replicate, tracking_error_m
+    and power_w (:func:`mat_hopper.optimize.codesign.codesign`'s ``hops``); designs: the materials, in legend order. Each point is the
+    mean over replicates of the per-replicate means."""
+    means = (
+        hops.groupby(["experiment", "design", "replicate"])[["tracking_error_m", "power_w"]]
+        .mean()
+        .groupby(["experiment", "design"])
+        .mean()
+    )
+    with rc_context(STYLE):
+        fig = Figure(figsize=(6.4, 4.4), layout="constrained")
+        ax = fig.subplots()
+        for i, design in enumerate(designs):
+            a, o = means.loc[(default, design)], means.loc[(tuned, design)]
+            colour = design_colour(design, i)
+            ax.plot(a["tracking_error_m"] * 1e3, a["power_w"], "o", mfc="none", mec=colour, ms=9)
+            ax.plot(o["tracking_error_m"] * 1e3, o["power_w"], "o", color=colour, ms=9, label=design)
+            ax.annotate(
+                "",
+                (o["tracking_error_m"] * 1e3, o["power_w"]),
+                (a["tracking_error_m"] * 1e3, a["power_w"]),
+                arrowprops={"arrowstyle": "->", "color": colour},
+            )
+        ax.set_xlabel("tracking error (mm, mean over replicates)")
+        ax.set_ylabel("hip power (W, mean over replicates)")
+        if title:
+            ax.set_title(title, fontsize=10)
+        ax.legend(fontsize=8)
+    return fig
+
+
+def convergence_figure(metrics: pd.DataFrame):
+    """Chapter 12: tracking error (mm), hip power (W) and hop height (m)
+    against the number of segments N (log 2 axis), one line per design and
+    behaviour (solid: forward, dashed: the others).
+
+    metrics: one row per design, behaviour and N with n_segments,
+    tracking_error_m, power_w, hop_height_m
+    (:func:`mat_hopper.experiments.convergence.metrics_table`)."""
+    with rc_context(STYLE):
+        fig = Figure(figsize=(9, 3.2), layout="constrained")
+        axes = fig.subplots(1, 3)
+        for (d, beh), g in metrics.groupby(["design", "behaviour"], sort=False):
+            g = g.sort_values("n_segments")
+            style = "-" if beh == "forward" else "--"
+            axes[0].plot(g["n_segments"], 1e3 * g["tracking_error_m"], style, marker="o", label=f"{d}, {beh}")
+            axes[1].plot(g["n_segments"], g["power_w"], style, marker="o")
+            axes[2].plot(g["n_segments"], g["hop_height_m"], style, marker="o")
+        for ax, label in zip(axes, ("tracking error (mm)", "hip power (W)", "hop height (m)")):
+            ax.set_xscale("log", base=2)
+            ax.set_xlabel("segments N")
+            ax.set_ylabel(label)
+        fig.legend(loc="outside lower center", ncols=6, fontsize=7, frameon=False)
+    return fig
+
+
+def agreement_figure(table: pd.DataFrame):
+    """Chapter 13: the warp backend against the CPU rollouts, per design and
+    behaviour: tracking error and hip power differences (% of the CPU's),
+    the acceptance band (:data:`mat_hopper.batch._agreement.RELATIVE_TOLERANCE`)
+    shaded; runs that diverged on both backends marked "diverged". A run
+    without scored hop cycles shows its whole-run means' differences.
+
+    table: :func:`mat_hopper.batch.agreement` rows (behaviour may be nan)."""
+    from ..batch._agreement import RELATIVE_TOLERANCE
+
+    band = 100 * RELATIVE_TOLERANCE
+    labels = [d if not isinstance(b, str) else f"{d}, {b}" for d, b in zip(table["design"], table["behaviour"])]
+    y = np.arange(len(table))
+    with rc_context(STYLE):
+        fig = Figure(figsize=(9, 0.35 * len(table) + 1.4), layout="constrained")
+        axes = fig.subplots(1, 2, sharey=True)
+        for ax, col, title in zip(
+            axes,
+            ("tracking_error_diff_pct", "power_diff_pct"),
+            ("tracking error, warp vs CPU (%)", "hip power, warp vs CPU (%)"),
+        ):
+            values = table[col].astype(float).to_numpy()
+            ok = table["agrees"].to_numpy(bool)
+            ax.axvspan(-band, band, color="#2a9d8f", alpha=0.12, lw=0)
+            ax.axvline(0, color="#555555", lw=0.8)
+            ax.barh(
+                y[np.isfinite(values)],
+                values[np.isfinite(values)],
+                color=np.where(ok, "#2a9d8f", "#e76f51")[np.isfinite(values)],
+            )
+            for i in np.flatnonzero(~np.isfinite(values)):
+                both = not table["stable_ref"].iloc[i] and not table["stable"].iloc[i]
+                ax.text(0, y[i], "diverged" if both else "no value", va="center", ha="center", fontsize=7)
+            ax.set_xlabel(title)
+            lim = max(2 * band, float(np.nanmax(np.abs(values))) * 1.15 if np.isfinite(values).any() else 0)
+            ax.set_xlim(-lim, lim)
+        axes[0].set_yticks(y, labels)
+        axes[0].invert_yaxis()
+    return fig

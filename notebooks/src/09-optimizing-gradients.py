@@ -53,6 +53,7 @@
 
 # %%
 from IPython.display import Image
+from myst_nb import glue
 
 from mat_hopper import book, optimize
 from mat_hopper.optimize import validate
@@ -67,20 +68,39 @@ print(
 )
 
 # %% [markdown]
-# Every trial: hip power against tracking error, feasible and infeasible,
-# the front in red, the paper's designs starred.
+# Every trial ({numref}`fig-pareto`): hip power against tracking error,
+# feasible and infeasible, the front in red, the paper's designs starred.
 
 # %%
-Image(filename=study["paths"]["pareto_plot"], width=600)
+glue("fig-pareto", Image(filename=study["paths"]["pareto_plot"], width=600), display=False)
 
 # %% [markdown]
-# How the front grew, trial by trial (the hypervolume the feasible front
-# dominates, up to a reference point just beyond its worst values). A flat
-# tail says the budget was enough for this sampler to stop finding better
-# legs; a rising one says more trials would still pay.
+# ```{glue:figure} fig-pareto
+# :name: fig-pareto
+# :alt: Scatter plot of hip power in W against tracking error in m for every trial of the study, feasible and infeasible, with the Pareto front in red and the paper's designs starred.
+#
+# The study's trials: hip power against tracking error; the Pareto front
+# of the feasible trials in red, the paper's seeded designs starred
+# (Optuna's own Pareto-front plot).
+# ```
+
+# %% [markdown]
+# How the front grew, trial by trial ({numref}`fig-hypervolume`: the
+# hypervolume the feasible front dominates, up to a reference point just
+# beyond its worst values). A flat tail says the budget was enough for
+# this sampler to stop finding better legs; a rising one says more trials
+# would still pay.
 
 # %%
-Image(filename=study["paths"]["hypervolume_plot"], width=600)
+glue("fig-hypervolume", Image(filename=study["paths"]["hypervolume_plot"], width=600), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-hypervolume
+# :name: fig-hypervolume
+# :alt: Line plot of the hypervolume dominated by the feasible Pareto front against the trial number.
+#
+# Hypervolume of the feasible front after each trial.
+# ```
 
 # %% [markdown]
 # ## The front against SS and ρ-inc
@@ -131,14 +151,27 @@ book.show(checked["verdicts"])
 book.show(checked["intervals"], precision=4)
 
 # %% [markdown]
-# What the surviving legs are made of, beside the paper's SS and ρ-inc;
-# segment 1 at the hip:
+# What the surviving legs are made of ({numref}`fig-survivors`), beside
+# the paper's SS and ρ-inc; segment 1 at the hip:
 
 # %%
 from mat_hopper.materials import paper_designs
 
 paper = paper_designs()
-maps.designs_figure({"SS": paper["SS"], "rho-inc": paper["rho-inc"], **checked["survivors"]})
+glue(
+    "fig-survivors",
+    maps.designs_figure({"SS": paper["SS"], "rho-inc": paper["rho-inc"], **checked["survivors"]}),
+    display=False,
+)
+
+# %% [markdown]
+# ```{glue:figure} fig-survivors
+# :name: fig-survivors
+# :alt: Per-segment density and modulus of the paper's SS and rho-inc legs and of every front design that survived validation, segment 1 at the hip.
+#
+# The legs that survived validation beside the paper's SS and ρ-inc:
+# density and modulus of each segment, segment 1 at the hip.
+# ```
 
 # %% [markdown]
 # ## Does a gradient beat the paper's best?

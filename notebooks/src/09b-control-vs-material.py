@@ -50,36 +50,33 @@ result = codesign.codesign(profile=b.profile)
 book.show(result["gains"], precision=3)
 
 # %% [markdown]
-# Where each material moved: its mean over replicates of tracking error
-# and hip power at the authors' gains (open) and at its own (filled).
+# Where each material moved ({numref}`fig-codesign`): its mean over
+# replicates of tracking error and hip power at the authors' gains (open)
+# and at its own (filled).
 
 # %%
-import matplotlib.pyplot as plt
+from myst_nb import glue
 
-means = (
-    result["hops"]
-    .groupby(["experiment", "design", "replicate"])[["tracking_error_m", "power_w"]]
-    .mean()
-    .groupby(["experiment", "design"])
-    .mean()
+from mat_hopper.viz import chapters
+
+fig = chapters.codesign_figure(
+    result["hops"],
+    result["gains"]["design"],
+    codesign.DEFAULT,
+    codesign.TUNED,
+    title=f"forward, {b.profile.name} profile: authors' gains (open) to own gains (filled)",
 )
-fig, ax = plt.subplots(figsize=(6.4, 4.4), layout="constrained")
-for i, design in enumerate(result["gains"]["design"]):
-    a, o = means.loc[(codesign.DEFAULT, design)], means.loc[(codesign.TUNED, design)]
-    colour = f"C{i}"
-    ax.plot(a["tracking_error_m"] * 1e3, a["power_w"], "o", mfc="none", mec=colour, ms=9)
-    ax.plot(o["tracking_error_m"] * 1e3, o["power_w"], "o", color=colour, ms=9, label=design)
-    ax.annotate(
-        "",
-        (o["tracking_error_m"] * 1e3, o["power_w"]),
-        (a["tracking_error_m"] * 1e3, a["power_w"]),
-        arrowprops={"arrowstyle": "->", "color": colour},
-    )
-ax.set_xlabel("tracking error (mm, mean over replicates)")
-ax.set_ylabel("hip power (W, mean over replicates)")
-ax.set_title(f"forward, {b.profile.name} profile: authors' gains (open) to own gains (filled)", fontsize=10)
-ax.legend(fontsize=8)
-plt.show()
+glue("fig-codesign", fig, display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-codesign
+# :name: fig-codesign
+# :alt: Scatter plot of hip power in W against tracking error in mm for the five mono-material legs, each drawn twice: an open circle at the authors' controller gains and a filled circle at its own tuned gains, joined by an arrow.
+#
+# Each mono-material's mean over perturbed replicates of tracking error
+# and hip power, forward hopping, at the authors' gains (open) and at its
+# own tuned foot-placement and stance gains (filled).
+# ```
 
 # %% [markdown]
 # Every material against MD, on replicates, at the authors' gains and at

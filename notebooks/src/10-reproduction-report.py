@@ -180,7 +180,21 @@ power = tab.power_formula_table(tables["exp1_hops"])
 book.show(power, index=True, pattern="{:+.0f} %")
 
 # %%
-chapters.defects_figure(clock, jerk, power)
+from myst_nb import glue
+
+glue("fig-defects", chapters.defects_figure(clock, jerk, power), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-defects
+# :name: fig-defects
+# :alt: Three panels: tracking error in mm against the wall-clock factor of the desired path; mean jerk against the sampling rate, log-log, per design; and the percent change of power of SS against MD under the real joint-space hip power and under the authors' formula.
+#
+# Three of the authors' defects, measured: (A) tracking error against the
+# wall-clock factor of the desired path (defect 1); (B) mean |jerk|
+# against the rate it is sampled at (defect 2); (C) the power change of
+# one design against another, real joint power beside the authors'
+# formula (defect 3).
+# ```
 
 # %% [markdown]
 # **4. Modulus to stiffness.** Their conversion (chapter 3) makes the

@@ -58,13 +58,24 @@ print(f"{len(robustness.QUANTITIES)} quantities x {table['variant'].nunique()} s
 # %% [markdown]
 # ## The whole study at a glance
 #
-# Each row is one number a claim rests on (percent change of a design's
+# Each row of {numref}`fig-robustness` is one number a claim rests on (percent change of a design's
 # mean against its baseline); each column a setting. The first column is
 # the paper's figure where it states one, the second (blue) our value under
 # the authors' settings; the others are coloured by their class against it.
 
 # %%
-robustness_figure(table)
+from myst_nb import glue
+
+glue("fig-robustness", robustness_figure(table), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-robustness
+# :name: fig-robustness
+# :alt: A grid with one row per quantity a claim rests on and one column per setting; the first column the paper's figure, the second ours under the authors' settings, the others coloured keeps, moves more than 2x, flips or no value.
+#
+# Each quantity (row) under each setting (column), classified against our
+# value under the authors' settings: keeps, moves > 2x, flips, or no value.
+# ```
 
 # %% [markdown]
 # ## Which claims keep their sign and size
