@@ -10,6 +10,13 @@ timed alongside for comparison.
 
     python benchmarks/batch.py                       # every size, on cuda if Warp sees a GPU
     python benchmarks/batch.py --device cpu --max-size 64 --steps 100   # a CPU machine
+    python benchmarks/batch.py --map 20              # also: the 400-design stable-step scan, both backends
+
+``--map N`` times the reference stable-time-step scan of the map's N x N
+designs (batch.spec_scan_batch: one warp batch per rung of the 20-step
+ladder, static hopping for --map-duration s per try) on the device, beside
+the same scan as CPU rollouts on all cores, in one run, and prints the
+ratio and how many designs got the same stable step.
 """
 
 from __future__ import annotations
@@ -53,6 +60,10 @@ def main(argv=None):
     p.add_argument("--steps", type=int, default=1000, help="timed physics steps per size")
     p.add_argument("--timestep", type=float, default=ref.TIMESTEP_S, help="s (1e-4)")
     p.add_argument("--no-cpu", action="store_true", help="skip the CPU rollout for comparison")
+    p.add_argument("--map", type=int, default=0, help="also time the N x N stable-step scan (0: no)")
+    p.add_argument(
+        "--map-duration", type=float, default=ref.STABILITY_TEST_DURATION_S, help="s of static hopping per try"
+    )
     a = p.parse_args(argv)
     wp, _ = require_warp()
     device = a.device or ("cuda" if wp.get_cuda_device_count() > 0 else "cpu")
@@ -83,6 +94,33 @@ def main(argv=None):
         print(
             f"{n:>8} {t1 - t0:>8.2f} {t2 - t1:>9.2f} {1e3 * wall / a.steps:>8.3f} {rate:>25.4g} {div:>9.0%}", flush=True
         )
+    if a.map:
+        time_map(a.map, a.map_duration, device)
+
+
+def time_map(n: int, duration_s: float, device: str) -> None:
+    """The stable-step scan of the map's n x n designs on both backends, side by side."""
+    from dataclasses import replace
+
+    from mat_hopper.batch import spec_scan_batch
+    from mat_hopper.experiments.paper import StabilityMap
+    from mat_hopper.experiments.profiles import PROFILES
+
+    designs = [t.design for t in StabilityMap().tasks(replace(PROFILES["paper"], stability_grid_size=n))]
+    t0 = time.perf_counter()
+    warp, tries = spec_scan_batch(designs, duration_s=duration_s, backend="warp", device=device)
+    t1 = time.perf_counter()
+    cpu, _ = spec_scan_batch(designs, duration_s=duration_s, backend="mujoco")
+    t2 = time.perf_counter()
+    same = (
+        (warp["spec_timestep_s"] == cpu["spec_timestep_s"])
+        | (warp["spec_timestep_s"].isna() & cpu["spec_timestep_s"].isna())
+    ).sum()
+    print(
+        f"map {n}x{n} ({len(designs)} designs, {len(tries)} tries, {duration_s:g} s each): warp on {device} "
+        f"{t1 - t0:.1f} s, CPU rollouts {t2 - t1:.1f} s, ratio={(t1 - t0) / (t2 - t1):.3g}; "
+        f"same stable step for {same}/{len(designs)} designs"
+    )
 
 
 if __name__ == "__main__":

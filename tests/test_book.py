@@ -131,6 +131,26 @@ def test_notebooks_clean_and_in_sync():
         assert len(titles) == 1, f"{path.name}: one title (# ...) per chapter, got {titles}"
 
 
+def test_every_table_a_cell_makes_is_shown():
+    """book.show returns a Styler, which Jupyter displays only as a cell's
+    last expression: anywhere else in a cell it must go through display()
+    (a table computed and silently dropped is a result the reader never sees)."""
+    import ast
+
+    hidden = []
+    for src in sorted((NOTEBOOKS / "src").glob("*.py")):
+        for cell in re.split(r"^# %%.*$", src.read_text(encoding="utf-8"), flags=re.M):
+            try:
+                body = ast.parse(cell).body
+            except SyntaxError:  # a markdown cell
+                continue
+            for st in body[:-1]:
+                if isinstance(st, ast.Expr) and isinstance(st.value, ast.Call):
+                    if ast.unparse(st.value.func) in ("book.show", "show"):
+                        hidden.append(f"{src.name}: {ast.unparse(st)[:60]}")
+    assert not hidden, hidden
+
+
 def test_toc_lists_every_chapter():
     files = toc_files()
     assert [f for f in files if f.startswith("notebooks/")] == [f"notebooks/{n}" for n in MIN_FIGURES]

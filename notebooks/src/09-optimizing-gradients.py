@@ -52,7 +52,7 @@
 # study on any machine, and a rebuild reruns nothing.
 
 # %%
-from IPython.display import Image
+from IPython.display import Image, display
 from myst_nb import glue
 
 from mat_hopper import book, optimize
@@ -184,7 +184,7 @@ glue(
 
 # %%
 beats = validate.beats_paper(checked)
-book.show(beats, precision=1)
+display(book.show(beats, precision=1))
 print(validate.answer(checked, beats))
 
 # %% [markdown]

@@ -26,6 +26,8 @@
 # runs whose metric moves by more than 10 %.
 
 # %%
+from IPython.display import display
+
 from mat_hopper import book
 from mat_hopper.analysis import tables as tab
 from mat_hopper.experiments import paper, reproduce, runner
@@ -209,7 +211,7 @@ glue("fig-defects", chapters.defects_figure(clock, jerk, power), display=False)
 # %%
 axial = paper.axial_check(b.profile, cache_dir=b.cache_dir)
 steps = axial["runs"].query('setting == "axial, axial\'s steps"')[["design", "timestep_s", "substeps"]]
-book.show(steps.rename(columns={"timestep_s": "physics step (s)", "substeps": "substeps per 1e-4 s"}))
+display(book.show(steps.rename(columns={"timestep_s": "physics step (s)", "substeps": "substeps per 1e-4 s"})))
 book.show(tab.setting_comparison(axial["hops"]).T, index=True, pattern="{:+.0f} %")
 
 # %% [markdown]

@@ -31,6 +31,7 @@
 
 # %%
 import pandas as pd
+from IPython.display import display
 
 from mat_hopper import book
 from mat_hopper.experiments import convergence
@@ -137,7 +138,7 @@ glue("fig-convergence", chapters.convergence_figure(metrics), display=False)
 
 # %%
 cost = convergence.cost_table(result["runs"])
-book.show(cost, precision=0)
+display(book.show(cost, precision=0))
 timing = convergence.step_cost("SS", segments=plan.segments)
 book.show(timing, precision=2)
 

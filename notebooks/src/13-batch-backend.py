@@ -39,6 +39,7 @@ import time
 from importlib.metadata import version
 
 import pandas as pd
+from IPython.display import display
 from myst_nb import glue
 
 from mat_hopper import book
@@ -105,7 +106,7 @@ for beh in behaviours:
     wall["warp"] += t2 - t1
     rows.append(agreement(cpu, warp))
 agree = pd.concat(rows, ignore_index=True)
-book.show(agree, precision=3)
+display(book.show(agree, precision=3))
 print(f"{int(agree['agrees'].sum())} of {len(agree)} design-behaviour runs agree")
 
 # %% [markdown]
@@ -155,7 +156,7 @@ warp_scan, _ = spec_scan_batch(scan_designs, backend="warp", device=device, **la
 scan = cpu_scan[["design", "spec_timestep_s"]].rename(columns={"spec_timestep_s": "mujoco (s)"})
 scan["warp (s)"] = warp_scan["spec_timestep_s"]
 scan["same"] = (scan["mujoco (s)"] == scan["warp (s)"]) | (scan["mujoco (s)"].isna() & scan["warp (s)"].isna())
-book.show(scan, precision=6)
+display(book.show(scan, precision=6))
 print(f"{int(scan['same'].sum())} of {len(scan)} designs get the same stable step on both backends")
 
 # %% [markdown]
