@@ -92,7 +92,6 @@ def _default_device() -> str:
 
 
 def run_batch(args) -> int:
-    from ..atomic import write_csv
     from ..batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, evaluate, parse_design_list
     from ..behaviours import behaviour
     from ..control import sensor_latency_steps
@@ -145,14 +144,8 @@ def run_batch(args) -> int:
         f"{len(out)} designs on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
         f"transient {settings.transient_s:g} s, sensor timing {settings.sensor_timing}, backend {args.backend}{where}"
     )
-    print(out.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     n_bad = int((~out["stable"]).sum())
-    if n_bad:
-        print(f"{n_bad} of {len(out)} designs diverged")
-    if args.csv:
-        write_csv(out, args.csv)
-        print(f"wrote {len(out)} rows to {args.csv}")
-    return 0
+    return _report(out, args.csv, f"{n_bad} of {len(out)} designs diverged" if n_bad else "")
 
 
 def _map_designs(n: int) -> list:
@@ -167,7 +160,6 @@ def _map_designs(n: int) -> list:
 
 
 def _run_stability(args, designs, settings, run: dict) -> int:
-    from ..atomic import write_csv
     from ..batch import spec_scan_batch
 
     if not (math.isfinite(args.stability_duration) and args.stability_duration > 0):
@@ -185,11 +177,19 @@ def _run_stability(args, designs, settings, run: dict) -> int:
         f"{len(summary)} designs, stable-time-step scan: static hopping for {args.stability_duration:g} s per try, "
         f"sensor timing {settings.sensor_timing}, {len(tries)} tries, backend {args.backend}{where}"
     )
-    print(summary.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     n_none = int(summary["spec_timestep_s"].isna().sum())
-    if n_none:
-        print(f"{n_none} of {len(summary)} designs ended upright at no step of the ladder")
-    if args.csv:
-        write_csv(summary, args.csv)
-        print(f"wrote {len(summary)} rows to {args.csv}")
+    note = f"{n_none} of {len(summary)} designs ended upright at no step of the ladder" if n_none else ""
+    return _report(summary, args.csv, note)
+
+
+def _report(table, csv: str | None, note: str) -> int:
+    """Print the table (and a note), write it to `csv` if given; exit code 0."""
+    from ..atomic import write_csv
+
+    print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    if note:
+        print(note)
+    if csv:
+        write_csv(table, csv)
+        print(f"wrote {len(table)} rows to {csv}")
     return 0
