@@ -56,9 +56,6 @@ class UsageError(ValueError):
 
 # Options whose value may be a list starting with a minus sign ("-1,2,3"):
 # rewritten to --opt=VALUE before argparse sees them (see _checks).
-NEGATIVE_OK = ("--density", "--modulus", "--density-bounds", "--modulus-bounds")
-
-
 def describe_error(e: BaseException) -> str:
     """One line naming what went wrong: the error's own text for bad input;
     for file-system, SQLite and database errors the deepest cause (SQLAlchemy
@@ -98,7 +95,7 @@ def main(argv=None) -> int:
     route_mujoco_warnings()
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
-    args = parser.parse_args(negative_list_argv(argv, NEGATIVE_OK))
+    args = parser.parse_args(negative_list_argv(argv))  # every --option may take a negative number
     from ..atomic import remove_stale_mp_dirs
     from ..optimize._study import stop_signals
 

@@ -11,7 +11,10 @@ import math
 import os
 import re
 import shutil
+import tempfile
 from contextlib import contextmanager
+
+from ..atomic import TEMP_PREFIX
 
 # A value argparse would take for an option: "-1", "-1.5e3", "-1,2,3".
 NEGATIVE_LIST = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
@@ -55,16 +58,19 @@ def parse_pair(text, flag: str, unit: str = "") -> tuple[float, float] | None:
     return vals[0], vals[1]
 
 
-def negative_list_argv(argv, options) -> list[str]:
-    """argv with ``--opt -1,2,3`` rewritten to ``--opt=-1,2,3`` for the
-    given options: argparse takes a value that starts with '-' for an
-    option and answers "expected one argument"; the user should hear what
-    is wrong with the value instead (e.g. density must be > 0)."""
+def negative_list_argv(argv, options=None) -> list[str]:
+    """argv with ``--opt -1,2,3`` (or ``--opt -1e-3``) rewritten to
+    ``--opt=-1,2,3`` for the given options, or for every ``--option`` when
+    `options` is None: argparse takes a value that starts with '-' for an
+    option (it knows plain negative numbers, not "-1e-3" or lists) and
+    answers "expected one argument"; the user should hear what is wrong
+    with the value instead (e.g. density must be > 0)."""
     argv = list(argv)
     out, i = [], 0
     while i < len(argv):
         a = argv[i]
-        if a in options and i + 1 < len(argv) and NEGATIVE_LIST.match(argv[i + 1]):
+        named = a.startswith("--") and "=" not in a if options is None else a in options
+        if named and i + 1 < len(argv) and NEGATIVE_LIST.match(argv[i + 1]):
             out.append(f"{a}={argv[i + 1]}")
             i += 2
             continue
@@ -86,13 +92,23 @@ def _existing_ancestor(path: str) -> str:
     return p
 
 
-def _check_folder_can_hold(path: str, flag: str, what: str) -> None:
-    """The folder that will hold `path` exists and is writable, or can be made."""
-    anc = _existing_ancestor(path)
+def _check_folder_can_hold(folder: str, flag: str, what: str) -> None:
+    """`folder` exists and a file can be made in it, or it can be made.
+
+    Writability is tried, not read from the permission bits: a probe file
+    is created and removed in the deepest existing folder (root passes
+    ``os.access`` on /proc and /sys, where nothing can be created)."""
+    anc = _existing_ancestor(folder)
     if not os.path.isdir(anc):
         raise ValueError(f"{flag} {what}: {anc} is a file, not a folder")
     if not os.access(anc, os.W_OK | os.X_OK):
         raise ValueError(f"{flag} {what}: folder {anc} is not writable")
+    try:
+        fd, probe = tempfile.mkstemp(dir=anc, prefix=TEMP_PREFIX)
+    except OSError as e:
+        raise ValueError(f"{flag} {what}: nothing can be written in folder {anc} ({e.strerror})") from None
+    os.close(fd)
+    os.remove(probe)
 
 
 def check_output_file(path, flag: str) -> str | None:
@@ -105,9 +121,12 @@ def check_output_file(path, flag: str) -> str | None:
         raise ValueError(f"{flag}: empty file name")
     if os.path.isdir(path) or path.endswith(os.sep):
         raise ValueError(f"{flag} {path}: is a folder; give a file name")
+    if os.path.exists(path) and not os.path.isfile(path):
+        raise ValueError(f"{flag} {path}: not a regular file")
     if os.path.exists(path) and not os.access(path, os.W_OK):
         raise ValueError(f"{flag} {path}: file is not writable")
-    _check_folder_can_hold(path, flag, path)
+    # an existing file is replaced (atomically, by a new file in its folder)
+    _check_folder_can_hold(os.path.dirname(os.path.abspath(path)), flag, path)
     return path
 
 

@@ -13,9 +13,11 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
+import sys
 
 from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
+from ..experiments.profiles import PROFILE_ENV, PROFILES
 from ..materials import CONVENTIONS
 from ._checks import SENSOR_TIMING_HELP
 
@@ -44,9 +46,24 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     # None: the default below, and a way to tell that --stability was given run settings it has no use for
     p.add_argument("--behaviour", "--behavior", dest="behaviour", help=f"one of {', '.join(BEHAVIOUR_NAMES)} (forward)")
-    p.add_argument("--duration", type=float, help=f"simulated seconds ({ref.DURATION_S:g})")
-    p.add_argument("--transient", type=float, help=f"seconds before the first scored hop cycle ({ref.TRANSIENT_S:g})")
-    p.add_argument("--timestep", type=float, help=f"physics time step, s ({ref.TIMESTEP_S:g})")
+    p.add_argument("--duration", type=float, help=f"simulated seconds (the profile's, {ref.DURATION_S:g})")
+    p.add_argument(
+        "--transient",
+        type=float,
+        help=f"seconds before the first scored hop cycle (the profile's, {ref.TRANSIENT_S:g})",
+    )
+    p.add_argument(
+        "--timestep",
+        type=float,
+        help=f"physics time step, s (the profile's, {ref.TIMESTEP_S:g}); a number: the batch runs the controller "
+        "every physics step (no --timestep auto substeps)",
+    )
+    p.add_argument(
+        "--profile",
+        default=None,
+        help=f"run lengths when --duration/--transient/--timestep are not given: {', '.join(PROFILES)} "
+        f"(default ${PROFILE_ENV}, else paper)",
+    )
     p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
     p.add_argument("--sensor-timing", default="authors", help=SENSOR_TIMING_HELP)
     p.add_argument(
@@ -72,7 +89,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument(
         "--stability-duration",
         type=float,
-        default=ref.STABILITY_TEST_DURATION_S,
+        default=None,
         help=f"static hopping per try of --stability, s ({ref.STABILITY_TEST_DURATION_S:g})",
     )
     p.add_argument("--csv", help="write the table (one row per design) here")
@@ -91,37 +108,36 @@ def _default_device() -> str:
     return "cuda" if wp.get_cuda_device_count() > 0 else "cpu"
 
 
+# Settings the CSV carries beside each row (every table says what made it).
+SETTING_COLUMNS = ("behaviour", "convention", "sensor_timing", "duration_s", "transient_s", "timestep_s", "backend")
+
+
 def run_batch(args) -> int:
     from ..batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, evaluate, parse_design_list
     from ..behaviours import behaviour
     from ..control import sensor_latency_steps
+    from ..experiments.profiles import get_profile
     from ._checks import check_output_file, sensor_timing_arg
 
     check_output_file(args.csv, "--csv")  # before any work
+    profile = get_profile(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
     latency = sensor_latency_steps(sensor_timing_arg(args.sensor_timing))
+    _check_applicable(args)
     if args.map is not None:
         designs = _map_designs(args.map)
-    elif args.designs_csv:
+    elif args.designs_csv is not None:
         designs = designs_from_csv(args.designs_csv)
     else:
         designs = parse_design_list(args.designs)
-    run_options = {"--behaviour": args.behaviour, "--duration": args.duration, "--transient": args.transient}
-    run_options["--timestep"] = args.timestep
-    given = [flag for flag, value in run_options.items() if value is not None]
-    if args.stability and given:
-        raise ValueError(f"{', '.join(given)}: not used by --stability (static hopping at its ladder of time steps)")
-    beh = behaviour(args.behaviour or "forward")
+    beh = behaviour("forward" if args.behaviour is None else args.behaviour)
     settings = BatchSettings(
-        duration_s=ref.DURATION_S if args.duration is None else args.duration,
-        timestep_s=ref.TIMESTEP_S if args.timestep is None else args.timestep,
-        transient_s=ref.TRANSIENT_S if args.transient is None else args.transient,
+        duration_s=profile.duration_s if args.duration is None else args.duration,
+        timestep_s=profile.timestep_s if args.timestep is None else args.timestep,
+        transient_s=profile.transient_s if args.transient is None else args.transient,
         convention=args.convention,
         sensor_latency_steps=latency,
+        segment_mass=profile.segment_mass,
     )
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be >= 1, got {args.workers}")
-    if args.max_batch is not None and args.max_batch < 1:
-        raise ValueError(f"--max-batch must be >= 1, got {args.max_batch}")
     if args.backend == "warp":
         from ..batch import WarpUnavailable, require_warp
 
@@ -130,22 +146,56 @@ def run_batch(args) -> int:
             device = args.device or _default_device()
         except WarpUnavailable as e:
             raise ValueError(str(e)) from None
-    elif args.device is not None:
-        raise ValueError("--device is for --backend warp")
     else:
         device = None
     run = dict(backend=args.backend, device=device, workers=args.workers, max_batch=args.max_batch)
+    progress = not args.quiet and sys.stderr.isatty()  # no bars in logs and pipes
     if args.stability:
-        return _run_stability(args, designs, settings, run)
-    table = evaluate(designs, beh, settings, progress=not args.quiet, **run)
-    out = table[list(RESULT_COLUMNS)]
+        return _run_stability(args, designs, settings, run, progress)
+    table = evaluate(designs, beh, settings, progress=progress, **run)
+    out = table[list(RESULT_COLUMNS)].assign(
+        behaviour=beh.name,
+        convention=settings.convention,
+        sensor_timing=settings.sensor_timing,
+        duration_s=settings.duration_s,
+        transient_s=settings.transient_s,
+        timestep_s=settings.timestep_s,
+        backend=args.backend,
+    )
     where = f" on {device}" if device else ""
     print(
-        f"{len(out)} designs on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
-        f"transient {settings.transient_s:g} s, sensor timing {settings.sensor_timing}, backend {args.backend}{where}"
+        f"{_count(len(out), 'design')} on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
+        f"transient {settings.transient_s:g} s, convention {settings.convention}, sensor timing "
+        f"{settings.sensor_timing}, backend {args.backend}{where}"
     )
     n_bad = int((~out["stable"]).sum())
-    return _report(out, args.csv, f"{n_bad} of {len(out)} designs diverged" if n_bad else "")
+    shown = out[list(RESULT_COLUMNS)]
+    return _report(out, args.csv, f"{n_bad} of {_count(len(out), 'design')} diverged" if n_bad else "", shown=shown)
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}" + ("" if n == 1 else "s")
+
+
+def _check_applicable(args) -> None:
+    """Options given that the chosen mode or backend has no use for: one line, before any work."""
+    run_options = {"--behaviour": args.behaviour, "--duration": args.duration, "--transient": args.transient}
+    run_options["--timestep"] = args.timestep
+    given = [flag for flag, value in run_options.items() if value is not None]
+    if args.stability and given:
+        raise ValueError(f"{', '.join(given)}: not used by --stability (static hopping at its ladder of time steps)")
+    if not args.stability and args.stability_duration is not None:
+        raise ValueError("--stability-duration is for --stability")
+    if args.backend != "warp":
+        for flag, value in (("--device", args.device), ("--max-batch", args.max_batch)):
+            if value is not None:
+                raise ValueError(f"{flag} is for --backend warp")
+    elif args.workers is not None:
+        raise ValueError("--workers is for --backend mujoco (a warp batch is one process)")
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    if args.max_batch is not None and args.max_batch < 1:
+        raise ValueError(f"--max-batch must be >= 1, got {args.max_batch}")
 
 
 def _map_designs(n: int) -> list:
@@ -159,37 +209,42 @@ def _map_designs(n: int) -> list:
     return [task.design for task in StabilityMap().tasks(profile)]
 
 
-def _run_stability(args, designs, settings, run: dict) -> int:
+def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
     from ..batch import spec_scan_batch
 
-    if not (math.isfinite(args.stability_duration) and args.stability_duration > 0):
-        raise ValueError(f"--stability-duration must be > 0 s, got {args.stability_duration:g}")
+    duration = ref.STABILITY_TEST_DURATION_S if args.stability_duration is None else args.stability_duration
+    if not (math.isfinite(duration) and duration > 0):
+        raise ValueError(f"--stability-duration must be > 0 s, got {duration:g}")
     summary, tries = spec_scan_batch(
         designs,
-        duration_s=args.stability_duration,
+        duration_s=duration,
         convention=args.convention,
         sensor_latency_steps=settings.sensor_latency_steps,
-        progress=not args.quiet,
+        progress=progress,
         **run,
+    )
+    summary = summary.assign(
+        convention=settings.convention, sensor_timing=settings.sensor_timing, stability_duration_s=duration
     )
     where = f" on {run['device']}" if run["device"] else ""
     print(
-        f"{len(summary)} designs, stable-time-step scan: static hopping for {args.stability_duration:g} s per try, "
+        f"{_count(len(summary), 'design')}, stable-time-step scan: static hopping for {duration:g} s per try, "
         f"sensor timing {settings.sensor_timing}, {len(tries)} tries, backend {args.backend}{where}"
     )
     n_none = int(summary["spec_timestep_s"].isna().sum())
-    note = f"{n_none} of {len(summary)} designs ended upright at no step of the ladder" if n_none else ""
+    note = f"{n_none} of {_count(len(summary), 'design')} ended upright at no step of the ladder" if n_none else ""
     return _report(summary, args.csv, note)
 
 
-def _report(table, csv: str | None, note: str) -> int:
-    """Print the table (and a note), write it to `csv` if given; exit code 0."""
+def _report(table, csv: str | None, note: str, shown=None) -> int:
+    """Print the table (or its columns `shown`) and a note, write the whole
+    table to `csv` if given; exit code 0."""
     from ..atomic import write_csv
 
-    print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    print((table if shown is None else shown).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     if note:
         print(note)
     if csv:
         write_csv(table, csv)
-        print(f"wrote {len(table)} rows to {csv}")
+        print(f"wrote {_count(len(table), 'row')} to {csv}")
     return 0

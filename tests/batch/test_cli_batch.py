@@ -9,6 +9,7 @@ import pytest
 
 from mat_hopper.batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, designs_to_frame, evaluate_cpu
 from mat_hopper.cli import main
+from mat_hopper.cli.batch import SETTING_COLUMNS
 from mat_hopper.materials import LegDesign, parse_design
 from mat_hopper.metrics import run_summary
 from mat_hopper.sim import simulate
@@ -45,7 +46,8 @@ def test_mujoco_backend_rows_are_cpu_rollouts(tmp_path, capsys):
     )
     assert rc == 0
     table = pd.read_csv(out)
-    assert list(table.columns) == list(RESULT_COLUMNS)
+    assert list(table.columns) == list(RESULT_COLUMNS) + list(SETTING_COLUMNS)
+    assert (table["behaviour"] == "forward").all() and (table["sensor_timing"] == "authors").all()
     assert list(table.design) == ["MD", "PVC"]
     for _, row in table.iterrows():  # each row is that design's own CPU rollout, summarised by metrics.py
         s = run_summary(simulate(row.design, "forward", 3.0, 2e-4, transient_s=0.4))
@@ -90,6 +92,15 @@ def test_designs_csv_round_trip_and_parallel_cpu(tmp_path):
         (["--designs", "SS", "--stability", "--behaviour", "ramp"], "--behaviour: not used by --stability"),
         (["--designs", "SS", "--stability", "--stability-duration", "0"], "--stability-duration must be > 0"),
         (["--designs", "SS", "--map", "2"], "not allowed with argument"),
+        (["--designs", "SS", "--stability-duration", "0.5"], "--stability-duration is for --stability"),
+        (["--designs", "SS", "--max-batch", "5"], "--max-batch is for --backend warp"),
+        (["--designs", "SS", "--backend", "warp", "--workers", "2"], "--workers is for --backend mujoco"),
+        (["--designs", "SS", "--behaviour", ""], "unknown behaviour ''"),
+        (["--designs", "SS", "--profile", "bogus"], "unknown profile 'bogus'"),
+        # argparse alone would answer "expected one argument" for an exponent form
+        (["--designs", "SS", "--duration", "-1e3"], "duration must be"),
+        (["--designs", "SS", "--timestep", "-1e-4"], "timestep"),
+        (["--map", "2", "--stability", "--stability-duration", "-1e-3"], "--stability-duration must be > 0"),
     ],
 )
 def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
@@ -152,9 +163,9 @@ def test_warp_backend_cli_on_cpu_device(tmp_path):
     )
     assert p.returncode == 0, p.stderr
     table = pd.read_csv(out)
-    assert list(table.columns) == list(RESULT_COLUMNS) and list(table.design) == ["PVC", "Nylon"]
+    assert list(table.columns)[: len(RESULT_COLUMNS)] == list(RESULT_COLUMNS) and list(table.design) == ["PVC", "Nylon"]
     assert table.stable.all() and (table.n_hops == 0).all()  # 0.2 s: still falling, no hop yet
-    assert "sim s" in p.stderr  # the progress bar over simulated time
+    assert "sim s" not in p.stderr  # no progress bar where stderr is no terminal (a log, a pipe)
     p = _cli(
         "batch",
         "--designs",
@@ -199,3 +210,25 @@ def test_sensor_timing_reaches_the_runs(tmp_path):
         assert main([*args, "--sensor-timing", timing, "--csv", str(out)]) == 0
         stable[timing] = bool(pd.read_csv(out)["stable"][0])
     assert stable == {"authors": True, "2": False}
+
+
+def test_profile_sets_the_run_lengths_and_a_csv_is_replaced(tmp_path, monkeypatch):
+    """$MAT_HOPPER_PROFILE (or --profile) gives the runs their length, the
+    CSV records it, and running the same command again replaces the CSV."""
+    out = tmp_path / "out.csv"
+    monkeypatch.setenv("MAT_HOPPER_PROFILE", "quick")
+    args = ["batch", "--designs", "MD", "--timestep", "1e-3", "--quiet", "--csv", str(out)]
+    assert main(args) == 0
+    first = pd.read_csv(out)
+    assert first["duration_s"][0] == 12.0 and first["transient_s"][0] == 4.0  # the quick profile's
+    out.write_text("stale\n")
+    assert main(args) == 0  # the existing file is replaced, not refused
+    assert pd.read_csv(out).equals(first)
+
+
+def test_a_csv_where_nothing_can_be_written_is_refused_before_work(capsys):
+    """/proc accepts no new file even for root (os.access says it may): the
+    folder is tried before any simulation."""
+    rc = main(["batch", "--designs", "SS", "--duration", "600", "--csv", "/proc/out.csv"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and "nothing can be written in folder /proc" in err[0]
