@@ -243,12 +243,14 @@ def batch_variants(variant_list=None) -> list[Variant]:
     """The variants a batch backend (:mod:`mat_hopper.batch`) runs: those
     with no perturbation, no physics substeps and the paper convention
     (its axial runs need substeps): the sensor latencies and the plain
-    ``2e-5 s step``. The default comes first, as in :func:`variants`."""
-    return [
-        v
-        for v in (variant_list or variants())
-        if v.replicate is None and v.substeps == 1 and v.convention == DEFAULT.convention
-    ]
+    ``2e-5 s step``. The default comes first, as in :func:`variants`.
+    variant_list: None for :func:`variants`; raises ValueError for an entry
+    that is not a :class:`Variant`."""
+    given = variants() if variant_list is None else list(variant_list)
+    bad = [v for v in given if not isinstance(v, Variant)]
+    if bad:
+        raise ValueError(f"variants must be Variant objects (robustness.variants()), got {bad[0]!r}")
+    return [v for v in given if v.replicate is None and v.substeps == 1 and v.convention == DEFAULT.convention]
 
 
 def batch_runs(
@@ -261,13 +263,20 @@ def batch_runs(
     the runner's). Each variant and behaviour is one batch of its designs.
     ``quantity_values(runs, runs)`` reads it as it reads per-hop tables.
 
-    profile: a Profile (run length, step, record rate, segment mass);
-    variant_list: default :func:`variants`; a variant no batch can run
-    (:func:`batch_variants`) raises ValueError naming it, before any work."""
+    profile: a Profile or its name (run length, step, record rate,
+    segment mass); variant_list: None for :func:`batch_variants`; an empty
+    list, a non-Variant, or a variant no batch can run raises ValueError
+    naming it, before any work; backend, device, workers: as
+    :func:`mat_hopper.batch.evaluate` (checked there, before its first
+    batch)."""
     from ..batch import BatchSettings, evaluate
     from ..control import sensor_latency_steps
+    from ..experiments.profiles import get_profile
 
-    wanted = list(variant_list or batch_variants())
+    profile = get_profile(profile)  # a name or a Profile
+    wanted = batch_variants() if variant_list is None else list(variant_list)
+    if not wanted:
+        raise ValueError("batch_runs: no variants to run (None runs batch_variants())")
     runnable = batch_variants(wanted)
     refused = [v.label for v in wanted if v not in runnable]
     if refused:

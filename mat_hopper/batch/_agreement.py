@@ -51,7 +51,18 @@ def agreement(reference: pd.DataFrame, other: pd.DataFrame) -> pd.DataFrame:
     hop height minus the reference's (m), its tracking error and hip power
     in percent of the reference's (over scored hop cycles, and over the
     whole run where the tables carry ``run_*`` means), and whether every
-    figure is within the tolerances of this module. Raises ValueError when the designs differ."""
+    figure is within the tolerances of this module (hops within
+    :data:`HOPS_TOLERANCE`, height within :data:`HEIGHT_TOLERANCE_M`,
+    tracking and power within :data:`RELATIVE_TOLERANCE`, divergence times
+    within :data:`DIVERGENCE_TOLERANCE_S`). Raises ValueError when a table
+    is not one, lacks a column, or the designs differ."""
+    need = ("design", "n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable", "diverged_at_s")
+    for label, t in (("reference", reference), ("other", other)):
+        if not isinstance(t, pd.DataFrame):
+            raise ValueError(f"agreement: {label} must be a batch table (DataFrame), got {type(t).__name__}")
+        missing = [c for c in need if c not in t.columns]
+        if missing:
+            raise ValueError(f"agreement: {label} table has no column {', '.join(missing)}")
     if list(reference["design"]) != list(other["design"]):
         raise ValueError("agreement: the two tables must hold the same designs in the same order")
     rows = []

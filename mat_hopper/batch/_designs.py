@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from collections import OrderedDict
 from collections.abc import Iterable, Sequence
 
@@ -69,8 +70,15 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
     if not dens_cols:
         raise ValueError(f"{source}: needs columns density_1..density_N (g/cm^3) and modulus_1..modulus_N (GPa)")
     n_max = max(dens_cols)
-    if sorted(dens_cols) != list(range(1, n_max + 1)):
-        raise ValueError(f"{source}: density columns must be density_1..density_{n_max} without gaps")
+    if min(dens_cols) < 1 or sorted(dens_cols) != list(range(1, n_max + 1)):
+        raise ValueError(
+            f"{source}: density columns must be density_1..density_N without gaps, got {sorted(dens_cols)}"
+        )
+    missing = [f"modulus_{i}" for i in range(1, n_max + 1) if i not in mod_cols]
+    if missing:  # a rigid segment is said in its cell ('rigid' or empty), never by a missing column
+        raise ValueError(
+            f"{source}: no column {', '.join(missing)} (write 'rigid' or leave the cell empty for a rigid segment)"
+        )
     designs = []
     for row_no, (_, row) in enumerate(frame.iterrows(), start=1):
         dens, mods = [], []
@@ -106,7 +114,18 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
 
 def designs_from_csv(path) -> list[LegDesign]:
     """Designs from a CSV file (see :func:`designs_from_frame`)."""
-    frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+    if path is None or not str(path).strip():
+        raise ValueError("--designs-csv: empty file name")
+    try:
+        with warnings.catch_warnings():
+            # a row longer than the header: pandas would shift it into an index, or drop fields
+            warnings.simplefilter("error", pd.errors.ParserWarning)
+            frame = pd.read_csv(path, dtype=str, keep_default_na=False, index_col=False)
+    except pd.errors.ParserWarning:
+        raise ValueError(f"{path}: a row has more fields than the header has columns") from None
+    except (pd.errors.EmptyDataError, pd.errors.ParserError, UnicodeDecodeError) as e:
+        reason = "empty file" if isinstance(e, pd.errors.EmptyDataError) else str(e).splitlines()[0]
+        raise ValueError(f"{path}: not a CSV table of designs ({reason})") from None
     return designs_from_frame(frame, source=str(path))
 
 

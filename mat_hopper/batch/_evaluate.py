@@ -21,12 +21,34 @@ def evaluate(
     max_batch: int | None = None,
     progress: bool = False,
 ) -> pd.DataFrame:
-    """One row per design, in input order (see :mod:`mat_hopper.batch`).
+    """One row per design, in input order (see :mod:`mat_hopper.batch`):
+    :data:`~mat_hopper.batch.RESULT_COLUMNS` (n_hops; hop_height_m in m,
+    tracking_error_m in m and power_w in W, means over the scored hop
+    cycles; stable) and :data:`~mat_hopper.batch.EXTRA_COLUMNS`.
 
-    designs: LegDesigns or names; behaviour: a Behaviour or a name;
-    device: Warp device for the warp backend ("cpu", "cuda"); workers:
-    processes for the mujoco backend; max_batch: most worlds in one warp
-    batch."""
+    designs: a list of LegDesigns or names; behaviour: a Behaviour or a
+    name; settings: run settings (None: :class:`BatchSettings`' defaults,
+    the paper's 60 s at 1e-4 s, 20 s transient); device: Warp device for
+    the warp backend ("cpu", "cuda"); workers: processes for the mujoco
+    backend; max_batch: most worlds in one warp batch. Raises ValueError
+    for a string of designs, options of the other backend, counts < 1 or
+    an unknown backend; WarpUnavailable when mujoco-warp is missing."""
+    if isinstance(designs, str):
+        raise ValueError(
+            f"designs must be a list of designs (names or LegDesigns), got the string {designs!r}; "
+            "mat_hopper.batch.parse_design_list splits 'A,B,C'"
+        )
+    if settings is not None and not isinstance(settings, BatchSettings):
+        raise ValueError(
+            f"settings must be a BatchSettings (or None: the paper's 60 s runs), got {type(settings).__name__}"
+        )
+    for name, value in (("workers", workers), ("max_batch", max_batch)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < 1):
+            raise ValueError(f"{name} must be an integer >= 1 (or None), got {value!r}")
+    if backend == "mujoco" and (device is not None or max_batch is not None):
+        raise ValueError("device and max_batch are for backend='warp'")
+    if backend == "warp" and workers is not None:
+        raise ValueError("workers is for backend='mujoco' (a warp batch is one process)")
     if backend == "mujoco":
         return evaluate_cpu(designs, behaviour, settings, workers=workers, progress=progress)
     if backend == "warp":

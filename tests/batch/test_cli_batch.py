@@ -112,11 +112,22 @@ def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
     assert not out.exists()
 
 
-def test_bad_designs_csv(tmp_path):
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        ("design,density_1,modulus_1\nx,abc,4\n", "density_1 must be a number"),
+        ("density_1,density_2,modulus_1\n1.4,2,70\n", "no column modulus_2"),  # not silently rigid
+        ("density_1\n1.4\n", "no column modulus_1"),
+        ("design,density_1,modulus_1\nx,1.4,70,99\n", "a row has more fields than the header"),
+        ("", "not a CSV table of designs (empty file)"),
+        ("density_0,modulus_0\n1,2\n", "density_1..density_N without gaps"),
+    ],
+)
+def test_bad_designs_csv(tmp_path, content, message):
     path = tmp_path / "d.csv"
-    path.write_text("design,density_1,modulus_1\nx,abc,4\n")
+    path.write_text(content)
     p = _cli("batch", "--designs-csv", str(path))
-    assert p.returncode == 2 and "density_1 must be a number" in p.stderr and len(p.stderr.strip().splitlines()) == 1
+    assert p.returncode == 2 and message in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
 
 
 def test_missing_mujoco_warp_is_a_one_line_error(tmp_path):

@@ -1,0 +1,37 @@
+"""Bad arguments to the batch API: one ValueError naming the mistake, before any work."""
+
+import re
+
+import pandas as pd
+import pytest
+
+from mat_hopper.analysis.robustness import batch_runs, batch_variants
+from mat_hopper.batch import BatchSettings, agreement, evaluate
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: evaluate("SS", "forward"), "got the string 'SS'"),
+        (lambda: evaluate(["SS"], "forward", {"duration_s": 1.0}), "settings must be a BatchSettings"),
+        (lambda: evaluate(["SS"], "forward", workers=0), "workers must be an integer >= 1"),
+        (lambda: evaluate(["SS"], "forward", workers=2.5), "workers must be an integer >= 1"),
+        (lambda: evaluate(["SS"], "forward", device="cuda"), "for backend='warp'"),
+        (lambda: evaluate(["SS"], "forward", max_batch=-5), "max_batch must be an integer >= 1"),
+        (lambda: evaluate(["SS"], "forward", backend="warp", workers=2), "workers is for backend='mujoco'"),
+        (lambda: evaluate(["SS"], "forward", backend="gpu"), "unknown backend 'gpu'"),
+        (lambda: agreement(pd.DataFrame(), pd.DataFrame()), "has no column design"),
+        (lambda: agreement(None, None), "must be a batch table"),
+        (lambda: batch_variants("foo"), "must be Variant objects"),
+        (lambda: batch_runs("quick", [], backend="mujoco"), "no variants to run"),
+        (lambda: batch_runs("turbo", backend="mujoco"), "unknown profile 'turbo'"),
+    ],
+)
+def test_bad_arguments_are_one_value_error(call, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        call()
+
+
+def test_settings_none_are_the_papers_protocol():
+    s = BatchSettings()
+    assert (s.duration_s, s.transient_s, s.timestep_s, s.sensor_timing) == (60.0, 20.0, 1e-4, "authors")
