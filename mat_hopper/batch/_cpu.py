@@ -84,11 +84,21 @@ def evaluate_cpu(
             ctx = multiprocessing.get_context(
                 "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
             )
-            with ProcessPoolExecutor(workers, mp_context=ctx) as pool:
+            pool = ProcessPoolExecutor(workers, mp_context=ctx)
+            try:
                 for row in pool.map(_row_star, tasks):
                     rows.append(row)
                     if bar:
                         bar.update(1)
+            except BaseException:  # Ctrl-C, SIGTERM (mat_hopper.cli: KeyboardInterrupt), a failed row
+                # Stop the workers now. Futures are not cancelled: the pool's manager thread then
+                # fails them as a broken pool, where cancelling them makes it raise InvalidStateError
+                # (CPython 3.11) in a traceback on stderr.
+                for proc in list((getattr(pool, "_processes", None) or {}).values()):
+                    proc.terminate()
+                pool.shutdown(wait=True)
+                raise
+            pool.shutdown(wait=True)
     finally:
         if bar:
             bar.close()
