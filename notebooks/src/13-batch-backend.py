@@ -160,6 +160,19 @@ display(book.show(scan, precision=6))
 print(f"{int(scan['same'].sum())} of {len(scan)} designs get the same stable step on both backends")
 
 # %% [markdown]
+# One place where the two engines must part: a step beyond the
+# controller's limit (chapter 5: its stance damping reads the gyro L steps
+# late, stable below c(L) I / (K_d gear), 1.3e-4 s at L = 2). There the
+# attitude mode grows from whatever disturbs it. Hopping in place
+# disturbs it only by round-off, about 1e-16 in float64 and 1e-7 in
+# float32, so the same unstable run diverges much later on the CPU: PVC
+# hopping in place at 2e-4 s with L = 2 diverges at 1.29 s on the CPU and
+# at 0.46 s on Warp; hopping forward, which excites the mode, at 0.41 s on
+# the CPU. Both are right that the step is unstable; a short static try
+# of the scan can call it stable in float64 alone. The scan above stays
+# clear of this: its designs are limited by their springs, or well inside
+# the controller's limit.
+#
 # The agreement figures, one bar per design and behaviour
 # ({numref}`fig-batch-agreement`):
 
