@@ -170,8 +170,8 @@ print(f"{int(scan['same'].sum())} of {len(scan)} designs get the same stable ste
 # at 0.46 s on Warp; hopping forward, which excites the mode, at 0.41 s on
 # the CPU. Both are right that the step is unstable; a short static try
 # of the scan can call it stable in float64 alone. The scan above stays
-# clear of this: its designs are limited by their springs, or well inside
-# the controller's limit.
+# clear of this: each of its tries lies far from the controller's limit,
+# well inside it or well beyond.
 #
 # The agreement figures, one bar per design and behaviour
 # ({numref}`fig-batch-agreement`):
