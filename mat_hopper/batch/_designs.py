@@ -34,10 +34,13 @@ def as_design(design) -> LegDesign:
 
 
 def parse_design_list(text: str) -> list[LegDesign]:
-    """Comma-separated design names, e.g. ``SS,rho-inc,PVC-Ti-SS``."""
-    names = [p.strip() for p in str(text).split(",") if p.strip()]
-    if not names:
+    """Comma-separated design names, e.g. ``SS,rho-inc,PVC-Ti-SS``; an
+    empty item ("SS,,PVC") is refused, as in every comma list of the CLI."""
+    names = [p.strip() for p in str(text).split(",")]
+    if not any(names):
         raise ValueError(f"--designs needs at least one design name, got {text!r}")
+    if not all(names):
+        raise ValueError(f"--designs must be comma-separated design names, got {text!r} (an empty item)")
     return [parse_design(n) for n in names]
 
 

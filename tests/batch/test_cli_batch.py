@@ -92,6 +92,7 @@ def test_designs_csv_round_trip_and_parallel_cpu(tmp_path):
         (["--designs", "SS", "--stability", "--behaviour", "ramp"], "--behaviour: not used by --stability"),
         (["--designs", "SS", "--stability", "--stability-duration", "0"], "--stability-duration must be > 0"),
         (["--designs", "SS", "--map", "2"], "not allowed with argument"),
+        (["--designs", "SS,,PVC"], "(an empty item)"),
         (["--designs", "SS", "--stability-duration", "0.5"], "--stability-duration is for --stability"),
         (["--designs", "SS", "--max-batch", "5"], "--max-batch is for --backend warp"),
         (["--designs", "SS", "--backend", "warp", "--workers", "2"], "--workers is for --backend mujoco"),
