@@ -210,6 +210,15 @@ def largest_stable_timestep(
     return lo, hi
 
 
+def spec_ladder(
+    first: float = ref.STABILITY_TIMESTEP_RANGE[0], last: float = ref.STABILITY_TIMESTEP_RANGE[1], n: int = SPEC_SCAN_N
+) -> np.ndarray:
+    """The reference protocol's time steps (s), largest first: n log-spaced
+    from `first` down to `last`. One definition for every scan: a try's
+    outcome can depend on the last bit of its step."""
+    return np.geomspace(first, last, int(n))
+
+
 def spec_scan(
     design: LegDesign,
     *,
@@ -223,7 +232,7 @@ def spec_scan(
     """The reference protocol (docs/reference-hopper.md): the first stable of n log-spaced steps from
     `first` down to `last` (s); nan when none is stable."""
     tries = [] if tries is None else tries
-    for dt in np.geomspace(first, last, int(n)):
+    for dt in spec_ladder(first, last, n):
         r = try_timestep(design, float(dt), duration_s=duration_s, convention=convention)
         r["method"] = "spec"
         tries.append(r)
@@ -244,7 +253,7 @@ def scan_consistent(
     """Whether the reference scan's answer fits the bisection's bracket if
     stability were monotone in the step: no ladder step >= dt_unstable is
     stable, and no ladder step <= dt_stable is passed over."""
-    ladder = np.geomspace(first, last, int(n))
+    ladder = spec_ladder(first, last, n)
     eps = 1e-9
     if math.isnan(dt_stable):
         return math.isnan(dt_spec)

@@ -29,7 +29,7 @@ import pandas as pd
 
 from .. import reference as ref
 from ..materials import DEFAULT_CONVENTION
-from ..stability import SPEC_SCAN_N
+from ..stability import SPEC_SCAN_N, spec_ladder
 from ._designs import as_design
 from ._evaluate import evaluate
 from ._settings import BatchSettings
@@ -57,7 +57,7 @@ def spec_scan_batch(
     :data:`TRY_COLUMNS`).
 
     designs: LegDesigns or names; duration_s: static hopping per try (s);
-    first_s, last_s, n: the ladder ``numpy.geomspace(first_s, last_s, n)``
+    first_s, last_s, n: the ladder :func:`mat_hopper.stability.spec_ladder`
     (s); spec_timestep_s is its first rung at which the design ends upright,
     nan if none. density_g_cm3, modulus_gpa: of the first segment (the map's
     designs are mono-material). sensor_latency_steps: the controller's
@@ -73,7 +73,7 @@ def spec_scan_batch(
         raise ValueError(
             f"the ladder must run from first_s down to last_s within (0, 0.1] s, got {first_s!r}, {last_s!r}"
         )
-    ladder = np.geomspace(first_s, last_s, int(n))
+    ladder = spec_ladder(first_s, last_s, n)
     found = [math.nan] * len(designs)
     n_tries = [0] * len(designs)
     tries = []
