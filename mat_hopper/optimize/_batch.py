@@ -36,6 +36,7 @@ the reference.
 from __future__ import annotations
 
 import math
+import signal
 import sys
 import threading
 import warnings
@@ -59,6 +60,7 @@ from ._objective import (
     scored_by_hops,
     whole_run_value,
 )
+from ._processes import HeldSignals
 from ._samplers import check_sampler, make_sampler, worker_seed
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, WORKER_ATTR, recover_dead, redact, retry_trial, worker_identity
 from ._study import (
@@ -285,20 +287,26 @@ def run_batch_study(
             if k <= 0:
                 break
             asked, designs = [], []
-            for _ in range(k):
-                with warnings.catch_warnings():  # "heartbeat ... with Study.optimize": _Heartbeat sends them
-                    warnings.simplefilter("ignore", UserWarning)
-                    trial = study.ask()
-                trial.set_user_attr(WORKER_ATTR, identity)
-                trial.set_user_attr(TRIAL_BACKEND_ATTR, BACKEND)
-                try:
-                    design = config.space.suggest(trial)
-                except Exception as e:  # a bad point of the space: this trial fails, as on the CPU path
-                    _fail(study, trial, f"{type(e).__name__}: {e}")
-                    told.append((trial.number, "FAIL"))
-                    continue
-                asked.append(trial)
-                designs.append(design)
+            try:
+                for _ in range(k):
+                    # Ctrl-C, SIGTERM and SIGHUP wait until the new trial is in `asked`
+                    # (and names this process), so that the handler below re-queues it.
+                    with HeldSignals(signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+                        with warnings.catch_warnings():  # "heartbeat ... with Study.optimize": _Heartbeat sends them
+                            warnings.simplefilter("ignore", UserWarning)
+                            trial = study.ask()
+                        asked.append(trial)
+                        trial.set_user_attr(WORKER_ATTR, identity)
+                    trial.set_user_attr(TRIAL_BACKEND_ATTR, BACKEND)
+                    try:
+                        designs.append(config.space.suggest(trial))
+                    except Exception as e:  # a bad point of the space: this trial fails, as on the CPU path
+                        asked.pop()
+                        _fail(study, trial, f"{type(e).__name__}: {e}")
+                        told.append((trial.number, "FAIL"))
+            except BaseException:  # Ctrl-C while asking: the trials asked so far go back in the queue
+                _requeue(study, asked, "interrupted", options.max_retry)
+                raise
             beat.ids = [t._trial_id for t in asked]
             try:
                 with beat:

@@ -50,6 +50,52 @@ def _warm_up() -> None:
     simulate("SS", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
 
 
+class HeldSignals:
+    """Hold signals back over a short critical section: one that arrives
+    inside it is recorded, and delivered again (``signal.raise_signal``,
+    with the handlers from before) at :meth:`release` or at the block's end,
+    whichever comes first. Used where a trial exists in the storage but
+    does not yet name its worker: a process stopped there would leave a
+    RUNNING trial that no one can tell is dead.
+
+    Python-level handlers, not a thread's signal mask: Python runs handlers
+    in the main thread whatever thread the kernel chose, so this holds in a
+    process with threads too. Outside the main thread it does nothing.
+
+    >>> import signal
+    >>> with HeldSignals(signal.SIGUSR1) as held:
+    ...     signal.raise_signal(signal.SIGUSR1)  # recorded, not delivered
+    ...     held.pending
+    [<Signals.SIGUSR1: 10>]
+    """
+
+    def __init__(self, *signals: int):
+        self.signals = tuple(signals)
+        self.pending: list[signal.Signals] = []
+        self._old: dict = {}
+
+    def _hold(self, signum, frame):
+        self.pending.append(signal.Signals(signum))
+
+    def __enter__(self) -> HeldSignals:
+        if threading.current_thread() is threading.main_thread():
+            self._old = {sig: signal.signal(sig, self._hold) for sig in self.signals}
+        return self
+
+    def release(self) -> None:
+        """Restore the handlers, then deliver what came meanwhile (which may
+        raise, or end the process at a default action)."""
+        old, self._old = self._old, {}
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+        pending, self.pending = self.pending, []
+        for sig in dict.fromkeys(pending):
+            signal.raise_signal(sig)
+
+    def __exit__(self, *exc) -> None:
+        self.release()
+
+
 class Interrupted(KeyboardInterrupt):
     """SIGTERM or SIGHUP, handled like Ctrl-C (KeyboardInterrupt): the
     coordinator stops its workers, fails and re-queues their trials."""

@@ -406,7 +406,9 @@ def retry_trial(study, trial, max_retry: int = 3) -> bool:
     """Enqueue a failed trial's parameters again, as Optuna's
     RetryHeartbeatStaleTrialCallback does (same ``failed_trial`` and
     ``retry_history`` system attrs), keeping only the user attrs in
-    KEEP_ON_RETRY. False when the trial was retried max_retry times."""
+    KEEP_ON_RETRY. An enqueued trial's ``fixed_params`` go along, so a
+    seed whose worker died before it was suggested is retried as that seed.
+    False when the trial was retried max_retry times."""
     history = list(trial.system_attrs.get("retry_history", [])) + [trial.number]
     if len(history) > max_retry:
         return False
@@ -419,6 +421,11 @@ def retry_trial(study, trial, max_retry: int = 3) -> bool:
             system_attrs={
                 "failed_trial": trial.system_attrs.get("failed_trial", trial.number),
                 "retry_history": history,
+                # an enqueued design (a seed) whose worker died before it was
+                # suggested has no params yet: keep it enqueued
+                **(
+                    {"fixed_params": trial.system_attrs["fixed_params"]} if "fixed_params" in trial.system_attrs else {}
+                ),
             },
         )
     )

@@ -69,6 +69,7 @@ from ._objective import (  # noqa: F401 (RESULT_ATTR, result_attr are re-exporte
     result_attr,
 )
 from ._processes import (  # noqa: F401 (Interrupted, stop_signals are re-exported)
+    HeldSignals,
     Interrupted,
     _die_with_parent,
     _orphaned,
@@ -320,13 +321,16 @@ class TrialObjective:
     ``result`` (feasible, hop height m, design text, mass kg, simulated s,
     per-behaviour rows) at the end."""
 
-    def __init__(self, config: StudyConfig, identity: dict | None = None, tick=None):
+    def __init__(self, config: StudyConfig, identity: dict | None = None, tick=None, claimed=None):
         self.config = config
         self.identity = identity or worker_identity()
         self.tick = tick
+        self.claimed = claimed  # called once the trial names its worker
 
     def __call__(self, trial) -> tuple[float, float]:
         trial.set_user_attr(WORKER_ATTR, self.identity)
+        if self.claimed is not None:
+            self.claimed()
         try:
             design = self.config.space.suggest(trial)
             ev = evaluate(design, self.config.objective, tick=self.tick)
@@ -383,10 +387,16 @@ def _worker_main(job: _Job, tickets, conn, parent: int) -> None:
         with storage_errors(job.url):
             storage = open_storage(job.url, heartbeat_s=o.heartbeat_s, grace_s=o.grace_s, max_retry=o.max_retry)
             study = optuna.load_study(study_name=job.name, storage=storage, sampler=make_sampler(o.sampler, job.seed))
-            objective = TrialObjective(StudyConfig.from_key(job.name, job.config_key))
+            config = StudyConfig.from_key(job.name, job.config_key)
             record = lambda s, t: told.append((t.number, t.state.name))
             while not _orphaned(parent) and _claim(tickets, study, job.target):
-                study.optimize(objective, n_trials=1, catch=(Exception,), callbacks=[record])
+                # SIGTERM (the coordinator's stop, or the parent's death) waits
+                # from before Optuna creates the RUNNING trial until the trial
+                # names this worker: a worker killed in between would leave a
+                # RUNNING trial that nobody can tell is dead.
+                with HeldSignals(signal.SIGTERM) as held:
+                    objective = TrialObjective(config, claimed=held.release)
+                    study.optimize(objective, n_trials=1, catch=(Exception,), callbacks=[record])
     except ValueError as e:
         report["error"] = str(e).splitlines()[0]
         code = 3

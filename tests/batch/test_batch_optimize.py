@@ -13,6 +13,7 @@ as on the CPU path: both branches of the objective are compared.
 
 from __future__ import annotations
 
+import signal
 import time
 
 import optuna
@@ -101,3 +102,31 @@ def test_warp_study_agrees_with_the_cpu_objective(study):
             assert abs(warp_row["hop_height_m"] - cpu_row["hop_height_m"]) <= 0.01, label
             assert abs(_constraints(t)[0] - cpu.constraints[0]) <= 0.01, label
         assert _constraints(t)[1] == cpu.constraints[1] == 0.0
+
+
+def test_ctrl_c_right_after_a_trial_is_asked_requeues_it(tmp_path, monkeypatch):
+    """Ctrl-C just after Study.ask made the second trial of a batch: both
+    trials asked so far are failed and re-queued (none is left RUNNING), and
+    KeyboardInterrupt reaches the caller. Nothing is simulated."""
+    real_ask, calls = optuna.Study.ask, []
+
+    def ask(self, *a, **kw):
+        trial = real_ask(self, *a, **kw)
+        calls.append(trial.number)
+        if len(calls) == 2:
+            signal.raise_signal(signal.SIGINT)
+        return trial
+
+    monkeypatch.setattr(optuna.Study, "ask", ask)
+    with pytest.raises(KeyboardInterrupt):
+        run_batch_study(
+            StudyConfig("warp-int", SPACE, OBJ),
+            RunOptions(trials=4, studies_dir=str(tmp_path), progress=False),
+            device="cpu",
+            batch_size=4,
+        )
+    ts = optuna.load_study(study_name="warp-int", storage=open_storage(f"sqlite:///{tmp_path / 'warp-int.db'}")).trials
+    assert calls == [0, 1]
+    assert [t.state for t in ts] == [optuna.trial.TrialState.FAIL] * 2 + [optuna.trial.TrialState.WAITING] * 2
+    assert [t.system_attrs["failed_trial"] for t in ts[2:]] == [0, 1]
+    assert [t.params for t in ts[2:]] == [ts[0].params, ts[1].params]

@@ -24,6 +24,7 @@ from mat_hopper.experiments.profiles import Profile
 from mat_hopper.optimize import _storage
 from mat_hopper.optimize import _study as study_mod
 from mat_hopper.optimize._objective import Objective
+from mat_hopper.optimize._processes import HeldSignals
 from mat_hopper.optimize._space import SearchSpace
 from mat_hopper.optimize._storage import FAIL_REASON_ATTR, WORKER_ATTR, open_storage
 from mat_hopper.optimize._study import CONFIG_ATTR, RunOptions, StudyConfig, create_or_load, run_study
@@ -250,6 +251,64 @@ def _alive(pid):
         return False
 
 
+def test_sigterm_right_after_the_trial_is_made_waits_until_it_names_its_worker(tmp_path, monkeypatch):
+    """A SIGTERM that lands just after Optuna made the RUNNING trial
+    (Study.ask returned), before the trial names its worker, left a RUNNING
+    trial that no one could recover (CI, stop 17). Now the signal waits: the
+    worker dies with its name on the trial, the coordinator fails and
+    re-queues it, and the study finishes. The signal is sent by the forked
+    worker to itself, in that very window."""
+    real_ask = optuna.Study.ask
+    shot = tmp_path / "shot"
+
+    def ask(self, *a, **kw):
+        trial = real_ask(self, *a, **kw)
+        if os.getpid() != parent and not shot.exists():
+            shot.write_text(str(os.getpid()))
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.5)  # a signal at its default action would have ended us by now
+        return trial
+
+    parent = os.getpid()
+    monkeypatch.setattr(optuna.Study, "ask", ask)
+    monkeypatch.setattr(study_mod, "_start_method", lambda: "fork")
+    url = f"sqlite:///{tmp_path}/held.db"
+    res = run_study(tiny("held"), RunOptions(trials=2, workers=1, storage=url, progress=False))
+    pid = int(shot.read_text())
+    assert res.finished and res.dead_workers == [(pid, -signal.SIGTERM)]
+    ts = optuna.load_study(study_name="held", storage=open_storage(url)).trials
+    assert [t.state for t in ts[:3]] == [TrialState.FAIL, TrialState.COMPLETE, TrialState.COMPLETE]
+    assert not [t for t in ts if t.state == TrialState.RUNNING]
+    assert ts[0].user_attrs[WORKER_ATTR]["pid"] == pid
+    assert ts[0].user_attrs[FAIL_REASON_ATTR] == f"worker exited with code -15 (pid {pid})"
+    assert res.recovered == [0]
+    # trial 0 was a seed (enqueued) killed before it was suggested: its retry is that seed again
+    (retry,) = [t for t in ts if t.system_attrs.get("failed_trial") == 0]
+    assert retry.state == TrialState.WAITING and retry.params == {}
+    assert retry.system_attrs["fixed_params"] == ts[0].system_attrs["fixed_params"]
+    assert len(ts[0].system_attrs["fixed_params"]) == 6
+
+
+def test_held_signals_deliver_at_release_with_the_old_handlers():
+    got = []
+    old = signal.signal(signal.SIGUSR1, lambda s, f: got.append(s))
+    try:
+        with HeldSignals(signal.SIGUSR1) as held:
+            signal.raise_signal(signal.SIGUSR1)
+            signal.raise_signal(signal.SIGUSR1)
+            assert got == [] and held.pending == [signal.SIGUSR1] * 2
+            held.release()
+            assert got == [signal.SIGUSR1]  # once: it was pending, as the kernel keeps it
+            signal.raise_signal(signal.SIGUSR1)
+        assert got == [signal.SIGUSR1] * 2
+        with pytest.raises(KeyboardInterrupt), HeldSignals(signal.SIGINT):
+            signal.raise_signal(signal.SIGINT)  # Python's default: KeyboardInterrupt, at the block's end
+            reached = True
+        assert reached
+    finally:
+        signal.signal(signal.SIGUSR1, old)
+
+
 @pytest.mark.parametrize("sig", [signal.SIGTERM, pytest.param(signal.SIGHUP, marks=pytest.mark.slow)])
 def test_sigterm_and_sighup_stop_workers_and_requeue_their_trials(sig, tmp_path):
     name, url = "sig", f"sqlite:///{tmp_path}/sig.db"
@@ -292,6 +351,7 @@ FIRST_START = textwrap.dedent(
     import sys, time
     from mat_hopper.experiments.profiles import Profile
     from mat_hopper.optimize._objective import Objective
+from mat_hopper.optimize._processes import HeldSignals
     from mat_hopper.optimize._space import SearchSpace
     from mat_hopper.optimize._storage import open_storage
     from mat_hopper.optimize._study import StudyConfig, create_or_load
