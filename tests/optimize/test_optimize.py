@@ -17,6 +17,7 @@ import optuna
 import pandas as pd
 import pytest
 from optuna.trial import TrialState
+from running_trials import stop_a_running_trial
 
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
@@ -386,23 +387,6 @@ def test_postgres_two_workers_then_a_third_process_resumes(pg_url):
     assert len(new_pids) == 1 and not new_pids & {t.user_attrs[WORKER_ATTR]["pid"] for t in first}
 
 
-def _wait_running(url, name, exclude=(), timeout=60.0):
-    """(number, worker pid) of a trial that is simulating (all 6 params drawn)."""
-    storage = open_storage(url)
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        try:
-            study = optuna.load_study(study_name=name, storage=storage)
-            for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
-                w = t.user_attrs.get(WORKER_ATTR)
-                if w and len(t.params) == 6 and t.number not in exclude:
-                    return t.number, w["pid"]
-        except KeyError:
-            pass
-        time.sleep(0.05)
-    raise AssertionError("no trial started")
-
-
 @pytest.mark.slow
 def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
     name = "kill"
@@ -433,7 +417,7 @@ def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
         text=True,
     )
     try:
-        victim, pid = _wait_running(pg_url, name)
+        victim, pid = stop_a_running_trial(pg_url, name)
         os.kill(pid, signal.SIGKILL)
         out, err = proc.communicate(timeout=120)
     finally:
@@ -485,7 +469,7 @@ def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
         start_new_session=True,
     )
     try:
-        victim, _ = _wait_running(pg_url, name)
+        victim, _ = stop_a_running_trial(pg_url, name)
     finally:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait(30)

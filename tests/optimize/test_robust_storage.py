@@ -18,6 +18,7 @@ import optuna
 import pytest
 from optuna.trial import TrialState
 from pg_server import new_database
+from running_trials import stop_a_running_trial
 
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
@@ -230,19 +231,6 @@ def test_no_database_connection_crosses_the_fork(tmp_path, monkeypatch):
 # --- 5: SIGTERM and SIGHUP like Ctrl-C -------------------------------------------
 
 
-def _wait_running(url, name, timeout=90.0):
-    storage = open_storage(url)
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        study = optuna.load_study(study_name=name, storage=storage)
-        for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
-            w = t.user_attrs.get(WORKER_ATTR)
-            if w and len(t.params) == 6:
-                return t.number, w["pid"]
-        time.sleep(0.05)
-    raise AssertionError("no trial started")
-
-
 def _alive(pid):
     try:
         with open(f"/proc/{pid}/stat") as f:
@@ -321,8 +309,9 @@ def test_sigterm_and_sighup_stop_workers_and_requeue_their_trials(sig, tmp_path)
         cmd, env={**ENV, "TMPDIR": str(tmp)}, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
     )
     try:
-        victim, pid = _wait_running(url, name)
+        victim, pid = stop_a_running_trial(url, name)
         p.send_signal(sig)
+        os.kill(pid, signal.SIGCONT)  # the worker meets the coordinator's stop mid-trial
         out, err = p.communicate(timeout=60)
     finally:
         if p.poll() is None:
@@ -351,7 +340,6 @@ FIRST_START = textwrap.dedent(
     import sys, time
     from mat_hopper.experiments.profiles import Profile
     from mat_hopper.optimize._objective import Objective
-from mat_hopper.optimize._processes import HeldSignals
     from mat_hopper.optimize._space import SearchSpace
     from mat_hopper.optimize._storage import open_storage
     from mat_hopper.optimize._study import StudyConfig, create_or_load
