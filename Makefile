@@ -8,13 +8,17 @@ PROFILE ?= paper
 setup:
 	@bash scripts/setup.sh
 
+# Tests run on every core (pytest-xdist, at most 4 workers); a test file stays
+# on one worker, so the quick book (one module fixture) is built once.
+PYTEST := $(PY) -m pytest -q -n auto --maxprocesses 4 --dist loadfile
+
 ## Pass every test (CI runs this; the slow ones too: 60 s physics runs, the book build, PostgreSQL, SIGKILL).
 test: setup
-	$(PY) -m pytest -q
+	$(PYTEST)
 
 ## The developer's loop: every test not marked slow (a few minutes).
 test-fast: setup
-	$(PY) -m pytest -q -m "not slow"
+	$(PYTEST) -m "not slow"
 
 ## Lint and format check (what CI runs before the tests).
 lint: setup
