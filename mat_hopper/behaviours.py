@@ -36,6 +36,17 @@ _PATH_CODES = {"line": PATH_LINE, "circle": PATH_CIRCLE, "table": PATH_TABLE}
 BEHAVIOUR_NAMES = ("static", "forward", "ramp", "circle")
 
 
+def order_behaviours(behaviours) -> list[str]:
+    """Behaviour names in the paper's order (:data:`BEHAVIOUR_NAMES`), then
+    the others as first seen; each once.
+
+    >>> order_behaviours(["circle", "static", "circle"])
+    ['static', 'circle']
+    """
+    seen = list(dict.fromkeys(behaviours))
+    return [b for b in BEHAVIOUR_NAMES if b in seen] + [b for b in seen if b not in BEHAVIOUR_NAMES]
+
+
 @dataclass(frozen=True, eq=False)
 class Behaviour:
     """A desired path and the terrain it is hopped on.

@@ -172,6 +172,15 @@ CATALOGUE: dict[str, Material] = {
 
 MONO_NAMES = tuple(ref.MONO_MATERIALS)  # MD, PVC, Al, Ti, SS: the paper's five
 
+# The design space: the property ranges the paper's sweeps span, with the
+# density floor of engineering polymers (the optimizer's box, the Ashby
+# chart's). Not the accepted input range (DENSITY_RANGE_G_CM3 above).
+_SWEEP_DENSITIES = [v for s in ref.SWEEPS.values() for v in s["density"]]
+_SWEEP_MODULI = [v for s in ref.SWEEPS.values() for v in s["modulus"]]
+POLYMER_DENSITY_FLOOR_G_CM3 = 0.9  # polyolefins (Ashby 2011, app. C)
+DENSITY_BOUNDS_G_CM3 = (POLYMER_DENSITY_FLOOR_G_CM3, float(max(_SWEEP_DENSITIES)))  # (0.9, 20)
+MODULUS_BOUNDS_GPA = (float(min(_SWEEP_MODULI)), float(max(_SWEEP_MODULI)))  # (0.1, 1000)
+
 
 def material(name: str) -> Material:
     """Catalogue material by name (case-insensitive)."""
@@ -389,6 +398,20 @@ def paper_designs() -> dict[str, LegDesign]:
     for g in ("PVC-Ti-SS", "SS-Ti-PVC"):
         out[g] = parse_design(g)
     return out
+
+
+PAPER_DESIGN_ORDER = (*MONO_NAMES, "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC")  # the paper's tables and figures
+
+
+def order_designs(designs) -> list[str]:
+    """Design names in the paper's order (:data:`PAPER_DESIGN_ORDER`), then
+    the others as first seen; each once.
+
+    >>> order_designs(["mine", "SS", "rho-inc", "MD", "SS"])
+    ['MD', 'SS', 'rho-inc', 'mine']
+    """
+    seen = list(dict.fromkeys(designs))
+    return [d for d in PAPER_DESIGN_ORDER if d in seen] + [d for d in seen if d not in PAPER_DESIGN_ORDER]
 
 
 def iter_catalogue() -> Iterable[Material]:

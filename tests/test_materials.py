@@ -9,6 +9,7 @@ from mat_hopper.materials import (
     Material,
     bulk_density,
     material,
+    order_designs,
     paper_designs,
     parse_design,
     porosity,
@@ -170,3 +171,11 @@ def test_segment_masses_by_hand():
     assert ss == pytest.approx((2.618,) * 3, rel=1e-3)
     # rho-inc: 1.39, 4.43, 8 g/cm^3 from base to foot, same volumes
     assert segment_masses(parse_design("rho-inc")) == pytest.approx((0.4549, 1.4497, 2.618), rel=1e-3)
+
+
+def test_designs_in_the_papers_order():
+    """The order of the paper's tables (Table I's five materials, then the
+    gradients as the paper introduces them), typed from the paper."""
+    paper = ["MD", "PVC", "Al", "Ti", "SS", "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC"]
+    assert order_designs(["mine", *reversed(paper), "SS"]) == [*paper, "mine"]
+    assert list(paper_designs()) == paper

@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..materials import CONVENTIONS, LegDesign, paper_designs
-from ..viz.style import order_behaviours, order_designs
+from ..behaviours import order_behaviours
+from ..materials import CONVENTIONS, LegDesign, order_designs, paper_designs
 from .change import percent_change
 
 

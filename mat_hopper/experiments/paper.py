@@ -35,6 +35,7 @@ from ..behaviours import behaviour as get_behaviour
 from ..materials import CONVENTIONS, LegDesign, Material, paper_designs, parse_design
 from ..perturbations import Perturbation
 from ..sim import AUTO
+from . import robustness
 from .profiles import Profile, check_replicates, get_profile
 from .runner import FAILED, RunSpec, run_grid
 
@@ -223,14 +224,13 @@ class RobustnessStudy:
     """How robust the paper's numbers are (book chapter "How robust are the
     paper's numbers?"): the runs the quantitative claims rest on under
     other sensor latencies, the axial convention, finer steps and perturbed
-    replicates (:mod:`mat_hopper.analysis.robustness`)."""
+    replicates (:mod:`mat_hopper.experiments.robustness`, analysed in
+    :mod:`mat_hopper.analysis.robustness`)."""
 
     name: str = "robustness"
     max_replicates: int = 3  # replicate variants shown beside the others (the claims use all of them)
 
     def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
-        from ..analysis import robustness
-
         profile = get_profile(profile)
         n = min(check_replicates(replicates), self.max_replicates)
         return robustness.tasks(profile, robustness.variants(replicates=n))

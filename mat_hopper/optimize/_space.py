@@ -55,16 +55,20 @@ import math
 from dataclasses import dataclass, field
 
 from .. import reference as ref
-from ..materials import CATALOGUE, LegDesign, Material, material, paper_designs
+from ..materials import (  # noqa: F401  (the bounds re-exported: the search box)
+    CATALOGUE,
+    DENSITY_BOUNDS_G_CM3,
+    MODULUS_BOUNDS_GPA,
+    POLYMER_DENSITY_FLOOR_G_CM3,
+    LegDesign,
+    Material,
+    material,
+    paper_designs,
+)
 from ._ashby import check_classes, classes_bounds, in_classes, project
 
 KINDS = ("continuous", "catalogue")
 
-_SWEEP_DENSITIES = [v for s in ref.SWEEPS.values() for v in s["density"]]
-_SWEEP_MODULI = [v for s in ref.SWEEPS.values() for v in s["modulus"]]
-POLYMER_DENSITY_FLOOR_G_CM3 = 0.9  # polyolefins (Ashby 2011, app. C)
-DENSITY_BOUNDS_G_CM3 = (POLYMER_DENSITY_FLOOR_G_CM3, float(max(_SWEEP_DENSITIES)))  # (0.9, 20)
-MODULUS_BOUNDS_GPA = (float(min(_SWEEP_MODULI)), float(max(_SWEEP_MODULI)))  # (0.1, 1000)
 DEFAULT_MATERIALS = tuple(m.name for m in CATALOGUE.values() if not m.rigid)
 # The paper's nine designs every study starts from (enqueued in this order;
 # those the space cannot express, such as the rigid MD, are left out).

@@ -19,8 +19,9 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from .. import reference as ref
+from ..behaviours import order_behaviours
 from ..materials import CONVENTIONS
-from .style import STYLE, design_colour, order_behaviours
+from .style import STYLE, design_colour
 
 
 def convention_figure(table: pd.DataFrame):

@@ -38,7 +38,8 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from ..analysis import stats as _stats
-from ..materials import CONVENTIONS
+from ..behaviours import order_behaviours
+from ..materials import CONVENTIONS, order_designs
 from .maps import ashby_figure, stability_figure
 from .style import (
     BEHAVIOUR_LABELS,
@@ -50,8 +51,6 @@ from .style import (
     design_colour,
     design_label,
     metric_scale,
-    order_behaviours,
-    order_designs,
     plain_log_ticks,
     save_figure,
 )

@@ -17,8 +17,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Polygon, Rectangle
 from matplotlib.ticker import FuncFormatter
 
-from ..materials import CATALOGUE, LegDesign
-from ..optimize._space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA
+from ..materials import CATALOGUE, DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, LegDesign
 from .style import (
     CLASS_COLOURS,
     STYLE,

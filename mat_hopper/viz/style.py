@@ -16,7 +16,6 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from ..atomic import atomic_path
-from ..behaviours import BEHAVIOUR_NAMES
 
 # --- style -------------------------------------------------------------------
 
@@ -39,7 +38,8 @@ STYLE = {
 }
 DPI = 200
 
-# Colour-blind-safe (seaborn "colorblind"), one colour per design everywhere.
+# Colour-blind-safe (seaborn "colorblind"), one colour per design everywhere
+# (in materials.PAPER_DESIGN_ORDER).
 DESIGN_COLOURS = {
     "MD": "#949494",
     "PVC": "#029e73",
@@ -52,7 +52,6 @@ DESIGN_COLOURS = {
     "SS-Ti-PVC": "#8c564b",
 }
 _FALLBACK = ("#ece133", "#fbafe4", "#1f77b4", "#2ca02c", "#9467bd", "#17becf")
-DESIGN_ORDER = tuple(DESIGN_COLOURS)
 DESIGN_LABELS = {"rho-inc": "ρ-inc", "rho-dec": "ρ-dec"}
 BEHAVIOUR_LABELS = {"static": "Static", "forward": "Forward", "ramp": "Ramp", "circle": "Circle"}
 CLASS_COLOURS = {
@@ -93,17 +92,6 @@ def design_colour(design: str, i: int = 0) -> str:
 
 def design_label(design: str) -> str:
     return DESIGN_LABELS.get(design, design)
-
-
-def order_designs(designs) -> list[str]:
-    """Paper designs in the paper's order, then the rest as first seen."""
-    seen = list(dict.fromkeys(designs))
-    return [d for d in DESIGN_ORDER if d in seen] + [d for d in seen if d not in DESIGN_ORDER]
-
-
-def order_behaviours(behaviours) -> list[str]:
-    seen = list(dict.fromkeys(behaviours))
-    return [b for b in BEHAVIOUR_NAMES if b in seen] + [b for b in seen if b not in BEHAVIOUR_NAMES]
 
 
 def metric_scale(metric: str, values=None) -> tuple[float, str]:

@@ -5,8 +5,8 @@ import re
 import pandas as pd
 import pytest
 
-from mat_hopper.analysis.robustness import batch_runs, batch_variants
 from mat_hopper.batch import BatchSettings, agreement, evaluate
+from mat_hopper.experiments.robustness import batch_runs, batch_variants
 
 
 @pytest.mark.parametrize(

@@ -1,10 +1,11 @@
-"""The robustness study on a batch backend (analysis.robustness.batch_runs)
+"""The robustness study on a batch backend (experiments.robustness.batch_runs)
 against the same study through the runner's per-hop tables."""
 
 import pandas as pd
 import pytest
 
 from mat_hopper.analysis import robustness as R
+from mat_hopper.experiments import robustness as study
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.experiments.runner import run_grid
 
@@ -15,21 +16,21 @@ VARIANTS = [R.DEFAULT, R.Variant("latency-2", sensor_timing="latency-2")]
 
 
 def test_batch_variants_are_those_without_perturbation_or_substeps():
-    labels = [v.label for v in R.batch_variants()]
+    labels = [v.label for v in study.batch_variants()]
     assert labels == ["authors", "fresh", "latency-2", "latency-5", "latency-10", "2e-5 s step"]
     with pytest.raises(ValueError, match="cannot run these variants.*replicate 0"):
-        R.batch_runs(SHORT, [R.DEFAULT, R.Variant("replicate 0", replicate=0)], backend="mujoco")
+        study.batch_runs(SHORT, [R.DEFAULT, R.Variant("replicate 0", replicate=0)], backend="mujoco")
     with pytest.raises(ValueError, match="axial, 2e-5 s physics"):
-        R.batch_runs(SHORT, R.variants(replicates=0), backend="mujoco")
+        study.batch_runs(SHORT, R.variants(replicates=0), backend="mujoco")
 
 
 def test_mujoco_backend_gives_the_runner_study(tmp_path):
     """Same quantities, to round-off: the batch's means over scored hop
     cycles are the means of the runner's per-hop tables."""
-    runs = R.batch_runs(SHORT, VARIANTS, backend="mujoco", workers=1)
+    runs = study.batch_runs(SHORT, VARIANTS, backend="mujoco", workers=1)
     assert len(runs) == 2 * len(R.designs_and_behaviours()) and (runs["status"] == "ok").all()
     got = R.quantity_values(runs, runs)
-    res = run_grid(R.tasks(SHORT, VARIANTS), tmp_path / "cache", workers=1)
+    res = run_grid(study.tasks(SHORT, VARIANTS), tmp_path / "cache", workers=1)
     want = R.quantity_values(res.tables, res.summary)
     merged = pd.merge(got, want, on=["variant", "quantity_id"], suffixes=("_batch", "_runner"))
     assert len(merged) == len(want) == 2 * len(R.QUANTITIES)
@@ -48,8 +49,8 @@ def test_warp_backend_runs_the_study():
     behaviour, statuses as the CPU rollouts'."""
     pytest.importorskip("mujoco_warp")
     tiny = Profile("tiny", duration_s=0.5, transient_s=0.1, timestep_s=2e-4)
-    warp = R.batch_runs(tiny, [R.DEFAULT], backend="warp", device="cpu")
-    cpu = R.batch_runs(tiny, [R.DEFAULT], backend="mujoco", workers=1)
+    warp = study.batch_runs(tiny, [R.DEFAULT], backend="warp", device="cpu")
+    cpu = study.batch_runs(tiny, [R.DEFAULT], backend="mujoco", workers=1)
     assert (warp["backend"] == "warp").all() and len(warp) == len(cpu)
     assert warp["status"].tolist() == cpu["status"].tolist()
     assert ((warp["n_hops"] - cpu["n_hops"]).abs() <= 1).all()

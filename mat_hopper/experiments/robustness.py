@@ -1,0 +1,142 @@
+"""The robustness study's runs: the settings of
+:mod:`mat_hopper.analysis.robustness` (its variants, designs and
+behaviours) as runs of the result cache and process pool
+(:func:`tasks`, through :mod:`mat_hopper.experiments.runner`), or on a
+batch backend (:func:`batch_runs`, :mod:`mat_hopper.batch`: MuJoCo Warp, or
+the CPU rollouts as the reference). The analysis of what they give
+(quantities, keeps / moves / flips) stays in
+:mod:`mat_hopper.analysis.robustness`.
+
+>>> from mat_hopper.experiments.profiles import get_profile
+>>> specs = tasks(get_profile("quick"), variants(replicates=0))
+>>> len(specs) == len(variants(replicates=0)) * len(designs_and_behaviours())
+True
+>>> [v.label for v in batch_variants()][:3]
+['authors', 'fresh', 'latency-2']
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import pandas as pd
+
+from ..analysis.robustness import DEFAULT, Variant, designs_and_behaviours, variants
+from ..behaviours import BEHAVIOUR_NAMES
+from ..behaviours import behaviour as get_behaviour
+from ..control import sensor_latency_steps
+from ..materials import parse_design
+from ..perturbations import Perturbation
+from .profiles import get_profile
+from .runner import RunSpec
+
+
+def tasks(profile, variant_list=None) -> list:
+    """RunSpecs of every run of the study under ``profile`` (a Profile);
+    labels: study, profile, variant, variant_kind, convention,
+    sensor_timing, timestep_s, substeps, replicate. Runs the default shares
+    with experiments 1 and 3 (and replicates with the claims' replicates)
+    have the same settings, hence the same cache keys: computed once."""
+    out = []
+    for v in variant_list or variants():
+        prof = profile.for_convention(v.convention).for_sensor_timing(v.sensor_timing)
+        pert = None if v.replicate is None else Perturbation.replicate(v.replicate)
+        for d, b in designs_and_behaviours():
+            design = parse_design(d)
+            settings = prof.sim_settings(pert, design=design)
+            if v.timestep_s is not None:
+                settings = replace(settings, timestep_s=v.timestep_s, substeps=v.substeps)
+            labels = {
+                "study": "robustness",
+                "profile": profile.name,
+                "variant": v.label,
+                "variant_kind": v.kind,
+                "convention": v.convention,
+                "sensor_timing": settings.sensor_timing,
+                "timestep_s": settings.timestep_s,
+                "substeps": settings.substeps,
+                "replicate": -1 if v.replicate is None else v.replicate,
+            }
+            out.append(RunSpec(design, get_behaviour(b), settings, labels))
+    return out
+
+
+def batch_variants(variant_list=None) -> list[Variant]:
+    """The variants a batch backend (:mod:`mat_hopper.batch`) runs: those
+    with no perturbation, no physics substeps and the paper convention
+    (its axial runs need substeps): the sensor latencies and the plain
+    ``2e-5 s step``. The default comes first, as in :func:`variants`.
+    variant_list: None for :func:`variants`; raises ValueError for an entry
+    that is not a :class:`Variant`."""
+    given = variants() if variant_list is None else list(variant_list)
+    bad = [v for v in given if not isinstance(v, Variant)]
+    if bad:
+        raise ValueError(f"variants must be Variant objects (robustness.variants()), got {bad[0]!r}")
+    return [v for v in given if v.replicate is None and v.substeps == 1 and v.convention == DEFAULT.convention]
+
+
+def batch_runs(
+    profile, variant_list=None, *, backend: str = "warp", device=None, workers=None, progress: bool = False
+) -> pd.DataFrame:
+    """The study's runs on a batch backend (:func:`mat_hopper.batch.evaluate`):
+    one row per variant, design and behaviour with the means over scored hop
+    cycles (``tracking_error_m``, ``power_w``, ``hop_height_m``, the CPU
+    path's per-hop means) and ``status`` ("ok", "diverged", "fallen", as
+    the runner's). Each variant and behaviour is one batch of its designs.
+    ``quantity_values(runs, runs)`` reads it as it reads per-hop tables.
+
+    profile: a Profile or its name (run length, step, record rate,
+    segment mass); variant_list: None for :func:`batch_variants`; an empty
+    list, a non-Variant, or a variant no batch can run raises ValueError
+    naming it, before any work; backend, device, workers: as
+    :func:`mat_hopper.batch.evaluate` (checked there, before its first
+    batch)."""
+    from ..batch import BatchSettings, evaluate  # MuJoCo Warp, imported only when a batch runs
+
+    profile = get_profile(profile)  # a name or a Profile
+    wanted = batch_variants() if variant_list is None else list(variant_list)
+    if not wanted:
+        raise ValueError("batch_runs: no variants to run (None runs batch_variants())")
+    runnable = batch_variants(wanted)
+    refused = [v.label for v in wanted if v not in runnable]
+    if refused:
+        raise ValueError(
+            f"a batch backend cannot run these variants (perturbed replicates, physics substeps, the axial "
+            f"convention's substeps): {', '.join(refused)}"
+        )
+    pairs = designs_and_behaviours()
+    rows = []
+    for v in runnable:
+        settings = BatchSettings(
+            duration_s=profile.duration_s,
+            timestep_s=profile.timestep_s if v.timestep_s is None else v.timestep_s,
+            transient_s=profile.transient_s,
+            convention=v.convention,
+            record_rate_hz=profile.record_rate_hz,
+            sensor_latency_steps=sensor_latency_steps(v.sensor_timing),
+            segment_mass=profile.segment_mass,
+        )
+        for b in BEHAVIOUR_NAMES:
+            names = [d for d, beh in pairs if beh == b]
+            if not names:
+                continue
+            table = evaluate(names, b, settings, backend=backend, device=device, workers=workers, progress=progress)
+            for r in table.to_dict("records"):
+                status = "ok" if r["upright"] else ("diverged" if not r["stable"] else "fallen")
+                rows.append(
+                    {
+                        "variant": v.label,
+                        "variant_kind": v.kind,
+                        "design": r["design"],
+                        "behaviour": b,
+                        "sensor_timing": r["sensor_timing"],
+                        "timestep_s": settings.timestep_s,
+                        "n_hops": r["n_hops"],
+                        "tracking_error_m": r["tracking_error_m"],
+                        "power_w": r["power_w"],
+                        "hop_height_m": r["hop_height_m"],
+                        "status": status,
+                        "backend": r["backend"],
+                    }
+                )
+    return pd.DataFrame(rows)
