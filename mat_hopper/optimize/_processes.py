@@ -63,10 +63,15 @@ class HeldSignals:
     process with threads too. Outside the main thread it does nothing.
 
     >>> import signal
+    >>> got = []
+    >>> before = signal.signal(signal.SIGUSR1, lambda signum, frame: got.append("delivered"))
     >>> with HeldSignals(signal.SIGUSR1) as held:
     ...     signal.raise_signal(signal.SIGUSR1)  # recorded, not delivered
-    ...     held.pending
-    [<Signals.SIGUSR1: 10>]
+    ...     got, held.pending
+    ([], [<Signals.SIGUSR1: 10>])
+    >>> got  # delivered at the block's end, to the handler from before
+    ['delivered']
+    >>> _ = signal.signal(signal.SIGUSR1, before)
     """
 
     def __init__(self, *signals: int):
