@@ -13,8 +13,10 @@ measures at once. So this extension
 - renders the ``runtime-table`` directive as a table with one row per
   chapter and one column per profile: this build's times, measured now,
   and the other profile's from the record of its last build in the same
-  folder (with the date of that build), or "–" where it has not been built
-  there.
+  folder (with the date of that build); where that profile has not been
+  built there, from the reference record committed with the book
+  (``book/runtimes/<profile>.csv``: a build from a fresh clone, with its
+  date and machine), or "–" where there is none.
 
 The times are myst-nb's own measurement (``exec_data["runtime"]``), not
 ours; we keep only the record across builds, which myst-nb does not.
@@ -35,6 +37,7 @@ from sphinx.util.docutils import SphinxDirective
 from .experiments.profiles import PROFILES, get_profile
 
 RUNTIME_CSV = "runtimes.csv"
+REFERENCE_DIR = ("book", "runtimes")  # committed reference records, <profile>.csv
 _KEY = "mat_hopper_runtime_table"
 
 
@@ -86,6 +89,26 @@ def runtime_table(records: dict[str, pd.DataFrame | None]) -> pd.DataFrame:
 
 def _record_path(srcdir, profile: str) -> Path:
     return Path(srcdir) / "results" / profile / RUNTIME_CSV
+
+
+def _reference_path(srcdir, profile: str) -> Path:
+    return Path(srcdir).joinpath(*REFERENCE_DIR, f"{profile}.csv")
+
+
+def _other_profile(srcdir, profile: str) -> tuple[pd.DataFrame | None, str]:
+    """The record of another profile's build and its label for the table
+    header: this folder's last build, else the committed reference build,
+    else none."""
+    for path, where in ((_record_path(srcdir, profile), "last built here"), (_reference_path(srcdir, profile), "")):
+        if not path.is_file():
+            continue
+        r = pd.read_csv(path)
+        when = str(r["built_at"].iloc[0]) if "built_at" in r and len(r) else ""
+        if where:
+            return r, f"{where} {when}".strip()
+        machine = str(r["machine"].iloc[0]) if "machine" in r and len(r) else "another machine"
+        return r, f"reference build {when}, {machine}".strip()
+    return None, "not built in this folder yet"
 
 
 def _exec_data(env) -> dict[str, dict]:
@@ -143,13 +166,7 @@ class RuntimeTablePostTransform(SphinxPostTransform):
                 records[p] = runtime_record(_exec_data(env), _titles(env))
                 dates[p] = "this build"
                 continue
-            path = _record_path(env.srcdir, p)
-            if path.is_file():
-                r = pd.read_csv(path)
-                records[p] = r
-                dates[p] = f"last built here {r['built_at'].iloc[0]}" if "built_at" in r and len(r) else ""
-            else:
-                records[p], dates[p] = None, "not built in this folder yet"
+            records[p], dates[p] = _other_profile(env.srcdir, p)
         t = runtime_table(records)
         cols = list(PROFILES)
         table = nodes.table(classes=["colwidths-auto"])

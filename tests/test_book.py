@@ -264,6 +264,7 @@ def test_quick_book_apparatus(quick_book):
     assert "cff-version" in cite and "c213300" in cite and "youtu.be/SEuEXRi80XU" in cite
     runtime = (html / "book" / "runtime.html").read_text(encoding="utf-8")
     assert "quick profile (s), this build" in runtime and "Functional gradients" in runtime
+    assert "paper profile (s), reference build" in runtime or "paper profile (s), last built here" in runtime
     ch8 = (html / "notebooks" / "08-gradients.html").read_text(encoding="utf-8")
     m = re.search(r'<video[^>]*src="([^"]+\.mp4)"', ch8)
     assert m, "chapter 8: no video"

@@ -4,12 +4,16 @@ download links (Book.downloads), without building a book."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pandas as pd
 import pytest
 
 from mat_hopper import book
-from mat_hopper.sphinx_ext import runtime_record, runtime_table
+from mat_hopper.experiments.profiles import PROFILES
+from mat_hopper.sphinx_ext import _other_profile, _reference_path, runtime_record, runtime_table
+
+ROOT = Path(__file__).resolve().parent.parent
 
 
 def test_runtime_record_from_exec_data():
@@ -34,6 +38,33 @@ def test_runtime_table_both_profiles_and_total():
     # a profile never built here: its column is empty, its total nan
     t = runtime_table({"quick": quick, "paper": None}).set_index("title")
     assert t["paper_s"].isna().all()
+
+
+def test_other_profile_from_this_folder_else_the_reference_build(tmp_path):
+    rec = pd.DataFrame({"docname": ["a"], "title": ["A"], "runtime_s": [10.0], "succeeded": True})
+    assert _other_profile(tmp_path, "paper") == (None, "not built in this folder yet")
+    ref_csv = tmp_path / "book" / "runtimes" / "paper.csv"
+    ref_csv.parent.mkdir(parents=True)
+    rec.assign(built_at="2026-12-01T20:00", machine="2-core VM").to_csv(ref_csv, index=False)
+    r, label = _other_profile(tmp_path, "paper")
+    assert label == "reference build 2026-12-01T20:00, 2-core VM" and r["runtime_s"].tolist() == [10.0]
+    here = tmp_path / "results" / "paper" / "runtimes.csv"
+    here.parent.mkdir(parents=True)
+    rec.assign(runtime_s=3.0, built_at="2026-12-02T09:00").to_csv(here, index=False)
+    r, label = _other_profile(tmp_path, "paper")  # this folder's own build wins
+    assert label == "last built here 2026-12-02T09:00" and r["runtime_s"].tolist() == [3.0]
+
+
+@pytest.mark.parametrize("profile", list(PROFILES))
+def test_reference_runtimes_cover_every_chapter_of_the_toc(profile):
+    """The committed reference build of each profile (book/runtimes/) names
+    every notebook of the table of contents, all of them executed."""
+    toc = (ROOT / "_toc.yml").read_text()
+    chapters = sorted(line.split("file:")[1].strip() for line in toc.splitlines() if "file: notebooks/" in line)
+    ref_csv = pd.read_csv(_reference_path(ROOT, profile))
+    assert sorted(ref_csv["docname"]) == chapters
+    assert ref_csv["succeeded"].all() and (ref_csv["runtime_s"] > 0).all()
+    assert ref_csv["machine"].notna().all() and ref_csv["built_at"].notna().all()
 
 
 def test_downloads_write_and_link(tmp_path, monkeypatch):

@@ -1,5 +1,6 @@
-"""The figures' common style: colours, labels and order of designs and
-behaviours, metric units, log-axis ticks, and :func:`save_figure` (atomic,
+"""The figures' common style: colours and labels of designs and behaviours
+(their order is the paper's: :func:`mat_hopper.materials.order_designs`,
+:func:`mat_hopper.behaviours.order_behaviours`), metric units, log-axis ticks, and :func:`save_figure` (atomic,
 dated-metadata-free PNG/SVG/PDF). Nothing here switches the matplotlib
 backend: figures are ``matplotlib.figure.Figure`` objects.
 """
