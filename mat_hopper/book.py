@@ -28,6 +28,22 @@ import pandas as pd
 from .experiments.profiles import PROFILE_ENV, Profile, get_profile
 from .experiments.runner import CACHE_ENV, DEFAULT_CACHE_DIR
 
+
+def _import_tqdm_auto_quietly() -> None:
+    """tqdm.auto (Optuna imports it) warns once, on its first import in a
+    notebook without ipywidgets ("IProgress not found"), and the warning
+    lands on the page. The book shows no progress bars (progress=False
+    everywhere), so this module, which every chapter imports first,
+    imports it once with that warning ignored."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        import tqdm.auto  # noqa: F401
+
+
+_import_tqdm_auto_quietly()
+
 PROJECT_NAME = "mat-hopper"
 
 
@@ -140,11 +156,6 @@ def _inline_figures(fmt: str) -> None:
         return
     if get_ipython() is None:
         return
-    import warnings
-
-    with warnings.catch_warnings():  # tqdm.auto warns once, on import, when ipywidgets is missing;
-        warnings.simplefilter("ignore")  # the book shows no progress bars (progress=False everywhere)
-        import tqdm.auto  # noqa: F401
     from matplotlib_inline.backend_inline import set_matplotlib_formats
 
     set_matplotlib_formats(fmt)
