@@ -21,6 +21,20 @@ NEGATIVE_LIST = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
 RIGID_WORDS = ("rigid", "inf")
 
 
+def check_name_list(text, flag: str) -> None:
+    """A comma list of names (--experiments, --conventions) holds no empty
+    item ("paper,,axial", "3,") and no repeat ("1,1"); None passes (the
+    option's default). Raises ValueError naming the flag."""
+    if text is None:
+        return
+    items = [p.strip() for p in str(text).split(",")]
+    if not all(items):
+        raise ValueError(f"{flag} must be comma-separated names, got {text!r} (an empty item)")
+    seen = [i.lower() for i in items]
+    if len(set(seen)) != len(seen):
+        raise ValueError(f"{flag}: {text!r} names an item twice")
+
+
 def parse_list(text, flag: str, *, rigid: bool = False, unit: str = "") -> list[float | None]:
     """A comma-separated list of finite numbers, the one parser of every
     comma list on the command line (--density, --modulus, --density-bounds,

@@ -9,7 +9,7 @@ import sys
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..experiments.reproduce import default_out_dir, reproduce
 from ..experiments.runner import CACHE_ENV, DEFAULT_CACHE_DIR
-from ._checks import check_output_dir, nothing_left_behind
+from ._checks import check_name_list, check_output_dir, nothing_left_behind
 
 
 def _connect(address: str):
@@ -30,6 +30,8 @@ def _connect(address: str):
 
 def cmd_reproduce(args) -> int:
     profile = get_profile(args.profile)
+    check_name_list(args.experiments, "--experiments")
+    check_name_list(args.conventions, "--conventions")
     if args.workers is not None and args.scheduler:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
     out = check_output_dir(args.out or default_out_dir(profile.name), "--out")

@@ -353,3 +353,20 @@ def test_batch_csv_checked_before_work(here, capsys, csv, text):
         ["batch", "--designs", "SS,PVC", "--duration", "3000", "--transient", "1", "--csv", csv], capsys, text
     )
     assert _made(here) == []
+
+
+@pytest.mark.parametrize(
+    "args, text",
+    [
+        (["--conventions", "paper,,axial"], "(an empty item)"),
+        (["--conventions", "paper,"], "(an empty item)"),
+        (["--experiments", "3,,3"], "(an empty item)"),
+        (["--experiments", "1,1"], "names an item twice"),
+    ],
+)
+def test_reproduce_refuses_malformed_name_lists_before_work(args, text, tmp_path, capsys):
+    """A newcomer's trial: these started a full reproduction."""
+    code = main(["reproduce", "--profile", "quick", "--out", str(tmp_path / "out"), *args])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and text in err, err
+    assert not (tmp_path / "out").exists()
