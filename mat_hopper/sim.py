@@ -61,9 +61,11 @@ from .control import (
 )
 from .materials import (
     DEFAULT_CONVENTION,
+    DEFAULT_DAMPING,
     DEFAULT_SEGMENT_MASS,
     LegDesign,
     check_convention,
+    check_damping,
     check_segment_mass,
     parse_design,
 )
@@ -140,7 +142,8 @@ class SimSettings:
     """Everything besides design and behaviour that changes a rollout.
 
     duration_s, transient_s, timestep_s in s; record_rate_hz in Hz;
-    convention: modulus-to-stiffness convention ("paper" or "axial");
+    convention: modulus-to-stiffness convention (``materials.CONVENTIONS``:
+    "paper", "axial", "bending", "axial+bending");
     sensor_timing: when the controller's base readings are taken,
     ``"authors"`` (default: one physics step old), ``"fresh"``, or an integer
     latency in physics steps (stored by its canonical name, e.g.
@@ -152,6 +155,9 @@ class SimSettings:
     physics step; the controller runs every ``substeps`` of them, i.e. with
     period :attr:`control_period_s` (1 by default: every step, as the
     authors' loop). ``simulate(timestep_s="auto")`` chooses it.
+    damping: how the material springs dissipate, ``"authors"`` (default:
+    1 N s/m, the authors' file) or ``"loss-factor"`` (each material's loss
+    factor, :data:`mat_hopper.materials.LOSS_FACTORS`).
 
     Raises ValueError on any invalid value.
     """
@@ -166,6 +172,7 @@ class SimSettings:
     sensor_timing: str | int = DEFAULT_SENSOR_TIMING
     segment_mass: str = DEFAULT_SEGMENT_MASS
     substeps: int = 1
+    damping: str = DEFAULT_DAMPING  # issue 21: "authors" (1 N s/m) or "loss-factor" (materials.LOSS_FACTORS)
 
     def __post_init__(self):
         if (
@@ -179,6 +186,7 @@ class SimSettings:
             )
         object.__setattr__(self, "sensor_timing", sensor_timing_name(self.sensor_timing))
         check_segment_mass(self.segment_mass)
+        check_damping(self.damping)
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -389,6 +397,7 @@ def prepare(
         convention=settings.convention,
         sensors="control",
         segment_mass=settings.segment_mass,
+        damping=settings.damping,
     )
     data = mujoco.MjData(hm.model)
     reset_to_start(hm.model, data)  # base z slide at 1.2 m, all else 0

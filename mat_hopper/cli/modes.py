@@ -3,11 +3,13 @@ beside the continuum rod, and its analytic stable time step."""
 
 from __future__ import annotations
 
+import pandas as pd
+
 from .. import reference as ref
 from ..atomic import write_csv
 from ..control import DEFAULT_SENSOR_TIMING
-from ..materials import CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
-from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, controller_timestep, estimate_timestep
+from ..materials import AXIAL_CONVENTIONS, BENDING_CONVENTIONS, CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
+from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, bending_modes, controller_timestep, estimate_timestep
 from .simulate import design_from_args
 
 BOUNDARY_CONDITIONS = (
@@ -21,16 +23,40 @@ FORMULA = (
 )
 
 
+BENDING_FORMULA = (
+    "bending: chain = eigh(K, M) of the compiled model on the hinges about x (base, hips, slides held; foot made "
+    "massless); beam = Euler-Bernoulli clamped-free, w = (beta_n L)^2 sqrt(E I / (mu L^4)), beta_n L = 1.8751, "
+    "4.6941, 7.8548, ... (S. S. Rao, Vibration of Continuous Systems, 2nd ed., Wiley 2019, ch. 11); the chain keeps "
+    "the capsules' rotary inertia, the beam does not"
+)
+
+
 def cmd_modes(args) -> int:
     design = design_from_args(args)
-    table = axial_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=args.modes)
-    print(
-        f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass "
-        f"{args.segment_mass}: axial modes (Hz)"
+    head = (
+        f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass {args.segment_mass}"
     )
-    print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
-    print(BOUNDARY_CONDITIONS)
-    print(FORMULA)
+    fmt = lambda v: f"{v:.6g}"
+    tables = []
+    if args.convention in AXIAL_CONVENTIONS:
+        table = axial_modes(
+            design,
+            convention="axial" if args.convention == "axial+bending" else args.convention,
+            segment_mass=args.segment_mass,
+            n_modes=args.modes,
+        )
+        print(f"{head}: axial modes (Hz)")
+        print(table.to_string(index=False, float_format=fmt))
+        print(BOUNDARY_CONDITIONS)
+        print(FORMULA)
+        tables.append(table.assign(kind="axial"))
+    if args.convention in BENDING_CONVENTIONS:
+        table = bending_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=args.modes)
+        print(f"{head}: bending modes in one plane (Hz), chain beside the continuum cantilever")
+        print(table.to_string(index=False, float_format=fmt))
+        print(BENDING_FORMULA)
+        tables.append(table.assign(kind="bending"))
+    table = pd.concat(tables, ignore_index=True)
     w, spring = estimate_timestep(design, args.convention, args.segment_mass)
     control = controller_timestep(design, args.convention, sensor_timing=args.sensor_timing)
     which = "the spring chain (2 / w_max)" if spring < control else "the controller's delayed stance damping"
@@ -63,12 +89,15 @@ def register_cli(sub) -> None:
     p.add_argument("--modulus", help="moduli, GPa (one value per segment, all equal)")
     p.add_argument("--segments", type=int, default=ref.REFERENCE_SEGMENTS, help="number of segments (default 3)")
     p.add_argument(
-        "--convention", default="axial", choices=CONVENTIONS, help="stiffness convention (default axial: E A N / L)"
+        "--convention",
+        default="axial",
+        choices=CONVENTIONS,
+        help="stiffness convention (default axial: E A N / L; bending, axial+bending add the bending modes)",
     )
     p.add_argument("--segment-mass", default=DEFAULT_SEGMENT_MASS, choices=SEGMENT_MASSES, help="segment mass")
     p.add_argument(
         "--sensor-timing", default=DEFAULT_SENSOR_TIMING, help="for the controller's limit (authors, fresh, or steps)"
     )
     p.add_argument("--modes", type=int, default=5, help="how many modes (default 5)")
-    p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here")
+    p.add_argument("--csv", help="write the table(s) here (a kind column: axial or bending)")
     p.set_defaults(func=cmd_modes)

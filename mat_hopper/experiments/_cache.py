@@ -114,6 +114,7 @@ def settings_key(settings: SimSettings) -> dict:
         "sensor_timing": settings.sensor_timing,
         "segment_mass": settings.segment_mass,
         "substeps": settings.substeps,
+        "damping": settings.damping,
         "record_rate_hz": settings.record_rate_hz,
         "controller": asdict(settings.controller),
         "perturbation": None if p is None else asdict(p),
