@@ -375,17 +375,24 @@ def check_damping(damping: str) -> str:
     return damping
 
 
-def loss_factor(mat: Material) -> float:
-    """A material's loss factor eta: its class's (:data:`LOSS_FACTORS`);
-    a material of no listed class ("custom": designs from properties, the
-    sweeps) takes the class its modulus falls in on Ashby's loss-coefficient
-    chart: >= 30 GPa metal, 1-30 GPa composite, < 1 GPa polymer."""
+def loss_factor_class(mat: Material) -> str:
+    """The class a material's loss factor and S-N curve are read by: its
+    own where :data:`LOSS_FACTORS` lists it; else ("custom": designs from
+    properties, the sweeps) the class its modulus falls in on Ashby's
+    loss-coefficient chart: >= 30 GPa metal, 1-30 GPa composite, < 1 GPa
+    polymer."""
     if mat.rigid:
-        raise ValueError(f"material {mat.name} is rigid: it has no spring to damp")
+        raise ValueError(f"material {mat.name} is rigid: it has no spring")
     if mat.material_class in LOSS_FACTORS:
-        return LOSS_FACTORS[mat.material_class]
+        return mat.material_class
     e = mat.modulus_gpa
-    return LOSS_FACTORS["metal" if e >= 30.0 else "composite" if e >= 1.0 else "polymer"]
+    return "metal" if e >= 30.0 else "composite" if e >= 1.0 else "polymer"
+
+
+def loss_factor(mat: Material) -> float:
+    """A material's loss factor eta: its class's (:data:`LOSS_FACTORS`,
+    class by :func:`loss_factor_class`). Raises ValueError for a rigid one."""
+    return LOSS_FACTORS[loss_factor_class(mat)]
 
 
 def spring_damping(eta: float, stiffness: float, inertia: float) -> float:

@@ -23,7 +23,12 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
 - ``power_paper_w``: the authors' formula, labelled as such: the hip_y
   *flight* PD command (before the gear, also in stance) times each hip rate;
 - ``energy_j``: integral of |tau qdot| of all three actuators (J), joint
-  space.
+  space;
+- ``peak_stress_pa``, ``peak_stress_segment``, ``damage``,
+  ``yield_exceeded`` (issue 21): the leg's peak section stress over the
+  hop (Pa, physics rate) and its segment, the worst segment's Miner damage
+  of the hop, and whether any segment's peak exceeded its yield strength
+  (:mod:`mat_hopper.fatigue`); beside the ``damping`` setting.
 
 Comparisons (:func:`compare`) give the percent change of means against a
 baseline design, a two-sided Mann-Whitney U test with Holm correction
@@ -40,12 +45,15 @@ from scipy import stats
 
 from . import reference as ref
 from .analysis.change import percent_change
+from .fatigue import fatigue_summary, hop_stress_columns
 from .model import terrain_height_m
 from .sim import C, Rollout
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
 ALL_METRICS = METRICS + ("hop_height_ground_m", "power_paper_w", "energy_j")
 GRAVITY = ref.GRAVITY_M_S2
+# issue 21: the damping setting, then each hop's stress and fatigue (mat_hopper.fatigue)
+STRESS_COLUMNS = ("damping", "peak_stress_pa", "peak_stress_segment", "damage", "yield_exceeded")
 ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 
 
@@ -79,6 +87,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
         "t_start_s",
         "t_end_s",
         *ALL_METRICS,
+        *STRESS_COLUMNS,
     ]
     if len(cycles) == 0 or len(t) < 4:
         return pd.DataFrame(columns=cols)
@@ -123,6 +132,10 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
             "energy_j": _segment_means(p_abs, i0, i1) * (i1 - i0) * dt_rec,
         }
     )
+    out["damping"] = rollout.settings.damping
+    stress = hop_stress_columns(rollout, cycles)
+    for c in STRESS_COLUMNS[1:]:
+        out[c] = stress[c].to_numpy()
     return out[cols]
 
 
@@ -143,6 +156,8 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     }
     for m in ALL_METRICS:
         out[f"mean_{m}"] = float(hops[m].mean()) if len(hops) else np.nan
+    out["damping"] = rollout.settings.damping
+    out.update(fatigue_summary(rollout, hop_cycles(rollout, transient_s)))
     energy = float(hops["energy_j"].sum()) if len(hops) else np.nan
     out["energy_j"] = energy
     if len(hops):

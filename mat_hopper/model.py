@@ -35,6 +35,7 @@ from .materials import (
     check_segment_mass,
     loss_factor,
     prbm_constants,
+    second_moment_m4,
     spring_damping,
     spring_stiffness,
 )
@@ -510,3 +511,28 @@ def _set_loss_factor_damping(model: mujoco.MjModel, design: LegDesign) -> None:
         dof = int(j.dofadr[0])
         eta = loss_factor(design.segments[seg])
         model.dof_damping[dof] = spring_damping(eta, float(j.stiffness[0]), float(model.dof_M0[dof]))
+
+
+def stress_gains(hm: HopperModel) -> tuple[np.ndarray, np.ndarray]:
+    """(adr, gain) of the loop's stress probe (issue 21), both (N, 3): per
+    segment the qpos address of its axial slide and of its hinges about x
+    and y (-1 where there is none), and the Pa per unit of joint position
+    that turns each into a section stress. The spring's force or moment is
+    stiffness x position (MuJoCo's qfrc_spring = -k q, the section carries
+    +k q): axial sigma = k q / A with A = pi r^2 (tension > 0 when the slide
+    along -z extends); bending sigma = k_b theta c / I at the extreme fibre
+    c = r, I = pi r^4 / 4."""
+    m, n = hm.model, hm.design.n_segments
+    r = ref.MATERIAL_RADIUS
+    area, inertia = math.pi * r**2, second_moment_m4(r)
+    adr = np.full((n, 3), -1, dtype=np.int64)
+    gain = np.zeros((n, 3))
+    for i in range(1, n + 1):
+        for col, name in enumerate((AXIAL_SPRING, *BEND_SPRINGS)):
+            jid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name.format(i=i))
+            if jid < 0:
+                continue
+            k = float(m.jnt_stiffness[jid])
+            adr[i - 1, col] = int(m.jnt_qposadr[jid])
+            gain[i - 1, col] = k / area if col == 0 else k * r / inertia
+    return adr, gain

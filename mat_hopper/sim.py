@@ -45,6 +45,7 @@ from ._loop import (
     JerkFilter,
     Path,
     Steps,
+    StressProbe,
     read_sensors,
     rollout_loop,
 )
@@ -69,7 +70,7 @@ from .materials import (
     check_segment_mass,
     parse_design,
 )
-from .model import HopperModel, build_model, reset_to_start
+from .model import HopperModel, build_model, reset_to_start, stress_gains
 from .modes import auto_substeps
 from .perturbations import NO_PUSH, Perturbation
 
@@ -256,6 +257,8 @@ class Rollout:
     total_mass_kg: float
     spring_stiffness_n_m: tuple
     qpos: np.ndarray | None = None  # (n, nq) joint positions, if recorded
+    # issue 21: (n, N, 4) per-segment stress, Pa (mat_hopper._loop.STRESS_COLUMNS)
+    stress: np.ndarray | None = None
 
     def __getitem__(self, channel: str) -> np.ndarray:
         return self.data[:, C[channel]]
@@ -439,6 +442,9 @@ class RolloutRunner:
         lock = settings.controller.phase_lock_s
         n_ev = int(settings.duration_s / lock) + 16 if lock > 0 else settings.n_steps + 1
         self._events = np.zeros((n_ev, 3))
+        adr, gain = stress_gains(self.hopper)
+        self._probe = StressProbe(adr, gain, np.zeros(len(adr)))
+        self._stress = np.zeros((n_rec, len(adr), 4))
         self._state = initial_state(settings.controller)
         self._gains = settings.controller.gains()
         # Reading history: every lagged reading starts as the start state's.
@@ -485,6 +491,8 @@ class RolloutRunner:
             self._rec[self._n_rec :],
             self._qpos[self._n_rec :],
             self._events[self._n_ev :],
+            self._probe,
+            self._stress[self._n_rec :],
         )
         self._n_rec += n_rec
         self._n_ev += n_ev
@@ -507,6 +515,7 @@ class RolloutRunner:
         )
         if len(self._qpos):
             r.qpos = self._qpos[: self._n_rec].copy()
+        r.stress = self._stress[: self._n_rec].copy()
         return r
 
 
