@@ -38,7 +38,7 @@ import pandas as pd
 from .. import reference as ref
 from ..behaviours import behaviour as get_behaviour
 from ..control import initial_state
-from ..materials import LegDesign, spring_stiffness
+from ..materials import BENDING_CONVENTIONS, LegDesign, spring_stiffness
 from ..model import build_model
 from ..sim import prepare
 from ._designs import as_design, group_by_topology
@@ -131,6 +131,11 @@ def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettin
     plus the derived fields as MuJoCo's compiler gives them (for checks),
     the topology's model and its total masses (kg)."""
     beh = get_behaviour(behaviour)
+    if settings.convention in BENDING_CONVENTIONS:  # issue 21: per-world stiffness of the slides only
+        raise ValueError(
+            f"convention {settings.convention!r}: the Warp batch sets only the axial springs' stiffness per "
+            "world; run bending conventions on the CPU backend"
+        )
     build = dict(
         ramp_grade_deg=beh.ramp_grade_deg,
         timestep_s=settings.timestep_s,
