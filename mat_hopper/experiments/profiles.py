@@ -14,7 +14,7 @@ import pandas as pd
 
 from .. import reference as ref
 from ..control import DEFAULT_SENSOR_TIMING, sensor_timing_name
-from ..materials import DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
+from ..materials import BENDING_CONVENTIONS, DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
 from ..perturbations import Perturbation
 from ..sim import AUTO, SimSettings, auto_timestep
 
@@ -96,7 +96,10 @@ class Profile:
         check_convention(convention)
         if convention == self.convention:
             return self
-        dt = self.axial_timestep_s if convention == "axial" else ref.TIMESTEP_S
+        if convention in BENDING_CONVENTIONS:  # issue 21: the hinges' modes set the step
+            dt = AUTO
+        else:
+            dt = self.axial_timestep_s if convention == "axial" else ref.TIMESTEP_S
         return replace(self, convention=convention, timestep_s=dt)
 
     def for_sensor_timing(self, sensor_timing) -> Profile:

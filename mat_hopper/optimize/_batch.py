@@ -51,7 +51,6 @@ from tqdm.std import tqdm
 from ..control import sensor_latency_steps
 from ..materials import LegDesign
 from ._objective import (
-    CONSTRAINTS,
     RESULT_ATTR,
     Evaluation,
     Objective,
@@ -320,7 +319,7 @@ def run_batch_study(
                 _requeue(study, asked, "interrupted", options.max_retry)
                 raise
             for trial, design, ev in zip(asked, designs, evaluations):
-                for name, value in zip(CONSTRAINTS, ev.constraints):
+                for name, value in zip(ev.constraint_names, ev.constraints):
                     trial.set_constraint(name, value)
                 trial.set_user_attr(RESULT_ATTR, _result_attr(design, ev))
                 study.tell(trial, ev.values)

@@ -13,7 +13,16 @@ feasible):
 
 - ``hop_height``: |mean hop height - 1 m| - 0.05 m, the worst behaviour;
 - ``unstable``: 1 when any run diverged or ended with the base below
-  0.1 m (:attr:`Rollout.upright` false), else 0.
+  0.1 m (:attr:`Rollout.upright` false), else 0;
+- issue 21, only when the objective asks for them (so studies without them
+  keep their two constraints): ``peak_stress`` with
+  ``max_yield_fraction`` f, the worst behaviour's largest segment peak
+  stress over its yield strength minus f (f = 0.5: peak stress <= yield / 2);
+  ``fatigue_life`` with ``min_hops_to_failure`` N, log10 N - log10(hops to
+  failure), the worst behaviour's (:mod:`mat_hopper.fatigue`; a run with no
+  modelled stress, e.g. a rigid leg, is feasible; a run that fell is not).
+  Stress is the ``bending`` conventions' business: under ``paper`` and
+  ``axial`` only axial stress is modelled.
 
 A run that diverged, fell (base below 0.1 m at the end) or scored no hop
 cycle still gets finite objective values, the same quantities averaged
@@ -50,12 +59,14 @@ from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..experiments.profiles import Profile, get_profile
+from ..fatigue import fatigue_summary
 from ..materials import CONVENTIONS, DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, check_segment_mass
-from ..metrics import hop_table
+from ..metrics import hop_cycles, hop_table
 from ..sim import C, RolloutRunner
 
 OBJECTIVES = ("tracking_error_m", "power_w")
 CONSTRAINTS = ("hop_height", "unstable")
+STRESS_CONSTRAINTS = ("peak_stress", "fatigue_life")  # issue 21, each only when asked (module doc)
 RESULT_ATTR = "result"  # the trial user attr holding its Evaluation (record_evaluation)
 HOP_HEIGHT_TOLERANCE_M = 0.05
 NO_DATA_VALUE = 1e6  # objective value only when a run recorded no finite sample
@@ -74,6 +85,14 @@ class Objective:
     hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
     hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
     segment_mass: str | None = None  # None: the profile's
+    max_yield_fraction: float | None = None  # issue 21: peak stress <= this x yield (e.g. 0.5)
+    min_hops_to_failure: float | None = None  # issue 21: fatigue life of at least this many hops
+
+    @property
+    def constraint_names(self) -> tuple[str, ...]:
+        """CONSTRAINTS, then the stress constraints this objective asks for."""
+        extra = (self.max_yield_fraction, self.min_hops_to_failure)
+        return CONSTRAINTS + tuple(n for n, v in zip(STRESS_CONSTRAINTS, extra) if v is not None)
 
     def __post_init__(self):
         behs = self.behaviours
@@ -99,6 +118,10 @@ class Objective:
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ValueError(f"{name} must be a finite number > 0 m, got {v!r}")
+        for name in ("max_yield_fraction", "min_hops_to_failure"):
+            v = getattr(self, name)
+            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < math.inf):
+                raise ValueError(f"{name} must be a finite number > 0 or None, got {v!r}")
 
     def key(self) -> dict:
         return {
@@ -109,6 +132,11 @@ class Objective:
             "hop_height_tolerance_m": self.hop_height_tolerance_m,
             "segment_mass": self.segment_mass,
             "leg_material_length_m": LEG_MATERIAL_LENGTH_M,
+            **{
+                k: getattr(self, k)
+                for k in ("max_yield_fraction", "min_hops_to_failure")
+                if getattr(self, k) is not None
+            },
         }
 
     @classmethod
@@ -123,6 +151,8 @@ class Objective:
             hop_height_target_m=key["hop_height_target_m"],
             hop_height_tolerance_m=key["hop_height_tolerance_m"],
             segment_mass=key.get("segment_mass", DEFAULT_SEGMENT_MASS),
+            max_yield_fraction=key.get("max_yield_fraction"),
+            min_hops_to_failure=key.get("min_hops_to_failure"),
         )
 
     def sim_settings(self, perturbation=None, design=None):
@@ -145,6 +175,7 @@ class Evaluation:
     per_behaviour: list[dict] = field(default_factory=list)
     total_mass_kg: float = float("nan")
     simulated_s: float = 0.0
+    constraint_names: tuple[str, ...] = CONSTRAINTS  # names of ``constraints``, in order
 
     @property
     def feasible(self) -> bool:
@@ -196,6 +227,7 @@ def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, 
     else:
         tracking, power = _whole_run_means(rollout)
     height = float(hops["hop_height_m"].mean()) if len(hops) else float("nan")
+    life = fatigue_summary(rollout, hop_cycles(rollout))
     return {
         "behaviour": behaviour_name,
         "tracking_error_m": tracking,
@@ -207,6 +239,8 @@ def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, 
         "diverged_at_s": rollout.diverged_at_s,
         "simulated_s": float(runner.step * settings.timestep_s),
         "total_mass_kg": float(rollout.total_mass_kg),
+        "yield_ratio": life["yield_ratio"],
+        "hops_to_failure": life["hops_to_failure"],
     }
 
 
@@ -250,12 +284,31 @@ def aggregate(rows: list[dict], objective: Objective) -> Evaluation:
     heights = [r["hop_height_m"] for r in rows if r["n_hops"]]
     return Evaluation(
         values=values,
-        constraints=(float(height_violation), unstable),
+        constraints=(float(height_violation), unstable, *_stress_constraints(rows, objective)),
+        constraint_names=objective.constraint_names,
         hop_height_m=float(np.mean(heights)) if heights else float("nan"),
         per_behaviour=rows,
         total_mass_kg=rows[0]["total_mass_kg"],
         simulated_s=float(sum(r["simulated_s"] for r in rows)),
     )
+
+
+def _stress_constraints(rows: list[dict], objective: Objective) -> list[float]:
+    """The stress constraints the objective asks for (module doc), worst
+    behaviour; rows without the stress fields (another backend) are
+    infeasible."""
+    out = []
+    if objective.max_yield_fraction is not None:
+        ratios = [r.get("yield_ratio", math.inf) if r["upright"] else math.inf for r in rows]
+        ratios = [0.0 if isinstance(x, float) and math.isnan(x) else x for x in ratios]
+        out.append(float(min(max(ratios) - objective.max_yield_fraction, NO_DATA_VALUE)))
+    if objective.min_hops_to_failure is not None:
+        lives = [r.get("hops_to_failure", 0.0) if r["upright"] else 0.0 for r in rows]
+        lives = [math.inf if isinstance(x, float) and math.isnan(x) else x for x in lives]
+        worst = min(lives)
+        gap = math.log10(objective.min_hops_to_failure) - (math.log10(worst) if worst > 0 else -NO_DATA_VALUE)
+        out.append(float(min(max(gap, -NO_DATA_VALUE), NO_DATA_VALUE)))
+    return out
 
 
 # --- the record of an evaluation on its trial ---------------------------------
@@ -280,6 +333,6 @@ def result_attr(design, ev) -> dict:
 
 def record_evaluation(trial, design, ev) -> None:
     """Set the trial's constraints and its ``result`` user attr."""
-    for name, value in zip(CONSTRAINTS, ev.constraints):
+    for name, value in zip(ev.constraint_names, ev.constraints):
         trial.set_constraint(name, value)
     trial.set_user_attr(RESULT_ATTR, result_attr(design, ev))
