@@ -12,6 +12,8 @@ from ..behaviours import BEHAVIOUR_NAMES, behaviour
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
     CONVENTIONS,
+    DAMPINGS,
+    DEFAULT_DAMPING,
     DENSITY_RANGE_G_CM3,
     MODULUS_RANGE_GPA,
     SEGMENT_MASSES,
@@ -95,6 +97,12 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         help="leg: leg mass independent of the number of segments (default, the authors' model at 3); "
         "capsule: the authors' per-capsule density at any number",
     )
+    p.add_argument(
+        "--damping",
+        default=DEFAULT_DAMPING,
+        choices=DAMPINGS,
+        help="material springs' damping: authors (default, 1 N s/m) or loss-factor (per material class)",
+    )
 
 
 def sim_settings_from_args(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
@@ -116,6 +124,7 @@ def sim_settings_from_args(args, design: LegDesign, duration_s: float, transient
         sensor_timing=sensor_timing_arg(args.sensor_timing),
         segment_mass=args.segment_mass,
         substeps=substeps,
+        damping=getattr(args, "damping", DEFAULT_DAMPING),
         **extra,
     )
 
@@ -126,7 +135,7 @@ def describe_settings(settings, auto: bool = False) -> str:
         step += f" ({settings.substeps} physics substeps per {settings.control_period_s:g} s control period)"
     return (
         f"{step}, convention={settings.convention}, sensor timing={settings.sensor_timing}, "
-        f"segment mass={settings.segment_mass}"
+        f"segment mass={settings.segment_mass}, damping={settings.damping}"
     )
 
 
@@ -180,6 +189,12 @@ def cmd_simulate(args) -> int:
         cot = s["cost_of_transport"]
         cot = f"{cot:.3g}" if math.isfinite(cot) else "none (no distance travelled)"
         print(f"energy {s['energy_j']:.1f} J, cost of transport {cot}")
+        if s["peak_stress_pa"] == s["peak_stress_pa"]:  # issue 21: a leg with modelled stress
+            flag = "  ** PEAK STRESS OVER YIELD **" if s["yield_exceeded"] else ""
+            print(
+                f"peak stress {s['peak_stress_pa'] / 1e6:.3g} MPa ({s['yield_ratio']:.2g} x yield), damage per hop "
+                f"{s['damage_per_hop']:.3g}, hops to failure {s['hops_to_failure']:.3g}{flag}"
+            )
     if args.csv:
         at = list(hops.columns).index("segment_mass") + 1
         hops.insert(at, "timestep_s", settings.timestep_s)
