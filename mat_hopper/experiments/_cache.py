@@ -63,6 +63,7 @@ RESULT_MODULES = (
     "sim",
     "perturbations",
     "metrics",
+    "fatigue",
     "modes",
     "stability",
     "experiments/_cache",
