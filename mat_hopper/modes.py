@@ -150,7 +150,38 @@ def controller_timestep(
     parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))  # to the hip (base origin)
     inertia = inertia + parallel
     factor = delayed_damping_factor(sensor_latency_steps(sensor_timing))
-    return factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
+    limit = factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
+    if convention in BENDING_CONVENTIONS:
+        limit = min(limit, hip_flight_timestep(design, convention, gear=gear))
+    return limit
+
+
+def hip_flight_timestep(
+    design: LegDesign, convention: str = "bending", flight_kd: float | None = None, gear: float = ref.HIP_GEAR
+) -> float:
+    """2 I / (flight_kd gear) in s (issue 21): the explicit limit of the
+    hips' flight PD damping on a leg that bends. The hips are read fresh
+    (c(0) = 2); I (kg m^2) is the hip_y dof's inertia with the bending
+    hinges free, 1 / (M^-1)_hh over the hip and hinge dofs of MuJoCo's
+    mass matrix at the start pose (what the hip moves first when the
+    segments below can bend). Conservative for stiff hinges, whose modes
+    are faster than the control; binding for soft ones (trabecular bone:
+    5.8e-5 s, under the authors' 1e-4 s control period)."""
+    from .control import ControllerSettings
+
+    kd = ControllerSettings().flight_kd if flight_kd is None else float(flight_kd)
+    model = build_model(design, convention=convention).model
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key(START_KEY).id)
+    mujoco.mj_forward(model, data)
+    full = np.zeros((model.nv, model.nv))
+    mujoco.mj_fullM(model, data, full)
+    hip = int(model.joint("hip_y").dofadr[0])
+    hinges = [int(model.joint(n.format(i=i)).dofadr[0]) for i in range(1, design.n_segments + 1) for n in BEND_SPRINGS
+              if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, n.format(i=i)) >= 0]  # fmt: skip
+    idx = [hip, *hinges]
+    inertia = 1.0 / np.linalg.inv(full[np.ix_(idx, idx)])[0, 0]
+    return 2.0 * inertia / (kd * gear)
 
 
 def _sprung_eig(model: mujoco.MjModel, dofs=None) -> np.ndarray:

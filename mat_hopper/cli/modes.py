@@ -59,12 +59,21 @@ def cmd_modes(args) -> int:
     table = pd.concat(tables, ignore_index=True)
     w, spring = estimate_timestep(design, args.convention, args.segment_mass)
     control = controller_timestep(design, args.convention, sensor_timing=args.sensor_timing)
-    which = "the spring chain (2 / w_max)" if spring < control else "the controller's delayed stance damping"
+    which = (
+        "the spring chain (2 / w_max)"
+        if spring < control
+        else "the controller's delayed stance damping or, under bending, its hips' flight damping"
+    )
     print(
         f"analytic stable time step: {min(spring, control):.3g} s, set by {which}; spring chain 2 / w_max = "
         f"{spring:.3g} s (w_max {w:.4g} rad/s), controller c(L) I / (Kd gear) = {control:.3g} s "
         f"(sensor timing {args.sensor_timing})"
     )
+    if control < ref.TIMESTEP_S:
+        print(
+            f"warning: the controller's limit {control:.3g} s is below its {ref.TIMESTEP_S:g} s control period: "
+            "substeps cannot help; this leg is beyond the authors' controller at its rate"
+        )
     k, dt, _ = auto_substeps(design, args.convention, args.segment_mass)
     print(
         f"--timestep auto: {k} physics substep(s) of {dt:.3g} s per {ref.TIMESTEP_S:g} s control period "
