@@ -163,9 +163,10 @@ def hop_stress(rollout, cycles: np.ndarray) -> pd.DataFrame:
     st, t = rollout.stress, rollout.time
     design: LegDesign = rollout.design
     n = design.n_segments
-    if st is None:  # a rollout without stress records (e.g. another backend's)
-        st = np.full((len(t), n, 4), np.nan)
     strengths = [None if m.rigid else strength(m) for m in design.segments]
+    if st is None:  # a rollout without stress records (e.g. another backend's): no modelled stress
+        st = np.zeros((len(t), n, 4))
+        strengths = [None] * n
     section = np.abs(st[:, :, 0]) + np.hypot(st[:, :, 1], st[:, :, 2])  # (samples, N)
     rows = []
     for h, (t0, t1) in enumerate(cycles):

@@ -120,7 +120,19 @@ b.downloads({"stress_runs": table, "stress_segments": segments})
 book.show(table)
 
 # %% [markdown]
-# The columns: `peak_MPa` the leg's largest section stress over the scored
+# How many runs stayed up, per convention (a run that fell is `stable`
+# false, or scored fewer hops):
+
+# %%
+book.show(
+    table.groupby("convention", sort=False).agg(stable_runs=("stable", "sum"), mean_hops=("hops", "mean")).reset_index()
+)
+
+# %% [markdown]
+# The authors' controller was tuned on a leg that does not bend; on one
+# that does, it falls more often (`mat-hopper modes --convention bending`
+# prints the controller's limits; chapter 5 has the stable step). The
+# columns: `peak_MPa` the leg's largest section stress over the scored
 # hops (physics rate), `max_jump_MPa` the largest interface jump,
 # `yield_ratio` the peak over the segment's yield strength (`over_yield`
 # flags > 1), `damage_per_hop` the worst segment's mean Miner damage per
