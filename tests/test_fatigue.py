@@ -69,3 +69,27 @@ def test_hop_table_has_stress_columns():
     assert r.stress.shape == (len(r.time), 3, 4)
     assert np.all(r.stress[:, :, 0] == 0.0)  # bending: axially rigid
     assert math.isfinite(hops["damage"].iloc[0])
+
+
+def test_loop_stress_is_the_springs_force_over_section():
+    # sigma = E epsilon by hand: a hinge's K = E I / l gives M c / I = E r theta / l
+    # (SS, N = 3: 193e9 x 0.025 / 0.1 = 4.825e10 Pa/rad); an axial slide's E A / l gives
+    # F / A = E q / l (1.93e12 Pa/m)
+    from mat_hopper.model import build_model, stress_gains
+    from mat_hopper.sim import RolloutRunner, SimSettings
+
+    adr, gain = stress_gains(build_model(LegDesign.mono("SS", 3), convention="axial+bending"))
+    assert gain[0].tolist() == pytest.approx([1.93e12, 4.825e10, 4.825e10])
+    assert (adr >= 0).all()
+    # the loop, every physics step recorded: stress of s_i against qpos of s_i (recorded after step i - 1)
+    s = SimSettings(duration_s=0.6, transient_s=0.0, convention="bending", record_rate_hz=1e4)
+    runner = RolloutRunner(LegDesign.mono("PVC", 3), "forward", s, record_qpos=True)
+    r = runner.advance().result()
+    adr, gain = stress_gains(runner.hopper)
+    for seg in range(3):
+        for col in (1, 2):
+            want = gain[seg, col] * r.qpos[:-1, adr[seg, col]]
+            np.testing.assert_allclose(r.stress[1:, seg, col], want, rtol=1e-12, atol=0)
+        section = np.abs(r.stress[:, seg, 0]) + np.hypot(r.stress[:, seg, 1], r.stress[:, seg, 2])
+        np.testing.assert_allclose(r.stress[:, seg, 3], section, rtol=1e-12)  # one step per record: peak = value
+    assert np.abs(r.stress[:, :, 1:3]).max() > 0  # the leg did bend (the first touchdown is at about 0.4 s)
