@@ -57,7 +57,9 @@ def main() -> None:
     print(table.to_string(index=False))
     if args.csv:
         table.to_csv(args.csv, index=False)
-    print(f"runs={len(table)} completed={len(table)} stable={int(table['stable'].sum())} wall_s={table['wall_s'].sum():.0f}")
+    print(
+        f"runs={len(table)} completed={len(table)} stable={int(table['stable'].sum())} wall_s={table['wall_s'].sum():.0f}"
+    )
 
 
 if __name__ == "__main__":
