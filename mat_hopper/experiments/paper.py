@@ -33,8 +33,8 @@ from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..materials import (
-    CONVENTIONS,
     DEFAULT_POROSITY_MODEL,
+    REPRODUCTION_CONVENTIONS,
     LegDesign,
     Material,
     check_porosity_model,
@@ -301,7 +301,7 @@ def get_experiment(name: str) -> Experiment | StabilityMap | RobustnessStudy:
 
 
 def convention_tasks(
-    names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None, conventions=CONVENTIONS
+    names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None, conventions=REPRODUCTION_CONVENTIONS
 ) -> list:
     """Stable-time-step measurements (runner tasks, cached) of designs
     (names as :func:`~mat_hopper.materials.parse_design` reads them, or
@@ -333,7 +333,7 @@ def convention_tasks(
 def convention_stability(
     names=("MD", "PVC", "Al", "Ti", "SS"),
     profile: str | Profile | None = None,
-    conventions=CONVENTIONS,
+    conventions=REPRODUCTION_CONVENTIONS,
     *,
     cache_dir=None,
     workers: int | None = None,

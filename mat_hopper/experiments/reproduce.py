@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import pandas as pd
 
 from ..atomic import write_csv
-from ..materials import CONVENTIONS, check_convention
+from ..materials import CONVENTIONS, REPRODUCTION_CONVENTIONS, check_convention
 from .paper import get_experiment, parse_experiments
 from .profiles import check_replicates, get_profile
 from .runner import Runner, check_workers
@@ -180,7 +180,12 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
 
     fine = fine_step_hops(rep.tables.get("robustness_hops"))
     table = claims.claims_table(
-        hops, runs, stab, conventions=CONVENTIONS, fine_hops=fine, fine_label=FINE_LABEL if fine is not None else ""
+        hops,
+        runs,
+        stab,
+        conventions=REPRODUCTION_CONVENTIONS,
+        fine_hops=fine,
+        fine_label=FINE_LABEL if fine is not None else "",
     )
     files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
     rep.tables["claims"] = table
