@@ -39,7 +39,7 @@ import pandas as pd
 from scipy import stats
 
 from . import reference as ref
-from .analysis.change import percent_change
+from .change import percent_change
 from .model import terrain_height_m
 from .sim import C, Rollout
 
@@ -109,7 +109,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
             "design": rollout.design.name,
             "behaviour": rollout.behaviour.name,
             "convention": rollout.settings.convention,
-            "sensor_timing": rollout.settings.sensor_timing,
+            "sensor_timing": rollout.settings.sensor_timing.name,
             "segment_mass": rollout.settings.segment_mass,
             "hop": np.arange(len(cycles)),
             "t_start_s": cycles[:, 0],
@@ -134,7 +134,7 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
         "design": rollout.design.name,
         "behaviour": rollout.behaviour.name,
         "convention": rollout.settings.convention,
-        "sensor_timing": rollout.settings.sensor_timing,
+        "sensor_timing": rollout.settings.sensor_timing.name,
         "segment_mass": rollout.settings.segment_mass,
         "stable": rollout.stable,
         "diverged_at_s": rollout.diverged_at_s,

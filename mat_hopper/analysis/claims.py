@@ -57,6 +57,7 @@ import pandas as pd
 from .. import reference as ref
 from ..atomic import write_text
 from ..behaviours import BEHAVIOUR_NAMES
+from ..change import percent_change
 from ..control import DEFAULT_SENSOR_TIMING
 from ..materials import CONVENTIONS
 from . import stats as _stats
@@ -94,7 +95,6 @@ from ._claim_checks import (  # noqa: F401 (public names of this module)
     match_percent,
     smallest_p,
 )
-from .change import percent_change
 from .stats import seconds
 
 _PCT_RULE = (

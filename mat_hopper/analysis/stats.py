@@ -58,8 +58,8 @@ import numpy as np
 import pandas as pd
 
 from .. import metrics as _metrics
+from ..change import ROUNDOFF, percent_change
 from ..metrics import ALL_METRICS, METRICS
-from .change import ROUNDOFF, percent_change
 
 
 def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alpha: float):

@@ -24,7 +24,7 @@ def _row(design, beh, settings: BatchSettings) -> dict:
     from ..metrics import run_summary
     from ..sim import C, simulate
 
-    r = simulate(design, beh, settings=settings.sim_settings())
+    r = simulate(design, beh, settings=settings)
     s = run_summary(r)
     err = np.hypot(*(r.base_pos[:, :2] - r.data[:, [C["x_des"], C["y_des"]]]).T)
     power = np.hypot(*r.hip_power.T)

@@ -28,7 +28,9 @@ import numpy as np
 import pandas as pd
 
 from .. import reference as ref
+from ..control import SensorTiming
 from ..materials import DEFAULT_CONVENTION
+from ..model import MAX_TIMESTEP_S
 from ..stability import SPEC_SCAN_N, spec_ladder
 from ._designs import as_design
 from ._evaluate import evaluate
@@ -43,7 +45,7 @@ def spec_scan_batch(
     *,
     duration_s: float = ref.STABILITY_TEST_DURATION_S,
     convention: str = DEFAULT_CONVENTION,
-    sensor_latency_steps: int = ref.SENSOR_LATENCY_STEPS,
+    sensor_timing: SensorTiming | str | int = SensorTiming(),
     first_s: float = ref.STABILITY_TIMESTEP_RANGE[0],
     last_s: float = ref.STABILITY_TIMESTEP_RANGE[1],
     n: int = SPEC_SCAN_N,
@@ -60,8 +62,8 @@ def spec_scan_batch(
     first_s, last_s, n: the ladder :func:`mat_hopper.stability.spec_ladder`
     (s); spec_timestep_s is its first rung at which the design ends upright,
     nan if none. density_g_cm3, modulus_gpa: of the first segment (the map's
-    designs are mono-material). sensor_latency_steps: the controller's
-    sensor timing (:class:`~mat_hopper.batch.BatchSettings`). backend, device, workers, max_batch: as
+    designs are mono-material). sensor_timing: the controller's
+    (:class:`~mat_hopper.control.SensorTiming`; a name or a latency). backend, device, workers, max_batch: as
     :func:`mat_hopper.batch.evaluate`. Raises ValueError for an empty design
     list or a ladder outside (0, 0.1] s."""
     designs = [as_design(d) for d in designs]
@@ -69,9 +71,10 @@ def spec_scan_batch(
         raise ValueError("no designs to scan")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"the ladder needs n >= 1 time steps, got {n!r}")
-    if not (0 < last_s <= first_s <= 0.1):
+    if not (0 < last_s <= first_s <= MAX_TIMESTEP_S):
         raise ValueError(
-            f"the ladder must run from first_s down to last_s within (0, 0.1] s, got {first_s!r}, {last_s!r}"
+            f"the ladder must run from first_s down to last_s within (0, {MAX_TIMESTEP_S:g}] s, "
+            f"got {first_s!r}, {last_s!r}"
         )
     ladder = spec_ladder(first_s, last_s, n)
     found = [math.nan] * len(designs)
@@ -86,7 +89,7 @@ def spec_scan_batch(
             timestep_s=float(dt),
             transient_s=0.0,
             convention=convention,
-            sensor_latency_steps=sensor_latency_steps,
+            sensor_timing=sensor_timing,
         )
         table = evaluate(
             [designs[i] for i in todo],

@@ -203,7 +203,7 @@ class WarpBatch:
                 arr.assign(fields[f].reshape(arr.numpy().shape).astype(np.float32))
             mjw.set_const(m, d)
             # The start pose: the behaviour's, as the CPU rollout prepares it.
-            _, data0 = prepare(self.designs[0], self.behaviour, settings.sim_settings())
+            _, data0 = prepare(self.designs[0], self.behaviour, settings)
             qpos0 = np.tile(np.asarray(data0.qpos, dtype=np.float32), (nw, 1))
             d.qpos.assign(qpos0)
             d.qvel.zero_()
@@ -386,7 +386,7 @@ class WarpBatch:
                     "power_w": mean_or_nan(acc[w, K.A_POW_SUM], n),
                     "stable": bool(div[w] < 0),
                     "behaviour": self.behaviour.name,
-                    "sensor_timing": self.settings.sensor_timing,
+                    "sensor_timing": self.settings.sensor_timing.name,
                     "diverged_at_s": None if div[w] < 0 else float(div[w] * self.settings.timestep_s),
                     "total_mass_kg": float(self.total_mass_kg[w]),
                     "backend": "warp",

@@ -6,9 +6,9 @@ from __future__ import annotations
 import os
 import sys
 
+from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..experiments.reproduce import default_out_dir, reproduce
-from ..experiments.runner import CACHE_ENV, DEFAULT_CACHE_DIR
 from ._checks import check_name_list, check_output_dir, nothing_left_behind
 
 

@@ -20,9 +20,9 @@ from ..materials import (
     parse_design,
 )
 from ..metrics import METRICS, hop_table, run_summary
+from ..sim import AUTO, is_auto
 from ._checks import SENSOR_TIMING_HELP, check_output_file, parse_list, sensor_timing_arg
 
-AUTO = "auto"
 PROGRESS_CHUNK_S = 1.0  # simulated seconds per progress-bar update
 
 
@@ -31,7 +31,7 @@ def _timestep(text):
     1e-4 s period, chosen from the spring chain's bound)."""
     if text is None:
         return None
-    if str(text).strip().lower() == AUTO:
+    if is_auto(str(text)):
         return AUTO
     try:
         return float(text)
@@ -100,22 +100,17 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
 def sim_settings_from_args(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
     """SimSettings of the run options, checked (run-size limits included)
     before any work; --timestep auto resolved for this design."""
-    from ..sim import SimSettings, auto_timestep
+    from ..sim import sim_settings
 
     dt = _timestep(args.timestep)
-    substeps = 1
-    if dt is None:
-        dt = get_profile().timestep_s
-    elif dt == AUTO:
-        substeps, dt = auto_timestep(design, args.convention, args.segment_mass)
-    return SimSettings(
+    return sim_settings(
+        design,
         duration_s=duration_s,
-        timestep_s=dt,
+        timestep_s=get_profile().timestep_s if dt is None else dt,
         transient_s=transient_s,
         convention=args.convention,
         sensor_timing=sensor_timing_arg(args.sensor_timing),
         segment_mass=args.segment_mass,
-        substeps=substeps,
         **extra,
     )
 
@@ -169,7 +164,7 @@ def cmd_simulate(args) -> int:
     s = run_summary(rollout)
     print(
         f"{design.name} on {beh.name}: {settings.duration_s:g} s ({profile.name} profile) at "
-        f"{describe_settings(settings, _timestep(args.timestep) == AUTO)}, mass {rollout.total_mass_kg:.2f} kg"
+        f"{describe_settings(settings, is_auto(args.timestep))}, mass {rollout.total_mass_kg:.2f} kg"
     )
     if not rollout.stable:
         print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s")

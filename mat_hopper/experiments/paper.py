@@ -105,7 +105,7 @@ class Experiment:
                         "experiment": self.name,
                         "profile": profile.name,
                         "convention": profile.convention,
-                        "sensor_timing": profile.sensor_timing,
+                        "sensor_timing": profile.sensor_timing.name,
                         "design": point.label,
                         "behaviour": beh.name,
                         "replicate": rep,

@@ -52,25 +52,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..atomic import TEMP_PREFIX  # noqa: F401 (re-exported: the prefix of the cache's temporary files)
 from ..behaviours import Behaviour
+from ..keys import design_key, hash_key, settings_key, versions
 from ..materials import LegDesign
 from ..sim import SimSettings, route_mujoco_warnings
-from ._cache import (  # noqa: F401 (the cache, its keys and constants are re-exported)
-    _CHECKSUM_KEY,
-    _META_KEY,
-    _STALE_TEMP_S,
-    CACHE_ENV,
-    DEFAULT_CACHE_DIR,
-    RESULT_MODULES,
-    Cache,
-    content_checksum,
-    design_key,
-    hash_key,
-    settings_key,
-    source_digest,
-    versions,
-)
+from .cache import Cache
 
 _log = logging.getLogger("mat_hopper.cache")
 

@@ -48,7 +48,6 @@ from optuna.storages._heartbeat import is_heartbeat_enabled
 from optuna.trial import TrialState
 from tqdm.std import tqdm
 
-from ..control import sensor_latency_steps
 from ..materials import LegDesign
 from ._objective import (
     CONSTRAINTS,
@@ -90,16 +89,7 @@ def batch_settings(objective: Objective, design: LegDesign):
             f"{design.name!r} needs {sim.substeps} physics substeps (automatic time step): give the "
             "profile a fixed axial_timestep_s, or use --backend mujoco"
         )
-    return BatchSettings(
-        duration_s=sim.duration_s,
-        timestep_s=sim.timestep_s,
-        transient_s=sim.transient_s,
-        convention=sim.convention,
-        record_rate_hz=sim.record_rate_hz,
-        controller=sim.controller,
-        sensor_latency_steps=sensor_latency_steps(sim.sensor_timing),
-        segment_mass=sim.segment_mass,
-    )
+    return BatchSettings.of(sim)
 
 
 def behaviour_row(summary: dict, behaviour: str, duration_s: float) -> dict:

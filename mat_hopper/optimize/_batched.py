@@ -40,7 +40,8 @@ import pandas as pd
 from optuna.trial import TrialState
 
 from ..behaviours import behaviour as get_behaviour
-from ..experiments.runner import FAILED, Runner, design_key, hash_key, settings_key, versions
+from ..experiments.runner import FAILED, Runner
+from ..keys import design_key, hash_key, settings_key, versions
 from ..materials import LegDesign
 from ._objective import Evaluation, Objective, aggregate, mujoco_warnings_to, record_evaluation, run_behaviour
 from ._samplers import make_sampler, worker_seed

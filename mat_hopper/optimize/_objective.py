@@ -41,7 +41,7 @@ from __future__ import annotations
 import contextlib
 import math
 import warnings
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -103,7 +103,7 @@ class Objective:
     def key(self) -> dict:
         return {
             "behaviours": list(self.behaviours),
-            "profile": asdict(self.profile),
+            "profile": self.profile.key_dict(),
             "convention": self.convention,
             "hop_height_target_m": self.hop_height_target_m,
             "hop_height_tolerance_m": self.hop_height_tolerance_m,

@@ -39,8 +39,8 @@ import optuna
 import pandas as pd
 from optuna.trial import TrialState
 
-from ..analysis.change import percent_change
 from ..atomic import write_csv
+from ..change import percent_change
 from ..materials import LegDesign, paper_designs
 from ..viz import study as study_plots
 from ..viz.style import save_figure

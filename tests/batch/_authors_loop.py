@@ -30,7 +30,7 @@ def authors_rollout(design, behaviour, settings, *, trace_qpos: int = 0):
     (Rollout, qpos trace (first trace_qpos steps, state after each step))."""
     design = parse_design(design) if isinstance(design, str) else design
     beh = get_behaviour(behaviour)
-    sim = settings.sim_settings()
+    sim = settings
     hm, d = prepare(design, beh, sim)  # mj_forward done: sensors of the initial state
     m, lay = hm.model, hm.layout
     gains = settings.controller.gains()

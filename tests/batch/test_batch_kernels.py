@@ -324,7 +324,7 @@ def test_metrics_kernel_is_metrics_py(layout):
         got, got_div = acc.numpy(), div.numpy()
     # The same samples as a recorded rollout, scored by mat_hopper.metrics.
     design = parse_design("PVC")
-    sim = settings.sim_settings()
+    sim = settings
     f32 = lambda v: np.float64(np.float32(v))  # noqa: E731  what the float32 device arrays hold
     for w in range(n):
         end = diverge_at.get(w, n_steps - 1)
