@@ -13,6 +13,7 @@ import pandas as pd
 import pytest
 
 import mat_hopper
+from mat_hopper import keys as cache_keys
 from mat_hopper.atomic import TEMP_PREFIX
 from mat_hopper.behaviours import behaviour
 from mat_hopper.control import ControllerSettings
@@ -63,7 +64,7 @@ def test_cache_key_changes_with_every_setting(monkeypatch):
     assert RunSpec(base.design, base.behaviour, SHORT, {"experiment": "x", "design": "renamed"}).key() == base.key()
     assert spec(LegDesign.from_properties([8.0] * 3, [193.0] * 3, name="other")).key() == base.key()
     before = base.key()
-    monkeypatch.setattr(keys, "source_digest", lambda: "edited-source")  # where versions() finds it
+    monkeypatch.setattr(cache_keys, "source_digest", lambda: "edited-source")  # where versions() finds it
     edited = base.key()
     monkeypatch.setattr(mat_hopper, "__version__", "0.0.0-test")
     assert len({before, edited, base.key()}) == 3
