@@ -97,7 +97,7 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(negative_list_argv(argv))  # every --option may take a negative number
     from ..atomic import remove_stale_mp_dirs
-    from ..optimize._study import stop_signals
+    from ..optimize import stop_signals
 
     remove_stale_mp_dirs()  # what killed runs left in the temp folder
     try:

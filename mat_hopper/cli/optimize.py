@@ -11,6 +11,7 @@ from optuna.trial import TrialState
 from ..experiments.profiles import PROFILES, get_profile
 from ..materials import LegDesign
 from ..optimize import (
+    CONFIG_ATTR,
     DEFAULT_WORKERS,
     KINDS,
     SAMPLERS,
@@ -18,20 +19,21 @@ from ..optimize import (
     RunOptions,
     SearchSpace,
     StudyConfig,
+    check_objectives_vary,
     check_sampler,
     check_study_name,
     describe,
+    dispose,
     open_storage,
     redact,
     replay,
     run_study,
+    storage_errors,
     storage_file,
     stored_config,
     study_exists,
     write_report,
 )
-from ..optimize._storage import dispose, storage_errors
-from ..optimize._study import CONFIG_ATTR, check_objectives_vary
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
 from ._checks import check_output_dir, nothing_left_behind, parse_pair

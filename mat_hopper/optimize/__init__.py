@@ -16,14 +16,17 @@ writes a study's tables and plots. The command line is
 
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
+from ._processes import stop_signals
 from ._samplers import SAMPLERS, check_sampler
 from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, SearchSpace, describe, resample
-from ._storage import check_study_name, default_url, open_storage, redact, storage_file
+from ._storage import check_study_name, default_url, dispose, open_storage, redact, storage_errors, storage_file
 from ._study import (
+    CONFIG_ATTR,
     DEFAULT_WORKERS,
     RunOptions,
     RunResult,
     StudyConfig,
+    check_objectives_vary,
     create_or_load,
     run_study,
     stored_config,
@@ -48,15 +51,20 @@ __all__ = [
     "resample",
     "check_study_name",
     "default_url",
+    "dispose",
     "open_storage",
     "redact",
+    "storage_errors",
     "storage_file",
+    "stop_signals",
+    "CONFIG_ATTR",
     "DEFAULT_WORKERS",
     "SAMPLERS",
     "RunOptions",
     "RunResult",
     "StudyConfig",
     "check_sampler",
+    "check_objectives_vary",
     "create_or_load",
     "run_study",
     "stored_config",

@@ -59,18 +59,14 @@ from optuna.trial import TrialState
 from tqdm.std import tqdm
 
 from ..materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
-from ._objective import (  # noqa: F401 (RESULT_ATTR, result_attr are re-exported)
-    CONSTRAINTS,
+from ._objective import (
     OBJECTIVES,
-    RESULT_ATTR,
     Objective,
     evaluate,
     record_evaluation,
-    result_attr,
 )
-from ._processes import (  # noqa: F401 (Interrupted, stop_signals are re-exported)
+from ._processes import (
     HeldSignals,
-    Interrupted,
     _die_with_parent,
     _orphaned,
     _signals_ignored,
@@ -78,7 +74,7 @@ from ._processes import (  # noqa: F401 (Interrupted, stop_signals are re-export
     _warm_up,
     stop_signals,
 )
-from ._samplers import SAMPLERS, check_sampler, make_sampler, worker_seed  # noqa: F401 (re-exported)
+from ._samplers import SAMPLERS, check_sampler, make_sampler, worker_seed
 from ._space import SearchSpace
 from ._storage import (
     ERROR_ATTR,

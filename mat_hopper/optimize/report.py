@@ -44,10 +44,10 @@ from ..change import percent_change
 from ..materials import LegDesign, paper_designs
 from ..viz import study as study_plots
 from ..viz.style import save_figure
-from ._objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
+from ._objective import CONSTRAINTS, OBJECTIVES, RESULT_ATTR, Objective, evaluate
 from ._space import resample
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
-from ._study import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
+from ._study import CONFIG_ATTR, StudyConfig, _quiet
 
 BASELINES = ("SS", "rho-inc")
 HV_MARGIN = 0.1

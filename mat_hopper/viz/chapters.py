@@ -380,12 +380,12 @@ def convergence_figure(metrics: pd.DataFrame):
 def agreement_figure(table: pd.DataFrame):
     """Chapter 13: the warp backend against the CPU rollouts, per design and
     behaviour: tracking error and hip power differences (% of the CPU's),
-    the acceptance band (:data:`mat_hopper.batch._agreement.RELATIVE_TOLERANCE`)
+    the acceptance band (:data:`mat_hopper.batch.RELATIVE_TOLERANCE`)
     shaded; runs that diverged on both backends marked "diverged". A run
     without scored hop cycles shows its whole-run means' differences.
 
     table: :func:`mat_hopper.batch.agreement` rows (behaviour may be nan)."""
-    from ..batch._agreement import RELATIVE_TOLERANCE
+    from ..batch import RELATIVE_TOLERANCE
 
     band = 100 * RELATIVE_TOLERANCE
     labels = [d if not isinstance(b, str) else f"{d}, {b}" for d, b in zip(table["design"], table["behaviour"])]
