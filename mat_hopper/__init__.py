@@ -10,7 +10,8 @@ __version__ = "0.1.0"
 from .behaviours import Behaviour, behaviour  # noqa: E402
 from .control import ControllerSettings  # noqa: E402
 from .materials import CATALOGUE, LegDesign, Material, material, parse_design  # noqa: E402
-from .sim import Rollout, SimSettings, simulate  # noqa: E402
+from .rollout import Rollout  # noqa: E402
+from .sim import SimSettings, simulate  # noqa: E402
 
 __all__ = [
     "CATALOGUE",

@@ -47,6 +47,7 @@ RESULT_MODULES = (
     "behaviours",
     "_loop",
     "sim",
+    "rollout",
     "perturbations",
     "metrics",
     "modes",

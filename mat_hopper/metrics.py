@@ -41,7 +41,8 @@ from scipy import stats
 from . import reference as ref
 from .change import percent_change
 from .model import terrain_height_m
-from .sim import C, Rollout
+from .rollout import Rollout
+from .sim import C
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
 ALL_METRICS = METRICS + ("hop_height_ground_m", "power_paper_w", "energy_j")

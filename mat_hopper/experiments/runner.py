@@ -450,8 +450,9 @@ class RolloutSpec(RunSpec):
         return table, summary
 
     def rollout(self, table: pd.DataFrame, summary: dict):
-        """The :class:`~mat_hopper.sim.Rollout` from this task's stored result."""
-        from ..sim import CHANNELS, Rollout
+        """The :class:`~mat_hopper.rollout.Rollout` from this task's stored result."""
+        from ..rollout import Rollout
+        from ..sim import CHANNELS
 
         data = table[list(CHANNELS)].to_numpy(float)
         qcols = [c for c in table.columns if c.startswith("qpos_")]
@@ -480,7 +481,7 @@ def rollouts(
     cache_dir=None,
     workers: int | None = None,
 ) -> list:
-    """Whole rollouts (:class:`~mat_hopper.sim.Rollout`) of every design
+    """Whole rollouts (:class:`~mat_hopper.rollout.Rollout`) of every design
     (names or LegDesigns) on every behaviour (names or Behaviours) under
     `settings` (e.g. ``profile.sim_settings()``), for time series and gait
     tiles, in design-major order. record_rate_hz: samples per simulated

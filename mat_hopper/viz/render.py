@@ -28,7 +28,8 @@ from ..behaviours import Behaviour
 from ..behaviours import behaviour as get_behaviour
 from ..materials import DEFAULT_CONVENTION, LegDesign
 from ..model import reset_to_start
-from ..sim import Rollout, SimSettings, _as_design, simulate
+from ..rollout import Rollout
+from ..sim import SimSettings, _as_design, simulate
 from .scene import (  # noqa: F401 (the scene's names are re-exported)
     _LIBS,
     DENSITY_RANGE_G_CM3,

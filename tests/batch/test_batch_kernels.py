@@ -18,7 +18,8 @@ from mat_hopper.materials import parse_design  # noqa: E402
 from mat_hopper.metrics import run_summary  # noqa: E402
 from mat_hopper.model import build_model  # noqa: E402
 from mat_hopper.optimize._objective import _whole_run_means  # noqa: E402
-from mat_hopper.sim import CHANNELS, Rollout  # noqa: E402
+from mat_hopper.rollout import Rollout  # noqa: E402
+from mat_hopper.sim import CHANNELS  # noqa: E402
 
 wp, _ = require_warp()
 from mat_hopper.batch import _kernels as K  # noqa: E402
