@@ -298,68 +298,12 @@ def ashby_figure(
     with rc_context({**STYLE, "axes.grid": False}):
         fig = _new_figure(6.0, 4.8)
         ax = fig.subplots()
-        for name, r in regions.items():
-            verts = _superellipse(r["density_g_cm3"], r["modulus_gpa"])
-            ax.add_patch(
-                Polygon(
-                    verts,
-                    closed=True,
-                    facecolor=r["colour"],
-                    alpha=0.12,
-                    edgecolor=r["colour"],
-                    linewidth=1.0,
-                    zorder=0,
-                )
-            )
-            ax.text(
-                math.sqrt(r["density_g_cm3"][0] * r["density_g_cm3"][1]),
-                r["modulus_gpa"][1] * 0.8,
-                r.get("label", name),
-                ha="center",
-                va="top",
-                color=r["colour"],
-                fontsize=8.5,
-                fontweight="bold",
-                zorder=1,
-            )
+        _draw_class_regions(ax, regions)
         (r0, r1), (e0, e1) = bounds["density_g_cm3"], bounds["modulus_gpa"]
         ax.add_patch(Rectangle((r0, e0), r1 - r0, e1 - e0, fill=False, ls="--", lw=1.0, edgecolor="black", zorder=1))
         ax.text(r1 * 0.93, e0 * 1.25, "design bounds", ha="right", va="bottom", fontsize=8)
-        classes = list(dict.fromkeys(t["material_class"]))
-        for cls in classes:
-            s = t[t["material_class"] == cls]
-            colour = CLASS_COLOURS.get(cls, "#333333")
-            big = s["name"].isin(highlight)
-            ax.scatter(
-                s["density_g_cm3"][~big],
-                s["modulus_gpa"][~big],
-                s=28,
-                color=colour,
-                edgecolor="white",
-                linewidth=0.6,
-                zorder=3,
-                label=cls,
-            )
-            ax.scatter(
-                s["density_g_cm3"][big],
-                s["modulus_gpa"][big],
-                s=60,
-                color=colour,
-                edgecolor="black",
-                linewidth=0.9,
-                zorder=4,
-                label=None if (~big).any() else cls,
-            )
-            for _, row in s.iterrows():
-                ax.annotate(
-                    row["name"],
-                    (row["density_g_cm3"], row["modulus_gpa"]),
-                    xytext=(5, -3),
-                    textcoords="offset points",
-                    fontsize=7.5,
-                    zorder=5,
-                    fontweight="bold" if row["name"] in highlight else "normal",
-                )
+        for cls in dict.fromkeys(t["material_class"]):
+            _draw_material_class(ax, t[t["material_class"] == cls], cls, highlight)
         ax.set_xscale("log")
         ax.set_yscale("log")
         xs = [*t["density_g_cm3"], r0, r1] + [v for r in regions.values() for v in r["density_g_cm3"]]
@@ -388,6 +332,64 @@ def ashby_figure(
             handles=handles, loc="upper left", frameon=True, fontsize=7.5, title="material class", title_fontsize=8
         )
     return fig
+
+
+def _draw_class_regions(ax, regions) -> None:
+    """The paper's material classes as shaded, labelled superellipses."""
+    for name, r in regions.items():
+        verts = _superellipse(r["density_g_cm3"], r["modulus_gpa"])
+        ax.add_patch(
+            Polygon(
+                verts, closed=True, facecolor=r["colour"], alpha=0.12, edgecolor=r["colour"], linewidth=1.0, zorder=0
+            )
+        )
+        ax.text(
+            math.sqrt(r["density_g_cm3"][0] * r["density_g_cm3"][1]),
+            r["modulus_gpa"][1] * 0.8,
+            r.get("label", name),
+            ha="center",
+            va="top",
+            color=r["colour"],
+            fontsize=8.5,
+            fontweight="bold",
+            zorder=1,
+        )
+
+
+def _draw_material_class(ax, s, cls, highlight) -> None:
+    """One class's materials: small dots, the highlighted ones large and ringed, every one named."""
+    colour = CLASS_COLOURS.get(cls, "#333333")
+    big = s["name"].isin(highlight)
+    ax.scatter(
+        s["density_g_cm3"][~big],
+        s["modulus_gpa"][~big],
+        s=28,
+        color=colour,
+        edgecolor="white",
+        linewidth=0.6,
+        zorder=3,
+        label=cls,
+    )
+    ax.scatter(
+        s["density_g_cm3"][big],
+        s["modulus_gpa"][big],
+        s=60,
+        color=colour,
+        edgecolor="black",
+        linewidth=0.9,
+        zorder=4,
+        label=None if (~big).any() else cls,
+    )
+    for _, row in s.iterrows():
+        ax.annotate(
+            row["name"],
+            (row["density_g_cm3"], row["modulus_gpa"]),
+            xytext=(5, -3),
+            textcoords="offset points",
+            fontsize=7.5,
+            zorder=5,
+            fontweight="bold" if row["name"] in highlight else "normal",
+        )
 
 
 def designs_figure(designs: dict[str, LegDesign] | None = None):
