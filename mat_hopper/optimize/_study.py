@@ -466,71 +466,8 @@ def _run(config: StudyConfig, options: RunOptions, url: str) -> RunResult:
     result.start_method = _start_method()
     if result.start_method == "fork":
         _warm_up()
-    ctx = mp.get_context(result.start_method)
-    tickets = ctx.Value("i", budget)
-    n_existing = len(study.get_trials(deepcopy=False))
-    live: dict[int, tuple] = {}
-    errors: list[str] = []
-    spawned = 0
-
-    def spawn(n):
-        nonlocal spawned
-        dispose(storage)  # no pooled connection crosses the fork (reopened on next use)
-        for _ in range(n):
-            job = _Job(
-                config.name, config.key(), options, url, worker_seed(options.seed, n_existing, spawned), options.trials
-            )
-            parent_end, child_end = ctx.Pipe(duplex=False)
-            p = ctx.Process(
-                target=_worker_main,
-                args=(job, tickets, child_end, os.getpid()),
-                daemon=True,
-                name=f"mat-hopper-worker-{spawned}",
-            )
-            p.start()
-            child_end.close()
-            live[p.pid] = (p, parent_end)
-            spawned += 1
-
-    def receive(conn):
-        while conn.poll():
-            try:
-                rep = conn.recv()
-            except (EOFError, OSError):
-                return
-            if "error" in rep:
-                errors.append(rep["error"])
-            result.worker_reports.append(rep)
-
-    def reap():
-        for pid, (p, conn) in list(live.items()):
-            receive(conn)
-            if p.is_alive():
-                continue
-            p.join()
-            receive(conn)
-            conn.close()
-            del live[pid]
-            if p.exitcode != 0:
-                result.dead_workers.append((pid, p.exitcode))
-                lost = recover_dead(
-                    study, pids={pid}, max_retry=options.max_retry, reason=f"worker exited with code {p.exitcode}"
-                )
-                result.recovered += lost
-                with tickets.get_lock():  # its ticket back (the storage check in _claim still caps the total)
-                    tickets.value += max(1, len(lost))
-
-    def stop(reason: str):
-        for p, _ in live.values():
-            p.terminate()
-        for p, conn in live.values():
-            p.join(10)
-            conn.close()
-        with storage_errors(url):
-            recover_dead(study, pids=set(live), max_retry=options.max_retry, reason=reason)
-        live.clear()
-
-    spawn(min(options.workers, budget))
+    pool = _Workers(config, options, url, storage, study, result, budget)
+    pool.spawn(min(options.workers, budget))
     bar = _Bar(
         total=options.trials,
         initial=min(done, options.trials),
@@ -541,36 +478,119 @@ def _run(config: StudyConfig, options: RunOptions, url: str) -> RunResult:
         file=sys.stderr,
         mininterval=1.0,
     )
-    max_spawn = options.workers + options.workers * (options.max_retry + 1)
-    told_before, recovered_before = 0, len(result.recovered)
     try:
-        while True:
-            reap()
-            if errors:  # a storage failure in a worker: the others would meet it too
-                stop("stopped after a storage error")
-                raise ValueError(errors[0])
-            done, running = counts(study)
-            bar.n = min(done, options.trials)
-            bar.set_postfix(running=running, dead=len(result.dead_workers), refresh=False)
-            bar.refresh()
-            if not live:
-                told = sum(len(r["told"]) for r in result.worker_reports)
-                progress = told > told_before or len(result.recovered) > recovered_before
-                told_before, recovered_before = told, len(result.recovered)
-                if done < options.trials and tickets.value > 0 and spawned < max_spawn and progress:
-                    spawn(min(options.workers, tickets.value))
-                    continue
-                break
-            time.sleep(POLL_S)
+        _supervise(pool, bar)
     except KeyboardInterrupt as e:
         with _signals_ignored():  # a second Ctrl-C or SIGTERM does not cut the clean-up short
-            stop(f"interrupted ({getattr(e, 'signal_name', 'SIGINT')})")
+            pool.stop(f"interrupted ({getattr(e, 'signal_name', 'SIGINT')})")
         raise
     except BaseException:
-        if live:
-            stop("stopped by an error in the coordinator")
+        if pool.live:
+            pool.stop("stopped by an error in the coordinator")
         raise
     finally:
         bar.close()
     result.done, result.running = counts(study)
     return result
+
+
+def _supervise(pool: _Workers, bar) -> None:
+    """Poll the workers until the budget is spent or no worker makes progress:
+    reap the dead (their trials failed, tickets returned), respawn while
+    trials remain, raise a worker's storage error."""
+    options, result, study = pool.options, pool.result, pool.study
+    max_spawn = options.workers + options.workers * (options.max_retry + 1)
+    told_before, recovered_before = 0, len(result.recovered)
+    while True:
+        pool.reap()
+        if pool.errors:  # a storage failure in a worker: the others would meet it too
+            pool.stop("stopped after a storage error")
+            raise ValueError(pool.errors[0])
+        done, running = counts(study)
+        bar.n = min(done, options.trials)
+        bar.set_postfix(running=running, dead=len(result.dead_workers), refresh=False)
+        bar.refresh()
+        if not pool.live:
+            told = sum(len(r["told"]) for r in result.worker_reports)
+            progress = told > told_before or len(result.recovered) > recovered_before
+            told_before, recovered_before = told, len(result.recovered)
+            if done < options.trials and pool.tickets.value > 0 and pool.spawned < max_spawn and progress:
+                pool.spawn(min(options.workers, pool.tickets.value))
+                continue
+            return
+        time.sleep(POLL_S)
+
+
+class _Workers:
+    """The worker processes of one run: spawned with a shared ticket count
+    (trials left), each reporting through a pipe; a dead one's trials are
+    failed (retried) and its ticket returned."""
+
+    def __init__(self, config, options, url, storage, study, result, budget: int):
+        self.config, self.options, self.url = config, options, url
+        self.storage, self.study, self.result = storage, study, result
+        self.ctx = mp.get_context(result.start_method)
+        self.tickets = self.ctx.Value("i", budget)
+        self.n_existing = len(study.get_trials(deepcopy=False))
+        self.live: dict[int, tuple] = {}
+        self.errors: list[str] = []
+        self.spawned = 0
+
+    def spawn(self, n: int) -> None:
+        config, options = self.config, self.options
+        dispose(self.storage)  # no pooled connection crosses the fork (reopened on next use)
+        for _ in range(n):
+            seed = worker_seed(options.seed, self.n_existing, self.spawned)
+            job = _Job(config.name, config.key(), options, self.url, seed, options.trials)
+            parent_end, child_end = self.ctx.Pipe(duplex=False)
+            p = self.ctx.Process(
+                target=_worker_main,
+                args=(job, self.tickets, child_end, os.getpid()),
+                daemon=True,
+                name=f"mat-hopper-worker-{self.spawned}",
+            )
+            p.start()
+            child_end.close()
+            self.live[p.pid] = (p, parent_end)
+            self.spawned += 1
+
+    def receive(self, conn) -> None:
+        while conn.poll():
+            try:
+                rep = conn.recv()
+            except (EOFError, OSError):
+                return
+            if "error" in rep:
+                self.errors.append(rep["error"])
+            self.result.worker_reports.append(rep)
+
+    def reap(self) -> None:
+        for pid, (p, conn) in list(self.live.items()):
+            self.receive(conn)
+            if p.is_alive():
+                continue
+            p.join()
+            self.receive(conn)
+            conn.close()
+            del self.live[pid]
+            if p.exitcode != 0:
+                self.result.dead_workers.append((pid, p.exitcode))
+                lost = recover_dead(
+                    self.study,
+                    pids={pid},
+                    max_retry=self.options.max_retry,
+                    reason=f"worker exited with code {p.exitcode}",
+                )
+                self.result.recovered += lost
+                with self.tickets.get_lock():  # its ticket back (the storage check in _claim still caps the total)
+                    self.tickets.value += max(1, len(lost))
+
+    def stop(self, reason: str) -> None:
+        for p, _ in self.live.values():
+            p.terminate()
+        for p, conn in self.live.values():
+            p.join(10)
+            conn.close()
+        with storage_errors(self.url):
+            recover_dead(self.study, pids=set(self.live), max_retry=self.options.max_retry, reason=reason)
+        self.live.clear()
