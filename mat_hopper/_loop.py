@@ -190,6 +190,7 @@ def _diverged(qpos, qacc, limit):
     return False
 
 
+# Exempt from the 100-line rule: the whole closed loop is one compiled function so a rollout never returns to Python per step.
 @numba.njit(cache=True)
 def rollout_loop(
     step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps, history, state, jerk, rec, qpos_rec, events

@@ -225,6 +225,81 @@ def _schema_lock(engine, backend: str):
             con.commit()
 
 
+def _journal_storage(url: str):
+    """A journal-file storage (``journal:///PATH``), its folder checked."""
+    from optuna.storages.journal import JournalFileBackend, JournalStorage
+
+    path = os.path.abspath(_journal_path(url))
+    if os.path.isdir(path):
+        raise ValueError(f"journal storage {path}: is a folder, not a file")
+    if not os.path.isdir(os.path.dirname(path)):
+        raise ValueError(f"journal storage: folder {os.path.dirname(path)} does not exist")
+    try:
+        return JournalStorage(JournalFileBackend(path))
+    except OSError as e:
+        raise ValueError(f"cannot open journal storage {path}: {e.strerror or e}") from None
+
+
+def _parsed_url(url: str):
+    """The SQLAlchemy URL of a database storage; ValueError for an unknown scheme or a missing driver."""
+    from sqlalchemy.engine import make_url
+
+    try:
+        parsed = make_url(url)
+        parsed.get_dialect()
+    except ImportError as e:
+        raise ValueError(f"storage {redact(url)}: the database driver is not installed ({e})") from None
+    except Exception:
+        scheme = url.split(":", 1)[0] if ":" in url else url
+        raise ValueError(
+            f"unknown storage scheme {scheme!r} in {redact(url)!r}; accepted: sqlite:///PATH, "
+            "postgresql://USER@HOST:PORT/DB (or another SQLAlchemy database URL), "
+            "journal:///PATH"
+        ) from None
+    return parsed
+
+
+def _engine_options(url: str, parsed, backend: str, read_only: bool) -> tuple[str, dict]:
+    """(the URL to open, SQLAlchemy engine options) for the backend: SQLite's
+    lock timeout, read-only URI or write-ahead log; PostgreSQL's pre-ping and
+    connect timeout."""
+    engine_kwargs: dict = {}
+    open_url = url
+    if backend == "sqlite":
+        db = parsed.database
+        _sqlite_path_check(db)
+        engine_kwargs["connect_args"] = {"timeout": SQLITE_LOCK_TIMEOUT_S}
+        if read_only:
+            if not os.path.isfile(db):
+                raise ValueError(f"sqlite storage {os.path.abspath(db)} does not exist")
+            open_url = f"sqlite:///file:{quote(os.path.abspath(db))}?mode=ro&uri=true"
+        else:
+            _sqlite_wal(db)
+    elif backend == "postgresql":
+        engine_kwargs["pool_pre_ping"] = True
+        if parsed.get_driver_name() in ("psycopg2", "psycopg"):
+            engine_kwargs["connect_args"] = {"connect_timeout": CONNECT_TIMEOUT_S}
+    return open_url, engine_kwargs
+
+
+def _probe(url: str, open_url: str, engine_kwargs: dict):
+    """An engine that has connected once (the only failure called "cannot reach")."""
+    import sqlalchemy
+
+    try:
+        probe = sqlalchemy.create_engine(open_url, **engine_kwargs)
+        with probe.connect():
+            pass
+    except ImportError as e:
+        raise ValueError(f"storage {redact(url)}: the database driver is not installed ({e})") from None
+    except (sqlalchemy.exc.SQLAlchemyError, OSError) as e:
+        cause = _cause(e)
+        if UNREACHABLE.search(cause):
+            raise ValueError(f"cannot reach storage {redact(url)}: {cause}") from None
+        raise ValueError(f"cannot open storage {redact(url)}: {cause}") from None  # reached, but refused
+    return probe
+
+
 def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retry: int = 3, read_only: bool = False):
     """An Optuna storage for `url`, checked to be reachable (ValueError, one
     line, if not). See the module doc for the accepted URLs.
@@ -242,67 +317,19 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
         )
     url = url.strip()
     if url.startswith("journal:"):
-        from optuna.storages.journal import JournalFileBackend, JournalStorage
-
-        path = os.path.abspath(_journal_path(url))
-        if os.path.isdir(path):
-            raise ValueError(f"journal storage {path}: is a folder, not a file")
-        if not os.path.isdir(os.path.dirname(path)):
-            raise ValueError(f"journal storage: folder {os.path.dirname(path)} does not exist")
-        try:
-            return JournalStorage(JournalFileBackend(path))
-        except OSError as e:
-            raise ValueError(f"cannot open journal storage {path}: {e.strerror or e}") from None
+        return _journal_storage(url)
 
     import sqlalchemy
-    from sqlalchemy.engine import make_url
 
-    try:
-        parsed = make_url(url)
-        parsed.get_dialect()
-    except ImportError as e:
-        raise ValueError(f"storage {redact(url)}: the database driver is not installed ({e})") from None
-    except Exception:
-        scheme = url.split(":", 1)[0] if ":" in url else url
-        raise ValueError(
-            f"unknown storage scheme {scheme!r} in {redact(url)!r}; accepted: sqlite:///PATH, "
-            "postgresql://USER@HOST:PORT/DB (or another SQLAlchemy database URL), "
-            "journal:///PATH"
-        ) from None
+    parsed = _parsed_url(url)
     for name, v in (("heartbeat_s", heartbeat_s), ("grace_s", grace_s)):
         if isinstance(v, bool) or not isinstance(v, int) or v < 1:
             raise ValueError(f"{name} must be an integer >= 1 s, got {v!r}")
     if grace_s <= heartbeat_s:
         raise ValueError(f"grace_s must exceed heartbeat_s ({heartbeat_s} s), got {grace_s!r}")
     backend = parsed.get_backend_name()
-    engine_kwargs: dict = {}
-    open_url = url
-    if backend == "sqlite":
-        db = parsed.database
-        _sqlite_path_check(db)
-        engine_kwargs["connect_args"] = {"timeout": SQLITE_LOCK_TIMEOUT_S}
-        if read_only:
-            if not os.path.isfile(db):
-                raise ValueError(f"sqlite storage {os.path.abspath(db)} does not exist")
-            open_url = f"sqlite:///file:{quote(os.path.abspath(db))}?mode=ro&uri=true"
-        else:
-            _sqlite_wal(db)
-    elif backend == "postgresql":
-        engine_kwargs["pool_pre_ping"] = True
-        if parsed.get_driver_name() in ("psycopg2", "psycopg"):
-            engine_kwargs["connect_args"] = {"connect_timeout": CONNECT_TIMEOUT_S}
-    # reachable? (the only failure called "cannot reach")
-    try:
-        probe = sqlalchemy.create_engine(open_url, **engine_kwargs)
-        with probe.connect():
-            pass
-    except ImportError as e:
-        raise ValueError(f"storage {redact(url)}: the database driver is not installed ({e})") from None
-    except (sqlalchemy.exc.SQLAlchemyError, OSError) as e:
-        cause = _cause(e)
-        if UNREACHABLE.search(cause):
-            raise ValueError(f"cannot reach storage {redact(url)}: {cause}") from None
-        raise ValueError(f"cannot open storage {redact(url)}: {cause}") from None  # reached, but refused
+    open_url, engine_kwargs = _engine_options(url, parsed, backend, read_only)
+    probe = _probe(url, open_url, engine_kwargs)
 
     def make():
         with warnings.catch_warnings():
