@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from . import reference as ref
@@ -412,7 +412,3 @@ def order_designs(designs) -> list[str]:
     """
     seen = list(dict.fromkeys(designs))
     return [d for d in PAPER_DESIGN_ORDER if d in seen] + [d for d in seen if d not in PAPER_DESIGN_ORDER]
-
-
-def iter_catalogue() -> Iterable[Material]:
-    return iter(CATALOGUE.values())

@@ -50,10 +50,6 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-class UsageError(ValueError):
-    """Bad input found by a command (reported as one line, exit code 2)."""
-
-
 # Options whose value may be a list starting with a minus sign ("-1,2,3"):
 # rewritten to --opt=VALUE before argparse sees them (see _checks).
 def describe_error(e: BaseException) -> str:
