@@ -153,8 +153,26 @@ def test_settings_validation():
 
 def test_gains_follow_the_settings_by_name():
     g = ControllerSettings(flight_kp=7.0, stance_kd=2.5).gains()
-    assert g.flight_kp == 7.0 and g.stance_kd == 2.5 and g.thrust_start_n == 200.0
-    assert g._fields == tuple(f for f in ControllerSettings.__dataclass_fields__)
+    assert g.flight_kp == 7.0 and g.stance_kd == 2.5
+    # the other gains keep the authors' values (docs/reference-hopper.md, "Controller"), as floats
+    authors = {
+        "phase_lock_s": 0.1,
+        "thrust_start_n": 200.0,
+        "thrust_adapt_gain": 100.0,
+        "hop_height_target_m": 1.0,
+        "thrust_min_rise_speed": 0.01,
+        "velocity_gain_desired": 0.2,
+        "velocity_gain_position": 0.5,
+        "velocity_limit_m_s": 0.1,
+        "stance_duration_s": 0.1,
+        "foot_placement_gain": 0.05,
+        "leg_length_m": 0.61,
+        "flight_kd": 0.1,
+        "stance_kp": 4.0,
+    }
+    assert {k: getattr(g, k) for k in authors} == authors
+    assert set(g._fields) == set(authors) | {"flight_kp", "stance_kd"}
+    assert all(type(v) is float for v in g)
 
 
 @pytest.mark.parametrize(
