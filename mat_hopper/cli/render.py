@@ -48,7 +48,6 @@ def cmd_render(args) -> int:
         tile_start_s=args.tile_start,
         fps=args.fps,
         size=size,
-        convention=args.convention,
         backend=backend,
         settings=settings,
     ):

@@ -131,7 +131,6 @@ class StabilityMap:
 
     def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
         """One StabilitySpec per grid cell (replicates do not apply)."""
-        from ..stability import StabilitySpec
 
         profile = get_profile(profile)
         dens, mods = self.axes(profile)
@@ -148,17 +147,7 @@ class StabilityMap:
                     "density_g_cm3": d,
                     "modulus_gpa": e,
                 }
-                out.append(
-                    StabilitySpec(
-                        design,
-                        duration_s=profile.stability_duration_s,
-                        tolerance=profile.stability_tolerance,
-                        max_iter=profile.stability_max_iter,
-                        scan=profile.stability_scan,
-                        convention=profile.convention,
-                        labels=labels,
-                    )
-                )
+                out.append(profile.stability_spec(design, labels))
         return out
 
 
@@ -286,7 +275,6 @@ def convention_tasks(
     LegDesigns; default the mono-materials) under each convention, with
     the profile's try
     length, tolerance and tries (no 20-step reference scan)."""
-    from ..stability import StabilitySpec
 
     prof = get_profile(profile)
     out = []
@@ -294,17 +282,7 @@ def convention_tasks(
         for n in names:
             d = parse_design(n) if isinstance(n, str) else n
             labels = {"experiment": "conventions", "profile": prof.name, "convention": conv, "design": d.name}
-            out.append(
-                StabilitySpec(
-                    d,
-                    duration_s=prof.stability_duration_s,
-                    tolerance=prof.stability_tolerance,
-                    max_iter=prof.stability_max_iter,
-                    scan=False,
-                    convention=conv,
-                    labels=labels,
-                )
-            )
+            out.append(prof.stability_spec(d, labels, convention=conv, scan=False))
     return out
 
 

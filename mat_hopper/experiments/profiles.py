@@ -91,6 +91,22 @@ class Profile:
         if int(self.stability_max_iter) < 0:
             raise ValueError(f"stability_max_iter must be >= 0, got {self.stability_max_iter!r}")
 
+    def stability_spec(self, design, labels: dict, *, convention: str | None = None, scan: bool | None = None):
+        """The stable-time-step measurement (a runner task) of one design under
+        this profile: its try length, tolerance, tries and scan; `convention`
+        and `scan` override the profile's."""
+        from ..stability import StabilitySpec
+
+        return StabilitySpec(
+            design,
+            duration_s=self.stability_duration_s,
+            tolerance=self.stability_tolerance,
+            max_iter=self.stability_max_iter,
+            scan=self.stability_scan if scan is None else scan,
+            convention=self.convention if convention is None else convention,
+            labels=labels,
+        )
+
     def key_dict(self) -> dict:
         """Every field as a cache or study key records it (a sensor timing by its name)."""
         return {f.name: _shown(getattr(self, f.name)) for f in fields(self)}
