@@ -72,9 +72,26 @@ HOP_HEIGHT_RANGE_M = (0.7, 3.0)  # accepted hop-height targets (base z at the ap
 
 @dataclass(frozen=True)
 class ControllerSettings:
-    """Every gain of the controller; defaults are the reference hopper's.
+    """Every gain of the controller; defaults are the reference hopper's
+    (docs/reference-hopper.md, "Controller").
 
-    Hip gains are per rad (rad/s) before the gear; forces in N; speeds m/s.
+    Args:
+        phase_lock_s: least time between phase switches, s (0.1).
+        thrust_start_n: the thrust F at the start, N (200).
+        thrust_adapt_gain: F += gain x (target - last hop height), N/m (100).
+        hop_height_target_m: the base's target peak height, m (1.0).
+        thrust_min_rise_speed: thrust only while the base rises faster, m/s (0.01).
+        velocity_gain_desired: desired local velocity gain, (m/s)/(m/s) (0.2).
+        velocity_gain_position: desired local position offset gain, (m/s)/m (0.5).
+        velocity_limit_m_s: clamp of the desired velocity, m/s (0.1).
+        stance_duration_s: T_st of the foot placement law, s (0.1).
+        foot_placement_gain: K1 of the foot placement law, s (0.05).
+        leg_length_m: hip-to-toe length the inverse kinematics assumes, m (0.61).
+        flight_kp, flight_kd: hip PD in flight, per rad and per rad/s before the gear (10, 0.1).
+        stance_kp, stance_kd: attitude correction in stance, per rad and per rad/s before the gear (4, 1).
+
+    Raises:
+        ValueError: a gain that is not finite, negative, or unphysical (naming it).
     """
 
     phase_lock_s: float = ref.PHASE_LOCK_S

@@ -55,17 +55,27 @@ def spec_scan_batch(
     max_batch: int | None = None,
     progress: bool = False,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """(one row per design, :data:`SCAN_COLUMNS`; one row per try,
-    :data:`TRY_COLUMNS`).
+    """The reference stable-time-step scan of many designs on a batch backend.
 
-    designs: LegDesigns or names; duration_s: static hopping per try (s);
-    first_s, last_s, n: the ladder :func:`mat_hopper.stability.spec_ladder`
-    (s); spec_timestep_s is its first rung at which the design ends upright,
-    nan if none. density_g_cm3, modulus_gpa: of the first segment (the map's
-    designs are mono-material). sensor_timing: the controller's
-    (:class:`~mat_hopper.control.SensorTiming`; a name or a latency). backend, device, workers, max_batch: as
-    :func:`mat_hopper.batch.evaluate`. Raises ValueError for an empty design
-    list or a ladder outside (0, 0.1] s."""
+    Args:
+        designs: LegDesigns or names.
+        duration_s: static hopping per try, s.
+        convention: the stiffness convention.
+        sensor_timing: the controller's (:class:`~mat_hopper.control.SensorTiming`;
+            a name or a latency in physics steps).
+        first_s, last_s, n: the ladder of :func:`mat_hopper.stability.spec_ladder`
+            (s, from first_s down to last_s, n rungs).
+        backend, device, workers, max_batch, progress: as :func:`mat_hopper.batch.evaluate`.
+
+    Returns:
+        (one row per design, :data:`SCAN_COLUMNS`: spec_timestep_s, the first
+        rung at which the design ends upright, nan if none; density_g_cm3 and
+        modulus_gpa of the first segment (the map's designs are mono-material);
+        one row per try, :data:`TRY_COLUMNS`).
+
+    Raises:
+        ValueError: an empty design list, n < 1, or a ladder outside (0, 0.1] s.
+    """
     designs = [as_design(d) for d in designs]
     if not designs:
         raise ValueError("no designs to scan")
