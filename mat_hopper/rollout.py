@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,9 +12,6 @@ from ._loop import CHANNELS, C
 from .behaviours import Behaviour
 from .control import LIFTOFF, TOUCHDOWN
 from .materials import LegDesign
-
-if TYPE_CHECKING:  # sim imports this module
-    from .sim import SimSettings
 
 __all__ = ["Rollout"]
 
@@ -32,7 +28,7 @@ class Rollout:
 
     design: LegDesign
     behaviour: Behaviour
-    settings: SimSettings
+    settings: object  # the run's mat_hopper.sim.SimSettings (sim imports this module, not the reverse)
     data: np.ndarray
     events: np.ndarray
     diverged_step: int

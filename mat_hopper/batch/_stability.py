@@ -111,23 +111,7 @@ def spec_scan_batch(
             max_batch=max_batch,
             progress=progress,
         )
-        left = []
-        for i, row in zip(todo, table.to_dict("records")):
-            n_tries[i] += 1
-            tries.append(
-                {
-                    "design": designs[i].name,
-                    "dt_s": float(dt),
-                    "stable": bool(row["stable"]),
-                    "upright": bool(row["upright"]),
-                    "diverged_at_s": math.nan if row["diverged_at_s"] is None else float(row["diverged_at_s"]),
-                }
-            )
-            if row["upright"]:
-                found[i] = float(dt)
-            else:
-                left.append(i)
-        todo = left
+        todo = _record_rung(float(dt), todo, table, designs, found, n_tries, tries)
     summary = pd.DataFrame(
         [
             {
@@ -143,3 +127,25 @@ def spec_scan_batch(
         columns=list(SCAN_COLUMNS),
     )
     return summary, pd.DataFrame(tries, columns=list(TRY_COLUMNS))
+
+
+def _record_rung(dt: float, todo: list, table, designs, found: list, n_tries: list, tries: list) -> list:
+    """One rung of the ladder: each try recorded, the step noted for the
+    designs that ended upright; returns the designs still to try."""
+    left = []
+    for i, row in zip(todo, table.to_dict("records")):
+        n_tries[i] += 1
+        tries.append(
+            {
+                "design": designs[i].name,
+                "dt_s": dt,
+                "stable": bool(row["stable"]),
+                "upright": bool(row["upright"]),
+                "diverged_at_s": math.nan if row["diverged_at_s"] is None else float(row["diverged_at_s"]),
+            }
+        )
+        if row["upright"]:
+            found[i] = dt
+        else:
+            left.append(i)
+    return left

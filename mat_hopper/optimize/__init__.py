@@ -8,13 +8,14 @@ The public names are re-exported here, as Optuna does: the search space
 :func:`run_study`; :func:`run_batch_study`, the same on the MuJoCo Warp batch
 backend, Optuna's ask-and-tell), its storage and its report (:func:`write_report`,
 :func:`replay`). The private modules ``_space``, ``_objective``,
-``_samplers``, ``_storage``, ``_study`` (with ``_processes``, its worker
-processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
+``_samplers``, ``_storage``, ``_study`` (with ``_coordinator``, the run's
+coordinator, and ``_processes``, its worker processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
 writes a study's tables and plots. The command line is
 :mod:`mat_hopper.cli.optimize`.
 """
 
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
+from ._coordinator import RunResult, run_study
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
 from ._processes import stop_signals
 from ._samplers import SAMPLERS, check_sampler
@@ -24,11 +25,9 @@ from ._study import (
     CONFIG_ATTR,
     DEFAULT_WORKERS,
     RunOptions,
-    RunResult,
     StudyConfig,
     check_objectives_vary,
     create_or_load,
-    run_study,
     stored_config,
     study_exists,
 )

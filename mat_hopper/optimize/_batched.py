@@ -1,6 +1,6 @@
 """Studies in deterministic batches through the result runner.
 
-:func:`mat_hopper.optimize._study.run_study` runs trials in worker
+:func:`mat_hopper.optimize.run_study` runs trials in worker
 processes that each ask and tell on their own: fast, and right for many
 machines, but with more than one worker the trials depend on which worker
 finishes first. The book needs a study that is the same on every machine

@@ -65,8 +65,20 @@ LEG_MATERIAL_LENGTH_M = ref.MATERIAL_LENGTH  # total length of the material segm
 
 @dataclass(frozen=True)
 class Objective:
-    """Behaviours to run (names), profile, stiffness convention, segment-mass
-    convention, and the hop height constraint: target and tolerance in m."""
+    """What the optimizer minimizes: tracking error and hip power, under a hop-height
+    and a stability constraint (module doc).
+
+    Args:
+        behaviours: behaviours to run (names).
+        profile: the run profile (duration, transient, time step).
+        convention: the stiffness convention.
+        hop_height_target_m, hop_height_tolerance_m: the hop height constraint, m.
+        segment_mass: the segment mass convention (None: the profile's).
+
+    Raises:
+        ValueError: an unknown behaviour or convention, or a target or
+            tolerance that is not a finite number > 0 m.
+    """
 
     behaviours: tuple[str, ...] = ("ramp",)
     profile: Profile = field(default_factory=get_profile)  # $MAT_HOPPER_PROFILE, else paper
@@ -226,9 +238,18 @@ def mujoco_warnings_to(sink: list):
 
 
 def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluation:
-    """Run `design` on every behaviour of `objective` and aggregate (module
-    doc). MuJoCo warnings are counted per behaviour (``mujoco_warnings``),
-    not printed."""
+    """Run `design` on every behaviour of `objective` and aggregate (module doc).
+
+    Args:
+        design: the leg.
+        objective: what to run and score.
+        tick: called once per behaviour done (progress), or None.
+
+    Returns:
+        An :class:`Evaluation`: objective values (tracking error m, power W),
+        constraint values (<= 0 feasible), hop height m, per-behaviour rows
+        (MuJoCo warnings counted in ``mujoco_warnings``, not printed).
+    """
     rows = []
     for b in objective.behaviours:
         with mujoco_warnings_to([]) as sink:

@@ -90,11 +90,20 @@ def _bounds(value, field_name: str, unit: str) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class SearchSpace:
-    """Where the optimizer looks. Bounds are (min, max) in g/cm^3 and GPa;
-    kinds is "continuous", "catalogue" or one of those per segment;
-    materials are catalogue names for catalogue segments; ashby_classes
-    restricts continuous segments to those classes' hulls (module doc;
-    the bounds, left as None, then come from the hulls)."""
+    """Where the optimizer looks.
+
+    Args:
+        n_segments: segments per leg.
+        kinds: ``"continuous"``, ``"catalogue"`` or one of those per segment.
+        density_g_cm3, modulus_gpa: (min, max) bounds of continuous segments,
+            g/cm^3 and GPa (None: from the Ashby classes' hulls, else the defaults).
+        materials: catalogue names for catalogue segments.
+        ashby_classes: restrict continuous segments to these classes' hulls (module doc).
+
+    Raises:
+        ValueError: bounds outside the physical ranges, unknown materials,
+            kinds or classes (naming them).
+    """
 
     n_segments: int = ref.REFERENCE_SEGMENTS
     kinds: tuple[str, ...] | str = "continuous"

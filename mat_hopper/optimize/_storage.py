@@ -83,6 +83,17 @@ KEEP_ON_RETRY = (PAPER_ATTR,)
 
 
 def check_study_name(name) -> str:
+    """A study name, checked.
+
+    Args:
+        name: 1-100 letters, digits, ``_``, ``.``, ``-``, starting with a letter or digit.
+
+    Returns:
+        The name.
+
+    Raises:
+        ValueError: any other name.
+    """
     if not isinstance(name, str) or not STUDY_NAME.match(name):
         raise ValueError(
             f"study name must be 1-100 characters of letters, digits, '_', '.', '-' "
@@ -301,15 +312,30 @@ def _probe(url: str, open_url: str, engine_kwargs: dict):
 
 
 def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retry: int = 3, read_only: bool = False):
-    """An Optuna storage for `url`, checked to be reachable (ValueError, one
-    line, if not). See the module doc for the accepted URLs.
+    """An Optuna storage for `url`, checked to be reachable. See the module doc
+    for the accepted URLs.
 
     ``postgresql://`` URLs use SQLAlchemy's default driver, psycopg 3
     (installed, pinned in environment.txt); ``postgresql+psycopg2://``
-    picks psycopg2. read_only: for reports, a SQLite file is opened
-    read-only (``mode=ro``): no write lock is taken, so a report never waits
-    for a writer, and a read-only connection never checkpoints nor removes
-    the ``-wal``/``-shm`` files a writer holds."""
+    picks psycopg2.
+
+    Args:
+        url: ``sqlite:///PATH``, ``postgresql://USER@HOST:PORT/DB`` (or another
+            SQLAlchemy URL) or ``journal:///PATH``.
+        heartbeat_s, grace_s: heartbeat interval and grace period of RDB storages, s.
+        max_retry: retries of a trial whose worker's heartbeat stopped.
+        read_only: for reports: a SQLite file is opened read-only (``mode=ro``):
+            no write lock is taken, so a report never waits for a writer, and a
+            read-only connection never checkpoints nor removes the
+            ``-wal``/``-shm`` files a writer holds.
+
+    Returns:
+        An ``optuna.storages.RDBStorage`` or ``JournalStorage``.
+
+    Raises:
+        ValueError: one line, for a bad URL, a missing driver, an unreachable or
+            refusing database, or bad heartbeat settings.
+    """
     if not isinstance(url, str) or not url.strip():
         raise ValueError(
             "--storage must be a URL such as sqlite:///studies/x.db, "

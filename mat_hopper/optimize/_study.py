@@ -46,7 +46,6 @@ then open http://127.0.0.1:8080/. See docs/optimizer.md.
 
 from __future__ import annotations
 
-import multiprocessing as mp
 import os
 import signal
 import sys
@@ -56,7 +55,6 @@ from dataclasses import dataclass, field
 
 import optuna
 from optuna.trial import TrialState
-from tqdm.std import tqdm
 
 from ..materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
 from ._objective import (
@@ -69,12 +67,8 @@ from ._processes import (
     HeldSignals,
     _die_with_parent,
     _orphaned,
-    _signals_ignored,
-    _start_method,
-    _warm_up,
-    stop_signals,
 )
-from ._samplers import SAMPLERS, check_sampler, make_sampler, worker_seed
+from ._samplers import SAMPLERS, make_sampler
 from ._space import SearchSpace
 from ._storage import (
     ERROR_ATTR,
@@ -82,10 +76,7 @@ from ._storage import (
     WORKER_ATTR,
     check_study_name,
     default_url,
-    dispose,
     open_storage,
-    recover_dead,
-    redact,
     storage_errors,
     worker_identity,
 )
@@ -94,7 +85,6 @@ DEFAULT_WORKERS = 2
 CONFIG_ATTR = "mat_hopper_config"
 BACKEND_ATTR = "mat_hopper_backend"  # study user attr: the simulator of its trials ("warp"; absent: the CPU path)
 CONFIG_VERSION = 1
-POLL_S = 1.0
 CREATE_WAIT_S = 30.0  # how long a second first start waits for the creator's config
 
 
@@ -139,8 +129,17 @@ def check_objectives_vary(objective: Objective) -> None:
 
 @dataclass(frozen=True)
 class StudyConfig:
-    """What a study is: its name, search space and objective. Stored in the
-    study (user attr ``mat_hopper_config``); resuming checks it."""
+    """What a study is. Stored in the study (user attr ``mat_hopper_config``);
+    resuming checks it.
+
+    Args:
+        name: the study's name (:func:`check_study_name`).
+        space: where the optimizer looks (:class:`SearchSpace`).
+        objective: what it minimizes (:class:`Objective`).
+
+    Raises:
+        ValueError: a bad name, space or objective.
+    """
 
     name: str
     space: SearchSpace = field(default_factory=SearchSpace)
@@ -164,10 +163,22 @@ class StudyConfig:
 
 @dataclass(frozen=True)
 class RunOptions:
-    """How to run a study: target size (trials), local worker processes,
-    sampler and seed, storage URL (None: studies_dir/<name>.db), heartbeat
-    interval and grace period (s, RDB storages), retries per trial of a
-    dead worker, progress bar."""
+    """How to run a study.
+
+    Args:
+        trials: target number of finished trials.
+        workers: local worker processes.
+        sampler: an Optuna sampler's name (:data:`SAMPLERS`).
+        seed: the sampler's seed (each worker's is derived from it).
+        storage: a storage URL (None: ``studies_dir/<name>.db``).
+        studies_dir: the folder of the default SQLite files.
+        heartbeat_s, grace_s: heartbeat interval and grace period of RDB storages, s.
+        max_retry: retries per trial of a dead worker.
+        progress: show a progress bar.
+
+    Raises:
+        ValueError: any value out of range (naming it).
+    """
 
     trials: int = 200
     workers: int = DEFAULT_WORKERS
@@ -214,6 +225,11 @@ def _quiet() -> None:
 
 
 def study_exists(name: str, storage) -> bool:
+    """Whether `storage` (an Optuna storage) holds a study named `name`.
+
+    Returns:
+        True when it does.
+    """
     try:
         storage.get_study_id_from_name(name)
         return True
@@ -245,14 +261,27 @@ def create_or_load(
     config: StudyConfig, storage, sampler=None, backend: str = "mujoco", *, wait_s: float = CREATE_WAIT_S
 ) -> optuna.Study:
     """The study `config.name` in `storage`: created with the paper's designs
-    enqueued first, or loaded and checked against `config` (ValueError on
-    a mismatch, or when its trials come from another backend).
+    enqueued first, or loaded and checked against `config`.
 
     Safe when several processes start the same new study at once: the
     study's creation is atomic in the storage (a unique name), and only
     its creator enqueues the paper's designs, then stores the config last,
     as the mark that the study is ready. The others wait for that mark (up
-    to `wait_s`; a creator that died before setting it is replaced)."""
+    to `wait_s`; a creator that died before setting it is replaced).
+
+    Args:
+        config: the study.
+        storage: an Optuna storage (:func:`open_storage`).
+        sampler: an Optuna sampler (None: Optuna's default).
+        backend: the backend its trials run on (``"mujoco"`` or ``"warp"``).
+        wait_s: how long to wait for another process's new study, s.
+
+    Returns:
+        The ``optuna.Study``.
+
+    Raises:
+        ValueError: a stored config other than `config`, or trials of another backend.
+    """
     _quiet()
     check_objectives_vary(config.objective)
     with warnings.catch_warnings():
@@ -404,193 +433,3 @@ def _worker_main(job: _Job, tickets, conn, parent: int) -> None:
     if code:
         sys.stderr.flush()
         os._exit(code)
-
-
-# --- the coordinator ---------------------------------------------------------
-
-
-class _Bar(tqdm):
-    monitor_interval = 0  # no monitor thread: we refresh it ourselves, and fork stays safe
-
-
-@dataclass
-class RunResult:
-    """What a run did. worker_reports: one dict per worker that exited
-    normally (pid, seed, told = [(trial number, state)]); dead_workers:
-    (pid, exit code) of the others; recovered: trials failed and
-    re-enqueued because their worker died."""
-
-    study: str
-    url: str
-    target: int
-    done: int
-    running: int
-    worker_reports: list = field(default_factory=list)
-    dead_workers: list = field(default_factory=list)
-    recovered: list = field(default_factory=list)
-    start_method: str = ""
-
-    @property
-    def finished(self) -> bool:
-        return self.done >= self.target
-
-
-def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunResult:
-    """Run `config`'s study until it holds options.trials finished trials,
-    with options.workers local worker processes (see the module doc).
-    Bad settings or an unreachable storage raise ValueError before any work;
-    a database error later is one line too (ValueError naming the storage
-    and its cause, e.g. "database is locked"). Ctrl-C, SIGTERM and SIGHUP
-    stop the workers, fail and re-queue their running trials, and raise
-    KeyboardInterrupt (:class:`Interrupted` for the signals)."""
-    check_sampler(options.sampler)
-    check_objectives_vary(config.objective)
-    url = options.storage_url(config.name)
-    with stop_signals(), storage_errors(url):
-        return _run(config, options, url)
-
-
-def _run(config: StudyConfig, options: RunOptions, url: str) -> RunResult:
-    storage = options.open(config.name)
-    study = create_or_load(config, storage)
-    recovered = recover_dead(study, max_retry=options.max_retry, reason="worker of an earlier run died")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-        optuna.storages.fail_stale_trials(study)
-    done, running = counts(study)
-    result = RunResult(config.name, redact(url), options.trials, done, running, recovered=recovered)
-    budget = options.trials - done - running
-    if budget <= 0:
-        return result
-
-    result.start_method = _start_method()
-    if result.start_method == "fork":
-        _warm_up()
-    pool = _Workers(config, options, url, storage, study, result, budget)
-    pool.spawn(min(options.workers, budget))
-    bar = _Bar(
-        total=options.trials,
-        initial=min(done, options.trials),
-        unit="trial",
-        desc=config.name,
-        disable=not options.progress,
-        dynamic_ncols=True,
-        file=sys.stderr,
-        mininterval=1.0,
-    )
-    try:
-        _supervise(pool, bar)
-    except KeyboardInterrupt as e:
-        with _signals_ignored():  # a second Ctrl-C or SIGTERM does not cut the clean-up short
-            pool.stop(f"interrupted ({getattr(e, 'signal_name', 'SIGINT')})")
-        raise
-    except BaseException:
-        if pool.live:
-            pool.stop("stopped by an error in the coordinator")
-        raise
-    finally:
-        bar.close()
-    result.done, result.running = counts(study)
-    return result
-
-
-def _supervise(pool: _Workers, bar) -> None:
-    """Poll the workers until the budget is spent or no worker makes progress:
-    reap the dead (their trials failed, tickets returned), respawn while
-    trials remain, raise a worker's storage error."""
-    options, result, study = pool.options, pool.result, pool.study
-    max_spawn = options.workers + options.workers * (options.max_retry + 1)
-    told_before, recovered_before = 0, len(result.recovered)
-    while True:
-        pool.reap()
-        if pool.errors:  # a storage failure in a worker: the others would meet it too
-            pool.stop("stopped after a storage error")
-            raise ValueError(pool.errors[0])
-        done, running = counts(study)
-        bar.n = min(done, options.trials)
-        bar.set_postfix(running=running, dead=len(result.dead_workers), refresh=False)
-        bar.refresh()
-        if not pool.live:
-            told = sum(len(r["told"]) for r in result.worker_reports)
-            progress = told > told_before or len(result.recovered) > recovered_before
-            told_before, recovered_before = told, len(result.recovered)
-            if done < options.trials and pool.tickets.value > 0 and pool.spawned < max_spawn and progress:
-                pool.spawn(min(options.workers, pool.tickets.value))
-                continue
-            return
-        time.sleep(POLL_S)
-
-
-class _Workers:
-    """The worker processes of one run: spawned with a shared ticket count
-    (trials left), each reporting through a pipe; a dead one's trials are
-    failed (retried) and its ticket returned."""
-
-    def __init__(self, config, options, url, storage, study, result, budget: int):
-        self.config, self.options, self.url = config, options, url
-        self.storage, self.study, self.result = storage, study, result
-        self.ctx = mp.get_context(result.start_method)
-        self.tickets = self.ctx.Value("i", budget)
-        self.n_existing = len(study.get_trials(deepcopy=False))
-        self.live: dict[int, tuple] = {}
-        self.errors: list[str] = []
-        self.spawned = 0
-
-    def spawn(self, n: int) -> None:
-        config, options = self.config, self.options
-        dispose(self.storage)  # no pooled connection crosses the fork (reopened on next use)
-        for _ in range(n):
-            seed = worker_seed(options.seed, self.n_existing, self.spawned)
-            job = _Job(config.name, config.key(), options, self.url, seed, options.trials)
-            parent_end, child_end = self.ctx.Pipe(duplex=False)
-            p = self.ctx.Process(
-                target=_worker_main,
-                args=(job, self.tickets, child_end, os.getpid()),
-                daemon=True,
-                name=f"mat-hopper-worker-{self.spawned}",
-            )
-            p.start()
-            child_end.close()
-            self.live[p.pid] = (p, parent_end)
-            self.spawned += 1
-
-    def receive(self, conn) -> None:
-        while conn.poll():
-            try:
-                rep = conn.recv()
-            except (EOFError, OSError):
-                return
-            if "error" in rep:
-                self.errors.append(rep["error"])
-            self.result.worker_reports.append(rep)
-
-    def reap(self) -> None:
-        for pid, (p, conn) in list(self.live.items()):
-            self.receive(conn)
-            if p.is_alive():
-                continue
-            p.join()
-            self.receive(conn)
-            conn.close()
-            del self.live[pid]
-            if p.exitcode != 0:
-                self.result.dead_workers.append((pid, p.exitcode))
-                lost = recover_dead(
-                    self.study,
-                    pids={pid},
-                    max_retry=self.options.max_retry,
-                    reason=f"worker exited with code {p.exitcode}",
-                )
-                self.result.recovered += lost
-                with self.tickets.get_lock():  # its ticket back (the storage check in _claim still caps the total)
-                    self.tickets.value += max(1, len(lost))
-
-    def stop(self, reason: str) -> None:
-        for p, _ in self.live.values():
-            p.terminate()
-        for p, conn in self.live.values():
-            p.join(10)
-            conn.close()
-        with storage_errors(self.url):
-            recover_dead(self.study, pids=set(self.live), max_retry=self.options.max_retry, reason=reason)
-        self.live.clear()

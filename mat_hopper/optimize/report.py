@@ -217,8 +217,19 @@ def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> 
 
 
 def write_report(name: str, storage, out_dir: str) -> dict:
-    """Every output of the module doc, written into out_dir. Returns
-    {output name: path} and the tables."""
+    """Every output of the module doc, written into `out_dir`.
+
+    Args:
+        name: the study's name.
+        storage: its Optuna storage.
+        out_dir: the folder (made if needed).
+
+    Returns:
+        {output name: path} and the tables (trials, pareto, baselines, ...).
+
+    Raises:
+        ValueError: no such study or not ours.
+    """
     study, config = load(name, storage)
     os.makedirs(out_dir, exist_ok=True)
     frame = trials_frame(study, config)
@@ -265,7 +276,20 @@ def write_report(name: str, storage, out_dir: str) -> dict:
 
 
 def replay(name: str, storage, number: int):
-    """(trial, design, fresh Evaluation) for trial `number` of study `name`."""
+    """Replay one trial of a study: its design simulated afresh.
+
+    Args:
+        name: the study's name.
+        storage: its Optuna storage (:func:`open_storage`).
+        number: the trial's number.
+
+    Returns:
+        (the FrozenTrial, its LegDesign, a fresh :class:`Evaluation`, the study's
+        :class:`StudyConfig`): compare the fresh values with the stored ones.
+
+    Raises:
+        ValueError: no such study, not ours, or no such trial.
+    """
     study, config = load(name, storage)
     trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]
     if not trials:
