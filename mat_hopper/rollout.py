@@ -18,13 +18,25 @@ __all__ = ["Rollout"]
 
 @dataclass(eq=False)
 class Rollout:
-    """What one rollout recorded. Arrays share the first axis (samples).
+    """What one rollout recorded (made by :func:`mat_hopper.sim.simulate`).
 
-    ``data`` holds every channel of :data:`CHANNELS` as columns; the
-    properties below are named views in SI units. Events are the state
-    machine's switches: ``touchdown_times_s``, ``liftoff_times_s`` and the
-    controller's own ``hop_heights_m`` (one per touchdown after the first
-    lift-off)."""
+    ``data`` holds every channel of :data:`mat_hopper.sim.CHANNELS` as
+    columns; the properties below are named views in SI units. Events are
+    the state machine's switches: ``touchdown_times_s``, ``liftoff_times_s``
+    and the controller's own ``hop_heights_m`` (one per touchdown after the
+    first lift-off).
+
+    Args:
+        design: the leg.
+        behaviour: the desired path and terrain.
+        settings: the run's SimSettings.
+        data: (n, len(CHANNELS)) samples at ``settings.record_rate_hz``.
+        events: (m, 3) switches: time s, kind (touchdown or lift-off), hop height m.
+        diverged_step: the physics step of numerical divergence, -1 if none.
+        total_mass_kg: the robot's mass as MuJoCo computes it, kg.
+        spring_stiffness_n_m: the material springs' stiffnesses, N/m, hip to foot.
+        qpos: (n, nq) joint positions, if recorded (``record_qpos=True``).
+    """
 
     design: LegDesign
     behaviour: Behaviour

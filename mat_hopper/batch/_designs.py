@@ -64,12 +64,26 @@ def parse_design_list(text: str) -> list[LegDesign]:
 
 
 def topology_key(design: LegDesign) -> tuple[bool, ...]:
-    """Which segments are rigid, base to foot: equal keys compile to one topology."""
+    """Which segments are rigid, base to foot: equal keys compile to one topology.
+
+    Args:
+        design: a LegDesign.
+
+    Returns:
+        One bool per segment, True where rigid.
+    """
     return tuple(m.rigid for m in design.segments)
 
 
 def group_by_topology(designs: Sequence[LegDesign]) -> OrderedDict[tuple[bool, ...], list[int]]:
-    """Indices of the designs per topology, groups and indices in input order."""
+    """The designs grouped by topology (one compiled model per group).
+
+    Args:
+        designs: LegDesigns.
+
+    Returns:
+        {topology key: indices of its designs}, groups and indices in input order.
+    """
     groups: OrderedDict[tuple[bool, ...], list[int]] = OrderedDict()
     for i, d in enumerate(designs):
         groups.setdefault(topology_key(d), []).append(i)

@@ -103,13 +103,31 @@ def check_study_name(name) -> str:
 
 
 def default_url(study_name: str, studies_dir: str = "studies") -> str:
-    """sqlite URL of the study's own file, studies_dir/<name>.db (absolute)."""
+    """The sqlite URL of a study's own file.
+
+    Args:
+        study_name: the study's name (:func:`check_study_name`).
+        studies_dir: the folder.
+
+    Returns:
+        ``sqlite:///<absolute studies_dir>/<name>.db``.
+
+    Raises:
+        ValueError: a bad study name.
+    """
     path = os.path.abspath(os.path.join(studies_dir, f"{check_study_name(study_name)}.db"))
     return f"sqlite:///{path}"
 
 
 def redact(url: str) -> str:
-    """The URL with any password hidden (for messages)."""
+    """A storage URL for messages.
+
+    Args:
+        url: a storage URL.
+
+    Returns:
+        The URL with any password hidden.
+    """
     try:
         from sqlalchemy.engine import make_url
 
@@ -128,7 +146,14 @@ def _journal_path(url: str) -> str:
 
 
 def storage_file(url: str) -> str | None:
-    """The local file of a sqlite or journal URL (absolute), else None."""
+    """The local file of a storage.
+
+    Args:
+        url: a storage URL.
+
+    Returns:
+        The absolute path of a sqlite or journal URL's file, else None.
+    """
     if url.startswith("journal:"):
         return os.path.abspath(_journal_path(url))
     try:

@@ -118,7 +118,15 @@ def check_physical_bounds(space: SearchSpace) -> None:
 
 
 def check_objectives_vary(objective: Objective) -> None:
-    """Refuse a study whose objectives cannot vary (static hopping alone)."""
+    """Refuse a study whose objectives cannot vary.
+
+    Args:
+        objective: the study's objective.
+
+    Raises:
+        ValueError: static hopping alone (tracking error and hip power are zero
+            by symmetry for every design, round-off only).
+    """
     if all(b in DEGENERATE_BEHAVIOURS for b in objective.behaviours):
         raise ValueError(
             f"--behaviour {','.join(objective.behaviours)} alone cannot be optimized: hopping in place, "
@@ -238,7 +246,15 @@ def study_exists(name: str, storage) -> bool:
 
 
 def stored_config(name: str, storage) -> StudyConfig | None:
-    """The config a study was created with, or None (no such study, or not ours)."""
+    """The config a study was created with.
+
+    Args:
+        name: the study's name.
+        storage: an Optuna storage.
+
+    Returns:
+        The :class:`StudyConfig`, or None (no such study, or not ours).
+    """
     if not study_exists(name, storage):
         return None
     attrs = storage.get_study_user_attrs(storage.get_study_id_from_name(name))

@@ -66,8 +66,16 @@ def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
 
 
 def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
-    """One row per trial (see module doc), queued trials not yet run
-    (WAITING) left out. No wall-clock columns."""
+    """One row per trial (see module doc), queued trials not yet run (WAITING)
+    left out. No wall-clock columns.
+
+    Args:
+        study: an ``optuna.Study`` of ours.
+        config: its :class:`StudyConfig`.
+
+    Returns:
+        The trials table, columns as the module doc lists them (units in the names).
+    """
     rows = []
     space = config.space
     states = tuple(s for s in TrialState if s != TrialState.WAITING)
@@ -114,12 +122,19 @@ def feasible_complete(frame: pd.DataFrame) -> pd.DataFrame:
 
 
 def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None, *, best=None) -> pd.DataFrame:
-    """The Pareto front: the trials of `best` (trial numbers, from Optuna's
-    ``study.best_trials``: complete, feasible, non-dominated), by tracking
-    error, with percent changes against each baseline ({name:
-    (tracking_error_m, power_w)}). Of trials with identical objective
-    values (a design evaluated twice, e.g. a retried trial) the first is
-    kept: Optuna lists every copy."""
+    """The Pareto front, by tracking error. Of trials with identical objective
+    values (a design evaluated twice, e.g. a retried trial) the first is kept:
+    Optuna lists every copy.
+
+    Args:
+        frame: :func:`trials_frame`'s table.
+        baselines: {name: (tracking_error_m, power_w)} to compare against, or None.
+        best: the front's trial numbers, from Optuna's ``study.best_trials``
+            (complete, feasible, non-dominated).
+
+    Returns:
+        The front's rows, with percent changes against each baseline.
+    """
     ok = feasible_complete(frame)
     if ok.empty or not best:
         return ok.iloc[0:0].copy()
@@ -361,10 +376,16 @@ def book_study(
 
 
 def front_table(front: pd.DataFrame) -> pd.DataFrame:
-    """A Pareto table (:func:`mat_hopper.optimize.report.pareto_frame`) for
-    the page: trial, the paper's design it is (if any), tracking error
-    (mm), hip power (mW), hop height (m) and the percent changes against
-    the baselines, with short column names."""
+    """A Pareto table for the page.
+
+    Args:
+        front: :func:`pareto_frame`'s table.
+
+    Returns:
+        trial, the paper's design it is (if any), tracking error (mm), hip power
+        (mW), hop height (m) and the percent changes against the baselines,
+        with short column names.
+    """
     out = pd.DataFrame(
         {
             "trial": front["trial"].astype(int),
@@ -383,11 +404,16 @@ def front_table(front: pd.DataFrame) -> pd.DataFrame:
 
 
 def front_designs(front: pd.DataFrame, k: int | None = None, *, skip_paper: bool = True) -> dict[str, LegDesign]:
-    """The designs of a Pareto table (``seg{i}_rho_g_cm3``,
-    ``seg{i}_e_gpa`` columns; at most `k`, by tracking error) as
-    {"#<trial>": LegDesign}, for :func:`designs_figure`; the paper's own
-    designs (a non-empty ``paper_design``) are left out unless
-    `skip_paper` is false."""
+    """The designs of a Pareto table, for :func:`mat_hopper.viz.maps.designs_figure`.
+
+    Args:
+        front: a table with ``seg{i}_rho_g_cm3`` and ``seg{i}_e_gpa`` columns.
+        k: at most this many, by tracking error (None: all).
+        skip_paper: leave out the paper's own designs (a non-empty ``paper_design``).
+
+    Returns:
+        {"#<trial>": LegDesign}.
+    """
     rows = front.sort_values("tracking_error_m") if "tracking_error_m" in front.columns else front
     if skip_paper and "paper_design" in rows.columns:
         rows = rows[rows["paper_design"].fillna("").astype(str) == ""]

@@ -261,7 +261,7 @@ def test_sigterm_right_after_the_trial_is_made_waits_until_it_names_its_worker(t
 
     parent = os.getpid()
     monkeypatch.setattr(optuna.Study, "ask", ask)
-    monkeypatch.setattr(study_mod, "_start_method", lambda: "fork")
+    monkeypatch.setattr(coordinator_mod, "_start_method", lambda: "fork")
     url = f"sqlite:///{tmp_path}/held.db"
     res = run_study(tiny("held"), RunOptions(trials=2, workers=1, storage=url, progress=False))
     pid = int(shot.read_text())
