@@ -31,10 +31,19 @@ class _Bar(tqdm):
 
 @dataclass
 class RunResult:
-    """What a run did. worker_reports: one dict per worker that exited
-    normally (pid, seed, told = [(trial number, state)]); dead_workers:
-    (pid, exit code) of the others; recovered: trials failed and
-    re-enqueued because their worker died."""
+    """What a run did.
+
+    Args:
+        study: the study's name.
+        url: its storage URL, password hidden.
+        target: the trials the study was to hold.
+        done, running: finished and running trials at the end.
+        worker_reports: one dict per worker that exited normally (pid, seed,
+            told = [(trial number, state)]).
+        dead_workers: (pid, exit code) of the others.
+        recovered: trials failed and re-enqueued because their worker died.
+        start_method: how workers were started (``"fork"``, ``"forkserver"``; ``"warp:DEVICE"``).
+    """
 
     study: str
     url: str

@@ -148,8 +148,16 @@ class Objective:
 
 @dataclass
 class Evaluation:
-    """One design's outcome: objective values (OBJECTIVES order), constraint
-    values (CONSTRAINTS order, <= 0 feasible), and per-behaviour rows."""
+    """One design's outcome.
+
+    Args:
+        values: objective values in :data:`OBJECTIVES` order (tracking error m, hip power W).
+        constraints: constraint values in :data:`CONSTRAINTS` order (<= 0 feasible).
+        hop_height_m: the mean hop height, m.
+        per_behaviour: one row (dict) per behaviour run.
+        total_mass_kg: the robot's mass, kg.
+        simulated_s: simulated time of all its runs, s.
+    """
 
     values: tuple[float, float]
     constraints: tuple[float, float]

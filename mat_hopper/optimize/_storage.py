@@ -214,8 +214,15 @@ def db_errors() -> tuple:
 
 @contextmanager
 def storage_errors(url: str):
-    """Turn database errors (SQLAlchemy's, Optuna's StorageInternalError,
-    sqlite3's) raised inside into :func:`storage_error`'s one line."""
+    """A context in which database errors become one line.
+
+    Args:
+        url: the storage's URL (named in the message, password hidden).
+
+    Raises:
+        ValueError: for SQLAlchemy's errors, Optuna's StorageInternalError and
+            sqlite3's raised inside (:func:`storage_error`'s one line).
+    """
     try:
         yield
     except db_errors() as e:
@@ -441,9 +448,13 @@ def _sqlite_wal(path: str) -> None:
 
 
 def dispose(storage) -> None:
-    """Close a storage's pooled database connections (before a fork: no
-    connection may cross into a child process, where SQLite's POSIX locks
-    would be released by the child closing its copy)."""
+    """Close a storage's pooled database connections (before a fork: no connection
+    may cross into a child process, where SQLite's POSIX locks would be released
+    by the child closing its copy).
+
+    Args:
+        storage: an Optuna storage (others than RDB storages: nothing to close).
+    """
     engine = getattr(storage, "engine", None)
     if engine is not None:
         engine.dispose()

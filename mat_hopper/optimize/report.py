@@ -337,19 +337,36 @@ def book_study(
     cache_dir=None,
     workers: int | None = None,
 ) -> dict:
-    """Run (or resume, or just load) the book's design study with
-    :func:`mat_hopper.optimize._batched.run_batched`: continuous density
-    and modulus per segment (3 segments; in the hulls of `ashby_classes`
-    when given), tracking error and hip power on `behaviours` under the
-    profile, the paper's nine designs first (the rigid MD as a baseline
-    run), `trials` trials (default :data:`STUDY_TRIALS` of the profile) in
-    batches of `batch` through the runner's cache and pool, so the study is
-    the same on any machine. Storage: ``studies/<name>.db``; the name
-    carries a digest of the settings, sampler, seed and batch, so changed
-    settings start a new study instead of clashing with an old one (folder
-    `studies_dir`). Then :func:`write_report` into `out_dir`. Returns the
-    report dict (``trials``, ``pareto``, ``baselines``, ``hypervolume``,
-    ``importances``, ``paths``) plus ``name``, ``url`` and ``config``."""
+    """Run (or resume, or just load) the book's design study, then write its report.
+
+    The study (:func:`mat_hopper.optimize._batched.run_batched`): continuous
+    density and modulus per segment (3 segments; in the hulls of
+    `ashby_classes` when given), tracking error and hip power on `behaviours`
+    under the profile, the paper's nine designs first (the rigid MD as a
+    baseline run), in batches through the runner's cache and pool, so the
+    study is the same on any machine. Its name carries a digest of the
+    settings, sampler, seed and batch, so changed settings start a new study
+    instead of clashing with an old one.
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else paper).
+        studies_dir: the folder of ``<name>.db``.
+        out_dir: where :func:`write_report` writes.
+        trials: the study's size (None: :data:`STUDY_TRIALS` of the profile).
+        behaviours: behaviour names.
+        seed: the sampler's seed.
+        ashby_classes: material classes whose hulls bound the search.
+        sampler: an Optuna sampler's name.
+        batch: trials per batch.
+        cache_dir, workers: the runner's cache folder and processes.
+
+    Returns:
+        The report dict (``trials``, ``pareto``, ``baselines``, ``hypervolume``,
+        ``importances``, ``paths``) plus ``name``, ``url`` and ``config``.
+
+    Raises:
+        ValueError: bad settings (naming them), before any run.
+    """
     import hashlib
     import json
 
