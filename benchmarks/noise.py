@@ -22,6 +22,7 @@ and objective it prints
 from __future__ import annotations
 
 import argparse
+import itertools
 
 import numpy as np
 import pandas as pd
@@ -55,27 +56,43 @@ def summary(frame: pd.DataFrame) -> pd.DataFrame:
     out = []
     for (b,), g in frame.groupby(["behaviour"]):
         reps = g[g["replicate"] >= 0]
-        n = reps["replicate"].nunique()
         seeds = sorted(reps["replicate"].unique())
+        n = len(seeds)
         for o in OBJECTIVES:
-            wide = reps.pivot(index="design", columns="replicate", values=o)[seeds]
+            wide = reps.pivot(index="design", columns="replicate", values=o)[seeds].to_numpy(float)
             full = wide.mean(axis=1)
-            nominal = g[g["replicate"] < 0].set_index("design")[o].reindex(wide.index)
-            cv = float(np.median(wide.std(axis=1, ddof=1) / wide.mean(axis=1)))
-            nominal_err = float(np.median((nominal - full).abs() / full))
-            between = float(full.std(ddof=1))
-            for k in range(0, n + 1):
-                est = nominal if k == 0 else wide.iloc[:, :k].mean(axis=1)
-                se = np.nan if k < 2 else float(np.median(wide.iloc[:, :k].std(axis=1, ddof=1) / np.sqrt(k)))
+            nominal = (
+                g[g["replicate"] < 0]
+                .set_index("design")[o]
+                .reindex(reps.pivot(index="design", columns="replicate", values=o).index)
+                .to_numpy(float)
+            )
+            cv = wide.std(axis=1, ddof=1) / wide.mean(axis=1)
+            pairs = list(itertools.combinations(range(len(wide)), 2))
+            # common random numbers: variance of a paired difference against unpaired
+            paired = [np.var(wide[i] - wide[j], ddof=1) for i, j in pairs]
+            unpaired = [np.var(wide[i], ddof=1) + np.var(wide[j], ddof=1) for i, j in pairs]
+            crn_ratio = float(np.median(np.array(paired) / np.array(unpaired)))
+            for k in range(0, n):
+                subsets = [None] if k == 0 else list(itertools.combinations(range(n), k))
+                agree, taus = [], []
+                for sub in subsets:
+                    # K = 0: the unperturbed run; else the mean of K seeds, judged against the other seeds
+                    est = nominal if sub is None else wide[:, list(sub)].mean(axis=1)
+                    rest = full if sub is None else np.delete(wide, list(sub), axis=1).mean(axis=1)
+                    agree += [np.sign(est[i] - est[j]) == np.sign(rest[i] - rest[j]) for i, j in pairs]
+                    taus.append(stats.kendalltau(est, rest).statistic)
                 out.append(
                     {
                         "behaviour": b,
                         "objective": o,
-                        "replicate_cv": cv,
-                        "nominal_rel_error": nominal_err,
                         "K": k,
-                        "se_over_between_sd": se / between,
-                        "kendall_tau_vs_all": float(stats.kendalltau(est, full).statistic),
+                        "replicate_cv": float(np.median(cv)),
+                        "rel_se_of_mean": np.nan if k == 0 else float(np.median(cv) / np.sqrt(k)),
+                        "nominal_bias": float(np.median((nominal - full) / full)),
+                        "crn_variance_ratio": crn_ratio,
+                        "pair_order_agreement": float(np.mean(agree)),
+                        "kendall_tau": float(np.mean(taus)),
                     }
                 )
     return pd.DataFrame(out)
@@ -87,8 +104,12 @@ def main() -> None:
     p.add_argument("--replicates", type=int, default=6)
     p.add_argument("--profile", default="quick")
     p.add_argument("--csv", help="write the runs here")
+    p.add_argument("--from-csv", help="summarize the runs of an earlier --csv instead of running")
     a = p.parse_args()
-    frame = runs([b.strip() for b in a.behaviours.split(",")], a.replicates, get_profile(a.profile))
+    if a.from_csv:
+        frame = pd.read_csv(a.from_csv)
+    else:
+        frame = runs([b.strip() for b in a.behaviours.split(",")], a.replicates, get_profile(a.profile))
     if a.csv:
         frame.to_csv(a.csv, index=False)
     pd.set_option("display.width", 200)

@@ -11,6 +11,8 @@ from optuna.trial import TrialState
 from ..experiments.profiles import PROFILES, get_profile
 from ..materials import LegDesign
 from ..optimize import (
+    DEFAULT_CVAR_ALPHA,
+    DEFAULT_REPLICATES,
     DEFAULT_WORKERS,
     KINDS,
     SAMPLERS,
@@ -21,6 +23,7 @@ from ..optimize import (
     check_sampler,
     check_study_name,
     describe,
+    front_table,
     open_storage,
     redact,
     replay,
@@ -66,8 +69,28 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
         hop_height_target_m=ob.hop_height_target_m,
         hop_height_tolerance_m=ob.hop_height_tolerance_m,
         segment_mass=getattr(args, "segment_mass", None) or ob.segment_mass,
+        **_noise_and_mass_from_args(args, ob),
     )
     return StudyConfig(args.study, space, objective)
+
+
+def _noise_and_mass_from_args(args, ob: Objective) -> dict:
+    """--replicates, --risk, --cvar-alpha, --leg-mass, --leg-mass-tolerance
+    (mat_hopper.optimize._robust), each the stored (or default) value when
+    left out; ``--leg-mass none`` lifts the constraint."""
+    given = lambda name: getattr(args, name, None) is not None  # noqa: E731
+    leg_mass = ob.leg_mass
+    if given("leg_mass"):
+        leg_mass = None if args.leg_mass.strip().lower() == "none" else args.leg_mass
+    return {
+        "replicates": args.replicates if given("replicates") else ob.replicates,
+        "risk": args.risk.strip().lower() if given("risk") else ob.risk,
+        "cvar_alpha": args.cvar_alpha if given("cvar_alpha") else ob.cvar_alpha,
+        "leg_mass": leg_mass,
+        "leg_mass_tolerance_kg": args.leg_mass_tolerance
+        if given("leg_mass_tolerance")
+        else (ob.leg_mass_tolerance_kg if leg_mass is not None else None),
+    }
 
 
 def _options_from_args(args, trials: int = 1) -> RunOptions:
@@ -222,6 +245,19 @@ def register_cli(sub) -> None:
         "20 s transient, 1e-4 s step; quick: 12 s, 4 s)",
     )
     p.add_argument("--convention", help="stiffness convention: paper (default) or axial")
+    p.add_argument(
+        "--replicates",
+        type=int,
+        help=f"perturbed replicates per trial, the same seeds for every trial (default {DEFAULT_REPLICATES}; "
+        "0: one unperturbed run)",
+    )
+    p.add_argument("--risk", help="objective over replicates: mean (default) or cvar (mean of the worst tail)")
+    p.add_argument("--cvar-alpha", type=float, help=f"--risk cvar's level in [0, 1) (default {DEFAULT_CVAR_ALPHA})")
+    p.add_argument(
+        "--leg-mass",
+        help="constrain the leg's mass to a paper design's (e.g. SS) or to a mass in kg; none: unconstrained (default)",
+    )
+    p.add_argument("--leg-mass-tolerance", type=float, help="kg, +- around --leg-mass (default 5 %% of the target)")
     p.add_argument("--workers", type=int, default=DEFAULT_WORKERS, help="worker processes here (2)")
     p.add_argument(
         "--storage",
@@ -284,9 +320,11 @@ def cmd_report(name: str, args, out: str) -> int:
     print(f"study {name}: {len(frame)} trials {states}, {n_ok} feasible, {len(front)} on the Pareto front")
     for b, (te, pw) in rep["baselines"].items():
         print(f"  {b}: tracking error {te:.4g} m, power {pw:.4g} W")
-    if len(front):
-        cols = [c for c in front.columns if not c.startswith("seg")]
-        print(front[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    if len(front):  # the designs, not only their trial numbers: densities, moduli, leg mass
+        table = front_table(front).drop(columns=["hop height (m)"])
+        table.insert(1, "design", front["design"].to_numpy())
+        print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+        print(f"export a design: mat-hopper optimize --report {name} --export TRIAL")
     for p in rep["paths"].values():
         print(f"wrote {p}")
     return 0

@@ -10,12 +10,25 @@ backend, Optuna's ask-and-tell), its storage and its report (:func:`write_report
 :func:`replay`). The private modules ``_space``, ``_objective``,
 ``_samplers``, ``_storage``, ``_study`` (with ``_processes``, its worker
 processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
-writes a study's tables and plots. The command line is
+writes a study's tables and plots; ``_robust`` holds the noise- and
+mass-aware scores (replicates on common random numbers, mean or CVaR, the
+leg-mass constraint). The command line is
 :mod:`mat_hopper.cli.optimize`.
 """
 
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
+from ._robust import (
+    DEFAULT_CVAR_ALPHA,
+    DEFAULT_LEG_MASS_TOLERANCE,
+    DEFAULT_REPLICATES,
+    RISKS,
+    SEARCH_SEED_START,
+    cvar,
+    leg_mass_kg,
+    replicate_seeds,
+    score,
+)
 from ._samplers import SAMPLERS, check_sampler
 from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, SearchSpace, describe, resample
 from ._storage import check_study_name, default_url, open_storage, redact, storage_file
@@ -40,6 +53,15 @@ __all__ = [
     "Evaluation",
     "Objective",
     "evaluate",
+    "DEFAULT_CVAR_ALPHA",
+    "DEFAULT_LEG_MASS_TOLERANCE",
+    "DEFAULT_REPLICATES",
+    "RISKS",
+    "SEARCH_SEED_START",
+    "cvar",
+    "leg_mass_kg",
+    "replicate_seeds",
+    "score",
     "DENSITY_BOUNDS_G_CM3",
     "KINDS",
     "MODULUS_BOUNDS_GPA",

@@ -20,6 +20,7 @@ def test_front_table_and_designs():
             "hop_height_m": [0.96, 0.98],
             "tracking_error_vs_SS_pct": [0.0, 100.0],
             "power_vs_SS_pct": [0.0, -37.5],
+            "leg_mass_kg": [7.854, 8.2],
             "seg1_rho_g_cm3": [8.0, 13.4],
             "seg1_e_gpa": [193.0, 4.4],
             "seg2_rho_g_cm3": [8.0, 2.0],
@@ -35,8 +36,15 @@ def test_front_table_and_designs():
         "hop height (m)",
         "tracking vs SS (%)",
         "power vs SS (%)",
+        "leg mass (kg)",
+        "seg 1 density (g/cm^3)",
+        "seg 1 modulus (GPa)",
+        "seg 2 density (g/cm^3)",
+        "seg 2 modulus (GPa)",
     ]
     assert t.loc[1, "tracking error (mm)"] == 20.0
+    assert t.loc[1, "leg mass (kg)"] == 8.2
+    assert t.loc[1, "seg 2 density (g/cm^3)"] == 2.0 and t.loc[1, "seg 1 modulus (GPa)"] == 4.4
     legs = optimize.front_designs(front)
     assert list(legs) == ["#7"] and legs["#7"].densities_g_cm3 == (13.4, 2.0)
     assert list(optimize.front_designs(front, skip_paper=False, k=1)) == ["#0"]
