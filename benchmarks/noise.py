@@ -10,10 +10,14 @@ and objective it prints
   coefficient of variation (sd / mean);
 - the unperturbed run's error: the median |nominal - mean of all
   replicates| / mean;
-- for K = 1 .. n: the median standard error of a K-replicate mean, as a
-  fraction of the between-design sd of the n-replicate means, and
-  Kendall's tau between the designs' K-replicate means (first K seeds)
-  and their n-replicate means (K = 0: the unperturbed run).
+- the variance of a paired difference between two designs on the same
+  seeds (common random numbers) over the unpaired variance (median over
+  pairs);
+- for K = 0 .. n/2 (K = 0: the unperturbed run): the relative standard
+  error of a K-replicate mean, and, judged on the held-out second half of
+  the seeds, the fraction of design pairs that the K-replicate means (of
+  every K-subset of the first half) order as the held-out means do, and
+  Kendall's tau.
 
     python benchmarks/noise.py                         # quick, forward and ramp, 6 replicates
     python benchmarks/noise.py --behaviours forward --replicates 8 --csv noise.csv
@@ -73,13 +77,16 @@ def summary(frame: pd.DataFrame) -> pd.DataFrame:
             paired = [np.var(wide[i] - wide[j], ddof=1) for i, j in pairs]
             unpaired = [np.var(wide[i], ddof=1) + np.var(wide[j], ddof=1) for i, j in pairs]
             crn_ratio = float(np.median(np.array(paired) / np.array(unpaired)))
-            for k in range(0, n):
-                subsets = [None] if k == 0 else list(itertools.combinations(range(n), k))
+            # the first half of the seeds is the search's pool, the second half held out
+            half = n // 2
+            held = wide[:, half:].mean(axis=1)
+            for k in range(0, half + 1):
+                subsets = [None] if k == 0 else list(itertools.combinations(range(half), k))
                 agree, taus = [], []
                 for sub in subsets:
-                    # K = 0: the unperturbed run; else the mean of K seeds, judged against the other seeds
+                    # K = 0: the unperturbed run; else the mean of K pool seeds, judged on the held-out seeds
                     est = nominal if sub is None else wide[:, list(sub)].mean(axis=1)
-                    rest = full if sub is None else np.delete(wide, list(sub), axis=1).mean(axis=1)
+                    rest = held
                     agree += [np.sign(est[i] - est[j]) == np.sign(rest[i] - rest[j]) for i, j in pairs]
                     taus.append(stats.kendalltau(est, rest).statistic)
                 out.append(

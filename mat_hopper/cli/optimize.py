@@ -137,6 +137,8 @@ def cmd_optimize(args) -> int:
 def _cmd_optimize(args) -> int:
     if not args.storage or (args.report and not args.out):
         check_output_dir(args.studies_dir, "--studies-dir")
+    if getattr(args, "export", None) is not None:
+        return cmd_export(args)
     if args.report or args.replay is not None:
         name = args.report or args.study
         if not name:
@@ -280,6 +282,12 @@ def register_cli(sub) -> None:
     p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
     p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")
     p.add_argument("--render", action="store_true", help="with --replay: also render it (mat_hopper.viz.render)")
+    p.add_argument(
+        "--export",
+        type=int,
+        metavar="TRIAL",
+        help="write trial TRIAL's design as CSV (for simulate --design-csv, batch --designs-csv) and MJCF, in --out",
+    )
     p.set_defaults(func=cmd_optimize)
 
 
@@ -373,4 +381,30 @@ def _render(design: LegDesign, config: StudyConfig, args) -> int:
             backend=backend,
         ):
             print(f"wrote {path}")
+    return 0
+
+
+def cmd_export(args) -> int:
+    """--export TRIAL: the trial's design as CSV and MJCF (mat_hopper.optimize._export)."""
+    from ..optimize import export_trial
+
+    name = args.report or args.study
+    if not name:
+        raise ValueError("--export TRIAL needs --study NAME (or --report NAME)")
+    out = check_output_dir(args.out or args.studies_dir, "--out")
+    res = export_trial(name, open_existing(name, args, read_only=True), args.export, out)
+    print(f"trial {args.export} of {name}: {describe(res['design'].segments)}")
+    print(f"wrote {res['csv']}")
+    for path in res["mjcf"].values():
+        print(f"wrote {path}")
+    ob = res["config"].objective
+    print(
+        f"simulate it: mat-hopper simulate --design-csv {res['csv']} --behaviour {ob.behaviours[0]} "
+        f"--profile {ob.profile.name} --convention {ob.convention} --segment-mass {ob.segment_mass}"
+        + (
+            f" (the study scores {ob.replicates} perturbed replicates; simulate runs the unperturbed one)"
+            if ob.replicates
+            else ""
+        )
+    )
     return 0

@@ -12,11 +12,12 @@ backend, Optuna's ask-and-tell), its storage and its report (:func:`write_report
 processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
 writes a study's tables and plots; ``_robust`` holds the noise- and
 mass-aware scores (replicates on common random numbers, mean or CVaR, the
-leg-mass constraint). The command line is
+leg-mass constraint); ``_export`` writes a trial's design as CSV and MJCF. The command line is
 :mod:`mat_hopper.cli.optimize`.
 """
 
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
+from ._export import design_frame, design_mjcf, export_trial
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
 from ._robust import (
     DEFAULT_CVAR_ALPHA,
@@ -48,6 +49,9 @@ __all__ = [
     "DEFAULT_BATCH_SIZE",
     "evaluate_batch",
     "run_batch_study",
+    "design_frame",
+    "design_mjcf",
+    "export_trial",
     "CONSTRAINTS",
     "OBJECTIVES",
     "Evaluation",

@@ -69,7 +69,7 @@ def test_batched_study_is_the_same_with_one_or_two_processes(tmp_path):
     from mat_hopper.optimize._batched import run_batched
 
     tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
-    config = optimize.StudyConfig("det", optimize.SearchSpace(), optimize.Objective(profile=tiny))
+    config = optimize.StudyConfig("det", optimize.SearchSpace(), optimize.Objective(replicates=0, profile=tiny))
     frames = []
     for workers in (1, 2):
         url = f"sqlite:///{tmp_path}/det{workers}.db"
@@ -99,7 +99,7 @@ def test_batched_study_resumes_a_batch_left_running(tmp_path):
     from mat_hopper.optimize._study import create_or_load
 
     tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
-    config = optimize.StudyConfig("resume", optimize.SearchSpace(), optimize.Objective(profile=tiny))
+    config = optimize.StudyConfig("resume", optimize.SearchSpace(), optimize.Objective(replicates=0, profile=tiny))
     url = f"sqlite:///{tmp_path}/r.db"
     study = create_or_load(config, url)
     for _ in range(2):
