@@ -135,7 +135,7 @@ def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None, *, best=Non
         for obj, base in zip(OBJECTIVES, vals):
             front[f"{obj.rsplit('_', 1)[0]}_vs_{name}_pct"] = percent_change(front[obj].to_numpy(float), base)
     cols = ["trial", "design", "paper_design", *OBJECTIVES, *(f"{o}_se" for o in OBJECTIVES), "hop_height_m"]
-    cols += ["leg_mass_kg"]
+    cols = [c for c in cols + ["leg_mass_kg"] if c in front.columns]  # a table of an older report may lack some
     cols += [c for c in front.columns if c.endswith("_pct")]
     cols += [c for c in front.columns if c.startswith("seg") and c not in cols]
     return front[cols].reset_index(drop=True)

@@ -171,3 +171,35 @@ def test_evaluate_without_replicates_is_one_unperturbed_run():
     ev = evaluate(LegDesign.mono("SS"), ob)
     assert [r["replicate"] for r in ev.per_behaviour] == [-1]
     assert math.isnan(ev.standard_errors[0]) and len(ev.standard_errors) == len(OBJECTIVES)
+
+
+# --- the command line -----------------------------------------------------------
+
+
+def test_cli_options_and_their_errors(tmp_path, monkeypatch, capsys):
+    import argparse
+
+    from mat_hopper.cli import main
+    from mat_hopper.cli.optimize import config_from_args, register_cli
+
+    parser = argparse.ArgumentParser()
+    register_cli(parser.add_subparsers())
+    args = parser.parse_args(["optimize", "--study", "s", "--replicates", "3", "--risk", "CVaR", "--leg-mass", "ss"])
+    ob = config_from_args(args, None).objective
+    assert (ob.replicates, ob.risk, ob.leg_mass, ob.leg_mass_tolerance_kg) == (3, "cvar", "SS", None)
+    resumed = config_from_args(parser.parse_args(["optimize", "--study", "s"]), config_from_args(args, None))
+    assert resumed.objective == ob  # left out: the stored study's
+    lifted = config_from_args(parser.parse_args(["optimize", "--study", "s", "--leg-mass", "none"]), None)
+    assert lifted.objective.leg_mass is None
+    assert config_from_args(parser.parse_args(["optimize", "--study", "s"]), None).objective.replicates == 4
+    monkeypatch.chdir(tmp_path)
+    for argv, text in (
+        (["--replicates", "-1"], "replicates must be"),
+        (["--risk", "cvar", "--replicates", "1"], "replicates >= 2"),
+        (["--leg-mass", "steel"], "leg_mass"),
+        (["--leg-mass-tolerance", "0.1"], "needs leg_mass"),
+    ):
+        assert main(["optimize", "--study", "bad", "--trials", "1", *argv]) == 2
+        err = capsys.readouterr().err.strip()
+        assert text in err and len(err.splitlines()) == 1, err
+        assert not (tmp_path / "studies").exists()
