@@ -12,13 +12,15 @@ backend, Optuna's ask-and-tell), its storage and its report (:func:`write_report
 processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
 writes a study's tables and plots; ``_robust`` holds the noise- and
 mass-aware scores (replicates on common random numbers, mean or CVaR, the
-leg-mass constraint); ``_export`` writes a trial's design as CSV and MJCF. The command line is
+leg-mass constraint); ``_export`` writes a trial's design as CSV and MJCF; ``_racing`` runs
+multi-fidelity racing (successive halving on ask-and-tell). The command line is
 :mod:`mat_hopper.cli.optimize`.
 """
 
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
 from ._export import design_frame, design_mjcf, export_trial
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
+from ._racing import Racing, Rung, default_racing, promote, run_racing, simulated_seconds
 from ._robust import (
     DEFAULT_CVAR_ALPHA,
     DEFAULT_LEG_MASS_TOLERANCE,
@@ -57,6 +59,12 @@ __all__ = [
     "Evaluation",
     "Objective",
     "evaluate",
+    "Racing",
+    "Rung",
+    "default_racing",
+    "promote",
+    "run_racing",
+    "simulated_seconds",
     "DEFAULT_CVAR_ALPHA",
     "DEFAULT_LEG_MASS_TOLERANCE",
     "DEFAULT_REPLICATES",
