@@ -206,6 +206,12 @@ def _check_backend(args) -> None:
 def _run_backend(config: StudyConfig, options: RunOptions, args):
     """The study on --backend mujoco (CPU workers, the reference) or warp
     (MuJoCo Warp batches of --batch-size trials, mat_hopper.optimize._batch)."""
+    if getattr(args, "race", False):
+        if args.backend == "warp":
+            raise ValueError("--race runs on --backend mujoco (the warp backend has no perturbations yet)")
+        from ..optimize import race_study
+
+        return race_study(config, options)
     if args.backend != "warp":
         return run_study(config, options)
     from ..optimize import DEFAULT_BATCH_SIZE, run_batch_study
@@ -278,6 +284,12 @@ def register_cli(sub) -> None:
     )
     p.add_argument("--device", help="Warp device for --backend warp: cpu or cuda (default: cuda where Warp sees a GPU)")
     p.add_argument("--batch-size", type=int, help="--backend warp: trials asked and simulated together (64)")
+    p.add_argument(
+        "--race",
+        action="store_true",
+        help="multi-fidelity racing: screen trials on short one-replicate runs and promote 1 in 3 to the study's "
+        "full fidelity; --trials counts screened trials, in brackets of 9; give it again to resume",
+    )
     p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
     p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
     p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")

@@ -20,7 +20,7 @@ multi-fidelity racing (successive halving on ask-and-tell). The command line is
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
 from ._export import design_frame, design_mjcf, export_trial
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
-from ._racing import Racing, Rung, default_racing, promote, run_racing, simulated_seconds
+from ._racing import Racing, Rung, default_racing, promote, race_study, run_racing, simulated_seconds
 from ._robust import (
     DEFAULT_CVAR_ALPHA,
     DEFAULT_LEG_MASS_TOLERANCE,
@@ -63,6 +63,7 @@ __all__ = [
     "Rung",
     "default_racing",
     "promote",
+    "race_study",
     "run_racing",
     "simulated_seconds",
     "DEFAULT_CVAR_ALPHA",

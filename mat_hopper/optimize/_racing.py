@@ -406,3 +406,31 @@ def simulated_seconds(study: optuna.Study, racing: Racing) -> dict:
         "all_full_fidelity_s": screened * per_full,
         "objectives": list(OBJECTIVES),
     }
+
+
+def race_study(config: StudyConfig, options, racing: Racing | None = None, cache_dir=None):
+    """:func:`run_racing` for the command line: `options` (a
+    :class:`~mat_hopper.optimize._study.RunOptions`) give the storage, the
+    sampler and seed, the local processes (``workers``) and the size:
+    ``trials`` screened trials, rounded up to whole brackets. Returns a
+    :class:`~mat_hopper.optimize._study.RunResult` (done and target in
+    screened trials)."""
+    from ._storage import redact, storage_errors
+    from ._study import RunResult
+
+    racing = racing or default_racing(config.objective)
+    brackets = math.ceil(options.trials / racing.screen)
+    url = options.storage_url(config.name)
+    with storage_errors(url):
+        study = run_racing(
+            config,
+            options.open(config.name),
+            brackets=brackets,
+            racing=racing,
+            sampler=options.sampler,
+            seed=options.seed,
+            cache_dir=cache_dir,
+            workers=options.workers,
+        )
+        done = closed_brackets(study) * racing.screen
+    return RunResult(config.name, redact(url), brackets * racing.screen, done, 0)

@@ -148,3 +148,22 @@ def test_sigkill_mid_rung_resumes_there(tmp_path, monkeypatch):
         ]
 
     assert summary(resumed) == summary(fresh) and len(summary(fresh)) == 11
+
+
+def test_cli_race(tmp_path, monkeypatch, capsys):
+    from mat_hopper.cli import main
+    from mat_hopper.optimize._storage import default_url, open_storage
+    from mat_hopper.optimize._study import create_or_load
+
+    monkeypatch.chdir(tmp_path)  # the runner's cache: results/cache here
+    (tmp_path / "studies").mkdir()
+    create_or_load(StudyConfig("r", SearchSpace(), OB), open_storage(default_url("r", "studies")))
+    argv = ["optimize", "--study", "r", "--trials", "9", "--race", "--workers", "1", "--no-progress"]
+    assert main(argv) == 0
+    assert "9/9 trials finished" in capsys.readouterr().out
+    study = optuna.load_study(study_name="r", storage=default_url("r", "studies"))
+    states = [t.state for t in study.trials]
+    assert states.count(TrialState.COMPLETE) == 3 and states.count(TrialState.PRUNED) == 6
+    assert main(["optimize", "--study", "r", "--trials", "9", "--workers", "1", "--no-progress"]) == 2
+    assert "racing study" in capsys.readouterr().err
+    assert main([*argv, "--backend", "warp"]) == 2
