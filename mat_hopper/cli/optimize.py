@@ -344,7 +344,8 @@ def cmd_report(name: str, args, out: str) -> int:
         table = front_table(front).drop(columns=["hop height (m)"])
         table.insert(1, "design", front["design"].to_numpy())
         print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-        print(f"export a design: mat-hopper optimize --report {name} --export TRIAL")
+        where = f" --storage '{redact(args.storage)}'" if args.storage else ""
+        print(f"export a design: mat-hopper optimize --study {name} --export TRIAL{where}")
     for p in rep["paths"].values():
         print(f"wrote {p}")
     return 0

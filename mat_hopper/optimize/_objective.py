@@ -8,7 +8,11 @@ Objectives (both minimized), from the per-hop metrics of
 
 With several behaviours, each objective is the plain mean over the
 behaviours of each behaviour's mean (every behaviour weighs the same,
-whatever its number of hops). Constraints (Optuna convention: <= 0 is
+whatever its number of hops). With ``replicates = K > 0`` (default 4) that
+mean is taken per seeded replicate, on the same seeds for every trial, and
+the objective is the mean or the CVaR over the replicates
+(:mod:`mat_hopper.optimize._robust`, which also adds the ``leg_mass``
+constraint). Constraints (Optuna convention: <= 0 is
 feasible):
 
 - ``hop_height``: |mean hop height - 1 m| - 0.05 m, the worst behaviour;

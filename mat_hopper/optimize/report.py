@@ -349,7 +349,8 @@ def book_study(
 def front_table(front: pd.DataFrame) -> pd.DataFrame:
     """A Pareto table (:func:`mat_hopper.optimize.report.pareto_frame`) for
     the page: trial, the paper's design it is (if any), tracking error
-    (mm), hip power (mW), hop height (m), the percent changes against
+    (mm), hip power (mW), their standard errors (a noise-aware study's),
+    hop height (m), the percent changes against
     the baselines, the leg's mass (kg) and each segment's density (g/cm^3)
     and modulus (GPa), base to foot, with short column names: a design a
     reader can build (``mat-hopper optimize --export TRIAL`` writes it)."""
@@ -362,6 +363,9 @@ def front_table(front: pd.DataFrame) -> pd.DataFrame:
             "hop height (m)": front["hop_height_m"],
         }
     )
+    for col, name, scale in (("tracking_error_m_se", "tracking SE (mm)", 1e3), ("power_w_se", "power SE (mW)", 1e3)):
+        if col in front.columns and front[col].notna().any():  # a noise-aware study's standard errors
+            out.insert(list(out.columns).index("hop height (m)"), name, front[col] * scale)
     for col in front.columns:
         m = re.fullmatch(r"(tracking_error|power)_vs_(.+)_pct", col)
         if m:

@@ -45,6 +45,9 @@ def test_front_table_and_designs():
     assert t.loc[1, "tracking error (mm)"] == 20.0
     assert t.loc[1, "leg mass (kg)"] == 8.2
     assert t.loc[1, "seg 2 density (g/cm^3)"] == 2.0 and t.loc[1, "seg 1 modulus (GPa)"] == 4.4
+    noisy = optimize.front_table(front.assign(tracking_error_m_se=[0.001, 0.002], power_w_se=[0.0004, 0.0001]))
+    assert list(noisy.columns[3:7]) == ["hip power (mW)", "tracking SE (mm)", "power SE (mW)", "hop height (m)"]
+    assert noisy.loc[1, "tracking SE (mm)"] == 2.0
     legs = optimize.front_designs(front)
     assert list(legs) == ["#7"] and legs["#7"].densities_g_cm3 == (13.4, 2.0)
     assert list(optimize.front_designs(front, skip_paper=False, k=1)) == ["#0"]
