@@ -203,3 +203,14 @@ def test_cli_options_and_their_errors(tmp_path, monkeypatch, capsys):
         err = capsys.readouterr().err.strip()
         assert text in err and len(err.splitlines()) == 1, err
         assert not (tmp_path / "studies").exists()
+
+
+def test_warp_backend_needs_unperturbed_runs():
+    from mat_hopper.optimize._batch import batch_settings, check_unperturbed, run_batch_study
+    from mat_hopper.optimize._study import RunOptions
+
+    check_unperturbed(Objective(profile=TINY, replicates=0))
+    with pytest.raises(ValueError, match="--replicates 0"):
+        batch_settings(Objective(profile=TINY, replicates=4), LegDesign.mono("SS"))
+    with pytest.raises(ValueError, match="--replicates 0"):  # before any storage or Warp
+        run_batch_study(StudyConfig("w", SearchSpace(), Objective(profile=TINY)), RunOptions(storage="bad://"))
