@@ -29,7 +29,10 @@ and the bracket's record) is failed. The runs go through
 pool): a run that a later rung repeats (the same design, behaviour and
 settings) costs nothing, and a resumed rung re-reads what was cached.
 
-Public Optuna API only: trials are told by number (``Study.tell``), and a
+One process runs a racing study at a time (its trials stay RUNNING while
+their bracket races, without a heartbeat; a new bracket fails RUNNING
+trials outside it); the processes it uses are the runner's pool. Public
+Optuna API only: trials are told by number (``Study.tell``), and a
 resumed trial is reached through the storage's public
 ``get_trial_id_from_study_id_trial_number``.
 """
