@@ -358,13 +358,18 @@ def cmd_replay(name: str, storage, args) -> int:
         print(f"  segment {i}: {m.density_g_cm3:.6g} g/cm^3, {m.modulus_gpa:.6g} GPa ({m.name})")
     for r in ev.per_behaviour:
         print(
-            f"  {r['behaviour']}: tracking error {r['tracking_error_m']:.6g} m, power {r['power_w']:.6g} W, "
+            f"  {r['behaviour']}"
+            + (f" (replicate seed {r['replicate']})" if r.get("replicate", -1) >= 0 else "")
+            + f": tracking error {r['tracking_error_m']:.6g} m, power {r['power_w']:.6g} W, "
             f"hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
             f"{'upright' if r['upright'] else 'UNSTABLE'}"
         )
+    se = ev.standard_errors
+    se_text = f" (standard errors {se[0]:.3g} m, {se[1]:.3g} W)" if se and se[0] == se[0] else ""
+    cons = ", ".join(f"{n} {c:.4g}" for n, c in zip(ev.constraint_names, ev.constraints))
     print(
-        f"objectives {ev.values[0]:.6g} m, {ev.values[1]:.6g} W; "
-        f"{'feasible' if ev.feasible else 'infeasible'} (constraints {ev.constraints[0]:.4g}, {ev.constraints[1]:g})"
+        f"objectives {ev.values[0]:.6g} m, {ev.values[1]:.6g} W{se_text}; "
+        f"{'feasible' if ev.feasible else 'infeasible'} (constraints {cons}); leg mass {ev.leg_mass_kg:.4g} kg"
     )
     if t.state == TrialState.COMPLETE:
         same = tuple(t.values) == tuple(ev.values)

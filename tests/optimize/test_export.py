@@ -36,7 +36,7 @@ def _study(folder, name, replicates, n_trials=3):
     return config, url, study
 
 
-def test_export_round_trip_reproduces_the_trial(tmp_path):
+def test_export_round_trip_reproduces_the_trial(tmp_path, capsys):
     """The exported CSV gives the trial's design bit for bit: simulating it
     with the study's settings (K = 2 replicates) gives the trial's
     objectives and standard errors exactly."""
@@ -63,6 +63,11 @@ def test_export_round_trip_reproduces_the_trial(tmp_path):
     assert np.array_equal(model.body_mass, ref.body_mass)
     assert np.allclose(model.jnt_stiffness, ref.jnt_stiffness, rtol=5e-6, atol=0)  # half a unit of the 6th digit
     assert model.opt.timestep == config.objective.sim_settings(design=original).timestep_s
+    # --replay of a replicated trial: the runs by seed, the standard errors, the same values
+    assert main(["optimize", "--study", "rt", "--studies-dir", str(tmp_path), "--replay", str(number)]) == 0
+    out = capsys.readouterr().out
+    assert "(replicate seed 1000)" in out and "(replicate seed 1001)" in out and "standard errors" in out
+    assert "matches the stored values exactly" in out
 
 
 def test_export_cli_and_simulate_design_csv(tmp_path, capsys):
