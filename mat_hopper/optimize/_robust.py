@@ -53,9 +53,9 @@ from ..perturbations import Perturbation
 RISKS = ("mean", "cvar")
 # From the noise study (benchmarks/noise.py, docs/optimizer.md): on ramp, the
 # quick profile, one replicate's spread is 25-30 % of tracking error and
-# 5-6 % of hip power; a mean over 4 has a standard error of 15 % and 3 %,
-# the order of design pairs on held-out seeds no longer improves beyond
-# K = 2-3, and each further halving of the error costs 4 times the runs.
+# 5-6 % of hip power; a mean over 4 has a standard error of 15 % and 3 %
+# (paired on common seeds, a difference's variance is about halved), and
+# each further halving of the error costs 4 times the runs.
 DEFAULT_REPLICATES = 4
 MAX_REPLICATES = 64
 LEG_MASS_CONSTRAINT = "leg_mass"
