@@ -41,7 +41,7 @@ def dashboard(url: str):
         thread.join(10)
 
 
-@pytest.mark.slow  # about 20 s: Chromium's start and the dashboard's first render
+@pytest.mark.slow  # 9-23 s here: Chromium's start and the dashboard's first render
 def test_dashboard_renders_the_study_and_its_trials(tmp_path):
     import browser
 

@@ -115,7 +115,7 @@ run_racing(StudyConfig("race", SearchSpace(), ob), {url!r}, brackets=1, racing=r
 """
 
 
-@pytest.mark.slow  # a fresh interpreter (numba's first import) and two studies: about 20 s
+@pytest.mark.slow  # a fresh interpreter (numba's first import) and two studies: 16-95 s here
 def test_sigkill_mid_rung_resumes_there(tmp_path, monkeypatch):
     """SIGKILL right after rung 0 of the first bracket is stored: the
     resumed run does not ask new trials nor run rung 0 again, and ends with
