@@ -89,6 +89,8 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
 def _run(config: StudyConfig, options: RunOptions, url: str) -> RunResult:
     storage = options.open(config.name)
     study = create_or_load(config, storage)
+    if "mat_hopper_racing" in study.user_attrs:  # _racing.RACING_ATTR: its open bracket's trials stay RUNNING
+        raise ValueError(f"study {config.name!r} is a racing study (mat_hopper.optimize.run_racing): resume it there")
     recovered = recover_dead(study, max_retry=options.max_retry, reason="worker of an earlier run died")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)

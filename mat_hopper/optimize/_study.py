@@ -35,8 +35,7 @@ All see the constraints, which each trial sets with
 derived from ``--seed``, the worker's index and the study's size when the
 run started, so one worker on a fresh study is exactly reproducible.
 
-Watch a study live with optuna-dashboard (``pip install optuna-dashboard``,
-not a dependency)::
+Watch a study live with optuna-dashboard (pinned in environment.txt)::
 
     optuna-dashboard sqlite:///studies/NAME.db          # default storage
     optuna-dashboard postgresql://USER@HOST:5432/DB     # shared storage
