@@ -14,10 +14,11 @@ import functools
 import hashlib
 import json
 import os
-from dataclasses import asdict
+from dataclasses import asdict, fields, is_dataclass
 
 import numpy as np
 
+from .control import SensorTiming
 from .materials import LegDesign
 from .sim import SimSettings
 
@@ -92,20 +93,18 @@ def design_key(design: LegDesign) -> dict:
 
 
 def settings_key(settings: SimSettings) -> dict:
-    """Every field of SimSettings (controller gains and perturbation included)."""
-    p = settings.perturbation
-    return {
-        "duration_s": settings.duration_s,
-        "timestep_s": settings.timestep_s,
-        "transient_s": settings.transient_s,
-        "convention": settings.convention,
-        "sensor_timing": settings.sensor_timing.name,
-        "segment_mass": settings.segment_mass,
-        "substeps": settings.substeps,
-        "record_rate_hz": settings.record_rate_hz,
-        "controller": asdict(settings.controller),
-        "perturbation": None if p is None else asdict(p),
-    }
+    """Every field of SimSettings, by name: a setting added to SimSettings is
+    in every key without another edit. Nested settings (controller gains,
+    perturbation) as dicts, a sensor timing by its name."""
+    return {f.name: _key_value(getattr(settings, f.name)) for f in fields(settings)}
+
+
+def _key_value(value):
+    if isinstance(value, SensorTiming):
+        return value.name
+    if is_dataclass(value):
+        return asdict(value)
+    return value
 
 
 def hash_key(key: dict) -> str:
