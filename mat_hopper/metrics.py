@@ -23,7 +23,14 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
 - ``power_paper_w``: the authors' formula, labelled as such: the hip_y
   *flight* PD command (before the gear, also in stance) times each hip rate;
 - ``energy_j``: integral of |tau qdot| of all three actuators (J), joint
-  space.
+  space;
+- the energetics of :mod:`mat_hopper.energetics` (total actuator work
+  including thrust, absolute and positive, hip work, total power, Joule
+  proxies): ``work_abs_j`` ... ``joule_thrust_n2s``.
+
+Every row also carries the design's leg mass properties (constant per run,
+:func:`mat_hopper.controls.mass_properties`): ``leg_mass_kg``,
+``leg_com_m`` (m below the hip) and ``hip_inertia_kg_m2``.
 
 Comparisons (:func:`compare`) give the percent change of means against a
 baseline design, a two-sided Mann-Whitney U test with Holm correction
@@ -39,12 +46,14 @@ import pandas as pd
 from scipy import stats
 
 from . import reference as ref
+from . import energetics as _energetics
 from .analysis.change import percent_change
+from .controls import MASS_PROPERTY_COLUMNS, mass_properties
 from .model import terrain_height_m
 from .sim import C, Rollout
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
-ALL_METRICS = METRICS + ("hop_height_ground_m", "power_paper_w", "energy_j")
+ALL_METRICS = METRICS + ("hop_height_ground_m", "power_paper_w", "energy_j", *_energetics.HOP_COLUMNS)
 GRAVITY = ref.GRAVITY_M_S2
 ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 
@@ -79,6 +88,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
         "t_start_s",
         "t_end_s",
         *ALL_METRICS,
+        *MASS_PROPERTY_COLUMNS,
     ]
     if len(cycles) == 0 or len(t) < 4:
         return pd.DataFrame(columns=cols)
@@ -121,14 +131,18 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
             "power_w": _segment_means(power, i0, i1),
             "power_paper_w": _segment_means(power_paper, i0, i1),
             "energy_j": _segment_means(p_abs, i0, i1) * (i1 - i0) * dt_rec,
+            **_energetics.hop_energetics(rollout, i0, i1, dt_rec),
+            **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),
         }
     )
     return out[cols]
 
 
 def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
-    """One run in a line: outcome, means of the per-hop metrics, energy (J)
-    and cost of transport (energy / (m g distance), nan without travel)."""
+    """One run in a line: outcome, the leg's mass properties, means of the
+    per-hop metrics, energy (J) and the run energetics of
+    :func:`mat_hopper.energetics.run_energetics` (cost of transport over the
+    path length travelled, nan without travel)."""
     hops = hop_table(rollout, transient_s)
     out = {
         "design": rollout.design.name,
@@ -140,21 +154,12 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
         "diverged_at_s": rollout.diverged_at_s,
         "n_hops": len(hops),
         "total_mass_kg": rollout.total_mass_kg,
+        **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),
     }
     for m in ALL_METRICS:
         out[f"mean_{m}"] = float(hops[m].mean()) if len(hops) else np.nan
-    energy = float(hops["energy_j"].sum()) if len(hops) else np.nan
-    out["energy_j"] = energy
-    if len(hops):
-        t = rollout.time
-        a, b = np.searchsorted(t, [hops["t_start_s"].iloc[0], hops["t_end_s"].iloc[-1]])
-        b = min(b, len(t) - 1)
-        dist = float(np.hypot(*np.diff(rollout.base_pos[[a, b], :2], axis=0)[0]))
-        out["distance_m"] = dist
-        out["cost_of_transport"] = energy / (rollout.total_mass_kg * GRAVITY * dist) if dist > 1e-3 else np.nan
-    else:
-        out["distance_m"] = np.nan
-        out["cost_of_transport"] = np.nan
+    out["energy_j"] = float(hops["energy_j"].sum()) if len(hops) else np.nan
+    out.update(_energetics.run_energetics(hops, rollout))
     return out
 
 
