@@ -92,9 +92,11 @@ def test_replicates_add_seeded_runs_beside_the_unperturbed_one():
     assert len(tasks) == 20 * 4
     reps = sorted({t.labels["replicate"] for t in tasks})
     assert reps == [-1, 0, 1, 2]
+    prof = get_profile("quick")
     for t in tasks:
         r = t.labels["replicate"]
-        assert t.settings.perturbation == (None if r == -1 else Perturbation.replicate(r))
+        window = (prof.transient_s, prof.duration_s)  # issue 20: pushes inside the scored window
+        assert t.settings.perturbation == (None if r == -1 else Perturbation.replicate(r, window))
     assert len({t.key() for t in tasks}) == 80
 
 
