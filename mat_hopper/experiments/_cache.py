@@ -63,6 +63,8 @@ RESULT_MODULES = (
     "sim",
     "perturbations",
     "metrics",
+    "energetics",
+    "controls",
     "modes",
     "stability",
     "experiments/_cache",
