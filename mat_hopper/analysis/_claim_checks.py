@@ -355,8 +355,19 @@ def _ci_detail(rows: pd.DataFrame) -> str:
     return "; ".join(parts)
 
 
+def _claim_ss_power_for(metric: str = "power_w"):
+    def evaluate(ctx: _Context) -> Outcome:
+        return _claim_ss_power_metric(ctx, metric)
+
+    return evaluate
+
+
 def _claim_ss_power(ctx: _Context) -> Outcome:
-    rows, basis = _comparison_rows(ctx, ("exp1",), ["SS"], BEHAVIOUR_NAMES, "power_w")
+    return _claim_ss_power_metric(ctx, "power_w")
+
+
+def _claim_ss_power_metric(ctx: _Context, metric: str) -> Outcome:
+    rows, basis = _comparison_rows(ctx, ("exp1",), ["SS"], BEHAVIOUR_NAMES, metric)
     if len(rows) == 0:
         return _missing_or_untestable(ctx, ["MD", "SS"], BEHAVIOUR_NAMES, ("exp1",))
     best = rows.loc[rows["pct_change"].idxmax()] if rows["pct_change"].notna().any() else None

@@ -131,7 +131,7 @@ def test_profile_and_experiment_bad_input():
         parse_experiments(",")
     with pytest.raises(ValueError, match="replicates"):
         experiment_1().tasks("quick", replicates=-1)
-    assert parse_experiments("1,2,3,stability,robust") == list(EXPERIMENT_NAMES)
+    assert parse_experiments("1,2,3,stability,robust,controls") == list(EXPERIMENT_NAMES)
     assert parse_experiments("stability, exp1, 1") == ["stability", "exp1"]
 
 
