@@ -17,6 +17,9 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
   not depend on the record rate (the unfiltered derivative measured the
   aliased ringing of the leg's kHz axial modes: 8,688 m/s^3 for SS at
   1 kHz, 675 at 100 Hz);
+- ``jerk_body_m_s3``: the same with a zero-phase 4th-order 20 Hz
+  Butterworth after an anti-aliasing box mean (:mod:`mat_hopper.jerk`):
+  the body's jerk without the leg's ringing;
 - ``power_w``: mean norm of the hip actuators' real mechanical power,
   ||(tau_y qdot_y, tau_x qdot_x)|| (W), tau the joint torque MuJoCo applies
   (``qfrc_actuator``: gear 600 x control, joint space);
@@ -53,7 +56,13 @@ from .model import terrain_height_m
 from .sim import C, Rollout
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
-ALL_METRICS = METRICS + ("hop_height_ground_m", "power_paper_w", "energy_j", *_energetics.HOP_COLUMNS)
+ALL_METRICS = METRICS + (
+    "hop_height_ground_m",
+    "power_paper_w",
+    "energy_j",
+    *_energetics.HOP_COLUMNS,
+    "jerk_body_m_s3",
+)
 GRAVITY = ref.GRAVITY_M_S2
 ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 
@@ -61,6 +70,16 @@ ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 def _segment_means(values: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
     csum = np.concatenate([[0.0], np.cumsum(values)])
     return (csum[ends] - csum[starts]) / np.maximum(ends - starts, 1)
+
+
+def _body_jerk(rollout: Rollout, i0: np.ndarray, i1: np.ndarray) -> np.ndarray:
+    """mat_hopper.jerk.hop_body_jerk; nan for a run too short to filter."""
+    from .jerk import hop_body_jerk
+
+    try:
+        return hop_body_jerk(rollout, i0, i1)
+    except ValueError:
+        return np.full(len(i0), np.nan)
 
 
 def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray:
@@ -132,6 +151,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
             "power_paper_w": _segment_means(power_paper, i0, i1),
             "energy_j": _segment_means(p_abs, i0, i1) * (i1 - i0) * dt_rec,
             **_energetics.hop_energetics(rollout, i0, i1, dt_rec),
+            "jerk_body_m_s3": _body_jerk(rollout, i0, i1),
             **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),
         }
     )

@@ -65,6 +65,7 @@ RESULT_MODULES = (
     "metrics",
     "energetics",
     "controls",
+    "jerk",
     "modes",
     "stability",
     "experiments/_cache",
