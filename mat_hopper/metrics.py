@@ -48,8 +48,8 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from . import reference as ref
 from . import energetics as _energetics
+from . import reference as ref
 from .analysis.change import percent_change
 from .controls import MASS_PROPERTY_COLUMNS, mass_properties
 from .model import terrain_height_m

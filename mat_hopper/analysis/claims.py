@@ -240,7 +240,7 @@ POWER_VARIANTS = {
 
 
 def _power_verdicts(claim_id: str, ctx: _Context) -> str:
-    """"paper formula: ours (verdict); hip: ...; total: ..." for a power claim, else ""."""
+    """ "paper formula: ours (verdict); hip: ...; total: ..." for a power claim, else ""."""
     if claim_id not in POWER_VARIANTS:
         return ""
     parts = []

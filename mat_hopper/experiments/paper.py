@@ -100,7 +100,11 @@ class Experiment:
             for bname in self.behaviours:
                 beh = get_behaviour(bname)
                 for rep in [UNPERTURBED, *range(replicates)]:
-                    pert = None if rep == UNPERTURBED else Perturbation.replicate(rep, (profile.transient_s, profile.duration_s))
+                    pert = (
+                        None
+                        if rep == UNPERTURBED
+                        else Perturbation.replicate(rep, (profile.transient_s, profile.duration_s))
+                    )
                     labels = {
                         "experiment": self.name,
                         "profile": profile.name,
