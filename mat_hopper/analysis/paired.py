@@ -21,11 +21,11 @@ baseline's mean (``method`` says which).
   (:func:`scipy.stats.wilcoxon`, exact) as a check, ``p_wilcoxon``, whose
   smallest reachable two-sided p with n pairs is 2 / 2^n
   (:func:`wilcoxon_smallest_p`: n = 3: 0.25, n = 6: 0.031, n = 10: 0.002);
-- conclusion (:func:`conclusion`): ``difference`` when Holm-adjusted p <
-  alpha; ``no difference`` when the whole interval lies inside the
-  equivalence margin :data:`EQUIVALENCE_MARGIN` (+-10 %; a two one-sided
-  tests equivalence at the interval's level); otherwise ``not enough
-  evidence``. "Does not hold" can then say whether the evidence is against
+- conclusion (:func:`conclusion`): ``no difference`` when the whole
+  interval lies inside the equivalence margin :data:`EQUIVALENCE_MARGIN`
+  (+-10 %; a two one-sided tests equivalence at the interval's level),
+  even where a tiny effect is significant; else ``difference`` when
+  Holm-adjusted p < alpha; otherwise ``not enough evidence``. "Does not hold" can then say whether the evidence is against
   a claim or merely missing.
 
 Holm's correction runs over the comparisons of one claim (its own family),
@@ -146,14 +146,11 @@ def conclusion(p_holm: float, ci_low_pct: float, ci_high_pct: float, *, alpha: f
         str.
     """
     margin = EQUIVALENCE_MARGIN if margin is None else float(margin)
+    inside = np.isfinite(ci_low_pct) and np.isfinite(ci_high_pct) and -100 * margin < ci_low_pct <= ci_high_pct
+    if inside and ci_high_pct < 100 * margin:
+        return NO_DIFFERENCE  # equivalent, even where a tiny effect is significant
     if np.isfinite(p_holm) and p_holm < alpha:
         return DIFFERENCE
-    if (
-        np.isfinite(ci_low_pct)
-        and np.isfinite(ci_high_pct)
-        and -100 * margin < ci_low_pct <= ci_high_pct < 100 * margin
-    ):
-        return NO_DIFFERENCE
     return NOT_ENOUGH
 
 
