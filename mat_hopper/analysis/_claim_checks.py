@@ -316,6 +316,16 @@ def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1
                 f"Wilcoxon's smallest p at n = {n_pairs}: {rows['p_min_wilcoxon'].min():.2g}; "
                 + ", ".join(f"{r.behaviour} {r.design}: {r.conclusion}" for r in rows.itertuples())
             )
+            missed = misses["conclusion"] if "conclusion" in misses else pd.Series(dtype=str)
+            if verdict == FAILS and len(missed) and (missed == "not enough evidence").all():
+                # no comparison speaks against the claim: the evidence is missing, not contrary
+                same_way = int((np.sign(rows["pct_change"]) == direction).sum())
+                return Outcome(
+                    f"{k}/{n_needed} significantly {word}, {same_way}/{n_needed} {word}; the others: not enough "
+                    f"evidence at n = {n_pairs}",
+                    NOT_TESTABLE,
+                    detail,
+                )
         return Outcome(f"{k}/{n_needed} significantly {word} (Holm p < {ctx.alpha:g})", verdict, detail)
 
     return evaluate
