@@ -310,3 +310,73 @@ def headline_sentence(hops: pd.DataFrame, metric: str = "tracking_error_m", beha
         f"{part('mass', 'a homogeneous leg of its own mass')}, {part('inertia', 'a leg of its mass and hip inertia')}, "
         f"{part('rigid', 'its rigid twin')} (95 % t intervals)."
     )
+
+
+def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", low_gpa=None, high_gpa=None):
+    """The one-property sweeps and the "moduli <= 9 GPa track worse" claim,
+    re-read at equal mass.
+
+    The claim pools the sweep points with E <= 9 GPa (all on the light PVC
+    leg) against those with E >= 20 GPa (the metals): density differs with
+    modulus. Here, over the sweep points (run means, replicates when there
+    are), an OLS of log metric on log density and a low-modulus indicator
+    (``low``: E <= low_gpa; points between the thresholds left out), and
+    per base material's modulus sweep (density fixed, so mass fixed) the
+    slope of log metric on log modulus. HC3 intervals (statsmodels).
+
+    Args:
+        hops: experiment 2's per-hop rows (sweep_base, sweep_property,
+            density_g_cm3, modulus_gpa, metric; replicate optional).
+        metric: the metric column.
+        low_gpa, high_gpa: the claim's thresholds (default the paper's 9 and 20 GPa).
+
+    Returns:
+        tidy DataFrame: scope (``pooled, density-adjusted`` or the base
+        material), term, estimate, ci_low, ci_high, p, n_points. For the
+        indicator, exp(estimate) is the ratio of low- to high-modulus legs
+        at equal density.
+
+    Raises:
+        ValueError: columns missing.
+    """
+    import statsmodels.formula.api as smf
+
+    from .. import reference as ref
+
+    low_gpa = ref.CLAIM_LOW_MODULUS_GPA if low_gpa is None else low_gpa
+    high_gpa = ref.CLAIM_HIGH_MODULUS_GPA if high_gpa is None else high_gpa
+    need = {"sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa", metric}
+    if not need <= set(hops.columns):
+        raise ValueError(f"hops needs columns {sorted(need)}")
+    keys = ["sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa"]
+    keys += ["replicate"] if "replicate" in hops.columns else []
+    d = hops.groupby(keys, sort=False)[metric].mean().reset_index()
+    d = d[(d[metric] > 0) & d["modulus_gpa"].notna()].copy()
+    d["y"], d["log_density"] = np.log(d[metric]), np.log(d["density_g_cm3"])
+    d["log_modulus"] = np.log(d["modulus_gpa"])
+    rows = []
+
+    def add(scope, fit, term, n):
+        ci = fit.conf_int()
+        rows.append(
+            {
+                "scope": scope,
+                "term": term,
+                "estimate": float(fit.params[term]),
+                "ci_low": float(ci.loc[term, 0]),
+                "ci_high": float(ci.loc[term, 1]),
+                "p": float(fit.pvalues[term]),
+                "n_points": int(n),
+            }
+        )
+
+    split = d[(d["modulus_gpa"] <= low_gpa) | (d["modulus_gpa"] >= high_gpa)].copy()
+    split["low"] = (split["modulus_gpa"] <= low_gpa).astype(float)
+    if split["low"].nunique() == 2 and len(split) > 3:
+        fit = smf.ols("y ~ log_density + low", split).fit(cov_type="HC3")
+        add("pooled, density-adjusted", fit, "low", len(split))
+        add("pooled, density-adjusted", fit, "log_density", len(split))
+    for base, g in d[d["sweep_property"] == "modulus"].groupby("sweep_base", sort=False):
+        if g["log_modulus"].nunique() >= 2 and len(g) > 2:
+            add(str(base), smf.ols("y ~ log_modulus", g).fit(cov_type="HC3"), "log_modulus", len(g))
+    return pd.DataFrame(rows)

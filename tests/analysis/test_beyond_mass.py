@@ -93,3 +93,32 @@ def test_attribution_separates_mass_from_springs():
     assert att["r2_with_springs"].iloc[0] > att["r2_mass_inertia"].iloc[0]
     with pytest.raises(ValueError, match="springs"):
         bm.attribution(pd.DataFrame({"x": [1]}))
+
+
+def test_modulus_at_equal_mass_sees_through_a_density_confound():
+    rng = np.random.default_rng(4)
+    rows = []
+    # light legs at low moduli, mostly heavy ones at high moduli; tracking depends on density only
+    points = [("PVC", rho, 4.0, "density") for rho in (1.1, 1.4, 1.9, 2.5)]
+    points += [("PVC", 1.39, e, "modulus") for e in (0.1, 0.45, 2.0, 9.0)]
+    points += [("Ti", rho, 120.0, "density") for rho in (2.0, 2.7, 4.4, 8.0, 19.0)]
+    points += [("Ti", 4.43, e, "modulus") for e in (18.0, 64.0, 226.0, 800.0)]
+    for base, rho, e, prop in points:
+        for rep in range(3):
+            rows.append(
+                {
+                    "sweep_base": base,
+                    "sweep_property": prop,
+                    "density_g_cm3": rho,
+                    "modulus_gpa": e,
+                    "replicate": rep,
+                    "tracking_error_m": 0.08 * rho**-0.5 * np.exp(rng.normal(0, 0.02)),
+                }
+            )
+    out = bm.modulus_at_equal_mass(pd.DataFrame(rows)).set_index(["scope", "term"])
+    low = out.loc[("pooled, density-adjusted", "low")]
+    assert low["ci_low"] < 0 < low["ci_high"] and abs(low["estimate"]) < 0.05
+    assert out.loc[("pooled, density-adjusted", "log_density"), "estimate"] == pytest.approx(-0.5, abs=0.05)
+    assert out.loc[("Ti", "log_modulus"), "ci_low"] < 0 < out.loc[("Ti", "log_modulus"), "ci_high"]
+    with pytest.raises(ValueError, match="columns"):
+        bm.modulus_at_equal_mass(pd.DataFrame({"x": [1]}))
