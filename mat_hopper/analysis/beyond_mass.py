@@ -162,6 +162,7 @@ def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects: pd.DataFra
     e = effects[(effects["metric"] == metric) & effects["design"].isin(designs)]
     if behaviours is not None:
         e = e[e["behaviour"].isin(behaviours)]
+    inertia = e[e["control"] == "inertia"]
     e = e[e["control"].isin(("rigid", "mass"))].copy()
     if len(e) == 0:
         return dict(zip(CONTROL_COLUMNS, ("not run", "not run", UNTESTABLE)))
@@ -180,10 +181,20 @@ def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects: pd.DataFra
             votes.append(UNTESTABLE)
     verdict = YES if YES in votes else NO if votes and all(v == NO for v in votes) else UNTESTABLE
     mass_rows = e[e["control"] == "mass"]
+    text = f"{verdict} ({votes.count(YES)}/{len(votes)} control comparisons beyond mass)"
+    by_mass = [v == YES and c == "mass" for v, c in zip(votes, e["control"])]
+    if verdict == YES and all(c == "mass" for v, c in zip(votes, e["control"]) if v == YES) and any(by_mass):
+        # beyond the leg's mass, through the mass-matched leg only: does the mass distribution explain it?
+        d_rows = mass_rows[[b for b, c in zip(by_mass, e["control"]) if c == "mass"]]
+        ii = inertia.merge(d_rows[["design", "behaviour"]], on=["design", "behaviour"])
+        if len(ii):
+            ok = [conclusion(p, lo, hi, alpha=alpha) == NO_DIFFERENCE for p, lo, hi in zip(ii.p, ii.ci_low, ii.ci_high)]
+            if all(ok):
+                text += "; an inertia-matched leg reproduces it: the distribution of mass, not the material"
     return {
         "vs_rigid_twin": _fmt(e[e["control"] == "rigid"]),
         "vs_mass_matched": _fmt(mass_rows) if len(mass_rows) else "homogeneous: the design is its own mass-matched leg",
-        "beyond_mass": f"{verdict} ({votes.count(YES)}/{len(votes)} control comparisons beyond mass)",
+        "beyond_mass": text,
     }
 
 

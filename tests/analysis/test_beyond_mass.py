@@ -20,6 +20,7 @@ def _hops(rho_vs_mass=0.75, ss_vs_twin=1.0, n=6):
         "rho-inc": ("rho-inc", "none", 0.4, 5.44, 0.264),
         "rho-inc~rigid": ("rho-inc", "rigid", 0.4, 5.44, 0.264),
         "rho-inc~mass": ("rho-inc", "mass", 0.4 / rho_vs_mass, 5.44, 0.225),
+        "rho-inc~inertia": ("rho-inc", "inertia", 0.4, 5.44, 0.264),
     }
     rows = []
     for name, (of, kind, f, m, com) in legs.items():
@@ -45,6 +46,7 @@ def _hops(rho_vs_mass=0.75, ss_vs_twin=1.0, n=6):
 def test_an_effect_beyond_mass_and_one_that_is_mass_only():
     out = bm.claim_controls("headline_tracking", _hops(rho_vs_mass=0.75), None)
     assert out["beyond_mass"].startswith("yes")
+    assert "inertia-matched leg reproduces it" in out["beyond_mass"]  # the mass distribution explains it
     assert out["vs_mass_matched"].startswith("ramp rho-inc -2") and "(difference)" in out["vs_mass_matched"]
     same = bm.claim_controls("headline_tracking", _hops(rho_vs_mass=1.0), None)
     assert same["beyond_mass"].startswith("no")  # inside the ±10 % margin against both controls
