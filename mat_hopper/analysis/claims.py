@@ -239,16 +239,28 @@ POWER_VARIANTS = {
 }
 
 
-def _power_verdicts(claim_id: str, ctx: _Context) -> str:
-    """ "paper formula: ours (verdict); hip: ...; total: ..." for a power claim, else ""."""
-    if claim_id not in POWER_VARIANTS:
+# The jerk claim under the loop's causal jerk and the body's zero-phase jerk (mat_hopper.jerk).
+JERK_FORMULAS = (("causal 50 Hz", "jerk_m_s3"), ("body, zero-phase 20 Hz", "jerk_body_m_s3"))
+JERK_VARIANTS = {
+    "jerk_gradient": lambda m: _claim_count_significant(
+        m, ["rho-inc"], list(BEHAVIOUR_NAMES), -1, exps=("exp1", "exp3"), baseline="SS"
+    ),
+}
+
+
+def _power_verdicts(claim_id: str, ctx: _Context, variants=None, formulas=POWER_FORMULAS) -> str:
+    """The claim's verdict under each formula of a quantity: "paper formula:
+    ours (verdict); hip: ...; total: ..." for a power claim (or the jerk
+    formulas with JERK_VARIANTS), "" for other claims."""
+    variants = POWER_VARIANTS if variants is None else variants
+    if claim_id not in variants:
         return ""
     parts = []
-    for label, metric in POWER_FORMULAS:
+    for label, metric in formulas:
         if len(ctx.hops) == 0 or metric not in ctx.hops.columns:
             parts.append(f"{label}: not recorded")
             continue
-        out = POWER_VARIANTS[claim_id](metric)(ctx)
+        out = variants[claim_id](metric)(ctx)
         parts.append(f"{label}: {out.ours} ({out.verdict})")
     return "; ".join(parts)
 
@@ -352,7 +364,8 @@ def claims_table(
     sensor_timing, basis, n_replicates (per design and behaviour, 0 on the
     hop-cycle basis), timestep_check, detail, rule (and profile, when the
     tables have one), power_verdicts (claims that quote power: the verdict
-    under the paper's formula, hip power and total power side by side), and
+    under the paper's formula, hip power and total power side by side),
+    jerk_verdicts (the jerk claim under the causal and the body jerk), and
     the beyond-mass columns of :func:`mat_hopper.analysis.beyond_mass.beyond_mass_columns`
     (vs_rigid_twin, vs_mass_matched, beyond_mass) from ``controls``, the
     per-hop rows of :func:`mat_hopper.experiments.controls.run_controls`
@@ -420,9 +433,12 @@ def claims_table(
                     "detail": out.detail,
                     "rule": claim.rule,
                     "power_verdicts": "" if out.verdict == NOT_RUN else _power_verdicts(claim.claim_id, ctx),
+                    "jerk_verdicts": ""
+                    if out.verdict == NOT_RUN
+                    else _power_verdicts(claim.claim_id, ctx, JERK_VARIANTS, JERK_FORMULAS),
                 }
             )
-    out = pd.DataFrame(rows, columns=[*COLUMNS, "power_verdicts"])
+    out = pd.DataFrame(rows, columns=[*COLUMNS, "power_verdicts", "jerk_verdicts"])
     out = _beyond.beyond_mass_columns(out, controls, alpha)
     if len(profiles) == 1:
         out.insert(list(out.columns).index("detail"), "profile", profiles.pop())
