@@ -143,3 +143,50 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
 def run_attribution(profile=None, *, cache_dir=None, workers=None, progress: bool = False, **kw):
     """Run :func:`attribution_tasks` (cached); the GridResult."""
     return run_grid(attribution_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="attribution")
+
+
+PUSH_SCALES = (0.0, 1.0, 2.0)  # times REPLICATE_PUSH_FORCE_N: no push, the book's, twice it
+
+
+def push_scale_tasks(profile=None, designs=("SS", "rho-inc"), behaviour="ramp", scales=PUSH_SCALES, replicates=None):
+    """Runs of a few designs at several push scales, on shared seeds: how a
+    claim moves with the size of the perturbation.
+
+    Args:
+        profile: a Profile or its name.
+        designs: design names.
+        behaviour: a behaviour name.
+        scales: push scales (>= 0; :meth:`Perturbation.replicate`).
+        replicates: seeds per cell (default the profile's; >= 2).
+
+    Returns:
+        list of RunSpec; labels: experiment ("push_scale"), profile,
+        convention, sensor_timing, design, behaviour, replicate, push_scale.
+    """
+    profile = get_profile(profile)
+    n = _replicates(profile, replicates)
+    window = (profile.transient_s, profile.duration_s)
+    beh = get_behaviour(behaviour)
+    out = []
+    for name in designs:
+        d = parse_design(name)
+        for scale in scales:
+            for rep in range(n):
+                pert = Perturbation.replicate(rep, window, push_scale=float(scale))
+                labels = {
+                    "experiment": "push_scale",
+                    "profile": profile.name,
+                    "convention": profile.convention,
+                    "sensor_timing": profile.sensor_timing,
+                    "design": d.name,
+                    "behaviour": beh.name,
+                    "replicate": rep,
+                    "push_scale": float(scale),
+                }
+                out.append(RunSpec(d, beh, profile.sim_settings(pert, design=d), labels))
+    return out
+
+
+def run_push_scale(profile=None, *, cache_dir=None, workers=None, progress: bool = False, **kw):
+    """Run :func:`push_scale_tasks` (cached); the GridResult."""
+    return run_grid(push_scale_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="push scale")

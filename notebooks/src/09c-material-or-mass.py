@@ -144,6 +144,41 @@ print(beyond_mass.headline_sentence(hops, "tracking_error_m"))
 print(beyond_mass.headline_sentence(hops, "power_total_w"))
 
 # %% [markdown]
+# How the abstract's comparison moves with the size of the replicates'
+# push (0: none; 1: the book's 5 N for 0.1 s; 2: twice it), paired on the
+# same seeds:
+
+# %%
+pushes = control_runs.run_push_scale(b.profile, cache_dir=b.cache_dir)
+means = pushes.tables.groupby(["push_scale", "design", "replicate"])[["tracking_error_m", "power_total_w"]].mean()
+moves = pd.DataFrame(
+    [
+        {
+            "push_scale": s,
+            "metric": m,
+            **paired.paired_effect(g.xs("rho-inc", level="design")[m], g.xs("SS", level="design")[m]),
+        }
+        for s, g in means.groupby(level="push_scale")
+        for m in ("tracking_error_m", "power_total_w")
+    ]
+)
+fig, ax = plt.subplots(figsize=(6, 3))
+for m, g in moves.groupby("metric"):
+    ax.errorbar(
+        g["push_scale"],
+        g["pct_change"],
+        yerr=[g["pct_change"] - g["ci_low"], g["ci_high"] - g["pct_change"]],
+        marker="o",
+        capsize=3,
+        label=m,
+    )
+ax.axhline(0, color="k", lw=0.8)
+ax.set_xlabel("push scale (x 5 N for 0.1 s)")
+ax.set_ylabel("rho-inc vs SS, ramp (%)")
+ax.legend(fontsize=8)
+plt.tight_layout()
+
+# %% [markdown]
 # ## What leg mass and hip inertia explain, and what the moduli add
 #
 # A factorial on forward hopping: the mass distributions of the paper's
