@@ -119,7 +119,7 @@ def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkF
     sos = scipy.signal.butter(JERK_FILTER_ORDER, cutoff, fs=1.0 / timestep_s, output="sos")
     ((b0, b1, b2, _, a1, a2),) = sos
     zi = scipy.signal.sosfilt_zi(sos)[0] * az0_m_s2
-    return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2]))
+    return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2, 0.0, 0.0]))
 
 
 _log = logging.getLogger("mat_hopper.mujoco")

@@ -277,7 +277,7 @@ def claims_for(
 ) -> pd.DataFrame:
     """The paper's claims beside ours (:func:`mat_hopper.analysis.claims.claims_table`)
     from a reproduction's tables (``exp*_hops``, ``exp*_runs``,
-    ``stability``), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
+    ``stability``, ``controls_hops`` where present), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
     (None). conventions: default those present in the tables. columns:
     which to keep (None: all)."""
     from . import claims
@@ -294,7 +294,15 @@ def claims_for(
     from .robustness import FINE_LABEL, fine_step_hops
 
     fine = fine_step_hops(tables.get("robustness_hops"))
-    table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions), fine_hops=fine, fine_label=FINE_LABEL)
+    table = claims.claims_table(
+        hops,
+        runs,
+        stab,
+        conventions=tuple(conventions),
+        fine_hops=fine,
+        fine_label=FINE_LABEL,
+        controls=tables.get("controls_hops"),  # the beyond-mass columns, where the controls ran
+    )
     if chapter is not None:
         ids = CHAPTER_CLAIMS[chapter]
         table = table[table["claim_id"].isin(ids)]

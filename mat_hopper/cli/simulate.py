@@ -9,6 +9,7 @@ import sys
 from .. import reference as ref
 from ..atomic import write_csv
 from ..behaviours import BEHAVIOUR_NAMES, behaviour
+from ..controls import CONTROLS, control, mass_properties
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
     CONVENTIONS,
@@ -177,6 +178,8 @@ def cmd_simulate(args) -> int:
     profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
     check_output_file(args.csv, "--csv")
     design = design_from_args(args)
+    if args.control is not None:
+        design = control(design, args.control, args.segment_mass)
     beh = behaviour(args.behaviour)
     duration = profile.duration_s if args.duration is None else args.duration
     transient = profile.transient_s if args.transient is None else args.transient
@@ -188,6 +191,11 @@ def cmd_simulate(args) -> int:
         f"{design.name} on {beh.name}: {settings.duration_s:g} s ({profile.name} profile) at "
         f"{describe_settings(settings, is_auto(args.timestep))}, mass {rollout.total_mass_kg:.2f} kg"
     )
+    mp = mass_properties(design, settings.segment_mass)
+    print(
+        f"leg: mass {mp.leg_mass_kg:.3f} kg, centre of mass {mp.leg_com_m:.4f} m below the hip, "
+        f"hip inertia {mp.hip_inertia_kg_m2:.4f} kg m^2"
+    )
     if not rollout.stable:
         print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s")
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
@@ -196,7 +204,10 @@ def cmd_simulate(args) -> int:
         print(desc.to_string(float_format=lambda v: f"{v:.4g}"))
         cot = s["cost_of_transport"]
         cot = f"{cot:.3g}" if math.isfinite(cot) else "none (no distance travelled)"
-        print(f"energy {s['energy_j']:.1f} J, cost of transport {cot}")
+        print(
+            f"actuator work {s['work_abs_j']:.1f} J ({s['thrust_work_fraction']:.0%} by the thrust), "
+            f"{s['energy_per_hop_j']:.2f} J per hop, path {s['path_length_m']:.2f} m, cost of transport {cot}"
+        )
     if args.csv:
         at = list(hops.columns).index("segment_mass") + 1
         hops.insert(at, "timestep_s", settings.timestep_s)
@@ -214,6 +225,13 @@ def register_cli(sub) -> None:
         "capped (2e9 physics steps, 5e6 recorded samples, 64 segments) and checked before any work.",
     )
     add_sim_arguments(p)
+    p.add_argument(
+        "--control",
+        choices=CONTROLS,
+        default=None,
+        help="simulate a control of the design instead: rigid (same densities, no springs), mass (homogeneous "
+        "leg of the same leg mass), inertia (same leg mass and hip inertia; mat_hopper.controls)",
+    )
     p.add_argument(
         "--profile",
         default=None,

@@ -100,7 +100,11 @@ class Experiment:
             for bname in self.behaviours:
                 beh = get_behaviour(bname)
                 for rep in [UNPERTURBED, *range(replicates)]:
-                    pert = None if rep == UNPERTURBED else Perturbation.replicate(rep)
+                    pert = (
+                        None
+                        if rep == UNPERTURBED
+                        else Perturbation.replicate(rep, (profile.transient_s, profile.duration_s))
+                    )
                     labels = {
                         "experiment": self.name,
                         "profile": profile.name,
@@ -225,12 +229,30 @@ class RobustnessStudy:
         return robustness.tasks(profile, robustness.variants(replicates=n))
 
 
+@dataclass(frozen=True)
+class ControlsStudy:
+    """Material or mass? The claims' designs beside their rigid twins and
+    mass- and inertia-matched legs on shared seeds
+    (:mod:`mat_hopper.experiments.controls`; the claims table's beyond-mass
+    columns). Needs replicates: at least 2 (the profile's by default)."""
+
+    name: str = "controls"
+
+    def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
+        from .controls import control_tasks
+
+        profile = get_profile(profile)
+        n = check_replicates(replicates) or profile.replicates
+        return control_tasks(profile, replicates=max(n, 2))
+
+
 EXPERIMENTS = {
     "exp1": experiment_1,
     "exp2": experiment_2,
     "exp3": experiment_3,
     "stability": StabilityMap,
     "robustness": RobustnessStudy,
+    "controls": ControlsStudy,
 }
 EXPERIMENT_NAMES = tuple(EXPERIMENTS)
 
@@ -238,18 +260,27 @@ EXPERIMENT_NAMES = tuple(EXPERIMENTS)
 def experiment_name(text: str) -> str:
     """Canonical name: '1' or 'exp1' -> 'exp1'; 'stability' (or 'stab', '4')."""
     key = str(text).strip().lower()
-    alias = {"1": "exp1", "2": "exp2", "3": "exp3", "4": "stability", "stab": "stability", "robust": "robustness"}
+    alias = {
+        "1": "exp1",
+        "2": "exp2",
+        "3": "exp3",
+        "4": "stability",
+        "stab": "stability",
+        "robust": "robustness",
+        "control": "controls",
+    }
     key = alias.get(key, key)
     if key not in EXPERIMENTS:
         raise ValueError(
-            f"unknown experiment {text!r}; accepted: 1, 2, 3, stability, robustness (or {', '.join(EXPERIMENTS)})"
+            f"unknown experiment {text!r}; accepted: 1, 2, 3, stability, robustness, controls (or "
+            f"{', '.join(EXPERIMENTS)})"
         )
     return key
 
 
 def parse_experiments(text: str | None) -> list[str]:
     """'1,2,3,stability' -> ['exp1', 'exp2', 'exp3', 'stability'] (order
-    kept, duplicates dropped); None or 'all': all five (with robustness)."""
+    kept, duplicates dropped); None or 'all': all six (with robustness and controls)."""
     if text is None or str(text).strip().lower() == "all":
         return list(EXPERIMENT_NAMES)
     names = [experiment_name(p) for p in str(text).split(",") if p.strip()]
@@ -258,7 +289,7 @@ def parse_experiments(text: str | None) -> list[str]:
     return list(dict.fromkeys(names))
 
 
-def get_experiment(name: str) -> Experiment | StabilityMap | RobustnessStudy:
+def get_experiment(name: str) -> Experiment | StabilityMap | RobustnessStudy | ControlsStudy:
     """An experiment by name (see :func:`experiment_name`)."""
     return EXPERIMENTS[experiment_name(name)]()
 

@@ -14,7 +14,11 @@ the claims table through :mod:`mat_hopper.viz.figures` and
 - ``robustness_hops.csv``, ``robustness_runs.csv``: the robustness study's
   runs; ``robustness.csv``: each quantity per variant, classified;
   ``robustness_summary.csv``: per quantity, how many variants keep, move
-  or flip it (:mod:`mat_hopper.analysis.robustness`).
+  or flip it (:mod:`mat_hopper.analysis.robustness`);
+- ``controls_hops.csv``, ``controls_runs.csv``: the claims' designs beside
+  their rigid twins and mass- and inertia-matched legs on shared seeds
+  (:mod:`mat_hopper.experiments.controls`), read by the claims table's
+  beyond-mass columns.
 
 By default every hopping experiment also runs the profile's perturbed
 replicates (``Profile.replicates``), the claims' inferential basis.
@@ -193,7 +197,13 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
 
     fine = fine_step_hops(rep.tables.get("robustness_hops"))
     table = claims.claims_table(
-        hops, runs, stab, conventions=CONVENTIONS, fine_hops=fine, fine_label=FINE_LABEL if fine is not None else ""
+        hops,
+        runs,
+        stab,
+        conventions=CONVENTIONS,
+        fine_hops=fine,
+        fine_label=FINE_LABEL if fine is not None else "",
+        controls=rep.tables.get("controls_hops"),
     )
     files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
     rep.tables["claims"] = table

@@ -39,7 +39,11 @@ def tasks(profile, variant_list=None) -> list:
     out = []
     for v in variant_list or variants():
         prof = profile.for_convention(v.convention).for_sensor_timing(v.sensor_timing)
-        pert = None if v.replicate is None else Perturbation.replicate(v.replicate)
+        pert = (
+            None
+            if v.replicate is None
+            else Perturbation.replicate(v.replicate, (profile.transient_s, profile.duration_s))
+        )
         for d, b in designs_and_behaviours():
             design = parse_design(d)
             settings = prof.sim_settings(pert, design=design)
