@@ -40,10 +40,12 @@ from optuna.trial import TrialState
 
 import mat_hopper.optimize._study as optimize_module
 from mat_hopper.experiments.profiles import PROFILES
+from mat_hopper.optimize._coordinator import run_study
 from mat_hopper.optimize._objective import Objective
+from mat_hopper.optimize._samplers import make_sampler
 from mat_hopper.optimize._space import SearchSpace
 from mat_hopper.optimize._storage import open_storage
-from mat_hopper.optimize._study import RunOptions, StudyConfig, TrialObjective, create_or_load, make_sampler, run_study
+from mat_hopper.optimize._study import RunOptions, StudyConfig, TrialObjective, create_or_load
 from mat_hopper.sim import simulate
 
 
@@ -63,7 +65,8 @@ def main(argv=None):
     a = p.parse_args(argv)
     prof = PROFILES[a.profile]
     space = SearchSpace(kinds=a.space, materials=("PVC", "Al", "Ti", "SS"))
-    config = StudyConfig("bench", space, Objective(behaviours=("ramp",), profile=prof))
+    # single draws (replicates=0): a trial is one rollout, the unit the simulator-alone rate is measured in
+    config = StudyConfig("bench", space, Objective(behaviours=("ramp",), profile=prof, replicates=0))
     # The simulator alone on every core, right before and right after the
     # study: the host's speed drifts, so the study is set against both.
     before = None if a.no_limit else bare_parallel_wall(prof, a.workers)

@@ -50,10 +50,6 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-class UsageError(ValueError):
-    """Bad input found by a command (reported as one line, exit code 2)."""
-
-
 # Options whose value may be a list starting with a minus sign ("-1,2,3"):
 # rewritten to --opt=VALUE before argparse sees them (see _checks).
 def describe_error(e: BaseException) -> str:
@@ -97,7 +93,7 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(negative_list_argv(argv))  # every --option may take a negative number
     from ..atomic import remove_stale_mp_dirs
-    from ..optimize._study import stop_signals
+    from ..optimize import stop_signals
 
     remove_stale_mp_dirs()  # what killed runs left in the temp folder
     try:

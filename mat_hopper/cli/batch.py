@@ -115,13 +115,12 @@ SETTING_COLUMNS = ("behaviour", "convention", "sensor_timing", "duration_s", "tr
 def run_batch(args) -> int:
     from ..batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, evaluate, parse_design_list
     from ..behaviours import behaviour
-    from ..control import sensor_latency_steps
     from ..experiments.profiles import get_profile
     from ._checks import check_output_file, sensor_timing_arg
 
     check_output_file(args.csv, "--csv")  # before any work
     profile = get_profile(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
-    latency = sensor_latency_steps(sensor_timing_arg(args.sensor_timing))
+    timing = sensor_timing_arg(args.sensor_timing)
     _check_applicable(args)
     if args.map is not None:
         designs = _map_designs(args.map)
@@ -135,7 +134,7 @@ def run_batch(args) -> int:
         timestep_s=profile.timestep_s if args.timestep is None else args.timestep,
         transient_s=profile.transient_s if args.transient is None else args.transient,
         convention=args.convention,
-        sensor_latency_steps=latency,
+        sensor_timing=timing,
         segment_mass=profile.segment_mass,
     )
     if args.backend == "warp":
@@ -153,14 +152,13 @@ def run_batch(args) -> int:
     if args.stability:
         return _run_stability(args, designs, settings, run, progress)
     table = evaluate(designs, beh, settings, progress=progress, **run)
-    out = table[list(RESULT_COLUMNS)].assign(
-        behaviour=beh.name,
-        convention=settings.convention,
-        sensor_timing=settings.sensor_timing,
-        duration_s=settings.duration_s,
-        transient_s=settings.transient_s,
-        timestep_s=settings.timestep_s,
-        backend=args.backend,
+    out = (
+        table[list(RESULT_COLUMNS)]
+        .assign(
+            behaviour=beh.name,
+            **settings.columns("convention", "sensor_timing", "duration_s", "transient_s", "timestep_s"),
+        )
+        .assign(backend=args.backend)
     )
     where = f" on {device}" if device else ""
     print(
@@ -219,13 +217,11 @@ def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
         designs,
         duration_s=duration,
         convention=args.convention,
-        sensor_latency_steps=settings.sensor_latency_steps,
+        sensor_timing=settings.sensor_timing,
         progress=progress,
         **run,
     )
-    summary = summary.assign(
-        convention=settings.convention, sensor_timing=settings.sensor_timing, stability_duration_s=duration
-    )
+    summary = summary.assign(**settings.columns("convention", "sensor_timing"), stability_duration_s=duration)
     where = f" on {run['device']}" if run["device"] else ""
     print(
         f"{_count(len(summary), 'design')}, stable-time-step scan: static hopping for {duration:g} s per try, "

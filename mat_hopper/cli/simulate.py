@@ -9,6 +9,7 @@ import sys
 from .. import reference as ref
 from ..atomic import write_csv
 from ..behaviours import BEHAVIOUR_NAMES, behaviour
+from ..controls import CONTROLS, control, mass_properties
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
     CONVENTIONS,
@@ -22,9 +23,9 @@ from ..materials import (
     parse_design,
 )
 from ..metrics import METRICS, hop_table, run_summary
+from ..sim import AUTO, is_auto
 from ._checks import SENSOR_TIMING_HELP, check_output_file, parse_list, sensor_timing_arg
 
-AUTO = "auto"
 PROGRESS_CHUNK_S = 1.0  # simulated seconds per progress-bar update
 
 
@@ -33,7 +34,7 @@ def _timestep(text):
     1e-4 s period, chosen from the spring chain's bound)."""
     if text is None:
         return None
-    if str(text).strip().lower() == AUTO:
+    if is_auto(str(text)):
         return AUTO
     try:
         return float(text)
@@ -44,6 +45,10 @@ def _timestep(text):
 def design_from_args(args) -> LegDesign:
     """--design NAME, or --density/--modulus lists (g/cm^3, GPa)."""
     n = check_n_segments(args.segments)  # an integer in [1, 64] whatever the design form
+    if getattr(args, "design_csv", None) is not None:
+        if args.density is not None or args.modulus is not None:
+            raise ValueError("--design-csv gives the design: leave out --density and --modulus")
+        return _design_from_csv(args.design_csv)
     if args.density is not None or args.modulus is not None:
         if args.density is None or args.modulus is None:
             raise ValueError("--density and --modulus go together (one value per segment)")
@@ -60,12 +65,30 @@ def design_from_args(args) -> LegDesign:
     return parse_design(args.design, n_segments=n)
 
 
+def _design_from_csv(path) -> LegDesign:
+    """The one design of a designs CSV (``mat-hopper optimize --export``,
+    :func:`mat_hopper.batch.designs_from_csv`'s columns)."""
+    from ..batch import designs_from_csv
+
+    designs = designs_from_csv(path)
+    if len(designs) != 1:
+        raise ValueError(
+            f"--design-csv: {path} holds {len(designs)} designs; simulate runs one (batch --designs-csv runs many)"
+        )
+    return designs[0]
+
+
 def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     """Design and run options shared by commands that simulate one design."""
     p.add_argument(
         "--design",
         default="SS",
         help="material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec",
+    )
+    p.add_argument(
+        "--design-csv",
+        metavar="FILE",
+        help="the one design of a designs CSV (density_i, modulus_i columns; e.g. optimize --export's)",
     )
     p.add_argument("--density", help="per-segment densities, g/cm^3, e.g. 1.39,4.43,8 (0.001-30)")
     p.add_argument("--modulus", help="per-segment moduli, GPa (1e-6-2000, or 'rigid'), e.g. 70,70,70")
@@ -108,22 +131,17 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
 def sim_settings_from_args(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
     """SimSettings of the run options, checked (run-size limits included)
     before any work; --timestep auto resolved for this design."""
-    from ..sim import SimSettings, auto_timestep
+    from ..sim import sim_settings
 
     dt = _timestep(args.timestep)
-    substeps = 1
-    if dt is None:
-        dt = get_profile().timestep_s
-    elif dt == AUTO:
-        substeps, dt = auto_timestep(design, args.convention, args.segment_mass)
-    return SimSettings(
+    return sim_settings(
+        design,
         duration_s=duration_s,
-        timestep_s=dt,
+        timestep_s=get_profile().timestep_s if dt is None else dt,
         transient_s=transient_s,
         convention=args.convention,
         sensor_timing=sensor_timing_arg(args.sensor_timing),
         segment_mass=args.segment_mass,
-        substeps=substeps,
         damping=getattr(args, "damping", DEFAULT_DAMPING),
         **extra,
     )
@@ -169,6 +187,8 @@ def cmd_simulate(args) -> int:
     profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
     check_output_file(args.csv, "--csv")
     design = design_from_args(args)
+    if args.control is not None:
+        design = control(design, args.control, args.segment_mass)
     beh = behaviour(args.behaviour)
     duration = profile.duration_s if args.duration is None else args.duration
     transient = profile.transient_s if args.transient is None else args.transient
@@ -178,7 +198,12 @@ def cmd_simulate(args) -> int:
     s = run_summary(rollout)
     print(
         f"{design.name} on {beh.name}: {settings.duration_s:g} s ({profile.name} profile) at "
-        f"{describe_settings(settings, _timestep(args.timestep) == AUTO)}, mass {rollout.total_mass_kg:.2f} kg"
+        f"{describe_settings(settings, is_auto(args.timestep))}, mass {rollout.total_mass_kg:.2f} kg"
+    )
+    mp = mass_properties(design, settings.segment_mass)
+    print(
+        f"leg: mass {mp.leg_mass_kg:.3f} kg, centre of mass {mp.leg_com_m:.4f} m below the hip, "
+        f"hip inertia {mp.hip_inertia_kg_m2:.4f} kg m^2"
     )
     if not rollout.stable:
         print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s")
@@ -188,7 +213,10 @@ def cmd_simulate(args) -> int:
         print(desc.to_string(float_format=lambda v: f"{v:.4g}"))
         cot = s["cost_of_transport"]
         cot = f"{cot:.3g}" if math.isfinite(cot) else "none (no distance travelled)"
-        print(f"energy {s['energy_j']:.1f} J, cost of transport {cot}")
+        print(
+            f"actuator work {s['work_abs_j']:.1f} J ({s['thrust_work_fraction']:.0%} by the thrust), "
+            f"{s['energy_per_hop_j']:.2f} J per hop, path {s['path_length_m']:.2f} m, cost of transport {cot}"
+        )
         if s["peak_stress_pa"] == s["peak_stress_pa"]:  # issue 21: a leg with modelled stress
             flag = "  ** PEAK STRESS OVER YIELD **" if s["yield_exceeded"] else ""
             print(
@@ -212,6 +240,13 @@ def register_cli(sub) -> None:
         "capped (2e9 physics steps, 5e6 recorded samples, 64 segments) and checked before any work.",
     )
     add_sim_arguments(p)
+    p.add_argument(
+        "--control",
+        choices=CONTROLS,
+        default=None,
+        help="simulate a control of the design instead: rigid (same densities, no springs), mass (homogeneous "
+        "leg of the same leg mass), inertia (same leg mass and hip inertia; mat_hopper.controls)",
+    )
     p.add_argument(
         "--profile",
         default=None,

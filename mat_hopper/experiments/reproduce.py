@@ -14,7 +14,11 @@ the claims table through :mod:`mat_hopper.viz.figures` and
 - ``robustness_hops.csv``, ``robustness_runs.csv``: the robustness study's
   runs; ``robustness.csv``: each quantity per variant, classified;
   ``robustness_summary.csv``: per quantity, how many variants keep, move
-  or flip it (:mod:`mat_hopper.analysis.robustness`).
+  or flip it (:mod:`mat_hopper.analysis.robustness`);
+- ``controls_hops.csv``, ``controls_runs.csv``: the claims' designs beside
+  their rigid twins and mass- and inertia-matched legs on shared seeds
+  (:mod:`mat_hopper.experiments.controls`), read by the claims table's
+  beyond-mass columns.
 
 By default every hopping experiment also runs the profile's perturbed
 replicates (``Profile.replicates``), the claims' inferential basis.
@@ -88,15 +92,7 @@ def reproduce(
     out_dir = out_dir or default_out_dir(prof.name)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise ValueError(f"--out {out_dir!r} exists and is not a folder")
-    plan = {n: get_experiment(n) for n in names}
-    tasks = {
-        n: (
-            e.tasks(prof, replicates)
-            if n in ("stability", "robustness")
-            else [t for c in conventions for t in e.tasks(prof.for_convention(c), replicates)]
-        )
-        for n, e in plan.items()
-    }
+    tasks = _tasks(prof, names, conventions, replicates)
     os.makedirs(out_dir, exist_ok=True)
     rep = Reproduction(prof.name, out_dir)
     log(
@@ -112,27 +108,7 @@ def reproduce(
             rep.wall_s[name] = wall
             rep.failed[name] = res.n_failed
             rep.computed[name] = res.n_computed
-            if name == "stability":
-                from ..stability import agreement
-
-                made = {
-                    "stability": res.summary,
-                    "stability_tries": res.tables,
-                    "stability_agreement": agreement(res.summary),
-                }
-            elif name == "robustness":
-                from ..analysis import robustness
-
-                values = robustness.quantity_values(res.tables, res.summary)
-                table = robustness.robustness_table(values)
-                made = {
-                    "robustness_hops": res.tables,
-                    "robustness_runs": res.summary,
-                    "robustness": table,
-                    "robustness_summary": robustness.summary(table),
-                }
-            else:
-                made = {f"{name}_hops": res.tables, f"{name}_runs": res.summary}
+            made = _tables_of(name, res)
             for tname, frame in made.items():
                 path = os.path.join(out_dir, f"{tname}.csv")
                 write_csv(frame, path)
@@ -147,22 +123,63 @@ def reproduce(
                 for row in bad.head(5).itertuples():
                     log(f"  failed: {row.design} {getattr(row, 'behaviour', '')}: {row.error}")
     if "stability_agreement" in rep.tables:
-        a = rep.tables["stability_agreement"]
-        for est in ("spring", "combined"):
-            q = dict(zip(a.loc[a["estimate"] == est, "quantity"], a.loc[a["estimate"] == est, "value"]))
-            log(
-                f"stability, {est} estimate vs measured: "
-                + ", ".join(
-                    f"{k} {q[k]:.3g}"
-                    for k in ("median_ratio_measured_to_estimate", "loglog_pearson_r", "fraction_within_factor_2")
-                    if k in q
-                )
-            )
+        _log_agreement(rep.tables["stability_agreement"], log)
     if figures:
         t0 = time.perf_counter()
         rep.files += _figures_and_claims(rep, log)
         rep.wall_s["figures"] = time.perf_counter() - t0
     return rep
+
+
+def _tasks(prof, names, conventions, replicates) -> dict:
+    """{experiment: its tasks}; the hopping experiments under every convention asked for."""
+    plan = {n: get_experiment(n) for n in names}
+    return {
+        n: (
+            e.tasks(prof, replicates)
+            if n in ("stability", "robustness")
+            else [t for c in conventions for t in e.tasks(prof.for_convention(c), replicates)]
+        )
+        for n, e in plan.items()
+    }
+
+
+def _tables_of(name: str, res) -> dict:
+    """{table name: table} one experiment's run makes (module doc)."""
+    if name == "stability":
+        from ..stability import agreement
+
+        return {
+            "stability": res.summary,
+            "stability_tries": res.tables,
+            "stability_agreement": agreement(res.summary),
+        }
+    if name == "robustness":
+        from ..analysis import robustness
+
+        values = robustness.quantity_values(res.tables, res.summary)
+        table = robustness.robustness_table(values)
+        return {
+            "robustness_hops": res.tables,
+            "robustness_runs": res.summary,
+            "robustness": table,
+            "robustness_summary": robustness.summary(table),
+        }
+    return {f"{name}_hops": res.tables, f"{name}_runs": res.summary}
+
+
+def _log_agreement(a: pd.DataFrame, log) -> None:
+    """One log line per estimate: how well it predicts the measured stable steps."""
+    for est in ("spring", "combined"):
+        q = dict(zip(a.loc[a["estimate"] == est, "quantity"], a.loc[a["estimate"] == est, "value"]))
+        log(
+            f"stability, {est} estimate vs measured: "
+            + ", ".join(
+                f"{k} {q[k]:.3g}"
+                for k in ("median_ratio_measured_to_estimate", "loglog_pearson_r", "fraction_within_factor_2")
+                if k in q
+            )
+        )
 
 
 def _figures_and_claims(rep: Reproduction, log) -> list:
@@ -186,6 +203,7 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
         conventions=REPRODUCTION_CONVENTIONS,
         fine_hops=fine,
         fine_label=FINE_LABEL if fine is not None else "",
+        controls=rep.tables.get("controls_hops"),
     )
     files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
     rep.tables["claims"] = table

@@ -48,8 +48,8 @@ from optuna.storages._heartbeat import is_heartbeat_enabled
 from optuna.trial import TrialState
 from tqdm.std import tqdm
 
-from ..control import sensor_latency_steps
 from ..materials import LegDesign
+from ._coordinator import RunResult
 from ._objective import (
     RESULT_ATTR,
     Evaluation,
@@ -64,7 +64,6 @@ from ._samplers import check_sampler, make_sampler, worker_seed
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, WORKER_ATTR, recover_dead, redact, retry_trial, worker_identity
 from ._study import (
     RunOptions,
-    RunResult,
     StudyConfig,
     counts,
     create_or_load,
@@ -75,6 +74,16 @@ TRIAL_BACKEND_ATTR = "backend"  # trial user attr: the backend that evaluated it
 DEFAULT_BATCH_SIZE = 64  # trials asked per round (a GPU takes thousands: raise it there)
 
 
+def check_unperturbed(objective: Objective) -> None:
+    """ValueError unless `objective` runs unperturbed (replicates 0): the
+    batch kernels have no perturbations (:mod:`mat_hopper.perturbations`)."""
+    if objective.replicates:
+        raise ValueError(
+            f"the warp backend runs unperturbed rollouts only: give --replicates 0 (this objective asks for "
+            f"{objective.replicates} perturbed replicates), or use --backend mujoco"
+        )
+
+
 def batch_settings(objective: Objective, design: LegDesign):
     """The :class:`~mat_hopper.batch.BatchSettings` of one design's runs
     under `objective`: the profile's SimSettings (the CPU path's) as a batch.
@@ -82,6 +91,7 @@ def batch_settings(objective: Objective, design: LegDesign):
     ``axial`` convention's automatic time step)."""
     from ..batch import BatchSettings
 
+    check_unperturbed(objective)
     sim = objective.profile.for_convention(objective.convention).sim_settings(design=design)
     if sim.substeps != 1:
         raise ValueError(
@@ -89,16 +99,7 @@ def batch_settings(objective: Objective, design: LegDesign):
             f"{design.name!r} needs {sim.substeps} physics substeps (automatic time step): give the "
             "profile a fixed axial_timestep_s, or use --backend mujoco"
         )
-    return BatchSettings(
-        duration_s=sim.duration_s,
-        timestep_s=sim.timestep_s,
-        transient_s=sim.transient_s,
-        convention=sim.convention,
-        record_rate_hz=sim.record_rate_hz,
-        controller=sim.controller,
-        sensor_latency_steps=sensor_latency_steps(sim.sensor_timing),
-        segment_mass=sim.segment_mass,
-    )
+    return BatchSettings.of(sim)
 
 
 def behaviour_row(summary: dict, behaviour: str, duration_s: float) -> dict:
@@ -137,9 +138,24 @@ def evaluate_batch(
     max_batch: int | None = None,
     progress: bool = False,
 ) -> list[Evaluation]:
-    """Each design scored as :func:`~mat_hopper.optimize.evaluate` scores it
-    on the CPU, all of them simulated together by the warp backend (one
-    batch per behaviour, topology and set of run settings)."""
+    """Each design scored as :func:`~mat_hopper.optimize.evaluate` scores it on
+    the CPU, all of them simulated together by the warp backend (one batch per
+    behaviour, topology and set of run settings).
+
+    Args:
+        designs: the legs.
+        objective: what to run and score.
+        device: the Warp device (``"cpu"``, ``"cuda"``).
+        max_batch: most worlds in one batch.
+        progress: show a progress bar.
+
+    Returns:
+        One :class:`Evaluation` per design, in order.
+
+    Raises:
+        ValueError: a design that needs physics substeps under the profile.
+        mat_hopper.batch.WarpUnavailable: without mujoco-warp.
+    """
     from ..batch import evaluate as batch_evaluate
 
     designs = list(designs)
@@ -162,7 +178,7 @@ def evaluate_batch(
             )
             for i, summary in zip(idx, table.to_dict("records")):
                 rows[i].append(behaviour_row(summary, b, settings.duration_s))
-    return [aggregate(r, objective) for r in rows]
+    return [aggregate(r, objective, d) for r, d in zip(rows, designs)]
 
 
 def default_device() -> str:
@@ -232,6 +248,34 @@ class _Heartbeat:
             self._thread.join()
 
 
+def _ask(study, config, k: int, identity: dict, told: list, max_retry: int) -> tuple[list, list]:
+    """Ask Optuna for k trials and their designs: (trials, designs). A bad
+    point of the space fails its trial, as on the CPU path; Ctrl-C while
+    asking puts the trials asked so far back in the queue."""
+    asked, designs = [], []
+    try:
+        for _ in range(k):
+            # Ctrl-C, SIGTERM and SIGHUP wait until the new trial is in `asked`
+            # (and names this process), so that the handler below re-queues it.
+            with HeldSignals(signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+                with warnings.catch_warnings():  # "heartbeat ... with Study.optimize": _Heartbeat sends them
+                    warnings.simplefilter("ignore", UserWarning)
+                    trial = study.ask()
+                asked.append(trial)
+                trial.set_user_attr(WORKER_ATTR, identity)
+            trial.set_user_attr(TRIAL_BACKEND_ATTR, BACKEND)
+            try:
+                designs.append(config.space.suggest(trial))
+            except Exception as e:  # a bad point of the space: this trial fails, as on the CPU path
+                asked.pop()
+                _fail(study, trial, f"{type(e).__name__}: {e}")
+                told.append((trial.number, "FAIL"))
+    except BaseException:
+        _requeue(study, asked, "interrupted", max_retry)
+        raise
+    return asked, designs
+
+
 def run_batch_study(
     config: StudyConfig,
     options: RunOptions = RunOptions(),
@@ -239,17 +283,28 @@ def run_batch_study(
     device: str | None = None,
     batch_size: int = DEFAULT_BATCH_SIZE,
 ) -> RunResult:
-    """Run `config`'s study on the warp backend until it holds
-    options.trials finished trials, asking for up to `batch_size` trials per
-    batch (module doc). device: a Warp device ("cpu", "cuda"; default cuda
-    where Warp sees a GPU); options.workers is not used (one process drives
-    the device). Raises :class:`mat_hopper.batch.WarpUnavailable` (an
-    ImportError) without mujoco-warp, ValueError on bad settings, before any
-    study is made."""
+    """Run `config`'s study on the warp backend until it holds options.trials
+    finished trials, asking for up to `batch_size` trials per batch (module doc).
+
+    Args:
+        config: the study.
+        options: as :func:`run_study` (options.workers is not used: one process
+            drives the device).
+        device: a Warp device (``"cpu"``, ``"cuda"``; default cuda where Warp sees a GPU).
+        batch_size: trials asked per round.
+
+    Returns:
+        A :class:`RunResult`.
+
+    Raises:
+        mat_hopper.batch.WarpUnavailable: (an ImportError) without mujoco-warp.
+        ValueError: bad settings, before any study is made.
+    """
     from ..batch import require_warp
 
     if isinstance(batch_size, bool) or not isinstance(batch_size, int) or batch_size < 1:
         raise ValueError(f"batch_size must be an integer >= 1, got {batch_size!r}")
+    check_unperturbed(config.objective)
     require_warp()
     device = device or default_device()
     check_sampler(options.sampler)
@@ -285,27 +340,7 @@ def run_batch_study(
             k = min(batch_size, options.trials - done - running)
             if k <= 0:
                 break
-            asked, designs = [], []
-            try:
-                for _ in range(k):
-                    # Ctrl-C, SIGTERM and SIGHUP wait until the new trial is in `asked`
-                    # (and names this process), so that the handler below re-queues it.
-                    with HeldSignals(signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-                        with warnings.catch_warnings():  # "heartbeat ... with Study.optimize": _Heartbeat sends them
-                            warnings.simplefilter("ignore", UserWarning)
-                            trial = study.ask()
-                        asked.append(trial)
-                        trial.set_user_attr(WORKER_ATTR, identity)
-                    trial.set_user_attr(TRIAL_BACKEND_ATTR, BACKEND)
-                    try:
-                        designs.append(config.space.suggest(trial))
-                    except Exception as e:  # a bad point of the space: this trial fails, as on the CPU path
-                        asked.pop()
-                        _fail(study, trial, f"{type(e).__name__}: {e}")
-                        told.append((trial.number, "FAIL"))
-            except BaseException:  # Ctrl-C while asking: the trials asked so far go back in the queue
-                _requeue(study, asked, "interrupted", options.max_retry)
-                raise
+            asked, designs = _ask(study, config, k, identity, told, options.max_retry)
             beat.ids = [t._trial_id for t in asked]
             try:
                 with beat:

@@ -8,7 +8,11 @@ Objectives (both minimized), from the per-hop metrics of
 
 With several behaviours, each objective is the plain mean over the
 behaviours of each behaviour's mean (every behaviour weighs the same,
-whatever its number of hops). Constraints (Optuna convention: <= 0 is
+whatever its number of hops). With ``replicates = K > 0`` (default 4) that
+mean is taken per seeded replicate, on the same seeds for every trial, and
+the objective is the mean or the CVaR over the replicates
+(:mod:`mat_hopper.optimize._robust`, which also adds the ``leg_mass``
+constraint). Constraints (Optuna convention: <= 0 is
 feasible):
 
 - ``hop_height``: |mean hop height - 1 m| - 0.05 m, the worst behaviour;
@@ -50,7 +54,7 @@ from __future__ import annotations
 import contextlib
 import math
 import warnings
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -63,6 +67,7 @@ from ..fatigue import fatigue_summary
 from ..materials import CONVENTIONS, DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, check_segment_mass
 from ..metrics import hop_cycles, hop_table
 from ..sim import C, RolloutRunner
+from . import _robust
 
 OBJECTIVES = ("tracking_error_m", "power_w")
 CONSTRAINTS = ("hop_height", "unstable")
@@ -76,8 +81,27 @@ LEG_MATERIAL_LENGTH_M = ref.MATERIAL_LENGTH  # total length of the material segm
 
 @dataclass(frozen=True)
 class Objective:
-    """Behaviours to run (names), profile, stiffness convention, segment-mass
-    convention, and the hop height constraint: target and tolerance in m."""
+    """What the optimizer minimizes: tracking error and hip power, under a hop-height
+    and a stability constraint (module doc).
+
+    Args:
+        behaviours: behaviours to run (names).
+        profile: the run profile (duration, transient, time step).
+        convention: the stiffness convention.
+        hop_height_target_m, hop_height_tolerance_m: the hop height constraint, m.
+        segment_mass: the segment mass convention (None: the profile's).
+        replicates: perturbed replicates per behaviour on common random
+            numbers (0: one unperturbed run; :mod:`mat_hopper.optimize._robust`).
+        risk: how replicates are scored, ``"mean"`` or ``"cvar"``.
+        cvar_alpha: the CVaR's tail fraction.
+        leg_mass: None (unconstrained), a paper design's name or a mass in kg.
+        leg_mass_tolerance_kg: the leg mass constraint's tolerance, kg (None:
+            DEFAULT_LEG_MASS_TOLERANCE of the target).
+
+    Raises:
+        ValueError: an unknown behaviour, convention or risk, or a value out
+            of range (naming it).
+    """
 
     behaviours: tuple[str, ...] = ("ramp",)
     profile: Profile = field(default_factory=get_profile)  # $MAT_HOPPER_PROFILE, else paper
@@ -87,12 +111,12 @@ class Objective:
     segment_mass: str | None = None  # None: the profile's
     max_yield_fraction: float | None = None  # issue 21: peak stress <= this x yield (e.g. 0.5)
     min_hops_to_failure: float | None = None  # issue 21: fatigue life of at least this many hops
-
-    @property
-    def constraint_names(self) -> tuple[str, ...]:
-        """CONSTRAINTS, then the stress constraints this objective asks for."""
-        extra = (self.max_yield_fraction, self.min_hops_to_failure)
-        return CONSTRAINTS + tuple(n for n, v in zip(STRESS_CONSTRAINTS, extra) if v is not None)
+    # noise- and mass-aware scores (mat_hopper.optimize._robust)
+    replicates: int = _robust.DEFAULT_REPLICATES  # 0: one unperturbed run per behaviour
+    risk: str = "mean"
+    cvar_alpha: float = _robust.DEFAULT_CVAR_ALPHA
+    leg_mass: str | float | None = None  # None: unconstrained; a paper design's name or kg
+    leg_mass_tolerance_kg: float | None = None  # None: DEFAULT_LEG_MASS_TOLERANCE of the target
 
     def __post_init__(self):
         behs = self.behaviours
@@ -122,11 +146,20 @@ class Objective:
             v = getattr(self, name)
             if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < math.inf):
                 raise ValueError(f"{name} must be a finite number > 0 or None, got {v!r}")
+        _robust.check_objective(self)
+        object.__setattr__(self, "leg_mass", _robust.check_leg_mass(self.leg_mass))
+
+    @property
+    def constraint_names(self) -> tuple[str, ...]:
+        """The constraints of this objective's trials: CONSTRAINTS, plus ``leg_mass`` when set, then the stress constraints asked for."""
+        extra = (self.max_yield_fraction, self.min_hops_to_failure)  # issue 21
+        stress = tuple(n for n, v in zip(STRESS_CONSTRAINTS, extra) if v is not None)
+        return CONSTRAINTS + ((_robust.LEG_MASS_CONSTRAINT,) if self.leg_mass is not None else ()) + stress
 
     def key(self) -> dict:
         return {
             "behaviours": list(self.behaviours),
-            "profile": asdict(self.profile),
+            "profile": self.profile.key_dict(),
             "convention": self.convention,
             "hop_height_target_m": self.hop_height_target_m,
             "hop_height_tolerance_m": self.hop_height_tolerance_m,
@@ -137,6 +170,7 @@ class Objective:
                 for k in ("max_yield_fraction", "min_hops_to_failure")
                 if getattr(self, k) is not None
             },
+            **_robust.key_fields(self),
         }
 
     @classmethod
@@ -153,6 +187,7 @@ class Objective:
             segment_mass=key.get("segment_mass", DEFAULT_SEGMENT_MASS),
             max_yield_fraction=key.get("max_yield_fraction"),
             min_hops_to_failure=key.get("min_hops_to_failure"),
+            **_robust.from_key_fields(key),
         )
 
     def sim_settings(self, perturbation=None, design=None):
@@ -166,8 +201,16 @@ class Objective:
 
 @dataclass
 class Evaluation:
-    """One design's outcome: objective values (OBJECTIVES order), constraint
-    values (CONSTRAINTS order, <= 0 feasible), and per-behaviour rows."""
+    """One design's outcome.
+
+    Args:
+        values: objective values in :data:`OBJECTIVES` order (tracking error m, hip power W).
+        constraints: constraint values in :data:`CONSTRAINTS` order (<= 0 feasible).
+        hop_height_m: the mean hop height, m.
+        per_behaviour: one row (dict) per behaviour run.
+        total_mass_kg: the robot's mass, kg.
+        simulated_s: simulated time of all its runs, s.
+    """
 
     values: tuple[float, float]
     constraints: tuple[float, float]
@@ -175,7 +218,10 @@ class Evaluation:
     per_behaviour: list[dict] = field(default_factory=list)
     total_mass_kg: float = float("nan")
     simulated_s: float = 0.0
-    constraint_names: tuple[str, ...] = CONSTRAINTS  # names of ``constraints``, in order
+    standard_errors: tuple[float, ...] = ()  # per objective, over replicates (nan: one run)
+    replicate_values: list[list[float]] = field(default_factory=list)  # per replicate, per objective
+    leg_mass_kg: float = float("nan")
+    constraint_names: tuple[str, ...] = CONSTRAINTS
 
     @property
     def feasible(self) -> bool:
@@ -208,10 +254,13 @@ def scored_by_hops(n_hops: int, upright: bool) -> bool:
     return n_hops > 0 and upright
 
 
-def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None) -> dict:
+def run_behaviour(
+    design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None, perturbation=None
+) -> dict:
     """Simulate one behaviour in chunks of CHUNK_S simulated s (calling
-    tick() between chunks) and score it."""
-    settings = objective.sim_settings(design=design)
+    tick() between chunks), under `perturbation` (None: unperturbed), and
+    score it; the row's ``replicate`` is the perturbation's seed (-1: none)."""
+    settings = objective.sim_settings(perturbation, design=design)
     runner = RolloutRunner(design, get_behaviour(behaviour_name), settings)
     chunk = max(1, int(round(CHUNK_S / settings.timestep_s)))
     while not runner.done:
@@ -241,6 +290,7 @@ def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, 
         "total_mass_kg": float(rollout.total_mass_kg),
         "yield_ratio": life["yield_ratio"],
         "hops_to_failure": life["hops_to_failure"],
+        "replicate": -1 if perturbation is None else int(perturbation.seed),
     }
 
 
@@ -260,36 +310,64 @@ def mujoco_warnings_to(sink: list):
 
 
 def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluation:
-    """Run `design` on every behaviour of `objective` and aggregate (module
-    doc). MuJoCo warnings are counted per behaviour (``mujoco_warnings``),
-    not printed."""
+    """Run `design` on every behaviour of `objective`, under each of its
+    replicates' perturbations (:func:`mat_hopper.optimize._robust.perturbations`),
+    and aggregate (module doc).
+
+    Args:
+        design: the leg.
+        objective: what to run and score.
+        tick: called once per run done (progress), or None.
+
+    Returns:
+        An :class:`Evaluation`: objective values (tracking error m, power W),
+        constraint values (<= 0 feasible), hop height m, per-run rows
+        (MuJoCo warnings counted in ``mujoco_warnings``, not printed).
+    """
     rows = []
-    for b in objective.behaviours:
-        with mujoco_warnings_to([]) as sink:
-            row = run_behaviour(design, b, objective, tick=tick)
-        row["mujoco_warnings"] = len(sink)
-        rows.append(row)
-    return aggregate(rows, objective)
+    for pert in _robust.perturbations(objective.replicates, objective.profile.scored_window_s):
+        for b in objective.behaviours:
+            with mujoco_warnings_to([]) as sink:
+                row = run_behaviour(design, b, objective, tick=tick, perturbation=pert)
+            row["mujoco_warnings"] = len(sink)
+            rows.append(row)
+    return aggregate(rows, objective, design)
 
 
-def aggregate(rows: list[dict], objective: Objective) -> Evaluation:
-    """One design's Evaluation from its per-behaviour rows (keys
-    behaviour, tracking_error_m, power_w, hop_height_m, n_hops, upright,
-    simulated_s, total_mass_kg), as the module doc defines it. Used by the
-    CPU path (:func:`evaluate`) and the batch path (``_batch``) alike."""
-    values = (float(np.mean([r["tracking_error_m"] for r in rows])), float(np.mean([r["power_w"] for r in rows])))
+def aggregate(rows: list[dict], objective: Objective, design: LegDesign | None = None) -> Evaluation:
+    """One design's Evaluation from its per-run rows (keys behaviour,
+    tracking_error_m, power_w, hop_height_m, n_hops, upright, simulated_s,
+    total_mass_kg, and replicate: the seed, -1 or absent for an unperturbed
+    run), as the module doc and :mod:`~mat_hopper.optimize._robust` define
+    it: each replicate's value is the mean over behaviours, the objective
+    the objective's risk measure over replicates; the hop height constraint
+    takes each behaviour's mean height over replicates. `design` gives the
+    leg mass (needed when the objective constrains it). Used by the CPU path
+    (:func:`evaluate`) and the batch paths alike."""
+    per_rep = _robust.replicate_values(rows, OBJECTIVES)
+    scored = [
+        _robust.score([v[i] for v in per_rep], objective.risk, objective.cvar_alpha) for i in range(len(OBJECTIVES))
+    ]
+    values = tuple(v for v, _ in scored)
     target, tol = objective.hop_height_target_m, objective.hop_height_tolerance_m
-    height_violation = max((abs(r["hop_height_m"] - target) - tol) if r["n_hops"] else target - tol for r in rows)
+    height_violation = max(
+        (abs(h - target) - tol) if math.isfinite(h) else target - tol for h in _robust.behaviour_heights(rows)
+    )
     unstable = 0.0 if all(r["upright"] for r in rows) else 1.0
     heights = [r["hop_height_m"] for r in rows if r["n_hops"]]
+    mass = _robust.leg_mass_kg(design, objective.segment_mass) if design is not None else float("nan")
+    constraints = (float(height_violation), unstable) + _robust.mass_constraints(objective, design, mass)
     return Evaluation(
         values=values,
-        constraints=(float(height_violation), unstable, *_stress_constraints(rows, objective)),
-        constraint_names=objective.constraint_names,
+        constraints=(*constraints, *_stress_constraints(rows, objective)),
         hop_height_m=float(np.mean(heights)) if heights else float("nan"),
         per_behaviour=rows,
         total_mass_kg=rows[0]["total_mass_kg"],
         simulated_s=float(sum(r["simulated_s"] for r in rows)),
+        standard_errors=tuple(se for _, se in scored),
+        replicate_values=[list(v) for v in per_rep],
+        leg_mass_kg=mass,
+        constraint_names=objective.constraint_names,
     )
 
 
@@ -327,12 +405,16 @@ def result_attr(design, ev) -> dict:
         "design": design.name,
         "total_mass_kg": ev.total_mass_kg,
         "simulated_s": ev.simulated_s,
+        "leg_mass_kg": _finite(ev.leg_mass_kg),
+        "replicate_values": ev.replicate_values,
         "per_behaviour": [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour],
     }
 
 
 def record_evaluation(trial, design, ev) -> None:
-    """Set the trial's constraints and its ``result`` user attr."""
+    """Set the trial's constraints, its ``result`` user attr and its
+    ``standard_error`` user attr ({objective: SE}, None with one run)."""
     for name, value in zip(ev.constraint_names, ev.constraints):
         trial.set_constraint(name, value)
     trial.set_user_attr(RESULT_ATTR, result_attr(design, ev))
+    trial.set_user_attr(_robust.SE_ATTR, {k: _finite(v) for k, v in zip(OBJECTIVES, ev.standard_errors)})

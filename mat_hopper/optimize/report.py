@@ -39,15 +39,16 @@ import optuna
 import pandas as pd
 from optuna.trial import TrialState
 
-from ..analysis.change import percent_change
 from ..atomic import write_csv
+from ..change import percent_change
 from ..materials import LegDesign, paper_designs
 from ..viz import study as study_plots
 from ..viz.style import save_figure
-from ._objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
+from ._objective import OBJECTIVES, RESULT_ATTR, Objective, evaluate
+from ._robust import SE_ATTR, leg_mass_kg
 from ._space import resample
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
-from ._study import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
+from ._study import CONFIG_ATTR, StudyConfig, _quiet
 
 BASELINES = ("SS", "rho-inc")
 HV_MARGIN = 0.1
@@ -66,8 +67,16 @@ def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
 
 
 def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
-    """One row per trial (see module doc), queued trials not yet run
-    (WAITING) left out. No wall-clock columns."""
+    """One row per trial (see module doc), queued trials not yet run (WAITING)
+    left out. No wall-clock columns.
+
+    Args:
+        study: an ``optuna.Study`` of ours.
+        config: its :class:`StudyConfig`.
+
+    Returns:
+        The trials table, columns as the module doc lists them (units in the names).
+    """
     rows = []
     space = config.space
     states = tuple(s for s in TrialState if s != TrialState.WAITING)
@@ -84,13 +93,17 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
             "power_w": np.nan,
             "hop_height_m": res.get("hop_height_m") if res.get("hop_height_m") is not None else np.nan,
             "total_mass_kg": res.get("total_mass_kg", np.nan),
+            "leg_mass_kg": np.nan,
         }
         if t.state == TrialState.COMPLETE and t.values is not None:
             row.update(dict(zip(OBJECTIVES, t.values)))
+        se = ua.get(SE_ATTR) or {}
+        row.update({f"{o}_se": np.nan if se.get(o) is None else se[o] for o in OBJECTIVES})
         c = t.constraints
-        row.update({f"constraint_{n}": c.get(n, np.nan) for n in CONSTRAINTS})
+        row.update({f"constraint_{n}": c.get(n, np.nan) for n in config.objective.constraint_names})
         try:
             design = space.design(t.params)
+            row["leg_mass_kg"] = leg_mass_kg(design, config.objective.segment_mass)
             for i, m in enumerate(design.segments, 1):
                 row[f"seg{i}_rho_g_cm3"] = m.density_g_cm3
                 row[f"seg{i}_e_gpa"] = m.modulus_gpa
@@ -114,12 +127,19 @@ def feasible_complete(frame: pd.DataFrame) -> pd.DataFrame:
 
 
 def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None, *, best=None) -> pd.DataFrame:
-    """The Pareto front: the trials of `best` (trial numbers, from Optuna's
-    ``study.best_trials``: complete, feasible, non-dominated), by tracking
-    error, with percent changes against each baseline ({name:
-    (tracking_error_m, power_w)}). Of trials with identical objective
-    values (a design evaluated twice, e.g. a retried trial) the first is
-    kept: Optuna lists every copy."""
+    """The Pareto front, by tracking error. Of trials with identical objective
+    values (a design evaluated twice, e.g. a retried trial) the first is kept:
+    Optuna lists every copy.
+
+    Args:
+        frame: :func:`trials_frame`'s table.
+        baselines: {name: (tracking_error_m, power_w)} to compare against, or None.
+        best: the front's trial numbers, from Optuna's ``study.best_trials``
+            (complete, feasible, non-dominated).
+
+    Returns:
+        The front's rows, with percent changes against each baseline.
+    """
     ok = feasible_complete(frame)
     if ok.empty or not best:
         return ok.iloc[0:0].copy()
@@ -129,7 +149,8 @@ def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None, *, best=Non
     for name, vals in (baselines or {}).items():
         for obj, base in zip(OBJECTIVES, vals):
             front[f"{obj.rsplit('_', 1)[0]}_vs_{name}_pct"] = percent_change(front[obj].to_numpy(float), base)
-    cols = ["trial", "design", "paper_design", *OBJECTIVES, "hop_height_m"]
+    cols = ["trial", "design", "paper_design", *OBJECTIVES, *(f"{o}_se" for o in OBJECTIVES), "hop_height_m"]
+    cols = [c for c in cols + ["leg_mass_kg"] if c in front.columns]  # a table of an older report may lack some
     cols += [c for c in front.columns if c.endswith("_pct")]
     cols += [c for c in front.columns if c.startswith("seg") and c not in cols]
     return front[cols].reset_index(drop=True)
@@ -217,8 +238,19 @@ def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> 
 
 
 def write_report(name: str, storage, out_dir: str) -> dict:
-    """Every output of the module doc, written into out_dir. Returns
-    {output name: path} and the tables."""
+    """Every output of the module doc, written into `out_dir`.
+
+    Args:
+        name: the study's name.
+        storage: its Optuna storage.
+        out_dir: the folder (made if needed).
+
+    Returns:
+        {output name: path} and the tables (trials, pareto, baselines, ...).
+
+    Raises:
+        ValueError: no such study or not ours.
+    """
     study, config = load(name, storage)
     os.makedirs(out_dir, exist_ok=True)
     frame = trials_frame(study, config)
@@ -265,7 +297,20 @@ def write_report(name: str, storage, out_dir: str) -> dict:
 
 
 def replay(name: str, storage, number: int):
-    """(trial, design, fresh Evaluation) for trial `number` of study `name`."""
+    """Replay one trial of a study: its design simulated afresh.
+
+    Args:
+        name: the study's name.
+        storage: its Optuna storage (:func:`open_storage`).
+        number: the trial's number.
+
+    Returns:
+        (the FrozenTrial, its LegDesign, a fresh :class:`Evaluation`, the study's
+        :class:`StudyConfig`): compare the fresh values with the stored ones.
+
+    Raises:
+        ValueError: no such study, not ours, or no such trial.
+    """
     study, config = load(name, storage)
     trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]
     if not trials:
@@ -282,6 +327,10 @@ STUDY_TRIALS = {"paper": 200, "quick": 32}  # trials of the book's own study, pe
 STUDY_BATCH = 8  # trials asked before the first is told (one grid of runs)
 STUDY_SAMPLER = "tpe"  # the best of benchmarks/sampler.py's side-by-side comparison
 STUDY_BEHAVIOURS = ("ramp",)
+# Chapter 9's study keeps one unperturbed run per trial until the chapter is
+# rewritten around noise-aware scores and racing (issue #22, items 2 and 9):
+# its text, figures and runtime budget describe single draws.
+STUDY_REPLICATES = 0
 
 
 def book_study(
@@ -298,19 +347,36 @@ def book_study(
     cache_dir=None,
     workers: int | None = None,
 ) -> dict:
-    """Run (or resume, or just load) the book's design study with
-    :func:`mat_hopper.optimize._batched.run_batched`: continuous density
-    and modulus per segment (3 segments; in the hulls of `ashby_classes`
-    when given), tracking error and hip power on `behaviours` under the
-    profile, the paper's nine designs first (the rigid MD as a baseline
-    run), `trials` trials (default :data:`STUDY_TRIALS` of the profile) in
-    batches of `batch` through the runner's cache and pool, so the study is
-    the same on any machine. Storage: ``studies/<name>.db``; the name
-    carries a digest of the settings, sampler, seed and batch, so changed
-    settings start a new study instead of clashing with an old one (folder
-    `studies_dir`). Then :func:`write_report` into `out_dir`. Returns the
-    report dict (``trials``, ``pareto``, ``baselines``, ``hypervolume``,
-    ``importances``, ``paths``) plus ``name``, ``url`` and ``config``."""
+    """Run (or resume, or just load) the book's design study, then write its report.
+
+    The study (:func:`mat_hopper.optimize._batched.run_batched`): continuous
+    density and modulus per segment (3 segments; in the hulls of
+    `ashby_classes` when given), tracking error and hip power on `behaviours`
+    under the profile, the paper's nine designs first (the rigid MD as a
+    baseline run), in batches through the runner's cache and pool, so the
+    study is the same on any machine. Its name carries a digest of the
+    settings, sampler, seed and batch, so changed settings start a new study
+    instead of clashing with an old one.
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else paper).
+        studies_dir: the folder of ``<name>.db``.
+        out_dir: where :func:`write_report` writes.
+        trials: the study's size (None: :data:`STUDY_TRIALS` of the profile).
+        behaviours: behaviour names.
+        seed: the sampler's seed.
+        ashby_classes: material classes whose hulls bound the search.
+        sampler: an Optuna sampler's name.
+        batch: trials per batch.
+        cache_dir, workers: the runner's cache folder and processes.
+
+    Returns:
+        The report dict (``trials``, ``pareto``, ``baselines``, ``hypervolume``,
+        ``importances``, ``paths``) plus ``name``, ``url`` and ``config``.
+
+    Raises:
+        ValueError: bad settings (naming them), before any run.
+    """
     import hashlib
     import json
 
@@ -321,7 +387,7 @@ def book_study(
 
     profile = get_profile(profile)
     n = STUDY_TRIALS.get(profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
-    objective = Objective(behaviours=tuple(behaviours), profile=profile)
+    objective = Objective(behaviours=tuple(behaviours), profile=profile, replicates=STUDY_REPLICATES)
     space = SearchSpace(ashby_classes=ashby_classes)
     probe = StudyConfig("probe", space, objective)
     run_key = {"config": probe.key(), "sampler": sampler, "seed": seed, "batch": batch}
@@ -337,10 +403,19 @@ def book_study(
 
 
 def front_table(front: pd.DataFrame) -> pd.DataFrame:
-    """A Pareto table (:func:`mat_hopper.optimize.report.pareto_frame`) for
-    the page: trial, the paper's design it is (if any), tracking error
-    (mm), hip power (mW), hop height (m) and the percent changes against
-    the baselines, with short column names."""
+    """A Pareto table for the page: a design a reader can build
+    (``mat-hopper optimize --export TRIAL`` writes it).
+
+    Args:
+        front: :func:`pareto_frame`'s table.
+
+    Returns:
+        trial, the paper's design it is (if any), tracking error (mm), hip
+        power (mW), their standard errors (a noise-aware study's), hop height
+        (m), the percent changes against the baselines, the leg's mass (kg)
+        and each segment's density (g/cm^3) and modulus (GPa), base to foot,
+        with short column names.
+    """
     out = pd.DataFrame(
         {
             "trial": front["trial"].astype(int),
@@ -350,20 +425,34 @@ def front_table(front: pd.DataFrame) -> pd.DataFrame:
             "hop height (m)": front["hop_height_m"],
         }
     )
+    for col, name, scale in (("tracking_error_m_se", "tracking SE (mm)", 1e3), ("power_w_se", "power SE (mW)", 1e3)):
+        if col in front.columns and front[col].notna().any():  # a noise-aware study's standard errors
+            out.insert(list(out.columns).index("hop height (m)"), name, front[col] * scale)
     for col in front.columns:
         m = re.fullmatch(r"(tracking_error|power)_vs_(.+)_pct", col)
         if m:
             what = "tracking" if m.group(1) == "tracking_error" else "power"
             out[f"{what} vs {m.group(2)} (%)"] = front[col]
+    out["leg mass (kg)"] = front["leg_mass_kg"] if "leg_mass_kg" in front.columns else np.nan
+    i = 1
+    while f"seg{i}_rho_g_cm3" in front.columns:
+        out[f"seg {i} density (g/cm^3)"] = front[f"seg{i}_rho_g_cm3"]
+        out[f"seg {i} modulus (GPa)"] = front[f"seg{i}_e_gpa"]
+        i += 1
     return out.reset_index(drop=True)
 
 
 def front_designs(front: pd.DataFrame, k: int | None = None, *, skip_paper: bool = True) -> dict[str, LegDesign]:
-    """The designs of a Pareto table (``seg{i}_rho_g_cm3``,
-    ``seg{i}_e_gpa`` columns; at most `k`, by tracking error) as
-    {"#<trial>": LegDesign}, for :func:`designs_figure`; the paper's own
-    designs (a non-empty ``paper_design``) are left out unless
-    `skip_paper` is false."""
+    """The designs of a Pareto table, for :func:`mat_hopper.viz.maps.designs_figure`.
+
+    Args:
+        front: a table with ``seg{i}_rho_g_cm3`` and ``seg{i}_e_gpa`` columns.
+        k: at most this many, by tracking error (None: all).
+        skip_paper: leave out the paper's own designs (a non-empty ``paper_design``).
+
+    Returns:
+        {"#<trial>": LegDesign}.
+    """
     rows = front.sort_values("tracking_error_m") if "tracking_error_m" in front.columns else front
     if skip_paper and "paper_design" in rows.columns:
         rows = rows[rows["paper_design"].fillna("").astype(str) == ""]

@@ -22,13 +22,15 @@ from running_trials import stop_a_running_trial
 
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
+from mat_hopper.optimize import _coordinator as coordinator_mod
 from mat_hopper.optimize import _storage
 from mat_hopper.optimize import _study as study_mod
+from mat_hopper.optimize._coordinator import run_study
 from mat_hopper.optimize._objective import Objective
 from mat_hopper.optimize._processes import HeldSignals
 from mat_hopper.optimize._space import SearchSpace
 from mat_hopper.optimize._storage import FAIL_REASON_ATTR, WORKER_ATTR, open_storage
-from mat_hopper.optimize._study import CONFIG_ATTR, RunOptions, StudyConfig, create_or_load, run_study
+from mat_hopper.optimize._study import CONFIG_ATTR, RunOptions, StudyConfig, create_or_load
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
@@ -38,7 +40,7 @@ ENV.pop("MAT_HOPPER_PROFILE", None)
 
 
 def tiny(name, profile=TINY, behaviours="ramp"):
-    return StudyConfig(name, SearchSpace(), Objective(behaviours=behaviours, profile=profile))
+    return StudyConfig(name, SearchSpace(), Objective(replicates=0, behaviours=behaviours, profile=profile))
 
 
 def _one_line_exit_2(argv, capsys, text):
@@ -219,7 +221,7 @@ def test_no_database_connection_crosses_the_fork(tmp_path, monkeypatch):
 
     monkeypatch.setattr(study_mod, "open_storage", spy)
     # fork even when an earlier test left a thread running (run_study would spawn)
-    monkeypatch.setattr(study_mod, "_start_method", lambda: "fork")
+    monkeypatch.setattr(coordinator_mod, "_start_method", lambda: "fork")
     res = run_study(
         tiny("fork"), RunOptions(trials=5, workers=2, storage=f"sqlite:///{tmp_path}/fork.db", progress=False)
     )
@@ -259,7 +261,7 @@ def test_sigterm_right_after_the_trial_is_made_waits_until_it_names_its_worker(t
 
     parent = os.getpid()
     monkeypatch.setattr(optuna.Study, "ask", ask)
-    monkeypatch.setattr(study_mod, "_start_method", lambda: "fork")
+    monkeypatch.setattr(coordinator_mod, "_start_method", lambda: "fork")
     url = f"sqlite:///{tmp_path}/held.db"
     res = run_study(tiny("held"), RunOptions(trials=2, workers=1, storage=url, progress=False))
     pid = int(shot.read_text())
@@ -344,7 +346,7 @@ FIRST_START = textwrap.dedent(
     from mat_hopper.optimize._storage import open_storage
     from mat_hopper.optimize._study import StudyConfig, create_or_load
     url, start = sys.argv[1], float(sys.argv[2])
-    config = StudyConfig("race", SearchSpace(), Objective(profile=Profile("tiny", 2.0, 0.5)))
+    config = StudyConfig("race", SearchSpace(), Objective(replicates=0, profile=Profile("tiny", 2.0, 0.5)))
     time.sleep(max(0.0, start - time.time()))  # both at the same moment
     study = create_or_load(config, open_storage(url))
     print(len(study.trials))
@@ -383,7 +385,7 @@ def test_concurrent_first_start_on_a_fresh_sqlite_file(tmp_path):
 def _two_commands(url, tmp_path):
     """Two `mat-hopper optimize` commands on one fresh study, started together."""
     cmd = [sys.executable, "-m", "mat_hopper", "optimize", "--study", "both", "--trials", "4", "--workers", "1"]
-    cmd += ["--profile", "quick", "--storage", url, "--no-progress"]
+    cmd += ["--profile", "quick", "--replicates", "0", "--storage", url, "--no-progress"]
     procs = [
         subprocess.Popen(cmd, env=ENV, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         for _ in range(2)
