@@ -490,11 +490,16 @@ def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
 def test_stress_constraints_peak_stress_and_fatigue_life():
     # issue 21: peak stress <= yield / 2 and a fatigue life, as constraints asked for by name
     prof = Profile("tiny", 3.0, 1.0, 1e-4, 2, 1.0)
-    plain = Objective(behaviours=("forward",), profile=prof, convention="bending")
+    plain = Objective(behaviours=("forward",), profile=prof, convention="bending", replicates=0)
     assert plain.constraint_names == ("hop_height", "unstable")
     assert "max_yield_fraction" not in plain.key()
     ob = Objective(
-        behaviours=("forward",), profile=prof, convention="bending", max_yield_fraction=0.5, min_hops_to_failure=1e6
+        behaviours=("forward",),
+        profile=prof,
+        convention="bending",
+        replicates=0,
+        max_yield_fraction=0.5,
+        min_hops_to_failure=1e6,
     )
     assert ob.constraint_names == ("hop_height", "unstable", "peak_stress", "fatigue_life")
     assert Objective.from_key(ob.key()) == ob
@@ -506,7 +511,9 @@ def test_stress_constraints_peak_stress_and_fatigue_life():
     # SS under bending: tens of MPa against 215 MPa: both feasible
     assert ev.constraints[2] < 0 and ev.constraints[3] < 0
     # a limit no leg meets makes it infeasible
-    strict = Objective(behaviours=("forward",), profile=prof, convention="bending", max_yield_fraction=1e-6)
+    strict = Objective(
+        behaviours=("forward",), profile=prof, convention="bending", replicates=0, max_yield_fraction=1e-6
+    )
     assert evaluate(LegDesign.mono("SS"), strict).constraints[2] > 0
     with pytest.raises(ValueError, match="max_yield_fraction"):
         Objective(max_yield_fraction=-1.0)
