@@ -91,6 +91,19 @@ MAX_SUBSTEPS = 1000
 # (about 3 h of one core), 5e6 recorded samples (1.5 GB of records).
 MAX_STEPS = 2_000_000_000
 MAX_SAMPLES = 5_000_000
+# Physics steps per call of the compiled loop. Python runs signal handlers
+# (Ctrl-C, SIGTERM) only between calls, so every call must end within a
+# fraction of a second of wall time at any time step: sized in steps, not
+# simulated seconds, and scaled down for longer chains (a 3-segment leg
+# takes about 5 us a step: 20000 steps, 0.1 s; 64 segments 75 us a step:
+# 1000 steps, 0.08 s). A call costs microseconds more than its steps
+# (benchmarks/rollout.py's ratio is unchanged).
+LOOP_CHUNK_STEPS = 20_000  # for legs of up to 3 segments
+
+
+def loop_chunk_steps(n_segments: int) -> int:
+    """Physics steps per compiled-loop call for a leg of n_segments."""
+    return max(1000, LOOP_CHUNK_STEPS * 3 // max(3, int(n_segments)))
 AUTO = "auto"
 # Jerk is computed at the physics rate: the base's z acceleration through a
 # causal Butterworth low-pass, then differentiated step by step. The cut-off
@@ -457,6 +470,12 @@ class RolloutRunner:
             return self
         remaining = self.settings.n_steps - self.step
         n = remaining if n_steps is None else min(int(n_steps), remaining)
+        end = self.step + n
+        while self.step < end and self.diverged_step < 0:  # signals are handled between chunks
+            self._advance_chunk(min(end - self.step, loop_chunk_steps(self.design.n_segments)))
+        return self
+
+    def _advance_chunk(self, n: int) -> None:
         hm, st = self.hopper, self.settings
         steps = Steps(self.step, n, st.timestep_s, st.record_every, ref.DIVERGENCE_QACC, st.substeps)
         n_rec, n_ev, bad = rollout_loop(
@@ -482,7 +501,6 @@ class RolloutRunner:
         if bad >= 0:
             self.diverged_step = int(bad)
         self.step += n
-        return self
 
     def result(self) -> Rollout:
         data = self._rec[: self._n_rec].view(np.float64).reshape(self._n_rec, N_CHANNELS).copy()

@@ -7,7 +7,7 @@ was wrong; :func:`mat_hopper.cli.main` prints it and exits with code 2.
 
 from __future__ import annotations
 
-import math
+import argparse
 import os
 import re
 import shutil
@@ -15,10 +15,65 @@ import tempfile
 from contextlib import contextmanager
 
 from ..atomic import TEMP_PREFIX
+from ..parsing import RIGID, parse_name, parse_number
 
 # A value argparse would take for an option: "-1", "-1.5e3", "-1,2,3".
 NEGATIVE_LIST = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
-RIGID_WORDS = ("rigid", "inf")
+
+
+def _number_type(flag: str, integer: bool):
+    def read(text):
+        try:
+            return parse_number(text, flag, integer=integer)
+        except ValueError as e:  # argparse puts "argument FLAG: " in front
+            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag} ")) from None
+
+    read.__name__ = "integer" if integer else "number"
+    return read
+
+
+def _name_type(flag: str, choices):
+    def read(text):
+        try:
+            return parse_name(text, choices, flag)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+
+    read.__name__ = "name"
+    return read
+
+
+def _text_type(flag: str):
+    def read(text):
+        if not str(text).strip():
+            raise argparse.ArgumentTypeError("empty value; give one or leave the option out")
+        return text
+
+    read.__name__ = "text"
+    return read
+
+
+def harden_parser(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """One reading of every option of every subcommand: numbers (type=float
+    or int) through :func:`mat_hopper.parsing.parse_number` (ASCII decimal,
+    finite), names with choices through :func:`~mat_hopper.parsing.parse_name`
+    (case-insensitive), and no empty value for any option that takes one.
+    Errors name the flag as typed. Returns `parser`."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in dict.fromkeys(action.choices.values()):
+                harden_parser(sub)
+            continue
+        if not action.option_strings or action.nargs == 0:
+            continue
+        flag = max(action.option_strings, key=len)
+        if action.type in (float, int):
+            action.type = _number_type(flag, action.type is int)
+        elif action.type is None and action.choices is not None:
+            action.type = _name_type(flag, tuple(action.choices))
+        elif action.type is None:
+            action.type = _text_type(flag)
+    return parser
 
 
 def check_name_list(text, flag: str) -> None:
@@ -38,8 +93,9 @@ def check_name_list(text, flag: str) -> None:
 def parse_list(text, flag: str, *, rigid: bool = False, unit: str = "") -> list[float | None]:
     """A comma-separated list of finite numbers, the one parser of every
     comma list on the command line (--density, --modulus, --density-bounds,
-    --modulus-bounds). Empty items ("1,,2", "1,2,") are refused; with
-    `rigid`, "rigid" or "inf" stands for a rigid segment (None). Ranges
+    --modulus-bounds); each item through :func:`mat_hopper.parsing.parse_number`
+    (ASCII decimal). Empty items ("1,,2", "1,2,") are refused; with
+    `rigid`, the word "rigid" stands for a rigid segment (None). Ranges
     are checked by the library (materials, search space), not here."""
     what = f"{flag} must be comma-separated numbers{f' in {unit}' if unit else ''}"
     if text is None or not str(text).strip():
@@ -49,16 +105,13 @@ def parse_list(text, flag: str, *, rigid: bool = False, unit: str = "") -> list[
         p = part.strip()
         if not p:
             raise ValueError(f"{what}, got {text!r} (an empty item)")
-        if rigid and p.lower() in RIGID_WORDS:
-            out.append(None)
-            continue
         try:
-            x = float(p)
-        except ValueError:
-            raise ValueError(f"{what}{' (or rigid)' if rigid else ''}, got {text!r}") from None
-        if not math.isfinite(x):
-            raise ValueError(f"{what}, got {text!r} (not finite)")
-        out.append(x)
+            out.append(parse_number(p, flag, rigid=rigid))
+        except ValueError as e:
+            hint = f" (or {RIGID})" if rigid else ""
+            why = " (not finite)" if "finite" in str(e) else ""
+            why += f"; write {RIGID} for a rigid segment" if rigid and "inf" in p.lower() else ""
+            raise ValueError(f"{what}{hint}, got {text!r}{why}") from None
     return out
 
 
