@@ -7,8 +7,8 @@ above :data:`MAX_TOTAL_STEPS`; every count option (``--workers``,
 ``--replicates``, ``--trials``, ...) is an integer in its documented range.
 
 The limit, 2e10 physics steps, is about 28 core-hours at the 5 us a step a
-3-segment leg takes on one core (benchmarks/rollout.py): ten times the
-paper profile's full reproduction (about 2e9 steps). Set
+3-segment leg takes on one core (benchmarks/rollout.py): six times the
+paper profile's full reproduction under both conventions (about 3e9 steps). Set
 ``$MAT_HOPPER_MAX_STEPS`` to raise it, e.g. on a Dask cluster. A single run
 has its own limits (:data:`mat_hopper.sim.MAX_STEPS`, 2e9 steps, and
 :data:`mat_hopper.sim.MAX_SAMPLES`, 5e6 recorded samples), because one run
@@ -24,6 +24,7 @@ MAX_TOTAL_STEPS = 20_000_000_000
 LIMIT_ENV = "MAT_HOPPER_MAX_STEPS"
 SECONDS_PER_STEP = 5e-6  # one core, a 3-segment leg (benchmarks/rollout.py): for the core-hours in messages
 MAX_WORKERS = 256  # processes of one command on one machine
+MAX_WORLDS = 65_536  # worlds in one MuJoCo Warp batch (--max-batch, --batch-size)
 
 
 def max_total_steps() -> float:
@@ -80,13 +81,20 @@ def check_workers(value, flag: str = "--workers") -> int | None:
 
 
 def task_steps(task) -> float:
-    """Physics steps of one runner task at most: a run's n_steps; a
-    stable-time-step measurement's tries at their smallest step."""
+    """Physics steps of one runner task: a run's n_steps; a stable-time-step
+    measurement's bisection tries at the geometric mean of its bracket (a
+    typical case: the tries close in on the design's stable step) plus, with
+    its scan, the reference ladder in full."""
     settings = getattr(task, "settings", None)
     if settings is not None:
         return float(settings.n_steps)
-    dt_min, duration = getattr(task, "dt_min", None), getattr(task, "duration_s", None)
-    if dt_min and duration:
-        tries = getattr(task, "max_iter", 1) + (20 if getattr(task, "scan", False) else 0)
-        return float(tries * duration / dt_min)
-    return 0.0
+    dt_min, dt_max = getattr(task, "dt_min", None), getattr(task, "dt_max", None)
+    duration = getattr(task, "duration_s", None)
+    if not (dt_min and dt_max and duration):
+        return 0.0
+    steps = getattr(task, "max_iter", 1) * duration / math.sqrt(dt_min * dt_max)
+    if getattr(task, "scan", False):
+        from .stability import spec_ladder
+
+        steps += float(sum(duration / dt for dt in spec_ladder()))
+    return float(steps)

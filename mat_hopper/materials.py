@@ -87,9 +87,10 @@ def check_n_segments(n_segments) -> int:
 
 
 def check_segment_mass(segment_mass: str) -> str:
-    if segment_mass not in SEGMENT_MASSES:
-        raise ValueError(f"unknown segment mass convention {segment_mass!r}; accepted: {', '.join(SEGMENT_MASSES)}")
-    return segment_mass
+    """The segment-mass convention named (case-insensitive), as spelled in SEGMENT_MASSES."""
+    from .parsing import parse_name
+
+    return parse_name(segment_mass, SEGMENT_MASSES, "segment mass convention")
 
 
 @dataclass(frozen=True)
@@ -213,9 +214,11 @@ def bulk_density(porosity_fraction: float, solid_density_g_cm3: float) -> float:
 
 
 def check_convention(convention: str) -> str:
-    if convention not in CONVENTIONS:
-        raise ValueError(f"unknown stiffness convention {convention!r}; accepted: {', '.join(CONVENTIONS)}")
-    return convention
+    """The stiffness convention named (case-insensitive, mat_hopper.parsing),
+    as spelled in CONVENTIONS. Raises ValueError for any other."""
+    from .parsing import parse_name
+
+    return parse_name(convention, CONVENTIONS, "stiffness convention")
 
 
 def segment_length(n_segments: int) -> float:
@@ -233,7 +236,7 @@ def capsule_density_scale(n_segments: int, segment_mass: str = DEFAULT_SEGMENT_M
     """Factor on each material capsule's density (module doc): ``leg``,
     V3 / (N/3 V_N) with V_N the volume of one half-segment capsule of an
     N-segment leg (exactly 1.0 at N = 3); ``capsule``, 1."""
-    check_segment_mass(segment_mass)
+    segment_mass = check_segment_mass(segment_mass)
     n = check_n_segments(n_segments)
     if segment_mass == "capsule":
         return 1.0
@@ -260,7 +263,7 @@ def spring_stiffness(
     modulus_gpa: float, convention: str = DEFAULT_CONVENTION, n_segments: int = ref.REFERENCE_SEGMENTS
 ) -> float:
     """Axial spring stiffness in N/m for a segment of the given modulus (GPa)."""
-    check_convention(convention)
+    convention = check_convention(convention)
     e = _check_number(modulus_gpa, "modulus", "finite and > 0 GPa")
     if convention == "paper":
         return ref.PAPER_STIFFNESS_PER_GPA * e

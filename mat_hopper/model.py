@@ -174,8 +174,8 @@ def build_spec(
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
     if sensors not in SENSOR_SETS:
         raise ValueError(f"sensors must be one of {sorted(SENSOR_SETS)}, got {sensors!r}")
-    check_convention(convention)
-    check_segment_mass(segment_mass)
+    convention = check_convention(convention)
+    segment_mass = check_segment_mass(segment_mass)
     dt = _check_timestep(timestep_s)
     n = design.n_segments
     scale = capsule_density_scale(n, segment_mass)  # exactly 1.0 at N = 3

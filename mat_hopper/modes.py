@@ -93,7 +93,7 @@ def leg_chain(
     """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
     the compiled model: base + leg body, segment bodies (merged across
     rigid segments), foot; springs in between, foot spring last."""
-    check_convention(convention)
+    convention = check_convention(convention)
     m = build_model(design, convention=convention, segment_mass=segment_mass).model
     mass = lambda name: float(m.body_mass[m.body(name).id])
     masses = [mass("base") + mass("leg")]

@@ -104,6 +104,8 @@ LOOP_CHUNK_STEPS = 20_000  # for legs of up to 3 segments
 def loop_chunk_steps(n_segments: int) -> int:
     """Physics steps per compiled-loop call for a leg of n_segments."""
     return max(1000, LOOP_CHUNK_STEPS * 3 // max(3, int(n_segments)))
+
+
 AUTO = "auto"
 # Jerk is computed at the physics rate: the base's z acceleration through a
 # causal Butterworth low-pass, then differentiated step by step. The cut-off
@@ -191,7 +193,7 @@ class SimSettings:
                 f"period), got {self.substeps!r}"
             )
         object.__setattr__(self, "sensor_timing", sensor_timing_name(self.sensor_timing))
-        check_segment_mass(self.segment_mass)
+        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -216,7 +218,7 @@ class SimSettings:
                 f"{self.n_steps / self.record_every:.3g} recorded samples: over the limit of "
                 f"{MAX_SAMPLES:.0e}; lower record_rate_hz or duration_s"
             )
-        check_convention(self.convention)
+        object.__setattr__(self, "convention", check_convention(self.convention))
         if not isinstance(self.controller, ControllerSettings):
             raise ValueError("controller must be a ControllerSettings")
         if self.perturbation is not None and not isinstance(self.perturbation, Perturbation):

@@ -72,10 +72,10 @@ class BatchSettings:
         if isinstance(lat, (bool, np.bool_)) or not isinstance(lat, (int, np.integer)):
             raise ValueError(f"sensor_latency_steps must be an integer number of physics steps, got {lat!r}")
         _ctl.sensor_latency_steps(int(lat))  # control.py's range check
+        object.__setattr__(self, "convention", check_convention(self.convention))
+        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         # SimSettings holds the shared checks (finite, timestep range, duration > transient, ...).
         self.sim_settings()
-        check_convention(self.convention)
-        check_segment_mass(self.segment_mass)
 
     @property
     def sensor_timing(self) -> str:

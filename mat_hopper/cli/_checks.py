@@ -76,6 +76,37 @@ def harden_parser(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     return parser
 
 
+# The words of the library's messages that name a setting, and the option
+# that sets it (a command passes its own where they differ: render's run
+# length is --start + --seconds).
+PARAM_FLAGS = {
+    "duration_s": "--duration",
+    "duration": "--duration",
+    "timestep_s": "--timestep",
+    "timestep": "--timestep",
+    "transient_s": "--transient",
+    "transient": "--transient",
+    "n_segments": "--segments",
+    "sensor_timing": "--sensor-timing",
+    "segment_mass": "--segment-mass",
+    "convention": "--convention",
+}
+
+
+@contextmanager
+def named_by_flags(**flags):
+    """A ValueError raised inside names the options, not the Python
+    parameters: each word of PARAM_FLAGS (or of `flags`, which override it)
+    in its message becomes the option."""
+    mapping = {**PARAM_FLAGS, **flags}
+    pattern = re.compile(r"(?<![-\w])(" + "|".join(sorted(map(re.escape, mapping), key=len, reverse=True)) + r")\b")
+    try:
+        yield
+    except ValueError as e:
+        text = pattern.sub(lambda m: mapping[m.group(1)], str(e))
+        raise ValueError(text) from None
+
+
 def check_name_list(text, flag: str) -> None:
     """A comma list of names (--experiments, --conventions) holds no empty
     item ("paper,,axial", "3,") and no repeat ("1,1"); None passes (the
@@ -195,6 +226,21 @@ def check_output_file(path, flag: str) -> str | None:
     # an existing file is replaced (atomically, by a new file in its folder)
     _check_folder_can_hold(os.path.dirname(os.path.abspath(path)), flag, path)
     return path
+
+
+def check_distinct_outputs(**paths) -> None:
+    """Outputs of one command name different files or folders: keyword
+    FLAG=PATH pairs (underscores for dashes, e.g. tiles="a.png"); None
+    entries are skipped. Raises ValueError naming both flags."""
+    seen: dict[str, str] = {}
+    for name, path in paths.items():
+        if path is None or os.fspath(path) == "-":
+            continue
+        flag = "--" + name.replace("_", "-")
+        key = os.path.normcase(os.path.realpath(os.fspath(path)))
+        if key in seen:
+            raise ValueError(f"{seen[key]} and {flag} name the same path {os.fspath(path)!r}; give each its own")
+        seen[key] = flag
 
 
 def check_output_dir(path, flag: str) -> str | None:

@@ -113,11 +113,11 @@ SETTING_COLUMNS = ("behaviour", "convention", "sensor_timing", "duration_s", "tr
 
 
 def run_batch(args) -> int:
-    from ..batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, evaluate, parse_design_list
+    from ..batch import RESULT_COLUMNS, designs_from_csv, evaluate, parse_design_list
     from ..behaviours import behaviour
     from ..control import sensor_latency_steps
     from ..experiments.profiles import get_profile
-    from ._checks import check_output_file, sensor_timing_arg
+    from ._checks import check_output_file, named_by_flags, sensor_timing_arg
 
     check_output_file(args.csv, "--csv")  # before any work
     profile = get_profile(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
@@ -130,14 +130,8 @@ def run_batch(args) -> int:
     else:
         designs = parse_design_list(args.designs)
     beh = behaviour("forward" if args.behaviour is None else args.behaviour)
-    settings = BatchSettings(
-        duration_s=profile.duration_s if args.duration is None else args.duration,
-        timestep_s=profile.timestep_s if args.timestep is None else args.timestep,
-        transient_s=profile.transient_s if args.transient is None else args.transient,
-        convention=args.convention,
-        sensor_latency_steps=latency,
-        segment_mass=profile.segment_mass,
-    )
+    with named_by_flags():
+        settings = _batch_settings(args, profile, latency)
     if args.backend == "warp":
         from ..batch import WarpUnavailable, require_warp
 
@@ -148,6 +142,7 @@ def run_batch(args) -> int:
             raise ValueError(str(e)) from None
     else:
         device = None
+    _check_size(args, designs, settings)
     run = dict(backend=args.backend, device=device, workers=args.workers, max_batch=args.max_batch)
     progress = not args.quiet and sys.stderr.isatty()  # no bars in logs and pipes
     if args.stability:
@@ -173,6 +168,19 @@ def run_batch(args) -> int:
     return _report(out, args.csv, f"{n_bad} of {_count(len(out), 'design')} diverged" if n_bad else "", shown=shown)
 
 
+def _batch_settings(args, profile, latency: int):
+    from ..batch import BatchSettings
+
+    return BatchSettings(
+        duration_s=profile.duration_s if args.duration is None else args.duration,
+        timestep_s=profile.timestep_s if args.timestep is None else args.timestep,
+        transient_s=profile.transient_s if args.transient is None else args.transient,
+        convention=args.convention,
+        sensor_latency_steps=latency,
+        segment_mass=profile.segment_mass,
+    )
+
+
 def _count(n: int, noun: str) -> str:
     return f"{n} {noun}" + ("" if n == 1 else "s")
 
@@ -192,10 +200,28 @@ def _check_applicable(args) -> None:
                 raise ValueError(f"{flag} is for --backend warp")
     elif args.workers is not None:
         raise ValueError("--workers is for --backend mujoco (a warp batch is one process)")
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be >= 1, got {args.workers}")
-    if args.max_batch is not None and args.max_batch < 1:
-        raise ValueError(f"--max-batch must be >= 1, got {args.max_batch}")
+    from ..limits import MAX_WORLDS, check_count, check_workers
+
+    check_workers(args.workers)
+    check_count(args.max_batch, "--max-batch", 1, MAX_WORLDS, "worlds")
+
+
+def _check_size(args, designs, settings) -> None:
+    """designs x physics steps, before any work (mat_hopper.limits)."""
+    from ..limits import check_total_steps
+    from ..stability import spec_ladder
+
+    source = "--map" if args.map is not None else "--designs-csv" if args.designs_csv is not None else "--designs"
+    if args.stability:
+        duration = ref.STABILITY_TEST_DURATION_S if args.stability_duration is None else args.stability_duration
+        per_design, what = sum(duration / dt for dt in spec_ladder()), "--stability-duration"
+    else:
+        per_design, what = settings.duration_s / settings.timestep_s, "--duration / --timestep"
+    check_total_steps(
+        len(designs) * per_design,
+        f"{source}: {_count(len(designs), 'design')} x {per_design:.3g} steps",
+        f"fewer designs or a shorter {what}",
+    )
 
 
 def _map_designs(n: int) -> list:

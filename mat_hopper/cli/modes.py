@@ -8,6 +8,7 @@ from ..atomic import write_csv
 from ..control import DEFAULT_SENSOR_TIMING
 from ..materials import CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
 from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, controller_timestep, estimate_timestep
+from ._checks import check_output_file
 from .simulate import design_from_args
 
 BOUNDARY_CONDITIONS = (
@@ -22,6 +23,7 @@ FORMULA = (
 
 
 def cmd_modes(args) -> int:
+    check_output_file(args.csv, "--csv")  # before any work
     design = design_from_args(args)
     table = axial_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=args.modes)
     print(
@@ -58,10 +60,10 @@ def register_cli(sub) -> None:
         "beside the continuum rod of the same mass per length and E A, under the same end masses; and the "
         "analytic stable time step with the limit that sets it.",
     )
-    p.add_argument("--design", default="SS", help="one elastic material (SS, Ti, Al, PVC, ...)")
+    p.add_argument("--design", default=None, help="one elastic material (SS, Ti, Al, PVC, ...; default SS)")
     p.add_argument("--density", help="densities, g/cm^3 (one value per segment, all equal)")
     p.add_argument("--modulus", help="moduli, GPa (one value per segment, all equal)")
-    p.add_argument("--segments", type=int, default=ref.REFERENCE_SEGMENTS, help="number of segments (default 3)")
+    p.add_argument("--segments", type=int, default=None, help="number of segments of --design (default 3)")
     p.add_argument(
         "--convention", default="axial", choices=CONVENTIONS, help="stiffness convention (default axial: E A N / L)"
     )

@@ -20,9 +20,10 @@ from ..materials import (
     parse_design,
 )
 from ..metrics import METRICS, hop_table, run_summary
-from ._checks import SENSOR_TIMING_HELP, check_output_file, parse_list, sensor_timing_arg
+from ._checks import SENSOR_TIMING_HELP, check_output_file, named_by_flags, parse_list, sensor_timing_arg
 
 AUTO = "auto"
+DEFAULT_DESIGN = "SS"
 PROGRESS_CHUNK_S = 1.0  # simulated seconds per progress-bar update
 
 
@@ -40,9 +41,16 @@ def _timestep(text):
 
 
 def design_from_args(args) -> LegDesign:
-    """--design NAME, or --density/--modulus lists (g/cm^3, GPa)."""
-    n = check_n_segments(args.segments)  # an integer in [1, 64] whatever the design form
+    """--design NAME, or --density/--modulus lists (g/cm^3, GPa); never
+    both, and --segments only with a named design (a list sets its own)."""
+    segments = ref.REFERENCE_SEGMENTS if args.segments is None else args.segments
+    n = check_n_segments(segments)  # an integer in [1, 64] whatever the design form
     if args.density is not None or args.modulus is not None:
+        given = "--density" if args.density is not None else "--modulus"
+        if args.design is not None:
+            raise ValueError(f"give either --design or {given} (with --modulus/--density), not both")
+        if args.segments is not None:
+            raise ValueError(f"--segments is for --design; {given} sets one value per segment")
         if args.density is None or args.modulus is None:
             raise ValueError("--density and --modulus go together (one value per segment)")
         dens = parse_list(args.density, "--density", unit="g/cm^3")
@@ -55,23 +63,24 @@ def design_from_args(args) -> LegDesign:
             if bad:
                 raise ValueError(f"{flag} must be > 0 {unit} (accepted {lo:g} to {hi:g}), got {bad[0]:g}")
         return LegDesign.from_properties(dens, mods)
-    return parse_design(args.design, n_segments=n)
+    return parse_design(DEFAULT_DESIGN if args.design is None else args.design, n_segments=n)
 
 
 def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     """Design and run options shared by commands that simulate one design."""
     p.add_argument(
         "--design",
-        default="SS",
-        help="material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec",
+        default=None,
+        help=f"material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec (default "
+        f"{DEFAULT_DESIGN}); or --density and --modulus",
     )
     p.add_argument("--density", help="per-segment densities, g/cm^3, e.g. 1.39,4.43,8 (0.001-30)")
     p.add_argument("--modulus", help="per-segment moduli, GPa (1e-6-2000, or 'rigid'), e.g. 70,70,70")
     p.add_argument(
         "--segments",
         type=int,
-        default=ref.REFERENCE_SEGMENTS,
-        help="segments for a single-material design (default 3, at most 64)",
+        default=None,
+        help=f"segments for a single-material --design (default {ref.REFERENCE_SEGMENTS}, at most 64)",
     )
     p.add_argument(
         "--behaviour", "--behavior", dest="behaviour", default="forward", help=f"one of {', '.join(BEHAVIOUR_NAMES)}"
@@ -97,9 +106,17 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     )
 
 
-def sim_settings_from_args(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
+def sim_settings_from_args(
+    args, design: LegDesign, duration_s: float, transient_s: float, duration_flag: str = "--duration", **extra
+):
     """SimSettings of the run options, checked (run-size limits included)
-    before any work; --timestep auto resolved for this design."""
+    before any work; --timestep auto resolved for this design. Errors name
+    the options (duration_flag: what sets the run's length)."""
+    with named_by_flags(duration_s=duration_flag, duration=duration_flag):
+        return _sim_settings(args, design, duration_s, transient_s, **extra)
+
+
+def _sim_settings(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
     from ..sim import SimSettings, auto_timestep
 
     dt = _timestep(args.timestep)

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import pandas as pd
 
 from ..atomic import write_csv
+from ..limits import check_total_steps, task_steps
 from ..materials import CONVENTIONS, check_convention
 from .paper import get_experiment, parse_experiments
 from .profiles import check_replicates, get_profile
@@ -89,14 +90,8 @@ def reproduce(
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise ValueError(f"--out {out_dir!r} exists and is not a folder")
     plan = {n: get_experiment(n) for n in names}
-    tasks = {
-        n: (
-            e.tasks(prof, replicates)
-            if n in ("stability", "robustness")
-            else [t for c in conventions for t in e.tasks(prof.for_convention(c), replicates)]
-        )
-        for n, e in plan.items()
-    }
+    check_total_steps(planned_steps(prof, names, conventions, replicates), f"replicates={replicates}")
+    tasks = {n: _tasks(n, e, prof, conventions, replicates) for n, e in plan.items()}
     os.makedirs(out_dir, exist_ok=True)
     rep = Reproduction(prof.name, out_dir)
     log(
@@ -186,6 +181,27 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
     rep.tables["claims"] = table
     log(f"figures and claims: {len(files)} files in {rep.out_dir}")
     return files
+
+
+def _tasks(name: str, experiment, prof, conventions, replicates: int) -> list:
+    if name in ("stability", "robustness"):
+        return experiment.tasks(prof, replicates)
+    return [t for c in conventions for t in experiment.tasks(prof.for_convention(c), replicates)]
+
+
+def planned_steps(profile, names, conventions, replicates: int) -> float:
+    """Physics steps a reproduction would take at most (every task run,
+    nothing cached), without building its task list: the tasks grow
+    linearly with the replicates, so the plans at 0 and 1 replicates give
+    the rest. Used to refuse, before any work, runs beyond
+    :data:`mat_hopper.limits.MAX_TOTAL_STEPS`."""
+    prof = get_profile(profile)
+    total = 0.0
+    for n in names:
+        e = get_experiment(n)
+        at = [sum(task_steps(t) for t in _tasks(n, e, prof, conventions, r)) for r in (0, 1)]
+        total += at[0] + replicates * (at[1] - at[0])
+    return total
 
 
 def _check_conventions(conventions) -> tuple:
