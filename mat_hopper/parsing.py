@@ -87,9 +87,11 @@ def parse_number(
             return None
         if not _DECIMAL.fullmatch(s):
             hint = f" (write {RIGID} for a rigid segment)" if rigid and "inf" in s.lower() else ""
+            if s.lower().lstrip("+-") in ("inf", "infinity", "nan"):
+                raise ValueError(f"{flag} must be a finite number{u}, got {text!r}{hint}")
             raise ValueError(f"{flag} must be a decimal number{u} (e.g. 12, 0.5, 2e-4), got {text!r}{hint}")
         x = float(s)
-        if not math.isfinite(x):
+        if not math.isfinite(x):  # 1e999
             raise ValueError(f"{flag} must be a finite number{u}, got {text!r}")
     if integer and not x.is_integer():
         raise ValueError(f"{flag} must be a whole number, got {text!r}")

@@ -36,8 +36,10 @@ def _name_type(flag: str, choices):
     def read(text):
         try:
             return parse_name(text, choices, flag)
-        except ValueError as e:
-            raise argparse.ArgumentTypeError(str(e)) from None
+        except ValueError:  # argparse's own words for a choice
+            raise argparse.ArgumentTypeError(
+                f"invalid choice: {text!r} (choose from {', '.join(choices)}; any case)"
+            ) from None
 
     read.__name__ = "name"
     return read

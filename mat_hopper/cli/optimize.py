@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import os
+import shlex
 import sys
 
 from optuna.trial import TrialState
@@ -34,6 +35,7 @@ from ..optimize._storage import dispose, storage_errors
 from ..optimize._study import CONFIG_ATTR, check_objectives_vary
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
+from ..limits import check_count, check_workers
 from ._checks import check_output_dir, nothing_left_behind, parse_pair
 
 
@@ -127,11 +129,12 @@ def _cmd_optimize(args) -> int:
             return cmd_report(name, args, out)
     if not args.study:
         raise ValueError("give --study NAME (or --report NAME)")
-    if args.trials is None or args.trials < 1:
-        raise ValueError(f"--trials must be an integer >= 1, got {args.trials!r}")
+    check_count(args.trials, "--trials", 1, what="finished trials to reach")
+    check_workers(args.workers)
     options = _options_from_args(args, args.trials)
     check_sampler(options.sampler)
     fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
+    _check_size(args, fresh)
     check_objectives_vary(fresh.objective)
     _check_backend(args)
     check_study_name(args.study)
@@ -155,11 +158,31 @@ def _cmd_optimize(args) -> int:
             f"{len(res.dead_workers)} worker(s) died (pid, exit code): {res.dead_workers}; "
             f"trials failed and re-queued: {res.recovered}"
         )
-    print(f"report: mat-hopper optimize --report {res.study}" + (f" --storage '{res.url}'" if args.storage else ""))
+    where = f" --storage '{res.url}'" if args.storage else ""
+    if not args.storage and os.path.normpath(args.studies_dir) != "studies":  # the default folder needs no flag
+        where = f" --studies-dir {shlex.quote(args.studies_dir)}"
+    print(f"report: mat-hopper optimize --report {res.study}{where}")
     if not res.finished and not res.running:
         print("the study is short of its target: run the same command again to resume", file=sys.stderr)
         return 1
     return 0
+
+
+def _check_size(args, config: StudyConfig) -> None:
+    """--trials x behaviours x physics steps per run, before any work
+    (mat_hopper.limits; under auto time steps, at SS's step: the stiffest
+    paper material)."""
+    from ..limits import check_total_steps
+    from ..materials import parse_design
+
+    ob = config.objective
+    steps = ob.sim_settings(design=parse_design("SS", n_segments=config.space.n_segments)).n_steps
+    n = len(ob.behaviours)
+    check_total_steps(
+        args.trials * n * steps,
+        f"--trials {args.trials} x {n} behaviour(s) x {steps:.3g} steps",
+        "fewer --trials or behaviours, or a shorter --profile",
+    )
 
 
 def _check_backend(args) -> None:
@@ -168,8 +191,9 @@ def _check_backend(args) -> None:
         if args.device is not None or args.batch_size is not None:
             raise ValueError("--device and --batch-size are for --backend warp")
         return
-    if args.batch_size is not None and args.batch_size < 1:
-        raise ValueError(f"--batch-size must be an integer >= 1, got {args.batch_size}")
+    from ..limits import MAX_WORLDS
+
+    check_count(args.batch_size, "--batch-size", 1, MAX_WORLDS, "trials simulated together")
     from ..batch import WarpUnavailable, require_warp
 
     try:
