@@ -157,6 +157,7 @@ def run_batch(args) -> int:
         timestep_s=settings.timestep_s,
         backend=args.backend,
     )
+    out = _with_properties(out, designs, settings.segment_mass)
     where = f" on {device}" if device else ""
     print(
         f"{_count(len(out), 'design')} on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
@@ -179,6 +180,21 @@ def _batch_settings(args, profile, latency: int):
         sensor_latency_steps=latency,
         segment_mass=profile.segment_mass,
     )
+
+
+def _with_properties(table, designs, segment_mass: str):
+    """The table (one row per design, in order) with each design's
+    densities, moduli and leg mass after its name: rows that differ only
+    in their properties can be told apart."""
+    import pandas as pd
+
+    from ..batch import design_columns
+
+    n_max = max(d.n_segments for d in designs)
+    props = pd.DataFrame([design_columns(d, n_max, segment_mass) for d in designs], index=table.index)
+    props = props.drop(columns=[c for c in props.columns if c in table.columns])
+    at = list(table.columns).index("design") + 1
+    return pd.concat([table.iloc[:, :at], props, table.iloc[:, at:]], axis=1)
 
 
 def _count(n: int, noun: str) -> str:
@@ -252,6 +268,7 @@ def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
     summary = summary.assign(
         convention=settings.convention, sensor_timing=settings.sensor_timing, stability_duration_s=duration
     )
+    summary = _with_properties(summary, designs, settings.segment_mass)
     where = f" on {run['device']}" if run["device"] else ""
     print(
         f"{_count(len(summary), 'design')}, stable-time-step scan: static hopping for {duration:g} s per try, "

@@ -10,6 +10,7 @@ import sys
 from optuna.trial import TrialState
 
 from ..experiments.profiles import PROFILES, get_profile
+from ..limits import check_count, check_workers
 from ..materials import LegDesign
 from ..optimize import (
     DEFAULT_WORKERS,
@@ -35,7 +36,6 @@ from ..optimize._storage import dispose, storage_errors
 from ..optimize._study import CONFIG_ATTR, check_objectives_vary
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
-from ..limits import check_count, check_workers
 from ._checks import check_output_dir, nothing_left_behind, parse_pair
 
 

@@ -201,6 +201,12 @@ def cmd_simulate(args) -> int:
         at = list(hops.columns).index("segment_mass") + 1
         hops.insert(at, "timestep_s", settings.timestep_s)
         hops.insert(at + 1, "substeps", settings.substeps)
+        from ..batch import design_columns  # the design's properties in every row: rows of two runs differ
+
+        props = design_columns(design, segment_mass=settings.segment_mass)
+        at = list(hops.columns).index("design") + 1
+        for k, (col, value) in enumerate(props.items()):
+            hops.insert(at + k, col, value)
         write_csv(hops, args.csv)
         print(f"wrote {len(hops)} rows to {args.csv}")
     return 0 if rollout.stable else 1
