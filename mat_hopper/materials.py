@@ -347,8 +347,12 @@ class LegDesign:
     def from_properties(
         cls, densities_g_cm3: Sequence[float], moduli_gpa: Sequence[float | None], name: str = ""
     ) -> LegDesign:
-        """A leg from per-segment densities (g/cm^3) and moduli (GPa, None = rigid)."""
-        dens, mods = list(densities_g_cm3), list(moduli_gpa)
+        """A leg from per-segment densities (g/cm^3) and moduli (GPa; None
+        or the word ``"rigid"`` = rigid, as on the command line; inf is
+        refused in both). Raises ValueError for lists of different lengths
+        (one value is used for every segment) or values out of range."""
+        dens = list(densities_g_cm3)
+        mods = [None if isinstance(e, str) and e.strip().lower() == "rigid" else e for e in moduli_gpa]
         if len(mods) == 1 and len(dens) > 1:
             mods = mods * len(dens)
         if len(dens) == 1 and len(mods) > 1:
@@ -376,9 +380,41 @@ def _named_designs() -> dict[str, LegDesign]:
 NAMED_DESIGNS = _named_designs()
 
 
+_CUSTOM = re.compile(r"custom\((.*)\)", re.IGNORECASE)
+_MAP_NAME = re.compile(r"rho=(\S+)\s+E=(\S+)", re.IGNORECASE)
+
+
+def _written_design(text: str, n_segments: int) -> LegDesign | None:
+    """The design of a name from_properties or the stability map wrote, or None."""
+    from .parsing import parse_number
+
+    if m := _CUSTOM.fullmatch(text):
+        pairs = [p.split("/") for p in m.group(1).split(",")]
+        if not all(len(p) == 2 for p in pairs):
+            raise ValueError(f"design {text!r}: custom(...) holds DENSITY/MODULUS pairs, e.g. custom(1.39/70,8/rigid)")
+        dens = [parse_number(d, f"design {text!r}: density", unit="g/cm^3") for d, _ in pairs]
+        mods = [parse_number(e, f"design {text!r}: modulus", rigid=True, unit="GPa") for _, e in pairs]
+        return LegDesign.from_properties(dens, mods)
+    if m := _MAP_NAME.fullmatch(text):
+        d = parse_number(m.group(1), f"design {text!r}: rho", unit="g/cm^3")
+        e = parse_number(m.group(2), f"design {text!r}: E", unit="GPa")
+        return LegDesign((Material(f"rho{d:g}-E{e:g}", d, e),) * check_n_segments(n_segments), name=text)
+    return None
+
+
 def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesign:
-    """A design from its name: a material (``SS``), a gradient (``PVC-Ti-SS``)
-    or a named design (``rho-inc``, ``rho-dec``). Case-insensitive."""
+    """A design from its name: a material (``SS``), a gradient (``PVC-Ti-SS``),
+    a named design (``rho-inc``, ``rho-dec``), or a name the tool writes for
+    a design of given properties: ``custom(1.39/70,8/rigid)`` (density
+    g/cm^3 / modulus GPa per segment, :meth:`LegDesign.from_properties`)
+    and the stability map's ``rho=8 E=193`` (n_segments alike).
+    Case-insensitive. Raises ValueError for anything else.
+
+    >>> parse_design(LegDesign.from_properties([1, 2], [70, None]).name).moduli_gpa
+    (70.0, None)
+    """
+    if isinstance(text, str) and (written := _written_design(text.strip(), n_segments)) is not None:
+        return written
     if not isinstance(text, str) or not text.strip():
         raise ValueError(
             f"design must be a material, a gradient like PVC-Ti-SS, or one of {', '.join(NAMED_DESIGNS)}; got {text!r}"

@@ -64,8 +64,15 @@ def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray
     return cyc[cyc[:, 0] >= transient]
 
 
+def _check_rollout(rollout) -> None:
+    if not isinstance(rollout, Rollout):
+        raise ValueError(f"rollout must be a mat_hopper.sim.Rollout (from simulate), got {type(rollout).__name__}")
+
+
 def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFrame:
-    """One row per scored hop cycle, with every metric (see module doc)."""
+    """One row per scored hop cycle, with every metric (see module doc).
+    Raises ValueError when `rollout` is not a Rollout."""
+    _check_rollout(rollout)
     cycles = hop_cycles(rollout, transient_s)
     d = rollout.data
     t = d[:, C["t"]]
@@ -128,7 +135,9 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
 
 def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     """One run in a line: outcome, means of the per-hop metrics, energy (J)
-    and cost of transport (energy / (m g distance), nan without travel)."""
+    and cost of transport (energy / (m g distance), nan without travel).
+    Raises ValueError when `rollout` is not a Rollout."""
+    _check_rollout(rollout)
     hops = hop_table(rollout, transient_s)
     out = {
         "design": rollout.design.name,
@@ -201,7 +210,18 @@ def compare(
 
     Columns: percent change of means, Mann-Whitney U (two-sided), raw and
     Holm-adjusted p (over all rows), rank-biserial effect size in [-1, 1]
-    (positive: the design's values tend to be larger), and significance."""
+    (positive: the design's values tend to be larger), and significance.
+    Raises ValueError naming the argument: hops not a table with columns
+    design, `by` and every metric; alpha not in (0, 1); an unknown baseline."""
+    if not isinstance(hops, pd.DataFrame):
+        raise ValueError(f"hops must be a pandas DataFrame (a hop table), got {type(hops).__name__}")
+    if isinstance(metrics, str) or not list(metrics):
+        raise ValueError(f"metrics must be a non-empty sequence of column names, got {metrics!r}")
+    missing = [c for c in ("design", by, *metrics) if c not in hops.columns]
+    if missing:
+        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (by={by!r}, metrics={list(metrics)})")
+    if isinstance(alpha, bool) or not isinstance(alpha, int | float) or not 0 < alpha < 1:
+        raise ValueError(f"alpha must be a significance level in (0, 1), got {alpha!r}")
     if baseline not in set(hops["design"]):
         raise ValueError(f"baseline {baseline!r} not among the designs: {sorted(set(hops['design']))}")
     rows = []

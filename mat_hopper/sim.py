@@ -424,6 +424,8 @@ class RolloutRunner:
     record rate, which rendering needs."""
 
     def __init__(self, design, behaviour, settings: SimSettings, *, record_qpos: bool = False):
+        if not isinstance(settings, SimSettings):
+            raise ValueError(f"settings must be a SimSettings, got {type(settings).__name__}")
         self.design = _as_design(design)
         self.behaviour = get_behaviour(behaviour)
         self.settings = settings
