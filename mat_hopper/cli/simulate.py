@@ -189,14 +189,20 @@ def cmd_simulate(args) -> int:
         f"{describe_settings(settings, _timestep(args.timestep) == AUTO)}, mass {rollout.total_mass_kg:.2f} kg"
     )
     if not rollout.stable:
-        print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s")
+        hint = ""
+        if settings.convention == "axial" and _timestep(args.timestep) != AUTO:
+            hint = " (axial springs are stiff: try --timestep auto, physics substeps chosen from the spring bound)"
+        print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s{hint}")
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
     if len(hops):
         desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
         print(desc.to_string(float_format=lambda v: f"{v:.4g}"))
         cot = s["cost_of_transport"]
         cot = f"{cot:.3g}" if math.isfinite(cot) else "none (no distance travelled)"
-        print(f"energy {s['energy_j']:.1f} J, cost of transport {cot}")
+        print(
+            f"power_w: hip actuators only (mean mechanical power); energy of all three actuators (hips and "
+            f"leg slide) {s['energy_j']:.1f} J, cost of transport {cot}"
+        )
     if args.csv:
         at = list(hops.columns).index("segment_mass") + 1
         hops.insert(at, "timestep_s", settings.timestep_s)

@@ -64,6 +64,8 @@ from urllib.parse import quote
 import optuna
 from optuna.trial import TrialState
 
+from ..parsing import normalize_url
+
 STUDY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,99}$")
 SQLITE_LOCK_TIMEOUT_S = 60
 CONNECT_TIMEOUT_S = 10
@@ -118,6 +120,7 @@ def _journal_path(url: str) -> str:
 
 def storage_file(url: str) -> str | None:
     """The local file of a sqlite or journal URL (absolute), else None."""
+    url = normalize_url(url)  # schemes are case-insensitive (RFC 3986)
     if url.startswith("journal:"):
         return os.path.abspath(_journal_path(url))
     try:
@@ -240,7 +243,7 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
             "--storage must be a URL such as sqlite:///studies/x.db, "
             "postgresql://user@host:5432/db or journal:///path/x.log"
         )
-    url = url.strip()
+    url = normalize_url(url)  # schemes are case-insensitive (RFC 3986): SQLite:/// is sqlite:///
     if url.startswith("journal:"):
         from optuna.storages.journal import JournalFileBackend, JournalStorage
 
