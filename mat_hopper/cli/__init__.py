@@ -124,10 +124,11 @@ def main(argv=None) -> int:
     route_mujoco_warnings()
     from ..atomic import remove_stale_mp_dirs
     from ..optimize._study import stop_signals
+    from ._checks import table_on_stdout
 
     remove_stale_mp_dirs()  # what killed runs left in the temp folder
     try:
-        with stop_signals():  # SIGTERM, SIGHUP: like Ctrl-C (workers stopped, nothing half-written)
+        with stop_signals(), table_on_stdout(args):  # SIGTERM, SIGHUP: like Ctrl-C (nothing half-written)
             code = int(args.func(args) or 0)
             sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's final flush
             return code

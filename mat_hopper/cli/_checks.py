@@ -211,12 +211,54 @@ def _check_folder_can_hold(folder: str, flag: str, what: str) -> None:
     os.remove(probe)
 
 
-def check_output_file(path, flag: str) -> str | None:
+STDOUT = "-"  # --csv -: the table on standard output (the command's other lines on stderr)
+
+
+def write_table(table, path: str) -> str:
+    """Write `table` as CSV to `path` (atomically), or to standard output for
+    "-" (:data:`STDOUT`); returns what to name in "wrote ... to" lines."""
+    import sys
+
+    from ..atomic import write_csv
+
+    if path == STDOUT:
+        table.to_csv(sys.__stdout__ if _TABLE_STREAM[0] is None else _TABLE_STREAM[0], index=False)
+        return "standard output"
+    write_csv(table, path)
+    return path
+
+
+_TABLE_STREAM: list = [None]  # the real stdout while a command with --csv - prints to stderr
+
+
+@contextmanager
+def table_on_stdout(args):
+    """With ``--csv -``: the command's own lines go to stderr and only the
+    CSV table to stdout, so that ``mat-hopper ... --csv - | other-tool``
+    reads a clean table. Otherwise nothing changes."""
+    import sys
+    from contextlib import redirect_stdout
+
+    if getattr(args, "csv", None) != STDOUT:
+        yield
+        return
+    _TABLE_STREAM[0] = sys.stdout
+    try:
+        with redirect_stdout(sys.stderr):
+            yield
+    finally:
+        _TABLE_STREAM[0] = None
+
+
+def check_output_file(path, flag: str, *, stdout: bool = False) -> str | None:
     """A file the command will write: not an existing folder, and its folder
-    exists and is writable or can be made (nothing is created here)."""
+    exists and is writable or can be made (nothing is created here); with
+    `stdout`, "-" means standard output."""
     if path is None:
         return None
     path = os.fspath(path)
+    if stdout and path == STDOUT:
+        return path
     if not path.strip():
         raise ValueError(f"{flag}: empty file name")
     if os.path.isdir(path) or path.endswith(os.sep):

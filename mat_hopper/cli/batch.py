@@ -92,7 +92,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         default=None,
         help=f"static hopping per try of --stability, s ({ref.STABILITY_TEST_DURATION_S:g})",
     )
-    p.add_argument("--csv", help="write the table (one row per design) here")
+    p.add_argument("--csv", help="write the table (one row per design) here (- for standard output)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run_batch)
     return p
@@ -119,7 +119,7 @@ def run_batch(args) -> int:
     from ..experiments.profiles import get_profile
     from ._checks import check_output_file, named_by_flags, sensor_timing_arg
 
-    check_output_file(args.csv, "--csv")  # before any work
+    check_output_file(args.csv, "--csv", stdout=True)  # before any work
     profile = get_profile(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
     latency = sensor_latency_steps(sensor_timing_arg(args.sensor_timing))
     _check_applicable(args)
@@ -282,12 +282,12 @@ def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
 def _report(table, csv: str | None, note: str, shown=None) -> int:
     """Print the table (or its columns `shown`) and a note, write the whole
     table to `csv` if given; exit code 0."""
-    from ..atomic import write_csv
+    from ._checks import write_table
 
     print((table if shown is None else shown).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     if note:
         print(note)
     if csv:
-        write_csv(table, csv)
-        print(f"wrote {_count(len(table), 'row')} to {csv}")
+        where = write_table(table, csv)
+        print(f"wrote {_count(len(table), 'row')} to {where}")
     return 0

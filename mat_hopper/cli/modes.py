@@ -4,11 +4,10 @@ beside the continuum rod, and its analytic stable time step."""
 from __future__ import annotations
 
 from .. import reference as ref
-from ..atomic import write_csv
 from ..control import DEFAULT_SENSOR_TIMING
 from ..materials import CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
 from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, controller_timestep, estimate_timestep
-from ._checks import check_output_file
+from ._checks import check_output_file, write_table
 from .simulate import design_from_args
 
 BOUNDARY_CONDITIONS = (
@@ -23,7 +22,7 @@ FORMULA = (
 
 
 def cmd_modes(args) -> int:
-    check_output_file(args.csv, "--csv")  # before any work
+    check_output_file(args.csv, "--csv", stdout=True)  # before any work
     design = design_from_args(args)
     table = axial_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=args.modes)
     print(
@@ -47,8 +46,7 @@ def cmd_modes(args) -> int:
         f"(at most {AUTO_SAFETY:g} x the spring bound)"
     )
     if args.csv:
-        write_csv(table, args.csv)
-        print(f"wrote {len(table)} rows to {args.csv}")
+        print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")
     return 0
 
 
@@ -72,5 +70,5 @@ def register_cli(sub) -> None:
         "--sensor-timing", default=DEFAULT_SENSOR_TIMING, help="for the controller's limit (authors, fresh, or steps)"
     )
     p.add_argument("--modes", type=int, default=5, help="how many modes (default 5)")
-    p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here")
+    p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here (- for standard output)")
     p.set_defaults(func=cmd_modes)

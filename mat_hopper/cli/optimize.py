@@ -218,7 +218,8 @@ def register_cli(sub) -> None:
         help="search leg designs with Optuna (multi-objective, resumable, parallel)",
         description="Search per-segment densities and moduli (or catalogue materials) for low tracking "
         "error and hip power, hop height 1 +- 0.05 m and stable runs. Starts from the "
-        "paper's SS, rho-inc and PVC-Ti-SS designs.",
+        "paper's designs its space can express (8 of 9 in the continuous space: all but the rigid MD), "
+        "enqueued before the sampler's first trial.",
     )
     p.add_argument("--study", help="study name (letters, digits, _ . -); resumes if it exists")
     p.add_argument("--trials", type=int, default=200, help="study size: finished trials to reach (200)")

@@ -7,7 +7,6 @@ import math
 import sys
 
 from .. import reference as ref
-from ..atomic import write_csv
 from ..behaviours import BEHAVIOUR_NAMES, behaviour
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
@@ -20,7 +19,7 @@ from ..materials import (
     parse_design,
 )
 from ..metrics import METRICS, hop_table, run_summary
-from ._checks import SENSOR_TIMING_HELP, check_output_file, named_by_flags, parse_list, sensor_timing_arg
+from ._checks import SENSOR_TIMING_HELP, check_output_file, named_by_flags, parse_list, sensor_timing_arg, write_table
 
 AUTO = "auto"
 DEFAULT_DESIGN = "SS"
@@ -175,7 +174,7 @@ def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: boo
 
 def cmd_simulate(args) -> int:
     profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
-    check_output_file(args.csv, "--csv")
+    check_output_file(args.csv, "--csv", stdout=True)
     design = design_from_args(args)
     beh = behaviour(args.behaviour)
     duration = profile.duration_s if args.duration is None else args.duration
@@ -213,8 +212,7 @@ def cmd_simulate(args) -> int:
         at = list(hops.columns).index("design") + 1
         for k, (col, value) in enumerate(props.items()):
             hops.insert(at + k, col, value)
-        write_csv(hops, args.csv)
-        print(f"wrote {len(hops)} rows to {args.csv}")
+        print(f"wrote {len(hops)} rows to {write_table(hops, args.csv)}")
     return 0 if rollout.stable else 1
 
 
@@ -239,7 +237,7 @@ def register_cli(sub) -> None:
         default=None,
         help="seconds before the first scored hop cycle (the profile's: paper 20)",
     )
-    p.add_argument("--csv", help="write the per-hop table (one row per scored hop cycle) here")
+    p.add_argument("--csv", help="write the per-hop table (one row per scored hop cycle) here (- for standard output)")
     p.add_argument(
         "--no-progress", action="store_true", help="no progress bar (it is off when stderr is not a terminal)"
     )

@@ -113,12 +113,13 @@ def hypervolume_figure(study, reference_point, title: str) -> Figure:
 
 def importances_figure(study, title: str) -> Figure:
     """Optuna's parameter importances (PED-ANOVA), every objective in one
-    plot (an empty plot with the title when the study is too small)."""
-    from optuna.trial import TrialState
+    plot (an empty plot with the title, and a note, until the sampler has
+    chosen enough trials: :func:`mat_hopper.optimize.report.enough_for_importances`)."""
     from optuna.visualization.matplotlib import plot_param_importances
 
-    complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
-    if len(complete) >= 4:
+    from ..optimize.report import MIN_SAMPLED_TRIALS, enough_for_importances
+
+    if enough_for_importances(study):
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # ExperimentalWarning
@@ -131,4 +132,14 @@ def importances_figure(study, title: str) -> Figure:
     ax = fig.subplots()
     ax.set_xlabel("importance")
     ax.set_title(title, fontsize=10)
+    ax.text(
+        0.5,
+        0.5,
+        f"no importances: fewer than {MIN_SAMPLED_TRIALS} finished trials chosen by the sampler\n"
+        "(the enqueued paper designs are not samples)",
+        ha="center",
+        va="center",
+        transform=ax.transAxes,
+        fontsize=9,
+    )
     return fig
