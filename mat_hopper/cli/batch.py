@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
-import sys
 
 from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
@@ -144,7 +143,7 @@ def run_batch(args) -> int:
         device = None
     _check_size(args, designs, settings)
     run = dict(backend=args.backend, device=device, workers=args.workers, max_batch=args.max_batch)
-    progress = not args.quiet and sys.stderr.isatty()  # no bars in logs and pipes
+    progress = not args.quiet  # a bar on a terminal, a line per stage in logs and pipes (mat_hopper.progress)
     if args.stability:
         return _run_stability(args, designs, settings, run, progress)
     table = evaluate(designs, beh, settings, progress=progress, **run)

@@ -148,20 +148,20 @@ def describe_settings(settings, auto: bool = False) -> str:
 
 def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: bool = False):
     """The rollout, advanced in chunks of PROGRESS_CHUNK_S simulated seconds
-    with a tqdm bar on stderr (off when stderr is not a terminal or
-    progress is false). Chunked and single-call rollouts are bit-identical."""
-    from tqdm import tqdm
-
+    with progress on stderr (:mod:`mat_hopper.progress`: a bar on a
+    terminal, a line per stage otherwise; none when progress is false).
+    Chunked and single-call rollouts are bit-identical."""
+    from ..progress import progress_bar
     from ..sim import RolloutRunner
 
     runner = RolloutRunner(design, beh, settings, record_qpos=record_qpos)
     chunk = max(1, int(round(PROGRESS_CHUNK_S / settings.timestep_s)))
-    with tqdm(
+    with progress_bar(
         total=round(settings.duration_s, 6),
         unit="sim s",
         desc=design.name,
         file=sys.stderr,
-        disable=not (progress and sys.stderr.isatty()),
+        enabled=progress,
         dynamic_ncols=True,
         leave=False,
         bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} simulated s [{elapsed}<{remaining}]",

@@ -59,6 +59,7 @@ from optuna.trial import TrialState
 from tqdm.std import tqdm
 
 from ..materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
+from ..progress import progress_bar
 from ._objective import (  # noqa: F401 (RESULT_ATTR, result_attr are re-exported)
     CONSTRAINTS,
     OBJECTIVES,
@@ -537,12 +538,13 @@ def _run(config: StudyConfig, options: RunOptions, url: str) -> RunResult:
         live.clear()
 
     spawn(min(options.workers, budget))
-    bar = _Bar(
+    bar = progress_bar(
+        tqdm_class=_Bar,
         total=options.trials,
         initial=min(done, options.trials),
         unit="trial",
         desc=config.name,
-        disable=not options.progress,
+        enabled=options.progress,
         dynamic_ncols=True,
         file=sys.stderr,
         mininterval=1.0,
