@@ -49,6 +49,7 @@ class Reproduction:
     wall_s: dict = field(default_factory=dict)
     failed: dict = field(default_factory=dict)
     computed: dict = field(default_factory=dict)
+    conventions: tuple = ("paper",)  # those asked for: the claims table has rows for these only
 
 
 def default_out_dir(profile_name: str) -> str:
@@ -77,8 +78,8 @@ def reproduce(
     conventions: stiffness conventions of the hopping experiments (1-3),
     e.g. ("paper", "axial"); axial runs use the profile's
     axial_timestep_s. The stability map uses the profile's own convention.
-    The claims table always has rows for both conventions ("not run" for
-    one that was not asked for)."""
+    The claims table has rows for the conventions asked for (a claim whose
+    runs are missing among them reads "not run")."""
     prof = get_profile(profile)
     conventions = _check_conventions(conventions)
     names = parse_experiments(
@@ -93,7 +94,7 @@ def reproduce(
     check_total_steps(planned_steps(prof, names, conventions, replicates), f"replicates={replicates}")
     tasks = {n: _tasks(n, e, prof, conventions, replicates) for n, e in plan.items()}
     os.makedirs(out_dir, exist_ok=True)
-    rep = Reproduction(prof.name, out_dir)
+    rep = Reproduction(prof.name, out_dir, conventions=conventions)
     log(
         f"profile {prof.name}: {prof.duration_s:g} s runs, transient {prof.transient_s:g} s, "
         f"dt {prof.timestep_s:g} s; stability grid {prof.stability_grid_size}x{prof.stability_grid_size}; "
@@ -175,7 +176,7 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
 
     fine = fine_step_hops(rep.tables.get("robustness_hops"))
     table = claims.claims_table(
-        hops, runs, stab, conventions=CONVENTIONS, fine_hops=fine, fine_label=FINE_LABEL if fine is not None else ""
+        hops, runs, stab, conventions=rep.conventions, fine_hops=fine, fine_label=FINE_LABEL if fine is not None else ""
     )
     files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
     rep.tables["claims"] = table

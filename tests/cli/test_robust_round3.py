@@ -431,3 +431,72 @@ def test_render_refuses_two_outputs_on_one_path(here, capsys):
 def test_reproduce_refuses_one_folder_for_results_and_cache(here, capsys):
     _refused(["reproduce", "--out", "r", "--cache", "r/"], capsys, "--out and --cache")
     assert os.listdir(here) == []
+
+
+def test_progress_is_a_bar_on_a_terminal_and_lines_elsewhere(monkeypatch):
+    import io
+
+    from tqdm import tqdm
+
+    from mat_hopper import progress
+
+    log = io.StringIO()
+    with progress.progress_bar(total=3, desc="exp1", unit="run", file=log) as bar:
+        bar.update(2)
+        monkeypatch.setattr(progress, "LINE_EVERY_S", 0.0)  # a long stage: a line while it runs
+        bar.update(1)
+    lines = log.getvalue().splitlines()
+    assert lines[0] == "exp1: started, 0/3 run" and lines[-1].startswith("exp1: done, 3/3 run in ")
+    assert any("3/3 run after" in line for line in lines) and "\r" not in log.getvalue()
+    assert list(progress.progress_bar([1, 2], desc="render", file=io.StringIO())) == [1, 2]
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    bar = progress.progress_bar(total=3, file=Terminal())
+    assert isinstance(bar, tqdm) and not bar.disable
+    bar.close()
+    assert progress.progress_bar(total=3, file=Terminal(), enabled=False).disable
+
+
+def test_batch_in_a_pipe_prints_a_line_per_stage(here, capsys):
+    assert main(["batch", "--designs", "SS", "--duration", "0.3", "--transient", "0.1", "--workers", "1"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert err[0] == "mujoco: started, 0/1 design" and err[-1].startswith("mujoco: done, 1/1 design")
+
+
+def test_csv_dash_is_standard_output(here, capsysbinary):
+    assert main(["modes", "--csv", "-"]) == 0
+    cap = capsysbinary.readouterr()
+    out = cap.out.decode()
+    assert out.splitlines()[0] == "mode,chain_hz,rod_hz,error_pct" and len(out.splitlines()) == 4  # 3 segments: 3 modes
+    assert "wrote 3 rows to standard output" in cap.err.decode()
+    assert os.listdir(here) == []
+
+
+def test_importances_need_sampled_trials_not_the_enqueued_paper_designs():
+    import optuna
+
+    from mat_hopper.optimize.report import enough_for_importances, importances
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    study = optuna.create_study(directions=["minimize", "minimize"])
+    dist = optuna.distributions.FloatDistribution(0.0, 1.0)
+    for i in range(8):  # a --trials 8 study: the paper designs only
+        t = optuna.trial.create_trial(
+            params={"x": i / 8}, distributions={"x": dist}, values=[i, 8 - i], user_attrs={"paper_design": f"d{i}"}
+        )
+        study.add_trial(t)
+    assert not enough_for_importances(study) and importances(study).empty
+    for i in range(4):
+        study.add_trial(optuna.trial.create_trial(params={"x": 0.1 * i}, distributions={"x": dist}, values=[i, 1]))
+    assert enough_for_importances(study)
+
+
+@pytest.mark.slow  # a one-trial study: about 15 s
+def test_optimize_report_hint_names_the_studies_dir(here, capsys):
+    argv = ["optimize", "--study", "s", "--trials", "1", "--profile", "quick", "--workers", "1"]
+    assert main([*argv, "--studies-dir", "elsewhere", "--no-progress", "--behaviour", "forward"]) == 0
+    hint = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("report:"))
+    assert hint == "report: mat-hopper optimize --report s --studies-dir elsewhere"
