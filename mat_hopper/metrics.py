@@ -217,13 +217,16 @@ def compare(
         raise ValueError(f"hops must be a pandas DataFrame (a hop table), got {type(hops).__name__}")
     if isinstance(metrics, str) or not list(metrics):
         raise ValueError(f"metrics must be a non-empty sequence of column names, got {metrics!r}")
-    missing = [c for c in ("design", by, *metrics) if c not in hops.columns]
-    if missing:
-        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (by={by!r}, metrics={list(metrics)})")
     if isinstance(alpha, bool) or not isinstance(alpha, int | float) or not 0 < alpha < 1:
         raise ValueError(f"alpha must be a significance level in (0, 1), got {alpha!r}")
+    missing = [c for c in ("design", by) if c not in hops.columns]
+    if missing:
+        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (by={by!r})")
     if baseline not in set(hops["design"]):
         raise ValueError(f"baseline {baseline!r} not among the designs: {sorted(set(hops['design']))}")
+    missing = [c for c in metrics if c not in hops.columns]
+    if missing:
+        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (metrics={list(metrics)})")
     rows = []
     for group, g in hops.groupby(by, sort=False):
         base = g[g["design"] == baseline]

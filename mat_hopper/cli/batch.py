@@ -144,6 +144,13 @@ def run_batch(args) -> int:
     _check_size(args, designs, settings)
     run = dict(backend=args.backend, device=device, workers=args.workers, max_batch=args.max_batch)
     progress = not args.quiet  # a bar on a terminal, a line per stage in logs and pipes (mat_hopper.progress)
+    if progress and args.backend == "warp":  # model building and kernel compilation come before any bar
+        print(
+            f"warp: building {_count(len(designs), 'world')} on {device} and compiling its kernels "
+            f"(minutes on the first use{', and slower than one core on cpu' if device == 'cpu' else ''})",
+            file=sys.stderr,
+            flush=True,
+        )
     if args.stability:
         return _run_stability(args, designs, settings, run, progress)
     table = evaluate(designs, beh, settings, progress=progress, **run)

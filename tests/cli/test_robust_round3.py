@@ -500,3 +500,27 @@ def test_optimize_report_hint_names_the_studies_dir(here, capsys):
     assert main([*argv, "--studies-dir", "elsewhere", "--no-progress", "--behaviour", "forward"]) == 0
     hint = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("report:"))
     assert hint == "report: mat-hopper optimize --report s --studies-dir elsewhere"
+
+
+def test_importances_plot_keeps_every_label_inside_the_figure():
+    import io
+
+    import optuna
+
+    from mat_hopper.viz.study import importances_figure
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    study = optuna.create_study(directions=["minimize", "minimize"], sampler=optuna.samplers.RandomSampler(seed=0))
+    names = [f"seg{i}_{p}" for i in (1, 2, 3) for p in ("density_g_cm3", "modulus_gpa")]
+    study.optimize(lambda t: [sum(t.suggest_float(n, 0.1, 10.0, log=True) for n in names), t.number], n_trials=12)
+    fig = importances_figure(study, "a study: forward, quick profile, 3 segments")
+    fig.savefig(io.BytesIO(), format="png")  # laid out as the report writes it
+    box = fig.bbox
+    for ax in fig.axes:
+        for label in [*ax.get_yticklabels(), ax.title, ax.xaxis.label]:
+            if label.get_text():
+                e = label.get_window_extent()
+                assert e.x0 >= box.x0 - 1 and e.x1 <= box.x1 + 1 and e.y0 >= box.y0 - 1 and e.y1 <= box.y1 + 1, label
+        if ax.get_legend() is not None:
+            e = ax.get_legend().get_window_extent()
+            assert e.x0 >= box.x0 - 1 and e.x1 <= box.x1 + 1
