@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
+import sys
 
 from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
