@@ -209,7 +209,7 @@ def cmd_simulate(args) -> int:
         from ..batch import design_columns  # the design's properties in every row: rows of two runs differ
 
         props = design_columns(design, segment_mass=settings.segment_mass)
-        at = list(hops.columns).index("design") + 1
+        at = list(hops.columns).index("substeps") + 1  # after the run settings
         for k, (col, value) in enumerate(props.items()):
             hops.insert(at + k, col, value)
         print(f"wrote {len(hops)} rows to {write_table(hops, args.csv)}")
