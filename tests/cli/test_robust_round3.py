@@ -523,3 +523,25 @@ def test_importances_plot_keeps_every_label_inside_the_figure():
         if ax.get_legend() is not None:
             e = ax.get_legend().get_window_extent()
             assert e.x0 >= box.x0 - 1 and e.x1 <= box.x1 + 1
+
+
+def test_claims_only_for_the_conventions_asked_for(tmp_path, monkeypatch):
+    """claims.md listed 16 'axial ... not run' rows nobody asked for."""
+    from mat_hopper.analysis import claims
+    from mat_hopper.experiments import reproduce as rp
+    from mat_hopper.viz import figures
+
+    seen = {}
+    monkeypatch.setattr(figures, "write_figures", lambda tables, out: [])
+    monkeypatch.setattr(claims, "write_claims", lambda table, out: [])
+    real = claims.claims_table
+
+    def spy(*args, **kwargs):
+        seen["conventions"] = tuple(kwargs["conventions"])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(claims, "claims_table", spy)
+    rep = rp.Reproduction("quick", str(tmp_path), conventions=("paper",))
+    rp._figures_and_claims(rep, log=lambda *a: None)
+    assert seen["conventions"] == ("paper",)
+    assert set(rep.tables["claims"]["convention"]) == {"paper"}
