@@ -352,5 +352,8 @@ def sensor_timing_arg(text: str):
 
     text = str(text).strip()
     timing = int(text) if text.isdigit() else text
-    sensor_latency_steps(timing)  # ValueError naming the accepted values
+    try:
+        sensor_latency_steps(timing)  # ValueError naming the accepted values
+    except ValueError as e:
+        raise ValueError(f"--sensor-timing: {e}") from None
     return timing

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from .. import reference as ref
 from ..control import DEFAULT_SENSOR_TIMING
+from ..limits import check_count
 from ..materials import CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
 from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, controller_timestep, estimate_timestep
 from ._checks import check_output_file, write_table
@@ -21,10 +22,21 @@ FORMULA = (
 )
 
 
+DEFAULT_MODES = 5
+
+
 def cmd_modes(args) -> int:
     check_output_file(args.csv, "--csv", stdout=True)  # before any work
+    check_count(args.modes, "--modes", 1, 64, "axial modes to list")
     design = design_from_args(args)
-    table = axial_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=args.modes)
+    n_modes = DEFAULT_MODES if args.modes is None else args.modes
+    table = axial_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=n_modes)
+    if (
+        args.modes is not None and len(table) < args.modes
+    ):  # the lumped chain has as many modes as it has masses that move
+        raise ValueError(
+            f"--modes {args.modes}: this leg's spring chain has {len(table)} axial modes; ask for at most that"
+        )
     print(
         f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass "
         f"{args.segment_mass}: axial modes (Hz)"
@@ -69,6 +81,8 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--sensor-timing", default=DEFAULT_SENSOR_TIMING, help="for the controller's limit (authors, fresh, or steps)"
     )
-    p.add_argument("--modes", type=int, default=5, help="how many modes (default 5)")
+    p.add_argument(
+        "--modes", type=int, default=None, help=f"how many modes (default {DEFAULT_MODES}, or as many as the leg has)"
+    )
     p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here (- for standard output)")
     p.set_defaults(func=cmd_modes)

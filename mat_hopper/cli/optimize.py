@@ -36,7 +36,18 @@ from ..optimize._storage import dispose, storage_errors
 from ..optimize._study import CONFIG_ATTR, check_objectives_vary
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
-from ._checks import check_output_dir, nothing_left_behind, parse_pair
+from ._checks import check_output_dir, named_by_flags, nothing_left_behind, parse_pair
+
+# The search space's and objective's fields, as their options (for messages).
+OPTION_OF_FIELD = {
+    "density_g_cm3": "--density-bounds",
+    "modulus_gpa": "--modulus-bounds",
+    "n_segments": "--segments",
+    "behaviours": "--behaviour",
+    "materials": "--materials",
+    "ashby_classes": "--ashby-classes",
+    "kinds": "--space",
+}
 
 
 def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
@@ -133,7 +144,8 @@ def _cmd_optimize(args) -> int:
     check_workers(args.workers)
     options = _options_from_args(args, args.trials)
     check_sampler(options.sampler)
-    fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
+    with named_by_flags(**OPTION_OF_FIELD):
+        fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
     _check_size(args, fresh)
     check_objectives_vary(fresh.objective)
     _check_backend(args)

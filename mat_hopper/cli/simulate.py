@@ -43,7 +43,8 @@ def design_from_args(args) -> LegDesign:
     """--design NAME, or --density/--modulus lists (g/cm^3, GPa); never
     both, and --segments only with a named design (a list sets its own)."""
     segments = ref.REFERENCE_SEGMENTS if args.segments is None else args.segments
-    n = check_n_segments(segments)  # an integer in [1, 64] whatever the design form
+    with named_by_flags():
+        n = check_n_segments(segments)  # an integer in [1, 64] whatever the design form
     if args.density is not None or args.modulus is not None:
         given = "--density" if args.density is not None else "--modulus"
         if args.design is not None:

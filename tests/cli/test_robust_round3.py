@@ -283,6 +283,11 @@ def test_render_start_names_the_flags_not_the_parameter(here, capsys):
         (["batch", "--designs", "SS", "--timestep", "0x10"], ("--timestep", "decimal number")),
         (["simulate", "--timestep", "1e-12", "--duration", "100"], ("--duration", "--timestep")),
         (["optimize", "--study", "s", "--trials", "2.5"], ("--trials", "whole number")),
+        (["simulate", "--segments", "100"], ("--segments must be",)),
+        (["simulate", "--sensor-timing", "late"], ("--sensor-timing",)),
+        (["optimize", "--study", "s", "--density-bounds", "5,1"], ("--density-bounds",)),
+        (["modes", "--modes", "4"], ("--modes 4", "3 axial modes")),
+        (["modes", "--modes", "0"], ("--modes must be",)),
     ],
 )
 def test_numbers_are_ascii_decimals_and_errors_name_flags(here, capsys, argv, texts):
