@@ -118,7 +118,7 @@ def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
 @pytest.mark.parametrize(
     "content, message",
     [
-        ("design,density_1,modulus_1\nx,abc,4\n", "density_1 must be a number"),
+        ("design,density_1,modulus_1\nx,abc,4\n", "density_1 must be a decimal number"),
         ("density_1,density_2,modulus_1\n1.4,2,70\n", "no column modulus_2"),  # not silently rigid
         ("density_1\n1.4\n", "no column modulus_1"),
         ("design,density_1,modulus_1\nx,1.4,70,99\n", "a row has more fields than the header"),
