@@ -63,7 +63,8 @@ def main(argv=None):
     a = p.parse_args(argv)
     prof = PROFILES[a.profile]
     space = SearchSpace(kinds=a.space, materials=("PVC", "Al", "Ti", "SS"))
-    config = StudyConfig("bench", space, Objective(behaviours=("ramp",), profile=prof))
+    # single draws (replicates=0): a trial is one rollout, the unit the simulator-alone rate is measured in
+    config = StudyConfig("bench", space, Objective(behaviours=("ramp",), profile=prof, replicates=0))
     # The simulator alone on every core, right before and right after the
     # study: the host's speed drifts, so the study is set against both.
     before = None if a.no_limit else bare_parallel_wall(prof, a.workers)

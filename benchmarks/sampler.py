@@ -85,7 +85,8 @@ def main(argv=None) -> pd.DataFrame:
             duration_s=args.duration,
             transient_s=min(profile.transient_s, args.duration / 3),
         )
-    config = StudyConfig("bench", SearchSpace(ashby_classes=args.ashby_classes), Objective(profile=profile))
+    objective = Objective(profile=profile, replicates=0)  # single draws, as its recorded comparison was run
+    config = StudyConfig("bench", SearchSpace(ashby_classes=args.ashby_classes), objective)
     tmp = tempfile.mkdtemp(prefix="mat-hopper-sampler-")
     frames, walls = {}, {}
     for name in [s.strip() for s in args.samplers.split(",") if s.strip()]:

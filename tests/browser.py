@@ -236,6 +236,28 @@ class Chromium:
                     rep.errors.append(f"{e.get('source')}: {e.get('text')} {src}".strip())
         return rep
 
+    def wait_for_text(self, url: str, needles, timeout_s: float | None = None) -> str:
+        """Load `url` and poll its rendered text (``document.body.innerText``)
+        until it holds every string of `needles` (a single-page app fills
+        the page after its load event); the text, or TimeoutError naming the
+        missing strings."""
+        self._call("Page.navigate", {"url": url}, session=True)
+        self._wait_event("Page.loadEventFired")
+        deadline = time.monotonic() + (timeout_s or self.timeout_s)
+        while True:
+            res = self._call(
+                "Runtime.evaluate",
+                {"expression": "document.body ? document.body.innerText : ''", "returnByValue": True},
+                session=True,
+            )
+            text = res.get("result", {}).get("value", "") or ""
+            missing = [n for n in needles if n not in text]
+            if not missing:
+                return text
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"{url}: no {missing} in the rendered page after {timeout_s or self.timeout_s:g} s")
+            time.sleep(0.2)
+
     def close(self) -> None:
         with contextlib.suppress(Exception):
             self._stack.close()

@@ -21,6 +21,7 @@ from ..materials import LegDesign, parse_design
 
 _DENSITY_COL = re.compile(r"^density_(\d+)$")
 _MODULUS_COL = re.compile(r"^modulus_(\d+)$")
+_LOOKS_LIKE_PROPERTY = re.compile(r"^(dens|mod|rho\b|e_)", re.IGNORECASE)
 
 
 def as_design(design) -> LegDesign:
@@ -81,11 +82,16 @@ def _columns(columns, source: str) -> tuple[int, dict, dict]:
         raise ValueError(f"{source}: column {', '.join(dup)} appears more than once")
     dens = {int(m.group(1)): c for c, n in zip(columns, names, strict=True) if (m := _DENSITY_COL.match(n))}
     mods = {int(m.group(1)): c for c, n in zip(columns, names, strict=True) if (m := _MODULUS_COL.match(n))}
-    unknown = [n for n in names if n != "design" and not _DENSITY_COL.match(n) and not _MODULUS_COL.match(n)]
+    # Other columns (a record the tool wrote beside the design: optimize --export's
+    # study, trial, leg_mass_kg, ...) are not read; one that looks like a design
+    # property but is not one ("modulas_2", "Density_1", "density 3") is a typo.
+    unknown = [
+        n for n in names if _LOOKS_LIKE_PROPERTY.match(n) and not (_DENSITY_COL.match(n) or _MODULUS_COL.match(n))
+    ]
     if unknown:
         raise ValueError(
-            f"{source}: unknown column {', '.join(map(repr, unknown))}; accepted: design, density_1..density_N, "
-            "modulus_1..modulus_N"
+            f"{source}: unknown column {', '.join(map(repr, unknown))}; design columns are density_1..density_N "
+            "and modulus_1..modulus_N"
         )
     if not dens:
         raise ValueError(f"{source}: needs columns density_1..density_N (g/cm^3) and modulus_1..modulus_N (GPa)")
@@ -108,8 +114,9 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
 
     Args:
         frame: columns density_1..density_N (g/cm^3), modulus_1..modulus_N
-            (GPa, or ``rigid``), and optionally ``design`` (names); no other
-            column, none twice. Every cell of a row's segments holds an ASCII
+            (GPa, or ``rigid``), and optionally ``design`` (names); none
+            twice; other columns are not read, except that one named like
+            a property (``modulas_2``, ``Density_1``) is refused as a typo. Every cell of a row's segments holds an ASCII
             decimal number in the material ranges (or ``rigid`` for a
             modulus); a row with fewer segments leaves both cells of each
             segment past its last one empty (as :func:`designs_to_frame`

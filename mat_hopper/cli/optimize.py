@@ -13,6 +13,8 @@ from ..experiments.profiles import PROFILES, get_profile
 from ..limits import check_count, check_workers
 from ..materials import LegDesign
 from ..optimize import (
+    DEFAULT_CVAR_ALPHA,
+    DEFAULT_REPLICATES,
     DEFAULT_WORKERS,
     KINDS,
     SAMPLERS,
@@ -23,6 +25,7 @@ from ..optimize import (
     check_sampler,
     check_study_name,
     describe,
+    front_table,
     open_storage,
     redact,
     replay,
@@ -79,8 +82,28 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
         hop_height_target_m=ob.hop_height_target_m,
         hop_height_tolerance_m=ob.hop_height_tolerance_m,
         segment_mass=getattr(args, "segment_mass", None) or ob.segment_mass,
+        **_noise_and_mass_from_args(args, ob),
     )
     return StudyConfig(args.study, space, objective)
+
+
+def _noise_and_mass_from_args(args, ob: Objective) -> dict:
+    """--replicates, --risk, --cvar-alpha, --leg-mass, --leg-mass-tolerance
+    (mat_hopper.optimize._robust), each the stored (or default) value when
+    left out; ``--leg-mass none`` lifts the constraint."""
+    given = lambda name: getattr(args, name, None) is not None  # noqa: E731
+    leg_mass = ob.leg_mass
+    if given("leg_mass"):
+        leg_mass = None if args.leg_mass.strip().lower() == "none" else args.leg_mass
+    return {
+        "replicates": args.replicates if given("replicates") else ob.replicates,
+        "risk": args.risk.strip().lower() if given("risk") else ob.risk,
+        "cvar_alpha": args.cvar_alpha if given("cvar_alpha") else ob.cvar_alpha,
+        "leg_mass": leg_mass,
+        "leg_mass_tolerance_kg": args.leg_mass_tolerance
+        if given("leg_mass_tolerance")
+        else (ob.leg_mass_tolerance_kg if leg_mass is not None else None),
+    }
 
 
 def _options_from_args(args, trials: int = 1) -> RunOptions:
@@ -127,6 +150,8 @@ def cmd_optimize(args) -> int:
 def _cmd_optimize(args) -> int:
     if not args.storage or (args.report and not args.out):
         check_output_dir(args.studies_dir, "--studies-dir")
+    if getattr(args, "export", None) is not None:
+        return cmd_export(args)
     if args.report or args.replay is not None:
         name = args.report or args.study
         if not name:
@@ -217,6 +242,12 @@ def _check_backend(args) -> None:
 def _run_backend(config: StudyConfig, options: RunOptions, args):
     """The study on --backend mujoco (CPU workers, the reference) or warp
     (MuJoCo Warp batches of --batch-size trials, mat_hopper.optimize._batch)."""
+    if getattr(args, "race", False):
+        if args.backend == "warp":
+            raise ValueError("--race runs on --backend mujoco (the warp backend has no perturbations yet)")
+        from ..optimize import race_study
+
+        return race_study(config, options)
     if args.backend != "warp":
         return run_study(config, options)
     from ..optimize import DEFAULT_BATCH_SIZE, run_batch_study
@@ -259,6 +290,19 @@ def register_cli(sub) -> None:
         "20 s transient, 1e-4 s step; quick: 12 s, 4 s)",
     )
     p.add_argument("--convention", help="stiffness convention: paper (default) or axial")
+    p.add_argument(
+        "--replicates",
+        type=int,
+        help=f"perturbed replicates per trial, the same seeds for every trial (default {DEFAULT_REPLICATES}; "
+        "0: one unperturbed run)",
+    )
+    p.add_argument("--risk", help="objective over replicates: mean (default) or cvar (mean of the worst tail)")
+    p.add_argument("--cvar-alpha", type=float, help=f"--risk cvar's level in [0, 1) (default {DEFAULT_CVAR_ALPHA})")
+    p.add_argument(
+        "--leg-mass",
+        help="constrain the leg's mass to a paper design's (e.g. SS) or to a mass in kg; none: unconstrained (default)",
+    )
+    p.add_argument("--leg-mass-tolerance", type=float, help="kg, +- around --leg-mass (default 5 %% of the target)")
     p.add_argument("--workers", type=int, default=DEFAULT_WORKERS, help="worker processes here (2)")
     p.add_argument(
         "--storage",
@@ -277,10 +321,22 @@ def register_cli(sub) -> None:
     )
     p.add_argument("--device", help="Warp device for --backend warp: cpu or cuda (default: cuda where Warp sees a GPU)")
     p.add_argument("--batch-size", type=int, help="--backend warp: trials asked and simulated together (64)")
+    p.add_argument(
+        "--race",
+        action="store_true",
+        help="multi-fidelity racing: screen trials on short one-replicate runs and promote 1 in 3 to the study's "
+        "full fidelity; --trials counts screened trials, in brackets of 9; give it again to resume",
+    )
     p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
     p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
     p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")
     p.add_argument("--render", action="store_true", help="with --replay: also render it (mat_hopper.viz.render)")
+    p.add_argument(
+        "--export",
+        type=int,
+        metavar="TRIAL",
+        help="write trial TRIAL's design as CSV (for simulate --design-csv, batch --designs-csv) and MJCF, in --out",
+    )
     p.set_defaults(func=cmd_optimize)
 
 
@@ -321,9 +377,12 @@ def cmd_report(name: str, args, out: str) -> int:
     print(f"study {name}: {len(frame)} trials {states}, {n_ok} feasible, {len(front)} on the Pareto front")
     for b, (te, pw) in rep["baselines"].items():
         print(f"  {b}: tracking error {te:.4g} m, power {pw:.4g} W")
-    if len(front):
-        cols = [c for c in front.columns if not c.startswith("seg")]
-        print(front[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    if len(front):  # the designs, not only their trial numbers: densities, moduli, leg mass
+        table = front_table(front).drop(columns=["hop height (m)"])
+        table.insert(1, "design", front["design"].to_numpy())
+        print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+        where = f" --storage '{redact(args.storage)}'" if args.storage else ""
+        print(f"export a design: mat-hopper optimize --study {name} --export TRIAL{where}")
     for p in rep["paths"].values():
         print(f"wrote {p}")
     return 0
@@ -336,13 +395,18 @@ def cmd_replay(name: str, storage, args) -> int:
         print(f"  segment {i}: {m.density_g_cm3:.6g} g/cm^3, {m.modulus_gpa:.6g} GPa ({m.name})")
     for r in ev.per_behaviour:
         print(
-            f"  {r['behaviour']}: tracking error {r['tracking_error_m']:.6g} m, power {r['power_w']:.6g} W, "
+            f"  {r['behaviour']}"
+            + (f" (replicate seed {r['replicate']})" if r.get("replicate", -1) >= 0 else "")
+            + f": tracking error {r['tracking_error_m']:.6g} m, power {r['power_w']:.6g} W, "
             f"hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
             f"{'upright' if r['upright'] else 'UNSTABLE'}"
         )
+    se = ev.standard_errors
+    se_text = f" (standard errors {se[0]:.3g} m, {se[1]:.3g} W)" if se and se[0] == se[0] else ""
+    cons = ", ".join(f"{n} {c:.4g}" for n, c in zip(ev.constraint_names, ev.constraints))
     print(
-        f"objectives {ev.values[0]:.6g} m, {ev.values[1]:.6g} W; "
-        f"{'feasible' if ev.feasible else 'infeasible'} (constraints {ev.constraints[0]:.4g}, {ev.constraints[1]:g})"
+        f"objectives {ev.values[0]:.6g} m, {ev.values[1]:.6g} W{se_text}; "
+        f"{'feasible' if ev.feasible else 'infeasible'} (constraints {cons}); leg mass {ev.leg_mass_kg:.4g} kg"
     )
     if t.state == TrialState.COMPLETE:
         same = tuple(t.values) == tuple(ev.values)
@@ -372,4 +436,30 @@ def _render(design: LegDesign, config: StudyConfig, args) -> int:
             backend=backend,
         ):
             print(f"wrote {path}")
+    return 0
+
+
+def cmd_export(args) -> int:
+    """--export TRIAL: the trial's design as CSV and MJCF (mat_hopper.optimize._export)."""
+    from ..optimize import export_trial
+
+    name = args.report or args.study
+    if not name:
+        raise ValueError("--export TRIAL needs --study NAME (or --report NAME)")
+    out = check_output_dir(args.out or args.studies_dir, "--out")
+    res = export_trial(name, open_existing(name, args, read_only=True), args.export, out)
+    print(f"trial {args.export} of {name}: {describe(res['design'].segments)}")
+    print(f"wrote {res['csv']}")
+    for path in res["mjcf"].values():
+        print(f"wrote {path}")
+    ob = res["config"].objective
+    print(
+        f"simulate it: mat-hopper simulate --design-csv {res['csv']} --behaviour {ob.behaviours[0]} "
+        f"--profile {ob.profile.name} --convention {ob.convention} --segment-mass {ob.segment_mass}"
+        + (
+            f" (the study scores {ob.replicates} perturbed replicates; simulate runs the unperturbed one)"
+            if ob.replicates
+            else ""
+        )
+    )
     return 0

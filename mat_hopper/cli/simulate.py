@@ -40,11 +40,26 @@ def _timestep(text):
 
 
 def design_from_args(args) -> LegDesign:
-    """--design NAME, or --density/--modulus lists (g/cm^3, GPa); never
-    both, and --segments only with a named design (a list sets its own)."""
+    """--design NAME, --design-csv FILE, or --density/--modulus lists
+    (g/cm^3, GPa); never two of them, and --segments only with a named
+    design (a list or a file sets its own)."""
     segments = ref.REFERENCE_SEGMENTS if args.segments is None else args.segments
     with named_by_flags():
         n = check_n_segments(segments)  # an integer in [1, 64] whatever the design form
+    if getattr(args, "design_csv", None) is not None:
+        given = [
+            flag
+            for flag, v in (
+                ("--design", args.design),
+                ("--density", args.density),
+                ("--modulus", args.modulus),
+                ("--segments", args.segments),
+            )
+            if v is not None
+        ]
+        if given:
+            raise ValueError(f"--design-csv gives the design: leave out {', '.join(given)}")
+        return _design_from_csv(args.design_csv)
     if args.density is not None or args.modulus is not None:
         given = "--density" if args.density is not None else "--modulus"
         if args.design is not None:
@@ -66,6 +81,19 @@ def design_from_args(args) -> LegDesign:
     return parse_design(DEFAULT_DESIGN if args.design is None else args.design, n_segments=n)
 
 
+def _design_from_csv(path) -> LegDesign:
+    """The one design of a designs CSV (``mat-hopper optimize --export``,
+    :func:`mat_hopper.batch.designs_from_csv`'s columns)."""
+    from ..batch import designs_from_csv
+
+    designs = designs_from_csv(path)
+    if len(designs) != 1:
+        raise ValueError(
+            f"--design-csv: {path} holds {len(designs)} designs; simulate runs one (batch --designs-csv runs many)"
+        )
+    return designs[0]
+
+
 def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     """Design and run options shared by commands that simulate one design."""
     p.add_argument(
@@ -73,6 +101,11 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         default=None,
         help=f"material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec (default "
         f"{DEFAULT_DESIGN}); or --density and --modulus",
+    )
+    p.add_argument(
+        "--design-csv",
+        metavar="FILE",
+        help="the one design of a designs CSV (density_i, modulus_i columns; e.g. optimize --export's)",
     )
     p.add_argument("--density", help="per-segment densities, g/cm^3, e.g. 1.39,4.43,8 (0.001-30)")
     p.add_argument("--modulus", help="per-segment moduli, GPa (1e-6-2000, or 'rigid'), e.g. 70,70,70")

@@ -10,12 +10,28 @@ backend, Optuna's ask-and-tell), its storage and its report (:func:`write_report
 :func:`replay`). The private modules ``_space``, ``_objective``,
 ``_samplers``, ``_storage``, ``_study`` (with ``_processes``, its worker
 processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
-writes a study's tables and plots. The command line is
+writes a study's tables and plots; ``_robust`` holds the noise- and
+mass-aware scores (replicates on common random numbers, mean or CVaR, the
+leg-mass constraint); ``_export`` writes a trial's design as CSV and MJCF; ``_racing`` runs
+multi-fidelity racing (successive halving on ask-and-tell). The command line is
 :mod:`mat_hopper.cli.optimize`.
 """
 
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
+from ._export import design_frame, design_mjcf, export_trial
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
+from ._racing import Racing, Rung, default_racing, promote, race_study, run_racing, simulated_seconds
+from ._robust import (
+    DEFAULT_CVAR_ALPHA,
+    DEFAULT_LEG_MASS_TOLERANCE,
+    DEFAULT_REPLICATES,
+    RISKS,
+    SEARCH_SEED_START,
+    cvar,
+    leg_mass_kg,
+    replicate_seeds,
+    score,
+)
 from ._samplers import SAMPLERS, check_sampler
 from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, SearchSpace, describe, resample
 from ._storage import check_study_name, default_url, open_storage, redact, storage_file
@@ -35,11 +51,30 @@ __all__ = [
     "DEFAULT_BATCH_SIZE",
     "evaluate_batch",
     "run_batch_study",
+    "design_frame",
+    "design_mjcf",
+    "export_trial",
     "CONSTRAINTS",
     "OBJECTIVES",
     "Evaluation",
     "Objective",
     "evaluate",
+    "Racing",
+    "Rung",
+    "default_racing",
+    "promote",
+    "race_study",
+    "run_racing",
+    "simulated_seconds",
+    "DEFAULT_CVAR_ALPHA",
+    "DEFAULT_LEG_MASS_TOLERANCE",
+    "DEFAULT_REPLICATES",
+    "RISKS",
+    "SEARCH_SEED_START",
+    "cvar",
+    "leg_mass_kg",
+    "replicate_seeds",
+    "score",
     "DENSITY_BOUNDS_G_CM3",
     "KINDS",
     "MODULUS_BOUNDS_GPA",

@@ -76,6 +76,16 @@ TRIAL_BACKEND_ATTR = "backend"  # trial user attr: the backend that evaluated it
 DEFAULT_BATCH_SIZE = 64  # trials asked per round (a GPU takes thousands: raise it there)
 
 
+def check_unperturbed(objective: Objective) -> None:
+    """ValueError unless `objective` runs unperturbed (replicates 0): the
+    batch kernels have no perturbations (:mod:`mat_hopper.perturbations`)."""
+    if objective.replicates:
+        raise ValueError(
+            f"the warp backend runs unperturbed rollouts only: give --replicates 0 (this objective asks for "
+            f"{objective.replicates} perturbed replicates), or use --backend mujoco"
+        )
+
+
 def batch_settings(objective: Objective, design: LegDesign):
     """The :class:`~mat_hopper.batch.BatchSettings` of one design's runs
     under `objective`: the profile's SimSettings (the CPU path's) as a batch.
@@ -83,6 +93,7 @@ def batch_settings(objective: Objective, design: LegDesign):
     ``axial`` convention's automatic time step)."""
     from ..batch import BatchSettings
 
+    check_unperturbed(objective)
     sim = objective.profile.for_convention(objective.convention).sim_settings(design=design)
     if sim.substeps != 1:
         raise ValueError(
@@ -163,7 +174,7 @@ def evaluate_batch(
             )
             for i, summary in zip(idx, table.to_dict("records")):
                 rows[i].append(behaviour_row(summary, b, settings.duration_s))
-    return [aggregate(r, objective) for r in rows]
+    return [aggregate(r, objective, d) for r, d in zip(rows, designs)]
 
 
 def default_device() -> str:
@@ -251,6 +262,7 @@ def run_batch_study(
 
     if isinstance(batch_size, bool) or not isinstance(batch_size, int) or batch_size < 1:
         raise ValueError(f"batch_size must be an integer >= 1, got {batch_size!r}")
+    check_unperturbed(config.objective)
     require_warp()
     device = device or default_device()
     check_sampler(options.sampler)

@@ -42,7 +42,9 @@ from optuna.trial import TrialState
 from ..behaviours import behaviour as get_behaviour
 from ..experiments.runner import FAILED, Runner, design_key, hash_key, settings_key, versions
 from ..materials import LegDesign
+from ..perturbations import Perturbation
 from ._objective import Evaluation, Objective, aggregate, mujoco_warnings_to, record_evaluation, run_behaviour
+from ._robust import perturbations
 from ._samplers import make_sampler, worker_seed
 from ._storage import ERROR_ATTR, WORKER_ATTR
 from ._study import StudyConfig, _quiet, create_or_load
@@ -67,6 +69,7 @@ class TrialRun:
     behaviour: str
     objective: Objective
     labels: dict = field(default_factory=dict)
+    perturbation: Perturbation | None = None  # a replicate's (mat_hopper.optimize._robust)
 
     kind = "trial-run"
 
@@ -76,7 +79,7 @@ class TrialRun:
             "kind": self.kind,
             "design": design_key(self.design),
             "behaviour": get_behaviour(self.behaviour).key(),
-            "settings": settings_key(ob.sim_settings(design=self.design)),
+            "settings": settings_key(ob.sim_settings(self.perturbation, design=self.design)),
             "score": {"objective_source": _objective_source()},
             "versions": versions(),
         }
@@ -89,7 +92,7 @@ class TrialRun:
 
     def compute(self) -> tuple[pd.DataFrame, dict]:
         with mujoco_warnings_to([]) as sink:
-            row = run_behaviour(self.design, self.behaviour, self.objective)
+            row = run_behaviour(self.design, self.behaviour, self.objective, perturbation=self.perturbation)
         row["mujoco_warnings"] = len(sink)
         row = {k: (math.nan if v is None else v) for k, v in row.items()}
         row.pop("behaviour")
@@ -99,7 +102,12 @@ class TrialRun:
 def evaluate_many(designs, objective: Objective, runner: Runner, desc: str = "trials") -> list:
     """Evaluation (or an error text) of each design, in order: every
     design's behaviours as one grid through `runner`."""
-    tasks = [TrialRun(d, b, objective, labels={"item": i}) for i, d in enumerate(designs) for b in objective.behaviours]
+    tasks = [
+        TrialRun(d, b, objective, labels={"item": i}, perturbation=p)
+        for i, d in enumerate(designs)
+        for p in perturbations(objective.replicates)
+        for b in objective.behaviours
+    ]
     if not tasks:
         return []
     res = runner.run(tasks, desc=desc)
@@ -114,10 +122,10 @@ def evaluate_many(designs, objective: Objective, runner: Runner, desc: str = "tr
         for r in rows:
             r = dict(r)
             r["diverged_at_s"] = None if not np.isfinite(r.get("diverged_at_s", np.nan)) else r["diverged_at_s"]
-            r["n_hops"] = int(r["n_hops"])
+            r["n_hops"], r["replicate"] = int(r["n_hops"]), int(r.get("replicate", -1))
             r["stable"], r["upright"] = bool(r["stable"]), bool(r["upright"])
             fixed.append({k: r[k] for k in r if k not in ("item", "design", "error", "key", "status")})
-        out.append(aggregate(fixed, objective))
+        out.append(aggregate(fixed, objective, designs[i]))
     return out
 
 

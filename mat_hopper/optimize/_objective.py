@@ -8,7 +8,11 @@ Objectives (both minimized), from the per-hop metrics of
 
 With several behaviours, each objective is the plain mean over the
 behaviours of each behaviour's mean (every behaviour weighs the same,
-whatever its number of hops). Constraints (Optuna convention: <= 0 is
+whatever its number of hops). With ``replicates = K > 0`` (default 4) that
+mean is taken per seeded replicate, on the same seeds for every trial, and
+the objective is the mean or the CVaR over the replicates
+(:mod:`mat_hopper.optimize._robust`, which also adds the ``leg_mass``
+constraint). Constraints (Optuna convention: <= 0 is
 feasible):
 
 - ``hop_height``: |mean hop height - 1 m| - 0.05 m, the worst behaviour;
@@ -59,6 +63,7 @@ from ..materials import (
 )
 from ..metrics import hop_table
 from ..sim import C, RolloutRunner
+from . import _robust
 
 OBJECTIVES = ("tracking_error_m", "power_w")
 CONSTRAINTS = ("hop_height", "unstable")
@@ -80,6 +85,12 @@ class Objective:
     hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
     hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
     segment_mass: str | None = None  # None: the profile's
+    # noise- and mass-aware scores (mat_hopper.optimize._robust)
+    replicates: int = _robust.DEFAULT_REPLICATES  # 0: one unperturbed run per behaviour
+    risk: str = "mean"
+    cvar_alpha: float = _robust.DEFAULT_CVAR_ALPHA
+    leg_mass: str | float | None = None  # None: unconstrained; a paper design's name or kg
+    leg_mass_tolerance_kg: float | None = None  # None: DEFAULT_LEG_MASS_TOLERANCE of the target
 
     def __post_init__(self):
         behs = self.behaviours
@@ -104,6 +115,13 @@ class Objective:
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ValueError(f"{name} must be a finite number > 0 m, got {v!r}")
+        _robust.check_objective(self)
+        object.__setattr__(self, "leg_mass", _robust.check_leg_mass(self.leg_mass))
+
+    @property
+    def constraint_names(self) -> tuple[str, ...]:
+        """The constraints of this objective's trials: CONSTRAINTS, plus ``leg_mass`` when set."""
+        return CONSTRAINTS + ((_robust.LEG_MASS_CONSTRAINT,) if self.leg_mass is not None else ())
 
     def key(self) -> dict:
         return {
@@ -114,6 +132,7 @@ class Objective:
             "hop_height_tolerance_m": self.hop_height_tolerance_m,
             "segment_mass": self.segment_mass,
             "leg_material_length_m": LEG_MATERIAL_LENGTH_M,
+            **_robust.key_fields(self),
         }
 
     @classmethod
@@ -128,6 +147,7 @@ class Objective:
             hop_height_target_m=key["hop_height_target_m"],
             hop_height_tolerance_m=key["hop_height_tolerance_m"],
             segment_mass=key.get("segment_mass", DEFAULT_SEGMENT_MASS),
+            **_robust.from_key_fields(key),
         )
 
     def sim_settings(self, perturbation=None, design=None):
@@ -150,6 +170,10 @@ class Evaluation:
     per_behaviour: list[dict] = field(default_factory=list)
     total_mass_kg: float = float("nan")
     simulated_s: float = 0.0
+    standard_errors: tuple[float, ...] = ()  # per objective, over replicates (nan: one run)
+    replicate_values: list[list[float]] = field(default_factory=list)  # per replicate, per objective
+    leg_mass_kg: float = float("nan")
+    constraint_names: tuple[str, ...] = CONSTRAINTS
 
     @property
     def feasible(self) -> bool:
@@ -182,10 +206,13 @@ def scored_by_hops(n_hops: int, upright: bool) -> bool:
     return n_hops > 0 and upright
 
 
-def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None) -> dict:
+def run_behaviour(
+    design: LegDesign, behaviour_name: str, objective: Objective, *, tick=None, perturbation=None
+) -> dict:
     """Simulate one behaviour in chunks of CHUNK_S simulated s (calling
-    tick() between chunks) and score it."""
-    settings = objective.sim_settings(design=design)
+    tick() between chunks), under `perturbation` (None: unperturbed), and
+    score it; the row's ``replicate`` is the perturbation's seed (-1: none)."""
+    settings = objective.sim_settings(perturbation, design=design)
     runner = RolloutRunner(design, get_behaviour(behaviour_name), settings)
     chunk = max(1, int(round(CHUNK_S / settings.timestep_s)))
     while not runner.done:
@@ -212,6 +239,7 @@ def run_behaviour(design: LegDesign, behaviour_name: str, objective: Objective, 
         "diverged_at_s": rollout.diverged_at_s,
         "simulated_s": float(runner.step * settings.timestep_s),
         "total_mass_kg": float(rollout.total_mass_kg),
+        "replicate": -1 if perturbation is None else int(perturbation.seed),
     }
 
 
@@ -231,35 +259,54 @@ def mujoco_warnings_to(sink: list):
 
 
 def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluation:
-    """Run `design` on every behaviour of `objective` and aggregate (module
-    doc). MuJoCo warnings are counted per behaviour (``mujoco_warnings``),
-    not printed."""
+    """Run `design` on every behaviour of `objective`, under each of its
+    replicates' perturbations (:func:`mat_hopper.optimize._robust.perturbations`),
+    and aggregate (module doc). MuJoCo warnings are counted per run
+    (``mujoco_warnings``), not printed."""
     rows = []
-    for b in objective.behaviours:
-        with mujoco_warnings_to([]) as sink:
-            row = run_behaviour(design, b, objective, tick=tick)
-        row["mujoco_warnings"] = len(sink)
-        rows.append(row)
-    return aggregate(rows, objective)
+    for pert in _robust.perturbations(objective.replicates):
+        for b in objective.behaviours:
+            with mujoco_warnings_to([]) as sink:
+                row = run_behaviour(design, b, objective, tick=tick, perturbation=pert)
+            row["mujoco_warnings"] = len(sink)
+            rows.append(row)
+    return aggregate(rows, objective, design)
 
 
-def aggregate(rows: list[dict], objective: Objective) -> Evaluation:
-    """One design's Evaluation from its per-behaviour rows (keys
-    behaviour, tracking_error_m, power_w, hop_height_m, n_hops, upright,
-    simulated_s, total_mass_kg), as the module doc defines it. Used by the
-    CPU path (:func:`evaluate`) and the batch path (``_batch``) alike."""
-    values = (float(np.mean([r["tracking_error_m"] for r in rows])), float(np.mean([r["power_w"] for r in rows])))
+def aggregate(rows: list[dict], objective: Objective, design: LegDesign | None = None) -> Evaluation:
+    """One design's Evaluation from its per-run rows (keys behaviour,
+    tracking_error_m, power_w, hop_height_m, n_hops, upright, simulated_s,
+    total_mass_kg, and replicate: the seed, -1 or absent for an unperturbed
+    run), as the module doc and :mod:`~mat_hopper.optimize._robust` define
+    it: each replicate's value is the mean over behaviours, the objective
+    the objective's risk measure over replicates; the hop height constraint
+    takes each behaviour's mean height over replicates. `design` gives the
+    leg mass (needed when the objective constrains it). Used by the CPU path
+    (:func:`evaluate`) and the batch paths alike."""
+    per_rep = _robust.replicate_values(rows, OBJECTIVES)
+    scored = [
+        _robust.score([v[i] for v in per_rep], objective.risk, objective.cvar_alpha) for i in range(len(OBJECTIVES))
+    ]
+    values = tuple(v for v, _ in scored)
     target, tol = objective.hop_height_target_m, objective.hop_height_tolerance_m
-    height_violation = max((abs(r["hop_height_m"] - target) - tol) if r["n_hops"] else target - tol for r in rows)
+    height_violation = max(
+        (abs(h - target) - tol) if math.isfinite(h) else target - tol for h in _robust.behaviour_heights(rows)
+    )
     unstable = 0.0 if all(r["upright"] for r in rows) else 1.0
     heights = [r["hop_height_m"] for r in rows if r["n_hops"]]
+    mass = _robust.leg_mass_kg(design, objective.segment_mass) if design is not None else float("nan")
+    constraints = (float(height_violation), unstable) + _robust.mass_constraints(objective, design, mass)
     return Evaluation(
         values=values,
-        constraints=(float(height_violation), unstable),
+        constraints=constraints,
         hop_height_m=float(np.mean(heights)) if heights else float("nan"),
         per_behaviour=rows,
         total_mass_kg=rows[0]["total_mass_kg"],
         simulated_s=float(sum(r["simulated_s"] for r in rows)),
+        standard_errors=tuple(se for _, se in scored),
+        replicate_values=[list(v) for v in per_rep],
+        leg_mass_kg=mass,
+        constraint_names=objective.constraint_names,
     )
 
 
@@ -279,12 +326,16 @@ def result_attr(design, ev) -> dict:
         "design": design.name,
         "total_mass_kg": ev.total_mass_kg,
         "simulated_s": ev.simulated_s,
+        "leg_mass_kg": _finite(ev.leg_mass_kg),
+        "replicate_values": ev.replicate_values,
         "per_behaviour": [{k: _finite(v) for k, v in r.items()} for r in ev.per_behaviour],
     }
 
 
 def record_evaluation(trial, design, ev) -> None:
-    """Set the trial's constraints and its ``result`` user attr."""
-    for name, value in zip(CONSTRAINTS, ev.constraints):
+    """Set the trial's constraints, its ``result`` user attr and its
+    ``standard_error`` user attr ({objective: SE}, None with one run)."""
+    for name, value in zip(ev.constraint_names, ev.constraints):
         trial.set_constraint(name, value)
     trial.set_user_attr(RESULT_ATTR, result_attr(design, ev))
+    trial.set_user_attr(_robust.SE_ATTR, {k: _finite(v) for k, v in zip(OBJECTIVES, ev.standard_errors)})

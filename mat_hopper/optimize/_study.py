@@ -35,8 +35,7 @@ All see the constraints, which each trial sets with
 derived from ``--seed``, the worker's index and the study's size when the
 run started, so one worker on a fresh study is exactly reproducible.
 
-Watch a study live with optuna-dashboard (``pip install optuna-dashboard``,
-not a dependency)::
+Watch a study live with optuna-dashboard (pinned in environment.txt)::
 
     optuna-dashboard sqlite:///studies/NAME.db          # default storage
     optuna-dashboard postgresql://USER@HOST:5432/DB     # shared storage
@@ -460,6 +459,8 @@ def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunRes
 def _run(config: StudyConfig, options: RunOptions, url: str) -> RunResult:
     storage = options.open(config.name)
     study = create_or_load(config, storage)
+    if "mat_hopper_racing" in study.user_attrs:  # _racing.RACING_ATTR: its open bracket's trials stay RUNNING
+        raise ValueError(f"study {config.name!r} is a racing study (mat_hopper.optimize.run_racing): resume it there")
     recovered = recover_dead(study, max_retry=options.max_retry, reason="worker of an earlier run died")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)

@@ -44,7 +44,8 @@ from ..atomic import write_csv
 from ..materials import LegDesign, paper_designs
 from ..viz import study as study_plots
 from ..viz.style import save_figure
-from ._objective import CONSTRAINTS, OBJECTIVES, Objective, evaluate
+from ._objective import OBJECTIVES, Objective, evaluate
+from ._robust import SE_ATTR, leg_mass_kg
 from ._space import resample
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
 from ._study import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
@@ -84,13 +85,17 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
             "power_w": np.nan,
             "hop_height_m": res.get("hop_height_m") if res.get("hop_height_m") is not None else np.nan,
             "total_mass_kg": res.get("total_mass_kg", np.nan),
+            "leg_mass_kg": np.nan,
         }
         if t.state == TrialState.COMPLETE and t.values is not None:
             row.update(dict(zip(OBJECTIVES, t.values)))
+        se = ua.get(SE_ATTR) or {}
+        row.update({f"{o}_se": np.nan if se.get(o) is None else se[o] for o in OBJECTIVES})
         c = t.constraints
-        row.update({f"constraint_{n}": c.get(n, np.nan) for n in CONSTRAINTS})
+        row.update({f"constraint_{n}": c.get(n, np.nan) for n in config.objective.constraint_names})
         try:
             design = space.design(t.params)
+            row["leg_mass_kg"] = leg_mass_kg(design, config.objective.segment_mass)
             for i, m in enumerate(design.segments, 1):
                 row[f"seg{i}_rho_g_cm3"] = m.density_g_cm3
                 row[f"seg{i}_e_gpa"] = m.modulus_gpa
@@ -129,7 +134,8 @@ def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None, *, best=Non
     for name, vals in (baselines or {}).items():
         for obj, base in zip(OBJECTIVES, vals):
             front[f"{obj.rsplit('_', 1)[0]}_vs_{name}_pct"] = percent_change(front[obj].to_numpy(float), base)
-    cols = ["trial", "design", "paper_design", *OBJECTIVES, "hop_height_m"]
+    cols = ["trial", "design", "paper_design", *OBJECTIVES, *(f"{o}_se" for o in OBJECTIVES), "hop_height_m"]
+    cols = [c for c in cols + ["leg_mass_kg"] if c in front.columns]  # a table of an older report may lack some
     cols += [c for c in front.columns if c.endswith("_pct")]
     cols += [c for c in front.columns if c.startswith("seg") and c not in cols]
     return front[cols].reset_index(drop=True)
@@ -293,6 +299,10 @@ STUDY_TRIALS = {"paper": 200, "quick": 32}  # trials of the book's own study, pe
 STUDY_BATCH = 8  # trials asked before the first is told (one grid of runs)
 STUDY_SAMPLER = "tpe"  # the best of benchmarks/sampler.py's side-by-side comparison
 STUDY_BEHAVIOURS = ("ramp",)
+# Chapter 9's study keeps one unperturbed run per trial until the chapter is
+# rewritten around noise-aware scores and racing (issue #22, items 2 and 9):
+# its text, figures and runtime budget describe single draws.
+STUDY_REPLICATES = 0
 
 
 def book_study(
@@ -332,7 +342,7 @@ def book_study(
 
     profile = get_profile(profile)
     n = STUDY_TRIALS.get(profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
-    objective = Objective(behaviours=tuple(behaviours), profile=profile)
+    objective = Objective(behaviours=tuple(behaviours), profile=profile, replicates=STUDY_REPLICATES)
     space = SearchSpace(ashby_classes=ashby_classes)
     probe = StudyConfig("probe", space, objective)
     run_key = {"config": probe.key(), "sampler": sampler, "seed": seed, "batch": batch}
@@ -350,8 +360,11 @@ def book_study(
 def front_table(front: pd.DataFrame) -> pd.DataFrame:
     """A Pareto table (:func:`mat_hopper.optimize.report.pareto_frame`) for
     the page: trial, the paper's design it is (if any), tracking error
-    (mm), hip power (mW), hop height (m) and the percent changes against
-    the baselines, with short column names."""
+    (mm), hip power (mW), their standard errors (a noise-aware study's),
+    hop height (m), the percent changes against
+    the baselines, the leg's mass (kg) and each segment's density (g/cm^3)
+    and modulus (GPa), base to foot, with short column names: a design a
+    reader can build (``mat-hopper optimize --export TRIAL`` writes it)."""
     out = pd.DataFrame(
         {
             "trial": front["trial"].astype(int),
@@ -361,11 +374,20 @@ def front_table(front: pd.DataFrame) -> pd.DataFrame:
             "hop height (m)": front["hop_height_m"],
         }
     )
+    for col, name, scale in (("tracking_error_m_se", "tracking SE (mm)", 1e3), ("power_w_se", "power SE (mW)", 1e3)):
+        if col in front.columns and front[col].notna().any():  # a noise-aware study's standard errors
+            out.insert(list(out.columns).index("hop height (m)"), name, front[col] * scale)
     for col in front.columns:
         m = re.fullmatch(r"(tracking_error|power)_vs_(.+)_pct", col)
         if m:
             what = "tracking" if m.group(1) == "tracking_error" else "power"
             out[f"{what} vs {m.group(2)} (%)"] = front[col]
+    out["leg mass (kg)"] = front["leg_mass_kg"] if "leg_mass_kg" in front.columns else np.nan
+    i = 1
+    while f"seg{i}_rho_g_cm3" in front.columns:
+        out[f"seg {i} density (g/cm^3)"] = front[f"seg{i}_rho_g_cm3"]
+        out[f"seg {i} modulus (GPa)"] = front[f"seg{i}_e_gpa"]
+        i += 1
     return out.reset_index(drop=True)
 
 

@@ -8,7 +8,9 @@ artefact. Each front design is therefore simulated again (every run is a
 :func:`~mat_hopper.experiments.runner.run_grid`: the one cache and pool):
 
 ``nominal``
-    the study's own run (unperturbed, the profile's settings);
+    the unperturbed run at the profile's settings (a study with
+    ``replicates = 0`` scored exactly this run; a noise-aware study scored
+    the mean of its replicates on seeds 1000.., apart from the seeds here);
 ``replicate``
     seeded perturbed replicates
     (:meth:`~mat_hopper.perturbations.Perturbation.replicate`, seeds 0..n-1,

@@ -40,7 +40,7 @@ from mat_hopper.optimize._study import BACKEND_ATTR, RESULT_ATTR  # noqa: E402
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 PROFILE = Profile("tiny-warp", duration_s=2.5, transient_s=0.2, timestep_s=2e-4)
-OBJ = Objective(behaviours=("forward",), profile=PROFILE)
+OBJ = Objective(replicates=0, behaviours=("forward",), profile=PROFILE)
 SPACE = SearchSpace(n_segments=3, density_g_cm3=(1.5, 2.5), modulus_gpa=(0.45, 9.0))  # PVC (1.39) outside
 SETTINGS = BatchSettings(duration_s=2.5, timestep_s=2e-4, transient_s=0.2)
 

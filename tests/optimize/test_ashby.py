@@ -107,13 +107,13 @@ def test_space_restricted_to_classes():
 
 def test_study_refuses_to_mix_leg_conventions(tmp_path):
     tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
-    leg = StudyConfig("mix", SearchSpace(), Objective(profile=tiny))
+    leg = StudyConfig("mix", SearchSpace(), Objective(replicates=0, profile=tiny))
     assert leg.key()["objective"]["segment_mass"] == "leg"
     assert leg.key()["objective"]["leg_material_length_m"] == 0.3  # 0.3 m of material at any N
-    assert Objective(profile=tiny, segment_mass="capsule").sim_settings().segment_mass == "capsule"
+    assert Objective(replicates=0, profile=tiny, segment_mass="capsule").sim_settings().segment_mass == "capsule"
     url = f"sqlite:///{tmp_path}/mix.db"
     create_or_load(leg, url)
-    capsule = StudyConfig("mix", SearchSpace(), Objective(profile=tiny, segment_mass="capsule"))
+    capsule = StudyConfig("mix", SearchSpace(), Objective(replicates=0, profile=tiny, segment_mass="capsule"))
     with pytest.raises(ValueError, match=r"objective.segment_mass: study has 'leg', asked 'capsule'"):
         create_or_load(capsule, url)
     # a study stored before the convention was recorded is refused too
@@ -122,9 +122,9 @@ def test_study_refuses_to_mix_leg_conventions(tmp_path):
     study = optuna.create_study(study_name="old", storage=url, directions=["minimize"] * 2)
     study.set_user_attr("mat_hopper_config", old)
     with pytest.raises(ValueError, match="segment_mass: study has None, asked 'leg'"):
-        create_or_load(StudyConfig("old", SearchSpace(), Objective(profile=tiny)), url)
+        create_or_load(StudyConfig("old", SearchSpace(), Objective(replicates=0, profile=tiny)), url)
     with pytest.raises(ValueError, match="unknown segment mass convention"):
-        Objective(profile=tiny, segment_mass="per-capsule")
+        Objective(replicates=0, profile=tiny, segment_mass="per-capsule")
 
 
 def test_cli_config_carries_classes_and_mass_convention():

@@ -20,6 +20,7 @@ def test_front_table_and_designs():
             "hop_height_m": [0.96, 0.98],
             "tracking_error_vs_SS_pct": [0.0, 100.0],
             "power_vs_SS_pct": [0.0, -37.5],
+            "leg_mass_kg": [7.854, 8.2],
             "seg1_rho_g_cm3": [8.0, 13.4],
             "seg1_e_gpa": [193.0, 4.4],
             "seg2_rho_g_cm3": [8.0, 2.0],
@@ -35,8 +36,18 @@ def test_front_table_and_designs():
         "hop height (m)",
         "tracking vs SS (%)",
         "power vs SS (%)",
+        "leg mass (kg)",
+        "seg 1 density (g/cm^3)",
+        "seg 1 modulus (GPa)",
+        "seg 2 density (g/cm^3)",
+        "seg 2 modulus (GPa)",
     ]
     assert t.loc[1, "tracking error (mm)"] == 20.0
+    assert t.loc[1, "leg mass (kg)"] == 8.2
+    assert t.loc[1, "seg 2 density (g/cm^3)"] == 2.0 and t.loc[1, "seg 1 modulus (GPa)"] == 4.4
+    noisy = optimize.front_table(front.assign(tracking_error_m_se=[0.001, 0.002], power_w_se=[0.0004, 0.0001]))
+    assert list(noisy.columns[3:7]) == ["hip power (mW)", "tracking SE (mm)", "power SE (mW)", "hop height (m)"]
+    assert noisy.loc[1, "tracking SE (mm)"] == 2.0
     legs = optimize.front_designs(front)
     assert list(legs) == ["#7"] and legs["#7"].densities_g_cm3 == (13.4, 2.0)
     assert list(optimize.front_designs(front, skip_paper=False, k=1)) == ["#0"]
@@ -61,7 +72,7 @@ def test_batched_study_is_the_same_with_one_or_two_processes(tmp_path):
     from mat_hopper.optimize._batched import run_batched
 
     tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
-    config = optimize.StudyConfig("det", optimize.SearchSpace(), optimize.Objective(profile=tiny))
+    config = optimize.StudyConfig("det", optimize.SearchSpace(), optimize.Objective(replicates=0, profile=tiny))
     frames = []
     for workers in (1, 2):
         url = f"sqlite:///{tmp_path}/det{workers}.db"
@@ -91,7 +102,7 @@ def test_batched_study_resumes_a_batch_left_running(tmp_path):
     from mat_hopper.optimize._study import create_or_load
 
     tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
-    config = optimize.StudyConfig("resume", optimize.SearchSpace(), optimize.Objective(profile=tiny))
+    config = optimize.StudyConfig("resume", optimize.SearchSpace(), optimize.Objective(replicates=0, profile=tiny))
     url = f"sqlite:///{tmp_path}/r.db"
     study = create_or_load(config, url)
     for _ in range(2):

@@ -39,7 +39,7 @@ from mat_hopper.optimize.report import hypervolume_2d, pareto_frame, replay, wri
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
-TINY_OBJ = Objective(profile=TINY)
+TINY_OBJ = Objective(replicates=0, profile=TINY)
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ENV = {**os.environ, "PYTHONPATH": REPO + os.pathsep + os.environ.get("PYTHONPATH", "")}
 
@@ -150,12 +150,14 @@ def test_paper_designs_seed_every_space():
 
 
 def test_constraints_feasible_design_and_diverging_design():
-    quick = Objective(profile=Profile("quick", 8.0, 3.0))
+    quick = Objective(replicates=0, profile=Profile("quick", 8.0, 3.0))
     ev = evaluate(paper_designs()["SS"], quick)
     h = ev.per_behaviour[0]["hop_height_m"]
     assert ev.constraints == (pytest.approx(abs(h - 1.0) - 0.05), 0.0)
     assert ev.feasible and ev.per_behaviour[0]["n_hops"] >= 3
-    strict = evaluate(paper_designs()["SS"], Objective(profile=quick.profile, hop_height_tolerance_m=abs(h - 1.0) / 2))
+    strict = evaluate(
+        paper_designs()["SS"], Objective(replicates=0, profile=quick.profile, hop_height_tolerance_m=abs(h - 1.0) / 2)
+    )
     assert strict.constraints[0] == pytest.approx(abs(h - 1.0) / 2) and strict.constraints[1] == 0.0
     assert not strict.feasible and strict.values == ev.values
     # light and very stiff: diverges at the paper's step; infeasible, finite values, no exception
@@ -165,13 +167,13 @@ def test_constraints_feasible_design_and_diverging_design():
 
 
 def test_behaviour_sets_average_and_bad_names():
-    obj = Objective(behaviours="static,ramp", profile=TINY)
+    obj = Objective(replicates=0, behaviours="static,ramp", profile=TINY)
     ev = evaluate(paper_designs()["SS"], obj)
     rows = ev.per_behaviour
     assert [r["behaviour"] for r in rows] == ["static", "ramp"]
     assert ev.values[0] == pytest.approx((rows[0]["tracking_error_m"] + rows[1]["tracking_error_m"]) / 2)
     with pytest.raises(ValueError, match="unknown behaviour"):
-        Objective(behaviours=("hover",))
+        Objective(replicates=0, behaviours=("hover",))
 
 
 # --- helpers of the report --------------------------------------------------
@@ -313,7 +315,9 @@ def test_each_enqueued_trial_is_taken_by_one_worker(kind, tmp_path):
     finished trial) and show up in the told lists."""
     name = f"race-{kind}"
     url = f"sqlite:///{tmp_path}/{name}.db" if kind == "sqlite" else f"journal:///{tmp_path}/{name}.log"
-    config = StudyConfig(name, SearchSpace(), Objective(profile=Profile("blink", duration_s=0.2, transient_s=0.1)))
+    config = StudyConfig(
+        name, SearchSpace(), Objective(replicates=0, profile=Profile("blink", duration_s=0.2, transient_s=0.1))
+    )
     study = create_or_load(config, open_storage(url))
     rng = np.random.default_rng(0)
     for _ in range(17):
@@ -338,7 +342,7 @@ def test_seeded_single_worker_is_deterministic(tmp_path):
 
 
 def test_diverging_and_failing_designs_never_crash_the_study(tmp_path):
-    coarse = Objective(profile=Profile("coarse", duration_s=2.0, transient_s=0.5, timestep_s=0.02))
+    coarse = Objective(replicates=0, profile=Profile("coarse", duration_s=2.0, transient_s=0.5, timestep_s=0.02))
     config = StudyConfig("div", SearchSpace(), coarse)
     opts = RunOptions(trials=10, workers=1, studies_dir=str(tmp_path), progress=False)
     storage = open_storage(opts.storage_url("div"))
@@ -393,7 +397,7 @@ def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
     # bounds that hold no paper design: nothing enqueued ahead of the re-queued trial
     space = SearchSpace(n_segments=3, density_g_cm3=(1.5, 2.5), modulus_gpa=(0.45, 9.0))
     assert space.seeds() == []
-    config = StudyConfig(name, space, Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
+    config = StudyConfig(name, space, Objective(replicates=0, profile=Profile("k", duration_s=3.0, transient_s=0.5)))
     create_or_load(config, open_storage(pg_url))
     proc = subprocess.Popen(
         [
@@ -445,7 +449,7 @@ def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
     # bounds that hold no paper design: nothing enqueued ahead of the re-queued trial
     space = SearchSpace(n_segments=3, density_g_cm3=(1.5, 2.5), modulus_gpa=(0.45, 9.0))
     assert space.seeds() == []
-    config = StudyConfig(name, space, Objective(profile=Profile("k", duration_s=3.0, transient_s=0.5)))
+    config = StudyConfig(name, space, Objective(replicates=0, profile=Profile("k", duration_s=3.0, transient_s=0.5)))
     create_or_load(config, open_storage(pg_url))
     proc = subprocess.Popen(
         [

@@ -21,7 +21,7 @@ from mat_hopper.optimize._storage import open_storage
 from mat_hopper.optimize._study import BACKEND_ATTR, StudyConfig, create_or_load
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
-OBJ = Objective(profile=Profile("tiny", duration_s=2.0, transient_s=0.5))
+OBJ = Objective(replicates=0, profile=Profile("tiny", duration_s=2.0, transient_s=0.5))
 
 
 def _storage(tmp_path):

@@ -38,7 +38,7 @@ ENV.pop("MAT_HOPPER_PROFILE", None)
 
 
 def tiny(name, profile=TINY, behaviours="ramp"):
-    return StudyConfig(name, SearchSpace(), Objective(behaviours=behaviours, profile=profile))
+    return StudyConfig(name, SearchSpace(), Objective(replicates=0, behaviours=behaviours, profile=profile))
 
 
 def _one_line_exit_2(argv, capsys, text):
@@ -344,7 +344,7 @@ FIRST_START = textwrap.dedent(
     from mat_hopper.optimize._storage import open_storage
     from mat_hopper.optimize._study import StudyConfig, create_or_load
     url, start = sys.argv[1], float(sys.argv[2])
-    config = StudyConfig("race", SearchSpace(), Objective(profile=Profile("tiny", 2.0, 0.5)))
+    config = StudyConfig("race", SearchSpace(), Objective(replicates=0, profile=Profile("tiny", 2.0, 0.5)))
     time.sleep(max(0.0, start - time.time()))  # both at the same moment
     study = create_or_load(config, open_storage(url))
     print(len(study.trials))
@@ -383,7 +383,7 @@ def test_concurrent_first_start_on_a_fresh_sqlite_file(tmp_path):
 def _two_commands(url, tmp_path):
     """Two `mat-hopper optimize` commands on one fresh study, started together."""
     cmd = [sys.executable, "-m", "mat_hopper", "optimize", "--study", "both", "--trials", "4", "--workers", "1"]
-    cmd += ["--profile", "quick", "--storage", url, "--no-progress"]
+    cmd += ["--profile", "quick", "--replicates", "0", "--storage", url, "--no-progress"]
     procs = [
         subprocess.Popen(cmd, env=ENV, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         for _ in range(2)

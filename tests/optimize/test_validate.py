@@ -66,7 +66,7 @@ def test_mean_interval():
 
 
 def test_check_settings_keep_the_control_period_and_sensor_delay():
-    ob = Objective(profile=Profile("tiny", duration_s=2.0, transient_s=0.5))
+    ob = Objective(replicates=0, profile=Profile("tiny", duration_s=2.0, transient_s=0.5))
     st = check_settings(paper_designs()["SS"], ob)
     assert st[NOMINAL].timestep_s == 1e-4
     fine = st[FINE_CONTROL]
@@ -94,7 +94,7 @@ def test_validate_front_end_to_end(tmp_path):
     from mat_hopper.materials import LegDesign
     from mat_hopper.optimize.validate import beats_paper, validate_front
 
-    ob = Objective(profile=Profile("tiny", duration_s=4.0, transient_s=1.0))
+    ob = Objective(replicates=0, profile=Profile("tiny", duration_s=4.0, transient_s=1.0))
     heavy = LegDesign.from_properties([20.0, 20.0, 20.0], [300.0, 300.0, 300.0], name="heavy")
     v = validate_front({"heavy": heavy}, ob, replicates=3, cache_dir=tmp_path, workers=2)
     ver = v["verdicts"].set_index("design")

@@ -1,0 +1,112 @@
+"""Designs a user can take away: a trial's leg as CSV and as MJCF.
+
+``mat-hopper optimize --study NAME --export TRIAL [--out DIR]`` writes, into
+DIR (default the studies folder):
+
+``NAME-trialN.csv``
+    one row: the design as :func:`mat_hopper.batch.designs_to_frame` writes
+    it (``design``, ``density_i`` g/cm^3, ``modulus_i`` GPa, exact to the
+    last bit: ``repr`` of each float), then the study's settings and the
+    trial's record (study, trial, profile, convention, segment_mass,
+    replicates, risk, behaviours, leg_mass_kg, each objective and its
+    standard error). ``mat-hopper simulate --design-csv`` and ``mat-hopper
+    batch --designs-csv`` read it (they ignore the record's columns);
+    simulating it with the study's settings reproduces the trial's metrics
+    exactly (the simulator is deterministic).
+``NAME-trialN-BEHAVIOUR.xml``
+    the hopper with this leg (:func:`mat_hopper.model.build_spec`, the
+    study's time step, stiffness and segment-mass conventions, the
+    behaviour's terrain) written by MuJoCo's own XML writer
+    (``mujoco.MjSpec.to_xml``), one file per behaviour of the study. The
+    mechanism only, not the controller; MuJoCo's writer prints some numbers
+    to 6 significant digits (spring stiffness, joint ranges), so the CSV,
+    not the MJCF, is the exact record.
+"""
+
+from __future__ import annotations
+
+import os
+
+import optuna
+import pandas as pd
+
+from ..atomic import write_csv, write_text
+from ..batch import designs_to_frame
+from ..behaviours import behaviour as get_behaviour
+from ..model import build_spec
+from ._objective import OBJECTIVES, RESULT_ATTR
+from ._robust import SE_ATTR, leg_mass_kg
+
+
+def trial_design(name: str, storage, number: int):
+    """(trial, design, config) of trial `number` of study `name`; ValueError
+    if there is none, or it has no parameters."""
+    from .report import load
+
+    study, config = load(name, storage)
+    trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]
+    if not trials:
+        raise ValueError(f"study {name!r} has no trial {number} (trials 0..{len(study.trials) - 1})")
+    t = trials[0]
+    design = config.space.design(t.params, name=f"{name}#{number}")
+    return t, design, config
+
+
+def design_frame(trial, design, config) -> pd.DataFrame:
+    """The one-row table of the module doc (design columns first)."""
+    frame = designs_to_frame([design])
+    ob = config.objective
+    record = {
+        "study": config.name,
+        "trial": trial.number,
+        "state": trial.state.name,
+        "profile": ob.profile.name,
+        "convention": ob.convention,
+        "segment_mass": ob.segment_mass,
+        "replicates": ob.replicates,
+        "risk": ob.risk,
+        "behaviours": ",".join(ob.behaviours),
+        "leg_mass_kg": leg_mass_kg(design, ob.segment_mass),
+        "feasible": bool((trial.user_attrs.get(RESULT_ATTR) or {}).get("feasible", False)),
+    }
+    se = trial.user_attrs.get(SE_ATTR) or {}
+    values = trial.values if trial.state == optuna.trial.TrialState.COMPLETE and trial.values else [None] * 2
+    for o, v in zip(OBJECTIVES, values):
+        record[o] = v
+        record[f"{o}_se"] = se.get(o)
+    for k, v in record.items():
+        frame[k] = [v]
+    return frame
+
+
+def design_mjcf(design, config, behaviour: str) -> str:
+    """MJCF text of the hopper with `design` under the study's settings, on
+    `behaviour`'s terrain, from MuJoCo's XML writer."""
+    ob = config.objective
+    settings = ob.sim_settings(design=design)
+    spec = build_spec(
+        design,
+        ramp_grade_deg=get_behaviour(behaviour).ramp_grade_deg,
+        timestep_s=settings.timestep_s,
+        convention=settings.convention,
+        segment_mass=settings.segment_mass,
+    )
+    return spec.to_xml()
+
+
+def export_trial(name: str, storage, number: int, out_dir: str) -> dict:
+    """Write trial `number`'s design as CSV and MJCF into `out_dir` (module
+    doc). Returns {"csv": path, "mjcf": {behaviour: path}, "design": LegDesign,
+    "config": StudyConfig, "trial": FrozenTrial}; ValueError for a trial the
+    study does not hold."""
+    t, design, config = trial_design(name, storage, number)
+    os.makedirs(out_dir, exist_ok=True)
+    stem = os.path.join(out_dir, f"{name}-trial{number}")
+    csv_path = f"{stem}.csv"
+    write_csv(design_frame(t, design, config), csv_path)
+    mjcf = {}
+    for b in config.objective.behaviours:
+        path = f"{stem}-{b}.xml"
+        write_text(design_mjcf(design, config, b), path)
+        mjcf[b] = path
+    return {"csv": csv_path, "mjcf": mjcf, "design": design, "config": config, "trial": t}

@@ -1,0 +1,216 @@
+"""Noise- and mass-aware scores (mat_hopper.optimize._robust): replicates on
+common random numbers, mean and CVaR with standard errors, the leg-mass
+constraint. Runs use a 2 s profile (tiny)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import optuna
+import pytest
+
+from mat_hopper.behaviours import behaviour
+from mat_hopper.experiments.profiles import Profile
+from mat_hopper.materials import LegDesign, paper_designs
+from mat_hopper.optimize import _robust
+from mat_hopper.optimize._objective import OBJECTIVES, Objective, aggregate, evaluate
+from mat_hopper.optimize._space import SearchSpace
+from mat_hopper.optimize._study import StudyConfig, TrialObjective, create_or_load
+from mat_hopper.sim import C, RolloutRunner
+
+optuna.logging.set_verbosity(optuna.logging.WARNING)
+TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
+
+
+# --- risk measures ----------------------------------------------------------
+
+
+def test_cvar_by_hand():
+    v = [2.0, 4.0, 1.0, 3.0]
+    assert _robust.cvar(v, 0.0) == 2.5  # the mean
+    assert _robust.cvar(v, 0.75) == 4.0  # the worst quarter: one sample
+    assert _robust.cvar(v, 0.5) == 3.5  # (4 + 3) / 2
+    assert _robust.cvar(v, 0.6) == pytest.approx((4 + 0.6 * 3) / 1.6)  # 1.6 samples: 4, and 0.6 of 3
+    for bad in (1.0, -0.1, True):
+        with pytest.raises(ValueError, match="alpha"):
+            _robust.cvar(v, bad)
+
+
+def test_score_mean_and_cvar_standard_errors():
+    v = [1.0, 2.0, 3.0, 4.0]
+    value, se = _robust.score(v, "mean")
+    assert value == 2.5
+    assert se == pytest.approx(math.sqrt(5 / 3) / 2)  # sd (ddof 1) 1.2910 / sqrt(4)
+    value, se = _robust.score(v, "cvar", 0.5)
+    assert value == 3.5 and 0 < se < 2
+    assert math.isnan(_robust.score([1.0], "mean")[1])
+    with pytest.raises(ValueError, match="risk"):
+        _robust.score(v, "median")
+
+
+def test_objective_fields_checked_and_keyed():
+    for kw, match in (
+        ({"replicates": -1}, "replicates"),
+        ({"replicates": 1.5}, "replicates"),
+        ({"risk": "worst"}, "risk"),
+        ({"risk": "cvar", "replicates": 1}, "replicates >= 2"),
+        ({"cvar_alpha": 1.0}, "cvar_alpha"),
+        ({"leg_mass": "steel"}, "leg_mass"),
+        ({"leg_mass": -2.0}, "leg_mass"),
+        ({"leg_mass_tolerance_kg": 0.1}, "needs leg_mass"),
+        ({"leg_mass": "SS", "leg_mass_tolerance_kg": 0}, "leg_mass_tolerance_kg"),
+    ):
+        with pytest.raises(ValueError, match=match):
+            Objective(profile=TINY, **kw)
+    plain = Objective(profile=TINY, replicates=0)
+    assert not {"replicates", "risk", "leg_mass"} & set(plain.key())  # older studies keep their keys
+    ob = Objective(profile=TINY, replicates=3, risk="cvar", cvar_alpha=0.5, leg_mass="ss", leg_mass_tolerance_kg=0.2)
+    assert ob.leg_mass == "SS"
+    assert Objective.from_key(ob.key()) == ob
+    assert Objective.from_key(plain.key()) == plain
+    assert ob.constraint_names == ("hop_height", "unstable", "leg_mass")
+
+
+# --- common random numbers ------------------------------------------------------
+
+
+def test_common_random_numbers_across_trials():
+    """Every trial draws the same perturbations: the same seeds, and from
+    them the same start of the base (the first recorded sample) whatever
+    the leg; a study's trials record those seeds."""
+    seeds = _robust.replicate_seeds(3)
+    assert seeds == (1000, 1001, 1002) and len(set(seeds)) == 3
+    assert _robust.perturbations(3) == _robust.perturbations(3)
+    assert _robust.perturbations(0) == [None]
+    ob = Objective(profile=TINY, replicates=3)
+    starts = {}
+    for name in ("SS", "PVC"):
+        for pert in _robust.perturbations(3):
+            runner = RolloutRunner(paper_designs()[name], behaviour("ramp"), ob.sim_settings(pert))
+            runner.advance(1)
+            starts[name, pert.seed] = runner.result().data[0, [C["x"], C["y"]]]
+    for s in seeds:
+        assert np.array_equal(starts["SS", s], starts["PVC", s])  # paired: same draw for both legs
+        assert np.linalg.norm(starts["SS", s]) > 1e-4  # a real offset (5 mm std)
+    assert not np.array_equal(starts["SS", seeds[0]], starts["SS", seeds[1]])
+
+    config = StudyConfig("crn", SearchSpace(), ob)
+    study = create_or_load(config, optuna.storages.InMemoryStorage())
+    study.optimize(TrialObjective(config), n_trials=2)
+    done = study.get_trials(states=(optuna.trial.TrialState.COMPLETE,))
+    assert len(done) == 2
+    for t in done:
+        rows = t.user_attrs["result"]["per_behaviour"]
+        assert [r["replicate"] for r in rows] == list(seeds)
+        se = t.user_attrs[_robust.SE_ATTR]
+        reps = np.array(t.user_attrs["result"]["replicate_values"])
+        assert reps.shape == (3, 2)
+        assert tuple(t.values) == pytest.approx(tuple(reps.mean(axis=0)), rel=1e-15)
+        assert se["tracking_error_m"] == pytest.approx(reps[:, 0].std(ddof=1) / math.sqrt(3))
+
+
+def test_aggregate_replicates_and_behaviours():
+    """Each replicate: the mean over behaviours; the objective: the risk
+    measure over replicates; the hop height: each behaviour's mean over
+    replicates."""
+
+    def row(b, rep, te, pw, h):
+        return dict(
+            behaviour=b, replicate=rep, tracking_error_m=te, power_w=pw, hop_height_m=h, n_hops=5, upright=True,
+            simulated_s=2.0, total_mass_kg=9.0,
+        )  # fmt: skip
+
+    rows = [row("ramp", 1, 1.0, 10.0, 1.0), row("forward", 1, 3.0, 30.0, 1.2)]
+    rows += [row("ramp", 2, 2.0, 20.0, 1.0), row("forward", 2, 6.0, 40.0, 1.0)]
+    ob = Objective(behaviours=("ramp", "forward"), profile=TINY, replicates=2)
+    ev = aggregate(rows, ob)
+    assert ev.replicate_values == [[2.0, 20.0], [4.0, 30.0]]
+    assert ev.values == (3.0, 25.0)
+    assert ev.standard_errors == pytest.approx((1.0, 5.0))  # sd / sqrt(2)
+    assert ev.constraints[0] == pytest.approx(abs(1.1 - 1.0) - 0.05)  # forward's mean height, the worst
+    cv = aggregate(rows, Objective(behaviours=("ramp", "forward"), profile=TINY, replicates=2, risk="cvar"))
+    assert cv.values == (4.0, 30.0)  # alpha 0.75 of two: the worst replicate
+
+
+# --- the leg-mass constraint --------------------------------------------------------
+
+
+def test_leg_mass_by_hand():
+    # SS, 8000 kg/m^3: 3 segments of two half capsules r 0.025 m, L 0.05 m (1.63625e-4 m^3 each)
+    assert _robust.leg_mass_kg(paper_designs()["SS"], "leg") == pytest.approx(3 * 2 * 1.63625e-4 * 8000, rel=1e-5)
+    assert _robust.leg_mass_target_kg("SS", 6, "leg") == pytest.approx(_robust.leg_mass_target_kg("SS", 3, "leg"))
+    assert _robust.leg_mass_target_kg(4.5, 3, "leg") == 4.5
+
+
+def test_mass_constraint_honoured():
+    """Trials record their leg mass and the ``leg_mass`` constraint; every
+    feasible trial, and every trial of Optuna's constrained front, has a
+    leg mass within the tolerance of SS's."""
+    ob = Objective(profile=TINY, replicates=0, leg_mass="SS", leg_mass_tolerance_kg=0.5)
+    target = _robust.leg_mass_kg(paper_designs()["SS"], ob.segment_mass)
+    config = StudyConfig("mass", SearchSpace(density_g_cm3=(4.0, 12.0)), ob)
+    study = create_or_load(config, optuna.storages.InMemoryStorage(), sampler=optuna.samplers.RandomSampler(seed=3))
+    study.optimize(TrialObjective(config), n_trials=14)
+    feasible, infeasible = [], []
+    for t in study.get_trials(states=(optuna.trial.TrialState.COMPLETE,)):
+        res = t.user_attrs["result"]
+        mass = res["leg_mass_kg"]
+        design = config.space.design(t.params)
+        assert mass == pytest.approx(_robust.leg_mass_kg(design, ob.segment_mass), rel=1e-12)
+        assert t.constraints["leg_mass"] == pytest.approx(abs(mass - target) - 0.5)
+        (feasible if res["feasible"] else infeasible).append(mass)
+    assert feasible and all(abs(m - target) <= 0.5 for m in feasible)
+    assert any(abs(m - target) > 0.5 for m in infeasible)  # the constraint did bind
+    for t in study.best_trials:
+        assert abs(t.user_attrs["result"]["leg_mass_kg"] - target) <= 0.5
+
+
+def test_evaluate_without_replicates_is_one_unperturbed_run():
+    ob = Objective(profile=TINY, replicates=0)
+    ev = evaluate(LegDesign.mono("SS"), ob)
+    assert [r["replicate"] for r in ev.per_behaviour] == [-1]
+    assert math.isnan(ev.standard_errors[0]) and len(ev.standard_errors) == len(OBJECTIVES)
+
+
+# --- the command line -----------------------------------------------------------
+
+
+def test_cli_options_and_their_errors(tmp_path, monkeypatch, capsys):
+    import argparse
+
+    from mat_hopper.cli import main
+    from mat_hopper.cli.optimize import config_from_args, register_cli
+
+    parser = argparse.ArgumentParser()
+    register_cli(parser.add_subparsers())
+    args = parser.parse_args(["optimize", "--study", "s", "--replicates", "3", "--risk", "CVaR", "--leg-mass", "ss"])
+    ob = config_from_args(args, None).objective
+    assert (ob.replicates, ob.risk, ob.leg_mass, ob.leg_mass_tolerance_kg) == (3, "cvar", "SS", None)
+    resumed = config_from_args(parser.parse_args(["optimize", "--study", "s"]), config_from_args(args, None))
+    assert resumed.objective == ob  # left out: the stored study's
+    lifted = config_from_args(parser.parse_args(["optimize", "--study", "s", "--leg-mass", "none"]), None)
+    assert lifted.objective.leg_mass is None
+    assert config_from_args(parser.parse_args(["optimize", "--study", "s"]), None).objective.replicates == 4
+    monkeypatch.chdir(tmp_path)
+    for argv, text in (
+        (["--replicates", "-1"], "replicates must be"),
+        (["--risk", "cvar", "--replicates", "1"], "replicates >= 2"),
+        (["--leg-mass", "steel"], "leg_mass"),
+        (["--leg-mass-tolerance", "0.1"], "needs leg_mass"),
+    ):
+        assert main(["optimize", "--study", "bad", "--trials", "1", *argv]) == 2
+        err = capsys.readouterr().err.strip()
+        assert text in err and len(err.splitlines()) == 1, err
+        assert not (tmp_path / "studies").exists()
+
+
+def test_warp_backend_needs_unperturbed_runs():
+    from mat_hopper.optimize._batch import batch_settings, check_unperturbed, run_batch_study
+    from mat_hopper.optimize._study import RunOptions
+
+    check_unperturbed(Objective(profile=TINY, replicates=0))
+    with pytest.raises(ValueError, match="--replicates 0"):
+        batch_settings(Objective(profile=TINY, replicates=4), LegDesign.mono("SS"))
+    with pytest.raises(ValueError, match="--replicates 0"):  # before any storage or Warp
+        run_batch_study(StudyConfig("w", SearchSpace(), Objective(profile=TINY)), RunOptions(storage="bad://"))
