@@ -206,19 +206,19 @@ def _cmd_optimize(args) -> int:
 
 
 def _check_size(args, config: StudyConfig) -> None:
-    """--trials x behaviours x physics steps per run, before any work
-    (mat_hopper.limits; under auto time steps, at SS's step: the stiffest
-    paper material)."""
+    """--trials x behaviours x replicates x physics steps per run, before
+    any work (mat_hopper.limits; under auto time steps, at SS's step: the
+    stiffest paper material)."""
     from ..limits import check_total_steps
     from ..materials import parse_design
 
     ob = config.objective
     steps = ob.sim_settings(design=parse_design("SS", n_segments=config.space.n_segments)).n_steps
-    n = len(ob.behaviours)
+    n, k = len(ob.behaviours), max(1, int(getattr(ob, "replicates", 0) or 0))
     check_total_steps(
-        args.trials * n * steps,
-        f"--trials {args.trials} x {n} behaviour(s) x {steps:.3g} steps",
-        "fewer --trials or behaviours, or a shorter --profile",
+        args.trials * n * k * steps,
+        f"--trials {args.trials} x {n} behaviour(s) x {k} replicate(s) x {steps:.3g} steps",
+        "fewer --trials, behaviours or --replicates, or a shorter --profile",
     )
 
 
