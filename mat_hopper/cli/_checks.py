@@ -91,7 +91,6 @@ PARAM_FLAGS = {
     "n_segments": "--segments",
     "sensor_timing": "--sensor-timing",
     "segment_mass": "--segment-mass",
-    "convention": "--convention",
 }
 
 
