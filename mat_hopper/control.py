@@ -5,7 +5,7 @@ physics step. It is compiled by numba for the fast rollout loop; its plain
 Python original (``controller_step.py_func``) runs the same arithmetic for
 tests and debugging, and both give the same trajectory.
 
-Three parts (paper section IV-B, spec "Controller"):
+Four parts (paper section IV-B, spec "Controller"):
 
 - stance/flight state machine with a phase lock, which also adapts the
   thrust once per hop from the last hop height;
@@ -72,9 +72,26 @@ HOP_HEIGHT_RANGE_M = (0.7, 3.0)  # accepted hop-height targets (base z at the ap
 
 @dataclass(frozen=True)
 class ControllerSettings:
-    """Every gain of the controller; defaults are the reference hopper's.
+    """Every gain of the controller; defaults are the reference hopper's
+    (docs/reference-hopper.md, "Controller").
 
-    Hip gains are per rad (rad/s) before the gear; forces in N; speeds m/s.
+    Args:
+        phase_lock_s: least time between phase switches, s (0.1).
+        thrust_start_n: the thrust F at the start, N (200).
+        thrust_adapt_gain: F += gain x (target - last hop height), N/m (100).
+        hop_height_target_m: the base's target peak height, m (1.0).
+        thrust_min_rise_speed: thrust only while the base rises faster, m/s (0.01).
+        velocity_gain_desired: desired local velocity gain, (m/s)/(m/s) (0.2).
+        velocity_gain_position: desired local position offset gain, (m/s)/m (0.5).
+        velocity_limit_m_s: clamp of the desired velocity, m/s (0.1).
+        stance_duration_s: T_st of the foot placement law, s (0.1).
+        foot_placement_gain: K1 of the foot placement law, s (0.05).
+        leg_length_m: hip-to-toe length the inverse kinematics assumes, m (0.61).
+        flight_kp, flight_kd: hip PD in flight, per rad and per rad/s before the gear (10, 0.1).
+        stance_kp, stance_kd: attitude correction in stance, per rad and per rad/s before the gear (4, 1).
+
+    Raises:
+        ValueError: a gain that is not finite, negative, or unphysical (naming it).
     """
 
     phase_lock_s: float = ref.PHASE_LOCK_S
@@ -124,19 +141,93 @@ Gains.__doc__ = "ControllerSettings as the compiled code sees them (floats, same
 SENSOR_TIMINGS = {"fresh": 0, "authors": ref.SENSOR_LATENCY_STEPS}
 DEFAULT_SENSOR_TIMING = "authors"
 MAX_SENSOR_LATENCY_STEPS = 1000  # 0.1 s at the paper's step: far beyond any study here
+_LATENCY_PREFIX = "latency-"
 
 
-def sensor_latency_steps(timing) -> int:
-    """Physics steps by which the base readings lag: ``"authors"`` -> 1,
-    ``"fresh"`` -> 0, ``"latency-L"`` or an int L in [0, 1000] -> L.
+class SensorTiming(int):
+    """When the controller reads the base sensors: an integer latency in
+    physics steps that carries its canonical name.
 
-    Raises ValueError for anything else (bools, floats, negative values)."""
+    ``int(t)`` is the latency (what the rollout loop and the batch kernels
+    use); ``t.name`` and ``str(t)`` the name recorded in every result
+    (cache key, table, figure): ``"fresh"`` (0), ``"authors"`` (1, the
+    default) or ``"latency-L"``. Build it once, from whatever the user
+    gave, and pass it on: no call site converts again.
+
+    Args:
+        timing: a name (``"authors"``, ``"fresh"``, ``"latency-L"``; any
+            case), an integer latency L in [0, 1000] physics steps, or a
+            SensorTiming (returned as is).
+
+    Raises:
+        ValueError: for an unknown name, a bool, a float or a latency
+            outside [0, 1000].
+
+    >>> t = SensorTiming("authors")
+    >>> int(t), t.name, SensorTiming(5).name, f"{SensorTiming('FRESH')}"
+    (1, 'authors', 'latency-5', 'fresh')
+    """
+
+    def __new__(cls, timing=DEFAULT_SENSOR_TIMING):
+        if type(timing) is cls:
+            return timing
+        return super().__new__(cls, _latency(timing))
+
+    @property
+    def name(self) -> str:
+        """The canonical name: "fresh", "authors" or "latency-L"."""
+        lat = int(self)
+        for name, steps in SENSOR_TIMINGS.items():
+            if steps == lat:
+                return name
+        return f"{_LATENCY_PREFIX}{lat}"
+
+    @property
+    def latency_steps(self) -> int:
+        """Physics steps by which the base readings lag (a plain int)."""
+        return int(self)
+
+    def __str__(self) -> str:
+        return self.name
+
+    # A timing equals its latency and its names: ``t == "authors"`` and ``t == 1``
+    # both hold for the default, so code comparing against either never
+    # silently reads False. The hash is the latency's (as int's); a set mixing
+    # names and timings is the one place the two differ.
+    def __eq__(self, other):
+        if isinstance(other, str):
+            try:
+                return int(self) == _latency(other)
+            except ValueError:
+                return False
+        return int.__eq__(self, other)
+
+    def __ne__(self, other):
+        result = self.__eq__(other)
+        return result if result is NotImplemented else not result
+
+    __hash__ = int.__hash__
+
+    def __format__(self, spec: str) -> str:
+        if spec and spec[-1] in "bcdeEfFgGnoxX%":  # a number format: the latency
+            return format(int(self), spec)
+        return format(self.name, spec)
+
+    def __repr__(self) -> str:
+        return f"SensorTiming({self.name!r})"
+
+    def __reduce__(self):
+        return (SensorTiming, (int(self),))
+
+
+def _latency(timing) -> int:
+    """The latency (physics steps) of a timing name or integer; ValueError otherwise."""
     if isinstance(timing, str):
         name = timing.strip().lower()
         if name in SENSOR_TIMINGS:
             return SENSOR_TIMINGS[name]
-        if name.startswith("latency-") and name[len("latency-") :].isdigit():
-            timing = int(name[len("latency-") :])
+        if name.startswith(_LATENCY_PREFIX) and name[len(_LATENCY_PREFIX) :].isdigit():
+            timing = int(name[len(_LATENCY_PREFIX) :])
         else:
             raise ValueError(
                 f"unknown sensor timing {timing!r}; accepted: {', '.join(SENSOR_TIMINGS)}, "
@@ -150,16 +241,6 @@ def sensor_latency_steps(timing) -> int:
     if not 0 <= timing <= MAX_SENSOR_LATENCY_STEPS:
         raise ValueError(f"sensor latency must be in [0, {MAX_SENSOR_LATENCY_STEPS}] physics steps, got {timing}")
     return int(timing)
-
-
-def sensor_timing_name(timing) -> str:
-    """The canonical name recorded in results: ``"fresh"``, ``"authors"`` or
-    ``"latency-L"``."""
-    lat = sensor_latency_steps(timing)
-    for name, steps in SENSOR_TIMINGS.items():
-        if steps == lat:
-            return name
-    return f"latency-{lat}"
 
 
 def initial_state(settings: ControllerSettings) -> np.ndarray:

@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from . import reference as ref
@@ -97,7 +97,16 @@ def check_segment_mass(segment_mass: str) -> str:
 class Material:
     """A material: bulk density in g/cm^3 and elastic modulus in GPa.
 
-    ``modulus_gpa=None`` is a rigid material (no spring: the paper's MD).
+    Args:
+        name: the material's name (a label, not physics).
+        density_g_cm3: bulk density, g/cm^3, in [0.001, 30].
+        modulus_gpa: Young's modulus, GPa, in [1e-6, 2000]; None is a rigid
+            material (no spring: the paper's MD).
+        material_class: e.g. ``"metal"``, ``"polymer"`` (the Ashby chart's classes).
+        source: where the numbers come from.
+
+    Raises:
+        ValueError: a density or modulus that is not a finite number in its range.
     """
 
     name: str
@@ -184,7 +193,17 @@ MODULUS_BOUNDS_GPA = (float(min(_SWEEP_MODULI)), float(max(_SWEEP_MODULI)))  # (
 
 
 def material(name: str) -> Material:
-    """Catalogue material by name (case-insensitive)."""
+    """A catalogue material by name.
+
+    Args:
+        name: a :data:`CATALOGUE` name, any case (``"SS"``, ``"pvc"``).
+
+    Returns:
+        The :class:`Material`.
+
+    Raises:
+        ValueError: an unknown name (the accepted ones listed).
+    """
     try:
         return CATALOGUE[name.strip().lower()]
     except (KeyError, AttributeError):
@@ -276,7 +295,15 @@ def spring_stiffness(
 
 @dataclass(frozen=True)
 class LegDesign:
-    """A leg of N >= 1 material segments, segment 1 nearest the base."""
+    """A leg of N material segments, segment 1 nearest the base.
+
+    Args:
+        segments: the N Materials, 1 <= N <= 64, from the hip down.
+        name: a label (default: the materials' names joined by ``-``).
+
+    Raises:
+        ValueError: no segments, more than 64, or a segment that is not a Material.
+    """
 
     segments: tuple[Material, ...]
     name: str = ""
@@ -403,13 +430,26 @@ def _written_design(text: str, n_segments: int) -> LegDesign | None:
 
 
 def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesign:
-    """A design from its name: a material (``SS``), a gradient (``PVC-Ti-SS``),
-    a named design (``rho-inc``, ``rho-dec``), or a name the tool writes for
-    a design of given properties: ``custom(1.39/70,8/rigid)`` (density
-    g/cm^3 / modulus GPa per segment, :meth:`LegDesign.from_properties`)
-    and the stability map's ``rho=8 E=193`` (n_segments alike).
-    Case-insensitive. Raises ValueError for anything else.
+    """A design from its name.
 
+    Args:
+        text: a material (``"SS"``: N segments of it), a gradient
+            (``"PVC-Ti-SS"``: one segment per name, from the hip down), a
+            named design (``"rho-inc"``, ``"rho-dec"``), or a name the tool
+            writes for a design of given properties: ``custom(1.39/70,8/rigid)``
+            (density g/cm^3 / modulus GPa per segment,
+            :meth:`LegDesign.from_properties`) and the stability map's
+            ``rho=8 E=193`` (n_segments alike); any case.
+        n_segments: segments of a single-material design (default 3, the paper's).
+
+    Returns:
+        The :class:`LegDesign`.
+
+    Raises:
+        ValueError: an empty or unknown name.
+
+    >>> parse_design("PVC-Ti-SS").densities_g_cm3
+    (1.39, 4.43, 8.0)
     >>> parse_design(LegDesign.from_properties([1, 2], [70, None]).name).moduli_gpa
     (70.0, None)
     """
@@ -451,7 +491,3 @@ def order_designs(designs) -> list[str]:
     """
     seen = list(dict.fromkeys(designs))
     return [d for d in PAPER_DESIGN_ORDER if d in seen] + [d for d in seen if d not in PAPER_DESIGN_ORDER]
-
-
-def iter_catalogue() -> Iterable[Material]:
-    return iter(CATALOGUE.values())

@@ -17,13 +17,23 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
   not depend on the record rate (the unfiltered derivative measured the
   aliased ringing of the leg's kHz axial modes: 8,688 m/s^3 for SS at
   1 kHz, 675 at 100 Hz);
+- ``jerk_body_m_s3``: the same with a zero-phase 4th-order 20 Hz
+  Butterworth after an anti-aliasing box mean (:mod:`mat_hopper.jerk`):
+  the body's jerk without the leg's ringing;
 - ``power_w``: mean norm of the hip actuators' real mechanical power,
   ||(tau_y qdot_y, tau_x qdot_x)|| (W), tau the joint torque MuJoCo applies
   (``qfrc_actuator``: gear 600 x control, joint space);
 - ``power_paper_w``: the authors' formula, labelled as such: the hip_y
   *flight* PD command (before the gear, also in stance) times each hip rate;
 - ``energy_j``: integral of |tau qdot| of all three actuators (J), joint
-  space.
+  space;
+- the energetics of :mod:`mat_hopper.energetics` (total actuator work
+  including thrust, absolute and positive, hip work, total power, Joule
+  proxies): ``work_abs_j`` ... ``joule_thrust_n2s``.
+
+Every row also carries the design's leg mass properties (constant per run,
+:func:`mat_hopper.controls.mass_properties`): ``leg_mass_kg``,
+``leg_com_m`` (m below the hip) and ``hip_inertia_kg_m2``.
 
 Comparisons (:func:`compare`) give the percent change of means against a
 baseline design, a two-sided Mann-Whitney U test with Holm correction
@@ -38,13 +48,22 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
+from . import energetics as _energetics
 from . import reference as ref
-from .analysis.change import percent_change
+from .change import percent_change
+from .controls import MASS_PROPERTY_COLUMNS, mass_properties
 from .model import terrain_height_m
-from .sim import C, Rollout
+from .rollout import Rollout
+from .sim import C
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
-ALL_METRICS = METRICS + ("hop_height_ground_m", "power_paper_w", "energy_j")
+ALL_METRICS = METRICS + (
+    "hop_height_ground_m",
+    "power_paper_w",
+    "energy_j",
+    *_energetics.HOP_COLUMNS,
+    "jerk_body_m_s3",
+)
 GRAVITY = ref.GRAVITY_M_S2
 ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 
@@ -52,6 +71,16 @@ ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 def _segment_means(values: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
     csum = np.concatenate([[0.0], np.cumsum(values)])
     return (csum[ends] - csum[starts]) / np.maximum(ends - starts, 1)
+
+
+def _body_jerk(rollout: Rollout, i0: np.ndarray, i1: np.ndarray) -> np.ndarray:
+    """mat_hopper.jerk.hop_body_jerk; nan for a run too short to filter."""
+    from .jerk import hop_body_jerk
+
+    try:
+        return hop_body_jerk(rollout, i0, i1)
+    except ValueError:
+        return np.full(len(i0), np.nan)
 
 
 def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray:
@@ -66,7 +95,7 @@ def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray
 
 def _check_rollout(rollout) -> None:
     if not isinstance(rollout, Rollout):
-        raise ValueError(f"rollout must be a mat_hopper.sim.Rollout (from simulate), got {type(rollout).__name__}")
+        raise ValueError(f"rollout must be a mat_hopper.Rollout (from simulate), got {type(rollout).__name__}")
 
 
 def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFrame:
@@ -86,6 +115,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
         "t_start_s",
         "t_end_s",
         *ALL_METRICS,
+        *MASS_PROPERTY_COLUMNS,
     ]
     if len(cycles) == 0 or len(t) < 4:
         return pd.DataFrame(columns=cols)
@@ -116,7 +146,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
             "design": rollout.design.name,
             "behaviour": rollout.behaviour.name,
             "convention": rollout.settings.convention,
-            "sensor_timing": rollout.settings.sensor_timing,
+            "sensor_timing": rollout.settings.sensor_timing.name,
             "segment_mass": rollout.settings.segment_mass,
             "hop": np.arange(len(cycles)),
             "t_start_s": cycles[:, 0],
@@ -128,42 +158,38 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
             "power_w": _segment_means(power, i0, i1),
             "power_paper_w": _segment_means(power_paper, i0, i1),
             "energy_j": _segment_means(p_abs, i0, i1) * (i1 - i0) * dt_rec,
+            **_energetics.hop_energetics(rollout, i0, i1, dt_rec),
+            "jerk_body_m_s3": _body_jerk(rollout, i0, i1),
+            **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),
         }
     )
     return out[cols]
 
 
 def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
-    """One run in a line: outcome, means of the per-hop metrics, energy (J)
-    and cost of transport (energy / (m g distance), nan without travel).
-    Raises ValueError when `rollout` is not a Rollout."""
+    """One run in a line: outcome, the leg's mass properties, means of the
+    per-hop metrics, energy (J) and the run energetics of
+    :func:`mat_hopper.energetics.run_energetics` (cost of transport over the
+    path length travelled, nan without travel). Raises ValueError when
+    `rollout` is not a Rollout."""
     _check_rollout(rollout)
     hops = hop_table(rollout, transient_s)
     out = {
         "design": rollout.design.name,
         "behaviour": rollout.behaviour.name,
         "convention": rollout.settings.convention,
-        "sensor_timing": rollout.settings.sensor_timing,
+        "sensor_timing": rollout.settings.sensor_timing.name,
         "segment_mass": rollout.settings.segment_mass,
         "stable": rollout.stable,
         "diverged_at_s": rollout.diverged_at_s,
         "n_hops": len(hops),
         "total_mass_kg": rollout.total_mass_kg,
+        **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),
     }
     for m in ALL_METRICS:
         out[f"mean_{m}"] = float(hops[m].mean()) if len(hops) else np.nan
-    energy = float(hops["energy_j"].sum()) if len(hops) else np.nan
-    out["energy_j"] = energy
-    if len(hops):
-        t = rollout.time
-        a, b = np.searchsorted(t, [hops["t_start_s"].iloc[0], hops["t_end_s"].iloc[-1]])
-        b = min(b, len(t) - 1)
-        dist = float(np.hypot(*np.diff(rollout.base_pos[[a, b], :2], axis=0)[0]))
-        out["distance_m"] = dist
-        out["cost_of_transport"] = energy / (rollout.total_mass_kg * GRAVITY * dist) if dist > 1e-3 else np.nan
-    else:
-        out["distance_m"] = np.nan
-        out["cost_of_transport"] = np.nan
+    out["energy_j"] = float(hops["energy_j"].sum()) if len(hops) else np.nan
+    out.update(_energetics.run_energetics(hops, rollout))
     return out
 
 

@@ -87,13 +87,19 @@ class HopperModel:
         return float(self.model.body_subtreemass[0])
 
 
-def _check_timestep(timestep_s) -> float:
+MAX_TIMESTEP_S = 0.1  # s, the largest physics step accepted anywhere
+
+
+def check_timestep(timestep_s) -> float:
+    """The physics step as a float in (0, MAX_TIMESTEP_S] s; ValueError naming it otherwise."""
+    if isinstance(timestep_s, bool):
+        raise ValueError(f"timestep must be a number > 0 s, got {timestep_s!r}")
     try:
         dt = float(timestep_s)
     except (TypeError, ValueError):
         raise ValueError(f"timestep must be a number > 0 s, got {timestep_s!r}") from None
-    if not (math.isfinite(dt) and 0 < dt <= 0.1):
-        raise ValueError(f"timestep must be in (0, 0.1] s, got {timestep_s!r}")
+    if not (math.isfinite(dt) and 0 < dt <= MAX_TIMESTEP_S):
+        raise ValueError(f"timestep must be in (0, {MAX_TIMESTEP_S:g}] s, got {timestep_s!r}")
     return dt
 
 
@@ -176,7 +182,7 @@ def build_spec(
         raise ValueError(f"sensors must be one of {sorted(SENSOR_SETS)}, got {sensors!r}")
     convention = check_convention(convention)
     segment_mass = check_segment_mass(segment_mass)
-    dt = _check_timestep(timestep_s)
+    dt = check_timestep(timestep_s)
     n = design.n_segments
     scale = capsule_density_scale(n, segment_mass)  # exactly 1.0 at N = 3
     half = ref.MATERIAL_LENGTH / n / 2.0  # m, each half of a segment

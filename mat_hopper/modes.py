@@ -45,7 +45,7 @@ import scipy.linalg
 import scipy.optimize
 
 from . import reference as ref
-from .control import DEFAULT_SENSOR_TIMING, sensor_latency_steps
+from .control import DEFAULT_SENSOR_TIMING, SensorTiming
 from .materials import (
     DEFAULT_CONVENTION,
     DEFAULT_SEGMENT_MASS,
@@ -142,7 +142,7 @@ def controller_timestep(
     mass = m.body_mass[b]
     parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))  # to the hip (base origin)
     inertia = inertia + parallel
-    factor = delayed_damping_factor(sensor_latency_steps(sensor_timing))
+    factor = delayed_damping_factor(int(SensorTiming(sensor_timing)))
     return factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
 
 

@@ -28,6 +28,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+# The book's replicate (Perturbation.replicate). The push falls inside the
+# scored window of every profile: between PUSH_WINDOW_FRACTION of the way
+# from the transient's end to the run's end (quick, 4-12 s: 4.8-8 s; paper,
+# 20-60 s: 24-40 s), leaving the second half of the window to recover.
+REPLICATE_PUSH_FORCE_N = 5.0  # N, times push_scale
+REPLICATE_PUSH_DURATION_S = 0.1
+PUSH_WINDOW_FRACTION = (0.1, 0.5)
+
 
 @dataclass(frozen=True)
 class Perturbation:
@@ -57,14 +65,33 @@ class Perturbation:
             raise ValueError(f"push_window_s must be (start, end) with 0 <= start <= end s, got {self.push_window_s!r}")
 
     @classmethod
-    def replicate(cls, seed: int) -> Perturbation:
-        """The book's replicate: 5 mm start offset, 0.5 deg tilt, a 5 N push
-        for 0.1 s between 5 and 15 s, 1 mm and 5 mm/s sensor noise (std)."""
+    def replicate(
+        cls, seed: int, scored_window_s: tuple[float, float] | None = None, push_scale: float = 1.0
+    ) -> Perturbation:
+        """The book's replicate: 5 mm start offset, 0.5 deg tilt, a push of
+        push_scale x 5 N for 0.1 s, 1 mm and 5 mm/s sensor noise (std).
+
+        Args:
+            seed: the replicate's seed (>= 0).
+            scored_window_s: (transient end, run end) in s: the push time is
+                drawn in :func:`push_window_s` of it, inside the scored hops.
+                None keeps the historical 5-15 s window (which falls in the
+                paper profile's unscored transient).
+            push_scale: factor on the push force (>= 0; 0: no push).
+
+        Raises:
+            ValueError: a bad seed, window or scale.
+        """
+        window = (5.0, 15.0) if scored_window_s is None else push_window_s(*scored_window_s)
+        if not (isinstance(push_scale, (int, float)) and math.isfinite(push_scale) and push_scale >= 0):
+            raise ValueError(f"push_scale must be a finite number >= 0, got {push_scale!r}")
         return cls(
             seed=seed,
             start_offset_m=0.005,
             start_tilt_rad=math.radians(0.5),
-            push_force_n=5.0,
+            push_force_n=REPLICATE_PUSH_FORCE_N * push_scale,
+            push_duration_s=REPLICATE_PUSH_DURATION_S,
+            push_window_s=window,
             noise_pos_m=0.001,
             noise_vel_m_s=0.005,
         )
@@ -97,3 +124,20 @@ class Perturbation:
 
 
 NO_PUSH = np.array([np.inf, np.inf, 0.0, 0.0])
+
+
+def push_window_s(transient_s: float, duration_s: float) -> tuple[float, float]:
+    """Where a replicate's push starts (s): PUSH_WINDOW_FRACTION of the way
+    through the scored window [transient_s, duration_s].
+
+    >>> push_window_s(20.0, 60.0)
+    (24.0, 40.0)
+
+    Raises:
+        ValueError: duration_s not after transient_s.
+    """
+    t0, t1 = float(transient_s), float(duration_s)
+    if not (math.isfinite(t0) and math.isfinite(t1) and 0 <= t0 < t1):
+        raise ValueError(f"the scored window needs 0 <= transient_s < duration_s, got {transient_s!r}, {duration_s!r}")
+    a, b = PUSH_WINDOW_FRACTION
+    return (t0 + a * (t1 - t0), t0 + b * (t1 - t0))

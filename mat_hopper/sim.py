@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import mujoco
 import numpy as np
@@ -48,16 +48,11 @@ from ._loop import (
     read_sensors,
     rollout_loop,
 )
-from .behaviours import Behaviour
 from .behaviours import behaviour as get_behaviour
 from .control import (
-    DEFAULT_SENSOR_TIMING,
-    LIFTOFF,
-    TOUCHDOWN,
     ControllerSettings,
+    SensorTiming,
     initial_state,
-    sensor_latency_steps,
-    sensor_timing_name,
 )
 from .materials import (
     DEFAULT_CONVENTION,
@@ -67,9 +62,10 @@ from .materials import (
     check_segment_mass,
     parse_design,
 )
-from .model import HopperModel, build_model, reset_to_start
+from .model import HopperModel, build_model, check_timestep, reset_to_start
 from .modes import auto_substeps
 from .perturbations import NO_PUSH, Perturbation
+from .rollout import Rollout
 
 __all__ = [
     "CHANNELS",
@@ -77,7 +73,9 @@ __all__ = [
     "N_CHANNELS",
     "DEFAULT_RECORD_RATE_HZ",
     "SimSettings",
-    "Rollout",
+    "sim_settings",
+    "resolve_timestep",
+    "AUTO",
     "RolloutRunner",
     "prepare",
     "simulate",
@@ -106,7 +104,12 @@ def loop_chunk_steps(n_segments: int) -> int:
     return max(1000, LOOP_CHUNK_STEPS * 3 // max(3, int(n_segments)))
 
 
-AUTO = "auto"
+# The finer physics of the time-step checks (robustness study, optimizer validation):
+# a 2e-5 s step, 5 substeps of the 1e-4 s control period (and, to keep the authors'
+# 1e-4 s sensor delay, a latency of 5 physics steps).
+FINE_TIMESTEP_S = 2e-5
+FINE_SUBSTEPS = round(ref.TIMESTEP_S / FINE_TIMESTEP_S)
+AUTO = "auto"  # timestep_s="auto": physics substeps of the control period (resolve_timestep)
 # Jerk is computed at the physics rate: the base's z acceleration through a
 # causal Butterworth low-pass, then differentiated step by step. The cut-off
 # lies far below the leg's axial modes (2.5-4 kHz, barely damped) and the
@@ -131,7 +134,7 @@ def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkF
     sos = scipy.signal.butter(JERK_FILTER_ORDER, cutoff, fs=1.0 / timestep_s, output="sos")
     ((b0, b1, b2, _, a1, a2),) = sos
     zi = scipy.signal.sosfilt_zi(sos)[0] * az0_m_s2
-    return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2]))
+    return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2, 0.0, 0.0]))
 
 
 _log = logging.getLogger("mat_hopper.mujoco")
@@ -152,23 +155,33 @@ def route_mujoco_warnings() -> None:
 
 @dataclass(frozen=True)
 class SimSettings:
-    """Everything besides design and behaviour that changes a rollout.
+    """Everything besides design and behaviour that changes a rollout: the
+    one settings object (a batch, a profile and the CLI all build it with
+    :func:`sim_settings`; copies are ``dataclasses.replace``).
 
-    duration_s, transient_s, timestep_s in s; record_rate_hz in Hz;
-    convention: modulus-to-stiffness convention ("paper" or "axial");
-    sensor_timing: when the controller's base readings are taken,
-    ``"authors"`` (default: one physics step old), ``"fresh"``, or an integer
-    latency in physics steps (stored by its canonical name, e.g.
-    ``"latency-5"``; see :func:`mat_hopper.control.sensor_latency_steps`);
-    segment_mass: ``"leg"`` (default: mass independent of the number of
-    segments, the authors' model at N = 3) or ``"capsule"`` (the authors'
-    per-capsule density at any N; see :mod:`mat_hopper.materials`);
-    substeps: physics steps per control period. ``timestep_s`` is the
-    physics step; the controller runs every ``substeps`` of them, i.e. with
-    period :attr:`control_period_s` (1 by default: every step, as the
-    authors' loop). ``simulate(timestep_s="auto")`` chooses it.
+    Args:
+        duration_s: simulated run length, s (> transient_s).
+        timestep_s: physics step, s, in (0, 0.1]; ``"auto"`` is resolved
+            by :func:`sim_settings` (:func:`resolve_timestep`), not here.
+        transient_s: hop cycles starting before it are not scored, s.
+        convention: modulus-to-stiffness convention, ``"paper"`` or ``"axial"``.
+        record_rate_hz: recorded samples per simulated second, Hz.
+        controller: the controller's gains.
+        perturbation: seeded disturbances, or None.
+        sensor_timing: when the controller's base readings are taken, stored
+            as a :class:`~mat_hopper.control.SensorTiming` (an integer latency
+            in physics steps carrying its name): ``"authors"`` (default: one
+            physics step old), ``"fresh"``, ``"latency-L"`` or an integer L.
+        segment_mass: ``"leg"`` (default: mass independent of the number
+            of segments, the authors' model at N = 3) or ``"capsule"`` (the
+            authors' per-capsule density at any N; :mod:`mat_hopper.materials`).
+        substeps: physics steps per control period, an integer in [1, 1000];
+            the controller runs every ``substeps`` steps, i.e. with period
+            :attr:`control_period_s` (1 by default: every step, as the
+            authors' loop).
 
-    Raises ValueError on any invalid value.
+    Raises:
+        ValueError: on any invalid value, naming the field.
     """
 
     duration_s: float = ref.DURATION_S
@@ -178,36 +191,34 @@ class SimSettings:
     record_rate_hz: float = DEFAULT_RECORD_RATE_HZ
     controller: ControllerSettings = field(default_factory=ControllerSettings)
     perturbation: Perturbation | None = None
-    sensor_timing: str | int = DEFAULT_SENSOR_TIMING
+    sensor_timing: SensorTiming = SensorTiming()
     segment_mass: str = DEFAULT_SEGMENT_MASS
     substeps: int = 1
 
     def __post_init__(self):
-        if (
-            isinstance(self.substeps, bool)
-            or not isinstance(self.substeps, (int, np.integer))
-            or not 1 <= self.substeps <= MAX_SUBSTEPS
-        ):
-            raise ValueError(
-                f"substeps must be an integer in [1, {MAX_SUBSTEPS}] (physics steps per control "
-                f"period), got {self.substeps!r}"
-            )
-        object.__setattr__(self, "sensor_timing", sensor_timing_name(self.sensor_timing))
+        # One check per field (a new field adds its own line); then the checks across fields.
+        _check_substeps(self.substeps)
+        object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
         object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                 raise ValueError(f"{name} must be a finite number, got {v!r}")
-        if not self.timestep_s > 0:
-            raise ValueError(f"timestep must be > 0 s (e.g. 1e-4), got {self.timestep_s!r}")
-        if self.timestep_s > 0.1:
-            raise ValueError(f"timestep must be in (0, 0.1] s, got {self.timestep_s!r}")
+        check_timestep(self.timestep_s)
         if self.transient_s < 0:
             raise ValueError(f"transient must be >= 0 s, got {self.transient_s!r}")
-        if not self.duration_s > self.transient_s:
-            raise ValueError(f"duration must be > transient ({self.transient_s:g} s), got {self.duration_s!r} s")
         if not self.record_rate_hz > 0:
             raise ValueError(f"record_rate_hz must be > 0 Hz, got {self.record_rate_hz!r}")
+        object.__setattr__(self, "convention", check_convention(self.convention))
+        if not isinstance(self.controller, ControllerSettings):
+            raise ValueError("controller must be a ControllerSettings")
+        if self.perturbation is not None and not isinstance(self.perturbation, Perturbation):
+            raise ValueError("perturbation must be a Perturbation or None")
+        self._check_run_size()
+
+    def _check_run_size(self) -> None:
+        if not self.duration_s > self.transient_s:
+            raise ValueError(f"duration must be > transient ({self.transient_s:g} s), got {self.duration_s!r} s")
         if self.duration_s / self.timestep_s > MAX_STEPS:
             raise ValueError(
                 f"duration / timestep = {self.duration_s / self.timestep_s:.3g} physics steps: over the "
@@ -218,11 +229,6 @@ class SimSettings:
                 f"{self.n_steps / self.record_every:.3g} recorded samples: over the limit of "
                 f"{MAX_SAMPLES:.0e}; lower record_rate_hz or duration_s"
             )
-        object.__setattr__(self, "convention", check_convention(self.convention))
-        if not isinstance(self.controller, ControllerSettings):
-            raise ValueError("controller must be a ControllerSettings")
-        if self.perturbation is not None and not isinstance(self.perturbation, Perturbation):
-            raise ValueError("perturbation must be a Perturbation or None")
 
     @property
     def record_every(self) -> int:
@@ -238,148 +244,98 @@ class SimSettings:
         """s, the controller's period: substeps x timestep_s."""
         return self.substeps * self.timestep_s
 
+    def columns(self, *names: str) -> dict:
+        """The named fields as result tables record them (a sensor timing by
+        its name), for a table's setting columns; ValueError for an unknown name."""
+        unknown = [n for n in names if n not in SETTING_NAMES]
+        if unknown:
+            raise ValueError(f"unknown setting(s) {', '.join(unknown)}; accepted: {', '.join(SETTING_NAMES)}")
+        return {n: (self.sensor_timing.name if n == "sensor_timing" else getattr(self, n)) for n in names}
+
     @property
     def sensor_latency_steps(self) -> int:
-        """Physics steps by which the controller's base readings lag."""
-        return sensor_latency_steps(self.sensor_timing)
+        """Physics steps by which the controller's base readings lag (``int(sensor_timing)``)."""
+        return int(self.sensor_timing)
 
 
-@dataclass(eq=False)
-class Rollout:
-    """What one rollout recorded. Arrays share the first axis (samples).
+SETTING_NAMES = tuple(f.name for f in fields(SimSettings))
 
-    ``data`` holds every channel of :data:`CHANNELS` as columns; the
-    properties below are named views in SI units. Events are the state
-    machine's switches: ``touchdown_times_s``, ``liftoff_times_s`` and the
-    controller's own ``hop_heights_m`` (one per touchdown after the first
-    lift-off)."""
 
-    design: LegDesign
-    behaviour: Behaviour
-    settings: SimSettings
-    data: np.ndarray
-    events: np.ndarray
-    diverged_step: int
-    total_mass_kg: float
-    spring_stiffness_n_m: tuple
-    qpos: np.ndarray | None = None  # (n, nq) joint positions, if recorded
+def _check_substeps(substeps) -> None:
+    if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or not 1 <= substeps <= MAX_SUBSTEPS:
+        raise ValueError(
+            f"substeps must be an integer in [1, {MAX_SUBSTEPS}] (physics steps per control period), got {substeps!r}"
+        )
 
-    def __getitem__(self, channel: str) -> np.ndarray:
-        return self.data[:, C[channel]]
 
-    # --- named views ---
-    @property
-    def time(self) -> np.ndarray:
-        """s"""
-        return self.data[:, C["t"]]
+def is_auto(timestep_s) -> bool:
+    """Whether a time step is the word ``"auto"`` (any case, spaces ignored)."""
+    return isinstance(timestep_s, str) and timestep_s.strip().lower() == AUTO
 
-    @property
-    def base_pos(self) -> np.ndarray:
-        """m, world frame (n, 3)"""
-        return self.data[:, C["x"] : C["z"] + 1]
 
-    @property
-    def base_vel(self) -> np.ndarray:
-        """m/s, world frame (n, 3)"""
-        return self.data[:, C["vx"] : C["vz"] + 1]
+def resolve_timestep(
+    timestep_s, design=None, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS
+) -> tuple[float, int]:
+    """The one place where ``timestep_s="auto"`` is resolved.
 
-    @property
-    def base_acc(self) -> np.ndarray:
-        """m/s^2, world frame (n, 3)"""
-        return self.data[:, C["ax"] : C["az"] + 1]
+    Args:
+        timestep_s: a physics step in s, or ``"auto"``.
+        design: the leg (a LegDesign or a name); needed for ``"auto"``.
+        convention: the stiffness convention of the run.
+        segment_mass: the segment mass convention of the run.
 
-    @property
-    def desired_pos(self) -> np.ndarray:
-        """m (n, 2)"""
-        return self.data[:, C["x_des"] : C["y_des"] + 1]
+    Returns:
+        (timestep_s, substeps): the step given and 1 substep, or for
+        ``"auto"`` the controller's 1e-4 s period split into the fewest
+        substeps that keep the leg's springs stable (:func:`auto_timestep`).
 
-    @property
-    def desired_vel(self) -> np.ndarray:
-        """m/s (n, 2)"""
-        return self.data[:, C["vx_des"] : C["vy_des"] + 1]
+    Raises:
+        ValueError: ``"auto"`` without a design, or another string.
+    """
+    if not isinstance(timestep_s, str):
+        return timestep_s, 1
+    if not is_auto(timestep_s):
+        raise ValueError(f"timestep_s must be a number (s) or {AUTO!r}, got {timestep_s!r}")
+    if design is None:
+        raise ValueError("the time step is 'auto': pass the design (its substeps depend on it)")
+    substeps, dt = auto_timestep(design, convention, segment_mass)
+    return dt, substeps
 
-    @property
-    def hip_angle(self) -> np.ndarray:
-        """rad, (hip_y, hip_x) (n, 2)"""
-        return self.data[:, C["hip_y"] : C["hip_x"] + 1]
 
-    @property
-    def hip_rate(self) -> np.ndarray:
-        """rad/s, (hip_y, hip_x) (n, 2)"""
-        return self.data[:, C["hip_y_rate"] : C["hip_x_rate"] + 1]
+def sim_settings(design=None, **settings) -> SimSettings:
+    """The one builder of :class:`SimSettings`: every entry point (the CLI,
+    :func:`simulate`, batches, profiles, the optimizer) calls it.
 
-    @property
-    def ctrl(self) -> np.ndarray:
-        """Controls in actuator space, (hip_y, hip_x, thrust) (n, 3): the
-        hips' before their gear of 600, the thrust in N (gear 1)."""
-        return self.data[:, C["ctrl_hip_y"] : C["ctrl_thrust"] + 1]
+    Args:
+        design: the leg, needed only when ``timestep_s="auto"``.
+        **settings: any :class:`SimSettings` field; ``timestep_s`` may be
+            ``"auto"`` (then ``substeps`` may not be given: it is chosen).
 
-    @property
-    def hip_torque(self) -> np.ndarray:
-        """N m, joint space (hip_y, hip_x) (n, 2): MuJoCo's qfrc_actuator at
-        the hip joints, i.e. gear x control."""
-        return self.data[:, C["torque_hip_y"] : C["torque_hip_x"] + 1]
+    Returns:
+        The checked SimSettings.
 
-    @property
-    def thrust_force(self) -> np.ndarray:
-        """N, joint space: the thrust actuator's force on the foot spring (n,)."""
-        return self.data[:, C["force_thrust"]]
+    Raises:
+        ValueError: an unknown field (named), ``substeps`` beside
+            ``"auto"``, or any invalid value.
 
-    @property
-    def hip_power(self) -> np.ndarray:
-        """W, mechanical power of each hip actuator, joint torque x joint
-        rate (hip_y, hip_x) (n, 2)."""
-        return self.hip_torque * self.hip_rate
-
-    @property
-    def touch(self) -> np.ndarray:
-        """N"""
-        return self.data[:, C["touch"]]
-
-    @property
-    def phase(self) -> np.ndarray:
-        """0 flight, 1 stance"""
-        return self.data[:, C["phase"]]
-
-    @property
-    def thrust(self) -> np.ndarray:
-        """N, the adaptive thrust setting F"""
-        return self.data[:, C["thrust_setting"]]
-
-    @property
-    def touchdown_times_s(self) -> np.ndarray:
-        return self.events[self.events[:, 1] == TOUCHDOWN, 0]
-
-    @property
-    def liftoff_times_s(self) -> np.ndarray:
-        return self.events[self.events[:, 1] == LIFTOFF, 0]
-
-    @property
-    def hop_heights_m(self) -> np.ndarray:
-        h = self.events[self.events[:, 1] == TOUCHDOWN, 2]
-        return h[np.isfinite(h)]
-
-    # --- outcome ---
-    @property
-    def stable(self) -> bool:
-        """True when the run reached its end without numerical divergence."""
-        return self.diverged_step < 0
-
-    @property
-    def diverged_at_s(self) -> float | None:
-        """Simulated time (s) of divergence, or None."""
-        return None if self.stable else self.diverged_step * self.settings.timestep_s
-
-    @property
-    def upright(self) -> bool:
-        """Stable and the base ended above 0.1 m (the paper's criterion)."""
-        return self.stable and len(self.data) > 0 and self.data[-1, C["z"]] > ref.STABLE_MIN_BASE_Z
-
-    def to_frame(self):
-        """All channels as a pandas DataFrame, one row per sample."""
-        import pandas as pd
-
-        return pd.DataFrame(self.data, columns=list(CHANNELS))
+    >>> sim_settings(duration_s=2.0, transient_s=0.5, sensor_timing="fresh").sensor_timing.name
+    'fresh'
+    """
+    unknown = sorted(set(settings) - set(SETTING_NAMES))
+    if unknown:
+        raise ValueError(f"unknown setting(s) {', '.join(unknown)}; accepted: {', '.join(SETTING_NAMES)}")
+    if is_auto(settings.get("timestep_s")):
+        if "substeps" in settings:
+            raise ValueError("substeps cannot be given with timestep_s='auto' (auto chooses them)")
+        settings["timestep_s"], settings["substeps"] = resolve_timestep(
+            settings["timestep_s"],
+            design,
+            settings.get("convention", DEFAULT_CONVENTION),
+            settings.get("segment_mass", DEFAULT_SEGMENT_MASS),
+        )
+    if settings.get("controller") is None:
+        settings.pop("controller", None)
+    return SimSettings(**settings)
 
 
 def _as_design(design) -> LegDesign:
@@ -526,53 +482,81 @@ class RolloutRunner:
 def simulate(
     design,
     behaviour,
-    duration_s: float = ref.DURATION_S,
-    timestep_s: float = ref.TIMESTEP_S,
+    duration_s: float | None = None,
+    timestep_s: float | str | None = None,
     *,
-    transient_s: float = ref.TRANSIENT_S,
-    convention: str = DEFAULT_CONVENTION,
-    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
+    transient_s: float | None = None,
+    convention: str | None = None,
+    sensor_timing: str | int | None = None,
     controller: ControllerSettings | None = None,
-    record_rate_hz: float = DEFAULT_RECORD_RATE_HZ,
-    record_qpos: bool = False,
+    record_rate_hz: float | None = None,
     perturbation: Perturbation | None = None,
+    segment_mass: str | None = None,
+    substeps: int | None = None,
+    record_qpos: bool = False,
     settings: SimSettings | None = None,
 ) -> Rollout:
     """Run a design on a behaviour for ``duration_s`` simulated seconds.
 
-    design: a LegDesign or a name (``"SS"``, ``"PVC-Ti-SS"``, ``"rho-inc"``);
-    behaviour: a Behaviour or ``"static"``, ``"forward"``, ``"ramp"``,
-    ``"circle"``; timestep_s: physics step (s); transient_s: hop cycles
-    starting before it are not scored (the run must outlast it); convention:
-    ``"paper"`` or ``"axial"`` stiffness; sensor_timing: ``"authors"``
-    (default), ``"fresh"`` or an integer latency in physics steps;
-    timestep_s may be ``"auto"``: physics substeps of the 1e-4 s control
-    period, chosen from the analytic bound (:func:`auto_timestep`);
-    record_rate_hz: samples per simulated second (1 kHz); record_qpos: also
-    keep all joint positions (``Rollout.qpos``) for rendering; perturbation:
-    seeded disturbances for replicates. Pass ``settings`` to give all of
-    these at once. Divergence never raises: see :attr:`Rollout.stable`.
-    Raises ValueError for invalid settings, designs or behaviours.
+    Every setting left at None takes :class:`SimSettings`' default (the
+    paper's protocol: 60 s, 1e-4 s step, 10 s transient, the authors'
+    sensor timing and stiffness convention).
+
+    Args:
+        design: a LegDesign or a name (``"SS"``, ``"PVC-Ti-SS"``, ``"rho-inc"``).
+        behaviour: a Behaviour or ``"static"``, ``"forward"``, ``"ramp"``, ``"circle"``.
+        duration_s: simulated run length, s.
+        timestep_s: physics step, s, or ``"auto"``: physics substeps of the
+            1e-4 s control period, chosen from the analytic bound
+            (:func:`resolve_timestep`).
+        transient_s: hop cycles starting before it are not scored, s (the
+            run must outlast it).
+        convention: ``"paper"`` or ``"axial"`` stiffness.
+        sensor_timing: ``"authors"``, ``"fresh"``, ``"latency-L"`` or an
+            integer latency in physics steps.
+        controller: the controller's gains (ControllerSettings).
+        record_rate_hz: samples per simulated second, Hz (1 kHz).
+        perturbation: seeded disturbances for replicates.
+        segment_mass: ``"leg"`` or ``"capsule"``.
+        substeps: physics steps per control period (not with ``"auto"``).
+        record_qpos: also keep all joint positions (``Rollout.qpos``, (n, nq)) for rendering.
+        settings: a SimSettings giving all of the settings at once; then no
+            other setting may be given.
+
+    Returns:
+        The :class:`Rollout`. Divergence never raises: see :attr:`Rollout.stable`.
+
+    Raises:
+        ValueError: settings given beside ``settings=`` (named), invalid
+            settings, designs or behaviours.
 
     >>> r = simulate("SS", "forward", duration_s=0.5, transient_s=0.0)
-    >>> r.settings.sensor_timing, r.data.shape[1] == len(CHANNELS)
+    >>> r.settings.sensor_timing.name, r.data.shape[1] == len(CHANNELS)
     ('authors', True)
     """
-    if settings is None:
-        substeps = 1
-        if isinstance(timestep_s, str) and timestep_s.strip().lower() == AUTO:
-            substeps, timestep_s = auto_timestep(_as_design(design), convention)
-        settings = SimSettings(
-            duration_s=duration_s,
-            timestep_s=timestep_s,
-            transient_s=transient_s,
-            convention=convention,
-            record_rate_hz=record_rate_hz,
-            controller=controller or ControllerSettings(),
-            perturbation=perturbation,
-            sensor_timing=sensor_timing,
-            substeps=substeps,
+    given = {
+        name: value
+        for name, value in (
+            ("duration_s", duration_s),
+            ("timestep_s", timestep_s),
+            ("transient_s", transient_s),
+            ("convention", convention),
+            ("sensor_timing", sensor_timing),
+            ("controller", controller),
+            ("record_rate_hz", record_rate_hz),
+            ("perturbation", perturbation),
+            ("segment_mass", segment_mass),
+            ("substeps", substeps),
         )
+        if value is not None
+    }
+    if settings is not None:
+        if given:
+            raise ValueError(f"simulate: {', '.join(given)} given beside settings=; put them in the SimSettings")
+        if not isinstance(settings, SimSettings):
+            raise ValueError(f"settings must be a SimSettings, got {type(settings).__name__}")
+    else:
+        settings = sim_settings(_as_design(design), **given)
     return RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()
 
 

@@ -62,7 +62,7 @@ import numpy as np
 import pandas as pd
 
 from . import reference as ref
-from .experiments.runner import design_key, hash_key, versions
+from .keys import design_key, hash_key, versions
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
 from .modes import controller_timestep, delayed_damping_factor, estimate_timestep, leg_chain, spring_chain_wmax
 

@@ -1,4 +1,5 @@
 import math
+import pickle
 
 import mujoco
 import numpy as np
@@ -152,14 +153,58 @@ def test_settings_validation():
 
 def test_gains_follow_the_settings_by_name():
     g = ControllerSettings(flight_kp=7.0, stance_kd=2.5).gains()
-    assert g.flight_kp == 7.0 and g.stance_kd == 2.5 and g.thrust_start_n == 200.0
-    assert g._fields == tuple(f for f in ControllerSettings.__dataclass_fields__)
+    assert g.flight_kp == 7.0 and g.stance_kd == 2.5
+    # the other gains keep the authors' values (docs/reference-hopper.md, "Controller"), as floats
+    authors = {
+        "phase_lock_s": 0.1,
+        "thrust_start_n": 200.0,
+        "thrust_adapt_gain": 100.0,
+        "hop_height_target_m": 1.0,
+        "thrust_min_rise_speed": 0.01,
+        "velocity_gain_desired": 0.2,
+        "velocity_gain_position": 0.5,
+        "velocity_limit_m_s": 0.1,
+        "stance_duration_s": 0.1,
+        "foot_placement_gain": 0.05,
+        "leg_length_m": 0.61,
+        "flight_kd": 0.1,
+        "stance_kp": 4.0,
+    }
+    assert {k: getattr(g, k) for k in authors} == authors
+    assert set(g._fields) == set(authors) | {"flight_kp", "stance_kd"}
+    assert all(type(v) is float for v in g)
 
 
-@pytest.mark.parametrize("timing, steps", [("authors", 1), ("fresh", 0), ("AUTHORS", 1), (3, 3), ("latency-10", 10)])
-def test_sensor_timing_names(timing, steps):
-    assert c.sensor_latency_steps(timing) == steps
-    assert c.sensor_timing_name(steps) == {0: "fresh", 1: "authors"}.get(steps, f"latency-{steps}")
+@pytest.mark.parametrize(
+    "timing, steps, name",
+    [
+        ("authors", 1, "authors"),
+        ("fresh", 0, "fresh"),
+        ("AUTHORS", 1, "authors"),
+        (3, 3, "latency-3"),
+        ("latency-10", 10, "latency-10"),
+        ("latency-1", 1, "authors"),
+        (np.int64(0), 0, "fresh"),
+    ],
+)
+def test_sensor_timing_is_a_latency_with_a_name(timing, steps, name):
+    t = c.SensorTiming(timing)
+    assert int(t) == t.latency_steps == steps and t == steps and t == name and name == t
+    assert t != "no-such-timing" and t != steps + 1
+    assert t.name == str(t) == f"{t}" == name
+    assert c.SensorTiming(t) is t  # stored once, passed on as is
+    assert pickle.loads(pickle.dumps(t)) == t and pickle.loads(pickle.dumps(t)).name == name
+
+
+def test_sensor_timing_default_is_the_authors():
+    # the authors' loop reads the base sensors one physics step old (docs/reference-hopper.md)
+    assert c.SensorTiming().name == "authors" and int(c.SensorTiming()) == 1
+
+
+@pytest.mark.parametrize("bad", [True, 1.0, -1, 1001, "late", "latency-x", None])
+def test_sensor_timing_refuses(bad):
+    with pytest.raises(ValueError, match="sensor"):
+        c.SensorTiming(bad)
 
 
 @pytest.mark.parametrize(

@@ -7,6 +7,7 @@ import pytest
 from conftest import run_python
 
 from mat_hopper.behaviours import behaviour
+from mat_hopper.materials import parse_design
 from mat_hopper.perturbations import Perturbation
 from mat_hopper.sim import CHANNELS, RolloutRunner, SimSettings, simulate
 
@@ -275,3 +276,40 @@ def test_auto_timestep_runs_stiff_axial_legs():
 def test_bad_substeps(bad):
     with pytest.raises(ValueError, match="substeps"):
         SimSettings(substeps=bad)
+
+
+def test_simulate_refuses_settings_given_beside_settings():
+    s = SimSettings(duration_s=0.2, transient_s=0.0)
+    with pytest.raises(ValueError, match="duration_s, convention given beside settings="):
+        simulate("SS", "static", duration_s=1.0, convention="axial", settings=s)
+    with pytest.raises(ValueError, match="segment_mass given beside settings="):
+        simulate("SS", "static", segment_mass="capsule", settings=s)
+    with pytest.raises(ValueError, match="settings must be a SimSettings"):
+        simulate("SS", "static", settings={"duration_s": 0.2})
+
+
+def test_simulate_exposes_segment_mass_and_substeps():
+    # "capsule" gives each capsule the authors' density at any N: a 6-segment SS leg is
+    # heavier than under "leg", which keeps the N = 3 leg's mass.
+    six = parse_design("SS", n_segments=6)
+    leg = simulate(six, "static", duration_s=0.05, transient_s=0.0)
+    capsule = simulate(six, "static", duration_s=0.05, transient_s=0.0, segment_mass="capsule")
+    assert capsule.settings.segment_mass == "capsule" and capsule.total_mass_kg > leg.total_mass_kg
+    two = simulate("SS", "static", duration_s=0.05, transient_s=0.0, timestep_s=5e-5, substeps=2)
+    assert two.settings.substeps == 2 and two.settings.control_period_s == pytest.approx(1e-4)
+
+
+def test_sim_settings_is_the_one_builder():
+    from mat_hopper.sim import sim_settings
+
+    s = sim_settings(duration_s=2.0, transient_s=0.5, sensor_timing=5)
+    assert s == SimSettings(duration_s=2.0, transient_s=0.5, sensor_timing="latency-5")
+    auto = sim_settings("SS", timestep_s="auto", convention="axial")
+    # the control period stays the paper's 1e-4 s, split into physics substeps
+    assert auto.substeps > 1 and auto.substeps * auto.timestep_s == pytest.approx(1e-4)
+    with pytest.raises(ValueError, match="unknown setting"):
+        sim_settings(durations=1.0)
+    with pytest.raises(ValueError, match="pass the design"):
+        sim_settings(timestep_s="auto")
+    with pytest.raises(ValueError, match="substeps cannot be given"):
+        sim_settings("SS", timestep_s="auto", substeps=2)

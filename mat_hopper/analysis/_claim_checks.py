@@ -242,10 +242,23 @@ def _claim_hop_height(ctx: _Context) -> Outcome:
 
 
 def _comparison_rows(ctx, exps, designs, behaviours, metric, baseline="MD"):
+    """The claim's own comparisons, Holm-corrected among themselves (each
+    claim is its own family) with the paired conclusion re-drawn."""
+    from ..metrics import holm
+    from .paired import conclusion
+
     c, basis = ctx.compare(exps, metric, baseline)
     if len(c) == 0:
         return c, basis
-    return c[c["design"].isin(designs) & c["behaviour"].isin(behaviours) & (c["metric"] == metric)], basis
+    rows = c[c["design"].isin(designs) & c["behaviour"].isin(behaviours) & (c["metric"] == metric)].copy()
+    if len(rows):
+        rows["p_holm"] = holm(rows["p"].to_numpy(float))
+        rows["significant"] = rows["p_holm"] < ctx.alpha
+        if "conclusion" in rows.columns:
+            rows["conclusion"] = [
+                conclusion(p, lo, hi, alpha=ctx.alpha) for p, lo, hi in zip(rows.p_holm, rows.ci_low, rows.ci_high)
+            ]
+    return rows, basis
 
 
 def smallest_p(n_replicates: int, family_size: int = 1) -> float:
@@ -268,9 +281,10 @@ def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1
         k = int(good.sum())
         verdict = fraction_verdict(k, n_needed)
         word = "lower" if direction < 0 else "higher"
-        family = len(ctx.compare(exps, metric, baseline)[0])
+        family = len(rows)  # the claim's own comparisons
         n_min = int(min(rows["n"].min(), rows["n_baseline"].min())) if basis == "replicates" else 0
-        if basis == "replicates" and smallest_p(n_min, family) >= ctx.alpha:
+        paired = bool(rows["paired"].all()) if "paired" in rows.columns else False
+        if basis == "replicates" and not paired and smallest_p(n_min, family) >= ctx.alpha:
             same_way = int((np.sign(rows["pct_change"]) == direction).sum())
             return Outcome(
                 f"{same_way}/{n_needed} {word}; significance untestable: {n_min} replicates reach Holm p "
@@ -295,6 +309,23 @@ def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1
             verdict = _cap(verdict) if len(rows) else verdict
             if probs:
                 detail += "; unusable: " + "; ".join(probs)
+        if paired:
+            n_pairs = int(rows["n_pairs"].min())
+            detail += (
+                f"; paired t on log ratios, n = {n_pairs} seeds, Holm over this claim's {family}; "
+                f"Wilcoxon's smallest p at n = {n_pairs}: {rows['p_min_wilcoxon'].min():.2g}; "
+                + ", ".join(f"{r.behaviour} {r.design}: {r.conclusion}" for r in rows.itertuples())
+            )
+            missed = misses["conclusion"] if "conclusion" in misses else pd.Series(dtype=str)
+            if verdict == FAILS and len(missed) and (missed == "not enough evidence").all():
+                # no comparison speaks against the claim: the evidence is missing, not contrary
+                same_way = int((np.sign(rows["pct_change"]) == direction).sum())
+                return Outcome(
+                    f"{k}/{n_needed} significantly {word}, {same_way}/{n_needed} {word}; the others: not enough "
+                    f"evidence at n = {n_pairs}",
+                    NOT_TESTABLE,
+                    detail,
+                )
         return Outcome(f"{k}/{n_needed} significantly {word} (Holm p < {ctx.alpha:g})", verdict, detail)
 
     return evaluate
@@ -328,12 +359,25 @@ def _ci_detail(rows: pd.DataFrame) -> str:
         s = f"{r['behaviour']} {r['design']} vs {r['baseline']}: p_holm={r['p_holm']:.2g}"
         if "ci_low" in r and np.isfinite(r.get("ci_low", np.nan)):
             s += f", 95 % CI [{r['ci_low']:+.0f}, {r['ci_high']:+.0f}] %"
+        if r.get("paired") is True:
+            s += f" (paired, n = {r['n_pairs']}: {r['conclusion']})"
         parts.append(s)
     return "; ".join(parts)
 
 
+def _claim_ss_power_for(metric: str = "power_w"):
+    def evaluate(ctx: _Context) -> Outcome:
+        return _claim_ss_power_metric(ctx, metric)
+
+    return evaluate
+
+
 def _claim_ss_power(ctx: _Context) -> Outcome:
-    rows, basis = _comparison_rows(ctx, ("exp1",), ["SS"], BEHAVIOUR_NAMES, "power_w")
+    return _claim_ss_power_metric(ctx, "power_w")
+
+
+def _claim_ss_power_metric(ctx: _Context, metric: str) -> Outcome:
+    rows, basis = _comparison_rows(ctx, ("exp1",), ["SS"], BEHAVIOUR_NAMES, metric)
     if len(rows) == 0:
         return _missing_or_untestable(ctx, ["MD", "SS"], BEHAVIOUR_NAMES, ("exp1",))
     best = rows.loc[rows["pct_change"].idxmax()] if rows["pct_change"].notna().any() else None

@@ -57,8 +57,10 @@ import pandas as pd
 from .. import reference as ref
 from ..atomic import write_text
 from ..behaviours import BEHAVIOUR_NAMES
+from ..change import percent_change
 from ..control import DEFAULT_SENSOR_TIMING
 from ..materials import CONVENTIONS
+from . import beyond_mass as _beyond
 from . import stats as _stats
 from ._claim_checks import (  # noqa: F401 (public names of this module)
     ALPHA,
@@ -85,6 +87,7 @@ from ._claim_checks import (  # noqa: F401 (public names of this module)
     _claim_low_modulus,
     _claim_pct,
     _claim_ss_power,
+    _claim_ss_power_for,
     _claim_ss_tracking,
     _claim_timestep_materials,
     _claim_timestep_trend,
@@ -94,7 +97,6 @@ from ._claim_checks import (  # noqa: F401 (public names of this module)
     match_percent,
     smallest_p,
 )
-from .change import percent_change
 from .stats import seconds
 
 _PCT_RULE = (
@@ -225,6 +227,44 @@ CLAIMS: tuple[Claim, ...] = (
 )
 
 
+# Claims that quote power, re-judged under each power (issue 20): the paper's
+# formula, the hips' mechanical power, and all actuators' (thrust included).
+POWER_FORMULAS = (("paper formula", "power_paper_w"), ("hip", "power_w"), ("total", "power_total_w"))
+POWER_VARIANTS = {
+    "power_higher_dynamic": lambda m: _claim_count_significant(m, list(MONO), list(ref.DYNAMIC_BEHAVIOURS), +1),
+    "power_ss_max": _claim_ss_power_for,
+    "ramp_rho_inc_power": lambda m: _claim_pct("rho-inc", m, ref.CLAIM_RAMP_RHO_INC_POWER_PCT),
+    "ramp_ss_power": lambda m: _claim_pct("SS", m, ref.CLAIM_RAMP_SS_POWER_PCT),
+    "headline_power": lambda m: _claim_pct("rho-inc", m, ref.CLAIM_HEADLINE_POWER_PCT, baseline="SS"),
+}
+
+
+# The jerk claim under the loop's causal jerk and the body's zero-phase jerk (mat_hopper.jerk).
+JERK_FORMULAS = (("causal 50 Hz", "jerk_m_s3"), ("body, zero-phase 20 Hz", "jerk_body_m_s3"))
+JERK_VARIANTS = {
+    "jerk_gradient": lambda m: _claim_count_significant(
+        m, ["rho-inc"], list(BEHAVIOUR_NAMES), -1, exps=("exp1", "exp3"), baseline="SS"
+    ),
+}
+
+
+def _power_verdicts(claim_id: str, ctx: _Context, variants=None, formulas=POWER_FORMULAS) -> str:
+    """The claim's verdict under each formula of a quantity: "paper formula:
+    ours (verdict); hip: ...; total: ..." for a power claim (or the jerk
+    formulas with JERK_VARIANTS), "" for other claims."""
+    variants = POWER_VARIANTS if variants is None else variants
+    if claim_id not in variants:
+        return ""
+    parts = []
+    for label, metric in formulas:
+        if len(ctx.hops) == 0 or metric not in ctx.hops.columns:
+            parts.append(f"{label}: not recorded")
+            continue
+        out = variants[claim_id](metric)(ctx)
+        parts.append(f"{label}: {out.ours} ({out.verdict})")
+    return "; ".join(parts)
+
+
 # What each hopping claim reads: experiments (None: all), designs and behaviours (None: all), metrics.
 # The time-step check compares exactly these runs at the finer step.
 _ALL4 = tuple(BEHAVIOUR_NAMES)
@@ -305,6 +345,7 @@ def claims_table(
     timestep_s: float | None = None,
     fine_hops: pd.DataFrame | None = None,
     fine_label: str = "the finer step",
+    controls: pd.DataFrame | None = None,
 ) -> pd.DataFrame:
     """Every claim of the paper beside ours, per stiffness convention.
 
@@ -322,8 +363,14 @@ def claims_table(
     that step. Columns: claim_id, claim, paper, ours, verdict, convention,
     sensor_timing, basis, n_replicates (per design and behaviour, 0 on the
     hop-cycle basis), timestep_check, detail, rule (and profile, when the
-    tables have one). The tables must hold one profile and one sensor
-    timing (ValueError otherwise)."""
+    tables have one), power_verdicts (claims that quote power: the verdict
+    under the paper's formula, hip power and total power side by side),
+    jerk_verdicts (the jerk claim under the causal and the body jerk), and
+    the beyond-mass columns of :func:`mat_hopper.analysis.beyond_mass.beyond_mass_columns`
+    (vs_rigid_twin, vs_mass_matched, beyond_mass) from ``controls``, the
+    per-hop rows of :func:`mat_hopper.experiments.controls.run_controls`
+    ("not run" without them). The tables must hold one profile and one
+    sensor timing (ValueError otherwise)."""
     if basis not in _stats.BASES + ("auto",):
         raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
     hops = pd.DataFrame() if hops is None else hops
@@ -385,9 +432,14 @@ def claims_table(
                     "timestep_check": check,
                     "detail": out.detail,
                     "rule": claim.rule,
+                    "power_verdicts": "" if out.verdict == NOT_RUN else _power_verdicts(claim.claim_id, ctx),
+                    "jerk_verdicts": ""
+                    if out.verdict == NOT_RUN
+                    else _power_verdicts(claim.claim_id, ctx, JERK_VARIANTS, JERK_FORMULAS),
                 }
             )
-    out = pd.DataFrame(rows, columns=list(COLUMNS))
+    out = pd.DataFrame(rows, columns=[*COLUMNS, "power_verdicts", "jerk_verdicts"])
+    out = _beyond.beyond_mass_columns(out, controls, alpha)
     if len(profiles) == 1:
         out.insert(list(out.columns).index("detail"), "profile", profiles.pop())
     return out
@@ -415,7 +467,7 @@ def _md_cell(x) -> str:
 
 def to_markdown(
     table: pd.DataFrame,
-    columns=("claim", "convention", "paper", "ours", "verdict", "basis", "timestep_check"),
+    columns=("claim", "convention", "paper", "ours", "verdict", "beyond_mass", "basis", "timestep_check"),
 ) -> str:
     """The claims as a markdown table (one row per claim and convention),
     the rules listed below it."""

@@ -42,9 +42,10 @@ import pandas as pd
 
 from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
-from ..control import sensor_timing_name
+from ..change import percent_change
+from ..control import SensorTiming
 from ..materials import MONO_NAMES
-from .change import percent_change
+from ..sim import FINE_SUBSTEPS, FINE_TIMESTEP_S
 
 DEFAULT_LATENCIES = (0, 1, 2, 5, 10)
 FACTOR = 2.0  # "moves more than 2x"
@@ -133,8 +134,6 @@ def _quantities() -> tuple[Quantity, ...]:
 QUANTITIES = _quantities()
 
 
-FINE_TIMESTEP_S = 2e-5  # the finer physics step of the time-step variants
-FINE_SUBSTEPS = 5  # 2e-5 s x 5 = the 1e-4 s control period
 FINE_PHYSICS = "2e-5 s physics"  # the variant the claims table's time-step check reads
 
 
@@ -172,7 +171,7 @@ def variants(
     per replicate seed 0 .. replicates - 1 (default settings, perturbed)."""
     out = [DEFAULT]
     for lat in latencies:
-        name = sensor_timing_name(int(lat))
+        name = SensorTiming(int(lat)).name
         if name != DEFAULT.sensor_timing:
             out.append(Variant(name, sensor_timing=name))
     for conv in conventions:
@@ -182,7 +181,7 @@ def variants(
         out.append(
             Variant(
                 FINE_PHYSICS,
-                sensor_timing=sensor_timing_name(FINE_SUBSTEPS),
+                sensor_timing=SensorTiming(FINE_SUBSTEPS).name,
                 timestep_s=FINE_TIMESTEP_S,
                 substeps=FINE_SUBSTEPS,
             )

@@ -58,8 +58,8 @@ import numpy as np
 import pandas as pd
 
 from .. import metrics as _metrics
+from ..change import ROUNDOFF, percent_change
 from ..metrics import ALL_METRICS, METRICS
-from .change import ROUNDOFF, percent_change
 
 
 def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alpha: float):
@@ -336,6 +336,20 @@ def bootstrap_pct_change(
     return (pct, float(lo), float(hi))
 
 
+def _shares_seeds(means: pd.DataFrame, baseline: str, by: str) -> bool:
+    """True when every design's replicate ids equal the baseline's in each group
+    (the runs are paired by seed)."""
+    keys = _present(means, FAMILY_COLUMNS) + [by]
+    for _, g in means.groupby(keys, sort=False):
+        base = set(g.loc[g["design"] == baseline, "replicate"])
+        if not base:
+            continue
+        for _, dg in g.groupby("design", sort=False):
+            if set(dg["replicate"]) != base:
+                return False
+    return True
+
+
 def compare_replicates(
     hops: pd.DataFrame,
     baseline: str = "MD",
@@ -346,21 +360,51 @@ def compare_replicates(
     n_boot: int = 10000,
     confidence: float = 0.95,
     seed: int = 0,
+    paired: str | bool = "auto",
 ) -> pd.DataFrame:
     """Designs against `baseline` on replicate means (see module doc).
 
     `hops` is a per-hop table with a ``replicate`` column (the unperturbed
-    run, -1, is left out). Per family, design, `by` group and metric: n
+    run, -1, is left out). paired: ``auto`` (default) pairs the runs by
+    replicate seed when every design shares the baseline's seeds (they do in
+    every experiment of the package), True requires it, False never pairs.
+
+    Paired (:func:`mat_hopper.analysis.paired.compare_paired`): log ratios
+    per seed, paired t test and t interval, Wilcoxon signed-rank as a
+    check, a conclusion with the equivalence margin. Unpaired: n
     (replicates), means of replicate means, percent change with its
     bootstrap interval (``ci_low``, ``ci_high``, %), Mann-Whitney U across
-    replicates, raw and Holm-adjusted p (one family per metric, experiment,
-    profile and convention), rank-biserial effect size, significance;
-    ``basis = "replicates"``. The U test and effect size are
-    :func:`mat_hopper.metrics.compare` applied to the replicate means."""
+    replicates, rank-biserial effect size. Either way raw and Holm-adjusted
+    p (one family per metric, experiment, profile and convention; the
+    claims re-correct within each claim), significance, ``basis =
+    "replicates"`` and ``paired``."""
+    from .paired import compare_paired
+
     metrics = _check_metrics(hops, metrics)
     means = replicate_means(hops, metrics=metrics)
     if len(means) == 0:
         raise ValueError("no replicate runs (replicate >= 0) in the table")
+    if baseline not in set(means["design"]):
+        raise ValueError(
+            f"baseline {baseline!r} has no replicate runs; designs with replicates: {sorted(set(means['design']))}"
+        )
+    if paired not in ("auto", True, False):
+        raise ValueError(f"paired must be 'auto', True or False, got {paired!r}")
+    shares = _shares_seeds(means, baseline, by)
+    if paired is True and not shares:
+        raise ValueError("paired=True but the designs do not share the baseline's replicate seeds")
+    if paired is not False and shares:
+        out = compare_paired(
+            means,
+            baseline,
+            by=by,
+            metrics=metrics,
+            group_columns=_present(means, FAMILY_COLUMNS),
+            alpha=alpha,
+            confidence=confidence,
+        )
+        out["basis"] = "replicates"
+        return out
     frames = []
     for g, res in _compare_families(means, baseline, by, metrics, alpha):
         lows, highs = [], []
@@ -373,12 +417,9 @@ def compare_replicates(
             highs.append(hi)
         res["ci_low"], res["ci_high"] = lows, highs
         frames.append(res)
-    if not frames:
-        raise ValueError(
-            f"baseline {baseline!r} has no replicate runs; designs with replicates: {sorted(set(means['design']))}"
-        )
     out = pd.concat(frames, ignore_index=True)
     out["basis"] = "replicates"
+    out["paired"] = False
     return out
 
 

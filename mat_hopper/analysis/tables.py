@@ -1,7 +1,7 @@
 """Small tables of results, for reading: one call per question a chapter
 asks (how did each run end, percent change against a baseline, what
 claims hold), from the tidy tables of :mod:`mat_hopper.experiments`.
-Every percent change is :func:`mat_hopper.analysis.change.percent_change`.
+Every percent change is :func:`mat_hopper.change.percent_change`.
 
 Units: SI in the column names (``_m``, ``_w``, ``_s``); densities g/cm^3,
 moduli GPa.
@@ -13,8 +13,8 @@ import numpy as np
 import pandas as pd
 
 from ..behaviours import order_behaviours
+from ..change import percent_change
 from ..materials import CONVENTIONS, LegDesign, order_designs, paper_designs
-from .change import percent_change
 
 
 def design_table(designs: dict[str, LegDesign] | None = None) -> pd.DataFrame:
@@ -92,7 +92,7 @@ def pct_change_table(
     """Percent change of the mean of `metric` against `baseline` (same
     behaviour, unperturbed runs), designs as rows and behaviours as
     columns (from :func:`mat_hopper.analysis.stats.summary_table`). Where the
-    baseline's mean is round-off (:func:`~mat_hopper.analysis.change.percent_change`;
+    baseline's mean is round-off (:func:`~mat_hopper.change.percent_change`;
     e.g. the tracking error of hopping in place) the change is nan: a
     percentage of nothing means nothing."""
     from . import stats
@@ -277,7 +277,7 @@ def claims_for(
 ) -> pd.DataFrame:
     """The paper's claims beside ours (:func:`mat_hopper.analysis.claims.claims_table`)
     from a reproduction's tables (``exp*_hops``, ``exp*_runs``,
-    ``stability``), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
+    ``stability``, ``controls_hops`` where present), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
     (None). conventions: default those present in the tables. columns:
     which to keep (None: all)."""
     from . import claims
@@ -294,7 +294,15 @@ def claims_for(
     from .robustness import FINE_LABEL, fine_step_hops
 
     fine = fine_step_hops(tables.get("robustness_hops"))
-    table = claims.claims_table(hops, runs, stab, conventions=tuple(conventions), fine_hops=fine, fine_label=FINE_LABEL)
+    table = claims.claims_table(
+        hops,
+        runs,
+        stab,
+        conventions=tuple(conventions),
+        fine_hops=fine,
+        fine_label=FINE_LABEL,
+        controls=tables.get("controls_hops"),  # the beyond-mass columns, where the controls ran
+    )
     if chapter is not None:
         ids = CHAPTER_CLAIMS[chapter]
         table = table[table["claim_id"].isin(ids)]
@@ -372,7 +380,7 @@ def setting_comparison(
     baseline) pair, per ``setting`` of the table (e.g. from
     :func:`axial_check`): rows setting, columns "<metric>: <design> vs
     <baseline>"; nan where either is missing or the baseline's mean is
-    round-off (:func:`~mat_hopper.analysis.change.percent_change`)."""
+    round-off (:func:`~mat_hopper.change.percent_change`)."""
     if "setting" not in hops.columns:
         raise ValueError("setting_comparison needs a 'setting' column")
     means = hops.groupby(["setting", "design"])[list(metrics)].mean()

@@ -24,7 +24,7 @@ Example::
 
 from __future__ import annotations
 
-from ._agreement import AGREEMENT_COLUMNS, agreement
+from ._agreement import AGREEMENT_COLUMNS, RELATIVE_TOLERANCE, agreement
 from ._cpu import evaluate_cpu
 from ._designs import (
     as_design,
@@ -52,6 +52,7 @@ def __getattr__(name):
 
 __all__ = [
     "AGREEMENT_COLUMNS",
+    "RELATIVE_TOLERANCE",
     "agreement",
     "BACKENDS",
     "EXTRA_COLUMNS",

@@ -45,17 +45,26 @@ def _pct(value: float, reference: float) -> float:
 
 
 def agreement(reference: pd.DataFrame, other: pd.DataFrame) -> pd.DataFrame:
-    """One row per design (:data:`AGREEMENT_COLUMNS`) of two batch tables of
-    the same designs in the same order (:func:`mat_hopper.batch.evaluate`):
-    the reference's and the other's stability and hop count, the other's
-    hop height minus the reference's (m), its tracking error and hip power
-    in percent of the reference's (over scored hop cycles, and over the
-    whole run where the tables carry ``run_*`` means), and whether every
-    figure is within the tolerances of this module (hops within
-    :data:`HOPS_TOLERANCE`, height within :data:`HEIGHT_TOLERANCE_M`,
-    tracking and power within :data:`RELATIVE_TOLERANCE`, divergence times
-    within :data:`DIVERGENCE_TOLERANCE_S`). Raises ValueError when a table
-    is not one, lacks a column, or the designs differ."""
+    """How far a batch backend's results are from the reference's, per design.
+
+    Args:
+        reference: a batch table (:func:`mat_hopper.batch.evaluate`), e.g. the
+            mujoco backend's.
+        other: a batch table of the same designs in the same order.
+
+    Returns:
+        One row per design (:data:`AGREEMENT_COLUMNS`): both stabilities and
+        hop counts, the other's hop height minus the reference's (m), its
+        tracking error and hip power in percent of the reference's (over
+        scored hop cycles, and over the whole run where the tables carry
+        ``run_*`` means), and whether every figure is within tolerance (hops
+        within :data:`HOPS_TOLERANCE`, height within :data:`HEIGHT_TOLERANCE_M`,
+        tracking and power within :data:`RELATIVE_TOLERANCE`, divergence
+        times within :data:`DIVERGENCE_TOLERANCE_S`).
+
+    Raises:
+        ValueError: a table that is not one, lacks a column, or other designs.
+    """
     need = ("design", "n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable", "diverged_at_s")
     for label, t in (("reference", reference), ("other", other)):
         if not isinstance(t, pd.DataFrame):

@@ -24,7 +24,7 @@ def _row(design, beh, settings: BatchSettings) -> dict:
     from ..metrics import run_summary
     from ..sim import C, simulate
 
-    r = simulate(design, beh, settings=settings.sim_settings())
+    r = simulate(design, beh, settings=settings)
     s = run_summary(r)
     err = np.hypot(*(r.base_pos[:, :2] - r.data[:, [C["x_des"], C["y_des"]]]).T)
     power = np.hypot(*r.hip_power.T)
@@ -58,10 +58,23 @@ def evaluate_cpu(
     workers: int | None = None,
     progress: bool = False,
 ) -> pd.DataFrame:
-    """One row per design (input order): n_hops, hop_height_m,
-    tracking_error_m, power_w, stable (see :data:`RESULT_COLUMNS`), from
-    one CPU rollout each. workers: processes (default: every core; 1 runs
-    in this process)."""
+    """The mujoco backend: one CPU rollout (:func:`mat_hopper.sim.simulate`) per design.
+
+    Args:
+        designs: LegDesigns or names.
+        behaviour: a Behaviour or a name.
+        settings: the run's :class:`BatchSettings` (None: the paper's protocol).
+        workers: processes (default: every core; 1 runs in this process).
+        progress: show a progress bar.
+
+    Returns:
+        One row per design, in input order: :data:`RESULT_COLUMNS` (n_hops,
+        hop_height_m in m, tracking_error_m in m, power_w in W, stable) and
+        :data:`EXTRA_COLUMNS`.
+
+    Raises:
+        ValueError: invalid designs, behaviour or workers.
+    """
     settings = settings or BatchSettings()
     designs = [as_design(d) for d in designs]
     beh = get_behaviour(behaviour)

@@ -25,7 +25,17 @@ _LOOKS_LIKE_PROPERTY = re.compile(r"^(dens|mod|rho\b|e_)", re.IGNORECASE)
 
 
 def as_design(design) -> LegDesign:
-    """A LegDesign, or one parsed from its name (``SS``, ``PVC-Ti-SS``, ``rho-inc``)."""
+    """A design as a LegDesign.
+
+    Args:
+        design: a LegDesign (returned as is) or a name (``"SS"``, ``"PVC-Ti-SS"``, ``"rho-inc"``).
+
+    Returns:
+        The LegDesign.
+
+    Raises:
+        ValueError: anything else, or an unknown name.
+    """
     if isinstance(design, LegDesign):
         return design
     if isinstance(design, str):
@@ -34,8 +44,17 @@ def as_design(design) -> LegDesign:
 
 
 def parse_design_list(text: str) -> list[LegDesign]:
-    """Comma-separated design names, e.g. ``SS,rho-inc,PVC-Ti-SS``; an
-    empty item ("SS,,PVC") is refused, as in every comma list of the CLI."""
+    """Designs from a comma-separated list of names.
+
+    Args:
+        text: e.g. ``"SS,rho-inc,PVC-Ti-SS"``.
+
+    Returns:
+        The LegDesigns, in order.
+
+    Raises:
+        ValueError: an empty item (``"SS,,PVC"``, as in every comma list of the CLI) or an unknown name.
+    """
     names = [p.strip() for p in str(text).split(",")]
     if not any(names):
         raise ValueError(f"--designs needs at least one design name, got {text!r}")
@@ -45,12 +64,26 @@ def parse_design_list(text: str) -> list[LegDesign]:
 
 
 def topology_key(design: LegDesign) -> tuple[bool, ...]:
-    """Which segments are rigid, base to foot: equal keys compile to one topology."""
+    """Which segments are rigid, base to foot: equal keys compile to one topology.
+
+    Args:
+        design: a LegDesign.
+
+    Returns:
+        One bool per segment, True where rigid.
+    """
     return tuple(m.rigid for m in design.segments)
 
 
 def group_by_topology(designs: Sequence[LegDesign]) -> OrderedDict[tuple[bool, ...], list[int]]:
-    """Indices of the designs per topology, groups and indices in input order."""
+    """The designs grouped by topology (one compiled model per group).
+
+    Args:
+        designs: LegDesigns.
+
+    Returns:
+        {topology key: indices of its designs}, groups and indices in input order.
+    """
     groups: OrderedDict[tuple[bool, ...], list[int]] = OrderedDict()
     for i, d in enumerate(designs):
         groups.setdefault(topology_key(d), []).append(i)
@@ -164,8 +197,19 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
 
 
 def designs_from_csv(path) -> list[LegDesign]:
-    """Designs from a CSV file (see :func:`designs_from_frame`; a column
-    named twice is refused, which pandas would rename)."""
+    """Designs from a CSV file.
+
+    Args:
+        path: the file, columns as :func:`designs_from_frame` reads them.
+
+    Returns:
+        One LegDesign per row.
+
+    Raises:
+        ValueError: an empty name, a file pandas cannot parse, a column
+            named twice (which pandas would rename), or a bad table
+            (:func:`designs_from_frame`).
+    """
     if path is None or not str(path).strip():
         raise ValueError("--designs-csv: empty file name")
     try:
@@ -204,7 +248,15 @@ def design_columns(design: LegDesign, n_max: int | None = None, segment_mass: st
 
 
 def designs_to_frame(designs: Iterable[LegDesign]) -> pd.DataFrame:
-    """The inverse of :func:`designs_from_frame` (moduli 'rigid' where rigid)."""
+    """The inverse of :func:`designs_from_frame`.
+
+    Args:
+        designs: LegDesigns.
+
+    Returns:
+        One row per design: design, density_1..density_N (g/cm^3),
+        modulus_1..modulus_N (GPa, ``"rigid"`` where rigid).
+    """
     designs = list(designs)
     n_max = max(d.n_segments for d in designs)
     rows = []

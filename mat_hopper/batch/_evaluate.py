@@ -21,18 +21,30 @@ def evaluate(
     max_batch: int | None = None,
     progress: bool = False,
 ) -> pd.DataFrame:
-    """One row per design, in input order (see :mod:`mat_hopper.batch`):
-    :data:`~mat_hopper.batch.RESULT_COLUMNS` (n_hops; hop_height_m in m,
-    tracking_error_m in m and power_w in W, means over the scored hop
-    cycles; stable) and :data:`~mat_hopper.batch.EXTRA_COLUMNS`.
+    """Many designs on one behaviour under one settings, on a batch backend.
 
-    designs: a list of LegDesigns or names; behaviour: a Behaviour or a
-    name; settings: run settings (None: :class:`BatchSettings`' defaults,
-    the paper's 60 s at 1e-4 s, 20 s transient); device: Warp device for
-    the warp backend ("cpu", "cuda"); workers: processes for the mujoco
-    backend; max_batch: most worlds in one warp batch. Raises ValueError
-    for a string of designs, options of the other backend, counts < 1 or
-    an unknown backend; WarpUnavailable when mujoco-warp is missing."""
+    Args:
+        designs: a list of LegDesigns or design names (``"SS"``, ``"PVC-Ti-SS"``).
+        behaviour: a Behaviour or a name (``"forward"``, ...).
+        settings: the run's :class:`BatchSettings` (None: the paper's 60 s at
+            1e-4 s, 20 s transient).
+        backend: ``"mujoco"`` (CPU rollouts, the reference) or ``"warp"`` (MuJoCo Warp).
+        device: the Warp device for the warp backend (``"cpu"``, ``"cuda"``).
+        workers: processes for the mujoco backend (default: every core).
+        max_batch: most worlds in one warp batch.
+        progress: show a progress bar.
+
+    Returns:
+        One row per design, in input order (see :mod:`mat_hopper.batch`):
+        :data:`~mat_hopper.batch.RESULT_COLUMNS` (n_hops; hop_height_m in m,
+        tracking_error_m in m and power_w in W, means over the scored hop
+        cycles; stable) and :data:`~mat_hopper.batch.EXTRA_COLUMNS`.
+
+    Raises:
+        ValueError: a string of designs, options of the other backend, counts
+            < 1, settings that are not BatchSettings, or an unknown backend.
+        WarpUnavailable: the warp backend without mujoco-warp installed.
+    """
     if isinstance(designs, str):
         raise ValueError(
             f"designs must be a list of designs (names or LegDesigns), got the string {designs!r}; "

@@ -51,6 +51,8 @@ controls before every step, so that it cannot slow the solver of the
 others.
 """
 
+# Kernels are exempt from the 100-line rule: one kernel is one device launch, and splitting it adds launches per step.
+
 from __future__ import annotations
 
 import numpy as np

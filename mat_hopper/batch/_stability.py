@@ -28,7 +28,9 @@ import numpy as np
 import pandas as pd
 
 from .. import reference as ref
+from ..control import SensorTiming
 from ..materials import DEFAULT_CONVENTION
+from ..model import MAX_TIMESTEP_S
 from ..stability import SPEC_SCAN_N, spec_ladder
 from ._designs import as_design
 from ._evaluate import evaluate
@@ -43,7 +45,7 @@ def spec_scan_batch(
     *,
     duration_s: float = ref.STABILITY_TEST_DURATION_S,
     convention: str = DEFAULT_CONVENTION,
-    sensor_latency_steps: int = ref.SENSOR_LATENCY_STEPS,
+    sensor_timing: SensorTiming | str | int = SensorTiming(),
     first_s: float = ref.STABILITY_TIMESTEP_RANGE[0],
     last_s: float = ref.STABILITY_TIMESTEP_RANGE[1],
     n: int = SPEC_SCAN_N,
@@ -53,25 +55,36 @@ def spec_scan_batch(
     max_batch: int | None = None,
     progress: bool = False,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """(one row per design, :data:`SCAN_COLUMNS`; one row per try,
-    :data:`TRY_COLUMNS`).
+    """The reference stable-time-step scan of many designs on a batch backend.
 
-    designs: LegDesigns or names; duration_s: static hopping per try (s);
-    first_s, last_s, n: the ladder :func:`mat_hopper.stability.spec_ladder`
-    (s); spec_timestep_s is its first rung at which the design ends upright,
-    nan if none. density_g_cm3, modulus_gpa: of the first segment (the map's
-    designs are mono-material). sensor_latency_steps: the controller's
-    sensor timing (:class:`~mat_hopper.batch.BatchSettings`). backend, device, workers, max_batch: as
-    :func:`mat_hopper.batch.evaluate`. Raises ValueError for an empty design
-    list or a ladder outside (0, 0.1] s."""
+    Args:
+        designs: LegDesigns or names.
+        duration_s: static hopping per try, s.
+        convention: the stiffness convention.
+        sensor_timing: the controller's (:class:`~mat_hopper.control.SensorTiming`;
+            a name or a latency in physics steps).
+        first_s, last_s, n: the ladder of :func:`mat_hopper.stability.spec_ladder`
+            (s, from first_s down to last_s, n rungs).
+        backend, device, workers, max_batch, progress: as :func:`mat_hopper.batch.evaluate`.
+
+    Returns:
+        (one row per design, :data:`SCAN_COLUMNS`: spec_timestep_s, the first
+        rung at which the design ends upright, nan if none; density_g_cm3 and
+        modulus_gpa of the first segment (the map's designs are mono-material);
+        one row per try, :data:`TRY_COLUMNS`).
+
+    Raises:
+        ValueError: an empty design list, n < 1, or a ladder outside (0, 0.1] s.
+    """
     designs = [as_design(d) for d in designs]
     if not designs:
         raise ValueError("no designs to scan")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"the ladder needs n >= 1 time steps, got {n!r}")
-    if not (0 < last_s <= first_s <= 0.1):
+    if not (0 < last_s <= first_s <= MAX_TIMESTEP_S):
         raise ValueError(
-            f"the ladder must run from first_s down to last_s within (0, 0.1] s, got {first_s!r}, {last_s!r}"
+            f"the ladder must run from first_s down to last_s within (0, {MAX_TIMESTEP_S:g}] s, "
+            f"got {first_s!r}, {last_s!r}"
         )
     ladder = spec_ladder(first_s, last_s, n)
     found = [math.nan] * len(designs)
@@ -86,7 +99,7 @@ def spec_scan_batch(
             timestep_s=float(dt),
             transient_s=0.0,
             convention=convention,
-            sensor_latency_steps=sensor_latency_steps,
+            sensor_timing=sensor_timing,
         )
         table = evaluate(
             [designs[i] for i in todo],
@@ -98,23 +111,7 @@ def spec_scan_batch(
             max_batch=max_batch,
             progress=progress,
         )
-        left = []
-        for i, row in zip(todo, table.to_dict("records")):
-            n_tries[i] += 1
-            tries.append(
-                {
-                    "design": designs[i].name,
-                    "dt_s": float(dt),
-                    "stable": bool(row["stable"]),
-                    "upright": bool(row["upright"]),
-                    "diverged_at_s": math.nan if row["diverged_at_s"] is None else float(row["diverged_at_s"]),
-                }
-            )
-            if row["upright"]:
-                found[i] = float(dt)
-            else:
-                left.append(i)
-        todo = left
+        todo = _record_rung(float(dt), todo, table, designs, found, n_tries, tries)
     summary = pd.DataFrame(
         [
             {
@@ -130,3 +127,25 @@ def spec_scan_batch(
         columns=list(SCAN_COLUMNS),
     )
     return summary, pd.DataFrame(tries, columns=list(TRY_COLUMNS))
+
+
+def _record_rung(dt: float, todo: list, table, designs, found: list, n_tries: list, tries: list) -> list:
+    """One rung of the ladder: each try recorded, the step noted for the
+    designs that ended upright; returns the designs still to try."""
+    left = []
+    for i, row in zip(todo, table.to_dict("records")):
+        n_tries[i] += 1
+        tries.append(
+            {
+                "design": designs[i].name,
+                "dt_s": dt,
+                "stable": bool(row["stable"]),
+                "upright": bool(row["upright"]),
+                "diverged_at_s": math.nan if row["diverged_at_s"] is None else float(row["diverged_at_s"]),
+            }
+        )
+        if row["upright"]:
+            found[i] = dt
+        else:
+            left.append(i)
+    return left

@@ -54,11 +54,20 @@ INSTALL_HINT = "pip install 'mat-hopper[gpu]' (mujoco-warp and warp-lang)"
 
 
 class WarpUnavailable(ImportError):
-    """mujoco-warp or warp-lang is not installed (or does not load)."""
+    """mujoco-warp or warp-lang is not installed (or does not load): an
+    ImportError, so ``except ImportError`` catches it. Install the ``gpu`` extra.
+    """
 
 
 def require_warp():
-    """(warp, mujoco_warp), quietly initialised; WarpUnavailable if missing."""
+    """The warp backend's libraries, quietly initialised.
+
+    Returns:
+        (warp, mujoco_warp), the modules.
+
+    Raises:
+        WarpUnavailable: (an ImportError) mujoco-warp or warp-lang missing or not loading.
+    """
     try:
         import warp as wp
     except Exception as e:  # ImportError, or a broken install
@@ -80,6 +89,11 @@ def require_warp():
 
 
 def warp_available() -> bool:
+    """Whether the warp backend can run here.
+
+    Returns:
+        True when mujoco-warp and warp-lang are installed and load.
+    """
     try:
         require_warp()
         return True
@@ -127,9 +141,18 @@ def _check_same(ref_arrays: dict, model, design: LegDesign, ref_name: str) -> No
 
 
 def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettings):
-    """Per-world values (numpy, world axis first) of :data:`DESIGN_FIELDS`,
-    plus the derived fields as MuJoCo's compiler gives them (for checks),
-    the topology's model and its total masses (kg)."""
+    """What differs between the worlds of a batch, as the device holds it.
+
+    Args:
+        designs: LegDesigns of one topology.
+        behaviour: a Behaviour or a name.
+        settings: the run's :class:`BatchSettings`.
+
+    Returns:
+        Per-world values (numpy, world axis first) of :data:`DESIGN_FIELDS`,
+        plus the derived fields as MuJoCo's compiler gives them (for checks),
+        the topology's model and its total masses (kg).
+    """
     beh = get_behaviour(behaviour)
     build = dict(
         ramp_grade_deg=beh.ramp_grade_deg,
@@ -163,9 +186,19 @@ def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettin
 
 
 class WarpBatch:
-    """Designs of one topology on one behaviour, one world each, on a Warp
-    device ("cpu", "cuda", "cuda:1", ...). :meth:`run` simulates,
-    :meth:`results` gives the per-design table."""
+    """Designs of one topology on one behaviour, one world each, on a Warp device.
+    :meth:`run` simulates, :meth:`results` gives the per-design table.
+
+    Args:
+        designs: LegDesigns or names, all of one topology (:func:`topology_key`).
+        behaviour: a Behaviour or a name.
+        settings: the run's :class:`BatchSettings` (None: the paper's protocol).
+        device: the Warp device (``"cpu"``, ``"cuda"``, ``"cuda:1"``, ...).
+
+    Raises:
+        ValueError: no designs, designs of several topologies, or an unknown device.
+        WarpUnavailable: without mujoco-warp.
+    """
 
     def __init__(
         self, designs: Sequence, behaviour, settings: BatchSettings | None = None, *, device: str | None = None
@@ -203,7 +236,7 @@ class WarpBatch:
                 arr.assign(fields[f].reshape(arr.numpy().shape).astype(np.float32))
             mjw.set_const(m, d)
             # The start pose: the behaviour's, as the CPU rollout prepares it.
-            _, data0 = prepare(self.designs[0], self.behaviour, settings.sim_settings())
+            _, data0 = prepare(self.designs[0], self.behaviour, settings)
             qpos0 = np.tile(np.asarray(data0.qpos, dtype=np.float32), (nw, 1))
             d.qpos.assign(qpos0)
             d.qvel.zero_()
@@ -386,7 +419,7 @@ class WarpBatch:
                     "power_w": mean_or_nan(acc[w, K.A_POW_SUM], n),
                     "stable": bool(div[w] < 0),
                     "behaviour": self.behaviour.name,
-                    "sensor_timing": self.settings.sensor_timing,
+                    "sensor_timing": self.settings.sensor_timing.name,
                     "diverged_at_s": None if div[w] < 0 else float(div[w] * self.settings.timestep_s),
                     "total_mass_kg": float(self.total_mass_kg[w]),
                     "backend": "warp",
@@ -407,9 +440,24 @@ def evaluate_warp(
     max_batch: int | None = None,
     progress: bool = False,
 ) -> pd.DataFrame:
-    """One row per design (input order), like :func:`evaluate_cpu`: designs
-    are grouped by topology and each group (in slices of at most max_batch
-    worlds) runs as one batch on the Warp device."""
+    """The warp backend: designs grouped by topology, each group (in slices of at
+    most `max_batch` worlds) run as one batch on the Warp device.
+
+    Args:
+        designs: LegDesigns or names.
+        behaviour: a Behaviour or a name.
+        settings: the run's :class:`BatchSettings` (None: the paper's protocol).
+        device: the Warp device (None: ``"cpu"``).
+        max_batch: most worlds in one batch.
+        progress: show a progress bar.
+
+    Returns:
+        One row per design, in input order, like :func:`evaluate_cpu`.
+
+    Raises:
+        ValueError: bad designs or counts.
+        WarpUnavailable: without mujoco-warp.
+    """
     settings = settings or BatchSettings()
     require_warp()
     designs = [as_design(d) for d in designs]

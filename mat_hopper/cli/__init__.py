@@ -75,10 +75,6 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     return harden_parser(p)
 
 
-class UsageError(ValueError):
-    """Bad input found by a command (reported as one line, exit code 2)."""
-
-
 # Options whose value may be a list starting with a minus sign ("-1,2,3"):
 # rewritten to --opt=VALUE before argparse sees them (see _checks).
 def describe_error(e: BaseException) -> str:
@@ -123,7 +119,7 @@ def main(argv=None) -> int:
 
     route_mujoco_warnings()
     from ..atomic import remove_stale_mp_dirs
-    from ..optimize._study import stop_signals
+    from ..optimize import stop_signals
     from ._checks import table_on_stdout
 
     remove_stale_mp_dirs()  # what killed runs left in the temp folder

@@ -347,12 +347,10 @@ SENSOR_TIMING_HELP = (
 def sensor_timing_arg(text: str):
     """--sensor-timing: a name, or digits for a latency in physics steps
     (checked here, before any work, by the controller's own parser)."""
-    from ..control import sensor_latency_steps
+    from ..control import SensorTiming
 
     text = str(text).strip()
-    timing = int(text) if text.isdigit() else text
     try:
-        sensor_latency_steps(timing)  # ValueError naming the accepted values
+        return SensorTiming(int(text) if text.isdigit() else text)  # ValueError naming the accepted values
     except ValueError as e:
         raise ValueError(f"--sensor-timing: {e}") from None
-    return timing

@@ -115,13 +115,12 @@ SETTING_COLUMNS = ("behaviour", "convention", "sensor_timing", "duration_s", "tr
 def run_batch(args) -> int:
     from ..batch import RESULT_COLUMNS, designs_from_csv, evaluate, parse_design_list
     from ..behaviours import behaviour
-    from ..control import sensor_latency_steps
     from ..experiments.profiles import get_profile
     from ._checks import check_output_file, named_by_flags, sensor_timing_arg
 
     check_output_file(args.csv, "--csv", stdout=True)  # before any work
     profile = get_profile(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
-    latency = sensor_latency_steps(sensor_timing_arg(args.sensor_timing))
+    timing = sensor_timing_arg(args.sensor_timing)
     _check_applicable(args)
     if args.map is not None:
         designs = _map_designs(args.map)
@@ -131,7 +130,7 @@ def run_batch(args) -> int:
         designs = parse_design_list(args.designs)
     beh = behaviour("forward" if args.behaviour is None else args.behaviour)
     with named_by_flags():
-        settings = _batch_settings(args, profile, latency)
+        settings = _batch_settings(args, profile, timing)
     if args.backend == "warp":
         from ..batch import WarpUnavailable, require_warp
 
@@ -155,14 +154,13 @@ def run_batch(args) -> int:
     if args.stability:
         return _run_stability(args, designs, settings, run, progress)
     table = evaluate(designs, beh, settings, progress=progress, **run)
-    out = table[list(RESULT_COLUMNS)].assign(
-        behaviour=beh.name,
-        convention=settings.convention,
-        sensor_timing=settings.sensor_timing,
-        duration_s=settings.duration_s,
-        transient_s=settings.transient_s,
-        timestep_s=settings.timestep_s,
-        backend=args.backend,
+    out = (
+        table[list(RESULT_COLUMNS)]
+        .assign(
+            behaviour=beh.name,
+            **settings.columns("convention", "sensor_timing", "duration_s", "transient_s", "timestep_s"),
+        )
+        .assign(backend=args.backend)
     )
     out = _with_properties(out, designs, settings.segment_mass)
     where = f" on {device}" if device else ""
@@ -176,7 +174,7 @@ def run_batch(args) -> int:
     return _report(out, args.csv, f"{n_bad} of {_count(len(out), 'design')} diverged" if n_bad else "", shown=shown)
 
 
-def _batch_settings(args, profile, latency: int):
+def _batch_settings(args, profile, timing):
     from ..batch import BatchSettings
 
     return BatchSettings(
@@ -184,7 +182,7 @@ def _batch_settings(args, profile, latency: int):
         timestep_s=profile.timestep_s if args.timestep is None else args.timestep,
         transient_s=profile.transient_s if args.transient is None else args.transient,
         convention=args.convention,
-        sensor_latency_steps=latency,
+        sensor_timing=timing,
         segment_mass=profile.segment_mass,
     )
 
@@ -268,13 +266,11 @@ def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
         designs,
         duration_s=duration,
         convention=args.convention,
-        sensor_latency_steps=settings.sensor_latency_steps,
+        sensor_timing=settings.sensor_timing,
         progress=progress,
         **run,
     )
-    summary = summary.assign(
-        convention=settings.convention, sensor_timing=settings.sensor_timing, stability_duration_s=duration
-    )
+    summary = summary.assign(**settings.columns("convention", "sensor_timing"), stability_duration_s=duration)
     summary = _with_properties(summary, designs, settings.segment_mass)
     where = f" on {run['device']}" if run["device"] else ""
     print(

@@ -13,6 +13,7 @@ from ..experiments.profiles import PROFILES, get_profile
 from ..limits import check_count, check_workers
 from ..materials import LegDesign
 from ..optimize import (
+    CONFIG_ATTR,
     DEFAULT_CVAR_ALPHA,
     DEFAULT_REPLICATES,
     DEFAULT_WORKERS,
@@ -22,21 +23,22 @@ from ..optimize import (
     RunOptions,
     SearchSpace,
     StudyConfig,
+    check_objectives_vary,
     check_sampler,
     check_study_name,
     describe,
+    dispose,
     front_table,
     open_storage,
     redact,
     replay,
     run_study,
+    storage_errors,
     storage_file,
     stored_config,
     study_exists,
     write_report,
 )
-from ..optimize._storage import dispose, storage_errors
-from ..optimize._study import CONFIG_ATTR, check_objectives_vary
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
 from ._checks import check_output_dir, named_by_flags, nothing_left_behind, parse_pair

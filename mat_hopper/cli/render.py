@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import sys
 
+from ..sim import is_auto
 from ..viz.render import (
     _LIBS,
     IMAGE_EXTENSIONS,
@@ -50,9 +51,7 @@ def cmd_render(args) -> int:
     except RenderBackendError as e:
         print(f"mat-hopper render: error: {e}", file=sys.stderr)
         return 3
-    print(
-        f"{design.name} on {args.behaviour}: {describe_settings(settings, str(args.timestep).strip().lower() == 'auto')}"
-    )
+    print(f"{design.name} on {args.behaviour}: {describe_settings(settings, is_auto(str(args.timestep)))}")
     for path in render_files(
         design,
         args.behaviour,
@@ -64,7 +63,6 @@ def cmd_render(args) -> int:
         tile_start_s=args.tile_start,
         fps=args.fps,
         size=size,
-        convention=args.convention,
         backend=backend,
         settings=settings,
     ):

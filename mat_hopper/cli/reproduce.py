@@ -6,9 +6,9 @@ from __future__ import annotations
 import os
 import sys
 
+from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..experiments.reproduce import default_out_dir, reproduce
-from ..experiments.runner import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..limits import check_total_steps, check_workers
 from ._checks import check_distinct_outputs, check_name_list, check_output_dir, nothing_left_behind
 
@@ -101,7 +101,7 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--experiments",
         default="1,2,3,stability,robustness",
-        help="comma-separated: 1, 2, 3, stability, robustness (default all five)",
+        help="comma-separated: 1, 2, 3, stability, robustness, controls (default all six)",
     )
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")

@@ -8,6 +8,7 @@ import sys
 
 from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES, behaviour
+from ..controls import CONTROLS, control, mass_properties
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
     CONVENTIONS,
@@ -19,9 +20,9 @@ from ..materials import (
     parse_design,
 )
 from ..metrics import METRICS, hop_table, run_summary
+from ..sim import AUTO, is_auto
 from ._checks import SENSOR_TIMING_HELP, check_output_file, named_by_flags, parse_list, sensor_timing_arg, write_table
 
-AUTO = "auto"
 DEFAULT_DESIGN = "SS"
 PROGRESS_CHUNK_S = 1.0  # simulated seconds per progress-bar update
 
@@ -31,7 +32,7 @@ def _timestep(text):
     1e-4 s period, chosen from the spring chain's bound)."""
     if text is None:
         return None
-    if str(text).strip().lower() == AUTO:
+    if is_auto(str(text)):
         return AUTO
     try:
         return float(text)
@@ -150,22 +151,17 @@ def sim_settings_from_args(
 
 
 def _sim_settings(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
-    from ..sim import SimSettings, auto_timestep
+    from ..sim import sim_settings
 
     dt = _timestep(args.timestep)
-    substeps = 1
-    if dt is None:
-        dt = get_profile().timestep_s
-    elif dt == AUTO:
-        substeps, dt = auto_timestep(design, args.convention, args.segment_mass)
-    return SimSettings(
+    return sim_settings(
+        design,
         duration_s=duration_s,
-        timestep_s=dt,
+        timestep_s=get_profile().timestep_s if dt is None else dt,
         transient_s=transient_s,
         convention=args.convention,
         sensor_timing=sensor_timing_arg(args.sensor_timing),
         segment_mass=args.segment_mass,
-        substeps=substeps,
         **extra,
     )
 
@@ -210,6 +206,8 @@ def cmd_simulate(args) -> int:
     profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
     check_output_file(args.csv, "--csv", stdout=True)
     design = design_from_args(args)
+    if args.control is not None:
+        design = control(design, args.control, args.segment_mass)
     beh = behaviour(args.behaviour)
     duration = profile.duration_s if args.duration is None else args.duration
     transient = profile.transient_s if args.transient is None else args.transient
@@ -219,7 +217,12 @@ def cmd_simulate(args) -> int:
     s = run_summary(rollout)
     print(
         f"{design.name} on {beh.name}: {settings.duration_s:g} s ({profile.name} profile) at "
-        f"{describe_settings(settings, _timestep(args.timestep) == AUTO)}, mass {rollout.total_mass_kg:.2f} kg"
+        f"{describe_settings(settings, is_auto(args.timestep))}, mass {rollout.total_mass_kg:.2f} kg"
+    )
+    mp = mass_properties(design, settings.segment_mass)
+    print(
+        f"leg: mass {mp.leg_mass_kg:.3f} kg, centre of mass {mp.leg_com_m:.4f} m below the hip, "
+        f"hip inertia {mp.hip_inertia_kg_m2:.4f} kg m^2"
     )
     if not rollout.stable:
         hint = ""
@@ -233,8 +236,9 @@ def cmd_simulate(args) -> int:
         cot = s["cost_of_transport"]
         cot = f"{cot:.3g}" if math.isfinite(cot) else "none (no distance travelled)"
         print(
-            f"power_w: hip actuators only (mean mechanical power); energy of all three actuators (hips and "
-            f"leg slide) {s['energy_j']:.1f} J, cost of transport {cot}"
+            f"power_w: hip actuators only (mean mechanical power); work of all three actuators (hips and leg "
+            f"slide) {s['work_abs_j']:.1f} J ({s['thrust_work_fraction']:.0%} by the thrust), "
+            f"{s['energy_per_hop_j']:.2f} J per hop, path {s['path_length_m']:.2f} m, cost of transport {cot}"
         )
     if args.csv:
         at = list(hops.columns).index("segment_mass") + 1
@@ -258,6 +262,13 @@ def register_cli(sub) -> None:
         "capped (2e9 physics steps, 5e6 recorded samples, 64 segments) and checked before any work.",
     )
     add_sim_arguments(p)
+    p.add_argument(
+        "--control",
+        choices=CONTROLS,
+        default=None,
+        help="simulate a control of the design instead: rigid (same densities, no springs), mass (homogeneous "
+        "leg of the same leg mass), inertia (same leg mass and hip inertia; mat_hopper.controls)",
+    )
     p.add_argument(
         "--profile",
         default=None,

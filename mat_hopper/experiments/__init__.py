@@ -8,6 +8,6 @@
 - :mod:`~mat_hopper.experiments.reproduce`: the reproduction pipeline
   (tables, figures, claims).
 
-This package's ``__init__`` imports nothing (the core module
-:mod:`mat_hopper.stability` uses the runner's keys).
+This package's ``__init__`` imports nothing. The cache keys are the core's
+:mod:`mat_hopper.keys` (the core module :mod:`mat_hopper.stability` uses them too).
 """

@@ -100,12 +100,16 @@ class Experiment:
             for bname in self.behaviours:
                 beh = get_behaviour(bname)
                 for rep in [UNPERTURBED, *range(replicates)]:
-                    pert = None if rep == UNPERTURBED else Perturbation.replicate(rep)
+                    pert = (
+                        None
+                        if rep == UNPERTURBED
+                        else Perturbation.replicate(rep, (profile.transient_s, profile.duration_s))
+                    )
                     labels = {
                         "experiment": self.name,
                         "profile": profile.name,
                         "convention": profile.convention,
-                        "sensor_timing": profile.sensor_timing,
+                        "sensor_timing": profile.sensor_timing.name,
                         "design": point.label,
                         "behaviour": beh.name,
                         "replicate": rep,
@@ -131,7 +135,6 @@ class StabilityMap:
 
     def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
         """One StabilitySpec per grid cell (replicates do not apply)."""
-        from ..stability import StabilitySpec
 
         profile = get_profile(profile)
         dens, mods = self.axes(profile)
@@ -148,17 +151,7 @@ class StabilityMap:
                     "density_g_cm3": d,
                     "modulus_gpa": e,
                 }
-                out.append(
-                    StabilitySpec(
-                        design,
-                        duration_s=profile.stability_duration_s,
-                        tolerance=profile.stability_tolerance,
-                        max_iter=profile.stability_max_iter,
-                        scan=profile.stability_scan,
-                        convention=profile.convention,
-                        labels=labels,
-                    )
-                )
+                out.append(profile.stability_spec(design, labels))
         return out
 
 
@@ -236,12 +229,30 @@ class RobustnessStudy:
         return robustness.tasks(profile, robustness.variants(replicates=n))
 
 
+@dataclass(frozen=True)
+class ControlsStudy:
+    """Material or mass? The claims' designs beside their rigid twins and
+    mass- and inertia-matched legs on shared seeds
+    (:mod:`mat_hopper.experiments.controls`; the claims table's beyond-mass
+    columns). Needs replicates: at least 2 (the profile's by default)."""
+
+    name: str = "controls"
+
+    def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
+        from .controls import control_tasks
+
+        profile = get_profile(profile)
+        n = check_replicates(replicates) or profile.replicates
+        return control_tasks(profile, replicates=max(n, 2))
+
+
 EXPERIMENTS = {
     "exp1": experiment_1,
     "exp2": experiment_2,
     "exp3": experiment_3,
     "stability": StabilityMap,
     "robustness": RobustnessStudy,
+    "controls": ControlsStudy,
 }
 EXPERIMENT_NAMES = tuple(EXPERIMENTS)
 
@@ -249,18 +260,27 @@ EXPERIMENT_NAMES = tuple(EXPERIMENTS)
 def experiment_name(text: str) -> str:
     """Canonical name: '1' or 'exp1' -> 'exp1'; 'stability' (or 'stab', '4')."""
     key = str(text).strip().lower()
-    alias = {"1": "exp1", "2": "exp2", "3": "exp3", "4": "stability", "stab": "stability", "robust": "robustness"}
+    alias = {
+        "1": "exp1",
+        "2": "exp2",
+        "3": "exp3",
+        "4": "stability",
+        "stab": "stability",
+        "robust": "robustness",
+        "control": "controls",
+    }
     key = alias.get(key, key)
     if key not in EXPERIMENTS:
         raise ValueError(
-            f"unknown experiment {text!r}; accepted: 1, 2, 3, stability, robustness (or {', '.join(EXPERIMENTS)})"
+            f"unknown experiment {text!r}; accepted: 1, 2, 3, stability, robustness, controls (or "
+            f"{', '.join(EXPERIMENTS)})"
         )
     return key
 
 
 def parse_experiments(text: str | None) -> list[str]:
     """'1,2,3,stability' -> ['exp1', 'exp2', 'exp3', 'stability'] (order
-    kept, duplicates dropped); None or 'all': all five (with robustness)."""
+    kept, duplicates dropped); None or 'all': all six (with robustness and controls)."""
     if text is None or str(text).strip().lower() == "all":
         return list(EXPERIMENT_NAMES)
     names = [experiment_name(p) for p in str(text).split(",") if p.strip()]
@@ -269,7 +289,7 @@ def parse_experiments(text: str | None) -> list[str]:
     return list(dict.fromkeys(names))
 
 
-def get_experiment(name: str) -> Experiment | StabilityMap | RobustnessStudy:
+def get_experiment(name: str) -> Experiment | StabilityMap | RobustnessStudy | ControlsStudy:
     """An experiment by name (see :func:`experiment_name`)."""
     return EXPERIMENTS[experiment_name(name)]()
 
@@ -286,7 +306,6 @@ def convention_tasks(
     LegDesigns; default the mono-materials) under each convention, with
     the profile's try
     length, tolerance and tries (no 20-step reference scan)."""
-    from ..stability import StabilitySpec
 
     prof = get_profile(profile)
     out = []
@@ -294,17 +313,7 @@ def convention_tasks(
         for n in names:
             d = parse_design(n) if isinstance(n, str) else n
             labels = {"experiment": "conventions", "profile": prof.name, "convention": conv, "design": d.name}
-            out.append(
-                StabilitySpec(
-                    d,
-                    duration_s=prof.stability_duration_s,
-                    tolerance=prof.stability_tolerance,
-                    max_iter=prof.stability_max_iter,
-                    scan=False,
-                    convention=conv,
-                    labels=labels,
-                )
-            )
+            out.append(prof.stability_spec(d, labels, convention=conv, scan=False))
     return out
 
 

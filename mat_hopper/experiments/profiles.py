@@ -8,15 +8,15 @@ column.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import pandas as pd
 
 from .. import reference as ref
-from ..control import DEFAULT_SENSOR_TIMING, sensor_timing_name
+from ..control import SensorTiming
 from ..materials import DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
 from ..perturbations import Perturbation
-from ..sim import AUTO, SimSettings, auto_timestep
+from ..sim import AUTO, SimSettings, is_auto, sim_settings
 
 PROFILE_ENV = "MAT_HOPPER_PROFILE"
 
@@ -67,19 +67,19 @@ class Profile:
     convention: str = "paper"
     axial_timestep_s: float | str = AUTO
     replicates: int = 6
-    sensor_timing: str = DEFAULT_SENSOR_TIMING
+    sensor_timing: SensorTiming = SensorTiming()
     segment_mass: str = DEFAULT_SEGMENT_MASS
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"profile name must be a non-empty string, got {self.name!r}")
-        object.__setattr__(self, "sensor_timing", sensor_timing_name(self.sensor_timing))
+        object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
         object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         for name in ("timestep_s", "axial_timestep_s"):
             value = getattr(self, name)
             if isinstance(value, str) and value != AUTO:
                 raise ValueError(f"{name} must be a number (s) or {AUTO!r}, got {value!r}")
-        if self.timestep_s != AUTO:
+        if not is_auto(self.timestep_s):
             self.sim_settings()  # validates duration, transient, time step, convention
         if int(self.stability_grid_size) < 1:
             raise ValueError(f"stability_grid_size must be >= 1, got {self.stability_grid_size!r}")
@@ -90,6 +90,26 @@ class Profile:
         check_replicates(self.replicates)
         if int(self.stability_max_iter) < 0:
             raise ValueError(f"stability_max_iter must be >= 0, got {self.stability_max_iter!r}")
+
+    def stability_spec(self, design, labels: dict, *, convention: str | None = None, scan: bool | None = None):
+        """The stable-time-step measurement (a runner task) of one design under
+        this profile: its try length, tolerance, tries and scan; `convention`
+        and `scan` override the profile's."""
+        from ..stability import StabilitySpec
+
+        return StabilitySpec(
+            design,
+            duration_s=self.stability_duration_s,
+            tolerance=self.stability_tolerance,
+            max_iter=self.stability_max_iter,
+            scan=self.stability_scan if scan is None else scan,
+            convention=self.convention if convention is None else convention,
+            labels=labels,
+        )
+
+    def key_dict(self) -> dict:
+        """Every field as a cache or study key records it (a sensor timing by its name)."""
+        return {f.name: _shown(getattr(self, f.name)) for f in fields(self)}
 
     def for_convention(self, convention: str) -> Profile:
         """This profile under another stiffness convention (and its time step)."""
@@ -102,27 +122,22 @@ class Profile:
     def for_sensor_timing(self, sensor_timing) -> Profile:
         """This profile with the controller reading its base sensors at
         another moment (a name or a latency in physics steps)."""
-        name = sensor_timing_name(sensor_timing)
-        return self if name == self.sensor_timing else replace(self, sensor_timing=name)
+        timing = SensorTiming(sensor_timing)
+        return self if timing == self.sensor_timing else replace(self, sensor_timing=timing)
 
     def sim_settings(self, perturbation: Perturbation | None = None, design=None) -> SimSettings:
         """The SimSettings of one run. With ``timestep_s="auto"`` the
         physics substeps depend on the leg: pass its ``design``."""
-        timestep_s, substeps = self.timestep_s, 1
-        if timestep_s == AUTO:
-            if design is None:
-                raise ValueError("this profile's time step is 'auto': pass the design (its substeps depend on it)")
-            substeps, timestep_s = auto_timestep(design, self.convention, self.segment_mass)
-        return SimSettings(
+        return sim_settings(
+            design,
             duration_s=self.duration_s,
-            timestep_s=timestep_s,
+            timestep_s=self.timestep_s,
             transient_s=self.transient_s,
             convention=self.convention,
             record_rate_hz=self.record_rate_hz,
             perturbation=perturbation,
             sensor_timing=self.sensor_timing,
             segment_mass=self.segment_mass,
-            substeps=substeps,
         )
 
 
@@ -169,7 +184,12 @@ def profile_table(profile: str | Profile | None = None) -> pd.DataFrame:
     prof = get_profile(profile)
     paper = PROFILES["paper"]
     rows = [
-        {"setting": f, "meaning": m, "this build": getattr(prof, f), "paper": getattr(paper, f)}
+        {"setting": f, "meaning": m, "this build": _shown(getattr(prof, f)), "paper": _shown(getattr(paper, f))}
         for f, m in _PROFILE_FIELDS
     ]
     return pd.DataFrame(rows)
+
+
+def _shown(value):
+    """A profile value as its table shows it (a sensor timing by its name)."""
+    return value.name if isinstance(value, SensorTiming) else value

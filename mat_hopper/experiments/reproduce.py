@@ -14,7 +14,11 @@ the claims table through :mod:`mat_hopper.viz.figures` and
 - ``robustness_hops.csv``, ``robustness_runs.csv``: the robustness study's
   runs; ``robustness.csv``: each quantity per variant, classified;
   ``robustness_summary.csv``: per quantity, how many variants keep, move
-  or flip it (:mod:`mat_hopper.analysis.robustness`).
+  or flip it (:mod:`mat_hopper.analysis.robustness`);
+- ``controls_hops.csv``, ``controls_runs.csv``: the claims' designs beside
+  their rigid twins and mass- and inertia-matched legs on shared seeds
+  (:mod:`mat_hopper.experiments.controls`), read by the claims table's
+  beyond-mass columns.
 
 By default every hopping experiment also runs the profile's perturbed
 replicates (``Profile.replicates``), the claims' inferential basis.
@@ -90,9 +94,8 @@ def reproduce(
     out_dir = out_dir or default_out_dir(prof.name)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise ValueError(f"--out {out_dir!r} exists and is not a folder")
-    plan = {n: get_experiment(n) for n in names}
     check_total_steps(planned_steps(prof, names, conventions, replicates), f"replicates={replicates}")
-    tasks = {n: _tasks(n, e, prof, conventions, replicates) for n, e in plan.items()}
+    tasks = _tasks(prof, names, conventions, replicates)
     os.makedirs(out_dir, exist_ok=True)
     rep = Reproduction(prof.name, out_dir, conventions=conventions)
     log(
@@ -108,27 +111,7 @@ def reproduce(
             rep.wall_s[name] = wall
             rep.failed[name] = res.n_failed
             rep.computed[name] = res.n_computed
-            if name == "stability":
-                from ..stability import agreement
-
-                made = {
-                    "stability": res.summary,
-                    "stability_tries": res.tables,
-                    "stability_agreement": agreement(res.summary),
-                }
-            elif name == "robustness":
-                from ..analysis import robustness
-
-                values = robustness.quantity_values(res.tables, res.summary)
-                table = robustness.robustness_table(values)
-                made = {
-                    "robustness_hops": res.tables,
-                    "robustness_runs": res.summary,
-                    "robustness": table,
-                    "robustness_summary": robustness.summary(table),
-                }
-            else:
-                made = {f"{name}_hops": res.tables, f"{name}_runs": res.summary}
+            made = _tables_of(name, res)
             for tname, frame in made.items():
                 path = os.path.join(out_dir, f"{tname}.csv")
                 write_csv(frame, path)
@@ -143,22 +126,63 @@ def reproduce(
                 for row in bad.head(5).itertuples():
                     log(f"  failed: {row.design} {getattr(row, 'behaviour', '')}: {row.error}")
     if "stability_agreement" in rep.tables:
-        a = rep.tables["stability_agreement"]
-        for est in ("spring", "combined"):
-            q = dict(zip(a.loc[a["estimate"] == est, "quantity"], a.loc[a["estimate"] == est, "value"]))
-            log(
-                f"stability, {est} estimate vs measured: "
-                + ", ".join(
-                    f"{k} {q[k]:.3g}"
-                    for k in ("median_ratio_measured_to_estimate", "loglog_pearson_r", "fraction_within_factor_2")
-                    if k in q
-                )
-            )
+        _log_agreement(rep.tables["stability_agreement"], log)
     if figures:
         t0 = time.perf_counter()
         rep.files += _figures_and_claims(rep, log)
         rep.wall_s["figures"] = time.perf_counter() - t0
     return rep
+
+
+def _tasks(prof, names, conventions, replicates) -> dict:
+    """{experiment: its tasks}; the hopping experiments under every convention asked for."""
+    plan = {n: get_experiment(n) for n in names}
+    return {
+        n: (
+            e.tasks(prof, replicates)
+            if n in ("stability", "robustness")
+            else [t for c in conventions for t in e.tasks(prof.for_convention(c), replicates)]
+        )
+        for n, e in plan.items()
+    }
+
+
+def _tables_of(name: str, res) -> dict:
+    """{table name: table} one experiment's run makes (module doc)."""
+    if name == "stability":
+        from ..stability import agreement
+
+        return {
+            "stability": res.summary,
+            "stability_tries": res.tables,
+            "stability_agreement": agreement(res.summary),
+        }
+    if name == "robustness":
+        from ..analysis import robustness
+
+        values = robustness.quantity_values(res.tables, res.summary)
+        table = robustness.robustness_table(values)
+        return {
+            "robustness_hops": res.tables,
+            "robustness_runs": res.summary,
+            "robustness": table,
+            "robustness_summary": robustness.summary(table),
+        }
+    return {f"{name}_hops": res.tables, f"{name}_runs": res.summary}
+
+
+def _log_agreement(a: pd.DataFrame, log) -> None:
+    """One log line per estimate: how well it predicts the measured stable steps."""
+    for est in ("spring", "combined"):
+        q = dict(zip(a.loc[a["estimate"] == est, "quantity"], a.loc[a["estimate"] == est, "value"]))
+        log(
+            f"stability, {est} estimate vs measured: "
+            + ", ".join(
+                f"{k} {q[k]:.3g}"
+                for k in ("median_ratio_measured_to_estimate", "loglog_pearson_r", "fraction_within_factor_2")
+                if k in q
+            )
+        )
 
 
 def _figures_and_claims(rep: Reproduction, log) -> list:
@@ -176,18 +200,18 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
 
     fine = fine_step_hops(rep.tables.get("robustness_hops"))
     table = claims.claims_table(
-        hops, runs, stab, conventions=rep.conventions, fine_hops=fine, fine_label=FINE_LABEL if fine is not None else ""
+        hops,
+        runs,
+        stab,
+        conventions=rep.conventions,
+        fine_hops=fine,
+        fine_label=FINE_LABEL if fine is not None else "",
+        controls=rep.tables.get("controls_hops"),
     )
     files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
     rep.tables["claims"] = table
     log(f"figures and claims: {len(files)} files in {rep.out_dir}")
     return files
-
-
-def _tasks(name: str, experiment, prof, conventions, replicates: int) -> list:
-    if name in ("stability", "robustness"):
-        return experiment.tasks(prof, replicates)
-    return [t for c in conventions for t in experiment.tasks(prof.for_convention(c), replicates)]
 
 
 def planned_steps(profile, names, conventions, replicates: int) -> float:
@@ -197,12 +221,8 @@ def planned_steps(profile, names, conventions, replicates: int) -> float:
     the rest. Used to refuse, before any work, runs beyond
     :data:`mat_hopper.limits.MAX_TOTAL_STEPS`."""
     prof = get_profile(profile)
-    total = 0.0
-    for n in names:
-        e = get_experiment(n)
-        at = [sum(task_steps(t) for t in _tasks(n, e, prof, conventions, r)) for r in (0, 1)]
-        total += at[0] + replicates * (at[1] - at[0])
-    return total
+    at = [sum(task_steps(t) for ts in _tasks(prof, names, conventions, r).values() for t in ts) for r in (0, 1)]
+    return at[0] + replicates * (at[1] - at[0])
 
 
 def _check_conventions(conventions) -> tuple:

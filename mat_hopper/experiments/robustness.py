@@ -24,7 +24,6 @@ import pandas as pd
 from ..analysis.robustness import DEFAULT, Variant, designs_and_behaviours, variants
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
-from ..control import sensor_latency_steps
 from ..materials import parse_design
 from ..perturbations import Perturbation
 from .profiles import get_profile
@@ -40,7 +39,11 @@ def tasks(profile, variant_list=None) -> list:
     out = []
     for v in variant_list or variants():
         prof = profile.for_convention(v.convention).for_sensor_timing(v.sensor_timing)
-        pert = None if v.replicate is None else Perturbation.replicate(v.replicate)
+        pert = (
+            None
+            if v.replicate is None
+            else Perturbation.replicate(v.replicate, (profile.transient_s, profile.duration_s))
+        )
         for d, b in designs_and_behaviours():
             design = parse_design(d)
             settings = prof.sim_settings(pert, design=design)
@@ -52,7 +55,7 @@ def tasks(profile, variant_list=None) -> list:
                 "variant": v.label,
                 "variant_kind": v.kind,
                 "convention": v.convention,
-                "sensor_timing": settings.sensor_timing,
+                "sensor_timing": settings.sensor_timing.name,
                 "timestep_s": settings.timestep_s,
                 "substeps": settings.substeps,
                 "replicate": -1 if v.replicate is None else v.replicate,
@@ -107,15 +110,10 @@ def batch_runs(
     pairs = designs_and_behaviours()
     rows = []
     for v in runnable:
-        settings = BatchSettings(
-            duration_s=profile.duration_s,
-            timestep_s=profile.timestep_s if v.timestep_s is None else v.timestep_s,
-            transient_s=profile.transient_s,
-            convention=v.convention,
-            record_rate_hz=profile.record_rate_hz,
-            sensor_latency_steps=sensor_latency_steps(v.sensor_timing),
-            segment_mass=profile.segment_mass,
-        )
+        settings = profile.for_convention(v.convention).for_sensor_timing(v.sensor_timing).sim_settings()
+        if v.timestep_s is not None:
+            settings = replace(settings, timestep_s=v.timestep_s)
+        settings = BatchSettings.of(settings)
         for b in BEHAVIOUR_NAMES:
             names = [d for d, beh in pairs if beh == b]
             if not names:

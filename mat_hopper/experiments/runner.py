@@ -52,25 +52,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..atomic import TEMP_PREFIX  # noqa: F401 (re-exported: the prefix of the cache's temporary files)
 from ..behaviours import Behaviour
+from ..keys import design_key, hash_key, settings_key, versions
 from ..materials import LegDesign
 from ..sim import SimSettings, route_mujoco_warnings
-from ._cache import (  # noqa: F401 (the cache, its keys and constants are re-exported)
-    _CHECKSUM_KEY,
-    _META_KEY,
-    _STALE_TEMP_S,
-    CACHE_ENV,
-    DEFAULT_CACHE_DIR,
-    RESULT_MODULES,
-    Cache,
-    content_checksum,
-    design_key,
-    hash_key,
-    settings_key,
-    source_digest,
-    versions,
-)
+from .cache import Cache
 
 _log = logging.getLogger("mat_hopper.cache")
 
@@ -464,8 +450,9 @@ class RolloutSpec(RunSpec):
         return table, summary
 
     def rollout(self, table: pd.DataFrame, summary: dict):
-        """The :class:`~mat_hopper.sim.Rollout` from this task's stored result."""
-        from ..sim import CHANNELS, Rollout
+        """The :class:`~mat_hopper.rollout.Rollout` from this task's stored result."""
+        from ..rollout import Rollout
+        from ..sim import CHANNELS
 
         data = table[list(CHANNELS)].to_numpy(float)
         qcols = [c for c in table.columns if c.startswith("qpos_")]
@@ -494,7 +481,7 @@ def rollouts(
     cache_dir=None,
     workers: int | None = None,
 ) -> list:
-    """Whole rollouts (:class:`~mat_hopper.sim.Rollout`) of every design
+    """Whole rollouts (:class:`~mat_hopper.rollout.Rollout`) of every design
     (names or LegDesigns) on every behaviour (names or Behaviours) under
     `settings` (e.g. ``profile.sim_settings()``), for time series and gait
     tiles, in design-major order. record_rate_hz: samples per simulated

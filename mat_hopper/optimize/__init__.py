@@ -8,8 +8,8 @@ The public names are re-exported here, as Optuna does: the search space
 :func:`run_study`; :func:`run_batch_study`, the same on the MuJoCo Warp batch
 backend, Optuna's ask-and-tell), its storage and its report (:func:`write_report`,
 :func:`replay`). The private modules ``_space``, ``_objective``,
-``_samplers``, ``_storage``, ``_study`` (with ``_processes``, its worker
-processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
+``_samplers``, ``_storage``, ``_study`` (with ``_coordinator``, the run's
+coordinator, and ``_processes``, its worker processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
 writes a study's tables and plots; ``_robust`` holds the noise- and
 mass-aware scores (replicates on common random numbers, mean or CVaR, the
 leg-mass constraint); ``_export`` writes a trial's design as CSV and MJCF; ``_racing`` runs
@@ -18,8 +18,10 @@ multi-fidelity racing (successive halving on ask-and-tell). The command line is
 """
 
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
+from ._coordinator import RunResult, run_study
 from ._export import design_frame, design_mjcf, export_trial
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
+from ._processes import stop_signals
 from ._racing import Racing, Rung, default_racing, promote, race_study, run_racing, simulated_seconds
 from ._robust import (
     DEFAULT_CVAR_ALPHA,
@@ -34,14 +36,14 @@ from ._robust import (
 )
 from ._samplers import SAMPLERS, check_sampler
 from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, SearchSpace, describe, resample
-from ._storage import check_study_name, default_url, open_storage, redact, storage_file
+from ._storage import check_study_name, default_url, dispose, open_storage, redact, storage_errors, storage_file
 from ._study import (
+    CONFIG_ATTR,
     DEFAULT_WORKERS,
     RunOptions,
-    RunResult,
     StudyConfig,
+    check_objectives_vary,
     create_or_load,
-    run_study,
     stored_config,
     study_exists,
 )
@@ -83,15 +85,20 @@ __all__ = [
     "resample",
     "check_study_name",
     "default_url",
+    "dispose",
     "open_storage",
     "redact",
+    "storage_errors",
     "storage_file",
+    "stop_signals",
+    "CONFIG_ATTR",
     "DEFAULT_WORKERS",
     "SAMPLERS",
     "RunOptions",
     "RunResult",
     "StudyConfig",
     "check_sampler",
+    "check_objectives_vary",
     "create_or_load",
     "run_study",
     "stored_config",

@@ -47,9 +47,9 @@ import optuna
 from optuna.storages._heartbeat import is_heartbeat_enabled
 from optuna.trial import TrialState
 
-from ..control import sensor_latency_steps
 from ..materials import LegDesign
 from ..progress import progress_bar
+from ._coordinator import RunResult
 from ._objective import (
     CONSTRAINTS,
     RESULT_ATTR,
@@ -65,7 +65,6 @@ from ._samplers import check_sampler, make_sampler, worker_seed
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, WORKER_ATTR, recover_dead, redact, retry_trial, worker_identity
 from ._study import (
     RunOptions,
-    RunResult,
     StudyConfig,
     counts,
     create_or_load,
@@ -101,16 +100,7 @@ def batch_settings(objective: Objective, design: LegDesign):
             f"{design.name!r} needs {sim.substeps} physics substeps (automatic time step): give the "
             "profile a fixed axial_timestep_s, or use --backend mujoco"
         )
-    return BatchSettings(
-        duration_s=sim.duration_s,
-        timestep_s=sim.timestep_s,
-        transient_s=sim.transient_s,
-        convention=sim.convention,
-        record_rate_hz=sim.record_rate_hz,
-        controller=sim.controller,
-        sensor_latency_steps=sensor_latency_steps(sim.sensor_timing),
-        segment_mass=sim.segment_mass,
-    )
+    return BatchSettings.of(sim)
 
 
 def behaviour_row(summary: dict, behaviour: str, duration_s: float) -> dict:
@@ -149,9 +139,24 @@ def evaluate_batch(
     max_batch: int | None = None,
     progress: bool = False,
 ) -> list[Evaluation]:
-    """Each design scored as :func:`~mat_hopper.optimize.evaluate` scores it
-    on the CPU, all of them simulated together by the warp backend (one
-    batch per behaviour, topology and set of run settings)."""
+    """Each design scored as :func:`~mat_hopper.optimize.evaluate` scores it on
+    the CPU, all of them simulated together by the warp backend (one batch per
+    behaviour, topology and set of run settings).
+
+    Args:
+        designs: the legs.
+        objective: what to run and score.
+        device: the Warp device (``"cpu"``, ``"cuda"``).
+        max_batch: most worlds in one batch.
+        progress: show a progress bar.
+
+    Returns:
+        One :class:`Evaluation` per design, in order.
+
+    Raises:
+        ValueError: a design that needs physics substeps under the profile.
+        mat_hopper.batch.WarpUnavailable: without mujoco-warp.
+    """
     from ..batch import evaluate as batch_evaluate
 
     designs = list(designs)
@@ -244,6 +249,34 @@ class _Heartbeat:
             self._thread.join()
 
 
+def _ask(study, config, k: int, identity: dict, told: list, max_retry: int) -> tuple[list, list]:
+    """Ask Optuna for k trials and their designs: (trials, designs). A bad
+    point of the space fails its trial, as on the CPU path; Ctrl-C while
+    asking puts the trials asked so far back in the queue."""
+    asked, designs = [], []
+    try:
+        for _ in range(k):
+            # Ctrl-C, SIGTERM and SIGHUP wait until the new trial is in `asked`
+            # (and names this process), so that the handler below re-queues it.
+            with HeldSignals(signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+                with warnings.catch_warnings():  # "heartbeat ... with Study.optimize": _Heartbeat sends them
+                    warnings.simplefilter("ignore", UserWarning)
+                    trial = study.ask()
+                asked.append(trial)
+                trial.set_user_attr(WORKER_ATTR, identity)
+            trial.set_user_attr(TRIAL_BACKEND_ATTR, BACKEND)
+            try:
+                designs.append(config.space.suggest(trial))
+            except Exception as e:  # a bad point of the space: this trial fails, as on the CPU path
+                asked.pop()
+                _fail(study, trial, f"{type(e).__name__}: {e}")
+                told.append((trial.number, "FAIL"))
+    except BaseException:
+        _requeue(study, asked, "interrupted", max_retry)
+        raise
+    return asked, designs
+
+
 def run_batch_study(
     config: StudyConfig,
     options: RunOptions = RunOptions(),
@@ -251,13 +284,23 @@ def run_batch_study(
     device: str | None = None,
     batch_size: int = DEFAULT_BATCH_SIZE,
 ) -> RunResult:
-    """Run `config`'s study on the warp backend until it holds
-    options.trials finished trials, asking for up to `batch_size` trials per
-    batch (module doc). device: a Warp device ("cpu", "cuda"; default cuda
-    where Warp sees a GPU); options.workers is not used (one process drives
-    the device). Raises :class:`mat_hopper.batch.WarpUnavailable` (an
-    ImportError) without mujoco-warp, ValueError on bad settings, before any
-    study is made."""
+    """Run `config`'s study on the warp backend until it holds options.trials
+    finished trials, asking for up to `batch_size` trials per batch (module doc).
+
+    Args:
+        config: the study.
+        options: as :func:`run_study` (options.workers is not used: one process
+            drives the device).
+        device: a Warp device (``"cpu"``, ``"cuda"``; default cuda where Warp sees a GPU).
+        batch_size: trials asked per round.
+
+    Returns:
+        A :class:`RunResult`.
+
+    Raises:
+        mat_hopper.batch.WarpUnavailable: (an ImportError) without mujoco-warp.
+        ValueError: bad settings, before any study is made.
+    """
     from ..batch import require_warp
 
     if isinstance(batch_size, bool) or not isinstance(batch_size, int) or batch_size < 1:
@@ -298,27 +341,7 @@ def run_batch_study(
             k = min(batch_size, options.trials - done - running)
             if k <= 0:
                 break
-            asked, designs = [], []
-            try:
-                for _ in range(k):
-                    # Ctrl-C, SIGTERM and SIGHUP wait until the new trial is in `asked`
-                    # (and names this process), so that the handler below re-queues it.
-                    with HeldSignals(signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-                        with warnings.catch_warnings():  # "heartbeat ... with Study.optimize": _Heartbeat sends them
-                            warnings.simplefilter("ignore", UserWarning)
-                            trial = study.ask()
-                        asked.append(trial)
-                        trial.set_user_attr(WORKER_ATTR, identity)
-                    trial.set_user_attr(TRIAL_BACKEND_ATTR, BACKEND)
-                    try:
-                        designs.append(config.space.suggest(trial))
-                    except Exception as e:  # a bad point of the space: this trial fails, as on the CPU path
-                        asked.pop()
-                        _fail(study, trial, f"{type(e).__name__}: {e}")
-                        told.append((trial.number, "FAIL"))
-            except BaseException:  # Ctrl-C while asking: the trials asked so far go back in the queue
-                _requeue(study, asked, "interrupted", options.max_retry)
-                raise
+            asked, designs = _ask(study, config, k, identity, told, options.max_retry)
             beat.ids = [t._trial_id for t in asked]
             try:
                 with beat:

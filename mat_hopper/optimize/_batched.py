@@ -1,6 +1,6 @@
 """Studies in deterministic batches through the result runner.
 
-:func:`mat_hopper.optimize._study.run_study` runs trials in worker
+:func:`mat_hopper.optimize.run_study` runs trials in worker
 processes that each ask and tell on their own: fast, and right for many
 machines, but with more than one worker the trials depend on which worker
 finishes first. The book needs a study that is the same on every machine
@@ -40,7 +40,8 @@ import pandas as pd
 from optuna.trial import TrialState
 
 from ..behaviours import behaviour as get_behaviour
-from ..experiments.runner import FAILED, Runner, design_key, hash_key, settings_key, versions
+from ..experiments.runner import FAILED, Runner
+from ..keys import design_key, hash_key, settings_key, versions
 from ..materials import LegDesign
 from ..perturbations import Perturbation
 from ._objective import Evaluation, Objective, aggregate, mujoco_warnings_to, record_evaluation, run_behaviour

@@ -45,7 +45,7 @@ from __future__ import annotations
 import contextlib
 import math
 import warnings
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -76,8 +76,27 @@ LEG_MATERIAL_LENGTH_M = ref.MATERIAL_LENGTH  # total length of the material segm
 
 @dataclass(frozen=True)
 class Objective:
-    """Behaviours to run (names), profile, stiffness convention, segment-mass
-    convention, and the hop height constraint: target and tolerance in m."""
+    """What the optimizer minimizes: tracking error and hip power, under a hop-height
+    and a stability constraint (module doc).
+
+    Args:
+        behaviours: behaviours to run (names).
+        profile: the run profile (duration, transient, time step).
+        convention: the stiffness convention.
+        hop_height_target_m, hop_height_tolerance_m: the hop height constraint, m.
+        segment_mass: the segment mass convention (None: the profile's).
+        replicates: perturbed replicates per behaviour on common random
+            numbers (0: one unperturbed run; :mod:`mat_hopper.optimize._robust`).
+        risk: how replicates are scored, ``"mean"`` or ``"cvar"``.
+        cvar_alpha: the CVaR's tail fraction.
+        leg_mass: None (unconstrained), a paper design's name or a mass in kg.
+        leg_mass_tolerance_kg: the leg mass constraint's tolerance, kg (None:
+            DEFAULT_LEG_MASS_TOLERANCE of the target).
+
+    Raises:
+        ValueError: an unknown behaviour, convention or risk, or a value out
+            of range (naming it).
+    """
 
     behaviours: tuple[str, ...] = ("ramp",)
     profile: Profile = field(default_factory=get_profile)  # $MAT_HOPPER_PROFILE, else paper
@@ -126,7 +145,7 @@ class Objective:
     def key(self) -> dict:
         return {
             "behaviours": list(self.behaviours),
-            "profile": asdict(self.profile),
+            "profile": self.profile.key_dict(),
             "convention": self.convention,
             "hop_height_target_m": self.hop_height_target_m,
             "hop_height_tolerance_m": self.hop_height_tolerance_m,
@@ -161,8 +180,16 @@ class Objective:
 
 @dataclass
 class Evaluation:
-    """One design's outcome: objective values (OBJECTIVES order), constraint
-    values (CONSTRAINTS order, <= 0 feasible), and per-behaviour rows."""
+    """One design's outcome.
+
+    Args:
+        values: objective values in :data:`OBJECTIVES` order (tracking error m, hip power W).
+        constraints: constraint values in :data:`CONSTRAINTS` order (<= 0 feasible).
+        hop_height_m: the mean hop height, m.
+        per_behaviour: one row (dict) per behaviour run.
+        total_mass_kg: the robot's mass, kg.
+        simulated_s: simulated time of all its runs, s.
+    """
 
     values: tuple[float, float]
     constraints: tuple[float, float]
@@ -261,8 +288,18 @@ def mujoco_warnings_to(sink: list):
 def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluation:
     """Run `design` on every behaviour of `objective`, under each of its
     replicates' perturbations (:func:`mat_hopper.optimize._robust.perturbations`),
-    and aggregate (module doc). MuJoCo warnings are counted per run
-    (``mujoco_warnings``), not printed."""
+    and aggregate (module doc).
+
+    Args:
+        design: the leg.
+        objective: what to run and score.
+        tick: called once per run done (progress), or None.
+
+    Returns:
+        An :class:`Evaluation`: objective values (tracking error m, power W),
+        constraint values (<= 0 feasible), hop height m, per-run rows
+        (MuJoCo warnings counted in ``mujoco_warnings``, not printed).
+    """
     rows = []
     for pert in _robust.perturbations(objective.replicates):
         for b in objective.behaviours:

@@ -113,10 +113,15 @@ class Interrupted(KeyboardInterrupt):
 
 @contextmanager
 def stop_signals():
-    """In the main thread: SIGTERM and SIGHUP raise :class:`Interrupted`
-    (as Ctrl-C raises KeyboardInterrupt) until the block ends; the
-    previous handlers are restored. Elsewhere: nothing (Python delivers
-    signals to the main thread only)."""
+    """A context in which SIGTERM and SIGHUP stop the program as Ctrl-C does.
+
+    In the main thread the previous handlers are restored when the block
+    ends; elsewhere it does nothing (Python delivers signals to the main
+    thread only).
+
+    Raises:
+        Interrupted: (a KeyboardInterrupt) on SIGTERM or SIGHUP inside the block.
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return

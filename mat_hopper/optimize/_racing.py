@@ -416,10 +416,10 @@ def race_study(config: StudyConfig, options, racing: Racing | None = None, cache
     :class:`~mat_hopper.optimize._study.RunOptions`) give the storage, the
     sampler and seed, the local processes (``workers``) and the size:
     ``trials`` screened trials, rounded up to whole brackets. Returns a
-    :class:`~mat_hopper.optimize._study.RunResult` (done and target in
+    :class:`~mat_hopper.optimize.RunResult` (done and target in
     screened trials)."""
+    from ._coordinator import RunResult
     from ._storage import redact, storage_errors
-    from ._study import RunResult
 
     racing = racing or default_racing(config.objective)
     brackets = math.ceil(options.trials / racing.screen)

@@ -15,6 +15,17 @@ SAMPLERS = ("tpe", "nsga2", "gp")
 
 
 def check_sampler(name: str) -> str:
+    """A sampler name, checked.
+
+    Args:
+        name: one of :data:`SAMPLERS` (``"tpe"``, ``"nsga2"``, ...; any case).
+
+    Returns:
+        The name in lower case.
+
+    Raises:
+        ValueError: an unknown sampler, or ``"gp"`` without PyTorch.
+    """
     name = str(name).strip().lower()
     if name not in SAMPLERS:
         raise ValueError(f"unknown sampler {name!r}; accepted: {', '.join(SAMPLERS)}")

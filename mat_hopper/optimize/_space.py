@@ -90,11 +90,20 @@ def _bounds(value, field_name: str, unit: str) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class SearchSpace:
-    """Where the optimizer looks. Bounds are (min, max) in g/cm^3 and GPa;
-    kinds is "continuous", "catalogue" or one of those per segment;
-    materials are catalogue names for catalogue segments; ashby_classes
-    restricts continuous segments to those classes' hulls (module doc;
-    the bounds, left as None, then come from the hulls)."""
+    """Where the optimizer looks.
+
+    Args:
+        n_segments: segments per leg.
+        kinds: ``"continuous"``, ``"catalogue"`` or one of those per segment.
+        density_g_cm3, modulus_gpa: (min, max) bounds of continuous segments,
+            g/cm^3 and GPa (None: from the Ashby classes' hulls, else the defaults).
+        materials: catalogue names for catalogue segments.
+        ashby_classes: restrict continuous segments to these classes' hulls (module doc).
+
+    Raises:
+        ValueError: bounds outside the physical ranges, unknown materials,
+            kinds or classes (naming them).
+    """
 
     n_segments: int = ref.REFERENCE_SEGMENTS
     kinds: tuple[str, ...] | str = "continuous"
@@ -247,16 +256,30 @@ class SearchSpace:
 
 
 def resample(design: LegDesign, n_segments: int) -> tuple[Material, ...]:
-    """The design's materials on n equal segments: segment j takes the
-    material found at its position along the leg (so a 3-segment gradient
-    on 6 segments doubles each material; on 2 segments it keeps the top
-    and bottom thirds' materials)."""
+    """The design's materials on n equal segments: segment j takes the material
+    found at its position along the leg (so a 3-segment gradient on 6 segments
+    doubles each material; on 2 segments it keeps the top and bottom thirds').
+
+    Args:
+        design: a LegDesign.
+        n_segments: the new number of segments.
+
+    Returns:
+        The n Materials, base to foot.
+    """
     src = design.segments
     return tuple(src[min(len(src) - 1, (2 * j + 1) * len(src) // (2 * n_segments))] for j in range(n_segments))
 
 
 def describe(segments) -> str:
-    """Short text for a leg, base to foot: catalogue names, or rho/E pairs."""
+    """Short text for a leg, base to foot.
+
+    Args:
+        segments: the Materials, base to foot (a LegDesign's ``segments``).
+
+    Returns:
+        Catalogue names, or density/modulus pairs (g/cm^3, GPa), joined by ``-``.
+    """
     parts = []
     for m in segments:
         if m.name in (c.name for c in CATALOGUE.values()):

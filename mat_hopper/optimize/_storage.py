@@ -85,6 +85,17 @@ KEEP_ON_RETRY = (PAPER_ATTR,)
 
 
 def check_study_name(name) -> str:
+    """A study name, checked.
+
+    Args:
+        name: 1-100 letters, digits, ``_``, ``.``, ``-``, starting with a letter or digit.
+
+    Returns:
+        The name.
+
+    Raises:
+        ValueError: any other name.
+    """
     if not isinstance(name, str) or not STUDY_NAME.match(name):
         raise ValueError(
             f"study name must be 1-100 characters of letters, digits, '_', '.', '-' "
@@ -94,13 +105,31 @@ def check_study_name(name) -> str:
 
 
 def default_url(study_name: str, studies_dir: str = "studies") -> str:
-    """sqlite URL of the study's own file, studies_dir/<name>.db (absolute)."""
+    """The sqlite URL of a study's own file.
+
+    Args:
+        study_name: the study's name (:func:`check_study_name`).
+        studies_dir: the folder.
+
+    Returns:
+        ``sqlite:///<absolute studies_dir>/<name>.db``.
+
+    Raises:
+        ValueError: a bad study name.
+    """
     path = os.path.abspath(os.path.join(studies_dir, f"{check_study_name(study_name)}.db"))
     return f"sqlite:///{path}"
 
 
 def redact(url: str) -> str:
-    """The URL with any password hidden (for messages)."""
+    """A storage URL for messages.
+
+    Args:
+        url: a storage URL.
+
+    Returns:
+        The URL with any password hidden.
+    """
     try:
         from sqlalchemy.engine import make_url
 
@@ -119,7 +148,14 @@ def _journal_path(url: str) -> str:
 
 
 def storage_file(url: str) -> str | None:
-    """The local file of a sqlite or journal URL (absolute), else None."""
+    """The local file of a storage.
+
+    Args:
+        url: a storage URL (its scheme in any case, RFC 3986).
+
+    Returns:
+        The absolute path of a sqlite or journal URL's file, else None.
+    """
     url = normalize_url(url)  # schemes are case-insensitive (RFC 3986)
     if url.startswith("journal:"):
         return os.path.abspath(_journal_path(url))
@@ -181,8 +217,15 @@ def db_errors() -> tuple:
 
 @contextmanager
 def storage_errors(url: str):
-    """Turn database errors (SQLAlchemy's, Optuna's StorageInternalError,
-    sqlite3's) raised inside into :func:`storage_error`'s one line."""
+    """A context in which database errors become one line.
+
+    Args:
+        url: the storage's URL (named in the message, password hidden).
+
+    Raises:
+        ValueError: for SQLAlchemy's errors, Optuna's StorageInternalError and
+            sqlite3's raised inside (:func:`storage_error`'s one line).
+    """
     try:
         yield
     except db_errors() as e:
@@ -228,36 +271,23 @@ def _schema_lock(engine, backend: str):
             con.commit()
 
 
-def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retry: int = 3, read_only: bool = False):
-    """An Optuna storage for `url`, checked to be reachable (ValueError, one
-    line, if not). See the module doc for the accepted URLs.
+def _journal_storage(url: str):
+    """A journal-file storage (``journal:///PATH``), its folder checked."""
+    from optuna.storages.journal import JournalFileBackend, JournalStorage
 
-    ``postgresql://`` URLs use SQLAlchemy's default driver, psycopg 3
-    (installed, pinned in environment.txt); ``postgresql+psycopg2://``
-    picks psycopg2. read_only: for reports, a SQLite file is opened
-    read-only (``mode=ro``): no write lock is taken, so a report never waits
-    for a writer, and a read-only connection never checkpoints nor removes
-    the ``-wal``/``-shm`` files a writer holds."""
-    if not isinstance(url, str) or not url.strip():
-        raise ValueError(
-            "--storage must be a URL such as sqlite:///studies/x.db, "
-            "postgresql://user@host:5432/db or journal:///path/x.log"
-        )
-    url = normalize_url(url)  # schemes are case-insensitive (RFC 3986): SQLite:/// is sqlite:///
-    if url.startswith("journal:"):
-        from optuna.storages.journal import JournalFileBackend, JournalStorage
+    path = os.path.abspath(_journal_path(url))
+    if os.path.isdir(path):
+        raise ValueError(f"journal storage {path}: is a folder, not a file")
+    if not os.path.isdir(os.path.dirname(path)):
+        raise ValueError(f"journal storage: folder {os.path.dirname(path)} does not exist")
+    try:
+        return JournalStorage(JournalFileBackend(path))
+    except OSError as e:
+        raise ValueError(f"cannot open journal storage {path}: {e.strerror or e}") from None
 
-        path = os.path.abspath(_journal_path(url))
-        if os.path.isdir(path):
-            raise ValueError(f"journal storage {path}: is a folder, not a file")
-        if not os.path.isdir(os.path.dirname(path)):
-            raise ValueError(f"journal storage: folder {os.path.dirname(path)} does not exist")
-        try:
-            return JournalStorage(JournalFileBackend(path))
-        except OSError as e:
-            raise ValueError(f"cannot open journal storage {path}: {e.strerror or e}") from None
 
-    import sqlalchemy
+def _parsed_url(url: str):
+    """The SQLAlchemy URL of a database storage; ValueError for an unknown scheme or a missing driver."""
     from sqlalchemy.engine import make_url
 
     try:
@@ -272,12 +302,13 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
             "postgresql://USER@HOST:PORT/DB (or another SQLAlchemy database URL), "
             "journal:///PATH"
         ) from None
-    for name, v in (("heartbeat_s", heartbeat_s), ("grace_s", grace_s)):
-        if isinstance(v, bool) or not isinstance(v, int) or v < 1:
-            raise ValueError(f"{name} must be an integer >= 1 s, got {v!r}")
-    if grace_s <= heartbeat_s:
-        raise ValueError(f"grace_s must exceed heartbeat_s ({heartbeat_s} s), got {grace_s!r}")
-    backend = parsed.get_backend_name()
+    return parsed
+
+
+def _engine_options(url: str, parsed, backend: str, read_only: bool) -> tuple[str, dict]:
+    """(the URL to open, SQLAlchemy engine options) for the backend: SQLite's
+    lock timeout, read-only URI or write-ahead log; PostgreSQL's pre-ping and
+    connect timeout."""
     engine_kwargs: dict = {}
     open_url = url
     if backend == "sqlite":
@@ -294,7 +325,13 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
         engine_kwargs["pool_pre_ping"] = True
         if parsed.get_driver_name() in ("psycopg2", "psycopg"):
             engine_kwargs["connect_args"] = {"connect_timeout": CONNECT_TIMEOUT_S}
-    # reachable? (the only failure called "cannot reach")
+    return open_url, engine_kwargs
+
+
+def _probe(url: str, open_url: str, engine_kwargs: dict):
+    """An engine that has connected once (the only failure called "cannot reach")."""
+    import sqlalchemy
+
     try:
         probe = sqlalchemy.create_engine(open_url, **engine_kwargs)
         with probe.connect():
@@ -306,6 +343,54 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
         if UNREACHABLE.search(cause):
             raise ValueError(f"cannot reach storage {redact(url)}: {cause}") from None
         raise ValueError(f"cannot open storage {redact(url)}: {cause}") from None  # reached, but refused
+    return probe
+
+
+def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retry: int = 3, read_only: bool = False):
+    """An Optuna storage for `url`, checked to be reachable. See the module doc
+    for the accepted URLs.
+
+    ``postgresql://`` URLs use SQLAlchemy's default driver, psycopg 3
+    (installed, pinned in environment.txt); ``postgresql+psycopg2://``
+    picks psycopg2.
+
+    Args:
+        url: ``sqlite:///PATH``, ``postgresql://USER@HOST:PORT/DB`` (or another
+            SQLAlchemy URL) or ``journal:///PATH``.
+        heartbeat_s, grace_s: heartbeat interval and grace period of RDB storages, s.
+        max_retry: retries of a trial whose worker's heartbeat stopped.
+        read_only: for reports: a SQLite file is opened read-only (``mode=ro``):
+            no write lock is taken, so a report never waits for a writer, and a
+            read-only connection never checkpoints nor removes the
+            ``-wal``/``-shm`` files a writer holds.
+
+    Returns:
+        An ``optuna.storages.RDBStorage`` or ``JournalStorage``.
+
+    Raises:
+        ValueError: one line, for a bad URL, a missing driver, an unreachable or
+            refusing database, or bad heartbeat settings.
+    """
+    if not isinstance(url, str) or not url.strip():
+        raise ValueError(
+            "--storage must be a URL such as sqlite:///studies/x.db, "
+            "postgresql://user@host:5432/db or journal:///path/x.log"
+        )
+    url = normalize_url(url)  # schemes are case-insensitive (RFC 3986): SQLite:/// is sqlite:///
+    if url.startswith("journal:"):
+        return _journal_storage(url)
+
+    import sqlalchemy
+
+    parsed = _parsed_url(url)
+    for name, v in (("heartbeat_s", heartbeat_s), ("grace_s", grace_s)):
+        if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+            raise ValueError(f"{name} must be an integer >= 1 s, got {v!r}")
+    if grace_s <= heartbeat_s:
+        raise ValueError(f"grace_s must exceed heartbeat_s ({heartbeat_s} s), got {grace_s!r}")
+    backend = parsed.get_backend_name()
+    open_url, engine_kwargs = _engine_options(url, parsed, backend, read_only)
+    probe = _probe(url, open_url, engine_kwargs)
 
     def make():
         with warnings.catch_warnings():
@@ -366,9 +451,13 @@ def _sqlite_wal(path: str) -> None:
 
 
 def dispose(storage) -> None:
-    """Close a storage's pooled database connections (before a fork: no
-    connection may cross into a child process, where SQLite's POSIX locks
-    would be released by the child closing its copy)."""
+    """Close a storage's pooled database connections (before a fork: no connection
+    may cross into a child process, where SQLite's POSIX locks would be released
+    by the child closing its copy).
+
+    Args:
+        storage: an Optuna storage (others than RDB storages: nothing to close).
+    """
     engine = getattr(storage, "engine", None)
     if engine is not None:
         engine.dispose()

@@ -45,7 +45,6 @@ then open http://127.0.0.1:8080/. See docs/optimizer.md.
 
 from __future__ import annotations
 
-import multiprocessing as mp
 import os
 import signal
 import sys
@@ -55,30 +54,20 @@ from dataclasses import dataclass, field
 
 import optuna
 from optuna.trial import TrialState
-from tqdm.std import tqdm
 
 from ..materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
-from ..progress import progress_bar
-from ._objective import (  # noqa: F401 (RESULT_ATTR, result_attr are re-exported)
-    CONSTRAINTS,
+from ._objective import (
     OBJECTIVES,
-    RESULT_ATTR,
     Objective,
     evaluate,
     record_evaluation,
-    result_attr,
 )
-from ._processes import (  # noqa: F401 (Interrupted, stop_signals are re-exported)
+from ._processes import (
     HeldSignals,
-    Interrupted,
     _die_with_parent,
     _orphaned,
-    _signals_ignored,
-    _start_method,
-    _warm_up,
-    stop_signals,
 )
-from ._samplers import SAMPLERS, check_sampler, make_sampler, worker_seed  # noqa: F401 (re-exported)
+from ._samplers import SAMPLERS, make_sampler
 from ._space import SearchSpace
 from ._storage import (
     ERROR_ATTR,
@@ -86,10 +75,7 @@ from ._storage import (
     WORKER_ATTR,
     check_study_name,
     default_url,
-    dispose,
     open_storage,
-    recover_dead,
-    redact,
     storage_errors,
     worker_identity,
 )
@@ -98,7 +84,6 @@ DEFAULT_WORKERS = 2
 CONFIG_ATTR = "mat_hopper_config"
 BACKEND_ATTR = "mat_hopper_backend"  # study user attr: the simulator of its trials ("warp"; absent: the CPU path)
 CONFIG_VERSION = 1
-POLL_S = 1.0
 CREATE_WAIT_S = 30.0  # how long a second first start waits for the creator's config
 
 
@@ -132,7 +117,15 @@ def check_physical_bounds(space: SearchSpace) -> None:
 
 
 def check_objectives_vary(objective: Objective) -> None:
-    """Refuse a study whose objectives cannot vary (static hopping alone)."""
+    """Refuse a study whose objectives cannot vary.
+
+    Args:
+        objective: the study's objective.
+
+    Raises:
+        ValueError: static hopping alone (tracking error and hip power are zero
+            by symmetry for every design, round-off only).
+    """
     if all(b in DEGENERATE_BEHAVIOURS for b in objective.behaviours):
         raise ValueError(
             f"--behaviour {','.join(objective.behaviours)} alone cannot be optimized: hopping in place, "
@@ -143,8 +136,17 @@ def check_objectives_vary(objective: Objective) -> None:
 
 @dataclass(frozen=True)
 class StudyConfig:
-    """What a study is: its name, search space and objective. Stored in the
-    study (user attr ``mat_hopper_config``); resuming checks it."""
+    """What a study is. Stored in the study (user attr ``mat_hopper_config``);
+    resuming checks it.
+
+    Args:
+        name: the study's name (:func:`check_study_name`).
+        space: where the optimizer looks (:class:`SearchSpace`).
+        objective: what it minimizes (:class:`Objective`).
+
+    Raises:
+        ValueError: a bad name, space or objective.
+    """
 
     name: str
     space: SearchSpace = field(default_factory=SearchSpace)
@@ -168,10 +170,22 @@ class StudyConfig:
 
 @dataclass(frozen=True)
 class RunOptions:
-    """How to run a study: target size (trials), local worker processes,
-    sampler and seed, storage URL (None: studies_dir/<name>.db), heartbeat
-    interval and grace period (s, RDB storages), retries per trial of a
-    dead worker, progress bar."""
+    """How to run a study.
+
+    Args:
+        trials: target number of finished trials.
+        workers: local worker processes.
+        sampler: an Optuna sampler's name (:data:`SAMPLERS`).
+        seed: the sampler's seed (each worker's is derived from it).
+        storage: a storage URL (None: ``studies_dir/<name>.db``).
+        studies_dir: the folder of the default SQLite files.
+        heartbeat_s, grace_s: heartbeat interval and grace period of RDB storages, s.
+        max_retry: retries per trial of a dead worker.
+        progress: show a progress bar.
+
+    Raises:
+        ValueError: any value out of range (naming it).
+    """
 
     trials: int = 200
     workers: int = DEFAULT_WORKERS
@@ -220,6 +234,11 @@ def _quiet() -> None:
 
 
 def study_exists(name: str, storage) -> bool:
+    """Whether `storage` (an Optuna storage) holds a study named `name`.
+
+    Returns:
+        True when it does.
+    """
     try:
         storage.get_study_id_from_name(name)
         return True
@@ -228,7 +247,15 @@ def study_exists(name: str, storage) -> bool:
 
 
 def stored_config(name: str, storage) -> StudyConfig | None:
-    """The config a study was created with, or None (no such study, or not ours)."""
+    """The config a study was created with.
+
+    Args:
+        name: the study's name.
+        storage: an Optuna storage.
+
+    Returns:
+        The :class:`StudyConfig`, or None (no such study, or not ours).
+    """
     if not study_exists(name, storage):
         return None
     attrs = storage.get_study_user_attrs(storage.get_study_id_from_name(name))
@@ -251,14 +278,27 @@ def create_or_load(
     config: StudyConfig, storage, sampler=None, backend: str = "mujoco", *, wait_s: float = CREATE_WAIT_S
 ) -> optuna.Study:
     """The study `config.name` in `storage`: created with the paper's designs
-    enqueued first, or loaded and checked against `config` (ValueError on
-    a mismatch, or when its trials come from another backend).
+    enqueued first, or loaded and checked against `config`.
 
     Safe when several processes start the same new study at once: the
     study's creation is atomic in the storage (a unique name), and only
     its creator enqueues the paper's designs, then stores the config last,
     as the mark that the study is ready. The others wait for that mark (up
-    to `wait_s`; a creator that died before setting it is replaced)."""
+    to `wait_s`; a creator that died before setting it is replaced).
+
+    Args:
+        config: the study.
+        storage: an Optuna storage (:func:`open_storage`).
+        sampler: an Optuna sampler (None: Optuna's default).
+        backend: the backend its trials run on (``"mujoco"`` or ``"warp"``).
+        wait_s: how long to wait for another process's new study, s.
+
+    Returns:
+        The ``optuna.Study``.
+
+    Raises:
+        ValueError: a stored config other than `config`, or trials of another backend.
+    """
     _quiet()
     check_objectives_vary(config.objective)
     with warnings.catch_warnings():
@@ -410,176 +450,3 @@ def _worker_main(job: _Job, tickets, conn, parent: int) -> None:
     if code:
         sys.stderr.flush()
         os._exit(code)
-
-
-# --- the coordinator ---------------------------------------------------------
-
-
-class _Bar(tqdm):
-    monitor_interval = 0  # no monitor thread: we refresh it ourselves, and fork stays safe
-
-
-@dataclass
-class RunResult:
-    """What a run did. worker_reports: one dict per worker that exited
-    normally (pid, seed, told = [(trial number, state)]); dead_workers:
-    (pid, exit code) of the others; recovered: trials failed and
-    re-enqueued because their worker died."""
-
-    study: str
-    url: str
-    target: int
-    done: int
-    running: int
-    worker_reports: list = field(default_factory=list)
-    dead_workers: list = field(default_factory=list)
-    recovered: list = field(default_factory=list)
-    start_method: str = ""
-
-    @property
-    def finished(self) -> bool:
-        return self.done >= self.target
-
-
-def run_study(config: StudyConfig, options: RunOptions = RunOptions()) -> RunResult:
-    """Run `config`'s study until it holds options.trials finished trials,
-    with options.workers local worker processes (see the module doc).
-    Bad settings or an unreachable storage raise ValueError before any work;
-    a database error later is one line too (ValueError naming the storage
-    and its cause, e.g. "database is locked"). Ctrl-C, SIGTERM and SIGHUP
-    stop the workers, fail and re-queue their running trials, and raise
-    KeyboardInterrupt (:class:`Interrupted` for the signals)."""
-    check_sampler(options.sampler)
-    check_objectives_vary(config.objective)
-    url = options.storage_url(config.name)
-    with stop_signals(), storage_errors(url):
-        return _run(config, options, url)
-
-
-def _run(config: StudyConfig, options: RunOptions, url: str) -> RunResult:
-    storage = options.open(config.name)
-    study = create_or_load(config, storage)
-    if "mat_hopper_racing" in study.user_attrs:  # _racing.RACING_ATTR: its open bracket's trials stay RUNNING
-        raise ValueError(f"study {config.name!r} is a racing study (mat_hopper.optimize.run_racing): resume it there")
-    recovered = recover_dead(study, max_retry=options.max_retry, reason="worker of an earlier run died")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-        optuna.storages.fail_stale_trials(study)
-    done, running = counts(study)
-    result = RunResult(config.name, redact(url), options.trials, done, running, recovered=recovered)
-    budget = options.trials - done - running
-    if budget <= 0:
-        return result
-
-    result.start_method = _start_method()
-    if result.start_method == "fork":
-        _warm_up()
-    ctx = mp.get_context(result.start_method)
-    tickets = ctx.Value("i", budget)
-    n_existing = len(study.get_trials(deepcopy=False))
-    live: dict[int, tuple] = {}
-    errors: list[str] = []
-    spawned = 0
-
-    def spawn(n):
-        nonlocal spawned
-        dispose(storage)  # no pooled connection crosses the fork (reopened on next use)
-        for _ in range(n):
-            job = _Job(
-                config.name, config.key(), options, url, worker_seed(options.seed, n_existing, spawned), options.trials
-            )
-            parent_end, child_end = ctx.Pipe(duplex=False)
-            p = ctx.Process(
-                target=_worker_main,
-                args=(job, tickets, child_end, os.getpid()),
-                daemon=True,
-                name=f"mat-hopper-worker-{spawned}",
-            )
-            p.start()
-            child_end.close()
-            live[p.pid] = (p, parent_end)
-            spawned += 1
-
-    def receive(conn):
-        while conn.poll():
-            try:
-                rep = conn.recv()
-            except (EOFError, OSError):
-                return
-            if "error" in rep:
-                errors.append(rep["error"])
-            result.worker_reports.append(rep)
-
-    def reap():
-        for pid, (p, conn) in list(live.items()):
-            receive(conn)
-            if p.is_alive():
-                continue
-            p.join()
-            receive(conn)
-            conn.close()
-            del live[pid]
-            if p.exitcode != 0:
-                result.dead_workers.append((pid, p.exitcode))
-                lost = recover_dead(
-                    study, pids={pid}, max_retry=options.max_retry, reason=f"worker exited with code {p.exitcode}"
-                )
-                result.recovered += lost
-                with tickets.get_lock():  # its ticket back (the storage check in _claim still caps the total)
-                    tickets.value += max(1, len(lost))
-
-    def stop(reason: str):
-        for p, _ in live.values():
-            p.terminate()
-        for p, conn in live.values():
-            p.join(10)
-            conn.close()
-        with storage_errors(url):
-            recover_dead(study, pids=set(live), max_retry=options.max_retry, reason=reason)
-        live.clear()
-
-    spawn(min(options.workers, budget))
-    bar = progress_bar(
-        tqdm_class=_Bar,
-        total=options.trials,
-        initial=min(done, options.trials),
-        unit="trial",
-        desc=config.name,
-        enabled=options.progress,
-        dynamic_ncols=True,
-        file=sys.stderr,
-        mininterval=1.0,
-    )
-    max_spawn = options.workers + options.workers * (options.max_retry + 1)
-    told_before, recovered_before = 0, len(result.recovered)
-    try:
-        while True:
-            reap()
-            if errors:  # a storage failure in a worker: the others would meet it too
-                stop("stopped after a storage error")
-                raise ValueError(errors[0])
-            done, running = counts(study)
-            bar.n = min(done, options.trials)
-            bar.set_postfix(running=running, dead=len(result.dead_workers), refresh=False)
-            bar.refresh()
-            if not live:
-                told = sum(len(r["told"]) for r in result.worker_reports)
-                progress = told > told_before or len(result.recovered) > recovered_before
-                told_before, recovered_before = told, len(result.recovered)
-                if done < options.trials and tickets.value > 0 and spawned < max_spawn and progress:
-                    spawn(min(options.workers, tickets.value))
-                    continue
-                break
-            time.sleep(POLL_S)
-    except KeyboardInterrupt as e:
-        with _signals_ignored():  # a second Ctrl-C or SIGTERM does not cut the clean-up short
-            stop(f"interrupted ({getattr(e, 'signal_name', 'SIGINT')})")
-        raise
-    except BaseException:
-        if live:
-            stop("stopped by an error in the coordinator")
-        raise
-    finally:
-        bar.close()
-    result.done, result.running = counts(study)
-    return result

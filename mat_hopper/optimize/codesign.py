@@ -34,7 +34,7 @@ authors' gains and at the designs' own gains (:func:`answer`).
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 import optuna
@@ -285,8 +285,3 @@ def answer(surv: pd.DataFrame, hops: pd.DataFrame, baseline: str = BASELINE) -> 
         lost = ", ".join(f"{r.design} {r.metric}" for r in clear[~clear["survives"]].itertuples())
         verdict = f" Control erases some of it: {lost} no longer differ clearly."
     return head + verdict
-
-
-def gains_of(tuning: Tuning) -> ControllerSettings:
-    """The tuned ControllerSettings of a design."""
-    return ControllerSettings(**{**asdict(ControllerSettings()), **tuning.gains})

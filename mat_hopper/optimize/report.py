@@ -39,16 +39,16 @@ import optuna
 import pandas as pd
 from optuna.trial import TrialState
 
-from ..analysis.change import percent_change
 from ..atomic import write_csv
+from ..change import percent_change
 from ..materials import LegDesign, paper_designs
 from ..viz import study as study_plots
 from ..viz.style import save_figure
-from ._objective import OBJECTIVES, Objective, evaluate
+from ._objective import OBJECTIVES, RESULT_ATTR, Objective, evaluate
 from ._robust import SE_ATTR, leg_mass_kg
 from ._space import resample
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
-from ._study import CONFIG_ATTR, RESULT_ATTR, StudyConfig, _quiet
+from ._study import CONFIG_ATTR, StudyConfig, _quiet
 
 BASELINES = ("SS", "rho-inc")
 HV_MARGIN = 0.1
@@ -67,8 +67,16 @@ def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
 
 
 def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
-    """One row per trial (see module doc), queued trials not yet run
-    (WAITING) left out. No wall-clock columns."""
+    """One row per trial (see module doc), queued trials not yet run (WAITING)
+    left out. No wall-clock columns.
+
+    Args:
+        study: an ``optuna.Study`` of ours.
+        config: its :class:`StudyConfig`.
+
+    Returns:
+        The trials table, columns as the module doc lists them (units in the names).
+    """
     rows = []
     space = config.space
     states = tuple(s for s in TrialState if s != TrialState.WAITING)
@@ -119,12 +127,19 @@ def feasible_complete(frame: pd.DataFrame) -> pd.DataFrame:
 
 
 def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None, *, best=None) -> pd.DataFrame:
-    """The Pareto front: the trials of `best` (trial numbers, from Optuna's
-    ``study.best_trials``: complete, feasible, non-dominated), by tracking
-    error, with percent changes against each baseline ({name:
-    (tracking_error_m, power_w)}). Of trials with identical objective
-    values (a design evaluated twice, e.g. a retried trial) the first is
-    kept: Optuna lists every copy."""
+    """The Pareto front, by tracking error. Of trials with identical objective
+    values (a design evaluated twice, e.g. a retried trial) the first is kept:
+    Optuna lists every copy.
+
+    Args:
+        frame: :func:`trials_frame`'s table.
+        baselines: {name: (tracking_error_m, power_w)} to compare against, or None.
+        best: the front's trial numbers, from Optuna's ``study.best_trials``
+            (complete, feasible, non-dominated).
+
+    Returns:
+        The front's rows, with percent changes against each baseline.
+    """
     ok = feasible_complete(frame)
     if ok.empty or not best:
         return ok.iloc[0:0].copy()
@@ -234,8 +249,19 @@ def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> 
 
 
 def write_report(name: str, storage, out_dir: str) -> dict:
-    """Every output of the module doc, written into out_dir. Returns
-    {output name: path} and the tables."""
+    """Every output of the module doc, written into `out_dir`.
+
+    Args:
+        name: the study's name.
+        storage: its Optuna storage.
+        out_dir: the folder (made if needed).
+
+    Returns:
+        {output name: path} and the tables (trials, pareto, baselines, ...).
+
+    Raises:
+        ValueError: no such study or not ours.
+    """
     study, config = load(name, storage)
     os.makedirs(out_dir, exist_ok=True)
     frame = trials_frame(study, config)
@@ -282,7 +308,20 @@ def write_report(name: str, storage, out_dir: str) -> dict:
 
 
 def replay(name: str, storage, number: int):
-    """(trial, design, fresh Evaluation) for trial `number` of study `name`."""
+    """Replay one trial of a study: its design simulated afresh.
+
+    Args:
+        name: the study's name.
+        storage: its Optuna storage (:func:`open_storage`).
+        number: the trial's number.
+
+    Returns:
+        (the FrozenTrial, its LegDesign, a fresh :class:`Evaluation`, the study's
+        :class:`StudyConfig`): compare the fresh values with the stored ones.
+
+    Raises:
+        ValueError: no such study, not ours, or no such trial.
+    """
     study, config = load(name, storage)
     trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]
     if not trials:
@@ -319,19 +358,36 @@ def book_study(
     cache_dir=None,
     workers: int | None = None,
 ) -> dict:
-    """Run (or resume, or just load) the book's design study with
-    :func:`mat_hopper.optimize._batched.run_batched`: continuous density
-    and modulus per segment (3 segments; in the hulls of `ashby_classes`
-    when given), tracking error and hip power on `behaviours` under the
-    profile, the paper's nine designs first (the rigid MD as a baseline
-    run), `trials` trials (default :data:`STUDY_TRIALS` of the profile) in
-    batches of `batch` through the runner's cache and pool, so the study is
-    the same on any machine. Storage: ``studies/<name>.db``; the name
-    carries a digest of the settings, sampler, seed and batch, so changed
-    settings start a new study instead of clashing with an old one (folder
-    `studies_dir`). Then :func:`write_report` into `out_dir`. Returns the
-    report dict (``trials``, ``pareto``, ``baselines``, ``hypervolume``,
-    ``importances``, ``paths``) plus ``name``, ``url`` and ``config``."""
+    """Run (or resume, or just load) the book's design study, then write its report.
+
+    The study (:func:`mat_hopper.optimize._batched.run_batched`): continuous
+    density and modulus per segment (3 segments; in the hulls of
+    `ashby_classes` when given), tracking error and hip power on `behaviours`
+    under the profile, the paper's nine designs first (the rigid MD as a
+    baseline run), in batches through the runner's cache and pool, so the
+    study is the same on any machine. Its name carries a digest of the
+    settings, sampler, seed and batch, so changed settings start a new study
+    instead of clashing with an old one.
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else paper).
+        studies_dir: the folder of ``<name>.db``.
+        out_dir: where :func:`write_report` writes.
+        trials: the study's size (None: :data:`STUDY_TRIALS` of the profile).
+        behaviours: behaviour names.
+        seed: the sampler's seed.
+        ashby_classes: material classes whose hulls bound the search.
+        sampler: an Optuna sampler's name.
+        batch: trials per batch.
+        cache_dir, workers: the runner's cache folder and processes.
+
+    Returns:
+        The report dict (``trials``, ``pareto``, ``baselines``, ``hypervolume``,
+        ``importances``, ``paths``) plus ``name``, ``url`` and ``config``.
+
+    Raises:
+        ValueError: bad settings (naming them), before any run.
+    """
     import hashlib
     import json
 
@@ -358,13 +414,19 @@ def book_study(
 
 
 def front_table(front: pd.DataFrame) -> pd.DataFrame:
-    """A Pareto table (:func:`mat_hopper.optimize.report.pareto_frame`) for
-    the page: trial, the paper's design it is (if any), tracking error
-    (mm), hip power (mW), their standard errors (a noise-aware study's),
-    hop height (m), the percent changes against
-    the baselines, the leg's mass (kg) and each segment's density (g/cm^3)
-    and modulus (GPa), base to foot, with short column names: a design a
-    reader can build (``mat-hopper optimize --export TRIAL`` writes it)."""
+    """A Pareto table for the page: a design a reader can build
+    (``mat-hopper optimize --export TRIAL`` writes it).
+
+    Args:
+        front: :func:`pareto_frame`'s table.
+
+    Returns:
+        trial, the paper's design it is (if any), tracking error (mm), hip
+        power (mW), their standard errors (a noise-aware study's), hop height
+        (m), the percent changes against the baselines, the leg's mass (kg)
+        and each segment's density (g/cm^3) and modulus (GPa), base to foot,
+        with short column names.
+    """
     out = pd.DataFrame(
         {
             "trial": front["trial"].astype(int),
@@ -392,11 +454,16 @@ def front_table(front: pd.DataFrame) -> pd.DataFrame:
 
 
 def front_designs(front: pd.DataFrame, k: int | None = None, *, skip_paper: bool = True) -> dict[str, LegDesign]:
-    """The designs of a Pareto table (``seg{i}_rho_g_cm3``,
-    ``seg{i}_e_gpa`` columns; at most `k`, by tracking error) as
-    {"#<trial>": LegDesign}, for :func:`designs_figure`; the paper's own
-    designs (a non-empty ``paper_design``) are left out unless
-    `skip_paper` is false."""
+    """The designs of a Pareto table, for :func:`mat_hopper.viz.maps.designs_figure`.
+
+    Args:
+        front: a table with ``seg{i}_rho_g_cm3`` and ``seg{i}_e_gpa`` columns.
+        k: at most this many, by tracking error (None: all).
+        skip_paper: leave out the paper's own designs (a non-empty ``paper_design``).
+
+    Returns:
+        {"#<trial>": LegDesign}.
+    """
     rows = front.sort_values("tracking_error_m") if "tracking_error_m" in front.columns else front
     if skip_paper and "paper_design" in rows.columns:
         rows = rows[rows["paper_design"].fillna("").astype(str) == ""]

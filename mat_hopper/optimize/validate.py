@@ -65,15 +65,12 @@ from ..behaviours import behaviour as get_behaviour
 from ..experiments.runner import FAILED, OK, RunSpec, run_grid
 from ..materials import LegDesign, paper_designs
 from ..perturbations import Perturbation
-from ..sim import auto_timestep
+from ..sim import FINE_SUBSTEPS, FINE_TIMESTEP_S, resolve_timestep
 from ._objective import OBJECTIVES, Objective
 
 NOMINAL, REPLICATE, BEHAVIOUR = "nominal", "replicate", "behaviour"
 FINE_CONTROL, FINE_PLAIN, AXIAL = "step 2e-5 s, control 1e-4 s", "step 2e-5 s", "axial"
 CHECKS = (NOMINAL, REPLICATE, BEHAVIOUR, FINE_CONTROL, FINE_PLAIN, AXIAL)
-FINE_STEP_S = 2e-5
-FINE_SUBSTEPS = 5  # 5 x 2e-5 s = the 1e-4 s control period
-FINE_LATENCY_STEPS = 5  # 5 x 2e-5 s = the authors' 1e-4 s sensor delay
 CONFIDENCE = 0.95
 N_BOOT = 10000
 
@@ -81,11 +78,11 @@ N_BOOT = 10000
 def check_settings(design: LegDesign, objective: Objective) -> dict:
     """{check: SimSettings} of the study's behaviours for one design (module doc)."""
     base = objective.sim_settings(design=design)
-    k, dt = auto_timestep(design, "axial", objective.segment_mass)
+    dt, k = resolve_timestep("auto", design, "axial", objective.segment_mass)
     return {
         NOMINAL: base,
-        FINE_CONTROL: replace(base, timestep_s=FINE_STEP_S, substeps=FINE_SUBSTEPS, sensor_timing=FINE_LATENCY_STEPS),
-        FINE_PLAIN: replace(base, timestep_s=FINE_STEP_S),
+        FINE_CONTROL: replace(base, timestep_s=FINE_TIMESTEP_S, substeps=FINE_SUBSTEPS, sensor_timing=FINE_SUBSTEPS),
+        FINE_PLAIN: replace(base, timestep_s=FINE_TIMESTEP_S),
         AXIAL: replace(base, convention="axial", timestep_s=dt, substeps=k),
     }
 

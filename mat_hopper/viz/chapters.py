@@ -50,41 +50,13 @@ def convention_figure(table: pd.DataFrame):
         for ci, conv in enumerate(convs):
             sub = table[table["convention"] == conv].set_index("design").reindex(designs)
             x = np.arange(len(designs)) - 0.4 + w * (ci + 0.5)
-            k = sub["material_spring_n_m"].to_numpy(float)
-            ok = np.isfinite(k)
-            ax_k.bar(x[ok], k[ok], w * 0.9, color=colours.get(conv), label=conv)
-            lo = sub["max_stable_timestep_s"].to_numpy(float)
-            hi = sub["unstable_timestep_s"].to_numpy(float)
-            ok = np.isfinite(lo)
-            ax_dt.bar(x[ok], lo[ok], w * 0.9, color=colours.get(conv), alpha=0.85)
-            both = ok & np.isfinite(hi)
-            ax_dt.vlines(x[both], lo[both], hi[both], color="black", lw=1.0)
-            ax_dt.plot(
-                x,
-                sub["analytic_timestep_s"].to_numpy(float),
-                "D",
-                ms=4.5,
-                color="black",
-                markerfacecolor="white",
-                zorder=4,
-            )
+            _draw_convention_bars(ax_k, ax_dt, sub, x, w * 0.9, colours.get(conv), conv)
         for ax in (ax_k, ax_dt):
             ax.set_yscale("log")
             ax.set_xticks(np.arange(len(designs)))
             ax.set_xticklabels(designs)
             ax.grid(False, axis="x")
-        for i, d in enumerate(designs):
-            if d in table["design"].values and table.loc[table["design"] == d, "material_spring_n_m"].isna().all():
-                ax_k.text(
-                    i,
-                    0.02,
-                    "rigid:\nno spring",
-                    transform=ax_k.get_xaxis_transform(),
-                    ha="center",
-                    va="bottom",
-                    fontsize=7,
-                    color="#555555",
-                )
+        _mark_rigid(ax_k, table, designs)
         k_all = table["material_spring_n_m"].to_numpy(float)
         if np.isfinite(k_all).any():
             ax_k.set_ylim(np.nanmin(k_all) / 5, np.nanmax(k_all) * 2)
@@ -95,30 +67,10 @@ def convention_figure(table: pd.DataFrame):
             ax_dt.set_ylim(np.nanmin(dt_all) / 3, np.nanmax(dt_all) * 3)
         ax_k.set_ylabel("Material spring stiffness (N/m)")
         ax_dt.set_ylabel("Largest stable time step (s)")
-        ax_dt.axhline(ref.TIMESTEP_S, color="#555555", lw=0.8, ls=":")
-        ax_dt.text(
-            1.0,
-            ref.TIMESTEP_S,
-            " paper's dt",
-            transform=ax_dt.get_yaxis_transform(),
-            va="center",
-            ha="left",
-            fontsize=7,
-            color="#555555",
-        )
+        _timestep_line(ax_dt, ref.TIMESTEP_S, " paper's dt", "#555555", ":")
         if "controller_timestep_s" in table.columns and np.isfinite(table["controller_timestep_s"]).any():
             ctrl = float(np.nanmin(table["controller_timestep_s"].to_numpy(float)))
-            ax_dt.axhline(ctrl, color="#d55e00", lw=0.8, ls="--")
-            ax_dt.text(
-                1.0,
-                ctrl,
-                " controller limit",
-                transform=ax_dt.get_yaxis_transform(),
-                va="center",
-                ha="left",
-                fontsize=7,
-                color="#d55e00",
-            )
+            _timestep_line(ax_dt, ctrl, " controller limit", "#d55e00", "--")
         handles = [Patch(color=colours.get(c), label=f"{c} convention") for c in convs]
         handles += [
             Line2D([], [], color="black", lw=1.0, label="measured bracket (stable to unstable)"),
@@ -128,6 +80,44 @@ def convention_figure(table: pd.DataFrame):
         ]
         fig.legend(handles=handles, loc="outside upper center", ncols=len(handles))
     return fig
+
+
+def _draw_convention_bars(ax_k, ax_dt, sub, x, width, colour, conv) -> None:
+    """One convention's bars: spring stiffness; measured step with its bracket and the estimate."""
+    k = sub["material_spring_n_m"].to_numpy(float)
+    ok = np.isfinite(k)
+    ax_k.bar(x[ok], k[ok], width, color=colour, label=conv)
+    lo = sub["max_stable_timestep_s"].to_numpy(float)
+    hi = sub["unstable_timestep_s"].to_numpy(float)
+    ok = np.isfinite(lo)
+    ax_dt.bar(x[ok], lo[ok], width, color=colour, alpha=0.85)
+    both = ok & np.isfinite(hi)
+    ax_dt.vlines(x[both], lo[both], hi[both], color="black", lw=1.0)
+    ax_dt.plot(
+        x, sub["analytic_timestep_s"].to_numpy(float), "D", ms=4.5, color="black", markerfacecolor="white", zorder=4
+    )
+
+
+def _mark_rigid(ax_k, table, designs) -> None:
+    """'rigid: no spring' under the designs without a material spring."""
+    for i, d in enumerate(designs):
+        if d in table["design"].values and table.loc[table["design"] == d, "material_spring_n_m"].isna().all():
+            ax_k.text(
+                i,
+                0.02,
+                "rigid:\nno spring",
+                transform=ax_k.get_xaxis_transform(),
+                ha="center",
+                va="bottom",
+                fontsize=7,
+                color="#555555",
+            )
+
+
+def _timestep_line(ax, dt_s: float, label: str, colour: str, ls: str) -> None:
+    """A horizontal reference step (s), named at the right edge."""
+    ax.axhline(dt_s, color=colour, lw=0.8, ls=ls)
+    ax.text(1.0, dt_s, label, transform=ax.get_yaxis_transform(), va="center", ha="left", fontsize=7, color=colour)
 
 
 def controller_figure(rollout, window_s: tuple[float, float] | None = None):
@@ -380,12 +370,12 @@ def convergence_figure(metrics: pd.DataFrame):
 def agreement_figure(table: pd.DataFrame):
     """Chapter 13: the warp backend against the CPU rollouts, per design and
     behaviour: tracking error and hip power differences (% of the CPU's),
-    the acceptance band (:data:`mat_hopper.batch._agreement.RELATIVE_TOLERANCE`)
+    the acceptance band (:data:`mat_hopper.batch.RELATIVE_TOLERANCE`)
     shaded; runs that diverged on both backends marked "diverged". A run
     without scored hop cycles shows its whole-run means' differences.
 
     table: :func:`mat_hopper.batch.agreement` rows (behaviour may be nan)."""
-    from ..batch._agreement import RELATIVE_TOLERANCE
+    from ..batch import RELATIVE_TOLERANCE
 
     band = 100 * RELATIVE_TOLERANCE
     labels = [d if not isinstance(b, str) else f"{d}, {b}" for d, b in zip(table["design"], table["behaviour"])]

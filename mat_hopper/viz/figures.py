@@ -1,7 +1,7 @@
 """The book's figures, from tidy result tables.
 
 Every ``figure_*`` / ``*_figure`` function takes tables (or, for the time
-series, :class:`~mat_hopper.sim.Rollout` objects), returns a
+series, :class:`~mat_hopper.rollout.Rollout` objects), returns a
 :class:`matplotlib.figure.Figure` and reads no file; :func:`save_figure`
 writes one as PNG and SVG, atomically. Figures are built on
 ``matplotlib.figure.Figure`` directly (no pyplot state), so making many of
@@ -367,7 +367,7 @@ def figure5_timeseries(
     own cycles) at its mid-time, one column per behaviour (forward, then
     ramp), one line per design. The transient (cycles not scored) is shaded.
 
-    rollouts: iterable of :class:`~mat_hopper.sim.Rollout`."""
+    rollouts: iterable of :class:`~mat_hopper.rollout.Rollout`."""
     rollouts = list(rollouts)
     if not rollouts:
         raise ValueError("figure5_timeseries needs at least one Rollout")

@@ -98,6 +98,54 @@ def stability_figure(
     controller limit); materials: catalogue names
     marked on the map; convention: keep the rows of this convention (when
     the table has a convention column) and name it in the title."""
+    t, convention, measured_name, an_label = _stability_columns(stab, convention, measured, analytic)
+    rho = np.sort(t["density_g_cm3"].unique())
+    mod = np.sort(t["modulus_gpa"].unique())
+
+    def grid_of(values):
+        return t.pivot(index="modulus_gpa", columns="density_g_cm3", values=values).reindex(index=mod, columns=rho)
+
+    measured = grid_of("max_stable_timestep_s").to_numpy(float)
+    present = np.isfinite(grid_of("_one").to_numpy(float))
+    an = grid_of("analytic_timestep_s").to_numpy(float)
+    finite = measured[np.isfinite(measured) & (measured > 0)]
+    an_ok = an[np.isfinite(an) & (an > 0)]
+    vals = np.concatenate([finite, an_ok])
+    vmin, vmax = (float(vals.min()), float(vals.max())) if len(vals) else (1e-5, 1e-3)
+    if vmin == vmax:
+        vmin, vmax = vmin / 2, vmax * 2
+    with rc_context({**STYLE, "axes.grid": False}):
+        fig = _new_figure(10.0, 4.2)
+        ax, ax2 = fig.subplots(1, 2, width_ratios=[1.35, 1.0])
+        xe, ye = _edges(rho), _edges(mod)
+        unstable = present & ~np.isfinite(measured)
+        _draw_stability_map(fig, ax, xe, ye, measured, unstable, LogNorm(vmin=vmin, vmax=vmax), measured_name)
+        if len(an_ok) and len(rho) > 1 and len(mod) > 1:
+            _draw_analytic_contours(ax, rho, mod, an, an_ok)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlim(xe[0], xe[-1])
+        ax.set_ylim(ye[0], ye[-1])
+        plain_log_ticks(ax.xaxis)
+        plain_log_ticks(ax.yaxis)
+        ax.set_xlabel("Density (g/cm³)")
+        ax.set_ylabel("Modulus (GPa)")
+        _mark_materials(ax, materials, xe, ye)
+        ax.set_title("Largest stable time step" + (f", {convention} convention" if convention else ""))
+        _panel_label(ax, "A")
+        handles = [Line2D([], [], color="black", ls="--", lw=0.9, label=f"analytic {an_label}")]
+        if unstable.any():
+            handles.append(Patch(facecolor="#dddddd", hatch="///", edgecolor="#777777", label="no tried step stable"))
+        ax.legend(handles=handles, loc="lower right", frameon=True, fontsize=7)
+        _draw_measured_vs_analytic(fig, ax2, t, vmin, vmax, an_label)
+        _panel_label(ax2, "B")
+    return fig
+
+
+def _stability_columns(stab, convention, measured, analytic):
+    """(one row per grid point: density_g_cm3, modulus_gpa,
+    max_stable_timestep_s and analytic_timestep_s from the chosen columns, and
+    _one; the convention; the measured column's name; the estimate's label)."""
     if "convention" in stab.columns:
         convs = sorted(stab["convention"].dropna().unique())
         if convention is not None:
@@ -114,120 +162,92 @@ def stability_figure(
         ["density_g_cm3", "modulus_gpa", "_measured", "_analytic"]
     ].rename(columns={"_measured": "max_stable_timestep_s", "_analytic": "analytic_timestep_s"})
     stab = stab.apply(pd.to_numeric, errors="coerce")
-    cols = ("density_g_cm3", "modulus_gpa", "max_stable_timestep_s", "analytic_timestep_s")
     if len(stab) == 0:
         raise ValueError("stability_figure: the table is empty")
-    t = stab.groupby(["modulus_gpa", "density_g_cm3"], as_index=False)[list(cols[2:])].min()
-    rho = np.sort(t["density_g_cm3"].unique())
-    mod = np.sort(t["modulus_gpa"].unique())
-    grid = t.pivot(index="modulus_gpa", columns="density_g_cm3", values="max_stable_timestep_s").reindex(
-        index=mod, columns=rho
-    )
-    present = (
-        t.assign(one=1.0)
-        .pivot(index="modulus_gpa", columns="density_g_cm3", values="one")
-        .reindex(index=mod, columns=rho)
-    )
-    analytic = t.pivot(index="modulus_gpa", columns="density_g_cm3", values="analytic_timestep_s").reindex(
-        index=mod, columns=rho
-    )
-    measured = grid.to_numpy(float)
-    finite = measured[np.isfinite(measured) & (measured > 0)]
-    an = analytic.to_numpy(float)
-    an_ok = an[np.isfinite(an) & (an > 0)]
-    vals = np.concatenate([finite, an_ok])
-    vmin, vmax = (float(vals.min()), float(vals.max())) if len(vals) else (1e-5, 1e-3)
-    if vmin == vmax:
-        vmin, vmax = vmin / 2, vmax * 2
-    norm = LogNorm(vmin=vmin, vmax=vmax)
-    with rc_context({**STYLE, "axes.grid": False}):
-        fig = _new_figure(10.0, 4.2)
-        ax, ax2 = fig.subplots(1, 2, width_ratios=[1.35, 1.0])
-        xe, ye = _edges(rho), _edges(mod)
-        mesh = ax.pcolormesh(xe, ye, np.ma.masked_invalid(measured), norm=norm, cmap="viridis", shading="flat")
-        unstable = np.isfinite(present.to_numpy(float)) & ~np.isfinite(measured)
-        if unstable.any():
-            ax.pcolormesh(
-                xe,
-                ye,
-                np.ma.masked_where(~unstable, np.ones_like(measured)),
-                cmap="Greys",
-                vmin=0,
-                vmax=4,
-                hatch="///",
-                shading="flat",
-                edgecolor="#777777",
-                linewidth=0,
-            )
-        cb = fig.colorbar(mesh, ax=ax, pad=0.02)
-        cb.set_label("Largest stable time step, measured (s)" + (" (spec scan)" if "spec" in measured else ""))
-        plain_log_ticks(cb.ax.yaxis)
-        if len(an_ok) and len(rho) > 1 and len(mod) > 1:
-            lo, hi = math.floor(math.log10(an_ok.min()) * 2) / 2, math.ceil(math.log10(an_ok.max()) * 2) / 2
-            levels = 10 ** np.arange(lo, hi + 0.01, 0.5)
-            levels = levels[(levels > an_ok.min()) & (levels < an_ok.max())]
-            if len(levels):
-                cs = ax.contour(
-                    rho, mod, np.ma.masked_invalid(an), levels=levels, colors="white", linewidths=0.9, linestyles="--"
-                )
-                ax.clabel(cs, fmt=lambda v: f"{v:.0e} s".replace("e-0", "e-"), fontsize=7, inline=True)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlim(xe[0], xe[-1])
-        ax.set_ylim(ye[0], ye[-1])
-        plain_log_ticks(ax.xaxis)
-        plain_log_ticks(ax.yaxis)
-        ax.set_xlabel("Density (g/cm³)")
-        ax.set_ylabel("Modulus (GPa)")
-        for name in materials:
-            m = CATALOGUE.get(name.lower())
-            if m is None or m.modulus_gpa is None:
-                continue
-            if not (xe[0] <= m.density_g_cm3 <= xe[-1] and ye[0] <= m.modulus_gpa <= ye[-1]):
-                continue
-            ax.plot(m.density_g_cm3, m.modulus_gpa, "o", ms=6, markerfacecolor="white", markeredgecolor="black")
-            ax.annotate(
-                m.name,
-                (m.density_g_cm3, m.modulus_gpa),
-                xytext=(5, 4),
-                textcoords="offset points",
-                fontsize=8,
-                color="white",
-                fontweight="bold",
-            )
-        ax.set_title("Largest stable time step" + (f", {convention} convention" if convention else ""))
-        _panel_label(ax, "A")
-        handles = [Line2D([], [], color="black", ls="--", lw=0.9, label=f"analytic {an_label}")]
-        if unstable.any():
-            handles.append(Patch(facecolor="#dddddd", hatch="///", edgecolor="#777777", label="no tried step stable"))
-        ax.legend(handles=handles, loc="lower right", frameon=True, fontsize=7)
+    values = ["max_stable_timestep_s", "analytic_timestep_s"]
+    t = stab.groupby(["modulus_gpa", "density_g_cm3"], as_index=False)[values].min()
+    return t.assign(_one=1.0), convention, measured, an_label
 
-        ok = t[np.isfinite(t["max_stable_timestep_s"]) & np.isfinite(t["analytic_timestep_s"])]
-        sc = ax2.scatter(
-            ok["analytic_timestep_s"],
-            ok["max_stable_timestep_s"],
-            c=ok["density_g_cm3"],
-            cmap="cividis",
-            norm=LogNorm(),
-            s=16,
-            edgecolor="none",
+
+def _draw_stability_map(fig, ax, xe, ye, measured, unstable, norm, measured_name) -> None:
+    """The measured step as a heat map (hatched where no tried step was stable) and its colour bar."""
+    mesh = ax.pcolormesh(xe, ye, np.ma.masked_invalid(measured), norm=norm, cmap="viridis", shading="flat")
+    if unstable.any():
+        ax.pcolormesh(
+            xe,
+            ye,
+            np.ma.masked_where(~unstable, np.ones_like(measured)),
+            cmap="Greys",
+            vmin=0,
+            vmax=4,
+            hatch="///",
+            shading="flat",
+            edgecolor="#777777",
+            linewidth=0,
         )
-        cb2 = fig.colorbar(sc, ax=ax2, pad=0.02)
-        cb2.set_label("Density (g/cm³)")
-        plain_log_ticks(cb2.ax.yaxis)
-        lims = [vmin / 1.5, vmax * 1.5]
-        ax2.plot(lims, lims, color="black", lw=0.8, ls=":", label="measured = analytic")
-        ax2.set_xscale("log")
-        ax2.set_yscale("log")
-        ax2.set_xlim(lims)
-        ax2.set_ylim(lims)
-        ax2.set_aspect("equal")
-        ax2.set_xlabel(f"Analytic estimate {an_label} (s)")
-        ax2.set_ylabel("Measured largest stable step (s)")
-        ax2.grid(True, which="major", alpha=0.3)
-        ax2.legend(loc="upper left")
-        _panel_label(ax2, "B")
-    return fig
+    cb = fig.colorbar(mesh, ax=ax, pad=0.02)
+    cb.set_label("Largest stable time step, measured (s)" + (" (spec scan)" if "spec" in measured_name else ""))
+    plain_log_ticks(cb.ax.yaxis)
+
+
+def _draw_analytic_contours(ax, rho, mod, an, an_ok) -> None:
+    """The analytic estimate as labelled white contours every half decade."""
+    lo, hi = math.floor(math.log10(an_ok.min()) * 2) / 2, math.ceil(math.log10(an_ok.max()) * 2) / 2
+    levels = 10 ** np.arange(lo, hi + 0.01, 0.5)
+    levels = levels[(levels > an_ok.min()) & (levels < an_ok.max())]
+    if len(levels):
+        cs = ax.contour(
+            rho, mod, np.ma.masked_invalid(an), levels=levels, colors="white", linewidths=0.9, linestyles="--"
+        )
+        ax.clabel(cs, fmt=lambda v: f"{v:.0e} s".replace("e-0", "e-"), fontsize=7, inline=True)
+
+
+def _mark_materials(ax, materials, xe, ye) -> None:
+    """The catalogue materials inside the map, as labelled white dots."""
+    for name in materials:
+        m = CATALOGUE.get(name.lower())
+        if m is None or m.modulus_gpa is None:
+            continue
+        if not (xe[0] <= m.density_g_cm3 <= xe[-1] and ye[0] <= m.modulus_gpa <= ye[-1]):
+            continue
+        ax.plot(m.density_g_cm3, m.modulus_gpa, "o", ms=6, markerfacecolor="white", markeredgecolor="black")
+        ax.annotate(
+            m.name,
+            (m.density_g_cm3, m.modulus_gpa),
+            xytext=(5, 4),
+            textcoords="offset points",
+            fontsize=8,
+            color="white",
+            fontweight="bold",
+        )
+
+
+def _draw_measured_vs_analytic(fig, ax2, t, vmin, vmax, an_label) -> None:
+    """Panel B: measured against analytic, log-log, coloured by density, the line y = x."""
+    ok = t[np.isfinite(t["max_stable_timestep_s"]) & np.isfinite(t["analytic_timestep_s"])]
+    sc = ax2.scatter(
+        ok["analytic_timestep_s"],
+        ok["max_stable_timestep_s"],
+        c=ok["density_g_cm3"],
+        cmap="cividis",
+        norm=LogNorm(),
+        s=16,
+        edgecolor="none",
+    )
+    cb2 = fig.colorbar(sc, ax=ax2, pad=0.02)
+    cb2.set_label("Density (g/cm³)")
+    plain_log_ticks(cb2.ax.yaxis)
+    lims = [vmin / 1.5, vmax * 1.5]
+    ax2.plot(lims, lims, color="black", lw=0.8, ls=":", label="measured = analytic")
+    ax2.set_xscale("log")
+    ax2.set_yscale("log")
+    ax2.set_xlim(lims)
+    ax2.set_ylim(lims)
+    ax2.set_aspect("equal")
+    ax2.set_xlabel(f"Analytic estimate {an_label} (s)")
+    ax2.set_ylabel("Measured largest stable step (s)")
+    ax2.grid(True, which="major", alpha=0.3)
+    ax2.legend(loc="upper left")
 
 
 # --- Ashby ---------------------------------------------------------------------------
@@ -278,68 +298,12 @@ def ashby_figure(
     with rc_context({**STYLE, "axes.grid": False}):
         fig = _new_figure(6.0, 4.8)
         ax = fig.subplots()
-        for name, r in regions.items():
-            verts = _superellipse(r["density_g_cm3"], r["modulus_gpa"])
-            ax.add_patch(
-                Polygon(
-                    verts,
-                    closed=True,
-                    facecolor=r["colour"],
-                    alpha=0.12,
-                    edgecolor=r["colour"],
-                    linewidth=1.0,
-                    zorder=0,
-                )
-            )
-            ax.text(
-                math.sqrt(r["density_g_cm3"][0] * r["density_g_cm3"][1]),
-                r["modulus_gpa"][1] * 0.8,
-                r.get("label", name),
-                ha="center",
-                va="top",
-                color=r["colour"],
-                fontsize=8.5,
-                fontweight="bold",
-                zorder=1,
-            )
+        _draw_class_regions(ax, regions)
         (r0, r1), (e0, e1) = bounds["density_g_cm3"], bounds["modulus_gpa"]
         ax.add_patch(Rectangle((r0, e0), r1 - r0, e1 - e0, fill=False, ls="--", lw=1.0, edgecolor="black", zorder=1))
         ax.text(r1 * 0.93, e0 * 1.25, "design bounds", ha="right", va="bottom", fontsize=8)
-        classes = list(dict.fromkeys(t["material_class"]))
-        for cls in classes:
-            s = t[t["material_class"] == cls]
-            colour = CLASS_COLOURS.get(cls, "#333333")
-            big = s["name"].isin(highlight)
-            ax.scatter(
-                s["density_g_cm3"][~big],
-                s["modulus_gpa"][~big],
-                s=28,
-                color=colour,
-                edgecolor="white",
-                linewidth=0.6,
-                zorder=3,
-                label=cls,
-            )
-            ax.scatter(
-                s["density_g_cm3"][big],
-                s["modulus_gpa"][big],
-                s=60,
-                color=colour,
-                edgecolor="black",
-                linewidth=0.9,
-                zorder=4,
-                label=None if (~big).any() else cls,
-            )
-            for _, row in s.iterrows():
-                ax.annotate(
-                    row["name"],
-                    (row["density_g_cm3"], row["modulus_gpa"]),
-                    xytext=(5, -3),
-                    textcoords="offset points",
-                    fontsize=7.5,
-                    zorder=5,
-                    fontweight="bold" if row["name"] in highlight else "normal",
-                )
+        for cls in dict.fromkeys(t["material_class"]):
+            _draw_material_class(ax, t[t["material_class"] == cls], cls, highlight)
         ax.set_xscale("log")
         ax.set_yscale("log")
         xs = [*t["density_g_cm3"], r0, r1] + [v for r in regions.values() for v in r["density_g_cm3"]]
@@ -368,6 +332,64 @@ def ashby_figure(
             handles=handles, loc="upper left", frameon=True, fontsize=7.5, title="material class", title_fontsize=8
         )
     return fig
+
+
+def _draw_class_regions(ax, regions) -> None:
+    """The paper's material classes as shaded, labelled superellipses."""
+    for name, r in regions.items():
+        verts = _superellipse(r["density_g_cm3"], r["modulus_gpa"])
+        ax.add_patch(
+            Polygon(
+                verts, closed=True, facecolor=r["colour"], alpha=0.12, edgecolor=r["colour"], linewidth=1.0, zorder=0
+            )
+        )
+        ax.text(
+            math.sqrt(r["density_g_cm3"][0] * r["density_g_cm3"][1]),
+            r["modulus_gpa"][1] * 0.8,
+            r.get("label", name),
+            ha="center",
+            va="top",
+            color=r["colour"],
+            fontsize=8.5,
+            fontweight="bold",
+            zorder=1,
+        )
+
+
+def _draw_material_class(ax, s, cls, highlight) -> None:
+    """One class's materials: small dots, the highlighted ones large and ringed, every one named."""
+    colour = CLASS_COLOURS.get(cls, "#333333")
+    big = s["name"].isin(highlight)
+    ax.scatter(
+        s["density_g_cm3"][~big],
+        s["modulus_gpa"][~big],
+        s=28,
+        color=colour,
+        edgecolor="white",
+        linewidth=0.6,
+        zorder=3,
+        label=cls,
+    )
+    ax.scatter(
+        s["density_g_cm3"][big],
+        s["modulus_gpa"][big],
+        s=60,
+        color=colour,
+        edgecolor="black",
+        linewidth=0.9,
+        zorder=4,
+        label=None if (~big).any() else cls,
+    )
+    for _, row in s.iterrows():
+        ax.annotate(
+            row["name"],
+            (row["density_g_cm3"], row["modulus_gpa"]),
+            xytext=(5, -3),
+            textcoords="offset points",
+            fontsize=7.5,
+            zorder=5,
+            fontweight="bold" if row["name"] in highlight else "normal",
+        )
 
 
 def designs_figure(designs: dict[str, LegDesign] | None = None):

@@ -26,9 +26,10 @@ import numpy as np
 from ..atomic import atomic_path
 from ..behaviours import Behaviour
 from ..behaviours import behaviour as get_behaviour
-from ..materials import DEFAULT_CONVENTION, LegDesign
+from ..materials import LegDesign
 from ..model import reset_to_start
-from ..sim import Rollout, SimSettings, _as_design, simulate
+from ..rollout import Rollout
+from ..sim import SimSettings, _as_design, simulate
 from .scene import (  # noqa: F401 (the scene's names are re-exported)
     _LIBS,
     DENSITY_RANGE_G_CM3,
@@ -74,17 +75,21 @@ def record(
     seconds: float,
     *,
     start_s: float = 0.0,
-    convention: str = DEFAULT_CONVENTION,
+    convention: str | None = None,
     settings: SimSettings | None = None,
 ) -> Rollout:
     """A rollout with joint positions recorded up to start_s + seconds (s).
-    settings: the run's other settings (time step, substeps, sensor timing,
-    segment mass, convention; its duration and transient are replaced)."""
+    convention: the stiffness convention (None: the settings', else the
+    paper's); settings: the run's other settings (time step, substeps,
+    sensor timing, segment mass, convention; its duration and transient are
+    replaced). Raises ValueError for a convention other than the settings'."""
     if not (math.isfinite(seconds) and seconds > 0):
         raise ValueError(f"seconds must be > 0, got {seconds!r}")
     if not (math.isfinite(start_s) and start_s >= 0):
         raise ValueError(f"start must be >= 0 s, got {start_s!r}")
     if settings is not None:
+        if convention is not None and convention != settings.convention:
+            raise ValueError(f"convention {convention!r} given beside settings of convention {settings.convention!r}")
         settings = dataclasses.replace(settings, duration_s=start_s + seconds, transient_s=0.0)
         return simulate(design, behaviour, settings=settings, record_qpos=True)
     return simulate(
@@ -348,7 +353,7 @@ def render_files(
     tile_start_s: float = 5.0,
     fps: float = 30.0,
     size=(640, 480),
-    convention: str = DEFAULT_CONVENTION,
+    convention: str | None = None,
     backend: str | None = None,
     log=print,
     settings: SimSettings | None = None,
@@ -357,7 +362,7 @@ def render_files(
     .mp4 or .gif; `seconds` of simulated time from `start_s` at `fps`) and/or
     a still of the model at rest (`still`) of one design on one behaviour.
     Every input is checked before any work. settings: the run's time step,
-    sensor timing and segment mass (:func:`record`); its convention wins.
+    sensor timing and segment mass (:func:`record`); a convention given must be its own.
     Returns the paths written."""
     if not tiles and not video and not still:
         raise ValueError("nothing to render: give tiles, video and/or still")

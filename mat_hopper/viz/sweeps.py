@@ -51,6 +51,41 @@ def figure4_sweeps(
     experiment 2: points whose run diverged, fell or failed are left out of
     the lines and marked with a cross on the axis."""
     _require(hops, ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa", metric), "figure4_sweeps")
+    table, bad, baseline_hops = _sweep_table(hops, baseline_hops, runs, metric)
+    base, significant = _against_baseline(table, baseline_hops, baseline, metric, alpha)
+    factor, ylabel = metric_scale(metric, table[metric])
+    seen = list(table["sweep_base"].unique()) + (list(bad["sweep_base"].unique()) if len(bad) else [])
+    bases = [b for b in ("PVC", "Al", "Ti", "SS") if b in seen]
+    bases += [b for b in dict.fromkeys(seen) if b not in bases]
+    with rc_context(STYLE):
+        fig = _new_figure(9.0, 3.4)
+        axes = fig.subplots(1, 2, sharey=True)
+        for ax, (prop, letter) in zip(axes, (("density", "D"), ("modulus", "E"))):
+            col, xlabel = SWEEP_PROPERTIES[prop]
+            sub = table[table["sweep_property"] == prop]
+            for i, b in enumerate(bases):
+                s = sub[sub["sweep_base"] == b]
+                if len(s):
+                    _draw_sweep_line(ax, s, b, design_colour(b, i), col, metric, factor, significant)
+            _draw_lost_runs(ax, bad[bad["sweep_property"] == prop] if len(bad) else bad, bases, col)
+            if base is not None and len(base):
+                v = base[metric].to_numpy(float) * factor
+                ax.axhline(np.mean(v), color=design_colour(baseline), ls="--", lw=1.0, zorder=1)
+                ax.axhspan(*np.percentile(v, [25, 75]), color=design_colour(baseline), alpha=0.15, lw=0, zorder=0)
+            ax.set_xscale("log")
+            plain_log_ticks(ax.xaxis)
+            ax.set_xlabel(xlabel)
+            ax.grid(True, axis="x", which="major", alpha=0.3)
+            _panel_label(ax, letter)
+        axes[0].set_ylabel(ylabel)
+        handles = _sweep_legend(bases, bad, base, baseline)
+        fig.legend(handles=handles, loc="outside upper center", ncols=min(len(handles), 5), columnspacing=1.0)
+    return fig
+
+
+def _sweep_table(hops, baseline_hops, runs, metric):
+    """(the sweep's unperturbed hop cycles with a point id and numeric columns,
+    the unusable runs of the sweep, the baseline's usable hop cycles)."""
     bad = _stats.unusable_runs(runs)
     if len(bad) and "sweep_property" in bad.columns:
         bad = bad[bad["sweep_property"].notna()]
@@ -67,6 +102,12 @@ def figure4_sweeps(
         _point=table[keys].astype(str).agg("|".join, axis=1),
         **{c: pd.to_numeric(table[c], errors="coerce") for c in (metric, "density_g_cm3", "modulus_gpa")},
     )
+    return table, bad, baseline_hops
+
+
+def _against_baseline(table, baseline_hops, baseline, metric, alpha):
+    """(the baseline's hop cycles or None, the set of sweep points that differ
+    from it significantly, Mann-Whitney U with Holm over all points, or None)."""
     significant = None
     base = None
     if baseline_hops is not None and len(baseline_hops):
@@ -85,130 +126,88 @@ def figure4_sweeps(
 
             cmp = compare(joint, "__baseline__", by="behaviour", metrics=(metric,), alpha=alpha)
             significant = set(cmp.loc[cmp["significant"].astype(bool), "design"])
-    factor, ylabel = metric_scale(metric, table[metric])
-    seen = list(table["sweep_base"].unique()) + (list(bad["sweep_base"].unique()) if len(bad) else [])
-    bases = [b for b in ("PVC", "Al", "Ti", "SS") if b in seen]
-    bases += [b for b in dict.fromkeys(seen) if b not in bases]
-    with rc_context(STYLE):
-        fig = _new_figure(9.0, 3.4)
-        axes = fig.subplots(1, 2, sharey=True)
-        for ax, (prop, letter) in zip(axes, (("density", "D"), ("modulus", "E"))):
-            col, xlabel = SWEEP_PROPERTIES[prop]
-            sub = table[table["sweep_property"] == prop]
-            for i, b in enumerate(bases):
-                s = sub[sub["sweep_base"] == b]
-                if len(s) == 0:
-                    continue
-                colour = design_colour(b, i)
-                g = s.groupby(["_point", col], sort=False)[metric]
-                pts = pd.DataFrame({"mean": g.mean(), "q1": g.quantile(0.25), "q3": g.quantile(0.75)}).reset_index()
-                pts = pts.sort_values(col)
-                x = pts[col].to_numpy(float)
-                y = pts["mean"].to_numpy(float) * factor
-                yerr = np.vstack([y - pts["q1"].to_numpy(float) * factor, pts["q3"].to_numpy(float) * factor - y])
-                ax.errorbar(
-                    x,
-                    y,
-                    yerr=np.clip(yerr, 0, None),
-                    color=colour,
-                    lw=1.2,
-                    capsize=2,
-                    elinewidth=0.8,
-                    marker="none",
-                    label=b,
-                    zorder=2,
-                )
-                nominal = ref.MONO_MATERIALS.get(b, (None, None))
-                for xi, yi, pt in zip(x, y, pts["_point"]):
-                    filled = significant is None or pt in significant
-                    ax.plot(
-                        xi,
-                        yi,
-                        "o",
-                        ms=5,
-                        color=colour,
-                        zorder=3,
-                        markerfacecolor=colour if filled else "white",
-                        markeredgewidth=1.0,
-                        markeredgecolor=colour,
-                    )
-                nom = s[
-                    (np.isclose(s["density_g_cm3"], nominal[0] or -1))
-                    & (np.isclose(s["modulus_gpa"], nominal[1] or -1))
-                ]
-                if len(nom):
-                    ax.plot(
-                        float(nom[col].iloc[0]),
-                        float(nom[metric].mean()) * factor,
-                        "o",
-                        ms=10,
-                        markerfacecolor="none",
-                        markeredgecolor="black",
-                        markeredgewidth=1.2,
-                        zorder=4,
-                    )
-            lost = bad[bad["sweep_property"] == prop] if len(bad) else bad
-            for _, row in lost.iterrows():
-                bi = bases.index(row["sweep_base"]) if row["sweep_base"] in bases else 0
-                ax.plot(
-                    float(row[col]),
-                    0.03 + 0.05 * bi,
-                    marker="x",
-                    ms=6,
-                    mew=1.6,
-                    color=design_colour(row["sweep_base"], bi),
-                    clip_on=False,
-                    zorder=5,
-                    transform=ax.get_xaxis_transform(),
-                )
-            if base is not None and len(base):
-                v = base[metric].to_numpy(float) * factor
-                ax.axhline(np.mean(v), color=design_colour(baseline), ls="--", lw=1.0, zorder=1)
-                ax.axhspan(*np.percentile(v, [25, 75]), color=design_colour(baseline), alpha=0.15, lw=0, zorder=0)
-            ax.set_xscale("log")
-            plain_log_ticks(ax.xaxis)
-            ax.set_xlabel(xlabel)
-            ax.grid(True, axis="x", which="major", alpha=0.3)
-            _panel_label(ax, letter)
-        axes[0].set_ylabel(ylabel)
-        handles = [Line2D([], [], color=design_colour(b, i), marker="o", lw=1.2, label=b) for i, b in enumerate(bases)]
-        handles.append(
-            Line2D(
-                [],
-                [],
-                ls="none",
-                marker="o",
-                ms=10,
-                markerfacecolor="none",
-                markeredgecolor="black",
-                markeredgewidth=1.2,
-                label="base material",
-            )
+    return base, significant
+
+
+def _draw_sweep_line(ax, s, b, colour, col, metric, factor, significant) -> None:
+    """One base material's sweep: mean and IQR bars, markers filled where
+    significant, and a black ring on the base material's own point."""
+    g = s.groupby(["_point", col], sort=False)[metric]
+    pts = pd.DataFrame({"mean": g.mean(), "q1": g.quantile(0.25), "q3": g.quantile(0.75)}).reset_index()
+    pts = pts.sort_values(col)
+    x = pts[col].to_numpy(float)
+    y = pts["mean"].to_numpy(float) * factor
+    yerr = np.vstack([y - pts["q1"].to_numpy(float) * factor, pts["q3"].to_numpy(float) * factor - y])
+    ax.errorbar(
+        x,
+        y,
+        yerr=np.clip(yerr, 0, None),
+        color=colour,
+        lw=1.2,
+        capsize=2,
+        elinewidth=0.8,
+        marker="none",
+        label=b,
+        zorder=2,
+    )
+    nominal = ref.MONO_MATERIALS.get(b, (None, None))
+    for xi, yi, pt in zip(x, y, pts["_point"]):
+        filled = significant is None or pt in significant
+        ax.plot(
+            xi,
+            yi,
+            "o",
+            ms=5,
+            color=colour,
+            zorder=3,
+            markerfacecolor=colour if filled else "white",
+            markeredgewidth=1.0,
+            markeredgecolor=colour,
         )
-        if len(bad):
-            why = "diverged" if bad["why"].str.startswith("unstable").all() else "diverged, fell or failed"
-            handles.append(Line2D([], [], ls="none", marker="x", ms=7, mew=1.6, color="#555555", label=f"run {why}"))
-        if base is not None and len(base):
-            handles.append(
-                Patch(
-                    facecolor=design_colour(baseline),
-                    alpha=0.3,
-                    edgecolor=design_colour(baseline),
-                    linestyle="--",
-                    label=f"{design_label(baseline)} mean, IQR",
-                )
-            )
-            handles.append(
-                Line2D(
-                    [],
-                    [],
-                    ls="none",
-                    marker="o",
-                    ms=5,
-                    markerfacecolor="white",
-                    markeredgecolor="#555555",
-                    label=f"open: not significant vs {design_label(baseline)}",
-                )
-            )
-        fig.legend(handles=handles, loc="outside upper center", ncols=min(len(handles), 5), columnspacing=1.0)
-    return fig
+    nom = s[(np.isclose(s["density_g_cm3"], nominal[0] or -1)) & (np.isclose(s["modulus_gpa"], nominal[1] or -1))]
+    if len(nom):
+        ax.plot(
+            float(nom[col].iloc[0]),
+            float(nom[metric].mean()) * factor,
+            "o",
+            ms=10,
+            markerfacecolor="none",
+            markeredgecolor="black",
+            markeredgewidth=1.2,
+            zorder=4,
+        )
+
+
+def _draw_lost_runs(ax, lost, bases, col) -> None:
+    """A cross on the axis for each sweep point whose run diverged, fell or failed."""
+    for _, row in lost.iterrows():
+        bi = bases.index(row["sweep_base"]) if row["sweep_base"] in bases else 0
+        ax.plot(
+            float(row[col]),
+            0.03 + 0.05 * bi,
+            marker="x",
+            ms=6,
+            mew=1.6,
+            color=design_colour(row["sweep_base"], bi),
+            clip_on=False,
+            zorder=5,
+            transform=ax.get_xaxis_transform(),
+        )
+
+
+def _sweep_legend(bases, bad, base, baseline) -> list:
+    """The legend's handles: materials, the base-material ring, lost runs, the baseline."""
+    handles = [Line2D([], [], color=design_colour(b, i), marker="o", lw=1.2, label=b) for i, b in enumerate(bases)]
+    ring = dict(ms=10, markerfacecolor="none", markeredgecolor="black", markeredgewidth=1.2)
+    handles.append(Line2D([], [], ls="none", marker="o", label="base material", **ring))
+    if len(bad):
+        why = "diverged" if bad["why"].str.startswith("unstable").all() else "diverged, fell or failed"
+        handles.append(Line2D([], [], ls="none", marker="x", ms=7, mew=1.6, color="#555555", label=f"run {why}"))
+    if base is not None and len(base):
+        colour = design_colour(baseline)
+        label = f"{design_label(baseline)} mean, IQR"
+        handles.append(Patch(facecolor=colour, alpha=0.3, edgecolor=colour, linestyle="--", label=label))
+        open_marker = dict(ms=5, markerfacecolor="white", markeredgecolor="#555555")
+        label = f"open: not significant vs {design_label(baseline)}"
+        handles.append(Line2D([], [], ls="none", marker="o", label=label, **open_marker))
+    return handles

@@ -100,7 +100,7 @@ book.show(tab.pct_change_table(hops, "power_w", baseline="SS"), index=True, patt
 # hop cycles; negative: lower than ρ-inc):
 
 # %%
-from mat_hopper.analysis.change import percent_change
+from mat_hopper.change import percent_change
 
 ramp = hops[(hops["behaviour"] == "ramp") & (hops["replicate"] == -1)]
 means = ramp.groupby("design")[["tracking_error_m", "power_w"]].mean()

@@ -35,7 +35,9 @@ from mat_hopper.metrics import hop_table
 from mat_hopper.viz import chapters
 
 b = book.setup()
-tables = reproduce.run_experiments(b.profile, "1,2,3,stability,robustness", out_dir=b.out_dir, cache_dir=b.cache_dir)
+tables = reproduce.run_experiments(
+    b.profile, "1,2,3,stability,robustness,controls", out_dir=b.out_dir, cache_dir=b.cache_dir
+)
 claims = tab.claims_for(tables, None, columns=None)
 print(
     f"{b.describe()}\n{len(claims)} claims: "
@@ -46,7 +48,7 @@ print(
 # ## The claims table
 
 # %%
-book.show(claims[["claim", "convention", "paper", "ours", "verdict", "basis", "n_replicates"]])
+book.show(claims[["claim", "convention", "paper", "ours", "verdict", "beyond_mass", "basis", "n_replicates"]])
 
 # %% [markdown]
 # How small a p-value the replicates can give: a two-sided Mann-Whitney U

@@ -10,7 +10,8 @@ from mat_hopper.analysis.contact import contact_table, contact_toggles
 from mat_hopper.behaviours import behaviour
 from mat_hopper.control import LIFTOFF, TOUCHDOWN
 from mat_hopper.materials import parse_design
-from mat_hopper.sim import CHANNELS, C, Rollout, SimSettings
+from mat_hopper.rollout import Rollout
+from mat_hopper.sim import CHANNELS, C, SimSettings
 
 
 def _rollout(touch, events, transient_s=0.0):

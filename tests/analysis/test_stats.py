@@ -25,13 +25,6 @@ def _table(values: dict, behaviour="forward", **labels):
     return pd.concat(frames, ignore_index=True)
 
 
-def test_percent_change():
-    assert stats.percent_change(110.0, 100.0) == pytest.approx(10.0)
-    assert stats.percent_change(20.0, -40.0) == pytest.approx(150.0)  # relative to |baseline|
-    assert np.isnan(stats.percent_change(1.0, 0.0))
-    np.testing.assert_allclose(stats.percent_change([1, 3], [2, 2]), [-50.0, 50.0])
-
-
 def test_summary_table_known_values():
     hops = _table({"MD": [1, 2, 3, 4, 5], "SS": [2, 4, 6, 8, 10]})
     s = stats.summary_table(hops, metrics=("tracking_error_m",))

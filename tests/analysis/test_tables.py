@@ -134,7 +134,8 @@ def test_jerk_by_rate_raw_and_metric_by_hand():
     jerk_z holds -3 m/s^3, so its mean |jerk| is 3 at every rate."""
     from mat_hopper.behaviours import behaviour
     from mat_hopper.materials import parse_design
-    from mat_hopper.sim import CHANNELS, C, Rollout, SimSettings
+    from mat_hopper.rollout import Rollout
+    from mat_hopper.sim import CHANNELS, C, SimSettings
 
     t = np.arange(2001) * 1e-3
     data = np.zeros((len(t), len(CHANNELS)))

@@ -20,7 +20,8 @@ from mat_hopper import reference as ref
 from mat_hopper.behaviours import behaviour as get_behaviour
 from mat_hopper.control import OUT_SIZE, S_LAST_HEIGHT, S_PHASE, S_THRUST, controller_step, euler_zyx, initial_state
 from mat_hopper.materials import parse_design
-from mat_hopper.sim import CHANNELS, Rollout, prepare
+from mat_hopper.rollout import Rollout
+from mat_hopper.sim import CHANNELS, prepare
 
 _C = {n: i for i, n in enumerate(CHANNELS)}
 
@@ -30,7 +31,7 @@ def authors_rollout(design, behaviour, settings, *, trace_qpos: int = 0):
     (Rollout, qpos trace (first trace_qpos steps, state after each step))."""
     design = parse_design(design) if isinstance(design, str) else design
     beh = get_behaviour(behaviour)
-    sim = settings.sim_settings()
+    sim = settings
     hm, d = prepare(design, beh, sim)  # mj_forward done: sensors of the initial state
     m, lay = hm.model, hm.layout
     gains = settings.controller.gains()

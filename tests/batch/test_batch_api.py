@@ -35,3 +35,23 @@ def test_bad_arguments_are_one_value_error(call, message):
 def test_settings_none_are_the_papers_protocol():
     s = BatchSettings()
     assert (s.duration_s, s.transient_s, s.timestep_s, s.sensor_timing) == (60.0, 20.0, 1e-4, "authors")
+
+
+def test_batch_settings_are_a_view_of_sim_settings():
+    from dataclasses import fields
+
+    from mat_hopper.perturbations import Perturbation
+    from mat_hopper.sim import SimSettings
+
+    # no second declaration: exactly SimSettings' fields, defaults and checks
+    assert [f.name for f in fields(BatchSettings)] == [f.name for f in fields(SimSettings)]
+    sim = SimSettings(duration_s=2.0, transient_s=0.5, sensor_timing="fresh", segment_mass="capsule")
+    b = BatchSettings.of(sim)
+    assert isinstance(b, SimSettings) and int(b.sensor_timing) == 0 and b.segment_mass == "capsule"
+    assert BatchSettings.of(b) is b
+    with pytest.raises(ValueError, match="substeps must be 1 in a batch"):
+        BatchSettings.of(SimSettings(timestep_s=5e-5, substeps=2))
+    with pytest.raises(ValueError, match="perturbation must be None in a batch"):
+        BatchSettings(perturbation=Perturbation.replicate(0))
+    with pytest.raises(ValueError, match="transient"):
+        BatchSettings(duration_s=1.0, transient_s=2.0)  # SimSettings' own check

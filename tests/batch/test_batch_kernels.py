@@ -18,7 +18,8 @@ from mat_hopper.materials import parse_design  # noqa: E402
 from mat_hopper.metrics import run_summary  # noqa: E402
 from mat_hopper.model import build_model  # noqa: E402
 from mat_hopper.optimize._objective import _whole_run_means  # noqa: E402
-from mat_hopper.sim import CHANNELS, Rollout  # noqa: E402
+from mat_hopper.rollout import Rollout  # noqa: E402
+from mat_hopper.sim import CHANNELS  # noqa: E402
 
 wp, _ = require_warp()
 from mat_hopper.batch import _kernels as K  # noqa: E402
@@ -324,7 +325,7 @@ def test_metrics_kernel_is_metrics_py(layout):
         got, got_div = acc.numpy(), div.numpy()
     # The same samples as a recorded rollout, scored by mat_hopper.metrics.
     design = parse_design("PVC")
-    sim = settings.sim_settings()
+    sim = settings
     f32 = lambda v: np.float64(np.float32(v))  # noqa: E731  what the float32 device arrays hold
     for w in range(n):
         end = diverge_at.get(w, n_steps - 1)

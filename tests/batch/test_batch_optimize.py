@@ -35,8 +35,9 @@ from mat_hopper.optimize import (  # noqa: E402
     evaluate,
     run_batch_study,  # noqa: E402
 )
+from mat_hopper.optimize._objective import RESULT_ATTR  # noqa: E402
 from mat_hopper.optimize._storage import open_storage  # noqa: E402
-from mat_hopper.optimize._study import BACKEND_ATTR, RESULT_ATTR  # noqa: E402
+from mat_hopper.optimize._study import BACKEND_ATTR  # noqa: E402
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 PROFILE = Profile("tiny-warp", duration_s=2.5, transient_s=0.2, timestep_s=2e-4)

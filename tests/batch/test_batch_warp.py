@@ -83,7 +83,7 @@ def test_other_sensor_latencies_follow_the_cpu_path(latency, timestep_s):
     the authors': every world's joint positions follow the CPU rollout of
     the same latency (mat_hopper.sim, MuJoCo's CPU engine in float64, itself
     tested against plain mj_step1/mj_step2 and mj_step loops) step by step."""
-    s = BatchSettings(duration_s=0.45, timestep_s=timestep_s, transient_s=0.1, sensor_latency_steps=latency)
+    s = BatchSettings(duration_s=0.45, timestep_s=timestep_s, transient_s=0.1, sensor_timing=latency)
     designs = ["PVC", LegDesign.from_properties([1.1, 2.5, 1.9], [0.45, 4.0, 9.0])]  # stable at 2e-4 s
     b = WarpBatch(designs, "forward", s, device="cpu")
     n = s.n_steps
@@ -92,7 +92,7 @@ def test_other_sensor_latencies_follow_the_cpu_path(latency, timestep_s):
         b.advance(1)
         trace[i] = b.d.qpos.numpy()
     assert (b.diverged_steps() == -1).all()
-    every_step = replace(s.sim_settings(), record_rate_hz=1.0 / timestep_s)
+    every_step = replace(s, record_rate_hz=1.0 / timestep_s)
     errors = []
     for w, design in enumerate(designs):
         ro = simulate(design, "forward", settings=every_step, record_qpos=True)
@@ -110,9 +110,11 @@ def test_refusals():
     with pytest.raises(ValueError, match="not available"):
         WarpBatch(["PVC"], "forward", SHORT, device="nosuchdevice")
     with pytest.raises(ValueError, match="sensor latency must be in"):
-        BatchSettings(sensor_latency_steps=-1)
-    with pytest.raises(ValueError, match="sensor_latency_steps must be an integer"):
-        BatchSettings(sensor_latency_steps=1.0)
+        BatchSettings(sensor_timing=-1)
+    with pytest.raises(ValueError, match="integer latency"):
+        BatchSettings(sensor_timing=1.0)
+    with pytest.raises(ValueError, match="substeps must be 1 in a batch"):
+        BatchSettings(substeps=2)
 
 
 def test_trajectories_follow_mujoco_cpu_and_divergence_stays_in_its_world():

@@ -13,7 +13,8 @@ import pandas as pd
 import pytest
 
 from mat_hopper.behaviours import behaviour
-from mat_hopper.experiments.runner import Cache, RunSpec, content_checksum, run_grid
+from mat_hopper.experiments.cache import Cache, content_checksum
+from mat_hopper.experiments.runner import RunSpec, run_grid
 from mat_hopper.materials import parse_design
 from mat_hopper.sim import SimSettings
 

@@ -92,9 +92,11 @@ def test_replicates_add_seeded_runs_beside_the_unperturbed_one():
     assert len(tasks) == 20 * 4
     reps = sorted({t.labels["replicate"] for t in tasks})
     assert reps == [-1, 0, 1, 2]
+    prof = get_profile("quick")
     for t in tasks:
         r = t.labels["replicate"]
-        assert t.settings.perturbation == (None if r == -1 else Perturbation.replicate(r))
+        window = (prof.transient_s, prof.duration_s)  # issue 20: pushes inside the scored window
+        assert t.settings.perturbation == (None if r == -1 else Perturbation.replicate(r, window))
     assert len({t.key() for t in tasks}) == 80
 
 
@@ -129,7 +131,7 @@ def test_profile_and_experiment_bad_input():
         parse_experiments(",")
     with pytest.raises(ValueError, match="replicates"):
         experiment_1().tasks("quick", replicates=-1)
-    assert parse_experiments("1,2,3,stability,robust") == list(EXPERIMENT_NAMES)
+    assert parse_experiments("1,2,3,stability,robust,controls") == list(EXPERIMENT_NAMES)
     assert parse_experiments("stability, exp1, 1") == ["stability", "exp1"]
 
 

@@ -13,12 +13,14 @@ import pandas as pd
 import pytest
 
 import mat_hopper
+from mat_hopper import keys as cache_keys
+from mat_hopper.atomic import TEMP_PREFIX
 from mat_hopper.behaviours import behaviour
 from mat_hopper.control import ControllerSettings
-from mat_hopper.experiments import _cache
+from mat_hopper.experiments.cache import Cache
 from mat_hopper.experiments.paper import experiment_1
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.experiments.runner import TEMP_PREFIX, Cache, Runner, RunSpec, run_grid
+from mat_hopper.experiments.runner import Runner, RunSpec, run_grid
 from mat_hopper.materials import LegDesign, parse_design
 from mat_hopper.perturbations import Perturbation
 from mat_hopper.sim import SimSettings
@@ -62,7 +64,7 @@ def test_cache_key_changes_with_every_setting(monkeypatch):
     assert RunSpec(base.design, base.behaviour, SHORT, {"experiment": "x", "design": "renamed"}).key() == base.key()
     assert spec(LegDesign.from_properties([8.0] * 3, [193.0] * 3, name="other")).key() == base.key()
     before = base.key()
-    monkeypatch.setattr(_cache, "source_digest", lambda: "edited-source")  # where versions() finds it
+    monkeypatch.setattr(cache_keys, "source_digest", lambda: "edited-source")  # where versions() finds it
     edited = base.key()
     monkeypatch.setattr(mat_hopper, "__version__", "0.0.0-test")
     assert len({before, edited, base.key()}) == 3

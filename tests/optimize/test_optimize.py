@@ -22,19 +22,12 @@ from running_trials import stop_a_running_trial
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.materials import LegDesign, paper_designs
+from mat_hopper.optimize._coordinator import run_study
 from mat_hopper.optimize._objective import Objective, evaluate
+from mat_hopper.optimize._samplers import check_sampler, make_sampler, worker_seed
 from mat_hopper.optimize._space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample
 from mat_hopper.optimize._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR, open_storage
-from mat_hopper.optimize._study import (
-    RunOptions,
-    StudyConfig,
-    check_sampler,
-    counts,
-    create_or_load,
-    make_sampler,
-    run_study,
-    worker_seed,
-)
+from mat_hopper.optimize._study import RunOptions, StudyConfig, counts, create_or_load
 from mat_hopper.optimize.report import hypervolume_2d, pareto_frame, replay, write_report
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)

@@ -16,6 +16,7 @@ from optuna.trial import TrialState
 
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.optimize import _batched
+from mat_hopper.optimize._coordinator import run_study
 from mat_hopper.optimize._objective import Evaluation, Objective, evaluate
 from mat_hopper.optimize._racing import (
     BRACKET_ATTR,
@@ -27,7 +28,7 @@ from mat_hopper.optimize._racing import (
     simulated_seconds,
 )
 from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._study import RunOptions, StudyConfig, run_study
+from mat_hopper.optimize._study import RunOptions, StudyConfig
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -22,13 +22,15 @@ from running_trials import stop_a_running_trial
 
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
+from mat_hopper.optimize import _coordinator as coordinator_mod
 from mat_hopper.optimize import _storage
 from mat_hopper.optimize import _study as study_mod
+from mat_hopper.optimize._coordinator import run_study
 from mat_hopper.optimize._objective import Objective
 from mat_hopper.optimize._processes import HeldSignals
 from mat_hopper.optimize._space import SearchSpace
 from mat_hopper.optimize._storage import FAIL_REASON_ATTR, WORKER_ATTR, open_storage
-from mat_hopper.optimize._study import CONFIG_ATTR, RunOptions, StudyConfig, create_or_load, run_study
+from mat_hopper.optimize._study import CONFIG_ATTR, RunOptions, StudyConfig, create_or_load
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
@@ -219,7 +221,7 @@ def test_no_database_connection_crosses_the_fork(tmp_path, monkeypatch):
 
     monkeypatch.setattr(study_mod, "open_storage", spy)
     # fork even when an earlier test left a thread running (run_study would spawn)
-    monkeypatch.setattr(study_mod, "_start_method", lambda: "fork")
+    monkeypatch.setattr(coordinator_mod, "_start_method", lambda: "fork")
     res = run_study(
         tiny("fork"), RunOptions(trials=5, workers=2, storage=f"sqlite:///{tmp_path}/fork.db", progress=False)
     )
@@ -259,7 +261,7 @@ def test_sigterm_right_after_the_trial_is_made_waits_until_it_names_its_worker(t
 
     parent = os.getpid()
     monkeypatch.setattr(optuna.Study, "ask", ask)
-    monkeypatch.setattr(study_mod, "_start_method", lambda: "fork")
+    monkeypatch.setattr(coordinator_mod, "_start_method", lambda: "fork")
     url = f"sqlite:///{tmp_path}/held.db"
     res = run_study(tiny("held"), RunOptions(trials=2, workers=1, storage=url, progress=False))
     pid = int(shot.read_text())

@@ -1,31 +1,22 @@
-"""The result cache and its keys (private; :mod:`mat_hopper.experiments.runner`
-re-exports both).
-
-- Keys: :func:`design_key` and :func:`settings_key` say what a result
-  depends on, :func:`versions` adds mat-hopper's version, a digest of the
-  source that makes results (:data:`RESULT_MODULES`) and MuJoCo's version;
-  :func:`hash_key` names the file.
-- :class:`Cache`: one parquet file per key, written atomically, with a
-  content checksum verified on every load (a mismatch is recomputed, never
-  loaded).
+"""The result cache: one parquet file per key (:class:`Cache`), written
+atomically, with a content checksum verified on every load (a mismatch is
+recomputed, never loaded). The keys themselves are the core's
+:mod:`mat_hopper.keys`.
 """
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import json
 import logging
 import os
 import time
-from dataclasses import asdict
 
 import numpy as np
 import pandas as pd
 
 from ..atomic import TEMP_PREFIX, atomic_path
-from ..materials import LegDesign
-from ..sim import SimSettings
+from ..keys import json_default
 
 DEFAULT_CACHE_DIR = os.path.join("results", "cache")
 CACHE_ENV = "MAT_HOPPER_CACHE"
@@ -33,97 +24,6 @@ _META_KEY = b"mat_hopper"
 _CHECKSUM_KEY = b"mat_hopper_sha256"
 _STALE_TEMP_S = 3600.0
 _log = logging.getLogger("mat_hopper.cache")
-
-
-def _json_default(o):
-    if isinstance(o, (np.integer,)):
-        return int(o)
-    if isinstance(o, (np.floating,)):
-        return float(o)
-    if isinstance(o, (np.bool_,)):
-        return bool(o)
-    if isinstance(o, (tuple, np.ndarray)):
-        return list(o)
-    raise TypeError(f"not JSON serialisable: {o!r}")
-
-
-# ---------------------------------------------------------------------------
-# keys
-
-
-# Modules whose code makes or summarises a result: their source is part of every key.
-# Paths relative to the package folder, "/"-separated.
-RESULT_MODULES = (
-    "reference",
-    "materials",
-    "model",
-    "control",
-    "behaviours",
-    "_loop",
-    "sim",
-    "perturbations",
-    "metrics",
-    "modes",
-    "stability",
-    "experiments/_cache",
-    "experiments/runner",
-)
-
-
-@functools.lru_cache(maxsize=1)
-def source_digest() -> str:
-    """SHA-256 (short) of the source of :data:`RESULT_MODULES`: any edit to
-    the physics, controller, metrics, these keys or the runner invalidates
-    the cache."""
-    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    h = hashlib.sha256()
-    for name in RESULT_MODULES:
-        with open(os.path.join(package, *f"{name}.py".split("/")), "rb") as f:
-            h.update(name.encode() + b"\0" + f.read())
-    return h.hexdigest()[:16]
-
-
-def versions() -> dict:
-    """What besides the settings changes results: mat-hopper's version and
-    source, and MuJoCo's version."""
-    import mujoco
-
-    from .. import __version__
-
-    return {"mat_hopper": __version__, "source": source_digest(), "mujoco": mujoco.__version__}
-
-
-def design_key(design: LegDesign) -> dict:
-    """A design as the physics sees it: per-segment density (g/cm^3) and
-    modulus (GPa, None = rigid). The name is a label, not physics."""
-    return {
-        "n_segments": design.n_segments,
-        "densities_g_cm3": list(design.densities_g_cm3),
-        "moduli_gpa": list(design.moduli_gpa),
-    }
-
-
-def settings_key(settings: SimSettings) -> dict:
-    """Every field of SimSettings (controller gains and perturbation included)."""
-    p = settings.perturbation
-    return {
-        "duration_s": settings.duration_s,
-        "timestep_s": settings.timestep_s,
-        "transient_s": settings.transient_s,
-        "convention": settings.convention,
-        "sensor_timing": settings.sensor_timing,
-        "segment_mass": settings.segment_mass,
-        "substeps": settings.substeps,
-        "record_rate_hz": settings.record_rate_hz,
-        "controller": asdict(settings.controller),
-        "perturbation": None if p is None else asdict(p),
-    }
-
-
-def hash_key(key: dict) -> str:
-    """Stable short hash (hex) of a key dict."""
-    text = json.dumps(key, sort_keys=True, default=_json_default, allow_nan=True)
-    return hashlib.sha256(text.encode()).hexdigest()[:24]
 
 
 class Cache:
@@ -175,7 +75,7 @@ class Cache:
         import pyarrow.parquet as pq
 
         t = pa.Table.from_pandas(table.reset_index(drop=True), preserve_index=False)
-        payload = json.dumps({"summary": summary, "key": key_dict}, default=_json_default, allow_nan=True).encode()
+        payload = json.dumps({"summary": summary, "key": key_dict}, default=json_default, allow_nan=True).encode()
         meta = dict(t.schema.metadata or {})
         meta[_META_KEY] = payload
         meta[_CHECKSUM_KEY] = content_checksum(t, payload).encode("ascii")

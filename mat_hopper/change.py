@@ -7,7 +7,7 @@ units, e.g. the tracking error of hopping in place, zero up to round-off)
 or the baseline is not finite, the change is nan. A percentage of nothing
 means nothing.
 
-A leaf module (imports numpy only), so the core's
+A core leaf module (imports numpy only): the core's
 :mod:`mat_hopper.metrics` can use it without an import cycle.
 """
 

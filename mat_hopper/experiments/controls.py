@@ -1,0 +1,192 @@
+"""The controls experiment: every design beside its controls, on shared seeds.
+
+For the designs the paper's material claims name, each behaviour and
+replicate seeds 0..n-1 (the profile's ``replicates``; the same seeds for
+every design, so comparisons are paired), one run of the design and one of
+each control (:mod:`mat_hopper.controls`): its rigid twin, its mass-matched
+leg and its inertia-matched leg. The baselines of the claims (MD, SS) run
+on the same seeds. Runs go through the one cache and pool
+(:mod:`mat_hopper.experiments.runner`): a control whose physics is the
+design's own (the mass-matched leg of a homogeneous design is the design)
+is computed once.
+
+:func:`attribution_tasks` is the factorial of experiment 5 of issue 20:
+mass distribution (the designs' densities) x springs (rigid, ``paper``,
+``axial``), see :func:`mat_hopper.analysis.beyond_mass.attribution`.
+"""
+
+from __future__ import annotations
+
+from ..behaviours import behaviour as get_behaviour
+from ..controls import CONTROLS, control
+from ..materials import parse_design
+from ..perturbations import Perturbation
+from .profiles import get_profile
+from .runner import RunSpec, run_grid
+
+# The designs of the paper's material and gradient claims, and their baselines.
+CLAIM_DESIGNS = ("PVC", "Al", "Ti", "SS", "rho-inc", "rho-dec")
+BASELINES = ("MD", "SS")
+BEHAVIOURS = ("static", "forward", "ramp", "circle")
+NO_CONTROL = "none"
+
+
+def _replicates(profile, replicates):
+    n = profile.replicates if replicates is None else int(replicates)
+    if n < 2:
+        raise ValueError(f"paired comparisons need replicates >= 2, got {n}")
+    return n
+
+
+def control_tasks(
+    profile=None, designs=CLAIM_DESIGNS, behaviours=BEHAVIOURS, kinds=CONTROLS, replicates=None, baselines=BASELINES
+) -> list[RunSpec]:
+    """RunSpecs of designs, their controls and the baselines on shared seeds.
+
+    Args:
+        profile: a Profile or its name (default: $MAT_HOPPER_PROFILE).
+        designs: design names (:func:`mat_hopper.materials.parse_design`).
+        behaviours: behaviour names.
+        kinds: control kinds (``rigid``, ``mass``, ``inertia``).
+        replicates: seeds per run (default: the profile's; >= 2).
+        baselines: designs run without controls (the claims' baselines).
+
+    Returns:
+        list of RunSpec; labels: experiment ("controls"), profile,
+        convention, sensor_timing, design (the control's name for a control),
+        behaviour, replicate, control_of (the design), control (kind or "none").
+
+    Raises:
+        ValueError: unknown design, behaviour or kind, or replicates < 2.
+    """
+    profile = get_profile(profile)
+    n = _replicates(profile, replicates)
+    window = (profile.transient_s, profile.duration_s)
+    runs = [(parse_design(b), b, NO_CONTROL) for b in baselines]
+    for name in designs:
+        d = parse_design(name)
+        if name not in baselines:
+            runs.append((d, name, NO_CONTROL))
+        for k in kinds:
+            runs.append((control(d, k, profile.segment_mass), name, k))
+    out = []
+    for design, of, kind in runs:
+        for bname in behaviours:
+            beh = get_behaviour(bname)
+            for rep in range(n):
+                pert = Perturbation.replicate(rep, window)
+                labels = {
+                    "experiment": "controls",
+                    "profile": profile.name,
+                    "convention": profile.convention,
+                    "sensor_timing": profile.sensor_timing,
+                    "design": design.name,
+                    "behaviour": beh.name,
+                    "replicate": rep,
+                    "control_of": of,
+                    "control": kind,
+                }
+                out.append(RunSpec(design, beh, profile.sim_settings(pert, design=design), labels))
+    return out
+
+
+def run_controls(profile=None, *, cache_dir=None, workers=None, progress: bool = False, **kw):
+    """Run :func:`control_tasks` (cached). Returns the GridResult: ``tables``
+    the per-hop rows, ``summary`` one row per run."""
+    return run_grid(control_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="controls")
+
+
+SPRINGS = ("rigid", "paper", "axial")
+
+
+def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=BEHAVIOURS, replicates=None):
+    """The factorial mass distribution x springs on shared seeds.
+
+    Args:
+        profile: a Profile or its name.
+        designs: whose densities give the mass distributions.
+        behaviours: behaviour names.
+        replicates: seeds per cell (default: the profile's; >= 2).
+
+    Returns:
+        list of RunSpec; labels as :func:`control_tasks` plus ``springs``
+        (rigid, paper, axial) and ``mass_of`` (the design whose densities).
+    """
+    profile = get_profile(profile)
+    n = _replicates(profile, replicates)
+    window = (profile.transient_s, profile.duration_s)
+    out = []
+    for name in designs:
+        d = parse_design(name)
+        for springs in SPRINGS:
+            design = control(d, "rigid", profile.segment_mass) if springs == "rigid" else d
+            prof = profile.for_convention("paper" if springs == "rigid" else springs)
+            for bname in behaviours:
+                beh = get_behaviour(bname)
+                for rep in range(n):
+                    labels = {
+                        "experiment": "attribution",
+                        "profile": profile.name,
+                        "convention": prof.convention,
+                        "sensor_timing": profile.sensor_timing,
+                        "design": design.name,
+                        "behaviour": beh.name,
+                        "replicate": rep,
+                        "mass_of": name,
+                        "springs": springs,
+                    }
+                    pert = Perturbation.replicate(rep, window)
+                    out.append(RunSpec(design, beh, prof.sim_settings(pert, design=design), labels))
+    return out
+
+
+def run_attribution(profile=None, *, cache_dir=None, workers=None, progress: bool = False, **kw):
+    """Run :func:`attribution_tasks` (cached); the GridResult."""
+    return run_grid(attribution_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="attribution")
+
+
+PUSH_SCALES = (0.0, 1.0, 2.0)  # times REPLICATE_PUSH_FORCE_N: no push, the book's, twice it
+
+
+def push_scale_tasks(profile=None, designs=("SS", "rho-inc"), behaviour="ramp", scales=PUSH_SCALES, replicates=None):
+    """Runs of a few designs at several push scales, on shared seeds: how a
+    claim moves with the size of the perturbation.
+
+    Args:
+        profile: a Profile or its name.
+        designs: design names.
+        behaviour: a behaviour name.
+        scales: push scales (>= 0; :meth:`Perturbation.replicate`).
+        replicates: seeds per cell (default the profile's; >= 2).
+
+    Returns:
+        list of RunSpec; labels: experiment ("push_scale"), profile,
+        convention, sensor_timing, design, behaviour, replicate, push_scale.
+    """
+    profile = get_profile(profile)
+    n = _replicates(profile, replicates)
+    window = (profile.transient_s, profile.duration_s)
+    beh = get_behaviour(behaviour)
+    out = []
+    for name in designs:
+        d = parse_design(name)
+        for scale in scales:
+            for rep in range(n):
+                pert = Perturbation.replicate(rep, window, push_scale=float(scale))
+                labels = {
+                    "experiment": "push_scale",
+                    "profile": profile.name,
+                    "convention": profile.convention,
+                    "sensor_timing": profile.sensor_timing,
+                    "design": d.name,
+                    "behaviour": beh.name,
+                    "replicate": rep,
+                    "push_scale": float(scale),
+                }
+                out.append(RunSpec(d, beh, profile.sim_settings(pert, design=d), labels))
+    return out
+
+
+def run_push_scale(profile=None, *, cache_dir=None, workers=None, progress: bool = False, **kw):
+    """Run :func:`push_scale_tasks` (cached); the GridResult."""
+    return run_grid(push_scale_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="push scale")

@@ -1,0 +1,116 @@
+"""Cache keys: what a result depends on (a core leaf module).
+
+- :func:`design_key` and :func:`settings_key` say what a result depends
+  on; :func:`versions` adds mat-hopper's version, a digest of the source
+  that makes results (:data:`RESULT_MODULES`) and MuJoCo's version;
+  :func:`hash_key` names the file (:mod:`mat_hopper.experiments.cache`
+  stores it). Conventions enter a key by their names (a sensor timing as
+  ``"authors"``, ``"latency-5"``).
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+from dataclasses import asdict, fields, is_dataclass
+
+import numpy as np
+
+from .control import SensorTiming
+from .materials import LegDesign
+from .sim import SimSettings
+
+__all__ = ["RESULT_MODULES", "design_key", "hash_key", "json_default", "settings_key", "source_digest", "versions"]
+
+
+def json_default(o):
+    """JSON for numpy scalars and arrays, and tuples (as lists), in keys and metadata."""
+    if isinstance(o, (np.integer,)):
+        return int(o)
+    if isinstance(o, (np.floating,)):
+        return float(o)
+    if isinstance(o, (np.bool_,)):
+        return bool(o)
+    if isinstance(o, (tuple, np.ndarray)):
+        return list(o)
+    raise TypeError(f"not JSON serialisable: {o!r}")
+
+
+# Modules whose code makes or summarises a result: their source is part of every key.
+# Paths relative to the package folder, "/"-separated.
+RESULT_MODULES = (
+    "reference",
+    "materials",
+    "model",
+    "control",
+    "behaviours",
+    "_loop",
+    "sim",
+    "rollout",
+    "perturbations",
+    "metrics",
+    "energetics",
+    "controls",
+    "jerk",
+    "modes",
+    "stability",
+    "keys",
+    "experiments/cache",
+    "experiments/runner",
+)
+
+
+@functools.lru_cache(maxsize=1)
+def source_digest() -> str:
+    """SHA-256 (short) of the source of :data:`RESULT_MODULES`: any edit to
+    the physics, controller, metrics, these keys or the runner invalidates
+    the cache."""
+    package = os.path.dirname(os.path.abspath(__file__))
+    h = hashlib.sha256()
+    for name in RESULT_MODULES:
+        with open(os.path.join(package, *f"{name}.py".split("/")), "rb") as f:
+            h.update(name.encode() + b"\0" + f.read())
+    return h.hexdigest()[:16]
+
+
+def versions() -> dict:
+    """What besides the settings changes results: mat-hopper's version and
+    source, and MuJoCo's version."""
+    import mujoco
+
+    from . import __version__
+
+    return {"mat_hopper": __version__, "source": source_digest(), "mujoco": mujoco.__version__}
+
+
+def design_key(design: LegDesign) -> dict:
+    """A design as the physics sees it: per-segment density (g/cm^3) and
+    modulus (GPa, None = rigid). The name is a label, not physics."""
+    return {
+        "n_segments": design.n_segments,
+        "densities_g_cm3": list(design.densities_g_cm3),
+        "moduli_gpa": list(design.moduli_gpa),
+    }
+
+
+def settings_key(settings: SimSettings) -> dict:
+    """Every field of SimSettings, by name: a setting added to SimSettings is
+    in every key without another edit. Nested settings (controller gains,
+    perturbation) as dicts, a sensor timing by its name."""
+    return {f.name: _key_value(getattr(settings, f.name)) for f in fields(settings)}
+
+
+def _key_value(value):
+    if isinstance(value, SensorTiming):
+        return value.name
+    if is_dataclass(value):
+        return asdict(value)
+    return value
+
+
+def hash_key(key: dict) -> str:
+    """Stable short hash (hex) of a key dict."""
+    text = json.dumps(key, sort_keys=True, default=json_default, allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:24]

@@ -1,0 +1,126 @@
+"""Beyond-mass verdicts and the attribution, on synthetic control runs."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from mat_hopper.analysis import beyond_mass as bm
+from mat_hopper.analysis.claims import claims_table
+
+
+def _hops(rho_vs_mass=0.75, ss_vs_twin=1.0, n=6):
+    """Run means of SS, rho-inc, their controls and MD on shared seeds (tracking error, ramp)."""
+    rng = np.random.default_rng(0)
+    seed = np.exp(rng.normal(0, 0.2, n))
+    legs = {  # design: (control_of, control, factor on tracking error, leg mass, com)
+        "MD": ("MD", "none", 1.0, 1.9, 0.27),
+        "SS": ("SS", "none", 0.5, 8.77, 0.215),
+        "SS~rigid": ("SS", "rigid", 0.5 / ss_vs_twin, 8.77, 0.215),
+        "SS~mass": ("SS", "mass", 0.5, 8.77, 0.215),
+        "rho-inc": ("rho-inc", "none", 0.4, 5.44, 0.264),
+        "rho-inc~rigid": ("rho-inc", "rigid", 0.4, 5.44, 0.264),
+        "rho-inc~mass": ("rho-inc", "mass", 0.4 / rho_vs_mass, 5.44, 0.225),
+        "rho-inc~inertia": ("rho-inc", "inertia", 0.4, 5.44, 0.264),
+    }
+    rows = []
+    for name, (of, kind, f, m, com) in legs.items():
+        for rep in range(n):
+            v = 0.05 * f * seed[rep] * np.exp(rng.normal(0, 0.01))
+            rows.append(
+                {
+                    "design": name,
+                    "behaviour": "ramp",
+                    "replicate": rep,
+                    "control_of": of,
+                    "control": kind,
+                    "tracking_error_m": v,
+                    "leg_mass_kg": m,
+                    "leg_com_m": com,
+                    "hip_inertia_kg_m2": 0.4,
+                    "hop": 0,
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def test_an_effect_beyond_mass_and_one_that_is_mass_only():
+    out = bm.claim_controls("headline_tracking", _hops(rho_vs_mass=0.75), None)
+    assert out["beyond_mass"].startswith("yes")
+    assert "inertia-matched leg reproduces it" in out["beyond_mass"]  # the mass distribution explains it
+    assert out["vs_mass_matched"].startswith("ramp rho-inc -2") and "(difference)" in out["vs_mass_matched"]
+    same = bm.claim_controls("headline_tracking", _hops(rho_vs_mass=1.0), None)
+    assert same["beyond_mass"].startswith("no")  # inside the ±10 % margin against both controls
+    # SS is homogeneous: its mass-matched leg is itself; its twin decides
+    ss = bm.claim_controls("ramp_ss_tracking", _hops(ss_vs_twin=1.0), None)
+    assert ss["vs_mass_matched"].startswith("homogeneous") and ss["beyond_mass"].startswith("no")
+    assert bm.claim_controls("hop_height", _hops(), None) == dict.fromkeys(bm.CONTROL_COLUMNS, "")
+    assert bm.claim_controls("headline_tracking", None, None)["beyond_mass"] == bm.UNTESTABLE
+
+
+def test_claims_table_carries_the_beyond_mass_columns():
+    t = claims_table(None, conventions=("paper",))
+    assert set(bm.CONTROL_COLUMNS) <= set(t.columns) and "power_verdicts" in t.columns
+    row = t.set_index("claim_id").loc["headline_tracking"]
+    assert row["beyond_mass"] == bm.UNTESTABLE and row["vs_rigid_twin"] == "not run"
+
+
+def test_headline_sentence_names_masses_and_controls():
+    s = bm.headline_sentence(_hops(rho_vs_mass=0.75))
+    assert "5.44 kg" in s and "8.77 kg" in s and "its rigid twin" in s and "n = 6" in s
+
+
+def test_attribution_separates_mass_from_springs():
+    rng = np.random.default_rng(2)
+    rows = []
+    for mass in (2.0, 3.0, 5.0, 8.0):
+        for springs, f in (("rigid", 1.0), ("paper", 0.8), ("axial", 0.8)):
+            for rep in range(3):
+                inertia = 0.05 * mass + 0.1 * rng.uniform()
+                y = 0.1 * mass**0.5 * f * np.exp(rng.normal(0, 0.01))
+                rows.append(
+                    {
+                        "design": f"m{mass}",
+                        "springs": springs,
+                        "behaviour": "forward",
+                        "replicate": rep,
+                        "leg_mass_kg": mass,
+                        "hip_inertia_kg_m2": inertia,
+                        "tracking_error_m": y,
+                    }
+                )
+    att = bm.attribution(pd.DataFrame(rows), metrics=("tracking_error_m",))
+    paper = att.set_index("term").loc["springs=paper"]
+    assert paper["estimate"] == pytest.approx(np.log(0.8), abs=0.02)
+    assert paper["ci_low"] < np.log(0.8) < paper["ci_high"]
+    assert att["r2_with_springs"].iloc[0] > att["r2_mass_inertia"].iloc[0]
+    with pytest.raises(ValueError, match="springs"):
+        bm.attribution(pd.DataFrame({"x": [1]}))
+
+
+def test_modulus_at_equal_mass_sees_through_a_density_confound():
+    rng = np.random.default_rng(4)
+    rows = []
+    # light legs at low moduli, mostly heavy ones at high moduli; tracking depends on density only
+    points = [("PVC", rho, 4.0, "density") for rho in (1.1, 1.4, 1.9, 2.5)]
+    points += [("PVC", 1.39, e, "modulus") for e in (0.1, 0.45, 2.0, 9.0)]
+    points += [("Ti", rho, 120.0, "density") for rho in (2.0, 2.7, 4.4, 8.0, 19.0)]
+    points += [("Ti", 4.43, e, "modulus") for e in (18.0, 64.0, 226.0, 800.0)]
+    for base, rho, e, prop in points:
+        for rep in range(3):
+            rows.append(
+                {
+                    "sweep_base": base,
+                    "sweep_property": prop,
+                    "density_g_cm3": rho,
+                    "modulus_gpa": e,
+                    "replicate": rep,
+                    "tracking_error_m": 0.08 * rho**-0.5 * np.exp(rng.normal(0, 0.02)),
+                }
+            )
+    out = bm.modulus_at_equal_mass(pd.DataFrame(rows)).set_index(["scope", "term"])
+    low = out.loc[("pooled, density-adjusted", "low")]
+    assert low["ci_low"] < 0 < low["ci_high"] and abs(low["estimate"]) < 0.05
+    assert out.loc[("pooled, density-adjusted", "log_density"), "estimate"] == pytest.approx(-0.5, abs=0.05)
+    assert out.loc[("Ti", "log_modulus"), "ci_low"] < 0 < out.loc[("Ti", "log_modulus"), "ci_high"]
+    with pytest.raises(ValueError, match="columns"):
+        bm.modulus_at_equal_mass(pd.DataFrame({"x": [1]}))

@@ -1,0 +1,82 @@
+"""Paired inference on shared replicate seeds."""
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats as sps
+
+from mat_hopper.analysis import paired, stats
+
+
+def _runs(effect=1.05, n=6, seed_spread=0.3, noise=0.005):
+    """Replicate means where each seed moves both designs a lot (shared) and
+    the design effect is a small factor on top."""
+    rng = np.random.default_rng(1)
+    seed_factor = np.exp(rng.normal(0, seed_spread, n))
+    rows = []
+    for rep in range(n):
+        for design, f in (("base", 1.0), ("new", effect)):
+            v = 0.02 * seed_factor[rep] * f * np.exp(rng.normal(0, noise))
+            rows.append({"design": design, "behaviour": "forward", "replicate": rep, "tracking_error_m": v})
+    return pd.DataFrame(rows)
+
+
+def test_paired_effect_is_the_t_interval_of_log_ratios():
+    t = _runs()
+    a = t[t.design == "new"].tracking_error_m.to_numpy()
+    b = t[t.design == "base"].tracking_error_m.to_numpy()
+    e = paired.paired_effect(a, b)
+    x = np.log(a / b)
+    ci = sps.ttest_1samp(x, 0.0).confidence_interval(0.95)  # scipy's own interval
+    assert e["method"] == "log-ratio" and e["n_pairs"] == 6
+    assert e["pct_change"] == pytest.approx(100 * (np.exp(x.mean()) - 1))
+    assert e["ci_low"] == pytest.approx(100 * np.expm1(ci.low)) and e["ci_high"] == pytest.approx(
+        100 * np.expm1(ci.high)
+    )
+    assert e["p"] == pytest.approx(sps.ttest_rel(np.log(a), np.log(b)).pvalue)
+    assert e["p_min_wilcoxon"] == pytest.approx(sps.wilcoxon(np.arange(1.0, 7.0)).pvalue)
+
+
+def test_pairing_finds_what_the_unpaired_test_cannot():
+    t = _runs(effect=1.05)
+    a = t[t.design == "new"].tracking_error_m
+    b = t[t.design == "base"].tracking_error_m
+    assert sps.mannwhitneyu(a, b).pvalue > 0.3  # the seeds' spread hides a 5 % effect
+    e = paired.paired_effect(a.to_numpy(), b.to_numpy())
+    assert e["p"] < 0.001 and 3 < e["pct_change"] < 7
+
+
+def test_conclusions_separate_no_difference_from_no_evidence():
+    same = _runs(effect=1.0, noise=0.005)
+    out = paired.compare_paired(same, "base")
+    assert out["conclusion"].iloc[0] == paired.NO_DIFFERENCE
+    noisy = _runs(effect=1.0, n=3, noise=0.3)
+    assert paired.compare_paired(noisy, "base")["conclusion"].iloc[0] == paired.NOT_ENOUGH
+    assert paired.compare_paired(_runs(effect=1.3), "base")["conclusion"].iloc[0] == paired.DIFFERENCE
+    assert paired.conclusion(0.5, -12.0, 3.0) == paired.NOT_ENOUGH
+
+
+def test_bca_interval_and_differences_for_zero_values():
+    t = _runs(n=12)
+    a, b = t[t.design == "new"].tracking_error_m.to_numpy(), t[t.design == "base"].tracking_error_m.to_numpy()
+    e = paired.paired_effect(a, b, interval="bca")
+    assert e["ci_low"] < e["pct_change"] < e["ci_high"]
+    z = paired.paired_effect(np.array([0.0, 0.1, 0.2]), np.array([0.1, 0.1, 0.3]))
+    assert z["method"] == "difference"
+    with pytest.raises(ValueError, match="paired"):
+        paired.paired_effect([1, 2], [1, 2, 3])
+    with pytest.raises(ValueError, match="interval"):
+        paired.paired_effect([1, 2], [1, 2], interval="normal")
+
+
+def test_compare_replicates_pairs_shared_seeds():
+    t = _runs(effect=1.05)
+    hops = t.assign(hop=0)
+    out = stats.compare_replicates(hops, "base", metrics=("tracking_error_m",))
+    assert out["paired"].all() and out["significant"].all()
+    unpaired = stats.compare_replicates(hops, "base", metrics=("tracking_error_m",), paired=False)
+    assert not unpaired["paired"].any() and not unpaired["significant"].any()
+    lonely = hops[~((hops.design == "new") & (hops.replicate == 0))]
+    assert not stats.compare_replicates(lonely, "base", metrics=("tracking_error_m",))["paired"].any()
+    with pytest.raises(ValueError, match="share"):
+        stats.compare_replicates(lonely, "base", metrics=("tracking_error_m",), paired=True)

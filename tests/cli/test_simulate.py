@@ -1,0 +1,39 @@
+"""``mat-hopper simulate --control``: the controls of any design, from the CLI."""
+
+import pandas as pd
+import pytest
+
+from mat_hopper.cli import main
+from mat_hopper.controls import CONTROLS, control, mass_properties
+from mat_hopper.materials import CATALOGUE, LegDesign, paper_designs, parse_design
+
+
+@pytest.mark.parametrize("kind", CONTROLS)
+def test_simulate_control_writes_the_controls_rows(tmp_path, kind, capsys):
+    out = tmp_path / "hops.csv"
+    rc = main(
+        ["simulate", "--design", "rho-inc", "--control", kind, "--duration", "4", "--transient", "2"]
+        + ["--csv", str(out), "--no-progress"]
+    )
+    assert rc == 0
+    table = pd.read_csv(out)
+    assert (table.design == f"rho-inc~{kind}").all() and len(table) >= 1
+    mp = mass_properties(parse_design("rho-inc"))
+    assert table["leg_mass_kg"].iloc[0] == pytest.approx(mp.leg_mass_kg)
+    text = capsys.readouterr().out
+    assert "hip inertia" in text and "by the thrust" in text
+
+
+def test_every_catalogue_design_and_gradient_has_its_controls():
+    designs = [LegDesign.mono(m) for m in CATALOGUE.values()] + list(paper_designs().values())
+    for d in designs:
+        for kind in CONTROLS:
+            c = control(d, kind)
+            assert c.name == f"{d.name}~{kind}"
+            assert mass_properties(c).leg_mass_kg == pytest.approx(mass_properties(d).leg_mass_kg, rel=1e-12)
+
+
+def test_unknown_control_is_refused(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["simulate", "--control", "springy"])
+    assert e.value.code == 2
