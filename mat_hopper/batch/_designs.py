@@ -229,11 +229,11 @@ def designs_from_csv(path) -> list[LegDesign]:
 
 def design_columns(design: LegDesign, n_max: int | None = None, segment_mass: str = "leg") -> dict:
     """A design's properties as output columns: density_1..N (g/cm^3),
-    modulus_1..N (GPa, ``rigid`` where rigid), leg_mass_kg (its material
-    segments, :func:`mat_hopper.materials.segment_masses`); NaN past its
-    last segment up to n_max. Every table of designs carries them, so
-    that its rows can be told apart and read back."""
-    from ..materials import segment_masses
+    modulus_1..N (GPa, ``rigid`` where rigid), leg_mass_kg (everything
+    below the hip, :func:`mat_hopper.controls.mass_properties`, as the hop
+    table's column); NaN past its last segment up to n_max. Every table of
+    designs carries them, so that its rows can be told apart and read back."""
+    from ..controls import mass_properties
 
     n_max = design.n_segments if n_max is None else n_max
     row: dict = {}
@@ -243,7 +243,7 @@ def design_columns(design: LegDesign, n_max: int | None = None, segment_mass: st
     for i in range(1, n_max + 1):
         seg = design.segments[i - 1] if i <= design.n_segments else None
         row[f"modulus_{i}"] = math.nan if seg is None else "rigid" if seg.rigid else seg.modulus_gpa
-    row["leg_mass_kg"] = float(sum(segment_masses(design, segment_mass)))
+    row["leg_mass_kg"] = float(mass_properties(design, segment_mass).leg_mass_kg)
     return row
 
 

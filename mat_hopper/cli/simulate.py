@@ -246,7 +246,7 @@ def cmd_simulate(args) -> int:
         hops.insert(at + 1, "substeps", settings.substeps)
         from ..batch import design_columns  # the design's properties in every row: rows of two runs differ
 
-        props = design_columns(design, segment_mass=settings.segment_mass)
+        props = {k: v for k, v in design_columns(design, segment_mass=settings.segment_mass).items() if k not in hops}
         at = list(hops.columns).index("substeps") + 1  # after the run settings
         for k, (col, value) in enumerate(props.items()):
             hops.insert(at + k, col, value)
