@@ -107,6 +107,12 @@ class Profile:
             labels=labels,
         )
 
+    @property
+    def scored_window_s(self) -> tuple[float, float]:
+        """(transient_s, duration_s), s: the hops that are scored; replicate
+        pushes are drawn inside it (:meth:`Perturbation.replicate`)."""
+        return (self.transient_s, self.duration_s)
+
     def key_dict(self) -> dict:
         """Every field as a cache or study key records it (a sensor timing by its name)."""
         return {f.name: _shown(getattr(self, f.name)) for f in fields(self)}

@@ -106,7 +106,7 @@ def evaluate_many(designs, objective: Objective, runner: Runner, desc: str = "tr
     tasks = [
         TrialRun(d, b, objective, labels={"item": i}, perturbation=p)
         for i, d in enumerate(designs)
-        for p in perturbations(objective.replicates)
+        for p in perturbations(objective.replicates, objective.profile.scored_window_s)
         for b in objective.behaviours
     ]
     if not tasks:

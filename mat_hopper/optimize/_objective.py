@@ -301,7 +301,7 @@ def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluatio
         (MuJoCo warnings counted in ``mujoco_warnings``, not printed).
     """
     rows = []
-    for pert in _robust.perturbations(objective.replicates):
+    for pert in _robust.perturbations(objective.replicates, objective.profile.scored_window_s):
         for b in objective.behaviours:
             with mujoco_warnings_to([]) as sink:
                 row = run_behaviour(design, b, objective, tick=tick, perturbation=pert)

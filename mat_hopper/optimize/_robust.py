@@ -72,12 +72,14 @@ def replicate_seeds(replicates: int) -> tuple[int, ...]:
     return tuple(SEARCH_SEED_START + r for r in range(replicates))
 
 
-def perturbations(replicates: int) -> list[Perturbation | None]:
+def perturbations(replicates: int, scored_window_s: tuple[float, float]) -> list[Perturbation | None]:
     """The perturbations a trial runs under: [None] (one unperturbed run)
-    for 0 replicates, else one :meth:`Perturbation.replicate` per seed."""
+    for 0 replicates, else one :meth:`Perturbation.replicate` per seed, its
+    push inside ``scored_window_s`` (the profile's (transient_s,
+    duration_s), s)."""
     if replicates == 0:
         return [None]
-    return [Perturbation.replicate(s) for s in replicate_seeds(replicates)]
+    return [Perturbation.replicate(s, scored_window_s) for s in replicate_seeds(replicates)]
 
 
 def cvar(values, alpha: float) -> float:

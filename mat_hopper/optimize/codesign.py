@@ -201,7 +201,7 @@ def codesign(
         for name, leg in legs.items():
             for setting, gains in ((DEFAULT, {}), (TUNED, tunings[name].gains)):
                 for r in range(n):
-                    st = _settings(profile, gains, Perturbation.replicate(r), leg)
+                    st = _settings(profile, gains, Perturbation.replicate(r, profile.scored_window_s), leg)
                     labels = {"experiment": setting, "profile": profile.name, "design": name, "replicate": r}
                     tasks.append(RunSpec(leg, beh, st, labels))
         res = runner.run(tasks, desc="materials at their own gains")

@@ -103,7 +103,8 @@ def validation_tasks(front: dict, objective: Objective, replicates: int, paper: 
         for name, d in designs.items():
             for b in objective.behaviours:
                 for r in range(replicates):
-                    add(role, name, d, b, objective.sim_settings(Perturbation.replicate(r), d), REPLICATE, r)
+                    pert = Perturbation.replicate(r, objective.profile.scored_window_s)
+                    add(role, name, d, b, objective.sim_settings(pert, d), REPLICATE, r)
                 if role == "paper":
                     add(role, name, d, b, objective.sim_settings(design=d), NOMINAL)
                     continue

@@ -81,12 +81,15 @@ def test_common_random_numbers_across_trials():
     the leg; a study's trials record those seeds."""
     seeds = _robust.replicate_seeds(3)
     assert seeds == (1000, 1001, 1002) and len(set(seeds)) == 3
-    assert _robust.perturbations(3) == _robust.perturbations(3)
-    assert _robust.perturbations(0) == [None]
     ob = Objective(profile=TINY, replicates=3)
+    window = ob.profile.scored_window_s
+    assert _robust.perturbations(3, window) == _robust.perturbations(3, window)
+    assert _robust.perturbations(0, window) == [None]
+    for pert in _robust.perturbations(3, window):  # the push falls among the scored hops
+        assert window[0] < pert.push_window_s[0] and pert.push_window_s[1] < window[1]
     starts = {}
     for name in ("SS", "PVC"):
-        for pert in _robust.perturbations(3):
+        for pert in _robust.perturbations(3, window):
             runner = RolloutRunner(paper_designs()[name], behaviour("ramp"), ob.sim_settings(pert))
             runner.advance(1)
             starts[name, pert.seed] = runner.result().data[0, [C["x"], C["y"]]]
