@@ -128,9 +128,10 @@ def check_n_segments(n_segments) -> int:
 
 
 def check_segment_mass(segment_mass: str) -> str:
-    if segment_mass not in SEGMENT_MASSES:
-        raise ValueError(f"unknown segment mass convention {segment_mass!r}; accepted: {', '.join(SEGMENT_MASSES)}")
-    return segment_mass
+    """The segment-mass convention named (case-insensitive), as spelled in SEGMENT_MASSES."""
+    from .parsing import parse_name
+
+    return parse_name(segment_mass, SEGMENT_MASSES, "segment mass convention")
 
 
 @dataclass(frozen=True)
@@ -273,9 +274,11 @@ def bulk_density(porosity_fraction: float, solid_density_g_cm3: float) -> float:
 
 
 def check_convention(convention: str) -> str:
-    if convention not in CONVENTIONS:
-        raise ValueError(f"unknown stiffness convention {convention!r}; accepted: {', '.join(CONVENTIONS)}")
-    return convention
+    """The stiffness convention named (case-insensitive, mat_hopper.parsing),
+    as spelled in CONVENTIONS. Raises ValueError for any other."""
+    from .parsing import parse_name
+
+    return parse_name(convention, CONVENTIONS, "stiffness convention")
 
 
 def segment_length(n_segments: int) -> float:
@@ -293,7 +296,7 @@ def capsule_density_scale(n_segments: int, segment_mass: str = DEFAULT_SEGMENT_M
     """Factor on each material capsule's density (module doc): ``leg``,
     V3 / (N/3 V_N) with V_N the volume of one half-segment capsule of an
     N-segment leg (exactly 1.0 at N = 3); ``capsule``, 1."""
-    check_segment_mass(segment_mass)
+    segment_mass = check_segment_mass(segment_mass)
     n = check_n_segments(n_segments)
     if segment_mass == "capsule":
         return 1.0
@@ -322,7 +325,7 @@ def spring_stiffness(
     """Axial spring stiffness in N/m for a segment of the given modulus
     (GPa); 0 under ``bending`` (axially rigid). ``axial+bending`` takes the
     ``axial`` value."""
-    check_convention(convention)
+    convention = check_convention(convention)
     e = _check_number(modulus_gpa, "modulus", "finite and > 0 GPa")
     if convention not in AXIAL_CONVENTIONS:
         return 0.0
@@ -549,8 +552,12 @@ class LegDesign:
     def from_properties(
         cls, densities_g_cm3: Sequence[float], moduli_gpa: Sequence[float | None], name: str = ""
     ) -> LegDesign:
-        """A leg from per-segment densities (g/cm^3) and moduli (GPa, None = rigid)."""
-        dens, mods = list(densities_g_cm3), list(moduli_gpa)
+        """A leg from per-segment densities (g/cm^3) and moduli (GPa; None
+        or the word ``"rigid"`` = rigid, as on the command line; inf is
+        refused in both). Raises ValueError for lists of different lengths
+        (one value is used for every segment) or values out of range."""
+        dens = list(densities_g_cm3)
+        mods = [None if isinstance(e, str) and e.strip().lower() == "rigid" else e for e in moduli_gpa]
         if len(mods) == 1 and len(dens) > 1:
             mods = mods * len(dens)
         if len(dens) == 1 and len(mods) > 1:
@@ -578,13 +585,39 @@ def _named_designs() -> dict[str, LegDesign]:
 NAMED_DESIGNS = _named_designs()
 
 
+_CUSTOM = re.compile(r"custom\((.*)\)", re.IGNORECASE)
+_MAP_NAME = re.compile(r"rho=(\S+)\s+E=(\S+)", re.IGNORECASE)
+
+
+def _written_design(text: str, n_segments: int) -> LegDesign | None:
+    """The design of a name from_properties or the stability map wrote, or None."""
+    from .parsing import parse_number
+
+    if m := _CUSTOM.fullmatch(text):
+        pairs = [p.split("/") for p in m.group(1).split(",")]
+        if not all(len(p) == 2 for p in pairs):
+            raise ValueError(f"design {text!r}: custom(...) holds DENSITY/MODULUS pairs, e.g. custom(1.39/70,8/rigid)")
+        dens = [parse_number(d, f"design {text!r}: density", unit="g/cm^3") for d, _ in pairs]
+        mods = [parse_number(e, f"design {text!r}: modulus", rigid=True, unit="GPa") for _, e in pairs]
+        return LegDesign.from_properties(dens, mods)
+    if m := _MAP_NAME.fullmatch(text):
+        d = parse_number(m.group(1), f"design {text!r}: rho", unit="g/cm^3")
+        e = parse_number(m.group(2), f"design {text!r}: E", unit="GPa")
+        return LegDesign((Material(f"rho{d:g}-E{e:g}", d, e),) * check_n_segments(n_segments), name=text)
+    return None
+
+
 def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesign:
     """A design from its name.
 
     Args:
         text: a material (``"SS"``: N segments of it), a gradient
-            (``"PVC-Ti-SS"``: one segment per name, from the hip down) or a
-            named design (``"rho-inc"``, ``"rho-dec"``); any case.
+            (``"PVC-Ti-SS"``: one segment per name, from the hip down), a
+            named design (``"rho-inc"``, ``"rho-dec"``), or a name the tool
+            writes for a design of given properties: ``custom(1.39/70,8/rigid)``
+            (density g/cm^3 / modulus GPa per segment,
+            :meth:`LegDesign.from_properties`) and the stability map's
+            ``rho=8 E=193`` (n_segments alike); any case.
         n_segments: segments of a single-material design (default 3, the paper's).
 
     Returns:
@@ -595,7 +628,11 @@ def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesi
 
     >>> parse_design("PVC-Ti-SS").densities_g_cm3
     (1.39, 4.43, 8.0)
+    >>> parse_design(LegDesign.from_properties([1, 2], [70, None]).name).moduli_gpa
+    (70.0, None)
     """
+    if isinstance(text, str) and (written := _written_design(text.strip(), n_segments)) is not None:
+        return written
     if not isinstance(text, str) or not text.strip():
         raise ValueError(
             f"design must be a material, a gradient like PVC-Ti-SS, or one of {', '.join(NAMED_DESIGNS)}; got {text!r}"

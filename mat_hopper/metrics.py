@@ -101,8 +101,15 @@ def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray
     return cyc[cyc[:, 0] >= transient]
 
 
+def _check_rollout(rollout) -> None:
+    if not isinstance(rollout, Rollout):
+        raise ValueError(f"rollout must be a mat_hopper.Rollout (from simulate), got {type(rollout).__name__}")
+
+
 def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFrame:
-    """One row per scored hop cycle, with every metric (see module doc)."""
+    """One row per scored hop cycle, with every metric (see module doc).
+    Raises ValueError when `rollout` is not a Rollout."""
+    _check_rollout(rollout)
     cycles = hop_cycles(rollout, transient_s)
     d = rollout.data
     t = d[:, C["t"]]
@@ -176,7 +183,9 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     """One run in a line: outcome, the leg's mass properties, means of the
     per-hop metrics, energy (J) and the run energetics of
     :func:`mat_hopper.energetics.run_energetics` (cost of transport over the
-    path length travelled, nan without travel)."""
+    path length travelled, nan without travel). Raises ValueError when
+    `rollout` is not a Rollout."""
+    _check_rollout(rollout)
     hops = hop_table(rollout, transient_s)
     out = {
         "design": rollout.design.name,
@@ -242,9 +251,23 @@ def compare(
 
     Columns: percent change of means, Mann-Whitney U (two-sided), raw and
     Holm-adjusted p (over all rows), rank-biserial effect size in [-1, 1]
-    (positive: the design's values tend to be larger), and significance."""
+    (positive: the design's values tend to be larger), and significance.
+    Raises ValueError naming the argument: hops not a table with columns
+    design, `by` and every metric; alpha not in (0, 1); an unknown baseline."""
+    if not isinstance(hops, pd.DataFrame):
+        raise ValueError(f"hops must be a pandas DataFrame (a hop table), got {type(hops).__name__}")
+    if isinstance(metrics, str) or not list(metrics):
+        raise ValueError(f"metrics must be a non-empty sequence of column names, got {metrics!r}")
+    if isinstance(alpha, bool) or not isinstance(alpha, int | float) or not 0 < alpha < 1:
+        raise ValueError(f"alpha must be a significance level in (0, 1), got {alpha!r}")
+    missing = [c for c in ("design", by) if c not in hops.columns]
+    if missing:
+        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (by={by!r})")
     if baseline not in set(hops["design"]):
         raise ValueError(f"baseline {baseline!r} not among the designs: {sorted(set(hops['design']))}")
+    missing = [c for c in metrics if c not in hops.columns]
+    if missing:
+        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (metrics={list(metrics)})")
     rows = []
     for group, g in hops.groupby(by, sort=False):
         base = g[g["design"] == baseline]

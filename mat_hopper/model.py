@@ -217,8 +217,8 @@ def build_spec(
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
     if sensors not in SENSOR_SETS:
         raise ValueError(f"sensors must be one of {sorted(SENSOR_SETS)}, got {sensors!r}")
-    check_convention(convention)
-    check_segment_mass(segment_mass)
+    convention = check_convention(convention)
+    segment_mass = check_segment_mass(segment_mass)
     dt = check_timestep(timestep_s)
     spec = mujoco.MjSpec()
     spec.modelname = f"hopper_{design.name}"

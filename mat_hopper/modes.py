@@ -95,7 +95,7 @@ def leg_chain(
     """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
     the compiled model: base + leg body, segment bodies (merged across
     rigid segments), foot; springs in between, foot spring last."""
-    check_convention(convention)
+    convention = check_convention(convention)
     if convention in BENDING_CONVENTIONS:
         raise ValueError(
             f"convention {convention!r} has rotational springs: the axial chain does not describe it "

@@ -92,6 +92,21 @@ MAX_SUBSTEPS = 1000
 # (about 3 h of one core), 5e6 recorded samples (1.5 GB of records).
 MAX_STEPS = 2_000_000_000
 MAX_SAMPLES = 5_000_000
+# Physics steps per call of the compiled loop. Python runs signal handlers
+# (Ctrl-C, SIGTERM) only between calls, so every call must end within a
+# fraction of a second of wall time at any time step: sized in steps, not
+# simulated seconds, and scaled down for longer chains (a 3-segment leg
+# takes about 5 us a step: 20000 steps, 0.1 s; 64 segments 75 us a step:
+# 1000 steps, 0.08 s). A call costs microseconds more than its steps
+# (benchmarks/rollout.py's ratio is unchanged).
+LOOP_CHUNK_STEPS = 20_000  # for legs of up to 3 segments
+
+
+def loop_chunk_steps(n_segments: int) -> int:
+    """Physics steps per compiled-loop call for a leg of n_segments."""
+    return max(1000, LOOP_CHUNK_STEPS * 3 // max(3, int(n_segments)))
+
+
 # The finer physics of the time-step checks (robustness study, optimizer validation):
 # a 2e-5 s step, 5 substeps of the 1e-4 s control period (and, to keep the authors'
 # 1e-4 s sensor delay, a latency of 5 physics steps).
@@ -192,7 +207,7 @@ class SimSettings:
         # One check per field (a new field adds its own line); then the checks across fields.
         _check_substeps(self.substeps)
         object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
-        check_segment_mass(self.segment_mass)
+        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         check_damping(self.damping)
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
@@ -203,7 +218,7 @@ class SimSettings:
             raise ValueError(f"transient must be >= 0 s, got {self.transient_s!r}")
         if not self.record_rate_hz > 0:
             raise ValueError(f"record_rate_hz must be > 0 Hz, got {self.record_rate_hz!r}")
-        check_convention(self.convention)
+        object.__setattr__(self, "convention", check_convention(self.convention))
         if not isinstance(self.controller, ControllerSettings):
             raise ValueError("controller must be a ControllerSettings")
         if self.perturbation is not None and not isinstance(self.perturbation, Perturbation):
@@ -375,6 +390,8 @@ class RolloutRunner:
     record rate, which rendering needs."""
 
     def __init__(self, design, behaviour, settings: SimSettings, *, record_qpos: bool = False):
+        if not isinstance(settings, SimSettings):
+            raise ValueError(f"settings must be a SimSettings, got {type(settings).__name__}")
         self.design = _as_design(design)
         self.behaviour = get_behaviour(behaviour)
         self.settings = settings
@@ -426,6 +443,12 @@ class RolloutRunner:
             return self
         remaining = self.settings.n_steps - self.step
         n = remaining if n_steps is None else min(int(n_steps), remaining)
+        end = self.step + n
+        while self.step < end and self.diverged_step < 0:  # signals are handled between chunks
+            self._advance_chunk(min(end - self.step, loop_chunk_steps(self.design.n_segments)))
+        return self
+
+    def _advance_chunk(self, n: int) -> None:
         hm, st = self.hopper, self.settings
         steps = Steps(self.step, n, st.timestep_s, st.record_every, ref.DIVERGENCE_QACC, st.substeps)
         n_rec, n_ev, bad = rollout_loop(
@@ -453,7 +476,6 @@ class RolloutRunner:
         if bad >= 0:
             self.diverged_step = int(bad)
         self.step += n
-        return self
 
     def result(self) -> Rollout:
         data = self._rec[: self._n_rec].view(np.float64).reshape(self._n_rec, N_CHANNELS).copy()

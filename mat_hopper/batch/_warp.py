@@ -379,10 +379,10 @@ class WarpBatch:
         chunk = int(chunk_steps or (self.graph_steps if self.device.is_cuda else 200))
         bar = None
         if progress:
-            from tqdm import tqdm
+            from ..progress import progress_bar
 
             # counts steps, shows simulated seconds (unit_scale multiplies both by dt)
-            bar = tqdm(
+            bar = progress_bar(
                 total=s.n_steps,
                 initial=self.step,
                 unit_scale=s.timestep_s,

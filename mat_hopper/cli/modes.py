@@ -6,10 +6,11 @@ from __future__ import annotations
 import pandas as pd
 
 from .. import reference as ref
-from ..atomic import write_csv
 from ..control import DEFAULT_SENSOR_TIMING
+from ..limits import check_count
 from ..materials import AXIAL_CONVENTIONS, BENDING_CONVENTIONS, CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
 from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, bending_modes, controller_timestep, estimate_timestep
+from ._checks import check_output_file, write_table
 from .simulate import design_from_args
 
 BOUNDARY_CONDITIONS = (
@@ -29,10 +30,14 @@ BENDING_FORMULA = (
     "4.6941, 7.8548, ... (S. S. Rao, Vibration of Continuous Systems, 2nd ed., Wiley 2019, ch. 11); the chain keeps "
     "the capsules' rotary inertia, the beam does not"
 )
+DEFAULT_MODES = 5
 
 
 def cmd_modes(args) -> int:
+    check_output_file(args.csv, "--csv", stdout=True)  # before any work
+    check_count(args.modes, "--modes", 1, 64, "axial modes to list")
     design = design_from_args(args)
+    n_modes = DEFAULT_MODES if args.modes is None else args.modes
     head = (
         f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass {args.segment_mass}"
     )
@@ -43,15 +48,19 @@ def cmd_modes(args) -> int:
             design,
             convention="axial" if args.convention == "axial+bending" else args.convention,
             segment_mass=args.segment_mass,
-            n_modes=args.modes,
+            n_modes=n_modes,
         )
+        if args.modes is not None and len(table) < args.modes:  # as many modes as masses that move
+            raise ValueError(
+                f"--modes {args.modes}: this leg's spring chain has {len(table)} axial modes; ask for at most that"
+            )
         print(f"{head}: axial modes (Hz)")
         print(table.to_string(index=False, float_format=fmt))
         print(BOUNDARY_CONDITIONS)
         print(FORMULA)
         tables.append(table.assign(kind="axial"))
     if args.convention in BENDING_CONVENTIONS:
-        table = bending_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=args.modes)
+        table = bending_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=n_modes)
         print(f"{head}: bending modes in one plane (Hz), chain beside the continuum cantilever")
         print(table.to_string(index=False, float_format=fmt))
         print(BENDING_FORMULA)
@@ -80,8 +89,7 @@ def cmd_modes(args) -> int:
         f"(at most {AUTO_SAFETY:g} x the spring bound)"
     )
     if args.csv:
-        write_csv(table, args.csv)
-        print(f"wrote {len(table)} rows to {args.csv}")
+        print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")
     return 0
 
 
@@ -93,10 +101,10 @@ def register_cli(sub) -> None:
         "beside the continuum rod of the same mass per length and E A, under the same end masses; and the "
         "analytic stable time step with the limit that sets it.",
     )
-    p.add_argument("--design", default="SS", help="one elastic material (SS, Ti, Al, PVC, ...)")
+    p.add_argument("--design", default=None, help="one elastic material (SS, Ti, Al, PVC, ...; default SS)")
     p.add_argument("--density", help="densities, g/cm^3 (one value per segment, all equal)")
     p.add_argument("--modulus", help="moduli, GPa (one value per segment, all equal)")
-    p.add_argument("--segments", type=int, default=ref.REFERENCE_SEGMENTS, help="number of segments (default 3)")
+    p.add_argument("--segments", type=int, default=None, help="number of segments of --design (default 3)")
     p.add_argument(
         "--convention",
         default="axial",
@@ -107,6 +115,8 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--sensor-timing", default=DEFAULT_SENSOR_TIMING, help="for the controller's limit (authors, fresh, or steps)"
     )
-    p.add_argument("--modes", type=int, default=5, help="how many modes (default 5)")
-    p.add_argument("--csv", help="write the table(s) here (a kind column: axial or bending)")
+    p.add_argument(
+        "--modes", type=int, default=None, help=f"how many modes (default {DEFAULT_MODES}, or as many as the leg has)"
+    )
+    p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here (- for standard output)")
     p.set_defaults(func=cmd_modes)

@@ -74,7 +74,7 @@ class Profile:
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"profile name must be a non-empty string, got {self.name!r}")
         object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
-        check_segment_mass(self.segment_mass)
+        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         for name in ("timestep_s", "axial_timestep_s"):
             value = getattr(self, name)
             if isinstance(value, str) and value != AUTO:
@@ -119,7 +119,7 @@ class Profile:
 
     def for_convention(self, convention: str) -> Profile:
         """This profile under another stiffness convention (and its time step)."""
-        check_convention(convention)
+        convention = check_convention(convention)
         if convention == self.convention:
             return self
         if convention in BENDING_CONVENTIONS:  # issue 21: the hinges' modes set the step

@@ -64,7 +64,13 @@ from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..experiments.profiles import Profile, get_profile
 from ..fatigue import fatigue_summary
-from ..materials import CONVENTIONS, DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, check_segment_mass
+from ..materials import (
+    DEFAULT_CONVENTION,
+    DEFAULT_SEGMENT_MASS,
+    LegDesign,
+    check_convention,
+    check_segment_mass,
+)
 from ..metrics import hop_cycles, hop_table
 from ..sim import C, RolloutRunner
 from . import _robust
@@ -133,11 +139,10 @@ class Objective:
         object.__setattr__(self, "behaviours", behs)
         if not isinstance(self.profile, Profile):
             raise ValueError("profile must be a Profile")
-        if self.convention not in CONVENTIONS:
-            raise ValueError(f"unknown stiffness convention {self.convention!r}; accepted: {', '.join(CONVENTIONS)}")
+        object.__setattr__(self, "convention", check_convention(self.convention))
         if self.segment_mass is None:
             object.__setattr__(self, "segment_mass", getattr(self.profile, "segment_mass", DEFAULT_SEGMENT_MASS))
-        check_segment_mass(self.segment_mass)
+        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         for name in ("hop_height_target_m", "hop_height_tolerance_m"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:

@@ -216,7 +216,7 @@ def test_hypervolume():
         (["--workers", "0"], "workers must be"),
         (["--profile", "slow"], "unknown profile"),
         (["--ashby-classes", "metal,plastics"], "unknown Ashby class 'plastics'"),
-        (["--ashby-classes", "metal", "--density-bounds", "1,9"], "give either bounds or ashby_classes"),
+        (["--ashby-classes", "metal", "--density-bounds", "1,9"], "give either bounds or --ashby-classes"),
         (["--segment-mass", "per-capsule"], "unknown segment mass convention"),
         (["--storage", "postgresql+psycopg2://nobody@127.0.0.1:1/none"], "cannot reach storage"),
     ],
