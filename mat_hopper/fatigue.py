@@ -27,7 +27,7 @@ of Ashby's points: the tensile strength at one reversal and the fatigue
 strength at 1e7 cycles, b = log10(sigma_e / sigma_u) / log10(2e7).
 Materials outside the catalogue (designs from properties, the sweeps, the
 gradients rho-inc / rho-dec) take their class's curve, the class read off
-their modulus as for the loss factor (:func:`mat_hopper.materials.loss_factor`).
+their modulus as for the loss factor (:func:`mat_hopper.damping.loss_factor`).
 
 Fatigue. Each segment's section has four extreme fibres (+-x, +-y), each a
 uniaxial stress history sigma_axial +- sigma_bending. Cycles are counted
@@ -51,7 +51,8 @@ import numpy as np
 import pandas as pd
 import rainflow
 
-from .materials import LegDesign, Material, loss_factor_class
+from .damping import loss_factor_class
+from .materials import LegDesign, Material
 
 _ASHBY = "Ashby 2011, app. C (tensile strength, fatigue strength at 1e7 cycles; mid-range)"
 _DOWLING = "Dowling 2013, table 9.1 (measured Basquin constants)"

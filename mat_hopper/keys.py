@@ -43,6 +43,8 @@ def json_default(o):
 RESULT_MODULES = (
     "reference",
     "materials",
+    "damping",
+    "porosity",
     "model",
     "control",
     "behaviours",

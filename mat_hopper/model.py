@@ -21,22 +21,19 @@ import mujoco
 import numpy as np
 
 from . import reference as ref
+from .damping import DEFAULT_DAMPING, check_damping, loss_factor, spring_damping
 from .materials import (
     AXIAL_CONVENTIONS,
     BENDING_CONVENTIONS,
     DEFAULT_CONVENTION,
-    DEFAULT_DAMPING,
     DEFAULT_SEGMENT_MASS,
     LegDesign,
     bending_stiffness,
     capsule_density_scale,
     check_convention,
-    check_damping,
     check_segment_mass,
-    loss_factor,
     prbm_constants,
     second_moment_m4,
-    spring_damping,
     spring_stiffness,
 )
 
@@ -463,7 +460,7 @@ def build_model(
     :func:`build_spec`), and damping (``authors``: every joint 1 N s/m or
     N m s/rad, as the spec; ``loss-factor``: each material spring's damping
     set on the compiled model from its material's loss factor,
-    :func:`mat_hopper.materials.spring_damping` with MuJoCo's dof_M0 as the
+    :func:`mat_hopper.damping.spring_damping` with MuJoCo's dof_M0 as the
     inertia). Raises ValueError for invalid arguments."""
     check_damping(damping)
     spec = build_spec(

@@ -55,13 +55,12 @@ from .control import (
     SensorTiming,
     initial_state,
 )
+from .damping import DEFAULT_DAMPING, check_damping
 from .materials import (
     DEFAULT_CONVENTION,
-    DEFAULT_DAMPING,
     DEFAULT_SEGMENT_MASS,
     LegDesign,
     check_convention,
-    check_damping,
     check_segment_mass,
     parse_design,
 )
@@ -185,7 +184,7 @@ class SimSettings:
             authors' loop).
         damping: how the material springs dissipate, ``"authors"``
             (default: 1 N s/m, the authors' file) or ``"loss-factor"`` (each
-            material's loss factor, :data:`mat_hopper.materials.LOSS_FACTORS`).
+            material's loss factor, :data:`mat_hopper.damping.LOSS_FACTORS`).
 
     Raises:
         ValueError: on any invalid value, naming the field.
@@ -201,7 +200,7 @@ class SimSettings:
     sensor_timing: SensorTiming = SensorTiming()
     segment_mass: str = DEFAULT_SEGMENT_MASS
     substeps: int = 1
-    damping: str = DEFAULT_DAMPING  # issue 21: "authors" (1 N s/m) or "loss-factor" (materials.LOSS_FACTORS)
+    damping: str = DEFAULT_DAMPING  # issue 21: "authors" (1 N s/m) or "loss-factor" (damping.LOSS_FACTORS)
 
     def __post_init__(self):
         # One check per field (a new field adds its own line); then the checks across fields.

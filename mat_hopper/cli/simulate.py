@@ -9,11 +9,10 @@ import sys
 from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES, behaviour
 from ..controls import CONTROLS, control, mass_properties
+from ..damping import DAMPINGS, DEFAULT_DAMPING
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
     CONVENTIONS,
-    DAMPINGS,
-    DEFAULT_DAMPING,
     DENSITY_RANGE_G_CM3,
     MODULUS_RANGE_GPA,
     SEGMENT_MASSES,

@@ -32,17 +32,9 @@ import pandas as pd
 from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
-from ..materials import (
-    DEFAULT_POROSITY_MODEL,
-    REPRODUCTION_CONVENTIONS,
-    LegDesign,
-    Material,
-    check_porosity_model,
-    paper_designs,
-    parse_design,
-    porous_modulus,
-)
+from ..materials import REPRODUCTION_CONVENTIONS, LegDesign, Material, paper_designs, parse_design
 from ..perturbations import Perturbation
+from ..porosity import DEFAULT_POROSITY_MODEL, check_porosity_model, porous_modulus
 from ..sim import AUTO
 from . import robustness
 from .profiles import Profile, check_replicates, get_profile
@@ -180,7 +172,7 @@ def experiment_2(porosity_model: str = DEFAULT_POROSITY_MODEL) -> Experiment:
     porosity_model: ``independent`` (the paper's: a density point changes
     the density only) or ``gibson-ashby`` (a density point below the base
     material's is that solid made porous, E = E_s (rho / rho_s)^2,
-    :func:`mat_hopper.materials.porous_modulus`; points above keep E_s).
+    :func:`mat_hopper.porosity.porous_modulus`; points above keep E_s).
 
     Labels: sweep_base (the material), sweep_property (density|modulus),
     sweep_value, density_g_cm3, modulus_gpa (the segment's modulus as

@@ -1,0 +1,58 @@
+"""Porosity and stiffness: how a porous (less dense) version of a solid
+changes its modulus, one named setting (``porosity_model``).
+
+``independent``
+    the paper's: only the density changes. Default.
+``gibson-ashby``
+    E = E_s (rho / rho_s)^n with n = 2 (open-cell, bending-dominated
+    foams; Gibson & Ashby, Cellular Solids, 2nd ed., CUP 1997, ch. 5).
+"""
+
+from __future__ import annotations
+
+import math
+
+from .materials import Material
+
+
+def _positive(value, field: str) -> float:
+    """A finite number > 0 (no bools)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+        raise ValueError(f"{field} must be a finite number > 0, got {value!r}")
+    return float(value)
+
+
+# How a porous (less dense) version of a solid changes its modulus:
+# "independent": the paper's, only the density changes; "gibson-ashby":
+# E = E_s (rho / rho_s)^n with n = 2 (open-cell, bending-dominated foams;
+# L. J. Gibson and M. F. Ashby, Cellular Solids, 2nd ed., CUP 1997, ch. 5:
+# E / E_s = C1 (rho / rho_s)^2 with C1 about 1).
+POROSITY_MODELS = ("independent", "gibson-ashby")
+DEFAULT_POROSITY_MODEL = "independent"
+GIBSON_ASHBY_EXPONENT = 2.0
+
+
+def check_porosity_model(porosity_model: str) -> str:
+    if porosity_model not in POROSITY_MODELS:
+        raise ValueError(f"unknown porosity_model {porosity_model!r}; accepted: {', '.join(POROSITY_MODELS)}")
+    return porosity_model
+
+
+def gibson_ashby_modulus(solid_modulus_gpa: float, relative_density: float, n: float = GIBSON_ASHBY_EXPONENT) -> float:
+    """E = E_s (rho / rho_s)^n (GPa) of an open-cell foam of relative
+    density rho / rho_s in (0, 1] (Gibson & Ashby 1997, ch. 5; n = 2, C1 = 1)."""
+    es, rel = _positive(solid_modulus_gpa, "solid modulus"), _positive(relative_density, "relative density")
+    if rel > 1.0:
+        raise ValueError(f"relative density must be in (0, 1], got {relative_density!r}")
+    return es * rel**n
+
+
+def porous_modulus(solid: Material, density_g_cm3: float, porosity_model: str = DEFAULT_POROSITY_MODEL) -> float | None:
+    """The modulus (GPa) of ``solid`` made to density_g_cm3: its own under
+    ``independent``; under ``gibson-ashby`` softened as
+    :func:`gibson_ashby_modulus` where the density lies below the solid's
+    (a denser-than-solid point cannot be porous and keeps E_s)."""
+    check_porosity_model(porosity_model)
+    if solid.rigid or porosity_model == "independent" or density_g_cm3 >= solid.density_g_cm3:
+        return solid.modulus_gpa
+    return gibson_ashby_modulus(solid.modulus_gpa, density_g_cm3 / solid.density_g_cm3)

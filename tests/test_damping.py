@@ -1,0 +1,20 @@
+"""mat_hopper.damping: loss factors per material class (Ashby 2011, Lakes 2009)."""
+
+import pytest
+
+
+def test_loss_factors_by_class():
+    from mat_hopper.damping import LOSS_FACTORS, loss_factor
+    from mat_hopper.materials import LegDesign, material
+
+    assert loss_factor(material("SS")) == LOSS_FACTORS["metal"] == 1e-3
+    assert loss_factor(material("PVC")) == LOSS_FACTORS["polymer"]
+    assert loss_factor(material("CorticalBone")) == 1e-2
+    assert loss_factor(LegDesign.from_properties([1.0], [0.5]).segments[0]) == LOSS_FACTORS["polymer"]
+
+
+def test_spring_damping_is_eta_times_sqrt_k_m():
+    from mat_hopper.damping import spring_damping
+
+    # eta 0.01 on k = 100 N/m, m = 4 kg: 0.01 * sqrt(400) = 0.2 N s/m (damping ratio eta / 2 = 0.005)
+    assert spring_damping(0.01, 100.0, 4.0) == pytest.approx(0.2)
