@@ -40,6 +40,8 @@ import numpy as np
 import pandas as pd
 import scipy.signal
 
+from .rollout import hop_cycles
+
 BODY_JERK_CUTOFF_HZ = 20.0  # Winter 2009, sec. 2.2.4.4-2.2.4.5 (body kinematics)
 BODY_JERK_ORDER = 4  # per pass; sosfiltfilt doubles it
 SENSITIVITY_CUTOFFS_HZ = (20.0, 30.0, 50.0, 70.0, 100.0)
@@ -119,8 +121,6 @@ def jerk_sensitivity(rollout, cutoffs_hz=SENSITIVITY_CUTOFFS_HZ, orders=SENSITIV
         tidy DataFrame: design, behaviour, cutoff_hz, order, jerk_body_m_s3,
         and the loop's causal ``jerk_m_s3`` for reference.
     """
-    from .metrics import hop_cycles
-
     cyc = hop_cycles(rollout, transient_s)
     t = rollout.time
     i0, i1 = np.searchsorted(t, cyc[:, 0]), np.searchsorted(t, cyc[:, 1])

@@ -59,7 +59,7 @@ from .change import percent_change
 from .controls import MASS_PROPERTY_COLUMNS, mass_properties
 from .fatigue import fatigue_summary, hop_stress_columns
 from .model import terrain_height_m
-from .rollout import Rollout
+from .rollout import Rollout, hop_cycles
 from .sim import C
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
@@ -89,16 +89,6 @@ def _body_jerk(rollout: Rollout, i0: np.ndarray, i1: np.ndarray) -> np.ndarray:
         return hop_body_jerk(rollout, i0, i1)
     except ValueError:
         return np.full(len(i0), np.nan)
-
-
-def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray:
-    """(start, end) times in s of the scored hop cycles, lift-off to lift-off."""
-    transient = rollout.settings.transient_s if transient_s is None else float(transient_s)
-    lo = rollout.liftoff_times_s
-    if len(lo) < 2:
-        return np.zeros((0, 2))
-    cyc = np.column_stack([lo[:-1], lo[1:]])
-    return cyc[cyc[:, 0] >= transient]
 
 
 def _check_rollout(rollout) -> None:

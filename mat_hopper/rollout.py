@@ -13,7 +13,7 @@ from .behaviours import Behaviour
 from .control import LIFTOFF, TOUCHDOWN
 from .materials import LegDesign
 
-__all__ = ["Rollout"]
+__all__ = ["Rollout", "hop_cycles"]
 
 
 @dataclass(eq=False)
@@ -168,3 +168,23 @@ class Rollout:
         import pandas as pd
 
         return pd.DataFrame(self.data, columns=list(CHANNELS))
+
+
+def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray:
+    """The scored hop cycles of a rollout, lift-off to lift-off.
+
+    Args:
+        rollout: a :class:`Rollout`.
+        transient_s: cycles starting before it (s) are not scored; None:
+            the rollout's own ``settings.transient_s``.
+
+    Returns:
+        (k, 2) array of (start, end) times in s; (0, 2) with fewer than two
+        lift-offs.
+    """
+    transient = rollout.settings.transient_s if transient_s is None else float(transient_s)
+    lo = rollout.liftoff_times_s
+    if len(lo) < 2:
+        return np.zeros((0, 2))
+    cyc = np.column_stack([lo[:-1], lo[1:]])
+    return cyc[cyc[:, 0] >= transient]

@@ -5,7 +5,7 @@ import pytest
 
 from mat_hopper import jerk
 from mat_hopper.materials import parse_design
-from mat_hopper.metrics import hop_cycles
+from mat_hopper.rollout import hop_cycles
 from mat_hopper.sim import SimSettings, simulate
 
 

@@ -2,7 +2,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mat_hopper.metrics import ALL_METRICS, compare, holm, hop_cycles, hop_table, run_summary, summarize
+from mat_hopper.metrics import ALL_METRICS, compare, holm, hop_table, run_summary, summarize
+from mat_hopper.rollout import hop_cycles
 from mat_hopper.sim import simulate
 
 

@@ -71,7 +71,8 @@ from ..materials import (
     check_convention,
     check_segment_mass,
 )
-from ..metrics import hop_cycles, hop_table
+from ..metrics import hop_table
+from ..rollout import hop_cycles
 from ..sim import C, RolloutRunner
 from . import _robust
 

@@ -295,7 +295,14 @@ def write_report(name: str, storage, out_dir: str) -> dict:
         formats=("png",),
         dpi=130,
     )
-    save_figure(study_plots.importances_figure(study, what), paths["importances_plot"], formats=("png",), dpi=130)
+    note = (
+        None
+        if enough_for_importances(study)
+        else f"no importances: fewer than {MIN_SAMPLED_TRIALS} finished trials chosen by the sampler\n"
+        "(the enqueued paper designs are not samples)"
+    )
+    fig = study_plots.importances_figure(study, what, note=note)
+    save_figure(fig, paths["importances_plot"], formats=("png",), dpi=130)
     return {
         "paths": paths,
         "trials": frame,

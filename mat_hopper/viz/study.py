@@ -126,15 +126,23 @@ def _margins_for_labels(fig, ax, pad_px: float = 12.0) -> None:
     )
 
 
-def importances_figure(study, title: str) -> Figure:
-    """Optuna's parameter importances (PED-ANOVA), every objective in one
-    plot (an empty plot with the title, and a note, until the sampler has
-    chosen enough trials: :func:`mat_hopper.optimize.report.enough_for_importances`)."""
+def importances_figure(study, title: str, *, note: str | None = None) -> Figure:
+    """Optuna's parameter importances (PED-ANOVA), every objective in one plot.
+
+    Args:
+        study: an optuna.Study.
+        title: the plot's title.
+        note: when given, no importances are computed: an empty plot with
+            the title and this note (the report passes one until the sampler
+            has chosen enough trials:
+            :func:`mat_hopper.optimize.report.enough_for_importances`).
+
+    Returns:
+        A matplotlib Figure.
+    """
     from optuna.visualization.matplotlib import plot_param_importances
 
-    from ..optimize.report import MIN_SAMPLED_TRIALS, enough_for_importances
-
-    if enough_for_importances(study):
+    if note is None:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # ExperimentalWarning
@@ -155,8 +163,7 @@ def importances_figure(study, title: str) -> Figure:
     ax.text(
         0.5,
         0.5,
-        f"no importances: fewer than {MIN_SAMPLED_TRIALS} finished trials chosen by the sampler\n"
-        "(the enqueued paper designs are not samples)",
+        note or "no importances: Optuna could not compute them",
         ha="center",
         va="center",
         transform=ax.transAxes,

@@ -47,8 +47,9 @@ from scipy import stats
 from mat_hopper import book
 from mat_hopper.fatigue import fatigue_summary, hop_stress, strength
 from mat_hopper.materials import PAPER_DESIGN_ORDER, LegDesign, paper_designs, segment_masses
-from mat_hopper.metrics import hop_cycles, hop_table
+from mat_hopper.metrics import hop_table
 from mat_hopper.perturbations import Perturbation
+from mat_hopper.rollout import hop_cycles
 from mat_hopper.sim import RolloutRunner
 
 b = book.setup()
