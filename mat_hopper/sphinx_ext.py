@@ -202,7 +202,11 @@ class RuntimeTablePostTransform(SphinxPostTransform):
             r += nodes.entry("", para)
             for p in cols:
                 v = getattr(row, f"{p}_s")
-                r += nodes.entry("", nodes.paragraph(text="–" if pd.isna(v) else f"{v:.0f}"))
+                text = "–" if pd.isna(v) else f"{v:.0f}"
+                missing = int(t[f"{p}_s"].iloc[:-1].isna().sum())
+                if not row.docname and missing and not pd.isna(v):
+                    text += f" (without the {missing} chapter{'s' if missing > 1 else ''} marked –)"
+                r += nodes.entry("", nodes.paragraph(text=text))
             tbody += r
         return table
 

@@ -62,7 +62,12 @@ def test_reference_runtimes_cover_every_chapter_of_the_toc(profile):
     toc = (ROOT / "_toc.yml").read_text()
     chapters = sorted(line.split("file:")[1].strip() for line in toc.splitlines() if "file: notebooks/" in line)
     ref_csv = pd.read_csv(_reference_path(ROOT, profile))
-    assert sorted(ref_csv["docname"]) == chapters
+    # a chapter newer than the profile's reference build is listed, with why, in pending.csv
+    pending = pd.read_csv(ROOT / "book" / "runtimes" / "pending.csv")
+    pending = pending[pending["profile"] == profile]
+    assert pending["reason"].str.len().gt(20).all()
+    assert not set(pending["docname"]) & set(ref_csv["docname"])
+    assert sorted([*ref_csv["docname"], *pending["docname"]]) == chapters
     assert ref_csv["succeeded"].all() and (ref_csv["runtime_s"] > 0).all()
     assert ref_csv["machine"].notna().all() and ref_csv["built_at"].notna().all()
 
