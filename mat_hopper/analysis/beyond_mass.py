@@ -34,27 +34,36 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..controls import CONTROLS, MASS_PROPERTY_COLUMNS
-from ..metrics import holm
-from .paired import DIFFERENCE, NO_DIFFERENCE, conclusion, paired_effect
+from scipy import stats
 
-YES, NO, UNTESTABLE = "yes", "no", "untestable"
+from ..controls import CONTROLS, MASS_PROPERTY_COLUMNS, mass_matched
+from ..keys import design_key
+from ..materials import parse_design
+from ..metrics import holm
+from .paired import DIFFERENCE, NO_DIFFERENCE, conclusion, paired_effect, reachable
+
+YES, PARTLY, NO, UNTESTABLE = "yes", "partly", "no", "untestable"
+NOT_RUN = "not run"
+ISOLATE_NOT = "untestable with these controls"
 CONTROL_COLUMNS = ("vs_rigid_twin", "vs_mass_matched", "beyond_mass")
-# Claims about materials or gradients: (designs, baseline, behaviours (None: all four), metric,
-# the claimed direction of the design's effect: -1 lower, +1 higher); the others get "".
+# Claims about materials or gradients: (designs, baseline, behaviours (None: all four), metrics
+# ((label, column), ...: one beyond-mass verdict each), the claimed direction: -1 lower, +1 higher).
 _DYN = ("forward", "ramp", "circle")
+_TRACK = (("", "tracking_error_m"),)
+_POWER = (("paper formula", "power_paper_w"), ("hip", "power_w"), ("total", "power_total_w"))
+_JERK = (("body, zero-phase", "jerk_body_m_s3"), ("causal 50 Hz", "jerk_m_s3"))
 MATERIAL_CLAIMS = {
-    "tracking_all_beat_md": (("PVC", "Al", "Ti", "SS"), "MD", None, "tracking_error_m", -1),
-    "tracking_ss_55": (("SS",), "MD", None, "tracking_error_m", -1),
-    "power_higher_dynamic": (("PVC", "Al", "Ti", "SS"), "MD", _DYN, "power_w", +1),
-    "power_ss_max": (("SS",), "MD", _DYN, "power_w", +1),
-    "ramp_rho_inc_tracking": (("rho-inc",), "MD", ("ramp",), "tracking_error_m", -1),
-    "ramp_rho_inc_power": (("rho-inc",), "MD", ("ramp",), "power_w", +1),
-    "ramp_ss_tracking": (("SS",), "MD", ("ramp",), "tracking_error_m", -1),
-    "ramp_ss_power": (("SS",), "MD", ("ramp",), "power_w", +1),
-    "headline_tracking": (("rho-inc",), "SS", ("ramp",), "tracking_error_m", -1),
-    "headline_power": (("rho-inc",), "SS", ("ramp",), "power_w", -1),
-    "jerk_gradient": (("rho-inc",), "SS", None, "jerk_m_s3", -1),
+    "tracking_all_beat_md": (("PVC", "Al", "Ti", "SS"), "MD", None, _TRACK, -1),
+    "tracking_ss_55": (("SS",), "MD", None, _TRACK, -1),
+    "power_higher_dynamic": (("PVC", "Al", "Ti", "SS"), "MD", _DYN, _POWER, +1),
+    "power_ss_max": (("SS",), "MD", _DYN, _POWER, +1),
+    "ramp_rho_inc_tracking": (("rho-inc",), "MD", ("ramp",), _TRACK, -1),
+    "ramp_rho_inc_power": (("rho-inc",), "MD", ("ramp",), _POWER, +1),
+    "ramp_ss_tracking": (("SS",), "MD", ("ramp",), _TRACK, -1),
+    "ramp_ss_power": (("SS",), "MD", ("ramp",), _POWER, +1),
+    "headline_tracking": (("rho-inc",), "SS", ("ramp",), _TRACK, -1),
+    "headline_power": (("rho-inc",), "SS", ("ramp",), _POWER, -1),
+    "jerk_gradient": (("rho-inc",), "SS", None, _JERK, -1),
 }
 SWEEP_CLAIMS = ("density_over_modulus", "low_modulus_tracks_worse")
 
@@ -129,22 +138,215 @@ def _main_effects(hops, designs, baseline, behaviours, metric):
     return out
 
 
+def _is_rigid(name: str) -> bool:
+    return all(e is None for e in parse_design(name).moduli_gpa)
+
+
+def _is_own_mass_leg(name: str) -> bool:
+    """Whether the design's mass-matched leg is the design itself (same physics key)."""
+    d = parse_design(name)
+    try:
+        return design_key(mass_matched(d)) == design_key(d)
+    except ValueError:
+        return False
+
+
+def share_left(x_control, x_claim, confidence: float = 0.95) -> dict:
+    """The share of a claim's effect left against a control, mean ln(d/ctrl)
+    / mean ln(d/base) over paired seeds, with Fieller's interval for a
+    ratio of paired means (unbounded, nan, where the claim's own effect is
+    not clearly away from 0 at this confidence).
+
+    Args:
+        x_control, x_claim: (n,) per-seed log ratios, paired.
+        confidence: of the interval.
+
+    Returns:
+        dict: share, share_low, share_high.
+    """
+    x, y = np.asarray(x_control, float), np.asarray(x_claim, float)
+    n = len(x)
+    nan = {"share": np.nan, "share_low": np.nan, "share_high": np.nan}
+    if n < 2 or y.mean() == 0:
+        return nan
+    t2 = stats.t.ppf(0.5 + confidence / 2, n - 1) ** 2
+    mx, my = x.mean(), y.mean()
+    c = np.cov(x, y, ddof=1) / n  # variances and covariance of the two means
+    a = my**2 - t2 * c[1, 1]
+    bq = mx * my - t2 * c[0, 1]
+    cq = mx**2 - t2 * c[0, 0]
+    disc = bq**2 - a * cq
+    out = {"share": float(mx / my), "share_low": np.nan, "share_high": np.nan}
+    if a > 0 and disc >= 0:  # a bounded interval
+        out["share_low"], out["share_high"] = float((bq - disc**0.5) / a), float((bq + disc**0.5) / a)
+    return out
+
+
+def _series(means, of, kind, beh, metric):
+    g = means[(means["control_of"] == of) & (means["control"] == kind) & (means["behaviour"] == beh)]
+    return g.set_index("replicate")[metric]
+
+
+def comparison_frame(hops: pd.DataFrame, claim_id: str, metric: str | None = None, confidence=0.95) -> pd.DataFrame:
+    """The per-seed comparisons behind one claim's beyond-mass verdict.
+
+    Per design and behaviour: the claim's own effect ln(d/base); for a
+    rigid baseline (MD), the design against its rigid twin ln(d/d_rigid)
+    and against its mass-matched leg ln(d/d_mass) (left out where that leg
+    is the design itself, same physics key); for an elastic baseline (SS),
+    the difference in differences ln[(d/d_rigid)/(b/b_rigid)]: what the
+    design's springs do beyond what the baseline's springs do, the mass
+    distributions held by the rigid twins (the mass-matched leg still
+    differs from SS in modulus, so it isolates nothing there). Each with
+    its paired effect (t interval, paired t p, exact sign-flip p and its
+    smallest reachable p) and the share of the claim's effect it leaves.
+
+    Args:
+        hops: control runs' per-hop rows (design, behaviour, replicate, control_of, control, metric).
+        claim_id: a key of :data:`MATERIAL_CLAIMS`.
+        metric: the metric column (default the claim's first).
+        confidence: of the intervals.
+
+    Returns:
+        DataFrame: design, behaviour, comparison (``rigid twin``,
+        ``mass-matched``, ``springs vs both rigid twins``), the paired
+        effect columns, share, share_low, share_high, and the claim's own
+        effect (claim_pct, claim_p).
+
+    Raises:
+        ValueError: unknown claim.
+    """
+    if claim_id not in MATERIAL_CLAIMS:
+        raise ValueError(f"claim_id must be one of {sorted(MATERIAL_CLAIMS)}, got {claim_id!r}")
+    designs, baseline, behaviours, metrics, _ = MATERIAL_CLAIMS[claim_id]
+    metric = metrics[0][1] if metric is None else metric
+    if metric not in hops.columns:
+        return pd.DataFrame()
+    means = _run_means(hops, [metric])
+    elastic = not _is_rigid(baseline)
+    rows = []
+    for beh in means["behaviour"].unique():
+        if behaviours is not None and beh not in behaviours:
+            continue
+        b = _series(means, baseline, "none", beh, metric)
+        b_rigid = _series(means, baseline, "rigid", beh, metric)
+        for d in designs:
+            own = _series(means, d, "none", beh, metric)
+            x_claim = np.log(own / b)
+            comps = []
+            rigid = np.log(own / _series(means, d, "rigid", beh, metric))
+            if elastic:
+                comps.append(("springs vs both rigid twins", rigid - np.log(b / b_rigid)))
+            else:
+                comps.append(("rigid twin", rigid))
+                if not _is_own_mass_leg(d):
+                    comps.append(("mass-matched", np.log(own / _series(means, d, "mass", beh, metric))))
+            main = paired_effect(np.exp(x_claim.dropna()), np.ones(int(x_claim.notna().sum())))
+            for label, x in comps:
+                x = x.dropna()
+                if len(x) == 0:
+                    continue
+                pair = pd.concat([x, x_claim], axis=1, join="inner").dropna()
+                rows.append(
+                    {
+                        "design": d,
+                        "behaviour": beh,
+                        "metric": metric,
+                        "comparison": label,
+                        **paired_effect(np.exp(x.to_numpy()), np.ones(len(x)), confidence=confidence),
+                        **share_left(pair.iloc[:, 0], pair.iloc[:, 1], confidence),
+                        "claim_pct": main["pct_change"],
+                        "claim_p": main["p"],
+                    }
+                )
+    return pd.DataFrame(rows)
+
+
 def _fmt(rows: pd.DataFrame) -> str:
     if len(rows) == 0:
-        return "not run"
+        return NOT_RUN
+
+    def share(r):
+        lo, hi = r.share_low, r.share_high
+        ci = f" [{lo:.2f}, {hi:.2f}]" if np.isfinite(lo) else " [unbounded]"
+        return f"share left {r.share:.2f}{ci}"
+
     return "; ".join(
-        f"{r.behaviour} {r.design} {r.pct_change:+.1f} % [{r.ci_low:+.1f}, {r.ci_high:+.1f}] ({r.conclusion})"
+        f"{r.behaviour} {r.design} {r.pct_change:+.1f} % [{r.ci_low:+.1f}, {r.ci_high:+.1f}] ({r.conclusion}, "
+        f"p_holm {r.p_holm:.2g}, p_min {r.p_min:.2g}, {share(r)})"
         for r in rows.itertuples()
     )
 
 
-def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects: pd.DataFrame | None, alpha=0.05) -> dict:
-    """The beyond-mass columns of one claim (module doc).
+def _votes(e: pd.DataFrame, sign: int, alpha: float) -> list[str]:
+    votes = []
+    for r in e.itertuples():
+        if not r.own_effect:
+            votes.append("no own effect")
+        elif r.conclusion == DIFFERENCE and np.sign(r.pct_change) == sign:
+            votes.append(YES)
+        elif r.conclusion == NO_DIFFERENCE or (r.conclusion == DIFFERENCE and np.sign(r.pct_change) == -sign):
+            votes.append(NO)
+        else:
+            votes.append(UNTESTABLE)
+    return votes
+
+
+def _verdict(e: pd.DataFrame, sign: int, alpha: float) -> str:
+    """The fraction rule of the main verdicts over the comparisons where the claim's own effect holds."""
+    family = len(e)
+    n = int(e["n_pairs"].min())
+    if not reachable(n, family, alpha):
+        floor = min(1.0, family * float(e["p_min"].max()))
+        return f"{UNTESTABLE} (n = {n} seeds can reach Holm p >= {floor:.2g} with an exact sign-flip test, family {family})"
+    votes = _votes(e, sign, alpha)
+    live = [v for v in votes if v != "no own effect"]
+    if not live:
+        return f"{UNTESTABLE} (the claim's own effect is not significant in any of its {family} comparisons)"
+    k = live.count(YES)
+    if k == len(live):
+        verdict = YES
+    elif k >= len(live) / 2:
+        verdict = PARTLY
+    elif NO in live:
+        verdict = NO
+    else:
+        verdict = UNTESTABLE
+    return f"{verdict} ({k}/{len(live)} comparisons beyond mass; {len(votes) - len(live)} without the claim's own effect)"
+
+
+def _one_metric(claim_id, hops, metric, alpha) -> dict:
+    designs, baseline, _, _, sign = MATERIAL_CLAIMS[claim_id]
+    e = comparison_frame(hops, claim_id, metric)
+    if len(e) == 0:
+        return dict(zip(CONTROL_COLUMNS, (NOT_RUN, NOT_RUN, NOT_RUN)))
+    e["p_holm"] = holm(e["p"].to_numpy(float))  # the claim's control comparisons: one family
+    e["conclusion"] = [conclusion(p, lo, hi, alpha=alpha) for p, lo, hi in zip(e.p_holm, e.ci_low, e.ci_high)]
+    claim_holm = holm(e.drop_duplicates(["design", "behaviour"])["claim_p"].to_numpy(float))
+    own = dict(zip(zip(*e.drop_duplicates(["design", "behaviour"])[["design", "behaviour"]].T.values), claim_holm))
+    e["own_effect"] = [
+        own[(r.design, r.behaviour)] < alpha and np.sign(r.claim_pct) == sign for r in e.itertuples()
+    ]
+    verdict = _verdict(e, sign, alpha)
+    if _is_rigid(baseline):
+        mass_rows = e[e["comparison"] == "mass-matched"]
+        vs_mass = _fmt(mass_rows) if len(mass_rows) else "homogeneous: the design is its own mass-matched leg"
+        vs_rigid = _fmt(e[e["comparison"] == "rigid twin"])
+    else:
+        vs_mass = f"{ISOLATE_NOT}: the mass-matched leg and {baseline} still differ in modulus"
+        vs_rigid = "springs beyond the baseline's springs: " + _fmt(e)
+    return {"vs_rigid_twin": vs_rigid, "vs_mass_matched": vs_mass, "beyond_mass": verdict}
+
+
+def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects=None, alpha=0.05) -> dict:
+    """The beyond-mass columns of one claim (module doc), one verdict per
+    formula of the claim's quantity (power: paper formula, hip, total;
+    jerk: body zero-phase, causal), joined as ``label: text | ...``.
 
     Args:
         claim_id: a claim of :data:`mat_hopper.analysis.claims.CLAIMS`.
-        hops: the control runs' per-hop rows (or None: not run).
-        effects: :func:`control_effects` of them (computed when None).
+        hops: the control runs' per-hop rows, unusable runs dropped (or None: not run).
+        effects: unused (kept for callers of the earlier signature).
         alpha: significance level.
 
     Returns:
@@ -156,49 +358,15 @@ def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects: pd.DataFra
     if claim_id not in MATERIAL_CLAIMS:
         return dict.fromkeys(CONTROL_COLUMNS, "")
     if hops is None or len(hops) == 0:
-        return dict(zip(CONTROL_COLUMNS, ("not run", "not run", UNTESTABLE)))
-    designs, baseline, behaviours, metric, sign = MATERIAL_CLAIMS[claim_id]
-    effects = control_effects(hops, metrics=(metric,)) if effects is None else effects
-    e = effects[(effects["metric"] == metric) & effects["design"].isin(designs)]
-    if behaviours is not None:
-        e = e[e["behaviour"].isin(behaviours)]
-    inertia = e[e["control"] == "inertia"]
-    e = e[e["control"].isin(("rigid", "mass"))].copy()
-    if len(e) == 0:
-        return dict(zip(CONTROL_COLUMNS, ("not run", "not run", UNTESTABLE)))
-    # A mass-matched leg that is the design itself (a homogeneous design) tests nothing.
-    same = e["control"].eq("mass") & np.isclose(e["leg_com_m"], e["control_leg_com_m"]) if "leg_com_m" in e else False
-    e = e[~same] if isinstance(same, pd.Series) else e
-    e["p_holm"] = holm(e["p"].to_numpy(float))  # the claim's control comparisons: one family
-    e["conclusion"] = [conclusion(p, lo, hi, alpha=alpha) for p, lo, hi in zip(e.p_holm, e.ci_low, e.ci_high)]
-    votes = []
-    for r in e.itertuples():
-        if r.conclusion == DIFFERENCE and np.sign(r.pct_change) == sign:
-            votes.append(YES)
-        elif r.conclusion == NO_DIFFERENCE or (r.conclusion == DIFFERENCE and np.sign(r.pct_change) == -sign):
-            votes.append(NO)
-        else:
-            votes.append(UNTESTABLE)
-    verdict = YES if YES in votes else NO if votes and all(v == NO for v in votes) else UNTESTABLE
-    mass_rows = e[e["control"] == "mass"]
-    text = f"{verdict} ({votes.count(YES)}/{len(votes)} control comparisons beyond mass)"
-    by_mass = [v == YES and c == "mass" for v, c in zip(votes, e["control"])]
-    if verdict == YES and all(c == "mass" for v, c in zip(votes, e["control"]) if v == YES) and any(by_mass):
-        # beyond the leg's mass, through the mass-matched leg only: does the mass distribution explain it?
-        d_rows = mass_rows[[b for b, c in zip(by_mass, e["control"]) if c == "mass"]]
-        ii = inertia.merge(d_rows[["design", "behaviour"]], on=["design", "behaviour"])
-        if len(ii):
-            ok = [conclusion(p, lo, hi, alpha=alpha) == NO_DIFFERENCE for p, lo, hi in zip(ii.p, ii.ci_low, ii.ci_high)]
-            if all(ok):
-                text += "; an inertia-matched leg reproduces it: the distribution of mass, not the material"
-    return {
-        "vs_rigid_twin": _fmt(e[e["control"] == "rigid"]),
-        "vs_mass_matched": _fmt(mass_rows) if len(mass_rows) else "homogeneous: the design is its own mass-matched leg",
-        "beyond_mass": text,
-    }
+        return dict(zip(CONTROL_COLUMNS, (NOT_RUN, NOT_RUN, NOT_RUN)))
+    metrics = MATERIAL_CLAIMS[claim_id][3]
+    parts = [(label, _one_metric(claim_id, hops, m, alpha)) for label, m in metrics]
+    if len(parts) == 1:
+        return parts[0][1]
+    return {c: " | ".join(f"{label}: {p[c]}" for label, p in parts) for c in CONTROL_COLUMNS}
 
 
-def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None, alpha: float = 0.05):
+def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None, alpha: float = 0.05, bad=None):
     """The claims table with :data:`CONTROL_COLUMNS` added (module doc).
 
     Args:
@@ -206,10 +374,16 @@ def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None,
         control_hops: per-hop rows of the control runs (one profile and
             convention; rows of other conventions get "not run").
         alpha: significance level.
+        bad: unusable control runs (:func:`mat_hopper.analysis.stats.unusable_runs`
+            of the control runs' summaries), dropped as the main claims drop theirs.
 
     Returns:
         DataFrame, a copy with the three columns.
     """
+    from .stats import drop_unusable
+
+    if control_hops is not None and bad is not None:
+        control_hops = drop_unusable(control_hops, bad)
     out = claims.copy()
     cache: dict = {}
     cols = {c: [] for c in CONTROL_COLUMNS}
