@@ -401,25 +401,44 @@ def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None,
     return out
 
 
+def _attribution_frame(means, m):
+    d = means[means[m] > 0].copy()
+    d["y"] = np.log(d[m])
+    d["log_mass"], d["log_inertia"] = np.log(d["leg_mass_kg"]), np.log(d["hip_inertia_kg_m2"])
+    # indicators: the axial runs' time step (rigid and axial legs at it), and each kind of springs
+    # against a rigid leg at the same step; one indicator pools every modulus (4-193 GPa)
+    d["axial_step"] = d["springs"].isin(["axial", "rigid, axial step"]).astype(float)
+    d["springs_paper"] = (d["springs"] == "paper").astype(float)
+    d["springs_axial"] = (d["springs"] == "axial").astype(float)
+    return d
+
+
 def attribution(hops: pd.DataFrame, metrics=("tracking_error_m", "power_w", "power_total_w", "jerk_m_s3")):
     """How much of each metric's variation across designs leg mass and hip
     inertia explain, and what the springs add (statsmodels OLS on logs).
 
     Per behaviour and metric, over the run means of the factorial
-    (:func:`mat_hopper.experiments.controls.attribution_tasks`): model A,
-    log y ~ log leg_mass + log hip_inertia; model B, A + springs (rigid as
-    the reference level; ``paper``, ``axial``). HC3 standard errors.
+    (:func:`mat_hopper.experiments.controls.attribution_tasks`), with seed
+    fixed effects (the replicates are shared): model A, log y ~ log
+    leg_mass + log hip_inertia; model B, A + the axial runs' time step
+    (``axial_step``, rigid legs at it included) + ``springs_paper`` +
+    ``springs_axial`` (each against a rigid leg at its own step; one
+    indicator pools every modulus of the designs, 4-193 GPa: no springs x
+    design interaction is fitted). Errors clustered by mass distribution
+    (``mass_of``; few clusters: intervals are rough). Log mass and log
+    inertia are nearly collinear across these designs: ``vif`` (1 / (1 -
+    r^2) of the two) says how far their separate elasticities can be read.
 
     Args:
-        hops: the factorial's per-hop rows (springs, leg_mass_kg,
+        hops: the factorial's per-hop rows (springs, mass_of, leg_mass_kg,
             hip_inertia_kg_m2, replicate, design, behaviour, metric columns).
         metrics: metric columns (positive values; non-positive runs dropped).
 
     Returns:
         tidy DataFrame: behaviour, metric, term, estimate, ci_low, ci_high,
-        p, r2_mass_inertia, r2_with_springs, n_runs. Estimates on log y:
-        for log regressors an elasticity, for a springs level the log
-        ratio against the rigid leg at equal mass and inertia.
+        p, r2_mass_inertia, r2_with_springs, n_runs, n_clusters,
+        corr_mass_inertia, vif. Estimates on log y: for log regressors an
+        elasticity, for an indicator the log ratio at equal mass and inertia.
 
     Raises:
         ValueError: columns missing.
@@ -429,34 +448,41 @@ def attribution(hops: pd.DataFrame, metrics=("tracking_error_m", "power_w", "pow
     need = {"springs", "leg_mass_kg", "hip_inertia_kg_m2", "replicate", "design", "behaviour"}
     if not need <= set(hops.columns):
         raise ValueError(f"hops needs columns {sorted(need)}")
-    keys = ["design", "springs", "behaviour", "replicate"]
+    hops = hops if "mass_of" in hops.columns else hops.assign(mass_of=hops["design"])
+    keys = ["design", "mass_of", "springs", "behaviour", "replicate"]
     means = hops.groupby(keys, sort=False)[[*metrics, "leg_mass_kg", "hip_inertia_kg_m2"]].mean().reset_index()
     rows = []
-    for (beh, m), _ in [((b, m), None) for b in means["behaviour"].unique() for m in metrics]:
-        d = means[(means["behaviour"] == beh) & (means[m] > 0)].copy()
-        if len(d) < 6:
-            continue
-        d["y"] = np.log(d[m])
-        d["log_mass"], d["log_inertia"] = np.log(d["leg_mass_kg"]), np.log(d["hip_inertia_kg_m2"])
-        d["springs"] = pd.Categorical(d["springs"], categories=["rigid", "paper", "axial"])
-        a = smf.ols("y ~ log_mass + log_inertia", d).fit(cov_type="HC3")
-        b = smf.ols("y ~ log_mass + log_inertia + C(springs)", d).fit(cov_type="HC3")
-        ci = b.conf_int()
-        for term in b.params.index:
-            rows.append(
-                {
-                    "behaviour": beh,
-                    "metric": m,
-                    "term": term.replace("C(springs)[T.", "springs=").rstrip("]"),
-                    "estimate": float(b.params[term]),
-                    "ci_low": float(ci.loc[term, 0]),
-                    "ci_high": float(ci.loc[term, 1]),
-                    "p": float(b.pvalues[term]),
-                    "r2_mass_inertia": float(a.rsquared),
-                    "r2_with_springs": float(b.rsquared),
-                    "n_runs": int(b.nobs),
-                }
-            )
+    for beh in means["behaviour"].unique():
+        for m in metrics:
+            d = _attribution_frame(means[means["behaviour"] == beh], m)
+            if len(d) < 6:
+                continue
+            groups = pd.factorize(d["mass_of"])[0]
+            fe = " + C(replicate)" if d["replicate"].nunique() > 1 else ""
+            terms = [t for t in ("axial_step", "springs_paper", "springs_axial") if d[t].nunique() > 1]
+            cov = {"cov_type": "cluster", "cov_kwds": {"groups": groups}}
+            a = smf.ols(f"y ~ log_mass + log_inertia{fe}", d).fit(**cov)
+            b = smf.ols(f"y ~ log_mass + log_inertia{fe} + " + " + ".join(terms or ["0"]), d).fit(**cov)
+            r = float(np.corrcoef(d["log_mass"], d["log_inertia"])[0, 1])
+            ci = b.conf_int()
+            for term in ["Intercept", "log_mass", "log_inertia", *terms]:
+                rows.append(
+                    {
+                        "behaviour": beh,
+                        "metric": m,
+                        "term": term,
+                        "estimate": float(b.params[term]),
+                        "ci_low": float(ci.loc[term, 0]),
+                        "ci_high": float(ci.loc[term, 1]),
+                        "p": float(b.pvalues[term]),
+                        "r2_mass_inertia": float(a.rsquared),
+                        "r2_with_springs": float(b.rsquared),
+                        "n_runs": int(b.nobs),
+                        "n_clusters": int(groups.max() + 1),
+                        "corr_mass_inertia": r,
+                        "vif": float(1.0 / (1.0 - r**2)) if abs(r) < 1 else np.inf,
+                    }
+                )
     return pd.DataFrame(rows)
 
 

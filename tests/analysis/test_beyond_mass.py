@@ -117,17 +117,20 @@ def test_headline_sentence_names_masses_and_controls():
     assert "5.44 kg" in s and "8.77 kg" in s and "its rigid twin" in s and "n = 6" in s
 
 
-def test_attribution_separates_mass_from_springs():
+def test_attribution_separates_mass_from_springs_and_the_time_step():
     rng = np.random.default_rng(2)
     rows = []
-    for mass in (2.0, 3.0, 5.0, 8.0):
-        for springs, f in (("rigid", 1.0), ("paper", 0.8), ("axial", 0.8)):
+    # the axial step itself lowers the metric by 10 %; axial springs a further 20 % at that step
+    cells = (("rigid", 1.0), ("paper", 0.8), ("axial", 0.9 * 0.8), ("rigid, axial step", 0.9))
+    for mass in (2.0, 3.0, 5.0, 8.0, 6.0):
+        inertia = 0.05 * mass * np.exp(rng.normal(0, 0.3))
+        for springs, f in cells:
             for rep in range(3):
-                inertia = 0.05 * mass + 0.1 * rng.uniform()
-                y = 0.1 * mass**0.5 * f * np.exp(rng.normal(0, 0.01))
+                y = 0.1 * mass**0.5 * f * (1 + 0.1 * rep) * np.exp(rng.normal(0, 0.01))
                 rows.append(
                     {
-                        "design": f"m{mass}",
+                        "design": f"m{mass}" if "rigid" not in springs else f"m{mass}~rigid",
+                        "mass_of": f"m{mass}",
                         "springs": springs,
                         "behaviour": "forward",
                         "replicate": rep,
@@ -136,13 +139,25 @@ def test_attribution_separates_mass_from_springs():
                         "tracking_error_m": y,
                     }
                 )
-    att = bm.attribution(pd.DataFrame(rows), metrics=("tracking_error_m",))
-    paper = att.set_index("term").loc["springs=paper"]
-    assert paper["estimate"] == pytest.approx(np.log(0.8), abs=0.02)
-    assert paper["ci_low"] < np.log(0.8) < paper["ci_high"]
+    att = bm.attribution(pd.DataFrame(rows), metrics=("tracking_error_m",)).set_index("term")
+    for term, want in (("springs_paper", np.log(0.8)), ("springs_axial", np.log(0.8)), ("axial_step", np.log(0.9))):
+        assert att.loc[term, "estimate"] == pytest.approx(want, abs=0.02)
+        assert att.loc[term, "ci_low"] < want < att.loc[term, "ci_high"]
+    assert att["n_clusters"].iloc[0] == 5 and att["vif"].iloc[0] >= 1
     assert att["r2_with_springs"].iloc[0] > att["r2_mass_inertia"].iloc[0]
     with pytest.raises(ValueError, match="springs"):
         bm.attribution(pd.DataFrame({"x": [1]}))
+
+
+def test_attribution_tasks_drop_mds_springs_and_match_the_axial_step():
+    from mat_hopper.experiments import controls as ce
+
+    tasks = ce.attribution_tasks("quick", designs=("MD", "SS"), behaviours=("forward",), replicates=2)
+    cells = {(t.labels["mass_of"], t.labels["springs"]) for t in tasks}
+    assert cells == {("MD", "rigid"), ("SS", "rigid"), ("SS", "paper"), ("SS", "axial"), ("SS", ce.RIGID_AT_AXIAL_STEP)}
+    by = {(t.labels["mass_of"], t.labels["springs"], t.labels["replicate"]): t for t in tasks}
+    axial, rigid = by[("SS", "axial", 0)], by[("SS", ce.RIGID_AT_AXIAL_STEP, 0)]
+    assert rigid.settings == axial.settings and all(e is None for e in rigid.design.moduli_gpa)
 
 
 def test_modulus_at_equal_mass_sees_through_a_density_confound():
