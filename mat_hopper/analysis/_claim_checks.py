@@ -287,9 +287,7 @@ def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1
         # Paired: the exact sign-flip test's smallest p (2 / 2^n) must reach Holm's threshold
         # (a t test can reach any p at n = 3 only through its normality assumption).
         p_floor = (
-            family * float(rows["p_min"].max())
-            if paired and "p_min" in rows.columns
-            else smallest_p(n_min, family)
+            family * float(rows["p_min"].max()) if paired and "p_min" in rows.columns else smallest_p(n_min, family)
         )
         if basis == "replicates" and p_floor >= ctx.alpha:
             same_way = int((np.sign(rows["pct_change"]) == direction).sum())

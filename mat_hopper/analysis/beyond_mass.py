@@ -9,24 +9,34 @@ distribution; against its mass-matched leg, what it adds beyond its leg
 mass (the distribution of mass and of modulus along the leg).
 
 :func:`beyond_mass_columns` adds to each material or gradient claim of the
-claims table its comparisons' effects against the rigid twin and the
-mass-matched leg, each with its interval, and a verdict ``beyond mass``:
+claims table its comparisons (:func:`comparison_frame`), each with its
+interval and the share of the claim's effect it leaves, and a verdict
+``beyond mass``, per formula of the claim's quantity (power: paper
+formula, hip, total; jerk: the body's zero-phase jerk and the causal one):
 
-- ``yes``: against at least one control, the design differs in the
-  claimed direction (the paper's: lower tracking error, higher power
-  against MD, ...), Holm p < alpha within the claim's control
-  comparisons: something of the claimed effect is not its mass;
-- ``no``: against every control the difference is inside the equivalence
-  margin (``no difference``) or goes the other way: at equal mass (and
-  mass distribution, for the twin) the claimed effect is gone;
-- ``untestable``: not enough evidence either way, or the controls or the
-  design's runs are missing.
+- the comparisons: for a rigid baseline (MD), the design against its rigid
+  twin and against its mass-matched leg (left out where that leg is the
+  design itself, same physics key); for an elastic baseline (SS), the
+  per-seed difference in differences ln[(d/d_rigid)/(b/b_rigid)], the
+  springs' effect in the design beyond the springs' effect in the
+  baseline (the mass-matched leg still differs from SS in modulus:
+  ``untestable with these controls``);
+- a comparison counts only where the claim's own effect (design vs
+  baseline, paired, Holm over the claim's) holds in the claimed direction;
+  it votes yes (Holm p < alpha in the claimed direction), no (inside the
+  equivalence margin, or the other way) or not enough evidence;
+- ``yes``: every counted comparison yes; ``partly``: at least half;
+  ``no``: fewer, with a no among them; ``untestable``: otherwise, or where
+  the family cannot reach Holm p < alpha with an exact sign-flip test at
+  this n (n = 3: p >= 0.25 each), or the claim's own effect is not there;
+  ``not run``: the controls or the design's runs are missing.
 
 :func:`attribution` regresses the log of each metric on the log leg mass,
-the log hip inertia and the springs (rigid, ``paper``, ``axial``) over
-the factorial of :func:`mat_hopper.experiments.controls.attribution_tasks`
-(statsmodels OLS): R^2 of mass and inertia alone, R^2 with springs added,
-and each partial effect with its interval.
+the log hip inertia, the axial time step and the springs over the
+factorial of :func:`mat_hopper.experiments.controls.attribution_tasks`
+(statsmodels OLS, seed fixed effects, errors clustered by mass
+distribution): R^2 of mass and inertia alone, R^2 with springs added, each
+partial effect with its interval, and the VIF of log mass and log inertia.
 """
 
 from __future__ import annotations
@@ -34,13 +44,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from scipy import stats
-
 from ..controls import CONTROLS, MASS_PROPERTY_COLUMNS, mass_matched
 from ..keys import design_key
 from ..materials import parse_design
 from ..metrics import holm
-from .paired import DIFFERENCE, NO_DIFFERENCE, conclusion, paired_effect, reachable
+from .paired import DIFFERENCE, NO_DIFFERENCE, conclusion, paired_effect, reachable, share_left
 
 YES, PARTLY, NO, UNTESTABLE = "yes", "partly", "no", "untestable"
 NOT_RUN = "not run"
@@ -149,37 +157,6 @@ def _is_own_mass_leg(name: str) -> bool:
         return design_key(mass_matched(d)) == design_key(d)
     except ValueError:
         return False
-
-
-def share_left(x_control, x_claim, confidence: float = 0.95) -> dict:
-    """The share of a claim's effect left against a control, mean ln(d/ctrl)
-    / mean ln(d/base) over paired seeds, with Fieller's interval for a
-    ratio of paired means (unbounded, nan, where the claim's own effect is
-    not clearly away from 0 at this confidence).
-
-    Args:
-        x_control, x_claim: (n,) per-seed log ratios, paired.
-        confidence: of the interval.
-
-    Returns:
-        dict: share, share_low, share_high.
-    """
-    x, y = np.asarray(x_control, float), np.asarray(x_claim, float)
-    n = len(x)
-    nan = {"share": np.nan, "share_low": np.nan, "share_high": np.nan}
-    if n < 2 or y.mean() == 0:
-        return nan
-    t2 = stats.t.ppf(0.5 + confidence / 2, n - 1) ** 2
-    mx, my = x.mean(), y.mean()
-    c = np.cov(x, y, ddof=1) / n  # variances and covariance of the two means
-    a = my**2 - t2 * c[1, 1]
-    bq = mx * my - t2 * c[0, 1]
-    cq = mx**2 - t2 * c[0, 0]
-    disc = bq**2 - a * cq
-    out = {"share": float(mx / my), "share_low": np.nan, "share_high": np.nan}
-    if a > 0 and disc >= 0:  # a bounded interval
-        out["share_low"], out["share_high"] = float((bq - disc**0.5) / a), float((bq + disc**0.5) / a)
-    return out
 
 
 def _series(means, of, kind, beh, metric):
@@ -312,7 +289,9 @@ def _verdict(e: pd.DataFrame, sign: int, alpha: float) -> str:
         verdict = NO
     else:
         verdict = UNTESTABLE
-    return f"{verdict} ({k}/{len(live)} comparisons beyond mass; {len(votes) - len(live)} without the claim's own effect)"
+    return (
+        f"{verdict} ({k}/{len(live)} comparisons beyond mass; {len(votes) - len(live)} without the claim's own effect)"
+    )
 
 
 def _one_metric(claim_id, hops, metric, alpha) -> dict:
@@ -324,9 +303,7 @@ def _one_metric(claim_id, hops, metric, alpha) -> dict:
     e["conclusion"] = [conclusion(p, lo, hi, alpha=alpha) for p, lo, hi in zip(e.p_holm, e.ci_low, e.ci_high)]
     claim_holm = holm(e.drop_duplicates(["design", "behaviour"])["claim_p"].to_numpy(float))
     own = dict(zip(zip(*e.drop_duplicates(["design", "behaviour"])[["design", "behaviour"]].T.values), claim_holm))
-    e["own_effect"] = [
-        own[(r.design, r.behaviour)] < alpha and np.sign(r.claim_pct) == sign for r in e.itertuples()
-    ]
+    e["own_effect"] = [own[(r.design, r.behaviour)] < alpha and np.sign(r.claim_pct) == sign for r in e.itertuples()]
     verdict = _verdict(e, sign, alpha)
     if _is_rigid(baseline):
         mass_rows = e[e["comparison"] == "mass-matched"]
@@ -533,7 +510,12 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
     are), an OLS of log metric on log density and a low-modulus indicator
     (``low``: E <= low_gpa; points between the thresholds left out), and
     per base material's modulus sweep (density fixed, so mass fixed) the
-    slope of log metric on log modulus. HC3 intervals (statsmodels).
+    slope of log metric on log modulus: these within-material slopes are
+    the equal-mass test. The low and high groups share few densities (the
+    book's sweeps: 2.0-2.5 g/cm^3), so the pooled indicator rests on an
+    extrapolation along log density (``density_overlap_g_cm3``). Errors
+    clustered by replicate seed where there are seeds, else HC3
+    (statsmodels).
 
     Args:
         hops: experiment 2's per-hop rows (sweep_base, sweep_property,
@@ -542,8 +524,9 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
         low_gpa, high_gpa: the claim's thresholds (default the paper's 9 and 20 GPa).
 
     Returns:
-        tidy DataFrame: scope (``pooled, density-adjusted`` or the base
-        material), term, estimate, ci_low, ci_high, p, n_points. For the
+        tidy DataFrame: scope (``pooled, density-adjusted`` or ``<base>
+        (equal mass)``), term, estimate, ci_low, ci_high, p, n_points,
+        density_overlap_g_cm3. For the
         indicator, exp(estimate) is the ratio of low- to high-modulus legs
         at equal density.
 
@@ -567,7 +550,7 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
     d["log_modulus"] = np.log(d["modulus_gpa"])
     rows = []
 
-    def add(scope, fit, term, n):
+    def add(scope, fit, term, n, overlap=""):
         ci = fit.conf_int()
         rows.append(
             {
@@ -578,16 +561,28 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
                 "ci_high": float(ci.loc[term, 1]),
                 "p": float(fit.pvalues[term]),
                 "n_points": int(n),
+                "density_overlap_g_cm3": overlap,
             }
         )
+
+    def fit(formula, g):
+        # the sweep points share their replicate seeds: errors clustered by seed where there are seeds
+        if "replicate" in g.columns and g["replicate"].nunique() >= 2:
+            groups = pd.factorize(g["replicate"])[0]
+            return smf.ols(formula, g).fit(cov_type="cluster", cov_kwds={"groups": groups})
+        return smf.ols(formula, g).fit(cov_type="HC3")
 
     split = d[(d["modulus_gpa"] <= low_gpa) | (d["modulus_gpa"] >= high_gpa)].copy()
     split["low"] = (split["modulus_gpa"] <= low_gpa).astype(float)
     if split["low"].nunique() == 2 and len(split) > 3:
-        fit = smf.ols("y ~ log_density + low", split).fit(cov_type="HC3")
-        add("pooled, density-adjusted", fit, "low", len(split))
-        add("pooled, density-adjusted", fit, "log_density", len(split))
+        lo_d, hi_d = (split.loc[split["low"] == v, "density_g_cm3"] for v in (1.0, 0.0))
+        a, b = max(lo_d.min(), hi_d.min()), min(lo_d.max(), hi_d.max())
+        # outside the densities both groups cover, the indicator is an extrapolation along log density
+        overlap = f"{a:.3g}-{b:.3g} (extrapolation outside it)" if a <= b else "none (extrapolation)"
+        f = fit("y ~ log_density + low", split)
+        add("pooled, density-adjusted", f, "low", len(split), overlap)
+        add("pooled, density-adjusted", f, "log_density", len(split), overlap)
     for base, g in d[d["sweep_property"] == "modulus"].groupby("sweep_base", sort=False):
         if g["log_modulus"].nunique() >= 2 and len(g) > 2:
-            add(str(base), smf.ols("y ~ log_modulus", g).fit(cov_type="HC3"), "log_modulus", len(g))
+            add(f"{base} (equal mass)", fit("y ~ log_modulus", g), "log_modulus", len(g))
     return pd.DataFrame(rows)

@@ -169,6 +169,37 @@ def paired_effect(
     }
 
 
+def share_left(x_control, x_claim, confidence: float = 0.95) -> dict:
+    """The share of a claim's effect left against a control, mean ln(d/ctrl)
+    / mean ln(d/base) over paired seeds, with Fieller's interval for a
+    ratio of paired means (unbounded, nan, where the claim's own effect is
+    not clearly away from 0 at this confidence).
+
+    Args:
+        x_control, x_claim: (n,) per-seed log ratios, paired.
+        confidence: of the interval.
+
+    Returns:
+        dict: share, share_low, share_high.
+    """
+    x, y = np.asarray(x_control, float), np.asarray(x_claim, float)
+    n = len(x)
+    nan = {"share": np.nan, "share_low": np.nan, "share_high": np.nan}
+    if n < 2 or y.mean() == 0:
+        return nan
+    t2 = stats.t.ppf(0.5 + confidence / 2, n - 1) ** 2
+    mx, my = x.mean(), y.mean()
+    c = np.cov(x, y, ddof=1) / n  # variances and covariance of the two means
+    a = my**2 - t2 * c[1, 1]
+    bq = mx * my - t2 * c[0, 1]
+    cq = mx**2 - t2 * c[0, 0]
+    disc = bq**2 - a * cq
+    out = {"share": float(mx / my), "share_low": np.nan, "share_high": np.nan}
+    if a > 0 and disc >= 0:  # a bounded interval
+        out["share_low"], out["share_high"] = float((bq - disc**0.5) / a), float((bq + disc**0.5) / a)
+    return out
+
+
 def conclusion(p_holm: float, ci_low_pct: float, ci_high_pct: float, *, alpha: float = 0.05, margin=None) -> str:
     """``difference``, ``no difference`` or ``not enough evidence`` (module doc).
 

@@ -64,7 +64,9 @@ def test_an_elastic_baseline_is_judged_by_the_difference_in_differences():
 
 
 def test_a_rigid_baseline_uses_the_twin_and_the_mass_matched_leg_with_a_fraction_rule():
-    out = bm.claim_controls("ramp_rho_inc_tracking", _hops(rho_springs=0.8, rho_vs_mass=1.0, n=8), None)  # n = 8: Holm over 2 reachable
+    out = bm.claim_controls(
+        "ramp_rho_inc_tracking", _hops(rho_springs=0.8, rho_vs_mass=1.0, n=8), None
+    )  # n = 8: Holm over 2 reachable
     assert out["beyond_mass"].startswith("partly (1/2")  # the twin says yes, the mass-matched leg no
     assert out["vs_mass_matched"].startswith("ramp rho-inc") and "share left" in out["vs_mass_matched"]
     # SS is homogeneous: its mass-matched leg is itself (same physics key); its twin decides
@@ -184,6 +186,11 @@ def test_modulus_at_equal_mass_sees_through_a_density_confound():
     low = out.loc[("pooled, density-adjusted", "low")]
     assert low["ci_low"] < 0 < low["ci_high"] and abs(low["estimate"]) < 0.05
     assert out.loc[("pooled, density-adjusted", "log_density"), "estimate"] == pytest.approx(-0.5, abs=0.05)
-    assert out.loc[("Ti", "log_modulus"), "ci_low"] < 0 < out.loc[("Ti", "log_modulus"), "ci_high"]
+    assert (
+        out.loc[("Ti (equal mass)", "log_modulus"), "ci_low"]
+        < 0
+        < out.loc[("Ti (equal mass)", "log_modulus"), "ci_high"]
+    )
+    assert "extrapolation" in low["density_overlap_g_cm3"] and low["density_overlap_g_cm3"].startswith("2-2.5")
     with pytest.raises(ValueError, match="columns"):
         bm.modulus_at_equal_mass(pd.DataFrame({"x": [1]}))
