@@ -484,6 +484,14 @@ def headline_sentence(hops: pd.DataFrame, metric: str = "tracking_error_m", beha
     eff = eff[eff["design"] == "rho-inc"].set_index("control")
     legs = hops.groupby("design")["leg_mass_kg"].first()
     word = metric.replace("_m", "").replace("_w", "").replace("_", " ")
+    f = comparison_frame(hops[hops["behaviour"] == behaviour], "headline_tracking", metric)
+    did = "its springs beyond SS's springs: not run"
+    if len(f):
+        r = f.iloc[0]
+        did = (
+            f"its springs beyond SS's springs (both against their rigid twins) {r['pct_change']:+.1f} % "
+            f"[{r['ci_low']:+.1f}, {r['ci_high']:+.1f}], {r['share']:.2f} of the effect"
+        )
 
     def part(kind, label):
         if kind not in eff.index:
@@ -496,7 +504,7 @@ def headline_sentence(hops: pd.DataFrame, metric: str = "tracking_error_m", beha
         f"{main['pct_change']:+.1f} % [{main['ci_low']:+.1f}, {main['ci_high']:+.1f}] against SS (leg "
         f"{legs['SS']:.2f} kg, {legs['SS'] - legs['rho-inc']:.2f} kg heavier), n = {main['n_pairs']} paired seeds; "
         f"{part('mass', 'a homogeneous leg of its own mass')}, {part('inertia', 'a leg of its mass and hip inertia')}, "
-        f"{part('rigid', 'its rigid twin')} (95 % t intervals)."
+        f"{part('rigid', 'its rigid twin')}; {did} (95 % t intervals)."
     )
 
 

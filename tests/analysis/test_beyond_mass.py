@@ -116,7 +116,7 @@ def test_unusable_control_runs_are_dropped():
 
 def test_headline_sentence_names_masses_and_controls():
     s = bm.headline_sentence(_hops(rho_vs_mass=0.75, rho_springs=0.9))
-    assert "5.44 kg" in s and "8.77 kg" in s and "its rigid twin" in s and "n = 6" in s
+    assert "5.44 kg" in s and "8.77 kg" in s and "its rigid twin" in s and "n = 6" in s and "beyond SS's springs" in s
 
 
 def test_attribution_separates_mass_from_springs_and_the_time_step():
