@@ -248,6 +248,8 @@ fact = control_runs.run_attribution(b.profile, behaviours=("forward",), cache_di
 att = beyond_mass.attribution(fact.tables, metrics=("tracking_error_m", "power_w", "power_total_w", "jerk_body_m_s3"))
 b.downloads({"attribution": att})
 book.show(att, pattern="{:.3g}")
+
+# %%
 vif = att.groupby("metric")[["corr_mass_inertia", "vif"]].first()
 print(
     f"log leg mass and log hip inertia across the factorial: r = {vif['corr_mass_inertia'].iloc[0]:.2f}, "
