@@ -142,6 +142,29 @@ class JerkFilter(NamedTuple):
     state: np.ndarray
 
 
+class StressProbe(NamedTuple):
+    """Issue 21: the material springs the loop turns into stress at every
+    physics step. adr: (N, 3) qpos addresses of segment s's axial slide and
+    its hinges about x and y (-1 where the convention has none); gain:
+    (N, 3) Pa per unit of joint position, k / A for the slide (F / A) and
+    k c / I for the hinges (M c / I); peak: (N,) the largest section stress
+    |sigma_axial| + sqrt(sigma_x^2 + sigma_y^2) since the last record,
+    carried between calls.
+
+    A separate per-segment array rather than record channels: the number
+    of segments varies by design, the record's channels do not."""
+
+    adr: np.ndarray
+    gain: np.ndarray
+    peak: np.ndarray
+
+
+# Columns of the stress record (one (N, 4) block per record), Pa: axial F / A
+# (tension > 0), bending M c / I about x and about y (signed), and the
+# physics-rate peak of the section's largest normal stress since the last record.
+STRESS_COLUMNS = ("axial_pa", "bending_x_pa", "bending_y_pa", "peak_pa")
+
+
 class Steps(NamedTuple):
     """Which physics steps to run and how."""
 
@@ -198,7 +221,24 @@ def _diverged(qpos, qacc, limit):
 # Exempt from the 100-line rule: the whole closed loop is one compiled function so a rollout never returns to Python per step.
 @numba.njit(cache=True)
 def rollout_loop(
-    step1, step2, m_ptr, d_ptr, buf, lay, gains, path, dist, steps, history, state, jerk, rec, qpos_rec, events
+    step1,
+    step2,
+    m_ptr,
+    d_ptr,
+    buf,
+    lay,
+    gains,
+    path,
+    dist,
+    steps,
+    history,
+    state,
+    jerk,
+    rec,
+    qpos_rec,
+    events,
+    probe,
+    stress_rec,
 ):
     """Run physics steps ``steps.first`` .. ``steps.first + steps.count - 1``.
 
@@ -206,7 +246,9 @@ def rollout_loop(
     between calls; rec: structured records (RECORD_DTYPE), one every
     ``record_every`` steps; qpos_rec: (records, nq) joint positions after
     the step, or 0 rows; events: (n, 3) rows of (time s, kind, hop height m);
-    jerk: the JerkFilter run on the base's z acceleration every step.
+    jerk: the JerkFilter run on the base's z acceleration every step;
+    probe: the StressProbe evaluated on s_i every step; stress_rec: (records,
+    N, 4) stress rows (STRESS_COLUMNS) written with each record.
     Returns (records written, events written, step of divergence or -1)."""
     out = np.zeros(OUT_SIZE)
     hip_angle = np.zeros(2)
@@ -222,6 +264,8 @@ def rollout_loop(
     pushing = buf.xfrc_applied[base, 0] != 0.0 or buf.xfrc_applied[base, 1] != 0.0
     n_rec = 0
     n_ev = 0
+    n_seg = probe.adr.shape[0]
+    stress_now = np.zeros((n_seg, 3))
     for i in range(steps.first, steps.first + steps.count):
         t = i * steps.dt
         step1(m_ptr, d_ptr)
@@ -259,6 +303,14 @@ def rollout_loop(
             buf.xfrc_applied[base, 0] = dist.push[2] if pushing else 0.0
             buf.xfrc_applied[base, 1] = dist.push[3] if pushing else 0.0
         foot, foot_rate = buf.qpos[lay.spring_qpos], buf.qvel[lay.spring_dof]
+        for s in range(n_seg):  # issue 21: section stress of s_i, peak at the physics rate
+            sa = probe.gain[s, 0] * buf.qpos[probe.adr[s, 0]] if probe.adr[s, 0] >= 0 else 0.0
+            sx = probe.gain[s, 1] * buf.qpos[probe.adr[s, 1]] if probe.adr[s, 1] >= 0 else 0.0
+            sy = probe.gain[s, 2] * buf.qpos[probe.adr[s, 2]] if probe.adr[s, 2] >= 0 else 0.0
+            stress_now[s, 0], stress_now[s, 1], stress_now[s, 2] = sa, sx, sy
+            mag = abs(sa) + math.sqrt(sx * sx + sy * sy)
+            if mag > probe.peak[s]:
+                probe.peak[s] = mag
         step2(m_ptr, d_ptr)
         bad = _diverged(buf.qpos, buf.qacc, steps.qacc_limit)
         az = buf.qacc[lay.base_dof + 2]
@@ -304,6 +356,11 @@ def rollout_loop(
             z[4] = 0.0
             if n_rec < qpos_rec.shape[0]:
                 qpos_rec[n_rec, :] = buf.qpos
+            for s in range(n_seg):
+                for k in range(3):
+                    stress_rec[n_rec, s, k] = stress_now[s, k]
+                stress_rec[n_rec, s, 3] = probe.peak[s]
+                probe.peak[s] = 0.0
             n_rec += 1
         if bad:
             return n_rec, n_ev, i

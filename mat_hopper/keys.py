@@ -51,6 +51,7 @@ RESULT_MODULES = (
     "rollout",
     "perturbations",
     "metrics",
+    "fatigue",
     "energetics",
     "controls",
     "jerk",

@@ -12,6 +12,35 @@ named conventions:
 ``axial``
     a physical axial spring: k = E A / L with A = pi r^2 the capsule's
     cross-section and L the segment's length (0.1 m for 3 segments).
+``bending``
+    the leg bends: each sprung segment carries two hinge springs, about two
+    orthogonal axes perpendicular to the leg, of the pseudo-rigid-body
+    model's stiffness K = gamma K_Theta E I / l (:func:`bending_stiffness`,
+    I = pi r^4 / 4); axially rigid.
+``axial+bending``
+    both: the ``axial`` slide spring and the two ``bending`` hinges.
+
+Pseudo-rigid-body model (PRBM; L. L. Howell, *Compliant Mechanisms*,
+Wiley 2001, ch. 5). Howell's end-force cantilever puts one pivot at
+(1 - gamma) L from the clamp with gamma = 0.85 and K = gamma K_Theta E I / L,
+K_Theta = 2.65; Howell states the tip-position error under 0.5 % for
+pseudo-rigid-body angles up to 64.3 deg (gamma) and gives K_Theta as an
+average over the deflection range. In the small-deflection limit its tip
+deflection is (gamma / K_Theta) P L^3 / (E I) = 0.962 x P L^3 / (3 E I)
+(-3.8 %). A one-segment leg (N = 1) uses exactly these values. Howell's
+values do not carry over to each segment of a chain: a segment in a chain
+carries the bending moment of everything below it, and under a pure end
+moment a pivot of gamma K_Theta E I / l = 2.25 E I / l rotates 2.25 times
+too little (the beam's end rotation is M l / E I). For N >= 2 each hinge
+sits at its segment's midpoint with K = E I / l (gamma = 1/2, K_Theta = 2;
+the segment's characteristic pivot at its centre, the bar-chain of Hencky):
+the chain's rotations are then exact under any end force and moment, and
+its tip deflection under an end force is P L^3 / (3 E I) (1 - 1 / (4 N^2)),
+i.e. -6.25 % at N = 2, -2.78 % at N = 3 and -0.10 % at N = 16
+(:func:`prbm_tip_deflection_ratio`; worked by hand in
+tests/test_bending.py). Shear (Timoshenko) and large-deflection effects
+are not modelled: the leg (L / d = 6) is a stubby beam, for which shear
+adds a few per cent of compliance.
 
 Density sets each segment's mass under one of two named conventions of
 segment mass (``SEGMENT_MASSES``):
@@ -43,8 +72,20 @@ from dataclasses import dataclass
 
 from . import reference as ref
 
-CONVENTIONS = ("paper", "axial")
+CONVENTIONS = ("paper", "axial", "bending", "axial+bending")
+# The conventions the reproduction compares (claims, convention checks, the
+# book's stable-step maps); the bending ones are issue 21's, run on request.
+REPRODUCTION_CONVENTIONS = ("paper", "axial")
 DEFAULT_CONVENTION = "paper"
+AXIAL_CONVENTIONS = ("paper", "axial", "axial+bending")  # a slide spring per segment
+BENDING_CONVENTIONS = ("bending", "axial+bending")  # two hinge springs per segment
+# Howell 2001, sec. 5.1 (end-force cantilever): characteristic radius factor
+# and stiffness coefficient. Used as such at N = 1 (module doc).
+PRBM_GAMMA = 0.85
+PRBM_K_THETA = 2.65
+# N >= 2: the midpoint pivot of each segment (module doc).
+CHAIN_GAMMA = 0.5
+CHAIN_K_THETA = 2.0
 SEGMENT_MASSES = ("leg", "capsule")
 DEFAULT_SEGMENT_MASS = "leg"
 
@@ -87,9 +128,10 @@ def check_n_segments(n_segments) -> int:
 
 
 def check_segment_mass(segment_mass: str) -> str:
-    if segment_mass not in SEGMENT_MASSES:
-        raise ValueError(f"unknown segment mass convention {segment_mass!r}; accepted: {', '.join(SEGMENT_MASSES)}")
-    return segment_mass
+    """The segment-mass convention named (case-insensitive), as spelled in SEGMENT_MASSES."""
+    from .parsing import parse_name
+
+    return parse_name(segment_mass, SEGMENT_MASSES, "segment mass convention")
 
 
 @dataclass(frozen=True)
@@ -232,9 +274,11 @@ def bulk_density(porosity_fraction: float, solid_density_g_cm3: float) -> float:
 
 
 def check_convention(convention: str) -> str:
-    if convention not in CONVENTIONS:
-        raise ValueError(f"unknown stiffness convention {convention!r}; accepted: {', '.join(CONVENTIONS)}")
-    return convention
+    """The stiffness convention named (case-insensitive, mat_hopper.parsing),
+    as spelled in CONVENTIONS. Raises ValueError for any other."""
+    from .parsing import parse_name
+
+    return parse_name(convention, CONVENTIONS, "stiffness convention")
 
 
 def segment_length(n_segments: int) -> float:
@@ -252,7 +296,7 @@ def capsule_density_scale(n_segments: int, segment_mass: str = DEFAULT_SEGMENT_M
     """Factor on each material capsule's density (module doc): ``leg``,
     V3 / (N/3 V_N) with V_N the volume of one half-segment capsule of an
     N-segment leg (exactly 1.0 at N = 3); ``capsule``, 1."""
-    check_segment_mass(segment_mass)
+    segment_mass = check_segment_mass(segment_mass)
     n = check_n_segments(n_segments)
     if segment_mass == "capsule":
         return 1.0
@@ -278,13 +322,150 @@ def segment_masses(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS) 
 def spring_stiffness(
     modulus_gpa: float, convention: str = DEFAULT_CONVENTION, n_segments: int = ref.REFERENCE_SEGMENTS
 ) -> float:
-    """Axial spring stiffness in N/m for a segment of the given modulus (GPa)."""
-    check_convention(convention)
+    """Axial spring stiffness in N/m for a segment of the given modulus
+    (GPa); 0 under ``bending`` (axially rigid). ``axial+bending`` takes the
+    ``axial`` value."""
+    convention = check_convention(convention)
     e = _check_number(modulus_gpa, "modulus", "finite and > 0 GPa")
+    if convention not in AXIAL_CONVENTIONS:
+        return 0.0
     if convention == "paper":
         return ref.PAPER_STIFFNESS_PER_GPA * e
     area = math.pi * ref.MATERIAL_RADIUS**2
     return e * 1e9 * area / segment_length(n_segments)
+
+
+def second_moment_m4(radius_m: float = ref.MATERIAL_RADIUS) -> float:
+    """Second moment of area I = pi r^4 / 4 (m^4) of a solid circular
+    section about a diameter."""
+    return math.pi * radius_m**4 / 4.0
+
+
+def prbm_constants(n_segments: int) -> tuple[float, float]:
+    """(gamma, K_Theta) of each segment's pivot (module doc): Howell's
+    end-force values (0.85, 2.65) for one segment, the midpoint pivot
+    (0.5, 2) for a chain. The pivot lies (1 - gamma) l below the segment's
+    top."""
+    n = check_n_segments(n_segments)
+    return (PRBM_GAMMA, PRBM_K_THETA) if n == 1 else (CHAIN_GAMMA, CHAIN_K_THETA)
+
+
+def bending_stiffness(modulus_gpa: float, n_segments: int = ref.REFERENCE_SEGMENTS) -> float:
+    """Stiffness (N m/rad) of each of a segment's two hinge springs:
+    K = gamma K_Theta E I / l with l = 0.3 m / N, I = pi r^4 / 4 and
+    (gamma, K_Theta) from :func:`prbm_constants` (Howell 2001, ch. 5)."""
+    e = _check_number(modulus_gpa, "modulus", "finite and > 0 GPa")
+    gamma, k_theta = prbm_constants(n_segments)
+    return gamma * k_theta * e * 1e9 * second_moment_m4() / segment_length(n_segments)
+
+
+def prbm_tip_deflection_ratio(n_segments: int) -> float:
+    """The chain's small-deflection tip deflection under an end force, over
+    Euler-Bernoulli's P L^3 / (3 E I): the PRBM's stated error + 1. One
+    segment: 3 gamma / K_Theta (0.962); N >= 2 midpoint pivots:
+    1 - 1 / (4 N^2)."""
+    n = check_n_segments(n_segments)
+    gamma, k_theta = prbm_constants(n)
+    # sum over pivots of (lever arm)^2 / K, lever arm (N - i + gamma) l
+    s = sum((j + gamma) ** 2 for j in range(n)) / (gamma * k_theta)
+    return s / (n**3 / 3.0)
+
+
+# --- damping ---------------------------------------------------------------
+
+# How the material springs dissipate (one named setting, SimSettings.damping):
+# "authors": every joint 1 N s/m (or N m s/rad), the authors' file;
+# "loss-factor": each material spring's damping from its material's loss
+# factor eta (:func:`loss_factor`, :func:`spring_damping`).
+DAMPINGS = ("authors", "loss-factor")
+DEFAULT_DAMPING = "authors"
+# Loss factor eta (dimensionless) per material class: mid-range values of the
+# loss-coefficient chart of M. F. Ashby, Materials Selection in Mechanical
+# Design, 4th ed. (2011), fig. 4.9 (metals 1e-4 to 1e-3, engineering
+# polymers 1e-2 to 1e-1, technical ceramics 1e-5 to 1e-4, composites about
+# 1e-3 to 1e-2); natural: bone about 1e-2 (R. S. Lakes, Viscoelastic
+# Materials, CUP 2009, ch. 10: tan delta of compact bone 0.01-0.02).
+LOSS_FACTORS = {
+    "metal": 1e-3,
+    "polymer": 5e-2,
+    "ceramic": 1e-4,
+    "composite": 5e-3,
+    "natural": 1e-2,
+}
+
+
+def check_damping(damping: str) -> str:
+    if damping not in DAMPINGS:
+        raise ValueError(f"unknown damping {damping!r}; accepted: {', '.join(DAMPINGS)}")
+    return damping
+
+
+def loss_factor_class(mat: Material) -> str:
+    """The class a material's loss factor and S-N curve are read by: its
+    own where :data:`LOSS_FACTORS` lists it; else ("custom": designs from
+    properties, the sweeps) the class its modulus falls in on Ashby's
+    loss-coefficient chart: >= 30 GPa metal, 1-30 GPa composite, < 1 GPa
+    polymer."""
+    if mat.rigid:
+        raise ValueError(f"material {mat.name} is rigid: it has no spring")
+    if mat.material_class in LOSS_FACTORS:
+        return mat.material_class
+    e = mat.modulus_gpa
+    return "metal" if e >= 30.0 else "composite" if e >= 1.0 else "polymer"
+
+
+def loss_factor(mat: Material) -> float:
+    """A material's loss factor eta: its class's (:data:`LOSS_FACTORS`,
+    class by :func:`loss_factor_class`). Raises ValueError for a rigid one."""
+    return LOSS_FACTORS[loss_factor_class(mat)]
+
+
+def spring_damping(eta: float, stiffness: float, inertia: float) -> float:
+    """Viscous damping (N s/m or N m s/rad) of a spring of this stiffness
+    (N/m or N m/rad) on a degree of freedom of this inertia (kg or kg m^2,
+    MuJoCo's dof_M0): c = eta sqrt(k m), i.e. a damping ratio zeta = eta / 2,
+    the hysteretic loss factor's equivalent at the spring's own frequency
+    sqrt(k / m) (Lakes 2009, ch. 2)."""
+    return eta * math.sqrt(stiffness * inertia)
+
+
+# --- porosity --------------------------------------------------------------
+
+# How a porous (less dense) version of a solid changes its modulus:
+# "independent": the paper's, only the density changes; "gibson-ashby":
+# E = E_s (rho / rho_s)^n with n = 2 (open-cell, bending-dominated foams;
+# L. J. Gibson and M. F. Ashby, Cellular Solids, 2nd ed., CUP 1997, ch. 5:
+# E / E_s = C1 (rho / rho_s)^2 with C1 about 1).
+POROSITY_MODELS = ("independent", "gibson-ashby")
+DEFAULT_POROSITY_MODEL = "independent"
+GIBSON_ASHBY_EXPONENT = 2.0
+
+
+def check_porosity_model(porosity_model: str) -> str:
+    if porosity_model not in POROSITY_MODELS:
+        raise ValueError(f"unknown porosity_model {porosity_model!r}; accepted: {', '.join(POROSITY_MODELS)}")
+    return porosity_model
+
+
+def gibson_ashby_modulus(solid_modulus_gpa: float, relative_density: float, n: float = GIBSON_ASHBY_EXPONENT) -> float:
+    """E = E_s (rho / rho_s)^n (GPa) of an open-cell foam of relative
+    density rho / rho_s in (0, 1] (Gibson & Ashby 1997, ch. 5; n = 2, C1 = 1)."""
+    es = _check_number(solid_modulus_gpa, "solid modulus", "finite and > 0 GPa")
+    rel = _check_number(relative_density, "relative density", "in (0, 1]")
+    if rel > 1.0:
+        raise ValueError(f"relative density must be in (0, 1], got {relative_density!r}")
+    return es * rel**n
+
+
+def porous_modulus(solid: Material, density_g_cm3: float, porosity_model: str = DEFAULT_POROSITY_MODEL) -> float | None:
+    """The modulus (GPa) of ``solid`` made to density_g_cm3: its own under
+    ``independent``; under ``gibson-ashby`` softened as
+    :func:`gibson_ashby_modulus` where the density lies below the solid's
+    (a denser-than-solid point cannot be porous and keeps E_s)."""
+    check_porosity_model(porosity_model)
+    if solid.rigid or porosity_model == "independent" or density_g_cm3 >= solid.density_g_cm3:
+        return solid.modulus_gpa
+    return gibson_ashby_modulus(solid.modulus_gpa, density_g_cm3 / solid.density_g_cm3)
 
 
 # --- leg designs -----------------------------------------------------------
@@ -371,8 +552,12 @@ class LegDesign:
     def from_properties(
         cls, densities_g_cm3: Sequence[float], moduli_gpa: Sequence[float | None], name: str = ""
     ) -> LegDesign:
-        """A leg from per-segment densities (g/cm^3) and moduli (GPa, None = rigid)."""
-        dens, mods = list(densities_g_cm3), list(moduli_gpa)
+        """A leg from per-segment densities (g/cm^3) and moduli (GPa; None
+        or the word ``"rigid"`` = rigid, as on the command line; inf is
+        refused in both). Raises ValueError for lists of different lengths
+        (one value is used for every segment) or values out of range."""
+        dens = list(densities_g_cm3)
+        mods = [None if isinstance(e, str) and e.strip().lower() == "rigid" else e for e in moduli_gpa]
         if len(mods) == 1 and len(dens) > 1:
             mods = mods * len(dens)
         if len(dens) == 1 and len(mods) > 1:
@@ -400,13 +585,39 @@ def _named_designs() -> dict[str, LegDesign]:
 NAMED_DESIGNS = _named_designs()
 
 
+_CUSTOM = re.compile(r"custom\((.*)\)", re.IGNORECASE)
+_MAP_NAME = re.compile(r"rho=(\S+)\s+E=(\S+)", re.IGNORECASE)
+
+
+def _written_design(text: str, n_segments: int) -> LegDesign | None:
+    """The design of a name from_properties or the stability map wrote, or None."""
+    from .parsing import parse_number
+
+    if m := _CUSTOM.fullmatch(text):
+        pairs = [p.split("/") for p in m.group(1).split(",")]
+        if not all(len(p) == 2 for p in pairs):
+            raise ValueError(f"design {text!r}: custom(...) holds DENSITY/MODULUS pairs, e.g. custom(1.39/70,8/rigid)")
+        dens = [parse_number(d, f"design {text!r}: density", unit="g/cm^3") for d, _ in pairs]
+        mods = [parse_number(e, f"design {text!r}: modulus", rigid=True, unit="GPa") for _, e in pairs]
+        return LegDesign.from_properties(dens, mods)
+    if m := _MAP_NAME.fullmatch(text):
+        d = parse_number(m.group(1), f"design {text!r}: rho", unit="g/cm^3")
+        e = parse_number(m.group(2), f"design {text!r}: E", unit="GPa")
+        return LegDesign((Material(f"rho{d:g}-E{e:g}", d, e),) * check_n_segments(n_segments), name=text)
+    return None
+
+
 def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesign:
     """A design from its name.
 
     Args:
         text: a material (``"SS"``: N segments of it), a gradient
-            (``"PVC-Ti-SS"``: one segment per name, from the hip down) or a
-            named design (``"rho-inc"``, ``"rho-dec"``); any case.
+            (``"PVC-Ti-SS"``: one segment per name, from the hip down), a
+            named design (``"rho-inc"``, ``"rho-dec"``), or a name the tool
+            writes for a design of given properties: ``custom(1.39/70,8/rigid)``
+            (density g/cm^3 / modulus GPa per segment,
+            :meth:`LegDesign.from_properties`) and the stability map's
+            ``rho=8 E=193`` (n_segments alike); any case.
         n_segments: segments of a single-material design (default 3, the paper's).
 
     Returns:
@@ -417,7 +628,11 @@ def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesi
 
     >>> parse_design("PVC-Ti-SS").densities_g_cm3
     (1.39, 4.43, 8.0)
+    >>> parse_design(LegDesign.from_properties([1, 2], [70, None]).name).moduli_gpa
+    (70.0, None)
     """
+    if isinstance(text, str) and (written := _written_design(text.strip(), n_segments)) is not None:
+        return written
     if not isinstance(text, str) or not text.strip():
         raise ValueError(
             f"design must be a material, a gradient like PVC-Ti-SS, or one of {', '.join(NAMED_DESIGNS)}; got {text!r}"

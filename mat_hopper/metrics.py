@@ -27,6 +27,11 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
   *flight* PD command (before the gear, also in stance) times each hip rate;
 - ``energy_j``: integral of |tau qdot| of all three actuators (J), joint
   space;
+- ``peak_stress_pa``, ``peak_stress_segment``, ``damage``,
+  ``yield_exceeded`` (issue 21): the leg's peak section stress over the
+  hop (Pa, physics rate) and its segment, the worst segment's Miner damage
+  of the hop, and whether any segment's peak exceeded its yield strength
+  (:mod:`mat_hopper.fatigue`); beside the ``damping`` setting.
 - the energetics of :mod:`mat_hopper.energetics` (total actuator work
   including thrust, absolute and positive, hip work, total power, Joule
   proxies): ``work_abs_j`` ... ``joule_thrust_n2s``.
@@ -52,6 +57,7 @@ from . import energetics as _energetics
 from . import reference as ref
 from .change import percent_change
 from .controls import MASS_PROPERTY_COLUMNS, mass_properties
+from .fatigue import fatigue_summary, hop_stress_columns
 from .model import terrain_height_m
 from .rollout import Rollout
 from .sim import C
@@ -65,6 +71,8 @@ ALL_METRICS = METRICS + (
     "jerk_body_m_s3",
 )
 GRAVITY = ref.GRAVITY_M_S2
+# issue 21: the damping setting, then each hop's stress and fatigue (mat_hopper.fatigue)
+STRESS_COLUMNS = ("damping", "peak_stress_pa", "peak_stress_segment", "damage", "yield_exceeded")
 ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 
 
@@ -93,8 +101,15 @@ def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray
     return cyc[cyc[:, 0] >= transient]
 
 
+def _check_rollout(rollout) -> None:
+    if not isinstance(rollout, Rollout):
+        raise ValueError(f"rollout must be a mat_hopper.Rollout (from simulate), got {type(rollout).__name__}")
+
+
 def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFrame:
-    """One row per scored hop cycle, with every metric (see module doc)."""
+    """One row per scored hop cycle, with every metric (see module doc).
+    Raises ValueError when `rollout` is not a Rollout."""
+    _check_rollout(rollout)
     cycles = hop_cycles(rollout, transient_s)
     d = rollout.data
     t = d[:, C["t"]]
@@ -109,6 +124,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
         "t_end_s",
         *ALL_METRICS,
         *MASS_PROPERTY_COLUMNS,
+        *STRESS_COLUMNS,
     ]
     if len(cycles) == 0 or len(t) < 4:
         return pd.DataFrame(columns=cols)
@@ -156,6 +172,10 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
             **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),
         }
     )
+    out["damping"] = rollout.settings.damping
+    stress = hop_stress_columns(rollout, cycles)
+    for c in STRESS_COLUMNS[1:]:
+        out[c] = stress[c].to_numpy()
     return out[cols]
 
 
@@ -163,7 +183,9 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     """One run in a line: outcome, the leg's mass properties, means of the
     per-hop metrics, energy (J) and the run energetics of
     :func:`mat_hopper.energetics.run_energetics` (cost of transport over the
-    path length travelled, nan without travel)."""
+    path length travelled, nan without travel). Raises ValueError when
+    `rollout` is not a Rollout."""
+    _check_rollout(rollout)
     hops = hop_table(rollout, transient_s)
     out = {
         "design": rollout.design.name,
@@ -179,6 +201,8 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     }
     for m in ALL_METRICS:
         out[f"mean_{m}"] = float(hops[m].mean()) if len(hops) else np.nan
+    out["damping"] = rollout.settings.damping
+    out.update(fatigue_summary(rollout, hop_cycles(rollout, transient_s)))
     out["energy_j"] = float(hops["energy_j"].sum()) if len(hops) else np.nan
     out.update(_energetics.run_energetics(hops, rollout))
     return out
@@ -227,9 +251,23 @@ def compare(
 
     Columns: percent change of means, Mann-Whitney U (two-sided), raw and
     Holm-adjusted p (over all rows), rank-biserial effect size in [-1, 1]
-    (positive: the design's values tend to be larger), and significance."""
+    (positive: the design's values tend to be larger), and significance.
+    Raises ValueError naming the argument: hops not a table with columns
+    design, `by` and every metric; alpha not in (0, 1); an unknown baseline."""
+    if not isinstance(hops, pd.DataFrame):
+        raise ValueError(f"hops must be a pandas DataFrame (a hop table), got {type(hops).__name__}")
+    if isinstance(metrics, str) or not list(metrics):
+        raise ValueError(f"metrics must be a non-empty sequence of column names, got {metrics!r}")
+    if isinstance(alpha, bool) or not isinstance(alpha, int | float) or not 0 < alpha < 1:
+        raise ValueError(f"alpha must be a significance level in (0, 1), got {alpha!r}")
+    missing = [c for c in ("design", by) if c not in hops.columns]
+    if missing:
+        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (by={by!r})")
     if baseline not in set(hops["design"]):
         raise ValueError(f"baseline {baseline!r} not among the designs: {sorted(set(hops['design']))}")
+    missing = [c for c in metrics if c not in hops.columns]
+    if missing:
+        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (metrics={list(metrics)})")
     rows = []
     for group, g in hops.groupby(by, sort=False):
         base = g[g["design"] == baseline]

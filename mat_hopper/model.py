@@ -22,12 +22,21 @@ import numpy as np
 
 from . import reference as ref
 from .materials import (
+    AXIAL_CONVENTIONS,
+    BENDING_CONVENTIONS,
     DEFAULT_CONVENTION,
+    DEFAULT_DAMPING,
     DEFAULT_SEGMENT_MASS,
     LegDesign,
+    bending_stiffness,
     capsule_density_scale,
     check_convention,
+    check_damping,
     check_segment_mass,
+    loss_factor,
+    prbm_constants,
+    second_moment_m4,
+    spring_damping,
     spring_stiffness,
 )
 
@@ -44,6 +53,28 @@ SENSORS = ("touch", "base_pos", "base_quat", "base_gyro", "base_linvel", "hip_to
 CONTROL_SENSORS = SENSORS[:5]
 SENSOR_SETS = {"all": SENSORS, "control": CONTROL_SENSORS}
 START_KEY = "start"  # keyframe: the hopper at rest, base 1.2 m up (qpos of the z slide)
+# Names of the model's parts, one source for the builder, the layout, the
+# loop's stress channels and the tests (as MuJoCo Playground's models keep
+# theirs). Per-segment names take i = 1 .. N (segment 1 nearest the base).
+LIGHT = "sun"
+GROUND_GEOM = "ground"
+RAMP_GEOM = "ramp"
+BASE_BODY = "base"
+BASE_CAPSULES = ("base_capsule_x", "base_capsule_y")
+IMU_SITE = "imu"
+LEG_BODY = "leg"
+HIP_SITE = "hip"
+STUB_GEOM = "stub"
+SEGMENT_BODY = "seg{i}"
+SEGMENT_UPPER = "seg{i}_upper"
+SEGMENT_LOWER = "seg{i}_lower"
+AXIAL_SPRING = "mat_spring_{i}"  # slide along the leg (paper, axial, axial+bending)
+BEND_SPRINGS = ("mat_bend_x_{i}", "mat_bend_y_{i}")  # hinges about x and y (bending, axial+bending)
+FOOT_UPPER_GEOM = "foot_upper"
+FOOT_BODY = "foot"
+FOOT_SPRING = "spring"  # the thrust actuator's joint
+FOOT_GEOM = "foot"
+TOE_SITE = "toe"
 
 
 class Layout(NamedTuple):
@@ -81,6 +112,8 @@ class HopperModel:
     layout: Layout
     spring_stiffness_n_m: tuple[float, ...]  # per segment; 0 for rigid
     segment_mass: str = DEFAULT_SEGMENT_MASS  # "leg" (mass independent of N) or "capsule" (the authors')
+    bending_stiffness_n_m_rad: tuple[float, ...] = ()  # per segment, each of its two hinges; 0 if none
+    damping: str = DEFAULT_DAMPING  # "authors" or "loss-factor"
 
     @property
     def total_mass_kg(self) -> float:
@@ -171,6 +204,10 @@ def build_spec(
 ) -> mujoco.MjSpec:
     """The hopper with this leg as an editable ``MjSpec`` (not compiled).
 
+    Built in named steps, each adding one part under the names of the
+    constants block above: options, terrain, base, leg (hips, stub, material
+    segments), foot, actuators, start keyframe, sensors.
+
     sensors: "all" (the spec's seven, in its order) or "control" (the first
     five, which the controller reads; what rollouts use, see CONTROL_SENSORS);
     segment_mass: "leg" (each segment 1/N of the 3-segment leg's material
@@ -180,15 +217,23 @@ def build_spec(
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
     if sensors not in SENSOR_SETS:
         raise ValueError(f"sensors must be one of {sorted(SENSOR_SETS)}, got {sensors!r}")
-    check_convention(convention)
-    check_segment_mass(segment_mass)
+    convention = check_convention(convention)
+    segment_mass = check_segment_mass(segment_mass)
     dt = check_timestep(timestep_s)
-    n = design.n_segments
-    scale = capsule_density_scale(n, segment_mass)  # exactly 1.0 at N = 3
-    half = ref.MATERIAL_LENGTH / n / 2.0  # m, each half of a segment
-
     spec = mujoco.MjSpec()
     spec.modelname = f"hopper_{design.name}"
+    _set_options(spec, dt)
+    _add_terrain(spec.worldbody, ramp_grade_deg)
+    base = _add_base(spec.worldbody)
+    last = _add_leg(base, design, convention, segment_mass)
+    _add_foot(*last)
+    _add_actuators(spec)
+    spec.add_key(name=START_KEY, qpos=_start_qpos(design, convention))
+    _add_sensors(spec, sensors)
+    return spec
+
+
+def _set_options(spec: mujoco.MjSpec, dt: float) -> None:
     spec.compiler.degree = False
     opt = spec.option
     opt.timestep = dt
@@ -204,10 +249,12 @@ def build_spec(
     spec.default.geom.contype = 0
     spec.default.geom.conaffinity = 0
 
-    world = spec.worldbody
-    world.add_light(name="sun", pos=[0, 0, 6], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL)
+
+def _add_terrain(world, ramp_grade_deg: float | None) -> None:
+    """Light, ground plane and (on the ramp behaviour) the ramp box."""
+    world.add_light(name=LIGHT, pos=[0, 0, 6], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL)
     world.add_geom(
-        name="ground",
+        name=GROUND_GEOM,
         type=mujoco.mjtGeom.mjGEOM_PLANE,
         size=[0, 0, 1],
         contype=1,
@@ -218,7 +265,7 @@ def build_spec(
     if ramp_grade_deg is not None:
         pos, quat = ramp_pose(float(ramp_grade_deg))
         world.add_geom(
-            name="ramp",
+            name=RAMP_GEOM,
             type=mujoco.mjtGeom.mjGEOM_BOX,
             size=list(ref.RAMP_HALF_SIZE),
             pos=pos,
@@ -230,10 +277,15 @@ def build_spec(
             rgba=[0.55, 0.6, 0.7, 1],
         )
 
-    # The base body sits at the world origin and starts 1.2 m up through the
-    # qpos of its z slide joint (keyframe "start"), as in the authors' file:
-    # the same pose as a body offset, but not the same floating-point sums.
-    base = world.add_body(name="base", pos=[0, 0, 0])
+
+def _add_base(world):
+    """The base body on its six unactuated joints, with its two capsules
+    and the IMU site.
+
+    The base body sits at the world origin and starts 1.2 m up through the
+    qpos of its z slide joint (keyframe "start"), as in the authors' file:
+    the same pose as a body offset, but not the same floating-point sums."""
+    base = world.add_body(name=BASE_BODY, pos=[0, 0, 0])
     for name, jtype, axis in zip(BASE_JOINTS, ["slide"] * 3 + ["hinge"] * 3, np.vstack([np.eye(3)] * 2)):
         j = base.add_joint(
             name=name,
@@ -243,7 +295,7 @@ def build_spec(
         )
         j.damping[0] = 0.0
     r, h = ref.BASE_CAPSULE_RADIUS, ref.BASE_CAPSULE_HALF_LENGTH
-    for name, a in (("base_capsule_x", [h, 0, 0]), ("base_capsule_y", [0, h, 0])):
+    for name, a in ((BASE_CAPSULES[0], [h, 0, 0]), (BASE_CAPSULES[1], [0, h, 0])):
         base.add_geom(
             name=name,
             type=mujoco.mjtGeom.mjGEOM_CAPSULE,
@@ -252,11 +304,19 @@ def build_spec(
             mass=ref.BASE_CAPSULE_MASS,
             rgba=[0.3, 0.3, 0.35, 1],
         )
-    base.add_site(name="imu", pos=[0, 0, 0])
+    base.add_site(name=IMU_SITE, pos=[0, 0, 0])
+    return base
 
-    leg = base.add_body(name="leg", pos=[0, 0, 0])
+
+def _add_leg(base, design: LegDesign, convention: str, segment_mass: str):
+    """The leg body on its two hips, the stub, and the material segments.
+
+    Each material segment: upper half in the parent, its springs, lower
+    half in the child (:func:`_add_segment_springs`). Returns (the last
+    segment's body, the z of its lower end in that body's frame)."""
+    leg = base.add_body(name=LEG_BODY, pos=[0, 0, 0])
     hip_range = math.radians(ref.HIP_RANGE_DEG)
-    for name, axis in (("hip_y", [0, 1, 0]), ("hip_x", [1, 0, 0])):
+    for name, axis in zip(HIP_JOINTS, ([0, 1, 0], [1, 0, 0])):
         j = leg.add_joint(
             name=name,
             type=mujoco.mjtJoint.mjJNT_HINGE,
@@ -266,63 +326,92 @@ def build_spec(
         )
         j.stiffness[0] = ref.HIP_STIFFNESS
         j.damping[0] = ref.HIP_DAMPING
-    leg.add_site(name="hip", pos=[0, 0, 0])
-    _capsule(leg, "stub", 0.0, -ref.STUB_LENGTH, ref.STUB_RADIUS, density=ref.STUB_DENSITY, rgba=[0.4, 0.4, 0.45, 1])
-
-    # Each material segment: upper half in the parent, spring, lower half in the child.
+    leg.add_site(name=HIP_SITE, pos=[0, 0, 0])
+    _capsule(leg, STUB_GEOM, 0.0, -ref.STUB_LENGTH, ref.STUB_RADIUS, density=ref.STUB_DENSITY, rgba=[0.4, 0.4, 0.45, 1])
+    n = design.n_segments
+    scale = capsule_density_scale(n, segment_mass)  # exactly 1.0 at N = 3
+    half = ref.MATERIAL_LENGTH / n / 2.0  # m, each half of a segment
     parent, top = leg, -ref.STUB_LENGTH
     for i, mat in enumerate(design.segments, start=1):
         rho = mat.density_kg_m3 * scale
-        _capsule(parent, f"seg{i}_upper", top, top - half, ref.MATERIAL_RADIUS, density=rho)
-        child = parent.add_body(name=f"seg{i}", pos=[0, 0, top - half])
+        _capsule(parent, SEGMENT_UPPER.format(i=i), top, top - half, ref.MATERIAL_RADIUS, density=rho)
+        child = parent.add_body(name=SEGMENT_BODY.format(i=i), pos=[0, 0, top - half])
         if not mat.rigid:
-            k = spring_stiffness(mat.modulus_gpa, convention, n)
-            _slide(child, f"mat_spring_{i}", k, ref.JOINT_DAMPING_DEFAULT)
-        _capsule(child, f"seg{i}_lower", 0.0, -half, ref.MATERIAL_RADIUS, density=rho)
+            _add_segment_springs(child, i, mat.modulus_gpa, convention, n, half)
+        _capsule(child, SEGMENT_LOWER.format(i=i), 0.0, -half, ref.MATERIAL_RADIUS, density=rho)
         parent, top = child, -half
+    return parent, top
 
+
+def _add_segment_springs(child, i: int, modulus_gpa: float, convention: str, n: int, half: float) -> None:
+    """Segment i's springs in its child body (origin at the segment's
+    midpoint): the axial slide (``paper``, ``axial``, ``axial+bending``)
+    and the two bending hinges about x and y (``bending``,
+    ``axial+bending``), each at the PRBM pivot (1 - gamma) l below the
+    segment's top (:func:`mat_hopper.materials.prbm_constants`)."""
+    if convention in AXIAL_CONVENTIONS:
+        _slide(child, AXIAL_SPRING.format(i=i), spring_stiffness(modulus_gpa, convention, n), ref.JOINT_DAMPING_DEFAULT)
+    if convention in BENDING_CONVENTIONS:
+        gamma, _ = prbm_constants(n)
+        pivot_z = half - (1.0 - gamma) * 2.0 * half  # 0 at the midpoint (gamma = 1/2)
+        k = bending_stiffness(modulus_gpa, n)
+        for name, axis in zip(BEND_SPRINGS, ([1, 0, 0], [0, 1, 0])):
+            j = child.add_joint(name=name.format(i=i), type=mujoco.mjtJoint.mjJNT_HINGE, axis=axis, pos=[0, 0, pivot_z])
+            j.stiffness[0] = k
+            j.damping[0] = ref.JOINT_DAMPING_DEFAULT
+            j.limited = mujoco.mjtLimited.mjLIMITED_FALSE
+
+
+def _add_foot(parent, top: float) -> None:
+    """The foot's upper capsule under the last segment, the foot body on
+    its spring, the foot capsule (the only colliding leg geom) and the toe."""
     _capsule(
         parent,
-        "foot_upper",
+        FOOT_UPPER_GEOM,
         top,
         top - ref.FOOT_UPPER_LENGTH,
         ref.MATERIAL_RADIUS,
         density=ref.FOOT_UPPER_DENSITY,
         rgba=[0.4, 0.4, 0.45, 1],
     )
-    foot = parent.add_body(name="foot", pos=[0, 0, top - ref.FOOT_UPPER_LENGTH])
-    _slide(foot, "spring", ref.FOOT_SPRING_STIFFNESS, ref.FOOT_SPRING_DAMPING, limit=ref.FOOT_SPRING_RANGE)
-    g = _capsule(foot, "foot", 0.0, -ref.FOOT_LENGTH, ref.FOOT_RADIUS, mass=ref.FOOT_MASS, rgba=[0.15, 0.15, 0.15, 1])
+    foot = parent.add_body(name=FOOT_BODY, pos=[0, 0, top - ref.FOOT_UPPER_LENGTH])
+    _slide(foot, FOOT_SPRING, ref.FOOT_SPRING_STIFFNESS, ref.FOOT_SPRING_DAMPING, limit=ref.FOOT_SPRING_RANGE)
+    g = _capsule(
+        foot, FOOT_GEOM, 0.0, -ref.FOOT_LENGTH, ref.FOOT_RADIUS, mass=ref.FOOT_MASS, rgba=[0.15, 0.15, 0.15, 1]
+    )
     g.contype, g.conaffinity, g.condim = 1, 1, ref.FOOT_CONDIM
-    foot.add_site(name="toe", pos=[0, 0, -ref.FOOT_LENGTH], size=[ref.TOE_SITE_RADIUS, 0, 0])
+    foot.add_site(name=TOE_SITE, pos=[0, 0, -ref.FOOT_LENGTH], size=[ref.TOE_SITE_RADIUS, 0, 0])
 
-    for name, joint, gear in (
-        ("hip_y", "hip_y", ref.HIP_GEAR),
-        ("hip_x", "hip_x", ref.HIP_GEAR),
-        ("thrust", "spring", 1.0),
-    ):
+
+def _add_actuators(spec: mujoco.MjSpec) -> None:
+    for name, joint, gear in zip(ACTUATORS, (*HIP_JOINTS, FOOT_SPRING), (ref.HIP_GEAR, ref.HIP_GEAR, 1.0)):
         a = spec.add_actuator(name=name, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         a.set_to_motor()
         a.gear[0] = gear
         a.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
 
-    # Start pose: every joint at 0 except the base's z slide at BASE_START_Z.
-    # qpos: 6 base joints, 2 hips, one slide per sprung segment, the foot spring.
-    nq = len(BASE_JOINTS) + len(HIP_JOINTS) + sum(not m.rigid for m in design.segments) + 1
+
+def _start_qpos(design: LegDesign, convention: str) -> np.ndarray:
+    """Start pose: every joint at 0 except the base's z slide at
+    BASE_START_Z. qpos: 6 base joints, 2 hips, per sprung segment its slide
+    and/or two hinges, the foot spring."""
+    per_segment = (convention in AXIAL_CONVENTIONS) + 2 * (convention in BENDING_CONVENTIONS)
+    nq = len(BASE_JOINTS) + len(HIP_JOINTS) + per_segment * sum(not m.rigid for m in design.segments) + 1
     start = np.zeros(nq)
     start[BASE_JOINTS.index("base_z")] = ref.BASE_START_Z
-    spec.add_key(name=START_KEY, qpos=start)
+    return start
 
+
+def _add_sensors(spec: mujoco.MjSpec, sensors: str) -> None:
     S, OBJ = mujoco.mjtSensor, mujoco.mjtObj
-    spec.add_sensor(name="touch", type=S.mjSENS_TOUCH, objtype=OBJ.mjOBJ_SITE, objname="toe")
-    spec.add_sensor(name="base_pos", type=S.mjSENS_FRAMEPOS, objtype=OBJ.mjOBJ_XBODY, objname="base")
-    spec.add_sensor(name="base_quat", type=S.mjSENS_FRAMEQUAT, objtype=OBJ.mjOBJ_XBODY, objname="base")
-    spec.add_sensor(name="base_gyro", type=S.mjSENS_GYRO, objtype=OBJ.mjOBJ_SITE, objname="imu")
-    spec.add_sensor(name="base_linvel", type=S.mjSENS_FRAMELINVEL, objtype=OBJ.mjOBJ_XBODY, objname="base")
+    spec.add_sensor(name="touch", type=S.mjSENS_TOUCH, objtype=OBJ.mjOBJ_SITE, objname=TOE_SITE)
+    spec.add_sensor(name="base_pos", type=S.mjSENS_FRAMEPOS, objtype=OBJ.mjOBJ_XBODY, objname=BASE_BODY)
+    spec.add_sensor(name="base_quat", type=S.mjSENS_FRAMEQUAT, objtype=OBJ.mjOBJ_XBODY, objname=BASE_BODY)
+    spec.add_sensor(name="base_gyro", type=S.mjSENS_GYRO, objtype=OBJ.mjOBJ_SITE, objname=IMU_SITE)
+    spec.add_sensor(name="base_linvel", type=S.mjSENS_FRAMELINVEL, objtype=OBJ.mjOBJ_XBODY, objname=BASE_BODY)
     if sensors == "all":
-        spec.add_sensor(name="hip_torque", type=S.mjSENS_TORQUE, objtype=OBJ.mjOBJ_SITE, objname="hip")
-        spec.add_sensor(name="base_acc", type=S.mjSENS_ACCELEROMETER, objtype=OBJ.mjOBJ_SITE, objname="imu")
-    return spec
+        spec.add_sensor(name="hip_torque", type=S.mjSENS_TORQUE, objtype=OBJ.mjOBJ_SITE, objname=HIP_SITE)
+        spec.add_sensor(name="base_acc", type=S.mjSENS_ACCELEROMETER, objtype=OBJ.mjOBJ_SITE, objname=IMU_SITE)
 
 
 def layout_of(model: mujoco.MjModel) -> Layout:
@@ -367,10 +456,16 @@ def build_model(
     convention: str = DEFAULT_CONVENTION,
     sensors: str = "all",
     segment_mass: str = DEFAULT_SEGMENT_MASS,
+    damping: str = DEFAULT_DAMPING,
 ) -> HopperModel:
     """Compile the hopper for this leg, terrain (flat or ramp), time step (s),
     stiffness convention, sensor set and segment-mass convention (see
-    :func:`build_spec`). Raises ValueError for invalid arguments."""
+    :func:`build_spec`), and damping (``authors``: every joint 1 N s/m or
+    N m s/rad, as the spec; ``loss-factor``: each material spring's damping
+    set on the compiled model from its material's loss factor,
+    :func:`mat_hopper.materials.spring_damping` with MuJoCo's dof_M0 as the
+    inertia). Raises ValueError for invalid arguments."""
+    check_damping(damping)
     spec = build_spec(
         design,
         ramp_grade_deg=ramp_grade_deg,
@@ -380,9 +475,70 @@ def build_model(
         segment_mass=segment_mass,
     )
     model = spec.compile()
-    stiffness = tuple(
-        0.0 if m.rigid else spring_stiffness(m.modulus_gpa, convention, design.n_segments) for m in design.segments
+    n = design.n_segments
+    stiffness = tuple(0.0 if m.rigid else spring_stiffness(m.modulus_gpa, convention, n) for m in design.segments)
+    bending = tuple(
+        0.0 if m.rigid or convention not in BENDING_CONVENTIONS else bending_stiffness(m.modulus_gpa, n)
+        for m in design.segments
     )
+    if damping == "loss-factor":
+        _set_loss_factor_damping(model, design)
     return HopperModel(
-        model, design, convention, ramp_grade_deg, float(timestep_s), sensors, layout_of(model), stiffness, segment_mass
+        model,
+        design,
+        convention,
+        ramp_grade_deg,
+        float(timestep_s),
+        sensors,
+        layout_of(model),
+        stiffness,
+        segment_mass,
+        bending,
+        damping,
     )
+
+
+def material_joints(model: mujoco.MjModel, design: LegDesign) -> list[tuple[int, str]]:
+    """(segment index from 0, joint name) of every material spring in the
+    compiled model: the axial slide and the two bending hinges, where the
+    convention gives them."""
+    out = []
+    for i in range(1, design.n_segments + 1):
+        for name in (AXIAL_SPRING, *BEND_SPRINGS):
+            jname = name.format(i=i)
+            if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, jname) >= 0:
+                out.append((i - 1, jname))
+    return out
+
+
+def _set_loss_factor_damping(model: mujoco.MjModel, design: LegDesign) -> None:
+    for seg, jname in material_joints(model, design):
+        j = model.joint(jname)
+        dof = int(j.dofadr[0])
+        eta = loss_factor(design.segments[seg])
+        model.dof_damping[dof] = spring_damping(eta, float(j.stiffness[0]), float(model.dof_M0[dof]))
+
+
+def stress_gains(hm: HopperModel) -> tuple[np.ndarray, np.ndarray]:
+    """(adr, gain) of the loop's stress probe (issue 21), both (N, 3): per
+    segment the qpos address of its axial slide and of its hinges about x
+    and y (-1 where there is none), and the Pa per unit of joint position
+    that turns each into a section stress. The spring's force or moment is
+    stiffness x position (MuJoCo's qfrc_spring = -k q, the section carries
+    +k q): axial sigma = k q / A with A = pi r^2 (tension > 0 when the slide
+    along -z extends); bending sigma = k_b theta c / I at the extreme fibre
+    c = r, I = pi r^4 / 4."""
+    m, n = hm.model, hm.design.n_segments
+    r = ref.MATERIAL_RADIUS
+    area, inertia = math.pi * r**2, second_moment_m4(r)
+    adr = np.full((n, 3), -1, dtype=np.int64)
+    gain = np.zeros((n, 3))
+    for i in range(1, n + 1):
+        for col, name in enumerate((AXIAL_SPRING, *BEND_SPRINGS)):
+            jid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name.format(i=i))
+            if jid < 0:
+                continue
+            k = float(m.jnt_stiffness[jid])
+            adr[i - 1, col] = int(m.jnt_qposadr[jid])
+            gain[i - 1, col] = k / area if col == 0 else k * r / inertia
+    return adr, gain

@@ -47,13 +47,15 @@ import scipy.optimize
 from . import reference as ref
 from .control import DEFAULT_SENSOR_TIMING, SensorTiming
 from .materials import (
+    BENDING_CONVENTIONS,
     DEFAULT_CONVENTION,
     DEFAULT_SEGMENT_MASS,
     LegDesign,
     check_convention,
+    second_moment_m4,
     segment_masses,
 )
-from .model import build_model
+from .model import BEND_SPRINGS, FOOT_GEOM, FOOT_UPPER_GEOM, START_KEY, build_model, build_spec
 
 # --timestep auto: the physics step is at most this fraction of the spring
 # chain's explicit bound 2 / w_max (the measured stable steps lie at 0.92 of
@@ -93,7 +95,12 @@ def leg_chain(
     """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
     the compiled model: base + leg body, segment bodies (merged across
     rigid segments), foot; springs in between, foot spring last."""
-    check_convention(convention)
+    convention = check_convention(convention)
+    if convention in BENDING_CONVENTIONS:
+        raise ValueError(
+            f"convention {convention!r} has rotational springs: the axial chain does not describe it "
+            "(see model_frequencies)"
+        )
     m = build_model(design, convention=convention, segment_mass=segment_mass).model
     mass = lambda name: float(m.body_mass[m.body(name).id])
     masses = [mass("base") + mass("leg")]
@@ -143,14 +150,79 @@ def controller_timestep(
     parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))  # to the hip (base origin)
     inertia = inertia + parallel
     factor = delayed_damping_factor(int(SensorTiming(sensor_timing)))
-    return factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
+    limit = factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
+    if convention in BENDING_CONVENTIONS:
+        limit = min(limit, hip_flight_timestep(design, convention, gear=gear))
+    return limit
+
+
+def hip_flight_timestep(
+    design: LegDesign, convention: str = "bending", flight_kd: float | None = None, gear: float = ref.HIP_GEAR
+) -> float:
+    """2 I / (flight_kd gear) in s (issue 21): the explicit limit of the
+    hips' flight PD damping on a leg that bends. The hips are read fresh
+    (c(0) = 2); I (kg m^2) is the hip_y dof's inertia with the bending
+    hinges free, 1 / (M^-1)_hh over the hip and hinge dofs of MuJoCo's
+    mass matrix at the start pose (what the hip moves first when the
+    segments below can bend). Conservative for stiff hinges, whose modes
+    are faster than the control; binding for soft ones (trabecular bone:
+    5.8e-5 s, under the authors' 1e-4 s control period)."""
+    from .control import ControllerSettings
+
+    kd = ControllerSettings().flight_kd if flight_kd is None else float(flight_kd)
+    model = build_model(design, convention=convention).model
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key(START_KEY).id)
+    mujoco.mj_forward(model, data)
+    full = np.zeros((model.nv, model.nv))
+    mujoco.mj_fullM(model, data, full)
+    hip = int(model.joint("hip_y").dofadr[0])
+    hinges = [int(model.joint(n.format(i=i)).dofadr[0]) for i in range(1, design.n_segments + 1) for n in BEND_SPRINGS
+              if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, n.format(i=i)) >= 0]  # fmt: skip
+    idx = [hip, *hinges]
+    inertia = 1.0 / np.linalg.inv(full[np.ix_(idx, idx)])[0, 0]
+    return 2.0 * inertia / (kd * gear)
+
+
+def _sprung_eig(model: mujoco.MjModel, dofs=None) -> np.ndarray:
+    """Natural frequencies (rad/s, ascending) of the linearised model at its
+    start pose: eigh(K, M) with M MuJoCo's joint-space inertia (mj_fullM)
+    and K the diagonal of joint stiffnesses; restricted to ``dofs`` (all
+    others held) if given."""
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key(START_KEY).id)
+    mujoco.mj_forward(model, data)
+    full = np.zeros((model.nv, model.nv))
+    mujoco.mj_fullM(model, data, full)
+    k = np.array([model.jnt_stiffness[model.dof_jntid[v]] for v in range(model.nv)])
+    idx = np.arange(model.nv) if dofs is None else np.asarray(dofs)
+    w2 = scipy.linalg.eigh(np.diag(k[idx]), full[np.ix_(idx, idx)], eigvals_only=True)
+    return np.sqrt(np.clip(w2, 0.0, None))
+
+
+def model_frequencies(
+    design: LegDesign, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS
+) -> np.ndarray:
+    """All natural frequencies (rad/s, ascending) of the whole compiled
+    hopper, linearised at its start pose (free base: the rigid-body zeros
+    first): axial, rotational (bending hinges, hips) and foot spring
+    together. What the stable step of the ``bending`` conventions uses."""
+    check_convention(convention)
+    return _sprung_eig(build_model(design, convention=convention, segment_mass=segment_mass).model)
 
 
 def estimate_timestep(
     design: LegDesign, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS
 ) -> tuple[float, float]:
-    """(w_max rad/s, 2 / w_max s): the explicit-spring stability limit."""
-    w = spring_chain_wmax(*leg_chain(design, convention, segment_mass))
+    """(w_max rad/s, 2 / w_max s): the explicit-spring stability limit.
+    ``paper``, ``axial``: the axial spring chain (:func:`leg_chain`);
+    ``bending``, ``axial+bending``: the whole model's highest mode, the
+    rotational ones included (:func:`model_frequencies`)."""
+    check_convention(convention)
+    if convention in BENDING_CONVENTIONS:
+        w = float(model_frequencies(design, convention, segment_mass).max())
+    else:
+        w = spring_chain_wmax(*leg_chain(design, convention, segment_mass))
     return w, 2.0 / w
 
 
@@ -231,4 +303,70 @@ def axial_modes(
         {"mode": np.arange(1, k + 1), "chain_hz": w_chain[:k] / (2 * math.pi), "rod_hz": w_rod[:k] / (2 * math.pi)}
     )
     out["error_pct"] = 100.0 * (out["chain_hz"] / out["rod_hz"] - 1.0)
+    return out
+
+
+# Euler-Bernoulli clamped-free beam: the first roots of 1 + cos b cosh b = 0
+# (b = beta_n L; e.g. S. S. Rao, Vibration of Continuous Systems, 2nd ed.,
+# Wiley 2019, ch. 11, table 11.1): 1.8751, 4.6941, 7.8548, 10.9955, 14.1372.
+CANTILEVER_BETA_L = (1.8751040687, 4.6940911330, 7.8547574382, 10.9955407349, 14.1371683910)
+
+
+def _cantilever_roots(n_modes: int) -> np.ndarray:
+    f = lambda b: 1.0 + math.cos(b) * math.cosh(b)
+    out = []
+    for n in range(1, n_modes + 1):
+        guess = (n - 0.5) * math.pi
+        out.append(scipy.optimize.brentq(f, guess - 1.0, guess + 1.0, xtol=1e-14) if n > 1 else 1.8751040687)
+    return np.array(out)
+
+
+def bending_modes(
+    design: LegDesign,
+    *,
+    convention: str = "bending",
+    segment_mass: str = DEFAULT_SEGMENT_MASS,
+    n_modes: int = 5,
+) -> pd.DataFrame:
+    """The leg's first bending natural frequencies (Hz) in one plane: the
+    hinge chain's (``chain_hz``, eigh(K, M) of the compiled model on the
+    hinges about x, everything else held: the base, hips and axial slides
+    clamp the material's top) beside the continuum Euler-Bernoulli
+    clamped-free beam's (``beam_hz`` = (beta_n L)^2 sqrt(E I / (mu L^4)), mu
+    the material's mass per length; :data:`CANTILEVER_BETA_L`). The model's
+    foot (its upper capsule and the foot body) is made massless (1e-9 kg)
+    for the comparison: the beam has no tip mass. The chain keeps the
+    capsules' rotary inertia, which the Euler-Bernoulli beam leaves out.
+    Columns: mode, chain_hz, beam_hz, error_pct.
+
+    Needs a leg of one elastic material under a bending convention: raises
+    ValueError otherwise."""
+    if convention not in BENDING_CONVENTIONS:
+        raise ValueError(
+            f"bending modes need a bending convention ({', '.join(BENDING_CONVENTIONS)}), got {convention!r}"
+        )
+    if len({(m.density_g_cm3, m.modulus_gpa) for m in design.segments}) != 1 or design.segments[0].rigid:
+        raise ValueError(f"bending modes against a uniform beam need a leg of one elastic material (got {design.name})")
+    spec = build_spec(design, convention=convention, segment_mass=segment_mass, sensors="control")
+    spec.geom(FOOT_UPPER_GEOM).density = 1e-9 / (math.pi * ref.MATERIAL_RADIUS**2 * ref.FOOT_UPPER_LENGTH)
+    spec.geom(FOOT_GEOM).mass = 1e-9
+    model = spec.compile()
+    n = design.n_segments
+    dofs = [int(model.joint(BEND_SPRINGS[0].format(i=i)).dofadr[0]) for i in range(1, n + 1)]
+    w_chain = _sprung_eig(model, dofs)[:n_modes]
+    mat = design.segments[0]
+    mu = float(sum(segment_masses(design, segment_mass))) / ref.MATERIAL_LENGTH
+    ei = mat.modulus_pa * second_moment_m4()
+    beta_l = _cantilever_roots(n_modes)
+    w_beam = beta_l**2 * math.sqrt(ei / (mu * ref.MATERIAL_LENGTH**4))
+    k = min(len(w_chain), n_modes)
+    out = pd.DataFrame(
+        {
+            "mode": np.arange(1, k + 1),
+            "chain_hz": w_chain[:k] / (2 * math.pi),
+            "beam_hz": w_beam[:k] / (2 * math.pi),
+            "beta_l": beta_l[:k],
+        }
+    )
+    out["error_pct"] = 100.0 * (out["chain_hz"] / out["beam_hz"] - 1.0)
     return out

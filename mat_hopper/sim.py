@@ -45,6 +45,7 @@ from ._loop import (
     JerkFilter,
     Path,
     Steps,
+    StressProbe,
     read_sensors,
     rollout_loop,
 )
@@ -56,13 +57,15 @@ from .control import (
 )
 from .materials import (
     DEFAULT_CONVENTION,
+    DEFAULT_DAMPING,
     DEFAULT_SEGMENT_MASS,
     LegDesign,
     check_convention,
+    check_damping,
     check_segment_mass,
     parse_design,
 )
-from .model import HopperModel, build_model, check_timestep, reset_to_start
+from .model import HopperModel, build_model, check_timestep, reset_to_start, stress_gains
 from .modes import auto_substeps
 from .perturbations import NO_PUSH, Perturbation
 from .rollout import Rollout
@@ -89,6 +92,21 @@ MAX_SUBSTEPS = 1000
 # (about 3 h of one core), 5e6 recorded samples (1.5 GB of records).
 MAX_STEPS = 2_000_000_000
 MAX_SAMPLES = 5_000_000
+# Physics steps per call of the compiled loop. Python runs signal handlers
+# (Ctrl-C, SIGTERM) only between calls, so every call must end within a
+# fraction of a second of wall time at any time step: sized in steps, not
+# simulated seconds, and scaled down for longer chains (a 3-segment leg
+# takes about 5 us a step: 20000 steps, 0.1 s; 64 segments 75 us a step:
+# 1000 steps, 0.08 s). A call costs microseconds more than its steps
+# (benchmarks/rollout.py's ratio is unchanged).
+LOOP_CHUNK_STEPS = 20_000  # for legs of up to 3 segments
+
+
+def loop_chunk_steps(n_segments: int) -> int:
+    """Physics steps per compiled-loop call for a leg of n_segments."""
+    return max(1000, LOOP_CHUNK_STEPS * 3 // max(3, int(n_segments)))
+
+
 # The finer physics of the time-step checks (robustness study, optimizer validation):
 # a 2e-5 s step, 5 substeps of the 1e-4 s control period (and, to keep the authors'
 # 1e-4 s sensor delay, a latency of 5 physics steps).
@@ -149,7 +167,8 @@ class SimSettings:
         timestep_s: physics step, s, in (0, 0.1]; ``"auto"`` is resolved
             by :func:`sim_settings` (:func:`resolve_timestep`), not here.
         transient_s: hop cycles starting before it are not scored, s.
-        convention: modulus-to-stiffness convention, ``"paper"`` or ``"axial"``.
+        convention: modulus-to-stiffness convention, one of ``materials.CONVENTIONS``:
+            ``"paper"``, ``"axial"``, ``"bending"``, ``"axial+bending"``.
         record_rate_hz: recorded samples per simulated second, Hz.
         controller: the controller's gains.
         perturbation: seeded disturbances, or None.
@@ -164,6 +183,9 @@ class SimSettings:
             the controller runs every ``substeps`` steps, i.e. with period
             :attr:`control_period_s` (1 by default: every step, as the
             authors' loop).
+        damping: how the material springs dissipate, ``"authors"``
+            (default: 1 N s/m, the authors' file) or ``"loss-factor"`` (each
+            material's loss factor, :data:`mat_hopper.materials.LOSS_FACTORS`).
 
     Raises:
         ValueError: on any invalid value, naming the field.
@@ -179,12 +201,14 @@ class SimSettings:
     sensor_timing: SensorTiming = SensorTiming()
     segment_mass: str = DEFAULT_SEGMENT_MASS
     substeps: int = 1
+    damping: str = DEFAULT_DAMPING  # issue 21: "authors" (1 N s/m) or "loss-factor" (materials.LOSS_FACTORS)
 
     def __post_init__(self):
         # One check per field (a new field adds its own line); then the checks across fields.
         _check_substeps(self.substeps)
         object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
-        check_segment_mass(self.segment_mass)
+        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
+        check_damping(self.damping)
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -194,7 +218,7 @@ class SimSettings:
             raise ValueError(f"transient must be >= 0 s, got {self.transient_s!r}")
         if not self.record_rate_hz > 0:
             raise ValueError(f"record_rate_hz must be > 0 Hz, got {self.record_rate_hz!r}")
-        check_convention(self.convention)
+        object.__setattr__(self, "convention", check_convention(self.convention))
         if not isinstance(self.controller, ControllerSettings):
             raise ValueError("controller must be a ControllerSettings")
         if self.perturbation is not None and not isinstance(self.perturbation, Perturbation):
@@ -345,6 +369,7 @@ def prepare(
         convention=settings.convention,
         sensors="control",
         segment_mass=settings.segment_mass,
+        damping=settings.damping,
     )
     data = mujoco.MjData(hm.model)
     reset_to_start(hm.model, data)  # base z slide at 1.2 m, all else 0
@@ -365,6 +390,8 @@ class RolloutRunner:
     record rate, which rendering needs."""
 
     def __init__(self, design, behaviour, settings: SimSettings, *, record_qpos: bool = False):
+        if not isinstance(settings, SimSettings):
+            raise ValueError(f"settings must be a SimSettings, got {type(settings).__name__}")
         self.design = _as_design(design)
         self.behaviour = get_behaviour(behaviour)
         self.settings = settings
@@ -386,6 +413,9 @@ class RolloutRunner:
         lock = settings.controller.phase_lock_s
         n_ev = int(settings.duration_s / lock) + 16 if lock > 0 else settings.n_steps + 1
         self._events = np.zeros((n_ev, 3))
+        adr, gain = stress_gains(self.hopper)
+        self._probe = StressProbe(adr, gain, np.zeros(len(adr)))
+        self._stress = np.zeros((n_rec, len(adr), 4))
         self._state = initial_state(settings.controller)
         self._gains = settings.controller.gains()
         # Reading history: every lagged reading starts as the start state's.
@@ -413,6 +443,12 @@ class RolloutRunner:
             return self
         remaining = self.settings.n_steps - self.step
         n = remaining if n_steps is None else min(int(n_steps), remaining)
+        end = self.step + n
+        while self.step < end and self.diverged_step < 0:  # signals are handled between chunks
+            self._advance_chunk(min(end - self.step, loop_chunk_steps(self.design.n_segments)))
+        return self
+
+    def _advance_chunk(self, n: int) -> None:
         hm, st = self.hopper, self.settings
         steps = Steps(self.step, n, st.timestep_s, st.record_every, ref.DIVERGENCE_QACC, st.substeps)
         n_rec, n_ev, bad = rollout_loop(
@@ -432,13 +468,14 @@ class RolloutRunner:
             self._rec[self._n_rec :],
             self._qpos[self._n_rec :],
             self._events[self._n_ev :],
+            self._probe,
+            self._stress[self._n_rec :],
         )
         self._n_rec += n_rec
         self._n_ev += n_ev
         if bad >= 0:
             self.diverged_step = int(bad)
         self.step += n
-        return self
 
     def result(self) -> Rollout:
         data = self._rec[: self._n_rec].view(np.float64).reshape(self._n_rec, N_CHANNELS).copy()
@@ -454,6 +491,7 @@ class RolloutRunner:
         )
         if len(self._qpos):
             r.qpos = self._qpos[: self._n_rec].copy()
+        r.stress = self._stress[: self._n_rec].copy()
         return r
 
 

@@ -294,7 +294,7 @@ class StabilitySpec:
         _check_range(self.dt_min, self.dt_max, self.tolerance, self.max_iter)
         if not self.duration_s > 0:
             raise ValueError(f"duration_s must be > 0 s, got {self.duration_s!r}")
-        check_convention(self.convention)
+        object.__setattr__(self, "convention", check_convention(self.convention))
 
     def key_dict(self) -> dict:
         return {

@@ -34,6 +34,7 @@ MIN_FIGURES = {
     "06-mono-materials": 1,  # power, jerk, tracking error
     "07-one-property": 1,  # sweeps
     "08-gradients": 4,  # gradients, time series, gait tiles forward and ramp
+    "08b-gradients-stress": 1,  # peak stress along the leg
     "09-optimizing-gradients": 3,  # the Pareto front, the hypervolume, the surviving legs
     "09b-control-vs-material": 1,  # materials at the authors' gains and at their own
     "09c-material-or-mass": 4,  # effects against the controls, push scale, R² of the attribution, jerk sensitivity

@@ -181,3 +181,27 @@ def test_designs_in_the_papers_order():
     paper = ["MD", "PVC", "Al", "Ti", "SS", "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC"]
     assert order_designs(["mine", *reversed(paper), "SS"]) == [*paper, "mine"]
     assert list(paper_designs()) == paper
+
+
+def test_gibson_ashby_half_density_quarter_modulus():
+    from mat_hopper.materials import gibson_ashby_modulus, material, porous_modulus
+
+    # Gibson & Ashby 1997, open-cell foams: E / E_s = (rho / rho_s)^2; 0.5^2 = 1/4
+    assert gibson_ashby_modulus(200.0, 0.5) == 50.0
+    ss = material("SS")
+    assert porous_modulus(ss, 4.0, "gibson-ashby") == pytest.approx(193.0 / 4)
+    assert porous_modulus(ss, 4.0, "independent") == 193.0
+    assert porous_modulus(ss, 9.0, "gibson-ashby") == 193.0  # denser than solid: not porous
+    with pytest.raises(ValueError, match="porosity_model"):
+        porous_modulus(ss, 4.0, "closed-cell")
+    with pytest.raises(ValueError, match="relative density"):
+        gibson_ashby_modulus(200.0, 1.5)
+
+
+def test_loss_factors_by_class():
+    from mat_hopper.materials import LOSS_FACTORS, LegDesign, loss_factor, material
+
+    assert loss_factor(material("SS")) == LOSS_FACTORS["metal"] == 1e-3
+    assert loss_factor(material("PVC")) == LOSS_FACTORS["polymer"]
+    assert loss_factor(material("CorticalBone")) == 1e-2
+    assert loss_factor(LegDesign.from_properties([1.0], [0.5]).segments[0]) == LOSS_FACTORS["polymer"]

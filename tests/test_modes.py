@@ -2,7 +2,7 @@ import math
 
 import pytest
 
-from mat_hopper.materials import LegDesign, parse_design
+from mat_hopper.materials import LegDesign, parse_design, segment_masses
 from mat_hopper.modes import _rod_roots, auto_substeps, axial_modes, chain_frequencies, estimate_timestep
 
 
@@ -50,3 +50,33 @@ def test_auto_substeps_below_the_safety_fraction():
         assert dt == pytest.approx(1e-4 / k)
         assert dt <= 0.5 * bound < 1e-4 / (k - 1)  # the smallest such k
         assert bound == pytest.approx(estimate_timestep(LegDesign.mono("SS", n), "axial")[1])
+
+
+def test_bending_modes_beside_the_euler_bernoulli_cantilever():
+    # issue 21: beta_n L of the clamped-free beam (1 + cos b cosh b = 0): 1.8751, 4.6941, 7.8548
+    from mat_hopper.modes import bending_modes
+
+    t = bending_modes(LegDesign.mono("SS", 8), n_modes=3)
+    assert list(t["beta_l"].round(4)) == [1.8751, 4.6941, 7.8548]
+    # by hand: SS, E I = 193e9 x pi 0.025^4 / 4 = 5.9212e4 N m^2; mu = leg mass / 0.3 m
+    # (the segment_masses of the 'leg' convention); f1 = 1.8751^2 sqrt(E I / (mu L^4)) / 2 pi
+    mu = sum(segment_masses(LegDesign.mono("SS", 8))) / 0.3
+    f1 = 1.8751**2 * math.sqrt(5.9212e4 / (mu * 0.3**4)) / (2 * math.pi)
+    assert t["beam_hz"].iloc[0] == pytest.approx(f1, rel=1e-4)
+    # the hinge chain's first mode within 2 % of the beam's (N = 8; rotary inertia kept)
+    assert abs(t["error_pct"].iloc[0]) < 2.0
+    with pytest.raises(ValueError, match="bending convention"):
+        bending_modes(LegDesign.mono("SS", 3), convention="axial")
+
+
+def test_stable_step_covers_the_rotational_modes():
+    from mat_hopper.modes import auto_substeps, estimate_timestep, model_frequencies
+
+    d = LegDesign.mono("SS", 16)
+    w_bend, bound = estimate_timestep(d, "bending")
+    assert w_bend == pytest.approx(model_frequencies(d, "bending").max())
+    # the 16 short hinged segments ring faster than the 1e-4 s step can follow: substeps needed
+    k, dt, _ = auto_substeps(d, "bending")
+    assert k > 1 and dt <= 0.5 * bound
+    # axial+bending: the slides' chain is part of the same model, its w_max no lower
+    assert estimate_timestep(d, "axial+bending")[0] >= estimate_timestep(d, "axial")[0] * (1 - 1e-9)

@@ -59,7 +59,7 @@ from ..atomic import write_text
 from ..behaviours import BEHAVIOUR_NAMES
 from ..change import percent_change
 from ..control import DEFAULT_SENSOR_TIMING
-from ..materials import CONVENTIONS
+from ..materials import CONVENTIONS, REPRODUCTION_CONVENTIONS
 from . import beyond_mass as _beyond
 from . import stats as _stats
 from ._claim_checks import (  # noqa: F401 (public names of this module)
@@ -339,7 +339,7 @@ def claims_table(
     runs: pd.DataFrame | None = None,
     stability: pd.DataFrame | None = None,
     *,
-    conventions=CONVENTIONS,
+    conventions=REPRODUCTION_CONVENTIONS,
     basis: str = "auto",
     alpha: float = ALPHA,
     timestep_s: float | None = None,

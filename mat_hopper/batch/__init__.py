@@ -28,6 +28,7 @@ from ._agreement import AGREEMENT_COLUMNS, RELATIVE_TOLERANCE, agreement
 from ._cpu import evaluate_cpu
 from ._designs import (
     as_design,
+    design_columns,
     designs_from_csv,
     designs_from_frame,
     designs_to_frame,
@@ -63,6 +64,7 @@ __all__ = [
     "WarpUnavailable",
     "as_design",
     "design_fields",
+    "design_columns",
     "designs_from_csv",
     "designs_from_frame",
     "designs_to_frame",

@@ -81,9 +81,9 @@ def evaluate_cpu(
     workers = min(len(designs), workers or os.cpu_count() or 1)
     tasks = [(d, beh, settings) for d in designs]
     if progress:
-        from tqdm import tqdm
+        from ..progress import progress_bar
 
-        bar = tqdm(total=len(tasks), unit="design", desc="mujoco")
+        bar = progress_bar(total=len(tasks), unit="design", desc="mujoco")
     else:
         bar = None
     rows = []

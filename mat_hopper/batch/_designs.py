@@ -21,7 +21,7 @@ from ..materials import LegDesign, parse_design
 
 _DENSITY_COL = re.compile(r"^density_(\d+)$")
 _MODULUS_COL = re.compile(r"^modulus_(\d+)$")
-_RIGID = ("", "rigid", "none", "inf")
+_LOOKS_LIKE_PROPERTY = re.compile(r"^(dens|mod|rho\b|e_)", re.IGNORECASE)
 
 
 def as_design(design) -> LegDesign:
@@ -96,64 +96,101 @@ def _cell(value) -> str:
     return str(value).strip()
 
 
+def _number(cell: str, where: str, column: str, rigid: bool) -> float | None:
+    from ..parsing import parse_number
+
+    try:
+        return parse_number(cell, column, rigid=rigid, unit="GPa" if rigid else "g/cm^3")
+    except ValueError as e:
+        raise ValueError(f"{where}: {e}{' or rigid' if rigid and 'rigid' not in str(e) else ''}") from None
+
+
+def _columns(columns, source: str) -> tuple[int, dict, dict]:
+    """(segments, density columns, modulus columns) of a design table's
+    header: every column known and unique, density_1..N and modulus_1..N
+    both complete."""
+    names = [str(c).strip() for c in columns]
+    dup = sorted({c for c in names if names.count(c) > 1})
+    if dup:
+        raise ValueError(f"{source}: column {', '.join(dup)} appears more than once")
+    dens = {int(m.group(1)): c for c, n in zip(columns, names, strict=True) if (m := _DENSITY_COL.match(n))}
+    mods = {int(m.group(1)): c for c, n in zip(columns, names, strict=True) if (m := _MODULUS_COL.match(n))}
+    # Other columns (a record the tool wrote beside the design: optimize --export's
+    # study, trial, leg_mass_kg, ...) are not read; one that looks like a design
+    # property but is not one ("modulas_2", "Density_1", "density 3") is a typo.
+    unknown = [
+        n for n in names if _LOOKS_LIKE_PROPERTY.match(n) and not (_DENSITY_COL.match(n) or _MODULUS_COL.match(n))
+    ]
+    if unknown:
+        raise ValueError(
+            f"{source}: unknown column {', '.join(map(repr, unknown))}; design columns are density_1..density_N "
+            "and modulus_1..modulus_N"
+        )
+    if not dens:
+        raise ValueError(f"{source}: needs columns density_1..density_N (g/cm^3) and modulus_1..modulus_N (GPa)")
+    n_max = max(dens)
+    if sorted(dens) != list(range(1, n_max + 1)):
+        raise ValueError(f"{source}: density columns must be density_1..density_N without gaps, got {sorted(dens)}")
+    missing = [f"modulus_{i}" for i in range(1, n_max + 1) if i not in mods]
+    extra = [f"modulus_{i}" for i in sorted(mods) if i not in dens]
+    if missing or extra:  # a rigid segment is said in its cell ('rigid'), never by a missing column
+        raise ValueError(
+            f"{source}: "
+            + (f"no column {', '.join(missing)} (write 'rigid' in a cell for a rigid segment)" if missing else "")
+            + (f"{'; ' if missing else ''}{', '.join(extra)} without its density column" if extra else "")
+        )
+    return n_max, dens, mods
+
+
 def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDesign]:
-    """Designs from a table of per-segment properties.
+    """Designs from a table, read strictly: the one reader of design tables.
 
     Args:
-        frame: columns density_1..density_N (g/cm^3) and modulus_1..modulus_N
-            (GPa; empty or ``rigid`` for a rigid segment), and an optional
-            ``design`` column of names. A row's segment count is its number of
-            densities (density_1 .. density_n, no gaps).
-        source: how errors name the table (e.g. its file).
+        frame: columns density_1..density_N (g/cm^3), modulus_1..modulus_N
+            (GPa, or ``rigid``), and optionally ``design`` (names); none
+            twice; other columns are not read, except that one named like
+            a property (``modulas_2``, ``Density_1``) is refused as a typo. Every cell of a row's segments holds an ASCII
+            decimal number in the material ranges (or ``rigid`` for a
+            modulus); a row with fewer segments leaves both cells of each
+            segment past its last one empty (as :func:`designs_to_frame`
+            writes legs of different lengths).
+        source: named in errors (the file).
 
     Returns:
-        One LegDesign per row, in row order.
+        one LegDesign per row, in order.
 
     Raises:
-        ValueError: a missing column, a gap, or a value out of range (naming row and column).
+        ValueError: naming the row and column of the first bad cell, a
+            repeated or unknown column, or a repeated design name.
     """
-    dens_cols = {int(m.group(1)): c for c in frame.columns if (m := _DENSITY_COL.match(str(c).strip()))}
-    mod_cols = {int(m.group(1)): c for c in frame.columns if (m := _MODULUS_COL.match(str(c).strip()))}
-    if not dens_cols:
-        raise ValueError(f"{source}: needs columns density_1..density_N (g/cm^3) and modulus_1..modulus_N (GPa)")
-    n_max = max(dens_cols)
-    if min(dens_cols) < 1 or sorted(dens_cols) != list(range(1, n_max + 1)):
-        raise ValueError(
-            f"{source}: density columns must be density_1..density_N without gaps, got {sorted(dens_cols)}"
-        )
-    missing = [f"modulus_{i}" for i in range(1, n_max + 1) if i not in mod_cols]
-    if missing:  # a rigid segment is said in its cell ('rigid' or empty), never by a missing column
-        raise ValueError(
-            f"{source}: no column {', '.join(missing)} (write 'rigid' or leave the cell empty for a rigid segment)"
-        )
-    designs = []
+    n_max, dens_cols, mod_cols = _columns(frame.columns, source)
+    designs, names = [], {}
     for row_no, (_, row) in enumerate(frame.iterrows(), start=1):
+        where = f"{source}, row {row_no}"
+        cells = [(_cell(row[dens_cols[i]]), _cell(row[mod_cols[i]])) for i in range(1, n_max + 1)]
+        n = max((i for i, (d, e) in enumerate(cells, 1) if d or e), default=0)
+        if n == 0:
+            raise ValueError(f"{where}: no densities (density_1 is empty)")
         dens, mods = [], []
-        for i in range(1, n_max + 1):
-            d = _cell(row[dens_cols[i]])
-            if not d:
-                break
-            try:
-                dens.append(float(d))
-            except ValueError:
-                raise ValueError(f"{source}, row {row_no}: density_{i} must be a number in g/cm^3, got {d!r}") from None
-            e = _cell(row[mod_cols[i]]) if i in mod_cols else ""
-            if e.lower() in _RIGID:
-                mods.append(None)
-            else:
-                try:
-                    mods.append(float(e))
-                except ValueError:
-                    raise ValueError(
-                        f"{source}, row {row_no}: modulus_{i} must be a number in GPa or 'rigid', got {e!r}"
-                    ) from None
-        if not dens:
-            raise ValueError(f"{source}, row {row_no}: no densities (density_1 is empty)")
+        for i, (d, e) in enumerate(cells[:n], start=1):
+            if not d or not e:
+                empty = f"density_{i}" if not d else f"modulus_{i}"
+                hint = " (write rigid for a rigid segment)" if d else ""
+                raise ValueError(f"{where}: {empty} is empty{hint}; every cell of a row's {n} segments is needed")
+            dens.append(_number(d, where, f"density_{i}", rigid=False))
+            mods.append(_number(e, where, f"modulus_{i}", rigid=True))
         name = _cell(row["design"]) if "design" in frame.columns else ""
+        if "design" in frame.columns and not name:
+            raise ValueError(f"{where}: the design cell is empty (name every row, or drop the column)")
         try:
-            designs.append(LegDesign.from_properties(dens, mods, name=name))
+            design = LegDesign.from_properties(dens, mods, name=name)
         except ValueError as e:
-            raise ValueError(f"{source}, row {row_no}: {e}") from None
+            raise ValueError(f"{where}: {e}") from None
+        key = design.name.lower()
+        if key in names:
+            raise ValueError(f"{where}: design name {design.name!r} is also row {names[key]}'s; names must be unique")
+        names[key] = row_no
+        designs.append(design)
     if not designs:
         raise ValueError(f"{source}: no designs (the table has no rows)")
     return designs
@@ -169,7 +206,9 @@ def designs_from_csv(path) -> list[LegDesign]:
         One LegDesign per row.
 
     Raises:
-        ValueError: an empty name, a file pandas cannot parse, or a bad table (:func:`designs_from_frame`).
+        ValueError: an empty name, a file pandas cannot parse, a column
+            named twice (which pandas would rename), or a bad table
+            (:func:`designs_from_frame`).
     """
     if path is None or not str(path).strip():
         raise ValueError("--designs-csv: empty file name")
@@ -177,6 +216,8 @@ def designs_from_csv(path) -> list[LegDesign]:
         with warnings.catch_warnings():
             # a row longer than the header: pandas would shift it into an index, or drop fields
             warnings.simplefilter("error", pd.errors.ParserWarning)
+            header = pd.read_csv(path, dtype=str, keep_default_na=False, index_col=False, header=None, nrows=1)
+            _columns(list(header.iloc[0]) if len(header) else [], str(path))
             frame = pd.read_csv(path, dtype=str, keep_default_na=False, index_col=False)
     except pd.errors.ParserWarning:
         raise ValueError(f"{path}: a row has more fields than the header has columns") from None
@@ -184,6 +225,26 @@ def designs_from_csv(path) -> list[LegDesign]:
         reason = "empty file" if isinstance(e, pd.errors.EmptyDataError) else str(e).splitlines()[0]
         raise ValueError(f"{path}: not a CSV table of designs ({reason})") from None
     return designs_from_frame(frame, source=str(path))
+
+
+def design_columns(design: LegDesign, n_max: int | None = None, segment_mass: str = "leg") -> dict:
+    """A design's properties as output columns: density_1..N (g/cm^3),
+    modulus_1..N (GPa, ``rigid`` where rigid), leg_mass_kg (everything
+    below the hip, :func:`mat_hopper.controls.mass_properties`, as the hop
+    table's column); NaN past its last segment up to n_max. Every table of
+    designs carries them, so that its rows can be told apart and read back."""
+    from ..controls import mass_properties
+
+    n_max = design.n_segments if n_max is None else n_max
+    row: dict = {}
+    for i in range(1, n_max + 1):
+        seg = design.segments[i - 1] if i <= design.n_segments else None
+        row[f"density_{i}"] = math.nan if seg is None else seg.density_g_cm3
+    for i in range(1, n_max + 1):
+        seg = design.segments[i - 1] if i <= design.n_segments else None
+        row[f"modulus_{i}"] = math.nan if seg is None else "rigid" if seg.rigid else seg.modulus_gpa
+    row["leg_mass_kg"] = float(mass_properties(design, segment_mass).leg_mass_kg)
+    return row
 
 
 def designs_to_frame(designs: Iterable[LegDesign]) -> pd.DataFrame:

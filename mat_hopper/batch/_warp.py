@@ -38,7 +38,7 @@ import pandas as pd
 from .. import reference as ref
 from ..behaviours import behaviour as get_behaviour
 from ..control import initial_state
-from ..materials import LegDesign, spring_stiffness
+from ..materials import BENDING_CONVENTIONS, LegDesign, spring_stiffness
 from ..model import build_model
 from ..sim import prepare
 from ._designs import as_design, group_by_topology
@@ -154,6 +154,11 @@ def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettin
         the topology's model and its total masses (kg).
     """
     beh = get_behaviour(behaviour)
+    if settings.convention in BENDING_CONVENTIONS:  # issue 21: per-world stiffness of the slides only
+        raise ValueError(
+            f"convention {settings.convention!r}: the Warp batch sets only the axial springs' stiffness per "
+            "world; run bending conventions on the CPU backend"
+        )
     build = dict(
         ramp_grade_deg=beh.ramp_grade_deg,
         timestep_s=settings.timestep_s,
@@ -374,10 +379,10 @@ class WarpBatch:
         chunk = int(chunk_steps or (self.graph_steps if self.device.is_cuda else 200))
         bar = None
         if progress:
-            from tqdm import tqdm
+            from ..progress import progress_bar
 
             # counts steps, shows simulated seconds (unit_scale multiplies both by dt)
-            bar = tqdm(
+            bar = progress_bar(
                 total=s.n_steps,
                 initial=self.step,
                 unit_scale=s.timestep_s,

@@ -27,6 +27,18 @@ COMMAND_MODULES = (
     "mat_hopper.cli.batch",
     "mat_hopper.cli.modes",
 )
+# Each command's line in `mat-hopper --help` (tests/cli check it is the
+# module's own): the top-level help lists the commands without importing
+# them, so that it answers in a fraction of a second (MuJoCo, numba,
+# pandas, Optuna and matplotlib load with the command that needs them).
+COMMAND_HELP = {
+    "simulate": "simulate one design on one behaviour, print a per-hop summary",
+    "reproduce": "run the paper's experiments, write tables, figures and claims",
+    "optimize": "search leg designs with Optuna (multi-objective, resumable, parallel)",
+    "render": "render gait tiles, a video or a still of a design, off-screen",
+    "batch": "evaluate many designs on one behaviour (CPU rollouts or a MuJoCo Warp batch)",
+    "modes": "a leg's axial natural frequencies (lumped chain vs continuum rod) and its stable time step",
+}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -37,8 +49,17 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def command_of(argv) -> str | None:
+    """The subcommand named in argv (its first word that is not an option), or None."""
+    return next((a for a in argv if not a.startswith("-")), None)
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser; with `command`, only that subcommand is built in full
+    (its module imported) and the others are listed by name and help line;
+    command="" builds none (for ``mat-hopper --help``)."""
     from .. import __version__
+    from ._checks import harden_parser
 
     p = _Parser(
         prog="mat-hopper", description=("Materials Matter, executable: simulate graded robot legs on a MuJoCo hopper.")
@@ -46,8 +67,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"mat-hopper {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True, parser_class=_Parser)
     for name in COMMAND_MODULES:
-        importlib.import_module(name).register_cli(sub)
-    return p
+        short = name.rsplit(".", 1)[-1]
+        if command is None or command == short:
+            importlib.import_module(name).register_cli(sub)
+        else:
+            sub.add_parser(short, help=COMMAND_HELP[short])
+    return harden_parser(p)
 
 
 # Options whose value may be a list starting with a minus sign ("-1,2,3"):
@@ -86,18 +111,20 @@ def _storage_errors() -> tuple:
 
 
 def main(argv=None) -> int:
+    argv = negative_list_argv(sys.argv[1:] if argv is None else list(argv))  # every --option may take a negative
+    command = command_of(argv)
+    parser = build_parser(command if command in COMMAND_HELP else "")
+    args = parser.parse_args(argv)
     from ..sim import route_mujoco_warnings
 
     route_mujoco_warnings()
-    parser = build_parser()
-    argv = sys.argv[1:] if argv is None else list(argv)
-    args = parser.parse_args(negative_list_argv(argv))  # every --option may take a negative number
     from ..atomic import remove_stale_mp_dirs
     from ..optimize import stop_signals
+    from ._checks import table_on_stdout
 
     remove_stale_mp_dirs()  # what killed runs left in the temp folder
     try:
-        with stop_signals():  # SIGTERM, SIGHUP: like Ctrl-C (workers stopped, nothing half-written)
+        with stop_signals(), table_on_stdout(args):  # SIGTERM, SIGHUP: like Ctrl-C (nothing half-written)
             code = int(args.func(args) or 0)
             sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's final flush
             return code

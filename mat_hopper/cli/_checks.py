@@ -7,7 +7,7 @@ was wrong; :func:`mat_hopper.cli.main` prints it and exits with code 2.
 
 from __future__ import annotations
 
-import math
+import argparse
 import os
 import re
 import shutil
@@ -15,10 +15,97 @@ import tempfile
 from contextlib import contextmanager
 
 from ..atomic import TEMP_PREFIX
+from ..parsing import RIGID, parse_name, parse_number
 
 # A value argparse would take for an option: "-1", "-1.5e3", "-1,2,3".
 NEGATIVE_LIST = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
-RIGID_WORDS = ("rigid", "inf")
+
+
+def _number_type(flag: str, integer: bool):
+    def read(text):
+        try:
+            return parse_number(text, flag, integer=integer)
+        except ValueError as e:  # argparse puts "argument FLAG: " in front
+            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag} ")) from None
+
+    read.__name__ = "integer" if integer else "number"
+    return read
+
+
+def _name_type(flag: str, choices):
+    def read(text):
+        try:
+            return parse_name(text, choices, flag)
+        except ValueError:  # argparse's own words for a choice
+            raise argparse.ArgumentTypeError(
+                f"invalid choice: {text!r} (choose from {', '.join(choices)}; any case)"
+            ) from None
+
+    read.__name__ = "name"
+    return read
+
+
+def _text_type(flag: str):
+    def read(text):
+        if not str(text).strip():
+            raise argparse.ArgumentTypeError("empty value; give one or leave the option out")
+        return text
+
+    read.__name__ = "text"
+    return read
+
+
+def harden_parser(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """One reading of every option of every subcommand: numbers (type=float
+    or int) through :func:`mat_hopper.parsing.parse_number` (ASCII decimal,
+    finite), names with choices through :func:`~mat_hopper.parsing.parse_name`
+    (case-insensitive), and no empty value for any option that takes one.
+    Errors name the flag as typed. Returns `parser`."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in dict.fromkeys(action.choices.values()):
+                harden_parser(sub)
+            continue
+        if not action.option_strings or action.nargs == 0:
+            continue
+        flag = max(action.option_strings, key=len)
+        if action.type in (float, int):
+            action.type = _number_type(flag, action.type is int)
+        elif action.type is None and action.choices is not None:
+            action.type = _name_type(flag, tuple(action.choices))
+        elif action.type is None:
+            action.type = _text_type(flag)
+    return parser
+
+
+# The words of the library's messages that name a setting, and the option
+# that sets it (a command passes its own where they differ: render's run
+# length is --start + --seconds).
+PARAM_FLAGS = {
+    "duration_s": "--duration",
+    "duration": "--duration",
+    "timestep_s": "--timestep",
+    "timestep": "--timestep",
+    "transient_s": "--transient",
+    "transient": "--transient",
+    "n_segments": "--segments",
+    "sensor_timing": "--sensor-timing",
+    "segment_mass": "--segment-mass",
+}
+
+
+@contextmanager
+def named_by_flags(**flags):
+    """A ValueError raised inside names the options, not the Python
+    parameters: each word of PARAM_FLAGS (or of `flags`, which override it)
+    in its message becomes the option."""
+    mapping = {**PARAM_FLAGS, **flags}
+    pattern = re.compile(r"(?<![-\w])(" + "|".join(sorted(map(re.escape, mapping), key=len, reverse=True)) + r")\b")
+    try:
+        yield
+    except ValueError as e:
+        text = pattern.sub(lambda m: mapping[m.group(1)], str(e))
+        raise ValueError(text) from None
 
 
 def check_name_list(text, flag: str) -> None:
@@ -38,8 +125,9 @@ def check_name_list(text, flag: str) -> None:
 def parse_list(text, flag: str, *, rigid: bool = False, unit: str = "") -> list[float | None]:
     """A comma-separated list of finite numbers, the one parser of every
     comma list on the command line (--density, --modulus, --density-bounds,
-    --modulus-bounds). Empty items ("1,,2", "1,2,") are refused; with
-    `rigid`, "rigid" or "inf" stands for a rigid segment (None). Ranges
+    --modulus-bounds); each item through :func:`mat_hopper.parsing.parse_number`
+    (ASCII decimal). Empty items ("1,,2", "1,2,") are refused; with
+    `rigid`, the word "rigid" stands for a rigid segment (None). Ranges
     are checked by the library (materials, search space), not here."""
     what = f"{flag} must be comma-separated numbers{f' in {unit}' if unit else ''}"
     if text is None or not str(text).strip():
@@ -49,16 +137,13 @@ def parse_list(text, flag: str, *, rigid: bool = False, unit: str = "") -> list[
         p = part.strip()
         if not p:
             raise ValueError(f"{what}, got {text!r} (an empty item)")
-        if rigid and p.lower() in RIGID_WORDS:
-            out.append(None)
-            continue
         try:
-            x = float(p)
-        except ValueError:
-            raise ValueError(f"{what}{' (or rigid)' if rigid else ''}, got {text!r}") from None
-        if not math.isfinite(x):
-            raise ValueError(f"{what}, got {text!r} (not finite)")
-        out.append(x)
+            out.append(parse_number(p, flag, rigid=rigid))
+        except ValueError as e:
+            hint = f" (or {RIGID})" if rigid else ""
+            why = " (not finite)" if "finite" in str(e) else ""
+            why += f"; write {RIGID} for a rigid segment" if rigid and "inf" in p.lower() else ""
+            raise ValueError(f"{what}{hint}, got {text!r}{why}") from None
     return out
 
 
@@ -125,12 +210,54 @@ def _check_folder_can_hold(folder: str, flag: str, what: str) -> None:
     os.remove(probe)
 
 
-def check_output_file(path, flag: str) -> str | None:
+STDOUT = "-"  # --csv -: the table on standard output (the command's other lines on stderr)
+
+
+def write_table(table, path: str) -> str:
+    """Write `table` as CSV to `path` (atomically), or to standard output for
+    "-" (:data:`STDOUT`); returns what to name in "wrote ... to" lines."""
+    import sys
+
+    from ..atomic import write_csv
+
+    if path == STDOUT:
+        table.to_csv(sys.__stdout__ if _TABLE_STREAM[0] is None else _TABLE_STREAM[0], index=False)
+        return "standard output"
+    write_csv(table, path)
+    return path
+
+
+_TABLE_STREAM: list = [None]  # the real stdout while a command with --csv - prints to stderr
+
+
+@contextmanager
+def table_on_stdout(args):
+    """With ``--csv -``: the command's own lines go to stderr and only the
+    CSV table to stdout, so that ``mat-hopper ... --csv - | other-tool``
+    reads a clean table. Otherwise nothing changes."""
+    import sys
+    from contextlib import redirect_stdout
+
+    if getattr(args, "csv", None) != STDOUT:
+        yield
+        return
+    _TABLE_STREAM[0] = sys.stdout
+    try:
+        with redirect_stdout(sys.stderr):
+            yield
+    finally:
+        _TABLE_STREAM[0] = None
+
+
+def check_output_file(path, flag: str, *, stdout: bool = False) -> str | None:
     """A file the command will write: not an existing folder, and its folder
-    exists and is writable or can be made (nothing is created here)."""
+    exists and is writable or can be made (nothing is created here); with
+    `stdout`, "-" means standard output."""
     if path is None:
         return None
     path = os.fspath(path)
+    if stdout and path == STDOUT:
+        return path
     if not path.strip():
         raise ValueError(f"{flag}: empty file name")
     if os.path.isdir(path) or path.endswith(os.sep):
@@ -142,6 +269,21 @@ def check_output_file(path, flag: str) -> str | None:
     # an existing file is replaced (atomically, by a new file in its folder)
     _check_folder_can_hold(os.path.dirname(os.path.abspath(path)), flag, path)
     return path
+
+
+def check_distinct_outputs(**paths) -> None:
+    """Outputs of one command name different files or folders: keyword
+    FLAG=PATH pairs (underscores for dashes, e.g. tiles="a.png"); None
+    entries are skipped. Raises ValueError naming both flags."""
+    seen: dict[str, str] = {}
+    for name, path in paths.items():
+        if path is None or os.fspath(path) == "-":
+            continue
+        flag = "--" + name.replace("_", "-")
+        key = os.path.normcase(os.path.realpath(os.fspath(path)))
+        if key in seen:
+            raise ValueError(f"{seen[key]} and {flag} name the same path {os.fspath(path)!r}; give each its own")
+        seen[key] = flag
 
 
 def check_output_dir(path, flag: str) -> str | None:
@@ -208,4 +350,7 @@ def sensor_timing_arg(text: str):
     from ..control import SensorTiming
 
     text = str(text).strip()
-    return SensorTiming(int(text) if text.isdigit() else text)  # ValueError naming the accepted values
+    try:
+        return SensorTiming(int(text) if text.isdigit() else text)  # ValueError naming the accepted values
+    except ValueError as e:
+        raise ValueError(f"--sensor-timing: {e}") from None

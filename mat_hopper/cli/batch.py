@@ -92,7 +92,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         default=None,
         help=f"static hopping per try of --stability, s ({ref.STABILITY_TEST_DURATION_S:g})",
     )
-    p.add_argument("--csv", help="write the table (one row per design) here")
+    p.add_argument("--csv", help="write the table (one row per design) here (- for standard output)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run_batch)
     return p
@@ -113,12 +113,12 @@ SETTING_COLUMNS = ("behaviour", "convention", "sensor_timing", "duration_s", "tr
 
 
 def run_batch(args) -> int:
-    from ..batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, evaluate, parse_design_list
+    from ..batch import RESULT_COLUMNS, designs_from_csv, evaluate, parse_design_list
     from ..behaviours import behaviour
     from ..experiments.profiles import get_profile
-    from ._checks import check_output_file, sensor_timing_arg
+    from ._checks import check_output_file, named_by_flags, sensor_timing_arg
 
-    check_output_file(args.csv, "--csv")  # before any work
+    check_output_file(args.csv, "--csv", stdout=True)  # before any work
     profile = get_profile(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
     timing = sensor_timing_arg(args.sensor_timing)
     _check_applicable(args)
@@ -129,14 +129,8 @@ def run_batch(args) -> int:
     else:
         designs = parse_design_list(args.designs)
     beh = behaviour("forward" if args.behaviour is None else args.behaviour)
-    settings = BatchSettings(
-        duration_s=profile.duration_s if args.duration is None else args.duration,
-        timestep_s=profile.timestep_s if args.timestep is None else args.timestep,
-        transient_s=profile.transient_s if args.transient is None else args.transient,
-        convention=args.convention,
-        sensor_timing=timing,
-        segment_mass=profile.segment_mass,
-    )
+    with named_by_flags():
+        settings = _batch_settings(args, profile, timing)
     if args.backend == "warp":
         from ..batch import WarpUnavailable, require_warp
 
@@ -147,8 +141,16 @@ def run_batch(args) -> int:
             raise ValueError(str(e)) from None
     else:
         device = None
+    _check_size(args, designs, settings)
     run = dict(backend=args.backend, device=device, workers=args.workers, max_batch=args.max_batch)
-    progress = not args.quiet and sys.stderr.isatty()  # no bars in logs and pipes
+    progress = not args.quiet  # a bar on a terminal, a line per stage in logs and pipes (mat_hopper.progress)
+    if progress and args.backend == "warp":  # model building and kernel compilation come before any bar
+        print(
+            f"warp: building {_count(len(designs), 'world')} on {device} and compiling its kernels "
+            f"(minutes on the first use{', and slower than one core on cpu' if device == 'cpu' else ''})",
+            file=sys.stderr,
+            flush=True,
+        )
     if args.stability:
         return _run_stability(args, designs, settings, run, progress)
     table = evaluate(designs, beh, settings, progress=progress, **run)
@@ -160,6 +162,7 @@ def run_batch(args) -> int:
         )
         .assign(backend=args.backend)
     )
+    out = _with_properties(out, designs, settings.segment_mass)
     where = f" on {device}" if device else ""
     print(
         f"{_count(len(out), 'design')} on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
@@ -169,6 +172,34 @@ def run_batch(args) -> int:
     n_bad = int((~out["stable"]).sum())
     shown = out[list(RESULT_COLUMNS)]
     return _report(out, args.csv, f"{n_bad} of {_count(len(out), 'design')} diverged" if n_bad else "", shown=shown)
+
+
+def _batch_settings(args, profile, timing):
+    from ..batch import BatchSettings
+
+    return BatchSettings(
+        duration_s=profile.duration_s if args.duration is None else args.duration,
+        timestep_s=profile.timestep_s if args.timestep is None else args.timestep,
+        transient_s=profile.transient_s if args.transient is None else args.transient,
+        convention=args.convention,
+        sensor_timing=timing,
+        segment_mass=profile.segment_mass,
+    )
+
+
+def _with_properties(table, designs, segment_mass: str):
+    """The table (one row per design, in order) with each design's
+    densities, moduli and leg mass after its name: rows that differ only
+    in their properties can be told apart."""
+    import pandas as pd
+
+    from ..batch import design_columns
+
+    n_max = max(d.n_segments for d in designs)
+    props = pd.DataFrame([design_columns(d, n_max, segment_mass) for d in designs], index=table.index)
+    props = props.drop(columns=[c for c in props.columns if c in table.columns])
+    at = list(table.columns).index("design") + 1
+    return pd.concat([table.iloc[:, :at], props, table.iloc[:, at:]], axis=1)
 
 
 def _count(n: int, noun: str) -> str:
@@ -190,10 +221,28 @@ def _check_applicable(args) -> None:
                 raise ValueError(f"{flag} is for --backend warp")
     elif args.workers is not None:
         raise ValueError("--workers is for --backend mujoco (a warp batch is one process)")
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be >= 1, got {args.workers}")
-    if args.max_batch is not None and args.max_batch < 1:
-        raise ValueError(f"--max-batch must be >= 1, got {args.max_batch}")
+    from ..limits import MAX_WORLDS, check_count, check_workers
+
+    check_workers(args.workers)
+    check_count(args.max_batch, "--max-batch", 1, MAX_WORLDS, "worlds")
+
+
+def _check_size(args, designs, settings) -> None:
+    """designs x physics steps, before any work (mat_hopper.limits)."""
+    from ..limits import check_total_steps
+    from ..stability import spec_ladder
+
+    source = "--map" if args.map is not None else "--designs-csv" if args.designs_csv is not None else "--designs"
+    if args.stability:
+        duration = ref.STABILITY_TEST_DURATION_S if args.stability_duration is None else args.stability_duration
+        per_design, what = sum(duration / dt for dt in spec_ladder()), "--stability-duration"
+    else:
+        per_design, what = settings.duration_s / settings.timestep_s, "--duration / --timestep"
+    check_total_steps(
+        len(designs) * per_design,
+        f"{source}: {_count(len(designs), 'design')} x {per_design:.3g} steps",
+        f"fewer designs or a shorter {what}",
+    )
 
 
 def _map_designs(n: int) -> list:
@@ -222,6 +271,7 @@ def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
         **run,
     )
     summary = summary.assign(**settings.columns("convention", "sensor_timing"), stability_duration_s=duration)
+    summary = _with_properties(summary, designs, settings.segment_mass)
     where = f" on {run['device']}" if run["device"] else ""
     print(
         f"{_count(len(summary), 'design')}, stable-time-step scan: static hopping for {duration:g} s per try, "
@@ -235,12 +285,12 @@ def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
 def _report(table, csv: str | None, note: str, shown=None) -> int:
     """Print the table (or its columns `shown`) and a note, write the whole
     table to `csv` if given; exit code 0."""
-    from ..atomic import write_csv
+    from ._checks import write_table
 
     print((table if shown is None else shown).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     if note:
         print(note)
     if csv:
-        write_csv(table, csv)
-        print(f"wrote {_count(len(table), 'row')} to {csv}")
+        where = write_table(table, csv)
+        print(f"wrote {_count(len(table), 'row')} to {where}")
     return 0

@@ -3,11 +3,14 @@ beside the continuum rod, and its analytic stable time step."""
 
 from __future__ import annotations
 
+import pandas as pd
+
 from .. import reference as ref
-from ..atomic import write_csv
 from ..control import DEFAULT_SENSOR_TIMING
-from ..materials import CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
-from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, controller_timestep, estimate_timestep
+from ..limits import check_count
+from ..materials import AXIAL_CONVENTIONS, BENDING_CONVENTIONS, CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
+from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, bending_modes, controller_timestep, estimate_timestep
+from ._checks import check_output_file, write_table
 from .simulate import design_from_args
 
 BOUNDARY_CONDITIONS = (
@@ -21,32 +24,72 @@ FORMULA = (
 )
 
 
+BENDING_FORMULA = (
+    "bending: chain = eigh(K, M) of the compiled model on the hinges about x (base, hips, slides held; foot made "
+    "massless); beam = Euler-Bernoulli clamped-free, w = (beta_n L)^2 sqrt(E I / (mu L^4)), beta_n L = 1.8751, "
+    "4.6941, 7.8548, ... (S. S. Rao, Vibration of Continuous Systems, 2nd ed., Wiley 2019, ch. 11); the chain keeps "
+    "the capsules' rotary inertia, the beam does not"
+)
+DEFAULT_MODES = 5
+
+
 def cmd_modes(args) -> int:
+    check_output_file(args.csv, "--csv", stdout=True)  # before any work
+    check_count(args.modes, "--modes", 1, 64, "axial modes to list")
     design = design_from_args(args)
-    table = axial_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=args.modes)
-    print(
-        f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass "
-        f"{args.segment_mass}: axial modes (Hz)"
+    n_modes = DEFAULT_MODES if args.modes is None else args.modes
+    head = (
+        f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass {args.segment_mass}"
     )
-    print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
-    print(BOUNDARY_CONDITIONS)
-    print(FORMULA)
+    fmt = lambda v: f"{v:.6g}"
+    tables = []
+    if args.convention in AXIAL_CONVENTIONS:
+        table = axial_modes(
+            design,
+            convention="axial" if args.convention == "axial+bending" else args.convention,
+            segment_mass=args.segment_mass,
+            n_modes=n_modes,
+        )
+        if args.modes is not None and len(table) < args.modes:  # as many modes as masses that move
+            raise ValueError(
+                f"--modes {args.modes}: this leg's spring chain has {len(table)} axial modes; ask for at most that"
+            )
+        print(f"{head}: axial modes (Hz)")
+        print(table.to_string(index=False, float_format=fmt))
+        print(BOUNDARY_CONDITIONS)
+        print(FORMULA)
+        tables.append(table.assign(kind="axial"))
+    if args.convention in BENDING_CONVENTIONS:
+        table = bending_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=n_modes)
+        print(f"{head}: bending modes in one plane (Hz), chain beside the continuum cantilever")
+        print(table.to_string(index=False, float_format=fmt))
+        print(BENDING_FORMULA)
+        tables.append(table.assign(kind="bending"))
+    table = pd.concat(tables, ignore_index=True)
     w, spring = estimate_timestep(design, args.convention, args.segment_mass)
     control = controller_timestep(design, args.convention, sensor_timing=args.sensor_timing)
-    which = "the spring chain (2 / w_max)" if spring < control else "the controller's delayed stance damping"
+    which = (
+        "the spring chain (2 / w_max)"
+        if spring < control
+        else "the controller's delayed stance damping or, under bending, its hips' flight damping"
+    )
     print(
         f"analytic stable time step: {min(spring, control):.3g} s, set by {which}; spring chain 2 / w_max = "
         f"{spring:.3g} s (w_max {w:.4g} rad/s), controller c(L) I / (Kd gear) = {control:.3g} s "
         f"(sensor timing {args.sensor_timing})"
     )
+    if control < ref.TIMESTEP_S:
+        print(
+            f"warning: the controller's limit {control:.3g} s is below its {ref.TIMESTEP_S:g} s control period: "
+            "substeps cannot help; this leg is beyond the authors' controller at its rate"
+        )
     k, dt, _ = auto_substeps(design, args.convention, args.segment_mass)
     print(
         f"--timestep auto: {k} physics substep(s) of {dt:.3g} s per {ref.TIMESTEP_S:g} s control period "
         f"(at most {AUTO_SAFETY:g} x the spring bound)"
     )
     if args.csv:
-        write_csv(table, args.csv)
-        print(f"wrote {len(table)} rows to {args.csv}")
+        print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")
     return 0
 
 
@@ -58,17 +101,22 @@ def register_cli(sub) -> None:
         "beside the continuum rod of the same mass per length and E A, under the same end masses; and the "
         "analytic stable time step with the limit that sets it.",
     )
-    p.add_argument("--design", default="SS", help="one elastic material (SS, Ti, Al, PVC, ...)")
+    p.add_argument("--design", default=None, help="one elastic material (SS, Ti, Al, PVC, ...; default SS)")
     p.add_argument("--density", help="densities, g/cm^3 (one value per segment, all equal)")
     p.add_argument("--modulus", help="moduli, GPa (one value per segment, all equal)")
-    p.add_argument("--segments", type=int, default=ref.REFERENCE_SEGMENTS, help="number of segments (default 3)")
+    p.add_argument("--segments", type=int, default=None, help="number of segments of --design (default 3)")
     p.add_argument(
-        "--convention", default="axial", choices=CONVENTIONS, help="stiffness convention (default axial: E A N / L)"
+        "--convention",
+        default="axial",
+        choices=CONVENTIONS,
+        help="stiffness convention (default axial: E A N / L; bending, axial+bending add the bending modes)",
     )
     p.add_argument("--segment-mass", default=DEFAULT_SEGMENT_MASS, choices=SEGMENT_MASSES, help="segment mass")
     p.add_argument(
         "--sensor-timing", default=DEFAULT_SENSOR_TIMING, help="for the controller's limit (authors, fresh, or steps)"
     )
-    p.add_argument("--modes", type=int, default=5, help="how many modes (default 5)")
-    p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here")
+    p.add_argument(
+        "--modes", type=int, default=None, help=f"how many modes (default {DEFAULT_MODES}, or as many as the leg has)"
+    )
+    p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here (- for standard output)")
     p.set_defaults(func=cmd_modes)

@@ -4,11 +4,13 @@
 from __future__ import annotations
 
 import os
+import shlex
 import sys
 
 from optuna.trial import TrialState
 
 from ..experiments.profiles import PROFILES, get_profile
+from ..limits import check_count, check_workers
 from ..materials import LegDesign
 from ..optimize import (
     CONFIG_ATTR,
@@ -39,7 +41,18 @@ from ..optimize import (
 )
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
-from ._checks import check_output_dir, nothing_left_behind, parse_pair
+from ._checks import check_output_dir, named_by_flags, nothing_left_behind, parse_pair
+
+# The search space's and objective's fields, as their options (for messages).
+OPTION_OF_FIELD = {
+    "density_g_cm3": "--density-bounds",
+    "modulus_gpa": "--modulus-bounds",
+    "n_segments": "--segments",
+    "behaviours": "--behaviour",
+    "materials": "--materials",
+    "ashby_classes": "--ashby-classes",
+    "kinds": "--space",
+}
 
 
 def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
@@ -154,11 +167,13 @@ def _cmd_optimize(args) -> int:
             return cmd_report(name, args, out)
     if not args.study:
         raise ValueError("give --study NAME (or --report NAME)")
-    if args.trials is None or args.trials < 1:
-        raise ValueError(f"--trials must be an integer >= 1, got {args.trials!r}")
+    check_count(args.trials, "--trials", 1, what="finished trials to reach")
+    check_workers(args.workers)
     options = _options_from_args(args, args.trials)
     check_sampler(options.sampler)
-    fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
+    with named_by_flags(**OPTION_OF_FIELD):
+        fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
+    _check_size(args, fresh)
     check_objectives_vary(fresh.objective)
     _check_backend(args)
     check_study_name(args.study)
@@ -182,11 +197,31 @@ def _cmd_optimize(args) -> int:
             f"{len(res.dead_workers)} worker(s) died (pid, exit code): {res.dead_workers}; "
             f"trials failed and re-queued: {res.recovered}"
         )
-    print(f"report: mat-hopper optimize --report {res.study}" + (f" --storage '{res.url}'" if args.storage else ""))
+    where = f" --storage '{res.url}'" if args.storage else ""
+    if not args.storage and os.path.normpath(args.studies_dir) != "studies":  # the default folder needs no flag
+        where = f" --studies-dir {shlex.quote(args.studies_dir)}"
+    print(f"report: mat-hopper optimize --report {res.study}{where}")
     if not res.finished and not res.running:
         print("the study is short of its target: run the same command again to resume", file=sys.stderr)
         return 1
     return 0
+
+
+def _check_size(args, config: StudyConfig) -> None:
+    """--trials x behaviours x replicates x physics steps per run, before
+    any work (mat_hopper.limits; under auto time steps, at SS's step: the
+    stiffest paper material)."""
+    from ..limits import check_total_steps
+    from ..materials import parse_design
+
+    ob = config.objective
+    steps = ob.sim_settings(design=parse_design("SS", n_segments=config.space.n_segments)).n_steps
+    n, k = len(ob.behaviours), max(1, int(getattr(ob, "replicates", 0) or 0))
+    check_total_steps(
+        args.trials * n * k * steps,
+        f"--trials {args.trials} x {n} behaviour(s) x {k} replicate(s) x {steps:.3g} steps",
+        "fewer --trials, behaviours or --replicates, or a shorter --profile",
+    )
 
 
 def _check_backend(args) -> None:
@@ -195,8 +230,9 @@ def _check_backend(args) -> None:
         if args.device is not None or args.batch_size is not None:
             raise ValueError("--device and --batch-size are for --backend warp")
         return
-    if args.batch_size is not None and args.batch_size < 1:
-        raise ValueError(f"--batch-size must be an integer >= 1, got {args.batch_size}")
+    from ..limits import MAX_WORLDS
+
+    check_count(args.batch_size, "--batch-size", 1, MAX_WORLDS, "trials simulated together")
     from ..batch import WarpUnavailable, require_warp
 
     try:
@@ -227,7 +263,8 @@ def register_cli(sub) -> None:
         help="search leg designs with Optuna (multi-objective, resumable, parallel)",
         description="Search per-segment densities and moduli (or catalogue materials) for low tracking "
         "error and hip power, hop height 1 +- 0.05 m and stable runs. Starts from the "
-        "paper's SS, rho-inc and PVC-Ti-SS designs.",
+        "paper's designs its space can express (8 of 9 in the continuous space: all but the rigid MD), "
+        "enqueued before the sampler's first trial.",
     )
     p.add_argument("--study", help="study name (letters, digits, _ . -); resumes if it exists")
     p.add_argument("--trials", type=int, default=200, help="study size: finished trials to reach (200)")

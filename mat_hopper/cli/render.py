@@ -7,16 +7,30 @@ import math
 import sys
 
 from ..sim import is_auto
-from ..viz.render import _LIBS, RenderBackendError, choose_backend, parse_size, render_files
-from ._checks import check_output_file
+from ..viz.render import (
+    _LIBS,
+    IMAGE_EXTENSIONS,
+    VIDEO_EXTENSIONS,
+    RenderBackendError,
+    choose_backend,
+    parse_size,
+    render_files,
+)
+from ..viz.render import _check_extension as check_extension
+from ._checks import check_distinct_outputs, check_output_file
 from .simulate import add_sim_arguments, describe_settings, design_from_args, sim_settings_from_args
 
 
 def cmd_render(args) -> int:
     if not args.tiles and not args.video and not args.still:
         raise ValueError("nothing to render: give --tiles FILE, --video FILE and/or --still FILE")
-    for flag in ("tiles", "video", "still"):
-        check_output_file(getattr(args, flag), f"--{flag}")
+    for flag, allowed in (("tiles", IMAGE_EXTENSIONS), ("video", VIDEO_EXTENSIONS), ("still", IMAGE_EXTENSIONS)):
+        if check_output_file(getattr(args, flag), f"--{flag}"):
+            try:
+                check_extension(getattr(args, flag), allowed)
+            except ValueError as e:
+                raise ValueError(f"--{flag}: {e}") from None
+    check_distinct_outputs(tiles=args.tiles, video=args.video, still=args.still)
     size = parse_size(args.size)
     design = design_from_args(args)
     # every run setting (time step or auto, sensor timing, segment mass) and the
@@ -30,7 +44,8 @@ def cmd_render(args) -> int:
         if not (math.isfinite(v) and ok):
             raise ValueError(f"{flag} must be {need} simulated seconds, got {v!r}")
     seconds = max(args.seconds, args.tile_start + 1.0)
-    settings = sim_settings_from_args(args, design, args.start + seconds, 0.0)
+    length = "--start + --seconds" if args.seconds >= args.tile_start + 1.0 else "--start + --tile-start + 1 s"
+    settings = sim_settings_from_args(args, design, args.start + seconds, 0.0, duration_flag=length)
     try:  # a named error before any work
         backend = choose_backend({"MUJOCO_GL": args.backend} if args.backend else None)
     except RenderBackendError as e:

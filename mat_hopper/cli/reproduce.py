@@ -9,7 +9,8 @@ import sys
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..experiments.reproduce import default_out_dir, reproduce
-from ._checks import check_name_list, check_output_dir, nothing_left_behind
+from ..limits import check_total_steps, check_workers
+from ._checks import check_distinct_outputs, check_name_list, check_output_dir, nothing_left_behind
 
 
 def _connect(address: str):
@@ -28,14 +29,33 @@ def _connect(address: str):
         raise ValueError(f"cannot reach the Dask scheduler at {address!r}: {cause}") from None
 
 
+def _check_size(profile, args) -> None:
+    """The whole reproduction's physics steps, before any work (mat_hopper.limits)."""
+    from ..experiments.paper import parse_experiments
+    from ..experiments.profiles import check_replicates
+    from ..experiments.reproduce import _check_conventions, planned_steps
+
+    try:
+        replicates = profile.replicates if args.replicates is None else check_replicates(args.replicates)
+    except ValueError:
+        raise ValueError(f"--replicates must be an integer >= 0, got {args.replicates!r}") from None
+    names = parse_experiments(args.experiments)
+    steps = planned_steps(profile, names, _check_conventions(args.conventions), replicates)
+    what = f"--replicates {replicates}" if args.replicates is not None else f"--experiments {args.experiments}"
+    check_total_steps(steps, what, "lower --replicates, or run fewer --experiments or --conventions")
+
+
 def cmd_reproduce(args) -> int:
     profile = get_profile(args.profile)
     check_name_list(args.experiments, "--experiments")
     check_name_list(args.conventions, "--conventions")
     if args.workers is not None and args.scheduler:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
+    check_workers(args.workers)
+    _check_size(profile, args)
     out = check_output_dir(args.out or default_out_dir(profile.name), "--out")
     cache = check_output_dir(args.cache or os.environ.get(CACHE_ENV) or DEFAULT_CACHE_DIR, "--cache")
+    check_distinct_outputs(out=out, cache=cache)  # tables and cached runs in one folder cannot be told apart
     # a failed run leaves no empty --out or cache folder behind
     with nothing_left_behind(out, cache):
         client = _connect(args.scheduler) if args.scheduler else None

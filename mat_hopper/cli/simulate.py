@@ -7,12 +7,13 @@ import math
 import sys
 
 from .. import reference as ref
-from ..atomic import write_csv
 from ..behaviours import BEHAVIOUR_NAMES, behaviour
 from ..controls import CONTROLS, control, mass_properties
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
     CONVENTIONS,
+    DAMPINGS,
+    DEFAULT_DAMPING,
     DENSITY_RANGE_G_CM3,
     MODULUS_RANGE_GPA,
     SEGMENT_MASSES,
@@ -22,8 +23,9 @@ from ..materials import (
 )
 from ..metrics import METRICS, hop_table, run_summary
 from ..sim import AUTO, is_auto
-from ._checks import SENSOR_TIMING_HELP, check_output_file, parse_list, sensor_timing_arg
+from ._checks import SENSOR_TIMING_HELP, check_output_file, named_by_flags, parse_list, sensor_timing_arg, write_table
 
+DEFAULT_DESIGN = "SS"
 PROGRESS_CHUNK_S = 1.0  # simulated seconds per progress-bar update
 
 
@@ -41,13 +43,32 @@ def _timestep(text):
 
 
 def design_from_args(args) -> LegDesign:
-    """--design NAME, or --density/--modulus lists (g/cm^3, GPa)."""
-    n = check_n_segments(args.segments)  # an integer in [1, 64] whatever the design form
+    """--design NAME, --design-csv FILE, or --density/--modulus lists
+    (g/cm^3, GPa); never two of them, and --segments only with a named
+    design (a list or a file sets its own)."""
+    segments = ref.REFERENCE_SEGMENTS if args.segments is None else args.segments
+    with named_by_flags():
+        n = check_n_segments(segments)  # an integer in [1, 64] whatever the design form
     if getattr(args, "design_csv", None) is not None:
-        if args.density is not None or args.modulus is not None:
-            raise ValueError("--design-csv gives the design: leave out --density and --modulus")
+        given = [
+            flag
+            for flag, v in (
+                ("--design", args.design),
+                ("--density", args.density),
+                ("--modulus", args.modulus),
+                ("--segments", args.segments),
+            )
+            if v is not None
+        ]
+        if given:
+            raise ValueError(f"--design-csv gives the design: leave out {', '.join(given)}")
         return _design_from_csv(args.design_csv)
     if args.density is not None or args.modulus is not None:
+        given = "--density" if args.density is not None else "--modulus"
+        if args.design is not None:
+            raise ValueError(f"give either --design or {given} (with --modulus/--density), not both")
+        if args.segments is not None:
+            raise ValueError(f"--segments is for --design; {given} sets one value per segment")
         if args.density is None or args.modulus is None:
             raise ValueError("--density and --modulus go together (one value per segment)")
         dens = parse_list(args.density, "--density", unit="g/cm^3")
@@ -60,7 +81,7 @@ def design_from_args(args) -> LegDesign:
             if bad:
                 raise ValueError(f"{flag} must be > 0 {unit} (accepted {lo:g} to {hi:g}), got {bad[0]:g}")
         return LegDesign.from_properties(dens, mods)
-    return parse_design(args.design, n_segments=n)
+    return parse_design(DEFAULT_DESIGN if args.design is None else args.design, n_segments=n)
 
 
 def _design_from_csv(path) -> LegDesign:
@@ -80,8 +101,9 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     """Design and run options shared by commands that simulate one design."""
     p.add_argument(
         "--design",
-        default="SS",
-        help="material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec",
+        default=None,
+        help=f"material (MD, PVC, Al, Ti, SS, ...), gradient like PVC-Ti-SS, rho-inc or rho-dec (default "
+        f"{DEFAULT_DESIGN}); or --density and --modulus",
     )
     p.add_argument(
         "--design-csv",
@@ -93,8 +115,8 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--segments",
         type=int,
-        default=ref.REFERENCE_SEGMENTS,
-        help="segments for a single-material design (default 3, at most 64)",
+        default=None,
+        help=f"segments for a single-material --design (default {ref.REFERENCE_SEGMENTS}, at most 64)",
     )
     p.add_argument(
         "--behaviour", "--behavior", dest="behaviour", default="forward", help=f"one of {', '.join(BEHAVIOUR_NAMES)}"
@@ -118,11 +140,25 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         help="leg: leg mass independent of the number of segments (default, the authors' model at 3); "
         "capsule: the authors' per-capsule density at any number",
     )
+    p.add_argument(
+        "--damping",
+        default=DEFAULT_DAMPING,
+        choices=DAMPINGS,
+        help="material springs' damping: authors (default, 1 N s/m) or loss-factor (per material class)",
+    )
 
 
-def sim_settings_from_args(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
+def sim_settings_from_args(
+    args, design: LegDesign, duration_s: float, transient_s: float, duration_flag: str = "--duration", **extra
+):
     """SimSettings of the run options, checked (run-size limits included)
-    before any work; --timestep auto resolved for this design."""
+    before any work; --timestep auto resolved for this design. Errors name
+    the options (duration_flag: what sets the run's length)."""
+    with named_by_flags(duration_s=duration_flag, duration=duration_flag):
+        return _sim_settings(args, design, duration_s, transient_s, **extra)
+
+
+def _sim_settings(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
     from ..sim import sim_settings
 
     dt = _timestep(args.timestep)
@@ -134,6 +170,7 @@ def sim_settings_from_args(args, design: LegDesign, duration_s: float, transient
         convention=args.convention,
         sensor_timing=sensor_timing_arg(args.sensor_timing),
         segment_mass=args.segment_mass,
+        damping=getattr(args, "damping", DEFAULT_DAMPING),
         **extra,
     )
 
@@ -144,26 +181,26 @@ def describe_settings(settings, auto: bool = False) -> str:
         step += f" ({settings.substeps} physics substeps per {settings.control_period_s:g} s control period)"
     return (
         f"{step}, convention={settings.convention}, sensor timing={settings.sensor_timing}, "
-        f"segment mass={settings.segment_mass}"
+        f"segment mass={settings.segment_mass}, damping={settings.damping}"
     )
 
 
 def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: bool = False):
     """The rollout, advanced in chunks of PROGRESS_CHUNK_S simulated seconds
-    with a tqdm bar on stderr (off when stderr is not a terminal or
-    progress is false). Chunked and single-call rollouts are bit-identical."""
-    from tqdm import tqdm
-
+    with progress on stderr (:mod:`mat_hopper.progress`: a bar on a
+    terminal, a line per stage otherwise; none when progress is false).
+    Chunked and single-call rollouts are bit-identical."""
+    from ..progress import progress_bar
     from ..sim import RolloutRunner
 
     runner = RolloutRunner(design, beh, settings, record_qpos=record_qpos)
     chunk = max(1, int(round(PROGRESS_CHUNK_S / settings.timestep_s)))
-    with tqdm(
+    with progress_bar(
         total=round(settings.duration_s, 6),
         unit="sim s",
         desc=design.name,
         file=sys.stderr,
-        disable=not (progress and sys.stderr.isatty()),
+        enabled=progress,
         dynamic_ncols=True,
         leave=False,
         bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} simulated s [{elapsed}<{remaining}]",
@@ -176,7 +213,7 @@ def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: boo
 
 def cmd_simulate(args) -> int:
     profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
-    check_output_file(args.csv, "--csv")
+    check_output_file(args.csv, "--csv", stdout=True)
     design = design_from_args(args)
     if args.control is not None:
         design = control(design, args.control, args.segment_mass)
@@ -197,7 +234,10 @@ def cmd_simulate(args) -> int:
         f"hip inertia {mp.hip_inertia_kg_m2:.4f} kg m^2"
     )
     if not rollout.stable:
-        print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s")
+        hint = ""
+        if settings.convention == "axial" and _timestep(args.timestep) != AUTO:
+            hint = " (axial springs are stiff: try --timestep auto, physics substeps chosen from the spring bound)"
+        print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s{hint}")
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
     if len(hops):
         desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
@@ -205,15 +245,27 @@ def cmd_simulate(args) -> int:
         cot = s["cost_of_transport"]
         cot = f"{cot:.3g}" if math.isfinite(cot) else "none (no distance travelled)"
         print(
-            f"actuator work {s['work_abs_j']:.1f} J ({s['thrust_work_fraction']:.0%} by the thrust), "
+            f"power_w: hip actuators only (mean mechanical power); work of all three actuators (hips and leg "
+            f"slide) {s['work_abs_j']:.1f} J ({s['thrust_work_fraction']:.0%} by the thrust), "
             f"{s['energy_per_hop_j']:.2f} J per hop, path {s['path_length_m']:.2f} m, cost of transport {cot}"
         )
+        if s["peak_stress_pa"] == s["peak_stress_pa"]:  # issue 21: a leg with modelled stress
+            flag = "  ** PEAK STRESS OVER YIELD **" if s["yield_exceeded"] else ""
+            print(
+                f"peak stress {s['peak_stress_pa'] / 1e6:.3g} MPa ({s['yield_ratio']:.2g} x yield), damage per hop "
+                f"{s['damage_per_hop']:.3g}, hops to failure {s['hops_to_failure']:.3g}{flag}"
+            )
     if args.csv:
         at = list(hops.columns).index("segment_mass") + 1
         hops.insert(at, "timestep_s", settings.timestep_s)
         hops.insert(at + 1, "substeps", settings.substeps)
-        write_csv(hops, args.csv)
-        print(f"wrote {len(hops)} rows to {args.csv}")
+        from ..batch import design_columns  # the design's properties in every row: rows of two runs differ
+
+        props = {k: v for k, v in design_columns(design, segment_mass=settings.segment_mass).items() if k not in hops}
+        at = list(hops.columns).index("substeps") + 1  # after the run settings
+        for k, (col, value) in enumerate(props.items()):
+            hops.insert(at + k, col, value)
+        print(f"wrote {len(hops)} rows to {write_table(hops, args.csv)}")
     return 0 if rollout.stable else 1
 
 
@@ -245,7 +297,7 @@ def register_cli(sub) -> None:
         default=None,
         help="seconds before the first scored hop cycle (the profile's: paper 20)",
     )
-    p.add_argument("--csv", help="write the per-hop table (one row per scored hop cycle) here")
+    p.add_argument("--csv", help="write the per-hop table (one row per scored hop cycle) here (- for standard output)")
     p.add_argument(
         "--no-progress", action="store_true", help="no progress bar (it is off when stderr is not a terminal)"
     )

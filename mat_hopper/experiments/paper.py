@@ -32,7 +32,16 @@ import pandas as pd
 from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
-from ..materials import CONVENTIONS, LegDesign, Material, paper_designs, parse_design
+from ..materials import (
+    DEFAULT_POROSITY_MODEL,
+    REPRODUCTION_CONVENTIONS,
+    LegDesign,
+    Material,
+    check_porosity_model,
+    paper_designs,
+    parse_design,
+    porous_modulus,
+)
 from ..perturbations import Perturbation
 from ..sim import AUTO
 from . import robustness
@@ -165,12 +174,19 @@ def experiment_1() -> Experiment:
 SWEEP_SHORT = {"density": "rho", "modulus": "E"}
 
 
-def experiment_2() -> Experiment:
+def experiment_2(porosity_model: str = DEFAULT_POROSITY_MODEL) -> Experiment:
     """One property at a time around PVC, Al, Ti and SS, forward hopping.
 
+    porosity_model: ``independent`` (the paper's: a density point changes
+    the density only) or ``gibson-ashby`` (a density point below the base
+    material's is that solid made porous, E = E_s (rho / rho_s)^2,
+    :func:`mat_hopper.materials.porous_modulus`; points above keep E_s).
+
     Labels: sweep_base (the material), sweep_property (density|modulus),
-    sweep_value, density_g_cm3, modulus_gpa, is_base (the point that is the
-    base material itself; its design label is the material's name)."""
+    sweep_value, density_g_cm3, modulus_gpa (the segment's modulus as
+    simulated), is_base (the point that is the base material itself; its
+    design label is the material's name), porosity_model."""
+    check_porosity_model(porosity_model)
     designs = paper_designs()
     points = []
     for base, sweeps in ref.SWEEPS.items():
@@ -183,10 +199,14 @@ def experiment_2() -> Experiment:
             for v in values:
                 is_base = math.isclose(v, own)
                 rho, e = (v, e0) if prop == "density" else (rho0, v)
+                if prop == "density":
+                    e = porous_modulus(designs[base].segments[0], rho, porosity_model)
                 if is_base:
                     design, label = designs[base], base
                 else:
                     label = f"{base} {SWEEP_SHORT[prop]}={v:g}"
+                    if e != e0 and prop == "density":
+                        label += f" (E={e:.3g})"
                     design = LegDesign.mono(Material(label, rho, e), ref.REFERENCE_SEGMENTS)
                 tags = (
                     ("group", f"{base} {prop}"),
@@ -196,9 +216,11 @@ def experiment_2() -> Experiment:
                     ("density_g_cm3", float(rho)),
                     ("modulus_gpa", float(e)),
                     ("is_base", bool(is_base)),
+                    ("porosity_model", porosity_model),
                 )
                 points.append(DesignPoint(design, label, tags))
-    return Experiment("exp2", "One property at a time, forward hopping", tuple(points), ("forward",))
+    name = "exp2" if porosity_model == DEFAULT_POROSITY_MODEL else f"exp2-{porosity_model}"
+    return Experiment(name, "One property at a time, forward hopping", tuple(points), ("forward",))
 
 
 def experiment_3() -> Experiment:
@@ -299,7 +321,7 @@ def get_experiment(name: str) -> Experiment | StabilityMap | RobustnessStudy | C
 
 
 def convention_tasks(
-    names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None, conventions=CONVENTIONS
+    names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None, conventions=REPRODUCTION_CONVENTIONS
 ) -> list:
     """Stable-time-step measurements (runner tasks, cached) of designs
     (names as :func:`~mat_hopper.materials.parse_design` reads them, or
@@ -320,7 +342,7 @@ def convention_tasks(
 def convention_stability(
     names=("MD", "PVC", "Al", "Ti", "SS"),
     profile: str | Profile | None = None,
-    conventions=CONVENTIONS,
+    conventions=REPRODUCTION_CONVENTIONS,
     *,
     cache_dir=None,
     workers: int | None = None,

@@ -14,7 +14,7 @@ import pandas as pd
 
 from .. import reference as ref
 from ..control import SensorTiming
-from ..materials import DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
+from ..materials import BENDING_CONVENTIONS, DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
 from ..perturbations import Perturbation
 from ..sim import AUTO, SimSettings, is_auto, sim_settings
 
@@ -74,7 +74,7 @@ class Profile:
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"profile name must be a non-empty string, got {self.name!r}")
         object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
-        check_segment_mass(self.segment_mass)
+        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         for name in ("timestep_s", "axial_timestep_s"):
             value = getattr(self, name)
             if isinstance(value, str) and value != AUTO:
@@ -119,10 +119,13 @@ class Profile:
 
     def for_convention(self, convention: str) -> Profile:
         """This profile under another stiffness convention (and its time step)."""
-        check_convention(convention)
+        convention = check_convention(convention)
         if convention == self.convention:
             return self
-        dt = self.axial_timestep_s if convention == "axial" else ref.TIMESTEP_S
+        if convention in BENDING_CONVENTIONS:  # issue 21: the hinges' modes set the step
+            dt = AUTO
+        else:
+            dt = self.axial_timestep_s if convention == "axial" else ref.TIMESTEP_S
         return replace(self, convention=convention, timestep_s=dt)
 
     def for_sensor_timing(self, sensor_timing) -> Profile:

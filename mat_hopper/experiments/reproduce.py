@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 import pandas as pd
 
 from ..atomic import write_csv
+from ..limits import check_total_steps, task_steps
 from ..materials import CONVENTIONS, check_convention
 from .paper import get_experiment, parse_experiments
 from .profiles import check_replicates, get_profile
@@ -52,6 +53,7 @@ class Reproduction:
     wall_s: dict = field(default_factory=dict)
     failed: dict = field(default_factory=dict)
     computed: dict = field(default_factory=dict)
+    conventions: tuple = ("paper",)  # those asked for: the claims table has rows for these only
 
 
 def default_out_dir(profile_name: str) -> str:
@@ -80,8 +82,8 @@ def reproduce(
     conventions: stiffness conventions of the hopping experiments (1-3),
     e.g. ("paper", "axial"); axial runs use the profile's
     axial_timestep_s. The stability map uses the profile's own convention.
-    The claims table always has rows for both conventions ("not run" for
-    one that was not asked for)."""
+    The claims table has rows for the conventions asked for (a claim whose
+    runs are missing among them reads "not run")."""
     prof = get_profile(profile)
     conventions = _check_conventions(conventions)
     names = parse_experiments(
@@ -92,9 +94,10 @@ def reproduce(
     out_dir = out_dir or default_out_dir(prof.name)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise ValueError(f"--out {out_dir!r} exists and is not a folder")
+    check_total_steps(planned_steps(prof, names, conventions, replicates), f"replicates={replicates}")
     tasks = _tasks(prof, names, conventions, replicates)
     os.makedirs(out_dir, exist_ok=True)
-    rep = Reproduction(prof.name, out_dir)
+    rep = Reproduction(prof.name, out_dir, conventions=conventions)
     log(
         f"profile {prof.name}: {prof.duration_s:g} s runs, transient {prof.transient_s:g} s, "
         f"dt {prof.timestep_s:g} s; stability grid {prof.stability_grid_size}x{prof.stability_grid_size}; "
@@ -200,7 +203,7 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
         hops,
         runs,
         stab,
-        conventions=CONVENTIONS,
+        conventions=rep.conventions,
         fine_hops=fine,
         fine_label=FINE_LABEL if fine is not None else "",
         controls=rep.tables.get("controls_hops"),
@@ -210,6 +213,17 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
     rep.tables["claims"] = table
     log(f"figures and claims: {len(files)} files in {rep.out_dir}")
     return files
+
+
+def planned_steps(profile, names, conventions, replicates: int) -> float:
+    """Physics steps a reproduction would take at most (every task run,
+    nothing cached), without building its task list: the tasks grow
+    linearly with the replicates, so the plans at 0 and 1 replicates give
+    the rest. Used to refuse, before any work, runs beyond
+    :data:`mat_hopper.limits.MAX_TOTAL_STEPS`."""
+    prof = get_profile(profile)
+    at = [sum(task_steps(t) for ts in _tasks(prof, names, conventions, r).values() for t in ts) for r in (0, 1)]
+    return at[0] + replicates * (at[1] - at[0])
 
 
 def _check_conventions(conventions) -> tuple:

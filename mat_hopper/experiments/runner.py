@@ -267,14 +267,14 @@ class Runner:
         n_cached = len(results)
         todo = [k for k in unique if k not in results]
 
-        from tqdm.auto import tqdm
+        from ..progress import progress_bar
 
-        bar = tqdm(
+        bar = progress_bar(
             total=len(unique),
             initial=n_cached,
             desc=desc,
             unit="run",
-            disable=not self.progress,
+            enabled=self.progress,
             dynamic_ncols=True,
             leave=False,
         )

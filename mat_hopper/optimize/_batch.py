@@ -46,12 +46,11 @@ from collections.abc import Sequence
 import optuna
 from optuna.storages._heartbeat import is_heartbeat_enabled
 from optuna.trial import TrialState
-from tqdm.std import tqdm
 
 from ..materials import LegDesign
+from ..progress import progress_bar
 from ._coordinator import RunResult
 from ._objective import (
-    CONSTRAINTS,
     RESULT_ATTR,
     Evaluation,
     Objective,
@@ -324,12 +323,12 @@ def run_batch_study(
     seed = worker_seed(options.seed, len(study.get_trials(deepcopy=False)), 0)
     study = optuna.load_study(study_name=config.name, storage=storage, sampler=make_sampler(options.sampler, seed))
     identity = worker_identity()
-    bar = tqdm(
+    bar = progress_bar(
         total=options.trials,
         initial=min(done, options.trials),
         unit="trial",
         desc=f"{config.name} ({BACKEND})",
-        disable=not options.progress,
+        enabled=options.progress,
         dynamic_ncols=True,
         file=sys.stderr,
     )
@@ -355,7 +354,7 @@ def run_batch_study(
                 _requeue(study, asked, "interrupted", options.max_retry)
                 raise
             for trial, design, ev in zip(asked, designs, evaluations):
-                for name, value in zip(CONSTRAINTS, ev.constraints):
+                for name, value in zip(ev.constraint_names, ev.constraints):
                     trial.set_constraint(name, value)
                 trial.set_user_attr(RESULT_ATTR, _result_attr(design, ev))
                 study.tell(trial, ev.values)

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import optuna
 from tqdm.std import tqdm
 
+from ..progress import progress_bar
 from ._processes import _signals_ignored, _start_method, _warm_up, stop_signals
 from ._samplers import check_sampler, worker_seed
 from ._storage import dispose, recover_dead, redact, storage_errors
@@ -106,12 +107,13 @@ def _run(config: StudyConfig, options: RunOptions, url: str) -> RunResult:
         _warm_up()
     pool = _Workers(config, options, url, storage, study, result, budget)
     pool.spawn(min(options.workers, budget))
-    bar = _Bar(
+    bar = progress_bar(
+        tqdm_class=_Bar,
         total=options.trials,
         initial=min(done, options.trials),
         unit="trial",
         desc=config.name,
-        disable=not options.progress,
+        enabled=options.progress,
         dynamic_ncols=True,
         file=sys.stderr,
         mininterval=1.0,

@@ -17,7 +17,16 @@ feasible):
 
 - ``hop_height``: |mean hop height - 1 m| - 0.05 m, the worst behaviour;
 - ``unstable``: 1 when any run diverged or ended with the base below
-  0.1 m (:attr:`Rollout.upright` false), else 0.
+  0.1 m (:attr:`Rollout.upright` false), else 0;
+- issue 21, only when the objective asks for them (so studies without them
+  keep their two constraints): ``peak_stress`` with
+  ``max_yield_fraction`` f, the worst behaviour's largest segment peak
+  stress over its yield strength minus f (f = 0.5: peak stress <= yield / 2);
+  ``fatigue_life`` with ``min_hops_to_failure`` N, log10 N - log10(hops to
+  failure), the worst behaviour's (:mod:`mat_hopper.fatigue`; a run with no
+  modelled stress, e.g. a rigid leg, is feasible; a run that fell is not).
+  Stress is the ``bending`` conventions' business: under ``paper`` and
+  ``axial`` only axial stress is modelled.
 
 A run that diverged, fell (base below 0.1 m at the end) or scored no hop
 cycle still gets finite objective values, the same quantities averaged
@@ -54,13 +63,21 @@ from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..experiments.profiles import Profile, get_profile
-from ..materials import CONVENTIONS, DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, check_segment_mass
-from ..metrics import hop_table
+from ..fatigue import fatigue_summary
+from ..materials import (
+    DEFAULT_CONVENTION,
+    DEFAULT_SEGMENT_MASS,
+    LegDesign,
+    check_convention,
+    check_segment_mass,
+)
+from ..metrics import hop_cycles, hop_table
 from ..sim import C, RolloutRunner
 from . import _robust
 
 OBJECTIVES = ("tracking_error_m", "power_w")
 CONSTRAINTS = ("hop_height", "unstable")
+STRESS_CONSTRAINTS = ("peak_stress", "fatigue_life")  # issue 21, each only when asked (module doc)
 RESULT_ATTR = "result"  # the trial user attr holding its Evaluation (record_evaluation)
 HOP_HEIGHT_TOLERANCE_M = 0.05
 NO_DATA_VALUE = 1e6  # objective value only when a run recorded no finite sample
@@ -98,6 +115,8 @@ class Objective:
     hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
     hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
     segment_mass: str | None = None  # None: the profile's
+    max_yield_fraction: float | None = None  # issue 21: peak stress <= this x yield (e.g. 0.5)
+    min_hops_to_failure: float | None = None  # issue 21: fatigue life of at least this many hops
     # noise- and mass-aware scores (mat_hopper.optimize._robust)
     replicates: int = _robust.DEFAULT_REPLICATES  # 0: one unperturbed run per behaviour
     risk: str = "mean"
@@ -120,22 +139,27 @@ class Objective:
         object.__setattr__(self, "behaviours", behs)
         if not isinstance(self.profile, Profile):
             raise ValueError("profile must be a Profile")
-        if self.convention not in CONVENTIONS:
-            raise ValueError(f"unknown stiffness convention {self.convention!r}; accepted: {', '.join(CONVENTIONS)}")
+        object.__setattr__(self, "convention", check_convention(self.convention))
         if self.segment_mass is None:
             object.__setattr__(self, "segment_mass", getattr(self.profile, "segment_mass", DEFAULT_SEGMENT_MASS))
-        check_segment_mass(self.segment_mass)
+        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         for name in ("hop_height_target_m", "hop_height_tolerance_m"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ValueError(f"{name} must be a finite number > 0 m, got {v!r}")
+        for name in ("max_yield_fraction", "min_hops_to_failure"):
+            v = getattr(self, name)
+            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < math.inf):
+                raise ValueError(f"{name} must be a finite number > 0 or None, got {v!r}")
         _robust.check_objective(self)
         object.__setattr__(self, "leg_mass", _robust.check_leg_mass(self.leg_mass))
 
     @property
     def constraint_names(self) -> tuple[str, ...]:
-        """The constraints of this objective's trials: CONSTRAINTS, plus ``leg_mass`` when set."""
-        return CONSTRAINTS + ((_robust.LEG_MASS_CONSTRAINT,) if self.leg_mass is not None else ())
+        """The constraints of this objective's trials: CONSTRAINTS, plus ``leg_mass`` when set, then the stress constraints asked for."""
+        extra = (self.max_yield_fraction, self.min_hops_to_failure)  # issue 21
+        stress = tuple(n for n, v in zip(STRESS_CONSTRAINTS, extra) if v is not None)
+        return CONSTRAINTS + ((_robust.LEG_MASS_CONSTRAINT,) if self.leg_mass is not None else ()) + stress
 
     def key(self) -> dict:
         return {
@@ -146,6 +170,11 @@ class Objective:
             "hop_height_tolerance_m": self.hop_height_tolerance_m,
             "segment_mass": self.segment_mass,
             "leg_material_length_m": LEG_MATERIAL_LENGTH_M,
+            **{
+                k: getattr(self, k)
+                for k in ("max_yield_fraction", "min_hops_to_failure")
+                if getattr(self, k) is not None
+            },
             **_robust.key_fields(self),
         }
 
@@ -161,6 +190,8 @@ class Objective:
             hop_height_target_m=key["hop_height_target_m"],
             hop_height_tolerance_m=key["hop_height_tolerance_m"],
             segment_mass=key.get("segment_mass", DEFAULT_SEGMENT_MASS),
+            max_yield_fraction=key.get("max_yield_fraction"),
+            min_hops_to_failure=key.get("min_hops_to_failure"),
             **_robust.from_key_fields(key),
         )
 
@@ -250,6 +281,7 @@ def run_behaviour(
     else:
         tracking, power = _whole_run_means(rollout)
     height = float(hops["hop_height_m"].mean()) if len(hops) else float("nan")
+    life = fatigue_summary(rollout, hop_cycles(rollout))
     return {
         "behaviour": behaviour_name,
         "tracking_error_m": tracking,
@@ -261,6 +293,8 @@ def run_behaviour(
         "diverged_at_s": rollout.diverged_at_s,
         "simulated_s": float(runner.step * settings.timestep_s),
         "total_mass_kg": float(rollout.total_mass_kg),
+        "yield_ratio": life["yield_ratio"],
+        "hops_to_failure": life["hops_to_failure"],
         "replicate": -1 if perturbation is None else int(perturbation.seed),
     }
 
@@ -330,7 +364,7 @@ def aggregate(rows: list[dict], objective: Objective, design: LegDesign | None =
     constraints = (float(height_violation), unstable) + _robust.mass_constraints(objective, design, mass)
     return Evaluation(
         values=values,
-        constraints=constraints,
+        constraints=(*constraints, *_stress_constraints(rows, objective)),
         hop_height_m=float(np.mean(heights)) if heights else float("nan"),
         per_behaviour=rows,
         total_mass_kg=rows[0]["total_mass_kg"],
@@ -340,6 +374,24 @@ def aggregate(rows: list[dict], objective: Objective, design: LegDesign | None =
         leg_mass_kg=mass,
         constraint_names=objective.constraint_names,
     )
+
+
+def _stress_constraints(rows: list[dict], objective: Objective) -> list[float]:
+    """The stress constraints the objective asks for (module doc), worst
+    behaviour; rows without the stress fields (another backend) are
+    infeasible."""
+    out = []
+    if objective.max_yield_fraction is not None:
+        ratios = [r.get("yield_ratio", math.inf) if r["upright"] else math.inf for r in rows]
+        ratios = [0.0 if isinstance(x, float) and math.isnan(x) else x for x in ratios]
+        out.append(float(min(max(ratios) - objective.max_yield_fraction, NO_DATA_VALUE)))
+    if objective.min_hops_to_failure is not None:
+        lives = [r.get("hops_to_failure", 0.0) if r["upright"] else 0.0 for r in rows]
+        lives = [math.inf if isinstance(x, float) and math.isnan(x) else x for x in lives]
+        worst = min(lives)
+        gap = math.log10(objective.min_hops_to_failure) - (math.log10(worst) if worst > 0 else -NO_DATA_VALUE)
+        out.append(float(min(max(gap, -NO_DATA_VALUE), NO_DATA_VALUE)))
+    return out
 
 
 # --- the record of an evaluation on its trial ---------------------------------

@@ -64,6 +64,8 @@ from urllib.parse import quote
 import optuna
 from optuna.trial import TrialState
 
+from ..parsing import normalize_url
+
 STUDY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,99}$")
 SQLITE_LOCK_TIMEOUT_S = 60
 CONNECT_TIMEOUT_S = 10
@@ -149,11 +151,12 @@ def storage_file(url: str) -> str | None:
     """The local file of a storage.
 
     Args:
-        url: a storage URL.
+        url: a storage URL (its scheme in any case, RFC 3986).
 
     Returns:
         The absolute path of a sqlite or journal URL's file, else None.
     """
+    url = normalize_url(url)  # schemes are case-insensitive (RFC 3986)
     if url.startswith("journal:"):
         return os.path.abspath(_journal_path(url))
     try:
@@ -373,7 +376,7 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
             "--storage must be a URL such as sqlite:///studies/x.db, "
             "postgresql://user@host:5432/db or journal:///path/x.log"
         )
-    url = url.strip()
+    url = normalize_url(url)  # schemes are case-insensitive (RFC 3986): SQLite:/// is sqlite:///
     if url.startswith("journal:"):
         return _journal_storage(url)
 

@@ -214,7 +214,9 @@ class RunOptions:
 
     def storage_url(self, study_name: str) -> str:
         if self.storage:
-            return self.storage
+            from ..parsing import normalize_url
+
+            return normalize_url(self.storage)  # RFC 3986: schemes are case-insensitive
         os.makedirs(self.studies_dir, exist_ok=True)
         return default_url(study_name, self.studies_dir)
 

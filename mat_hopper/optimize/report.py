@@ -196,12 +196,23 @@ def hypervolume_history(frame: pd.DataFrame, reference=None) -> tuple[pd.DataFra
     return pd.DataFrame(out), tuple(reference)
 
 
+MIN_SAMPLED_TRIALS = 4  # sampled (not enqueued) finished trials before importances mean anything
+
+
+def enough_for_importances(study: optuna.Study) -> bool:
+    """Whether the study has MIN_SAMPLED_TRIALS finished trials its sampler
+    chose: the enqueued paper designs (user attr ``paper_design``, up to 8
+    of them) say nothing about which parameter matters, so a study that
+    has run only those (e.g. ``--trials 6``) gets no importances."""
+    complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
+    return sum(1 for t in complete if not t.user_attrs.get("paper_design")) >= MIN_SAMPLED_TRIALS
+
+
 def importances(study: optuna.Study) -> pd.DataFrame:
     """Parameter importances (Optuna's default, PED-ANOVA) per objective;
-    empty when the study is too small."""
+    empty until the sampler has chosen MIN_SAMPLED_TRIALS finished trials."""
     rows = []
-    complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
-    if len(complete) < 4:
+    if not enough_for_importances(study):
         return pd.DataFrame(columns=["objective", "param", "importance"])
     for i, obj in enumerate(OBJECTIVES):
         try:

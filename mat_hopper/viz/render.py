@@ -122,10 +122,10 @@ def iter_frames(
     model = spec.compile()
     idx = np.clip(np.searchsorted(rollout.time, np.asarray(times_s, float)), 0, len(rollout.time) - 1)
     camera = camera or Camera()
-    from tqdm import tqdm
+    from ..progress import progress_bar
 
     with OffscreenRenderer(model, w, h, backend) as r:
-        for i in tqdm(idx, desc="render", unit="frame", disable=not progress):
+        for i in progress_bar(idx, desc="render", unit="frame", enabled=progress):
             yield r.frame(rollout.qpos[i], camera, rollout.behaviour)
 
 

@@ -111,24 +111,55 @@ def hypervolume_figure(study, reference_point, title: str) -> Figure:
     return _optuna_axes_figure(ax)
 
 
+def _margins_for_labels(fig, ax, pad_px: float = 12.0) -> None:
+    """Margins measured from the drawn tick labels, x label and title, so
+    that none is cut."""
+    fig.draw_without_rendering()  # the figure left pyplot: its own canvas does not draw
+    w, h = fig.bbox.width, fig.bbox.height
+    left = max((t.get_window_extent().width for t in ax.get_yticklabels()), default=0.0) + 2 * pad_px
+    below = ax.xaxis.label.get_window_extent().height + max(
+        (t.get_window_extent().height for t in ax.get_xticklabels()), default=0.0
+    )
+    above = ax.title.get_window_extent().height + pad_px
+    fig.subplots_adjust(
+        left=left / w, right=1 - pad_px / w, bottom=(below + 3 * pad_px) / h, top=1 - (above + pad_px) / h
+    )
+
+
 def importances_figure(study, title: str) -> Figure:
     """Optuna's parameter importances (PED-ANOVA), every objective in one
-    plot (an empty plot with the title when the study is too small)."""
-    from optuna.trial import TrialState
+    plot (an empty plot with the title, and a note, until the sampler has
+    chosen enough trials: :func:`mat_hopper.optimize.report.enough_for_importances`)."""
     from optuna.visualization.matplotlib import plot_param_importances
 
-    complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
-    if len(complete) >= 4:
+    from ..optimize.report import MIN_SAMPLED_TRIALS, enough_for_importances
+
+    if enough_for_importances(study):
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # ExperimentalWarning
                 ax = plot_param_importances(study)
             ax.set_title(title, fontsize=10)
-            return _optuna_axes_figure(ax)
+            fig = _optuna_axes_figure(ax)
+            # Optuna's default size cuts long parameter names (seg1_density_g_cm3) and the
+            # legend: size by the rows, and let the layout make room for every label
+            fig.set_size_inches(8.0, max(3.8, 1.6 + 0.32 * len(ax.get_yticklabels())))
+            _margins_for_labels(fig, ax)
+            return fig
         except (ValueError, RuntimeError, ZeroDivisionError):
             pass
     fig = Figure(figsize=(6.4, 3.8), layout="constrained")
     ax = fig.subplots()
     ax.set_xlabel("importance")
     ax.set_title(title, fontsize=10)
+    ax.text(
+        0.5,
+        0.5,
+        f"no importances: fewer than {MIN_SAMPLED_TRIALS} finished trials chosen by the sampler\n"
+        "(the enqueued paper designs are not samples)",
+        ha="center",
+        va="center",
+        transform=ax.transAxes,
+        fontsize=9,
+    )
     return fig

@@ -46,7 +46,9 @@ def test_mujoco_backend_rows_are_cpu_rollouts(tmp_path, capsys):
     )
     assert rc == 0
     table = pd.read_csv(out)
-    assert list(table.columns) == list(RESULT_COLUMNS) + list(SETTING_COLUMNS)
+    props = [f"density_{i}" for i in (1, 2, 3)] + [f"modulus_{i}" for i in (1, 2, 3)] + ["leg_mass_kg"]
+    assert list(table.columns) == ["design", *props, *RESULT_COLUMNS[1:], *SETTING_COLUMNS]
+    assert list(table.density_1) == [parse_design(n).densities_g_cm3[0] for n in ("MD", "PVC")]
     assert (table["behaviour"] == "forward").all() and (table["sensor_timing"] == "authors").all()
     assert list(table.design) == ["MD", "PVC"]
     for _, row in table.iterrows():  # each row is that design's own CPU rollout, summarised by metrics.py
@@ -96,7 +98,7 @@ def test_designs_csv_round_trip_and_parallel_cpu(tmp_path):
         (["--designs", "SS", "--stability-duration", "0.5"], "--stability-duration is for --stability"),
         (["--designs", "SS", "--max-batch", "5"], "--max-batch is for --backend warp"),
         (["--designs", "SS", "--backend", "warp", "--workers", "2"], "--workers is for --backend mujoco"),
-        (["--designs", "SS", "--behaviour", ""], "unknown behaviour ''"),
+        (["--designs", "SS", "--behaviour", ""], "argument --behaviour/--behavior: empty value"),
         (["--designs", "SS", "--profile", "bogus"], "unknown profile 'bogus'"),
         # argparse alone would answer "expected one argument" for an exponent form
         (["--designs", "SS", "--duration", "-1e3"], "duration must be"),
@@ -116,7 +118,7 @@ def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
 @pytest.mark.parametrize(
     "content, message",
     [
-        ("design,density_1,modulus_1\nx,abc,4\n", "density_1 must be a number"),
+        ("design,density_1,modulus_1\nx,abc,4\n", "density_1 must be a decimal number"),
         ("density_1,density_2,modulus_1\n1.4,2,70\n", "no column modulus_2"),  # not silently rigid
         ("density_1\n1.4\n", "no column modulus_1"),
         ("design,density_1,modulus_1\nx,1.4,70,99\n", "a row has more fields than the header"),
@@ -175,7 +177,9 @@ def test_warp_backend_cli_on_cpu_device(tmp_path):
     )
     assert p.returncode == 0, p.stderr
     table = pd.read_csv(out)
-    assert list(table.columns)[: len(RESULT_COLUMNS)] == list(RESULT_COLUMNS) and list(table.design) == ["PVC", "Nylon"]
+    results = [c for c in table.columns if c in RESULT_COLUMNS]  # after each design's properties
+    assert results == list(RESULT_COLUMNS) and list(table.design) == ["PVC", "Nylon"]
+    assert {"density_1", "modulus_1", "leg_mass_kg"} <= set(table.columns)
     assert table.stable.all() and (table.n_hops == 0).all()  # 0.2 s: still falling, no hop yet
     assert "sim s" not in p.stderr  # no progress bar where stderr is no terminal (a log, a pipe)
     p = _cli(

@@ -42,7 +42,7 @@ def test_simulate_every_design_form(tmp_path, args, name, capsys):
         (["--density", "1,2,3", "--modulus", "-4"], "modulus"),
         (["--timestep", "0"], "timestep"),
         (["--duration", "10"], "duration"),
-        (["--segments", "0"], "n_segments"),
+        (["--segments", "0"], "--segments must be"),
     ],
 )
 def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):

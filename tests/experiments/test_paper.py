@@ -139,3 +139,23 @@ def test_every_run_label_names_its_settings():
     for t in experiment_2().tasks("quick"):
         assert {"experiment", "profile", "convention", "design", "behaviour", "replicate"} <= set(t.labels)
         assert math.isclose(t.labels["density_g_cm3"], t.design.densities_g_cm3[0])
+
+
+def test_exp2_under_gibson_ashby_softens_porous_points():
+    from mat_hopper.experiments.paper import experiment_2
+
+    plain, porous = experiment_2(), experiment_2("gibson-ashby")
+    assert porous.name == "exp2-gibson-ashby" and plain.name == "exp2"
+    tags = lambda e: {p.label: dict(p.tags) for p in e.points}
+    a, b = tags(plain), tags(porous)
+    assert len(a) == len(b)
+    # SS at 4.31 g/cm^3 (solid 8.0, 193 GPa): E = 193 x (4.31 / 8)^2 = 56.02 GPa
+    (key,) = [k for k in b if k.startswith("SS rho=4.31")]
+    assert b[key]["modulus_gpa"] == pytest.approx(56.02, abs=0.01)
+    assert b[key]["porosity_model"] == "gibson-ashby"
+    assert a["SS rho=4.31"]["modulus_gpa"] == 193.0
+    # denser than the solid (SS at 9.28) and every modulus point: unchanged
+    assert b["SS rho=9.28"]["modulus_gpa"] == 193.0
+    assert {k: v for k, v in b.items() if v["sweep_property"] == "modulus"} == {
+        k: {**v, "porosity_model": "gibson-ashby"} for k, v in a.items() if v["sweep_property"] == "modulus"
+    }

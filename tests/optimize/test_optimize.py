@@ -5,6 +5,7 @@ reports. Runs use a 2 s profile (tiny) so the file stays short."""
 from __future__ import annotations
 
 import json
+import math
 import os
 import signal
 import subprocess
@@ -215,7 +216,7 @@ def test_hypervolume():
         (["--workers", "0"], "workers must be"),
         (["--profile", "slow"], "unknown profile"),
         (["--ashby-classes", "metal,plastics"], "unknown Ashby class 'plastics'"),
-        (["--ashby-classes", "metal", "--density-bounds", "1,9"], "give either bounds or ashby_classes"),
+        (["--ashby-classes", "metal", "--density-bounds", "1,9"], "give either bounds or --ashby-classes"),
         (["--segment-mass", "per-capsule"], "unknown segment mass convention"),
         (["--storage", "postgresql+psycopg2://nobody@127.0.0.1:1/none"], "cannot reach storage"),
     ],
@@ -484,3 +485,35 @@ def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
     res = run_study(config, RunOptions(trials=3, workers=1, storage=pg_url, progress=False))
     assert res.finished and counts(study)[0] == 3
     assert study.trials[waiting[0].number].state == TrialState.COMPLETE
+
+
+def test_stress_constraints_peak_stress_and_fatigue_life():
+    # issue 21: peak stress <= yield / 2 and a fatigue life, as constraints asked for by name
+    prof = Profile("tiny", 3.0, 1.0, 1e-4, 2, 1.0)
+    plain = Objective(behaviours=("forward",), profile=prof, convention="bending", replicates=0)
+    assert plain.constraint_names == ("hop_height", "unstable")
+    assert "max_yield_fraction" not in plain.key()
+    ob = Objective(
+        behaviours=("forward",),
+        profile=prof,
+        convention="bending",
+        replicates=0,
+        max_yield_fraction=0.5,
+        min_hops_to_failure=1e6,
+    )
+    assert ob.constraint_names == ("hop_height", "unstable", "peak_stress", "fatigue_life")
+    assert Objective.from_key(ob.key()) == ob
+    ev = evaluate(LegDesign.mono("SS"), ob)
+    row = ev.per_behaviour[0]
+    assert ev.constraint_names == ob.constraint_names and len(ev.constraints) == 4
+    assert ev.constraints[2] == pytest.approx(row["yield_ratio"] - 0.5)
+    assert ev.constraints[3] == pytest.approx(6.0 - math.log10(row["hops_to_failure"]))
+    # SS under bending: tens of MPa against 215 MPa: both feasible
+    assert ev.constraints[2] < 0 and ev.constraints[3] < 0
+    # a limit no leg meets makes it infeasible
+    strict = Objective(
+        behaviours=("forward",), profile=prof, convention="bending", replicates=0, max_yield_fraction=1e-6
+    )
+    assert evaluate(LegDesign.mono("SS"), strict).constraints[2] > 0
+    with pytest.raises(ValueError, match="max_yield_fraction"):
+        Objective(max_yield_fraction=-1.0)

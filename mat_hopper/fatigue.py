@@ -1,0 +1,226 @@
+"""Stress along the leg, its strength and its fatigue (issue 21).
+
+Stress. Every physics step the rollout turns each segment's springs into
+section stress (:func:`mat_hopper.model.stress_gains`, recorded as
+``Rollout.stress``, (samples, N, 4), columns
+:data:`mat_hopper._loop.STRESS_COLUMNS`): the axial F / A and the bending
+M c / I about x and y at the extreme fibre, and the physics-rate peak of the
+section's largest normal stress |F / A| + |M| c / I since the previous
+record. Per hop (lift-off to lift-off) :func:`hop_stress` reports each
+segment's peak, and at each interface the jump of the section's stress
+between the two segments.
+
+Limitation: this is a 1-D model of uniform section. Its stress is a beam's
+resultant over a section (force and moment), continuous along the leg but
+for the moment's change over a segment; it does not depend on the
+segment's material except through the dynamics (masses, stiffnesses,
+vibration). The stress concentration of a real bimaterial interface (a
+2-D / 3-D elasticity effect of the modulus mismatch, free-edge
+singularities) is not in it: the "interface jump" here is the difference of
+the two neighbours' section stresses, nothing more.
+
+Strength. :data:`STRENGTH` gives per catalogue material its yield strength
+and a Basquin S-N curve, sigma_a = sigma_f' (2 N_f)^b (stress amplitude at
+zero mean stress against cycles to failure N_f), with sources. Where a
+material has no measured Basquin constants the curve is drawn through two
+of Ashby's points: the tensile strength at one reversal and the fatigue
+strength at 1e7 cycles, b = log10(sigma_e / sigma_u) / log10(2e7).
+Materials outside the catalogue (designs from properties, the sweeps, the
+gradients rho-inc / rho-dec) take their class's curve, the class read off
+their modulus as for the loss factor (:func:`mat_hopper.materials.loss_factor`).
+
+Fatigue. Each segment's section has four extreme fibres (+-x, +-y), each a
+uniaxial stress history sigma_axial +- sigma_bending. Cycles are counted
+by rainflow (ASTM E1049-85, the kept library ``rainflow``, half cycles
+counted as 0.5), the amplitude corrected for mean stress by Morrow's
+sigma_ar = sigma_a / (1 - sigma_m / sigma_f') (N. E. Dowling, Mechanical
+Behavior of Materials, 4th ed., Pearson 2013, sec. 9.7), and damage summed
+by Palmgren-Miner, D = sum n_i / N_f(sigma_ar,i). A segment's damage per
+hop is its worst fibre's; hops to failure 1 / (mean damage per hop). The
+records are at the record rate (1 kHz by default): cycles faster than its
+Nyquist frequency (the leg's higher modes) are not counted; the peaks are
+at the physics rate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+import rainflow
+
+from .materials import LegDesign, Material, loss_factor_class
+
+_ASHBY = "Ashby 2011, app. C (tensile strength, fatigue strength at 1e7 cycles; mid-range)"
+_DOWLING = "Dowling 2013, table 9.1 (measured Basquin constants)"
+
+
+@dataclass(frozen=True)
+class Strength:
+    """Yield strength (MPa) and Basquin S-N curve sigma_a = sigma_f' (2 N)^b
+    (sigma_f' in MPa, b < 0) of a material, with its source."""
+
+    yield_mpa: float
+    sigma_f_mpa: float
+    b: float
+    source: str
+
+    def cycles_to_failure(self, amplitude_pa, mean_pa=0.0):
+        """Cycles to failure N_f at this stress amplitude (Pa; array or
+        scalar), Morrow-corrected for the mean stress (Pa): sigma_ar =
+        sigma_a / (1 - sigma_m / sigma_f'), N_f = (sigma_ar / sigma_f')^(1/b) / 2.
+        A mean stress at or above sigma_f' gives N_f = 0 (failure)."""
+        sf = self.sigma_f_mpa * 1e6
+        a = np.abs(np.asarray(amplitude_pa, dtype=float))
+        factor = 1.0 - np.asarray(mean_pa, dtype=float) / sf
+        ar = np.where(factor > 0, a / np.where(factor > 0, factor, 1.0), np.inf)
+        with np.errstate(divide="ignore", over="ignore"):
+            return np.where(ar > 0, 0.5 * (ar / sf) ** (1.0 / self.b), np.inf)
+
+
+def _two_point(yield_mpa: float, ultimate_mpa: float, endurance_mpa: float, source: str) -> Strength:
+    """Basquin through (1 reversal, sigma_u) and (1e7 cycles, sigma_e)."""
+    b = math.log10(endurance_mpa / ultimate_mpa) / math.log10(2e7)
+    return Strength(yield_mpa, ultimate_mpa, b, source)
+
+
+# Per catalogue material (lower-case name). Polymers, ceramics, composites,
+# natural materials: yield (or, for the brittle ones, tensile) strength,
+# tensile strength and fatigue strength at 1e7 cycles, mid-range values.
+STRENGTH: dict[str, Strength] = {
+    "pvc": _two_point(45.0, 50.0, 17.0, _ASHBY),
+    "nylon": _two_point(65.0, 80.0, 30.0, _ASHBY),
+    # AISI 304 annealed: yield 215 MPa, tensile 505 MPa, endurance about 240 MPa (ASM Handbook vol. 1)
+    "ss": _two_point(215.0, 505.0, 240.0, "ASM Handbook vol. 1 (AISI 304, annealed)"),
+    "al": Strength(303.0, 900.0, -0.102, _DOWLING + ", 2024-T4"),
+    "ti": Strength(1185.0, 2030.0, -0.104, _DOWLING + ", Ti-6Al-4V"),
+    "mg": _two_point(150.0, 250.0, 90.0, _ASHBY + ", Mg alloys"),
+    # Brittle: "yield" is the tensile strength (no plastic yield before fracture).
+    "alumina": _two_point(300.0, 300.0, 220.0, _ASHBY),
+    "wc": _two_point(400.0, 400.0, 300.0, _ASHBY),
+    "cfrp": _two_point(550.0, 600.0, 250.0, _ASHBY + ", CFRP quasi-isotropic"),
+    # Compact bone in tension: yield about 110 MPa, ultimate about 130 MPa
+    # (Wegst & Ashby 2004); fatigue strength at 1e7 about 35 MPa (D. R. Carter
+    # et al., J. Biomech. 14 (1981) 461).
+    "corticalbone": _two_point(110.0, 130.0, 35.0, "Wegst & Ashby 2004; Carter et al. 1981"),
+    "trabecularbone": _two_point(5.0, 6.0, 2.0, "Wegst & Ashby 2004, fig. 3 (two-point, fatigue ratio of bone)"),
+    "tendon": _two_point(70.0, 100.0, 30.0, "Wegst & Ashby 2004, table 1 (two-point, fatigue ratio of bone)"),
+}
+# Curves of materials outside the catalogue, by the class their modulus falls in.
+CLASS_STRENGTH = {"metal": STRENGTH["al"], "composite": STRENGTH["cfrp"], "polymer": STRENGTH["pvc"]}
+
+
+def strength(mat: Material) -> Strength:
+    """A material's :class:`Strength`: the catalogue's by name, else its
+    class's (:data:`CLASS_STRENGTH`). Raises ValueError for a rigid one."""
+    if mat.rigid:
+        raise ValueError(f"material {mat.name} is rigid: it carries no modelled stress")
+    key = mat.name.strip().lower()
+    if key in STRENGTH:
+        return STRENGTH[key]
+    return CLASS_STRENGTH[loss_factor_class(mat)]
+
+
+def rainflow_cycles(series) -> pd.DataFrame:
+    """Rainflow cycles of a stress history (ASTM E1049-85; the library
+    ``rainflow``): one row per cycle or half cycle, columns range, mean,
+    count (1 or 0.5), i_start, i_end (sample indices)."""
+    x = np.asarray(series, dtype=float)
+    rows = list(rainflow.extract_cycles(x)) if len(x) >= 2 else []
+    return pd.DataFrame(rows, columns=["range", "mean", "count", "i_start", "i_end"])
+
+
+def miner_damage(series_pa, st: Strength) -> float:
+    """Palmgren-Miner damage sum of one uniaxial stress history (Pa) under
+    this S-N curve (rainflow-counted, Morrow-corrected)."""
+    c = rainflow_cycles(series_pa)
+    if c.empty:
+        return 0.0
+    n_f = st.cycles_to_failure(c["range"].to_numpy() / 2.0, c["mean"].to_numpy())
+    with np.errstate(divide="ignore"):
+        return float(np.sum(c["count"].to_numpy() / n_f))
+
+
+def _fibres(block: np.ndarray) -> list[np.ndarray]:
+    """The four extreme-fibre stress histories (Pa) of one segment's
+    stress record block (samples, 4)."""
+    a, bx, by = block[:, 0], block[:, 1], block[:, 2]
+    if not (bx.any() or by.any()):  # axial only: every fibre the same
+        return [a]
+    return [a + by, a - by, a + bx, a - bx]
+
+
+def hop_stress(rollout, cycles: np.ndarray) -> pd.DataFrame:
+    """Per hop cycle (rows of (start, end) s) and segment: peak section
+    stress (Pa, physics rate), Miner damage (worst fibre), the peak over
+    the segment's yield strength, and the interface jump to the next
+    segment (max over the hop of |section stress_s - section stress_s+1|,
+    Pa, at the record rate; NaN for the last segment). Rigid segments carry
+    no modelled stress (NaN). Columns: hop, segment (1 = base end),
+    peak_stress_pa, damage, yield_ratio, interface_jump_pa."""
+    st, t = rollout.stress, rollout.time
+    design: LegDesign = rollout.design
+    n = design.n_segments
+    strengths = [None if m.rigid else strength(m) for m in design.segments]
+    if st is None:  # a rollout without stress records (e.g. another backend's): no modelled stress
+        st = np.zeros((len(t), n, 4))
+        strengths = [None] * n
+    section = np.abs(st[:, :, 0]) + np.hypot(st[:, :, 1], st[:, :, 2])  # (samples, N)
+    rows = []
+    for h, (t0, t1) in enumerate(cycles):
+        a, b = np.searchsorted(t, t0), np.searchsorted(t, t1)
+        for s in range(n):
+            if strengths[s] is None or b <= a:
+                peak = damage = ratio = math.nan
+            else:
+                peak = float(st[a:b, s, 3].max())
+                damage = max(miner_damage(f, strengths[s]) for f in _fibres(st[a:b, s]))
+                ratio = peak / (strengths[s].yield_mpa * 1e6)
+            jump = float(np.abs(section[a:b, s] - section[a:b, s + 1]).max()) if s + 1 < n and b > a else math.nan
+            rows.append((h, s + 1, peak, damage, ratio, jump))
+    return pd.DataFrame(
+        rows, columns=["hop", "segment", "peak_stress_pa", "damage", "yield_ratio", "interface_jump_pa"]
+    )
+
+
+def hop_stress_columns(rollout, cycles: np.ndarray) -> pd.DataFrame:
+    """One row per hop for the hop table: the leg's peak stress (Pa, its
+    worst segment), that segment, the leg's damage per hop (its worst
+    segment's Miner sum) and whether any segment's peak exceeded its yield
+    strength (``yield_exceeded``)."""
+    per = hop_stress(rollout, cycles)
+    if per.empty or per["peak_stress_pa"].isna().all():
+        nan = np.full(len(cycles), math.nan)
+        return pd.DataFrame({"peak_stress_pa": nan, "peak_stress_segment": nan, "damage": nan, "yield_exceeded": False})
+    g = per.groupby("hop")
+    worst = per.loc[g["peak_stress_pa"].idxmax().to_numpy()]
+    return pd.DataFrame(
+        {
+            "peak_stress_pa": worst["peak_stress_pa"].to_numpy(),
+            "peak_stress_segment": worst["segment"].to_numpy(),
+            "damage": g["damage"].max().to_numpy(),
+            "yield_exceeded": (g["yield_ratio"].max() > 1.0).to_numpy(),
+        }
+    )
+
+
+def fatigue_summary(rollout, cycles: np.ndarray) -> dict:
+    """A run's stress and fatigue in one line: the leg's largest peak
+    stress (Pa) over the scored hops, the largest yield ratio, the mean
+    damage per hop of its most damaged segment, hops to failure (1 / that;
+    inf without damage) and ``yield_exceeded``."""
+    per = hop_stress(rollout, cycles)
+    if per.empty or per["peak_stress_pa"].isna().all():
+        return {"peak_stress_pa": math.nan, "yield_ratio": math.nan, "damage_per_hop": math.nan,
+                "hops_to_failure": math.nan, "yield_exceeded": False}  # fmt: skip
+    mean_damage = per.groupby("segment")["damage"].mean()
+    d = float(mean_damage.max())
+    return {
+        "peak_stress_pa": float(per["peak_stress_pa"].max()),
+        "yield_ratio": float(per["yield_ratio"].max()),
+        "damage_per_hop": d,
+        "hops_to_failure": math.inf if d == 0 else 1.0 / d,
+        "yield_exceeded": bool(per["yield_ratio"].max() > 1.0),
+    }

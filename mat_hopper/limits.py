@@ -1,0 +1,100 @@
+"""Run-size limits: every command's total work, estimated before it starts.
+
+One rule for every command and every count option: a command adds up the
+physics steps it would take (runs x steps per run; bisection tries at their
+worst case) and refuses, in one line naming the size and the option, work
+above :data:`MAX_TOTAL_STEPS`; every count option (``--workers``,
+``--replicates``, ``--trials``, ...) is an integer in its documented range.
+
+The limit, 2e10 physics steps, is about 28 core-hours at the 5 us a step a
+3-segment leg takes on one core (benchmarks/rollout.py): six times the
+paper profile's full reproduction under both conventions (about 3e9 steps). Set
+``$MAT_HOPPER_MAX_STEPS`` to raise it, e.g. on a Dask cluster. A single run
+has its own limits (:data:`mat_hopper.sim.MAX_STEPS`, 2e9 steps, and
+:data:`mat_hopper.sim.MAX_SAMPLES`, 5e6 recorded samples), because one run
+holds its records in memory.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+MAX_TOTAL_STEPS = 20_000_000_000
+LIMIT_ENV = "MAT_HOPPER_MAX_STEPS"
+SECONDS_PER_STEP = 5e-6  # one core, a 3-segment leg (benchmarks/rollout.py): for the core-hours in messages
+MAX_WORKERS = 256  # processes of one command on one machine
+MAX_WORLDS = 65_536  # worlds in one MuJoCo Warp batch (--max-batch, --batch-size)
+
+
+def max_total_steps() -> float:
+    """The limit in physics steps: ``$MAT_HOPPER_MAX_STEPS`` if set, else
+    MAX_TOTAL_STEPS. Raises ValueError for a value that is not a number > 0."""
+    text = os.environ.get(LIMIT_ENV)
+    if text is None:
+        return float(MAX_TOTAL_STEPS)
+    from .parsing import parse_number
+
+    return parse_number(text, f"${LIMIT_ENV}", low=1.0)
+
+
+def check_total_steps(steps: float, what: str, advice: str = "") -> float:
+    """Refuse work above the limit, before any of it starts.
+
+    Args:
+        steps: physics steps the command would take in all.
+        what: the options that set the size, as the user typed them
+            (e.g. ``"--replicates 100000"``).
+        advice: what to lower, appended to the message.
+
+    Returns:
+        steps, when within the limit.
+
+    Raises:
+        ValueError: one line naming `what`, the size and the limit.
+    """
+    limit = max_total_steps()
+    if not math.isfinite(steps) or steps > limit:
+        hours = steps * SECONDS_PER_STEP / 3600
+        raise ValueError(
+            f"{what}: about {steps:.2g} physics steps in all (~{hours:.3g} core-hours), above the limit of "
+            f"{limit:.2g} (${LIMIT_ENV}){f'; {advice}' if advice else ''}"
+        )
+    return steps
+
+
+def check_count(value, flag: str, low: int = 1, high: int | None = None, what: str = "") -> int | None:
+    """A count option: an integer in [low, high] (None passes: the option's
+    default). Raises ValueError naming `flag` and the accepted range."""
+    if value is None:
+        return None
+    ok = not isinstance(value, bool) and isinstance(value, int | float) and float(value).is_integer()
+    rng = f">= {low}" if high is None else f"in [{low}, {high}]"
+    if not ok or value < low or (high is not None and value > high):
+        raise ValueError(f"{flag} must be an integer {rng}{f' ({what})' if what else ''}, got {value!r}")
+    return int(value)
+
+
+def check_workers(value, flag: str = "--workers") -> int | None:
+    """Worker processes: an integer in [1, MAX_WORKERS] (None: the default)."""
+    return check_count(value, flag, 1, MAX_WORKERS, "processes")
+
+
+def task_steps(task) -> float:
+    """Physics steps of one runner task: a run's n_steps; a stable-time-step
+    measurement's bisection tries at the geometric mean of its bracket (a
+    typical case: the tries close in on the design's stable step) plus, with
+    its scan, the reference ladder in full."""
+    settings = getattr(task, "settings", None)
+    if settings is not None:
+        return float(settings.n_steps)
+    dt_min, dt_max = getattr(task, "dt_min", None), getattr(task, "dt_max", None)
+    duration = getattr(task, "duration_s", None)
+    if not (dt_min and dt_max and duration):
+        return 0.0
+    steps = getattr(task, "max_iter", 1) * duration / math.sqrt(dt_min * dt_max)
+    if getattr(task, "scan", False):
+        from .stability import spec_ladder
+
+        steps += float(sum(duration / dt for dt in spec_ladder()))
+    return float(steps)

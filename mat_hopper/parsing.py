@@ -1,0 +1,117 @@
+"""One way to read a name and one way to read a number, for the command
+line and the Python API alike.
+
+Names (conventions, behaviours, backends, samplers, segment-mass rules)
+are case-insensitive, the way design names always were: ``PAPER`` is
+``paper``. URL schemes are too (RFC 3986, section 3.1: "schemes are
+case-insensitive"; ``SQLite:///x.db`` is ``sqlite:///x.db``).
+
+Numbers are ASCII decimals only (``12``, ``-1.5``, ``2e-4``): Python's
+``float()`` also takes ``inf``, ``nan``, ``1_000`` and digits of other
+scripts (``"١٢"``), none of which a user means as a run setting. A rigid
+segment is the word ``rigid``, spelled out, never ``inf``.
+
+Every error is a ValueError naming the option or argument (`flag`) the
+user typed.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable
+
+RIGID = "rigid"
+# Optional sign, digits with an optional fraction (or a bare fraction), optional exponent: ASCII only.
+_DECIMAL = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?", re.ASCII)
+_SCHEME = re.compile(r"([A-Za-z][A-Za-z0-9+.-]*):", re.ASCII)
+
+
+def parse_name(text, choices: Iterable[str], flag: str) -> str:
+    """The choice `text` names, compared case-insensitively after trimming
+    blanks; returns the choice as spelled in `choices`.
+
+    Raises:
+        ValueError: empty, or not one of `choices` (the message lists them).
+    """
+    choices = tuple(choices)
+    key = "" if text is None else str(text).strip().lower()
+    if not key:
+        raise ValueError(f"{flag} is empty; accepted: {', '.join(choices)}")
+    for c in choices:
+        if c.lower() == key:
+            return c
+    raise ValueError(f"unknown {flag} {text!r}; accepted: {', '.join(choices)}")
+
+
+def parse_number(
+    text,
+    flag: str,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    rigid: bool = False,
+    integer: bool = False,
+    unit: str = "",
+) -> float | int | None:
+    """A number typed by the user (a string) or passed by a caller (an int
+    or float): ASCII decimal, finite, in [low, high] where given.
+
+    Args:
+        text: the value; with `rigid`, the word ``rigid`` (any case) gives None.
+        flag: the option or argument named in errors (``--duration``, ``duration_s``).
+        low, high: inclusive bounds (None: unbounded).
+        integer: the value must be a whole number (returned as int).
+        unit: named in errors (``"s"``, ``"GPa"``).
+
+    Returns:
+        float (int with `integer`), or None for ``rigid``.
+
+    Raises:
+        ValueError: empty, not an ASCII decimal (``inf``, ``nan``, ``1_0``,
+            ``0x10``, other scripts' digits), not whole, or out of range.
+    """
+    u = f" {unit}" if unit else ""
+    if isinstance(text, bool):
+        raise ValueError(f"{flag} must be a number{u}, got {text!r}")
+    if isinstance(text, int | float):
+        x = float(text)
+        if not math.isfinite(x):
+            hint = f" (write {RIGID} for a rigid segment)" if rigid and x == math.inf else ""
+            raise ValueError(f"{flag} must be a finite number{u}, got {text!r}{hint}")
+    else:
+        s = "" if text is None else str(text).strip()
+        if not s:
+            raise ValueError(f"{flag} is empty; give a number{u}")
+        if rigid and s.lower() == RIGID:
+            return None
+        if not _DECIMAL.fullmatch(s):
+            hint = f" (write {RIGID} for a rigid segment)" if rigid and "inf" in s.lower() else ""
+            if s.lower().lstrip("+-") in ("inf", "infinity", "nan"):
+                raise ValueError(f"{flag} must be a finite number{u}, got {text!r}{hint}")
+            raise ValueError(f"{flag} must be a decimal number{u} (e.g. 12, 0.5, 2e-4), got {text!r}{hint}")
+        x = float(s)
+        if not math.isfinite(x):  # 1e999
+            raise ValueError(f"{flag} must be a finite number{u}, got {text!r}")
+    if integer and not x.is_integer():
+        raise ValueError(f"{flag} must be a whole number, got {text!r}")
+    if (low is not None and x < low) or (high is not None and x > high):
+        lo = "" if low is None else f"{low:g}"
+        hi = "" if high is None else f"{high:g}"
+        rng = f">= {lo}" if high is None else f"<= {hi}" if low is None else f"in [{lo}, {hi}]"
+        raise ValueError(f"{flag} must be {rng}{u}, got {text!r}")
+    return int(x) if integer else x
+
+
+def url_scheme(url: str) -> str | None:
+    """The scheme of `url` in lower case (RFC 3986: case-insensitive), or
+    None when it has none."""
+    m = _SCHEME.match(str(url).strip())
+    return m.group(1).lower() if m else None
+
+
+def normalize_url(url: str) -> str:
+    """`url` with its scheme in lower case (the rest as given)."""
+    url = str(url).strip()
+    scheme = url_scheme(url)
+    return scheme + url[len(scheme) :] if scheme else url

@@ -1,0 +1,95 @@
+"""Stress, strength and fatigue (mat_hopper.fatigue): rainflow on a
+hand-counted history, Basquin-Miner by hand, the hop table's columns."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mat_hopper.fatigue import STRENGTH, Strength, miner_damage, rainflow_cycles, strength
+from mat_hopper.materials import LegDesign, material
+
+
+def test_rainflow_counts_a_hand_counted_history():
+    # Reversals 0, 40, 10, 30, 0 MPa, counted by hand per ASTM E1049-85 5.4.4:
+    # read 0, 40, 10, 30: X = 20 < Y = 30, go on; read 0: X = 30 >= Y = 20 and
+    # Y (10 -> 30) does not hold the start: one cycle of range 20, mean 20;
+    # left 0, 40, 0: X = 40 >= Y = 40 and Y holds the start: a half cycle of
+    # range 40; at the end the last range 40 -> 0 is a half cycle. So: range 20 x 1,
+    # range 40 x 1/2 + 1/2, all of mean 20 MPa.
+    c = rainflow_cycles(np.array([0.0, 40.0, 10.0, 30.0, 0.0]) * 1e6)
+    by_range = c.groupby("range")["count"].sum()
+    assert by_range.to_dict() == {20e6: 1.0, 40e6: 1.0}
+    assert sorted(c["count"]) == [0.5, 0.5, 1.0]
+    assert set(c["mean"]) == {20e6}
+
+
+def test_miner_damage_by_hand():
+    # sigma_f' = 100 MPa, b = -0.1; Morrow: sigma_ar = sigma_a / (1 - sigma_m / sigma_f').
+    # range 20 (a = 10), mean 20: ar = 12.5, N_f = 0.5 x 8^10 = 536,870,912;
+    # range 40 (a = 20), mean 20: ar = 25, N_f = 0.5 x 4^10 = 524,288;
+    # D = 1 / 536870912 + 1 / 524288 = 1.909211e-6.
+    st = Strength(50.0, 100.0, -0.1, "test")
+    assert st.cycles_to_failure(10e6, 20e6) == pytest.approx(536870912.0)
+    assert st.cycles_to_failure(20e6, 20e6) == pytest.approx(524288.0)
+    d = miner_damage(np.array([0.0, 40.0, 10.0, 30.0, 0.0]) * 1e6, st)
+    assert d == pytest.approx(1.909211e-6, rel=1e-6)
+
+
+def test_strength_catalogue():
+    # Dowling 2013, table 9.1: 2024-T4 Al sigma_f' = 900 MPa, b = -0.102, yield 303 MPa
+    al = strength(material("Al"))
+    assert (al.yield_mpa, al.sigma_f_mpa, al.b) == (303.0, 900.0, -0.102)
+    # two-point curve: AISI 304 through (1 reversal, 505 MPa) and (1e7 cycles, 240 MPa)
+    ss = strength(material("SS"))
+    assert ss.sigma_f_mpa * (2e7) ** ss.b == pytest.approx(240.0)
+    for m in material("SS"), material("CFRP"), material("Tendon"):
+        assert strength(m).yield_mpa > 0 and strength(m).b < 0
+    assert len(STRENGTH) == 12  # every elastic catalogue material
+    # a material from properties takes its class's curve by modulus (70 GPa: metal -> Al's)
+    custom = LegDesign.from_properties([1.39], [70.0]).segments[0]
+    assert strength(custom) is al
+    with pytest.raises(ValueError, match="rigid"):
+        strength(material("MD"))
+
+
+def test_hop_table_has_stress_columns():
+    from mat_hopper.metrics import hop_table
+    from mat_hopper.sim import simulate
+
+    r = simulate("SS", "forward", duration_s=4.0, transient_s=1.0, convention="bending", timestep_s="auto")
+    hops = hop_table(r)
+    for col in ("peak_stress_pa", "peak_stress_segment", "damage", "yield_exceeded", "damping"):
+        assert col in hops.columns
+    assert len(hops) > 0 and (hops["peak_stress_pa"] > 0).all()
+    assert not hops["yield_exceeded"].any()  # tens of MPa against 215 MPa
+    # the section stress the loop records is the springs' force over area and moment c / I
+    k = r.spring_stiffness_n_m
+    assert k == (0.0, 0.0, 0.0)
+    assert r.stress.shape == (len(r.time), 3, 4)
+    assert np.all(r.stress[:, :, 0] == 0.0)  # bending: axially rigid
+    assert math.isfinite(hops["damage"].iloc[0])
+
+
+def test_loop_stress_is_the_springs_force_over_section():
+    # sigma = E epsilon by hand: a hinge's K = E I / l gives M c / I = E r theta / l
+    # (SS, N = 3: 193e9 x 0.025 / 0.1 = 4.825e10 Pa/rad); an axial slide's E A / l gives
+    # F / A = E q / l (1.93e12 Pa/m)
+    from mat_hopper.model import build_model, stress_gains
+    from mat_hopper.sim import RolloutRunner, SimSettings
+
+    adr, gain = stress_gains(build_model(LegDesign.mono("SS", 3), convention="axial+bending"))
+    assert gain[0].tolist() == pytest.approx([1.93e12, 4.825e10, 4.825e10])
+    assert (adr >= 0).all()
+    # the loop, every physics step recorded: stress of s_i against qpos of s_i (recorded after step i - 1)
+    s = SimSettings(duration_s=0.6, transient_s=0.0, convention="bending", record_rate_hz=1e4)
+    runner = RolloutRunner(LegDesign.mono("PVC", 3), "forward", s, record_qpos=True)
+    r = runner.advance().result()
+    adr, gain = stress_gains(runner.hopper)
+    for seg in range(3):
+        for col in (1, 2):
+            want = gain[seg, col] * r.qpos[:-1, adr[seg, col]]
+            np.testing.assert_allclose(r.stress[1:, seg, col], want, rtol=1e-12, atol=0)
+        section = np.abs(r.stress[:, seg, 0]) + np.hypot(r.stress[:, seg, 1], r.stress[:, seg, 2])
+        np.testing.assert_allclose(r.stress[:, seg, 3], section, rtol=1e-12)  # one step per record: peak = value
+    assert np.abs(r.stress[:, :, 1:3]).max() > 0  # the leg did bend (the first touchdown is at about 0.4 s)
