@@ -9,9 +9,10 @@ the design in that material alone. Three controls, each a
     inertia, exactly), no axial springs: what the moduli add;
 ``mass`` (:func:`mass_matched`)
     a homogeneous leg of the same leg mass: density the mean of the
-    design's (segments have equal volumes), modulus the series-equivalent
-    (harmonic, length-weighted) mean of its elastic segments, so the leg's
-    axial compliance is kept; rigid where the design is rigid throughout.
+    design's (segments have equal volumes), modulus the one whose N springs
+    in series have the design's axial compliance (rigid segments add none:
+    E_eq = N / sum over elastic segments of 1 / E_i, the harmonic mean for
+    a leg elastic throughout); rigid where the design is rigid throughout.
     What the distribution of mass along the leg adds;
 ``inertia`` (:func:`inertia_matched`)
     a leg with the same leg mass *and* the same moment of inertia about
@@ -23,9 +24,12 @@ the design in that material alone. Three controls, each a
     parameters that stays a leg of material segments (no extra point mass
     the model does not have). A one-segment leg is homogeneous already: its
     inertia-matched leg is its mass-matched leg. For a three-segment
-    gradient the linear profile is close to the design itself (rho-inc,
-    1.39 / 4.43 / 8.0 g/cm^3, gives about 1.5 / 4.6 / 7.8): the control then
-    differs in the profile's curvature and in having one modulus.
+    gradient the linear profile is close to the design itself (for rho-inc,
+    1.39 / 4.43 / 8.0 g/cm^3, ``inertia_matched(parse_design("rho-inc"))``
+    gives about 1.28 / 4.61 / 7.93 g/cm^3): the control then differs in the
+    profile's curvature only, where the design has one modulus throughout
+    (rho-inc, rho-dec), and also in the modulus profile where it has
+    several.
 
 :func:`mass_properties` reads the leg's mass, centre of mass and hip
 inertia from the compiled MuJoCo model (``body_mass``, ``xipos``,
@@ -42,7 +46,14 @@ from functools import lru_cache
 import mujoco
 import numpy as np
 
-from .materials import DEFAULT_SEGMENT_MASS, DENSITY_RANGE_G_CM3, LegDesign, Material, check_segment_mass
+from .materials import (
+    DEFAULT_SEGMENT_MASS,
+    DENSITY_RANGE_G_CM3,
+    MODULUS_RANGE_GPA,
+    LegDesign,
+    Material,
+    check_segment_mass,
+)
 
 CONTROLS = ("rigid", "mass", "inertia")
 CONTROL_SUFFIX = "~"  # a control's name: "<design>~<control>", e.g. "rho-inc~mass"
@@ -147,10 +158,30 @@ def rigid_twin(design: LegDesign) -> LegDesign:
 
 
 def _homogeneous(design: LegDesign) -> Material:
-    """Mean density; series-equivalent modulus of the elastic segments
-    (LegDesign.resample's cell average over the whole leg)."""
-    cell = design.resample(1).segments[0] if design.n_segments > 1 else design.segments[0]
-    return Material(f"{design.name} homogeneous", cell.density_g_cm3, cell.modulus_gpa)
+    """Mean density (equal segment volumes); the modulus whose N equal
+    springs in series have the design's axial compliance: the design's
+    compliance is the sum of its elastic segments' L / (E_i A) (a rigid
+    segment adds none), so E_eq = N / sum_elastic(1 / E_i). For a leg
+    elastic throughout that is the harmonic mean; a partly rigid leg gets
+    a stiffer E_eq ((rigid, rigid, 193 GPa): 579 GPa), not the harmonic
+    mean of its elastic part, which would triple its compliance.
+
+    Raises:
+        ValueError: E_eq outside MODULUS_RANGE_GPA.
+    """
+    n = design.n_segments
+    rho = float(np.mean(design.densities_g_cm3))
+    elastic = [e for e in design.moduli_gpa if e is not None]
+    if not elastic:
+        return Material(f"{design.name} homogeneous", rho, None)
+    e_eq = n / sum(1.0 / e for e in elastic)
+    lo, hi = MODULUS_RANGE_GPA
+    if not lo <= e_eq <= hi:
+        raise ValueError(
+            f"design {design.name!r}: a homogeneous leg with its axial compliance needs E = {e_eq:.4g} GPa, "
+            f"outside [{lo:g}, {hi:g}] GPa"
+        )
+    return Material(f"{design.name} homogeneous", rho, e_eq)
 
 
 def mass_matched(design: LegDesign) -> LegDesign:

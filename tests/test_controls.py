@@ -137,3 +137,25 @@ def test_names_and_errors():
         rigid_twin("SS")
     with pytest.raises(ValueError, match="no linear-profile leg"):
         inertia_matched(LegDesign.from_properties([20.0, 0.001, 0.001], [70.0]))
+
+
+def test_mass_matched_keeps_the_compliance_of_a_partly_rigid_leg():
+    # (rigid, rigid, 193 GPa): one spring in series; the homogeneous leg's 3 springs must add to its compliance
+    from mat_hopper.materials import LegDesign, spring_stiffness
+    from mat_hopper.model import build_model
+
+    d = LegDesign.from_properties([2.0, 2.0, 8.0], [None, None, 193.0], name="rrSS")
+    mm = mass_matched(d)
+    comp = [sum(1 / k for k in build_model(x).spring_stiffness_n_m if k > 0) for x in (d, mm)]
+    assert comp[1] == pytest.approx(comp[0], rel=1e-9)  # MuJoCo-side spring stiffnesses, series compliance
+    assert comp[0] == pytest.approx(1 / spring_stiffness(193.0, "paper", 3))
+    with pytest.raises(ValueError, match="outside"):
+        mass_matched(LegDesign.from_properties([2.0, 2.0, 8.0], [None, None, 1500.0], name="stiff"))
+
+
+def test_the_design_itself_is_found_by_its_physics_key():
+    from mat_hopper.analysis.beyond_mass import _is_own_mass_leg
+
+    assert _is_own_mass_leg("SS") and not _is_own_mass_leg("rho-inc")
+    # rho-dec and rho-inc have other centres of mass but neither is its own mass-matched leg
+    assert not _is_own_mass_leg("rho-dec")

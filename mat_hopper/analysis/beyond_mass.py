@@ -9,24 +9,34 @@ distribution; against its mass-matched leg, what it adds beyond its leg
 mass (the distribution of mass and of modulus along the leg).
 
 :func:`beyond_mass_columns` adds to each material or gradient claim of the
-claims table its comparisons' effects against the rigid twin and the
-mass-matched leg, each with its interval, and a verdict ``beyond mass``:
+claims table its comparisons (:func:`comparison_frame`), each with its
+interval and the share of the claim's effect it leaves, and a verdict
+``beyond mass``, per formula of the claim's quantity (power: paper
+formula, hip, total; jerk: the body's zero-phase jerk and the causal one):
 
-- ``yes``: against at least one control, the design differs in the
-  claimed direction (the paper's: lower tracking error, higher power
-  against MD, ...), Holm p < alpha within the claim's control
-  comparisons: something of the claimed effect is not its mass;
-- ``no``: against every control the difference is inside the equivalence
-  margin (``no difference``) or goes the other way: at equal mass (and
-  mass distribution, for the twin) the claimed effect is gone;
-- ``untestable``: not enough evidence either way, or the controls or the
-  design's runs are missing.
+- the comparisons: for a rigid baseline (MD), the design against its rigid
+  twin and against its mass-matched leg (left out where that leg is the
+  design itself, same physics key); for an elastic baseline (SS), the
+  per-seed difference in differences ln[(d/d_rigid)/(b/b_rigid)], the
+  springs' effect in the design beyond the springs' effect in the
+  baseline (the mass-matched leg still differs from SS in modulus:
+  ``untestable with these controls``);
+- a comparison counts only where the claim's own effect (design vs
+  baseline, paired, Holm over the claim's) holds in the claimed direction;
+  it votes yes (Holm p < alpha in the claimed direction), no (inside the
+  equivalence margin, or the other way) or not enough evidence;
+- ``yes``: every counted comparison yes; ``partly``: at least half;
+  ``no``: fewer, with a no among them; ``untestable``: otherwise, or where
+  the family cannot reach Holm p < alpha with an exact sign-flip test at
+  this n (n = 3: p >= 0.25 each), or the claim's own effect is not there;
+  ``not run``: the controls or the design's runs are missing.
 
 :func:`attribution` regresses the log of each metric on the log leg mass,
-the log hip inertia and the springs (rigid, ``paper``, ``axial``) over
-the factorial of :func:`mat_hopper.experiments.controls.attribution_tasks`
-(statsmodels OLS): R^2 of mass and inertia alone, R^2 with springs added,
-and each partial effect with its interval.
+the log hip inertia, the axial time step and the springs over the
+factorial of :func:`mat_hopper.experiments.controls.attribution_tasks`
+(statsmodels OLS, seed fixed effects, errors clustered by mass
+distribution): R^2 of mass and inertia alone, R^2 with springs added, each
+partial effect with its interval, and the VIF of log mass and log inertia.
 """
 
 from __future__ import annotations
@@ -34,27 +44,34 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..controls import CONTROLS, MASS_PROPERTY_COLUMNS
+from ..controls import CONTROLS, MASS_PROPERTY_COLUMNS, mass_matched
+from ..keys import design_key
+from ..materials import parse_design
 from ..metrics import holm
-from .paired import DIFFERENCE, NO_DIFFERENCE, conclusion, paired_effect
+from .paired import DIFFERENCE, NO_DIFFERENCE, conclusion, paired_effect, reachable, share_left
 
-YES, NO, UNTESTABLE = "yes", "no", "untestable"
+YES, PARTLY, NO, UNTESTABLE = "yes", "partly", "no", "untestable"
+NOT_RUN = "not run"
+ISOLATE_NOT = "untestable with these controls"
 CONTROL_COLUMNS = ("vs_rigid_twin", "vs_mass_matched", "beyond_mass")
-# Claims about materials or gradients: (designs, baseline, behaviours (None: all four), metric,
-# the claimed direction of the design's effect: -1 lower, +1 higher); the others get "".
+# Claims about materials or gradients: (designs, baseline, behaviours (None: all four), metrics
+# ((label, column), ...: one beyond-mass verdict each), the claimed direction: -1 lower, +1 higher).
 _DYN = ("forward", "ramp", "circle")
+_TRACK = (("", "tracking_error_m"),)
+_POWER = (("paper formula", "power_paper_w"), ("hip", "power_w"), ("total", "power_total_w"))
+_JERK = (("body, zero-phase", "jerk_body_m_s3"), ("causal 50 Hz", "jerk_m_s3"))
 MATERIAL_CLAIMS = {
-    "tracking_all_beat_md": (("PVC", "Al", "Ti", "SS"), "MD", None, "tracking_error_m", -1),
-    "tracking_ss_55": (("SS",), "MD", None, "tracking_error_m", -1),
-    "power_higher_dynamic": (("PVC", "Al", "Ti", "SS"), "MD", _DYN, "power_w", +1),
-    "power_ss_max": (("SS",), "MD", _DYN, "power_w", +1),
-    "ramp_rho_inc_tracking": (("rho-inc",), "MD", ("ramp",), "tracking_error_m", -1),
-    "ramp_rho_inc_power": (("rho-inc",), "MD", ("ramp",), "power_w", +1),
-    "ramp_ss_tracking": (("SS",), "MD", ("ramp",), "tracking_error_m", -1),
-    "ramp_ss_power": (("SS",), "MD", ("ramp",), "power_w", +1),
-    "headline_tracking": (("rho-inc",), "SS", ("ramp",), "tracking_error_m", -1),
-    "headline_power": (("rho-inc",), "SS", ("ramp",), "power_w", -1),
-    "jerk_gradient": (("rho-inc",), "SS", None, "jerk_m_s3", -1),
+    "tracking_all_beat_md": (("PVC", "Al", "Ti", "SS"), "MD", None, _TRACK, -1),
+    "tracking_ss_55": (("SS",), "MD", None, _TRACK, -1),
+    "power_higher_dynamic": (("PVC", "Al", "Ti", "SS"), "MD", _DYN, _POWER, +1),
+    "power_ss_max": (("SS",), "MD", _DYN, _POWER, +1),
+    "ramp_rho_inc_tracking": (("rho-inc",), "MD", ("ramp",), _TRACK, -1),
+    "ramp_rho_inc_power": (("rho-inc",), "MD", ("ramp",), _POWER, +1),
+    "ramp_ss_tracking": (("SS",), "MD", ("ramp",), _TRACK, -1),
+    "ramp_ss_power": (("SS",), "MD", ("ramp",), _POWER, +1),
+    "headline_tracking": (("rho-inc",), "SS", ("ramp",), _TRACK, -1),
+    "headline_power": (("rho-inc",), "SS", ("ramp",), _POWER, -1),
+    "jerk_gradient": (("rho-inc",), "SS", None, _JERK, -1),
 }
 SWEEP_CLAIMS = ("density_over_modulus", "low_modulus_tracks_worse")
 
@@ -129,22 +146,184 @@ def _main_effects(hops, designs, baseline, behaviours, metric):
     return out
 
 
+def _is_rigid(name: str) -> bool:
+    return all(e is None for e in parse_design(name).moduli_gpa)
+
+
+def _is_own_mass_leg(name: str) -> bool:
+    """Whether the design's mass-matched leg is the design itself (same physics key)."""
+    d = parse_design(name)
+    try:
+        return design_key(mass_matched(d)) == design_key(d)
+    except ValueError:
+        return False
+
+
+def _series(means, of, kind, beh, metric):
+    g = means[(means["control_of"] == of) & (means["control"] == kind) & (means["behaviour"] == beh)]
+    return g.set_index("replicate")[metric]
+
+
+def comparison_frame(hops: pd.DataFrame, claim_id: str, metric: str | None = None, confidence=0.95) -> pd.DataFrame:
+    """The per-seed comparisons behind one claim's beyond-mass verdict.
+
+    Per design and behaviour: the claim's own effect ln(d/base); for a
+    rigid baseline (MD), the design against its rigid twin ln(d/d_rigid)
+    and against its mass-matched leg ln(d/d_mass) (left out where that leg
+    is the design itself, same physics key); for an elastic baseline (SS),
+    the difference in differences ln[(d/d_rigid)/(b/b_rigid)]: what the
+    design's springs do beyond what the baseline's springs do, the mass
+    distributions held by the rigid twins (the mass-matched leg still
+    differs from SS in modulus, so it isolates nothing there). Each with
+    its paired effect (t interval, paired t p, exact sign-flip p and its
+    smallest reachable p) and the share of the claim's effect it leaves.
+
+    Args:
+        hops: control runs' per-hop rows (design, behaviour, replicate, control_of, control, metric).
+        claim_id: a key of :data:`MATERIAL_CLAIMS`.
+        metric: the metric column (default the claim's first).
+        confidence: of the intervals.
+
+    Returns:
+        DataFrame: design, behaviour, comparison (``rigid twin``,
+        ``mass-matched``, ``springs vs both rigid twins``), the paired
+        effect columns, share, share_low, share_high, and the claim's own
+        effect (claim_pct, claim_p).
+
+    Raises:
+        ValueError: unknown claim.
+    """
+    if claim_id not in MATERIAL_CLAIMS:
+        raise ValueError(f"claim_id must be one of {sorted(MATERIAL_CLAIMS)}, got {claim_id!r}")
+    designs, baseline, behaviours, metrics, _ = MATERIAL_CLAIMS[claim_id]
+    metric = metrics[0][1] if metric is None else metric
+    if metric not in hops.columns:
+        return pd.DataFrame()
+    means = _run_means(hops, [metric])
+    elastic = not _is_rigid(baseline)
+    rows = []
+    for beh in means["behaviour"].unique():
+        if behaviours is not None and beh not in behaviours:
+            continue
+        b = _series(means, baseline, "none", beh, metric)
+        b_rigid = _series(means, baseline, "rigid", beh, metric)
+        for d in designs:
+            own = _series(means, d, "none", beh, metric)
+            x_claim = np.log(own / b)
+            comps = []
+            rigid = np.log(own / _series(means, d, "rigid", beh, metric))
+            if elastic:
+                comps.append(("springs vs both rigid twins", rigid - np.log(b / b_rigid)))
+            else:
+                comps.append(("rigid twin", rigid))
+                if not _is_own_mass_leg(d):
+                    comps.append(("mass-matched", np.log(own / _series(means, d, "mass", beh, metric))))
+            main = paired_effect(np.exp(x_claim.dropna()), np.ones(int(x_claim.notna().sum())))
+            for label, x in comps:
+                x = x.dropna()
+                if len(x) == 0:
+                    continue
+                pair = pd.concat([x, x_claim], axis=1, join="inner").dropna()
+                rows.append(
+                    {
+                        "design": d,
+                        "behaviour": beh,
+                        "metric": metric,
+                        "comparison": label,
+                        **paired_effect(np.exp(x.to_numpy()), np.ones(len(x)), confidence=confidence),
+                        **share_left(pair.iloc[:, 0], pair.iloc[:, 1], confidence),
+                        "claim_pct": main["pct_change"],
+                        "claim_p": main["p"],
+                    }
+                )
+    return pd.DataFrame(rows)
+
+
 def _fmt(rows: pd.DataFrame) -> str:
     if len(rows) == 0:
-        return "not run"
+        return NOT_RUN
+
+    def share(r):
+        lo, hi = r.share_low, r.share_high
+        ci = f" [{lo:.2f}, {hi:.2f}]" if np.isfinite(lo) else " [unbounded]"
+        return f"share left {r.share:.2f}{ci}"
+
     return "; ".join(
-        f"{r.behaviour} {r.design} {r.pct_change:+.1f} % [{r.ci_low:+.1f}, {r.ci_high:+.1f}] ({r.conclusion})"
+        f"{r.behaviour} {r.design} {r.pct_change:+.1f} % [{r.ci_low:+.1f}, {r.ci_high:+.1f}] ({r.conclusion}, "
+        f"p_holm {r.p_holm:.2g}, p_min {r.p_min:.2g}, {share(r)})"
         for r in rows.itertuples()
     )
 
 
-def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects: pd.DataFrame | None, alpha=0.05) -> dict:
-    """The beyond-mass columns of one claim (module doc).
+def _votes(e: pd.DataFrame, sign: int, alpha: float) -> list[str]:
+    votes = []
+    for r in e.itertuples():
+        if not r.own_effect:
+            votes.append("no own effect")
+        elif r.conclusion == DIFFERENCE and np.sign(r.pct_change) == sign:
+            votes.append(YES)
+        elif r.conclusion == NO_DIFFERENCE or (r.conclusion == DIFFERENCE and np.sign(r.pct_change) == -sign):
+            votes.append(NO)
+        else:
+            votes.append(UNTESTABLE)
+    return votes
+
+
+def _verdict(e: pd.DataFrame, sign: int, alpha: float) -> str:
+    """The fraction rule of the main verdicts over the comparisons where the claim's own effect holds."""
+    family = len(e)
+    n = int(e["n_pairs"].min())
+    if not reachable(n, family, alpha):
+        floor = min(1.0, family * float(e["p_min"].max()))
+        return f"{UNTESTABLE} (n = {n} seeds can reach Holm p >= {floor:.2g} with an exact sign-flip test, family {family})"
+    votes = _votes(e, sign, alpha)
+    live = [v for v in votes if v != "no own effect"]
+    if not live:
+        return f"{UNTESTABLE} (the claim's own effect is not significant in any of its {family} comparisons)"
+    k = live.count(YES)
+    if k == len(live):
+        verdict = YES
+    elif k >= len(live) / 2:
+        verdict = PARTLY
+    elif NO in live:
+        verdict = NO
+    else:
+        verdict = UNTESTABLE
+    return (
+        f"{verdict} ({k}/{len(live)} comparisons beyond mass; {len(votes) - len(live)} without the claim's own effect)"
+    )
+
+
+def _one_metric(claim_id, hops, metric, alpha) -> dict:
+    designs, baseline, _, _, sign = MATERIAL_CLAIMS[claim_id]
+    e = comparison_frame(hops, claim_id, metric)
+    if len(e) == 0:
+        return dict(zip(CONTROL_COLUMNS, (NOT_RUN, NOT_RUN, NOT_RUN)))
+    e["p_holm"] = holm(e["p"].to_numpy(float))  # the claim's control comparisons: one family
+    e["conclusion"] = [conclusion(p, lo, hi, alpha=alpha) for p, lo, hi in zip(e.p_holm, e.ci_low, e.ci_high)]
+    claim_holm = holm(e.drop_duplicates(["design", "behaviour"])["claim_p"].to_numpy(float))
+    own = dict(zip(zip(*e.drop_duplicates(["design", "behaviour"])[["design", "behaviour"]].T.values), claim_holm))
+    e["own_effect"] = [own[(r.design, r.behaviour)] < alpha and np.sign(r.claim_pct) == sign for r in e.itertuples()]
+    verdict = _verdict(e, sign, alpha)
+    if _is_rigid(baseline):
+        mass_rows = e[e["comparison"] == "mass-matched"]
+        vs_mass = _fmt(mass_rows) if len(mass_rows) else "homogeneous: the design is its own mass-matched leg"
+        vs_rigid = _fmt(e[e["comparison"] == "rigid twin"])
+    else:
+        vs_mass = f"{ISOLATE_NOT}: the mass-matched leg and {baseline} still differ in modulus"
+        vs_rigid = "springs beyond the baseline's springs: " + _fmt(e)
+    return {"vs_rigid_twin": vs_rigid, "vs_mass_matched": vs_mass, "beyond_mass": verdict}
+
+
+def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects=None, alpha=0.05) -> dict:
+    """The beyond-mass columns of one claim (module doc), one verdict per
+    formula of the claim's quantity (power: paper formula, hip, total;
+    jerk: body zero-phase, causal), joined as ``label: text | ...``.
 
     Args:
         claim_id: a claim of :data:`mat_hopper.analysis.claims.CLAIMS`.
-        hops: the control runs' per-hop rows (or None: not run).
-        effects: :func:`control_effects` of them (computed when None).
+        hops: the control runs' per-hop rows, unusable runs dropped (or None: not run).
+        effects: unused (kept for callers of the earlier signature).
         alpha: significance level.
 
     Returns:
@@ -156,49 +335,15 @@ def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects: pd.DataFra
     if claim_id not in MATERIAL_CLAIMS:
         return dict.fromkeys(CONTROL_COLUMNS, "")
     if hops is None or len(hops) == 0:
-        return dict(zip(CONTROL_COLUMNS, ("not run", "not run", UNTESTABLE)))
-    designs, baseline, behaviours, metric, sign = MATERIAL_CLAIMS[claim_id]
-    effects = control_effects(hops, metrics=(metric,)) if effects is None else effects
-    e = effects[(effects["metric"] == metric) & effects["design"].isin(designs)]
-    if behaviours is not None:
-        e = e[e["behaviour"].isin(behaviours)]
-    inertia = e[e["control"] == "inertia"]
-    e = e[e["control"].isin(("rigid", "mass"))].copy()
-    if len(e) == 0:
-        return dict(zip(CONTROL_COLUMNS, ("not run", "not run", UNTESTABLE)))
-    # A mass-matched leg that is the design itself (a homogeneous design) tests nothing.
-    same = e["control"].eq("mass") & np.isclose(e["leg_com_m"], e["control_leg_com_m"]) if "leg_com_m" in e else False
-    e = e[~same] if isinstance(same, pd.Series) else e
-    e["p_holm"] = holm(e["p"].to_numpy(float))  # the claim's control comparisons: one family
-    e["conclusion"] = [conclusion(p, lo, hi, alpha=alpha) for p, lo, hi in zip(e.p_holm, e.ci_low, e.ci_high)]
-    votes = []
-    for r in e.itertuples():
-        if r.conclusion == DIFFERENCE and np.sign(r.pct_change) == sign:
-            votes.append(YES)
-        elif r.conclusion == NO_DIFFERENCE or (r.conclusion == DIFFERENCE and np.sign(r.pct_change) == -sign):
-            votes.append(NO)
-        else:
-            votes.append(UNTESTABLE)
-    verdict = YES if YES in votes else NO if votes and all(v == NO for v in votes) else UNTESTABLE
-    mass_rows = e[e["control"] == "mass"]
-    text = f"{verdict} ({votes.count(YES)}/{len(votes)} control comparisons beyond mass)"
-    by_mass = [v == YES and c == "mass" for v, c in zip(votes, e["control"])]
-    if verdict == YES and all(c == "mass" for v, c in zip(votes, e["control"]) if v == YES) and any(by_mass):
-        # beyond the leg's mass, through the mass-matched leg only: does the mass distribution explain it?
-        d_rows = mass_rows[[b for b, c in zip(by_mass, e["control"]) if c == "mass"]]
-        ii = inertia.merge(d_rows[["design", "behaviour"]], on=["design", "behaviour"])
-        if len(ii):
-            ok = [conclusion(p, lo, hi, alpha=alpha) == NO_DIFFERENCE for p, lo, hi in zip(ii.p, ii.ci_low, ii.ci_high)]
-            if all(ok):
-                text += "; an inertia-matched leg reproduces it: the distribution of mass, not the material"
-    return {
-        "vs_rigid_twin": _fmt(e[e["control"] == "rigid"]),
-        "vs_mass_matched": _fmt(mass_rows) if len(mass_rows) else "homogeneous: the design is its own mass-matched leg",
-        "beyond_mass": text,
-    }
+        return dict(zip(CONTROL_COLUMNS, (NOT_RUN, NOT_RUN, NOT_RUN)))
+    metrics = MATERIAL_CLAIMS[claim_id][3]
+    parts = [(label, _one_metric(claim_id, hops, m, alpha)) for label, m in metrics]
+    if len(parts) == 1:
+        return parts[0][1]
+    return {c: " | ".join(f"{label}: {p[c]}" for label, p in parts) for c in CONTROL_COLUMNS}
 
 
-def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None, alpha: float = 0.05):
+def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None, alpha: float = 0.05, bad=None):
     """The claims table with :data:`CONTROL_COLUMNS` added (module doc).
 
     Args:
@@ -206,10 +351,16 @@ def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None,
         control_hops: per-hop rows of the control runs (one profile and
             convention; rows of other conventions get "not run").
         alpha: significance level.
+        bad: unusable control runs (:func:`mat_hopper.analysis.stats.unusable_runs`
+            of the control runs' summaries), dropped as the main claims drop theirs.
 
     Returns:
         DataFrame, a copy with the three columns.
     """
+    from .stats import drop_unusable
+
+    if control_hops is not None and bad is not None:
+        control_hops = drop_unusable(control_hops, bad)
     out = claims.copy()
     cache: dict = {}
     cols = {c: [] for c in CONTROL_COLUMNS}
@@ -227,25 +378,44 @@ def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None,
     return out
 
 
+def _attribution_frame(means, m):
+    d = means[means[m] > 0].copy()
+    d["y"] = np.log(d[m])
+    d["log_mass"], d["log_inertia"] = np.log(d["leg_mass_kg"]), np.log(d["hip_inertia_kg_m2"])
+    # indicators: the axial runs' time step (rigid and axial legs at it), and each kind of springs
+    # against a rigid leg at the same step; one indicator pools every modulus (4-193 GPa)
+    d["axial_step"] = d["springs"].isin(["axial", "rigid, axial step"]).astype(float)
+    d["springs_paper"] = (d["springs"] == "paper").astype(float)
+    d["springs_axial"] = (d["springs"] == "axial").astype(float)
+    return d
+
+
 def attribution(hops: pd.DataFrame, metrics=("tracking_error_m", "power_w", "power_total_w", "jerk_m_s3")):
     """How much of each metric's variation across designs leg mass and hip
     inertia explain, and what the springs add (statsmodels OLS on logs).
 
     Per behaviour and metric, over the run means of the factorial
-    (:func:`mat_hopper.experiments.controls.attribution_tasks`): model A,
-    log y ~ log leg_mass + log hip_inertia; model B, A + springs (rigid as
-    the reference level; ``paper``, ``axial``). HC3 standard errors.
+    (:func:`mat_hopper.experiments.controls.attribution_tasks`), with seed
+    fixed effects (the replicates are shared): model A, log y ~ log
+    leg_mass + log hip_inertia; model B, A + the axial runs' time step
+    (``axial_step``, rigid legs at it included) + ``springs_paper`` +
+    ``springs_axial`` (each against a rigid leg at its own step; one
+    indicator pools every modulus of the designs, 4-193 GPa: no springs x
+    design interaction is fitted). Errors clustered by mass distribution
+    (``mass_of``; few clusters: intervals are rough). Log mass and log
+    inertia are nearly collinear across these designs: ``vif`` (1 / (1 -
+    r^2) of the two) says how far their separate elasticities can be read.
 
     Args:
-        hops: the factorial's per-hop rows (springs, leg_mass_kg,
+        hops: the factorial's per-hop rows (springs, mass_of, leg_mass_kg,
             hip_inertia_kg_m2, replicate, design, behaviour, metric columns).
         metrics: metric columns (positive values; non-positive runs dropped).
 
     Returns:
         tidy DataFrame: behaviour, metric, term, estimate, ci_low, ci_high,
-        p, r2_mass_inertia, r2_with_springs, n_runs. Estimates on log y:
-        for log regressors an elasticity, for a springs level the log
-        ratio against the rigid leg at equal mass and inertia.
+        p, r2_mass_inertia, r2_with_springs, n_runs, n_clusters,
+        corr_mass_inertia, vif. Estimates on log y: for log regressors an
+        elasticity, for an indicator the log ratio at equal mass and inertia.
 
     Raises:
         ValueError: columns missing.
@@ -255,34 +425,41 @@ def attribution(hops: pd.DataFrame, metrics=("tracking_error_m", "power_w", "pow
     need = {"springs", "leg_mass_kg", "hip_inertia_kg_m2", "replicate", "design", "behaviour"}
     if not need <= set(hops.columns):
         raise ValueError(f"hops needs columns {sorted(need)}")
-    keys = ["design", "springs", "behaviour", "replicate"]
+    hops = hops if "mass_of" in hops.columns else hops.assign(mass_of=hops["design"])
+    keys = ["design", "mass_of", "springs", "behaviour", "replicate"]
     means = hops.groupby(keys, sort=False)[[*metrics, "leg_mass_kg", "hip_inertia_kg_m2"]].mean().reset_index()
     rows = []
-    for (beh, m), _ in [((b, m), None) for b in means["behaviour"].unique() for m in metrics]:
-        d = means[(means["behaviour"] == beh) & (means[m] > 0)].copy()
-        if len(d) < 6:
-            continue
-        d["y"] = np.log(d[m])
-        d["log_mass"], d["log_inertia"] = np.log(d["leg_mass_kg"]), np.log(d["hip_inertia_kg_m2"])
-        d["springs"] = pd.Categorical(d["springs"], categories=["rigid", "paper", "axial"])
-        a = smf.ols("y ~ log_mass + log_inertia", d).fit(cov_type="HC3")
-        b = smf.ols("y ~ log_mass + log_inertia + C(springs)", d).fit(cov_type="HC3")
-        ci = b.conf_int()
-        for term in b.params.index:
-            rows.append(
-                {
-                    "behaviour": beh,
-                    "metric": m,
-                    "term": term.replace("C(springs)[T.", "springs=").rstrip("]"),
-                    "estimate": float(b.params[term]),
-                    "ci_low": float(ci.loc[term, 0]),
-                    "ci_high": float(ci.loc[term, 1]),
-                    "p": float(b.pvalues[term]),
-                    "r2_mass_inertia": float(a.rsquared),
-                    "r2_with_springs": float(b.rsquared),
-                    "n_runs": int(b.nobs),
-                }
-            )
+    for beh in means["behaviour"].unique():
+        for m in metrics:
+            d = _attribution_frame(means[means["behaviour"] == beh], m)
+            if len(d) < 6:
+                continue
+            groups = pd.factorize(d["mass_of"])[0]
+            fe = " + C(replicate)" if d["replicate"].nunique() > 1 else ""
+            terms = [t for t in ("axial_step", "springs_paper", "springs_axial") if d[t].nunique() > 1]
+            cov = {"cov_type": "cluster", "cov_kwds": {"groups": groups}}
+            a = smf.ols(f"y ~ log_mass + log_inertia{fe}", d).fit(**cov)
+            b = smf.ols(f"y ~ log_mass + log_inertia{fe} + " + " + ".join(terms or ["0"]), d).fit(**cov)
+            r = float(np.corrcoef(d["log_mass"], d["log_inertia"])[0, 1])
+            ci = b.conf_int()
+            for term in ["Intercept", "log_mass", "log_inertia", *terms]:
+                rows.append(
+                    {
+                        "behaviour": beh,
+                        "metric": m,
+                        "term": term,
+                        "estimate": float(b.params[term]),
+                        "ci_low": float(ci.loc[term, 0]),
+                        "ci_high": float(ci.loc[term, 1]),
+                        "p": float(b.pvalues[term]),
+                        "r2_mass_inertia": float(a.rsquared),
+                        "r2_with_springs": float(b.rsquared),
+                        "n_runs": int(b.nobs),
+                        "n_clusters": int(groups.max() + 1),
+                        "corr_mass_inertia": r,
+                        "vif": float(1.0 / (1.0 - r**2)) if abs(r) < 1 else np.inf,
+                    }
+                )
     return pd.DataFrame(rows)
 
 
@@ -307,6 +484,14 @@ def headline_sentence(hops: pd.DataFrame, metric: str = "tracking_error_m", beha
     eff = eff[eff["design"] == "rho-inc"].set_index("control")
     legs = hops.groupby("design")["leg_mass_kg"].first()
     word = metric.replace("_m", "").replace("_w", "").replace("_", " ")
+    f = comparison_frame(hops[hops["behaviour"] == behaviour], "headline_tracking", metric)
+    did = "its springs beyond SS's springs: not run"
+    if len(f):
+        r = f.iloc[0]
+        did = (
+            f"its springs beyond SS's springs (both against their rigid twins) {r['pct_change']:+.1f} % "
+            f"[{r['ci_low']:+.1f}, {r['ci_high']:+.1f}], {r['share']:.2f} of the effect"
+        )
 
     def part(kind, label):
         if kind not in eff.index:
@@ -319,7 +504,7 @@ def headline_sentence(hops: pd.DataFrame, metric: str = "tracking_error_m", beha
         f"{main['pct_change']:+.1f} % [{main['ci_low']:+.1f}, {main['ci_high']:+.1f}] against SS (leg "
         f"{legs['SS']:.2f} kg, {legs['SS'] - legs['rho-inc']:.2f} kg heavier), n = {main['n_pairs']} paired seeds; "
         f"{part('mass', 'a homogeneous leg of its own mass')}, {part('inertia', 'a leg of its mass and hip inertia')}, "
-        f"{part('rigid', 'its rigid twin')} (95 % t intervals)."
+        f"{part('rigid', 'its rigid twin')}; {did} (95 % t intervals)."
     )
 
 
@@ -333,7 +518,12 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
     are), an OLS of log metric on log density and a low-modulus indicator
     (``low``: E <= low_gpa; points between the thresholds left out), and
     per base material's modulus sweep (density fixed, so mass fixed) the
-    slope of log metric on log modulus. HC3 intervals (statsmodels).
+    slope of log metric on log modulus: these within-material slopes are
+    the equal-mass test. The low and high groups share few densities (the
+    book's sweeps: 2.0-2.5 g/cm^3), so the pooled indicator rests on an
+    extrapolation along log density (``density_overlap_g_cm3``). Errors
+    clustered by replicate seed where there are seeds, else HC3
+    (statsmodels).
 
     Args:
         hops: experiment 2's per-hop rows (sweep_base, sweep_property,
@@ -342,8 +532,9 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
         low_gpa, high_gpa: the claim's thresholds (default the paper's 9 and 20 GPa).
 
     Returns:
-        tidy DataFrame: scope (``pooled, density-adjusted`` or the base
-        material), term, estimate, ci_low, ci_high, p, n_points. For the
+        tidy DataFrame: scope (``pooled, density-adjusted`` or ``<base>
+        (equal mass)``), term, estimate, ci_low, ci_high, p, n_points,
+        density_overlap_g_cm3. For the
         indicator, exp(estimate) is the ratio of low- to high-modulus legs
         at equal density.
 
@@ -367,7 +558,7 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
     d["log_modulus"] = np.log(d["modulus_gpa"])
     rows = []
 
-    def add(scope, fit, term, n):
+    def add(scope, fit, term, n, overlap=""):
         ci = fit.conf_int()
         rows.append(
             {
@@ -378,16 +569,28 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
                 "ci_high": float(ci.loc[term, 1]),
                 "p": float(fit.pvalues[term]),
                 "n_points": int(n),
+                "density_overlap_g_cm3": overlap,
             }
         )
+
+    def fit(formula, g):
+        # the sweep points share their replicate seeds: errors clustered by seed where there are seeds
+        if "replicate" in g.columns and g["replicate"].nunique() >= 2:
+            groups = pd.factorize(g["replicate"])[0]
+            return smf.ols(formula, g).fit(cov_type="cluster", cov_kwds={"groups": groups})
+        return smf.ols(formula, g).fit(cov_type="HC3")
 
     split = d[(d["modulus_gpa"] <= low_gpa) | (d["modulus_gpa"] >= high_gpa)].copy()
     split["low"] = (split["modulus_gpa"] <= low_gpa).astype(float)
     if split["low"].nunique() == 2 and len(split) > 3:
-        fit = smf.ols("y ~ log_density + low", split).fit(cov_type="HC3")
-        add("pooled, density-adjusted", fit, "low", len(split))
-        add("pooled, density-adjusted", fit, "log_density", len(split))
+        lo_d, hi_d = (split.loc[split["low"] == v, "density_g_cm3"] for v in (1.0, 0.0))
+        a, b = max(lo_d.min(), hi_d.min()), min(lo_d.max(), hi_d.max())
+        # outside the densities both groups cover, the indicator is an extrapolation along log density
+        overlap = f"{a:.3g}-{b:.3g} (extrapolation outside it)" if a <= b else "none (extrapolation)"
+        f = fit("y ~ log_density + low", split)
+        add("pooled, density-adjusted", f, "low", len(split), overlap)
+        add("pooled, density-adjusted", f, "log_density", len(split), overlap)
     for base, g in d[d["sweep_property"] == "modulus"].groupby("sweep_base", sort=False):
         if g["log_modulus"].nunique() >= 2 and len(g) > 2:
-            add(str(base), smf.ols("y ~ log_modulus", g).fit(cov_type="HC3"), "log_modulus", len(g))
+            add(f"{base} (equal mass)", fit("y ~ log_modulus", g), "log_modulus", len(g))
     return pd.DataFrame(rows)

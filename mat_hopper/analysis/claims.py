@@ -346,6 +346,7 @@ def claims_table(
     fine_hops: pd.DataFrame | None = None,
     fine_label: str = "the finer step",
     controls: pd.DataFrame | None = None,
+    control_runs: pd.DataFrame | None = None,
 ) -> pd.DataFrame:
     """Every claim of the paper beside ours, per stiffness convention.
 
@@ -369,7 +370,8 @@ def claims_table(
     the beyond-mass columns of :func:`mat_hopper.analysis.beyond_mass.beyond_mass_columns`
     (vs_rigid_twin, vs_mass_matched, beyond_mass) from ``controls``, the
     per-hop rows of :func:`mat_hopper.experiments.controls.run_controls`
-    ("not run" without them). The tables must hold one profile and one
+    ("not run" without them), its unusable runs dropped as the main
+    claims' are, from ``control_runs`` (their run summaries). The tables must hold one profile and one
     sensor timing (ValueError otherwise)."""
     if basis not in _stats.BASES + ("auto",):
         raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
@@ -439,7 +441,8 @@ def claims_table(
                 }
             )
     out = pd.DataFrame(rows, columns=[*COLUMNS, "power_verdicts", "jerk_verdicts"])
-    out = _beyond.beyond_mass_columns(out, controls, alpha)
+    bad_controls = _stats.unusable_runs(control_runs, timestep_s) if control_runs is not None else None
+    out = _beyond.beyond_mass_columns(out, controls, alpha, bad_controls)
     if len(profiles) == 1:
         out.insert(list(out.columns).index("detail"), "profile", profiles.pop())
     return out

@@ -21,9 +21,18 @@ baseline's mean (``method`` says which).
   (:func:`scipy.stats.wilcoxon`, exact) as a check, ``p_wilcoxon``, whose
   smallest reachable two-sided p with n pairs is 2 / 2^n
   (:func:`wilcoxon_smallest_p`: n = 3: 0.25, n = 6: 0.031, n = 10: 0.002);
+  the exact sign-flip permutation test of the paired log ratios
+  (:func:`scipy.stats.permutation_test`, ``permutation_type="samples"``,
+  all 2^n sign patterns), ``p_perm``, distribution-free, with the same
+  smallest reachable p 2 / 2^n (``p_min``): a verdict built on Holm over a
+  family of m comparisons can only be reached where m * p_min < alpha
+  (:func:`reachable`); where every pair is the same (no spread, the t test
+  undefined) ``p`` is the permutation test's answer, not 0;
 - conclusion (:func:`conclusion`): ``no difference`` when the whole
   interval lies inside the equivalence margin :data:`EQUIVALENCE_MARGIN`
-  (+-10 %; a two one-sided tests equivalence at the interval's level),
+  (+-10 %; a 95 % interval inside the margin is the two one-sided tests
+  equivalence at 2.5 % per side, stricter than the standard TOST at 5 %,
+  which a 90 % interval would give),
   even where a tiny effect is significant; else ``difference`` when
   Holm-adjusted p < alpha; otherwise ``not enough evidence``. "Does not hold" can then say whether the evidence is against
   a claim or merely missing.
@@ -59,6 +68,29 @@ def wilcoxon_smallest_p(n_pairs: int) -> float:
     return math.nan if n_pairs < 1 else min(1.0, 2.0 / 2.0**n_pairs)
 
 
+def reachable(n_pairs: int, family_size: int = 1, alpha: float = 0.05) -> bool:
+    """Whether a family of `family_size` comparisons of n paired seeds can
+    reach Holm p < alpha with the exact sign-flip test (its smallest
+    two-sided p is 2 / 2^n, Holm's first step multiplies it by the family
+    size).
+
+    >>> reachable(3, 1), reachable(6, 1), reachable(6, 16), reachable(10, 16)
+    (False, True, False, True)
+    """
+    p = wilcoxon_smallest_p(n_pairs)
+    return bool(np.isfinite(p) and family_size * p < alpha)
+
+
+def sign_flip_p(x) -> float:
+    """Exact two-sided sign-flip permutation p of the mean of paired
+    differences `x` (scipy.stats.permutation_test, every sign pattern)."""
+    x = np.asarray(x, dtype=float)
+    if len(x) < 1:
+        return math.nan
+    res = stats.permutation_test((x,), np.mean, permutation_type="samples", n_resamples=np.inf)
+    return float(min(1.0, res.pvalue))
+
+
 def paired_effect(
     values, baseline_values, *, confidence: float = CONFIDENCE, interval: str = "t", seed: int = 0
 ) -> dict:
@@ -72,7 +104,9 @@ def paired_effect(
 
     Returns:
         dict: n_pairs, method (``log-ratio`` or ``difference``), pct_change,
-        ci_low, ci_high (%), p (paired t), p_wilcoxon, p_min_wilcoxon.
+        ci_low, ci_high (%), p (paired t; the sign-flip p where the pairs
+        do not spread), p_wilcoxon, p_min_wilcoxon, p_perm (exact
+        sign-flip), p_min (its smallest reachable p, 2 / 2^n).
         NaNs where fewer than 2 finite pairs.
 
     Raises:
@@ -88,8 +122,8 @@ def paired_effect(
     ok = np.isfinite(a) & np.isfinite(b)
     a, b = a[ok], b[ok]
     n = len(a)
-    out = {"n_pairs": n, "p_min_wilcoxon": wilcoxon_smallest_p(n)}
-    nan = dict.fromkeys(("pct_change", "ci_low", "ci_high", "p", "p_wilcoxon"), math.nan)
+    out = {"n_pairs": n, "p_min_wilcoxon": wilcoxon_smallest_p(n), "p_min": wilcoxon_smallest_p(n)}
+    nan = dict.fromkeys(("pct_change", "ci_low", "ci_high", "p", "p_wilcoxon", "p_perm"), math.nan)
     if n < 2:
         return {**out, "method": "", **nan}
     log = bool((a > 0).all() and (b > 0).all())
@@ -102,8 +136,9 @@ def paired_effect(
         return 100.0 * np.expm1(v) if log else 100.0 * np.asarray(v) / scale
 
     m, sd = float(x.mean()), float(x.std(ddof=1))
-    if sd == 0:  # every pair the same: an exact effect, no spread to test against
-        p = 1.0 if m == 0 else 0.0
+    p_perm = sign_flip_p(x)
+    if sd == 0:  # every pair the same: the t test is undefined; the sign-flip test answers (n = 2: 0.5)
+        p = p_perm
         lo = hi = m
     else:
         p = float(stats.ttest_1samp(x, 0.0).pvalue)
@@ -130,7 +165,39 @@ def paired_effect(
         "ci_high": float(to_pct(hi)),
         "p": p,
         "p_wilcoxon": p_w,
+        "p_perm": p_perm,
     }
+
+
+def share_left(x_control, x_claim, confidence: float = 0.95) -> dict:
+    """The share of a claim's effect left against a control, mean ln(d/ctrl)
+    / mean ln(d/base) over paired seeds, with Fieller's interval for a
+    ratio of paired means (unbounded, nan, where the claim's own effect is
+    not clearly away from 0 at this confidence).
+
+    Args:
+        x_control, x_claim: (n,) per-seed log ratios, paired.
+        confidence: of the interval.
+
+    Returns:
+        dict: share, share_low, share_high.
+    """
+    x, y = np.asarray(x_control, float), np.asarray(x_claim, float)
+    n = len(x)
+    nan = {"share": np.nan, "share_low": np.nan, "share_high": np.nan}
+    if n < 2 or y.mean() == 0:
+        return nan
+    t2 = stats.t.ppf(0.5 + confidence / 2, n - 1) ** 2
+    mx, my = x.mean(), y.mean()
+    c = np.cov(x, y, ddof=1) / n  # variances and covariance of the two means
+    a = my**2 - t2 * c[1, 1]
+    bq = mx * my - t2 * c[0, 1]
+    cq = mx**2 - t2 * c[0, 0]
+    disc = bq**2 - a * cq
+    out = {"share": float(mx / my), "share_low": np.nan, "share_high": np.nan}
+    if a > 0 and disc >= 0:  # a bounded interval
+        out["share_low"], out["share_high"] = float((bq - disc**0.5) / a), float((bq + disc**0.5) / a)
+    return out
 
 
 def conclusion(p_holm: float, ci_low_pct: float, ci_high_pct: float, *, alpha: float = 0.05, margin=None) -> str:

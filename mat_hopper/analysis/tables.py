@@ -302,6 +302,7 @@ def claims_for(
         fine_hops=fine,
         fine_label=FINE_LABEL,
         controls=tables.get("controls_hops"),  # the beyond-mass columns, where the controls ran
+        control_runs=tables.get("controls_runs"),  # their unusable runs dropped
     )
     if chapter is not None:
         ids = CHAPTER_CLAIMS[chapter]

@@ -97,10 +97,20 @@ def run_controls(profile=None, *, cache_dir=None, workers=None, progress: bool =
 
 
 SPRINGS = ("rigid", "paper", "axial")
+RIGID_AT_AXIAL_STEP = "rigid, axial step"  # the rigid leg at the axial run's physics substeps
 
 
 def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=BEHAVIOURS, replicates=None):
     """The factorial mass distribution x springs on shared seeds.
+
+    Per design: its rigid twin at the profile's step (``rigid``), the
+    design with the authors' springs (``paper``), with physical axial
+    springs (``axial``, at the axial convention's automatic substeps), and
+    the rigid twin again at exactly the axial run's settings
+    (``rigid, axial step``): so the axial springs are compared with a rigid
+    leg at the same time step, not confounded with it. A design rigid
+    throughout (MD) gives only its ``rigid`` cell: its "springs" levels
+    would be rigid legs labelled as springs.
 
     Args:
         profile: a Profile or its name.
@@ -110,7 +120,8 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
 
     Returns:
         list of RunSpec; labels as :func:`control_tasks` plus ``springs``
-        (rigid, paper, axial) and ``mass_of`` (the design whose densities).
+        (rigid, paper, axial, rigid, axial step) and ``mass_of`` (the design
+        whose densities).
     """
     profile = get_profile(profile)
     n = _replicates(profile, replicates)
@@ -118,9 +129,14 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
     out = []
     for name in designs:
         d = parse_design(name)
-        for springs in SPRINGS:
-            design = control(d, "rigid", profile.segment_mass) if springs == "rigid" else d
-            prof = profile.for_convention("paper" if springs == "rigid" else springs)
+        twin = control(d, "rigid", profile.segment_mass)
+        rigid_only = all(e is None for e in d.moduli_gpa)
+        cells = [("rigid", twin, profile.for_convention("paper"), twin)]
+        if not rigid_only:
+            axial = profile.for_convention("axial")
+            cells += [("paper", d, profile.for_convention("paper"), d), ("axial", d, axial, d)]
+            cells.append((RIGID_AT_AXIAL_STEP, twin, axial, d))  # settings (substeps) of the elastic design
+        for springs, design, prof, step_of in cells:
             for bname in behaviours:
                 beh = get_behaviour(bname)
                 for rep in range(n):
@@ -136,7 +152,7 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
                         "springs": springs,
                     }
                     pert = Perturbation.replicate(rep, window)
-                    out.append(RunSpec(design, beh, prof.sim_settings(pert, design=design), labels))
+                    out.append(RunSpec(design, beh, prof.sim_settings(pert, design=step_of), labels))
     return out
 
 

@@ -207,6 +207,7 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
         fine_hops=fine,
         fine_label=FINE_LABEL if fine is not None else "",
         controls=rep.tables.get("controls_hops"),
+        control_runs=rep.tables.get("controls_runs"),
     )
     files += [str(p) for p in claims.write_claims(table, rep.out_dir)]
     rep.tables["claims"] = table

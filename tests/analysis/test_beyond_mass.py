@@ -8,19 +8,23 @@ from mat_hopper.analysis import beyond_mass as bm
 from mat_hopper.analysis.claims import claims_table
 
 
-def _hops(rho_vs_mass=0.75, ss_vs_twin=1.0, n=6):
-    """Run means of SS, rho-inc, their controls and MD on shared seeds (tracking error, ramp)."""
+def _hops(rho_springs=1.0, rho_vs_mass=1.0, ss_vs_twin=1.0, n=6, rho_vs_ss=0.8):
+    """Run means of SS, rho-inc, their controls and MD on shared seeds (tracking error, ramp).
+
+    rho_springs: rho-inc against its rigid twin; ss_vs_twin: SS against its
+    rigid twin; rho_vs_mass: rho-inc against its mass-matched leg."""
     rng = np.random.default_rng(0)
     seed = np.exp(rng.normal(0, 0.2, n))
+    ss, rho = 0.5, 0.5 * rho_vs_ss
     legs = {  # design: (control_of, control, factor on tracking error, leg mass, com)
         "MD": ("MD", "none", 1.0, 1.9, 0.27),
-        "SS": ("SS", "none", 0.5, 8.77, 0.215),
-        "SS~rigid": ("SS", "rigid", 0.5 / ss_vs_twin, 8.77, 0.215),
-        "SS~mass": ("SS", "mass", 0.5, 8.77, 0.215),
-        "rho-inc": ("rho-inc", "none", 0.4, 5.44, 0.264),
-        "rho-inc~rigid": ("rho-inc", "rigid", 0.4, 5.44, 0.264),
-        "rho-inc~mass": ("rho-inc", "mass", 0.4 / rho_vs_mass, 5.44, 0.225),
-        "rho-inc~inertia": ("rho-inc", "inertia", 0.4, 5.44, 0.264),
+        "SS": ("SS", "none", ss, 8.77, 0.215),
+        "SS~rigid": ("SS", "rigid", ss / ss_vs_twin, 8.77, 0.215),
+        "SS~mass": ("SS", "mass", ss, 8.77, 0.215),
+        "rho-inc": ("rho-inc", "none", rho, 5.44, 0.264),
+        "rho-inc~rigid": ("rho-inc", "rigid", rho / rho_springs, 5.44, 0.264),
+        "rho-inc~mass": ("rho-inc", "mass", rho / rho_vs_mass, 5.44, 0.225),
+        "rho-inc~inertia": ("rho-inc", "inertia", rho, 5.44, 0.264),
     }
     rows = []
     for name, (of, kind, f, m, com) in legs.items():
@@ -43,43 +47,92 @@ def _hops(rho_vs_mass=0.75, ss_vs_twin=1.0, n=6):
     return pd.DataFrame(rows)
 
 
-def test_an_effect_beyond_mass_and_one_that_is_mass_only():
-    out = bm.claim_controls("headline_tracking", _hops(rho_vs_mass=0.75), None)
-    assert out["beyond_mass"].startswith("yes")
-    assert "inertia-matched leg reproduces it" in out["beyond_mass"]  # the mass distribution explains it
-    assert out["vs_mass_matched"].startswith("ramp rho-inc -2") and "(difference)" in out["vs_mass_matched"]
-    same = bm.claim_controls("headline_tracking", _hops(rho_vs_mass=1.0), None)
-    assert same["beyond_mass"].startswith("no")  # inside the ±10 % margin against both controls
-    # SS is homogeneous: its mass-matched leg is itself; its twin decides
+def test_an_elastic_baseline_is_judged_by_the_difference_in_differences():
+    # rho-inc's springs lower its error by 10 % against its twin, SS's do nothing: beyond mass
+    out = bm.claim_controls("headline_tracking", _hops(rho_springs=0.9), None)
+    assert out["beyond_mass"].startswith("yes (1/1")
+    assert out["vs_mass_matched"].startswith(bm.ISOLATE_NOT)  # rho-inc~mass still differs from SS in modulus
+    f = bm.comparison_frame(_hops(rho_springs=0.9), "headline_tracking").iloc[0]
+    assert f["comparison"] == "springs vs both rigid twins"
+    assert f["share"] == pytest.approx(np.log(0.9) / np.log(0.8), abs=0.03)  # DiD over the claim's own log ratio
+    # both legs' springs do the same: the whole effect is the mass distribution
+    same = bm.claim_controls("headline_tracking", _hops(rho_springs=0.9, ss_vs_twin=0.9), None)
+    assert same["beyond_mass"].startswith("no")
+    # no claim effect to attribute
+    none = bm.claim_controls("headline_tracking", _hops(rho_vs_ss=1.0), None)
+    assert none["beyond_mass"].startswith("untestable (the claim's own effect")
+
+
+def test_a_rigid_baseline_uses_the_twin_and_the_mass_matched_leg_with_a_fraction_rule():
+    out = bm.claim_controls(
+        "ramp_rho_inc_tracking", _hops(rho_springs=0.8, rho_vs_mass=1.0, n=8), None
+    )  # n = 8: Holm over 2 reachable
+    assert out["beyond_mass"].startswith("partly (1/2")  # the twin says yes, the mass-matched leg no
+    assert out["vs_mass_matched"].startswith("ramp rho-inc") and "share left" in out["vs_mass_matched"]
+    # SS is homogeneous: its mass-matched leg is itself (same physics key); its twin decides
     ss = bm.claim_controls("ramp_ss_tracking", _hops(ss_vs_twin=1.0), None)
     assert ss["vs_mass_matched"].startswith("homogeneous") and ss["beyond_mass"].startswith("no")
     assert bm.claim_controls("hop_height", _hops(), None) == dict.fromkeys(bm.CONTROL_COLUMNS, "")
-    assert bm.claim_controls("headline_tracking", None, None)["beyond_mass"] == bm.UNTESTABLE
+    assert bm.claim_controls("headline_tracking", None, None)["beyond_mass"] == bm.NOT_RUN
+
+
+def test_three_seeds_cannot_reach_a_verdict():
+    out = bm.claim_controls("headline_tracking", _hops(rho_springs=0.5, n=3), None)
+    assert out["beyond_mass"].startswith("untestable (n = 3") and "0.25" in out["beyond_mass"]
+
+
+def test_power_claims_get_one_verdict_per_formula():
+    h = _hops()
+    h["power_w"] = h["power_total_w"] = h["tracking_error_m"]
+    out = bm.claim_controls("headline_power", h, None)
+    assert out["beyond_mass"].startswith("paper formula: not run | hip: ") and "| total: " in out["beyond_mass"]
+
+
+def test_share_left_has_fiellers_interval():
+    x, y = np.array([0.1, 0.12, 0.08, 0.11]), np.array([0.2, 0.22, 0.19, 0.21])
+    s = bm.share_left(x, y)
+    assert s["share"] == pytest.approx(x.mean() / y.mean())
+    assert s["share_low"] < s["share"] < s["share_high"]
+    assert np.isnan(bm.share_left(x, np.array([0.1, -0.1, 0.05, -0.05]))["share_low"])  # no claim effect: unbounded
 
 
 def test_claims_table_carries_the_beyond_mass_columns():
     t = claims_table(None, conventions=("paper",))
     assert set(bm.CONTROL_COLUMNS) <= set(t.columns) and "power_verdicts" in t.columns
     row = t.set_index("claim_id").loc["headline_tracking"]
-    assert row["beyond_mass"] == bm.UNTESTABLE and row["vs_rigid_twin"] == "not run"
+    assert row["beyond_mass"] == bm.NOT_RUN and row["vs_rigid_twin"] == "not run"
+
+
+def test_unusable_control_runs_are_dropped():
+    h = _hops(rho_springs=0.9)
+    h["experiment"], h["profile"], h["convention"] = "controls", "quick", "paper"
+    t = claims_table(None, conventions=("paper",))
+    bad = pd.DataFrame({"design": ["rho-inc"] * 6, "behaviour": "ramp", "replicate": range(6), "why": "fell over"})
+    for c in ("experiment", "profile", "convention"):
+        bad[c] = h[c].iloc[0]
+    out = bm.beyond_mass_columns(t, h, bad=bad).set_index("claim_id").loc["headline_tracking"]
+    assert out["beyond_mass"] == bm.NOT_RUN  # every rho-inc run dropped: nothing left to compare
 
 
 def test_headline_sentence_names_masses_and_controls():
-    s = bm.headline_sentence(_hops(rho_vs_mass=0.75))
-    assert "5.44 kg" in s and "8.77 kg" in s and "its rigid twin" in s and "n = 6" in s
+    s = bm.headline_sentence(_hops(rho_vs_mass=0.75, rho_springs=0.9))
+    assert "5.44 kg" in s and "8.77 kg" in s and "its rigid twin" in s and "n = 6" in s and "beyond SS's springs" in s
 
 
-def test_attribution_separates_mass_from_springs():
+def test_attribution_separates_mass_from_springs_and_the_time_step():
     rng = np.random.default_rng(2)
     rows = []
-    for mass in (2.0, 3.0, 5.0, 8.0):
-        for springs, f in (("rigid", 1.0), ("paper", 0.8), ("axial", 0.8)):
+    # the axial step itself lowers the metric by 10 %; axial springs a further 20 % at that step
+    cells = (("rigid", 1.0), ("paper", 0.8), ("axial", 0.9 * 0.8), ("rigid, axial step", 0.9))
+    for mass in (2.0, 3.0, 5.0, 8.0, 6.0):
+        inertia = 0.05 * mass * np.exp(rng.normal(0, 0.3))
+        for springs, f in cells:
             for rep in range(3):
-                inertia = 0.05 * mass + 0.1 * rng.uniform()
-                y = 0.1 * mass**0.5 * f * np.exp(rng.normal(0, 0.01))
+                y = 0.1 * mass**0.5 * f * (1 + 0.1 * rep) * np.exp(rng.normal(0, 0.01))
                 rows.append(
                     {
-                        "design": f"m{mass}",
+                        "design": f"m{mass}" if "rigid" not in springs else f"m{mass}~rigid",
+                        "mass_of": f"m{mass}",
                         "springs": springs,
                         "behaviour": "forward",
                         "replicate": rep,
@@ -88,10 +141,11 @@ def test_attribution_separates_mass_from_springs():
                         "tracking_error_m": y,
                     }
                 )
-    att = bm.attribution(pd.DataFrame(rows), metrics=("tracking_error_m",))
-    paper = att.set_index("term").loc["springs=paper"]
-    assert paper["estimate"] == pytest.approx(np.log(0.8), abs=0.02)
-    assert paper["ci_low"] < np.log(0.8) < paper["ci_high"]
+    att = bm.attribution(pd.DataFrame(rows), metrics=("tracking_error_m",)).set_index("term")
+    for term, want in (("springs_paper", np.log(0.8)), ("springs_axial", np.log(0.8)), ("axial_step", np.log(0.9))):
+        assert att.loc[term, "estimate"] == pytest.approx(want, abs=0.02)
+        assert att.loc[term, "ci_low"] < want < att.loc[term, "ci_high"]
+    assert att["n_clusters"].iloc[0] == 5 and att["vif"].iloc[0] >= 1
     assert att["r2_with_springs"].iloc[0] > att["r2_mass_inertia"].iloc[0]
     with pytest.raises(ValueError, match="springs"):
         bm.attribution(pd.DataFrame({"x": [1]}))
@@ -121,6 +175,11 @@ def test_modulus_at_equal_mass_sees_through_a_density_confound():
     low = out.loc[("pooled, density-adjusted", "low")]
     assert low["ci_low"] < 0 < low["ci_high"] and abs(low["estimate"]) < 0.05
     assert out.loc[("pooled, density-adjusted", "log_density"), "estimate"] == pytest.approx(-0.5, abs=0.05)
-    assert out.loc[("Ti", "log_modulus"), "ci_low"] < 0 < out.loc[("Ti", "log_modulus"), "ci_high"]
+    assert (
+        out.loc[("Ti (equal mass)", "log_modulus"), "ci_low"]
+        < 0
+        < out.loc[("Ti (equal mass)", "log_modulus"), "ci_high"]
+    )
+    assert "extrapolation" in low["density_overlap_g_cm3"] and low["density_overlap_g_cm3"].startswith("2-2.5")
     with pytest.raises(ValueError, match="columns"):
         bm.modulus_at_equal_mass(pd.DataFrame({"x": [1]}))

@@ -156,3 +156,10 @@ def test_one_sensor_timing_per_table():
     hops = pd.DataFrame({"design": ["MD", "SS"], "behaviour": ["forward"] * 2, "sensor_timing": ["authors", "fresh"]})
     with pytest.raises(ValueError, match="sensor timings"):
         claims.claims_table(hops)
+
+
+def test_paired_verdicts_need_a_reachable_sign_flip_threshold():
+    # 3 shared seeds: an exact sign-flip test reaches p >= 0.25, x 16 for Holm: no verdict, however large t is
+    hops, runs = results(n=6, replicates=3)
+    row = claims.claims_table(hops, runs, conventions=("paper",)).set_index("claim_id").loc["tracking_all_beat_md"]
+    assert row["verdict"] == claims.NOT_TESTABLE and "sign-flip" in row["ours"] and "n = 3" in row["ours"]

@@ -80,3 +80,11 @@ def test_compare_replicates_pairs_shared_seeds():
     assert not stats.compare_replicates(lonely, "base", metrics=("tracking_error_m",))["paired"].any()
     with pytest.raises(ValueError, match="share"):
         stats.compare_replicates(lonely, "base", metrics=("tracking_error_m",), paired=True)
+
+
+def test_sign_flip_floor_and_identical_pairs():
+    e = paired.paired_effect([2.0, 2.0], [1.0, 1.0])  # identical log ratios: no evidence at n = 2
+    assert e["p"] == pytest.approx(0.5) and e["p_perm"] == pytest.approx(0.5)
+    e3 = paired.paired_effect([2.0, 3.0, 2.5], [1.0, 1.0, 1.0])
+    assert e3["p_perm"] == pytest.approx(0.25) and e3["p_min"] == pytest.approx(0.25)  # 2 / 2^3
+    assert not paired.reachable(3) and paired.reachable(6) and not paired.reachable(6, 16)
