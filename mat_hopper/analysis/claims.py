@@ -376,19 +376,8 @@ def claims_table(
     if basis not in _stats.BASES + ("auto",):
         raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
     hops = pd.DataFrame() if hops is None else hops
-    profiles = set()
-    for t in (hops, runs, stability):
-        if t is not None and "profile" in t.columns:
-            profiles |= set(t["profile"].dropna().astype(str))
-    if len(profiles) > 1:
-        raise ValueError(f"the tables hold several profiles {sorted(profiles)}; pass one profile's results")
-    timings = set()
-    for t in (hops, runs):
-        if t is not None and "sensor_timing" in t.columns:
-            timings |= set(t["sensor_timing"].dropna().astype(str))
-    if len(timings) > 1:
-        raise ValueError(f"the tables hold several sensor timings {sorted(timings)}; pass one timing's results")
-    timing = timings.pop() if timings else DEFAULT_SENSOR_TIMING
+    profiles = _one_value((hops, runs, stability), "profile", "profiles")
+    timing = _one_value((hops, runs), "sensor_timing", "sensor timings") or str(DEFAULT_SENSOR_TIMING)
     rows = []
     for conv in conventions:
         if conv not in CONVENTIONS:
@@ -400,52 +389,62 @@ def claims_table(
         if len(h) and "design" not in h.columns:
             raise ValueError("hops needs a 'design' column")
         ctx = _Context(conv, h, r, _by_convention(stability, conv), basis, alpha, timestep_s, bad)
-        for claim in CLAIMS:
-            is_stab = claim.claim_id.startswith("timestep")
-            if not is_stab and len(h) == 0 and len(bad) == 0:
-                out = Outcome("not run", NOT_RUN, f"no {conv}-convention hopping results")
-            else:
-                out = claim.evaluate(ctx)
-            used, n_rep = ("", 0) if out.verdict == NOT_RUN else _basis_used(ctx, claim)
-            if is_stab and out.verdict != NOT_RUN:
-                used, n_rep = "stability map", 0
-            exps = USES.get(claim.claim_id, (None,))[0]
-            check = (
-                ""
-                if is_stab or out.verdict == NOT_RUN
-                else timestep_check(
-                    claim.claim_id,
-                    h if exps is None else ctx.experiment(exps),
-                    _by_convention(fine_hops, conv),
-                    fine_label,
-                )
-            )
-            rows.append(
-                {
-                    "claim_id": claim.claim_id,
-                    "claim": claim.claim,
-                    "paper": claim.paper,
-                    "ours": out.ours,
-                    "verdict": out.verdict,
-                    "convention": conv,
-                    "sensor_timing": timing,
-                    "basis": used,
-                    "n_replicates": n_rep,
-                    "timestep_check": check,
-                    "detail": out.detail,
-                    "rule": claim.rule,
-                    "power_verdicts": "" if out.verdict == NOT_RUN else _power_verdicts(claim.claim_id, ctx),
-                    "jerk_verdicts": ""
-                    if out.verdict == NOT_RUN
-                    else _power_verdicts(claim.claim_id, ctx, JERK_VARIANTS, JERK_FORMULAS),
-                }
-            )
+        fine = _by_convention(fine_hops, conv)
+        rows += [{**_claim_row(claim, ctx, fine, fine_label), "sensor_timing": timing} for claim in CLAIMS]
     out = pd.DataFrame(rows, columns=[*COLUMNS, "power_verdicts", "jerk_verdicts"])
     bad_controls = _stats.unusable_runs(control_runs, timestep_s) if control_runs is not None else None
     out = _beyond.beyond_mass_columns(out, controls, alpha, bad_controls)
-    if len(profiles) == 1:
-        out.insert(list(out.columns).index("detail"), "profile", profiles.pop())
+    if profiles:
+        out.insert(list(out.columns).index("detail"), "profile", profiles)
     return out
+
+
+def _one_value(tables, column: str, what: str) -> str | None:
+    """The one value of `column` across the tables that have it (None when
+    none has); ValueError when they hold several."""
+    values = set()
+    for t in tables:
+        if t is not None and column in t.columns:
+            values |= set(t[column].dropna().astype(str))
+    if len(values) > 1:
+        raise ValueError(f"the tables hold several {what} {sorted(values)}; pass one's results")
+    return values.pop() if values else None
+
+
+def _claim_row(claim: Claim, ctx: _Context, fine_hops, fine_label: str) -> dict:
+    """One claim under one convention: its outcome, basis, time-step check
+    and the power and jerk verdicts side by side (a row of claims_table)."""
+    conv, h = ctx.convention, ctx.hops
+    is_stab = claim.claim_id.startswith("timestep")
+    if not is_stab and len(h) == 0 and len(ctx.bad) == 0:
+        out = Outcome("not run", NOT_RUN, f"no {conv}-convention hopping results")
+    else:
+        out = claim.evaluate(ctx)
+    used, n_rep = ("", 0) if out.verdict == NOT_RUN else _basis_used(ctx, claim)
+    if is_stab and out.verdict != NOT_RUN:
+        used, n_rep = "stability map", 0
+    exps = USES.get(claim.claim_id, (None,))[0]
+    check = (
+        ""
+        if is_stab or out.verdict == NOT_RUN
+        else timestep_check(claim.claim_id, h if exps is None else ctx.experiment(exps), fine_hops, fine_label)
+    )
+    run = out.verdict != NOT_RUN
+    return {
+        "claim_id": claim.claim_id,
+        "claim": claim.claim,
+        "paper": claim.paper,
+        "ours": out.ours,
+        "verdict": out.verdict,
+        "convention": conv,
+        "basis": used,
+        "n_replicates": n_rep,
+        "timestep_check": check,
+        "detail": out.detail,
+        "rule": claim.rule,
+        "power_verdicts": _power_verdicts(claim.claim_id, ctx) if run else "",
+        "jerk_verdicts": _power_verdicts(claim.claim_id, ctx, JERK_VARIANTS, JERK_FORMULAS) if run else "",
+    }
 
 
 def _basis_used(ctx: _Context, claim: Claim) -> tuple[str, int]:

@@ -290,9 +290,14 @@ def compare_paired(
     out["p_holm"] = math.nan
     for _, fam_rows in out.groupby([*keys, "metric"], sort=False):
         out.loc[fam_rows.index, "p_holm"] = holm(fam_rows["p"].to_numpy())
-    out["significant"] = out["p_holm"] < alpha
+    # significant only where the family could reach Holm's threshold by the
+    # distribution-free sign-flip test too (m * p_min < alpha): at small n the
+    # t test's p rests on the normality of a handful of log ratios
+    reachable = out.groupby([*keys, "metric"], sort=False)["p_min"].transform(lambda v: len(v) * v.max() < alpha)
+    out["significant"] = (out["p_holm"] < alpha) & reachable.astype(bool)
     out["conclusion"] = [
-        conclusion(p, lo, hi, alpha=alpha, margin=margin) for p, lo, hi in zip(out.p_holm, out.ci_low, out.ci_high)
+        conclusion(p if sig else math.nan, lo, hi, alpha=alpha, margin=margin)
+        for p, sig, lo, hi in zip(out.p_holm, out.significant, out.ci_low, out.ci_high)
     ]
     out["paired"] = True
     return out

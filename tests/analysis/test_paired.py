@@ -88,3 +88,15 @@ def test_sign_flip_floor_and_identical_pairs():
     e3 = paired.paired_effect([2.0, 3.0, 2.5], [1.0, 1.0, 1.0])
     assert e3["p_perm"] == pytest.approx(0.25) and e3["p_min"] == pytest.approx(0.25)  # 2 / 2^3
     assert not paired.reachable(3) and paired.reachable(6) and not paired.reachable(6, 16)
+
+
+def test_significance_needs_a_reachable_sign_flip_threshold():
+    """A clear 30 % effect on 3 seeds: the t test's p is tiny, but the exact
+    sign-flip test's smallest p is 2 / 2^3 = 0.25 (hand count: 8 sign
+    patterns, the two extreme ones), so nothing can be called significant;
+    on 6 seeds 2 / 64 = 0.031 < 0.05 is reachable for a family of one."""
+    small = paired.compare_paired(_runs(effect=1.3, n=3), "base").iloc[0]
+    assert small["p_holm"] < 0.01 and small["p_min"] == pytest.approx(0.25)
+    assert not small["significant"] and small["conclusion"] == paired.NOT_ENOUGH
+    six = paired.compare_paired(_runs(effect=1.3, n=6), "base").iloc[0]
+    assert six["p_min"] == pytest.approx(2 / 64) and six["significant"] and six["conclusion"] == paired.DIFFERENCE
