@@ -157,7 +157,7 @@ def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettin
     if settings.convention in BENDING_CONVENTIONS:  # issue 21: per-world stiffness of the slides only
         raise ValueError(
             f"convention {settings.convention!r}: the Warp batch sets only the axial springs' stiffness per "
-            "world; run bending conventions on the CPU backend"
+            "world; run bending conventions with --backend mujoco (and a --timestep small enough for the hinges)"
         )
     build = dict(
         ramp_grade_deg=beh.ramp_grade_deg,

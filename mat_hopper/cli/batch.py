@@ -171,7 +171,19 @@ def run_batch(args) -> int:
     )
     n_bad = int((~out["stable"]).sum())
     shown = out[list(RESULT_COLUMNS)]
-    return _report(out, args.csv, f"{n_bad} of {_count(len(out), 'design')} diverged" if n_bad else "", shown=shown)
+    note = f"{n_bad} of {_count(len(out), 'design')} diverged" if n_bad else ""
+    if n_bad and settings.convention != "paper":
+        note += STIFF_HINT
+    return _report(out, args.csv, note, shown=shown)
+
+
+# A batch runs every design at one physics step, without substeps: stiff
+# springs need a smaller one (simulate and optimize choose it per design).
+STIFF_HINT = (
+    " (axial and bending springs are stiff: give a smaller --timestep, e.g. the step "
+    "`mat-hopper modes --design D --convention C` prints, or run the design with "
+    "`mat-hopper simulate --timestep auto`)"
+)
 
 
 def _batch_settings(args, profile, timing):

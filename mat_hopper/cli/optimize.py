@@ -291,7 +291,11 @@ def register_cli(sub) -> None:
         help=f"run profile: {' or '.join(PROFILES)} (default $MAT_HOPPER_PROFILE, else paper: 60 s runs, "
         "20 s transient, 1e-4 s step; quick: 12 s, 4 s)",
     )
-    p.add_argument("--convention", help="stiffness convention: paper (default) or axial")
+    p.add_argument(
+        "--convention",
+        help="stiffness convention: paper (default), axial, bending or axial+bending (the last three "
+        "at physics substeps chosen per design)",
+    )
     p.add_argument(
         "--replicates",
         type=int,

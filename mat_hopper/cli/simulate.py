@@ -234,8 +234,11 @@ def cmd_simulate(args) -> int:
     )
     if not rollout.stable:
         hint = ""
-        if settings.convention == "axial" and _timestep(args.timestep) != AUTO:
-            hint = " (axial springs are stiff: try --timestep auto, physics substeps chosen from the spring bound)"
+        if settings.convention != "paper" and _timestep(args.timestep) != AUTO:
+            hint = (
+                f" ({settings.convention} springs are stiff: try --timestep auto, physics substeps chosen "
+                "from the spring bound)"
+            )
         print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s{hint}")
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
     if len(hops):

@@ -417,8 +417,10 @@ def test_command_help_lines_are_the_modules_own():
     assert listed == COMMAND_HELP
 
 
-def test_axial_divergence_suggests_timestep_auto(here, capsys):
-    code = main(["simulate", "--convention", "axial", "--duration", "0.05", "--transient", "0.01"])
+@pytest.mark.parametrize("convention", ["axial", "axial+bending"])
+def test_stiff_divergence_suggests_timestep_auto(here, capsys, convention):
+    """axial, and the bending conventions (a newcomer's trial: no hint for them)."""
+    code = main(["simulate", "--design", "Ti", "--convention", convention, "--duration", "0.05", "--transient", "0.01"])
     out = capsys.readouterr().out
     assert code == 1 and "UNSTABLE" in out and "--timestep auto" in out
 
@@ -551,3 +553,10 @@ def test_claims_only_for_the_conventions_asked_for(tmp_path, monkeypatch):
     rp._figures_and_claims(rep, log=lambda *a: None)
     assert seen["conventions"] == ("paper",)
     assert set(rep.tables["claims"]["convention"]) == {"paper"}
+
+
+def test_batch_divergence_under_stiff_springs_names_a_way_out(here, capsys):
+    """A newcomer's trial: `batch --convention bending` diverged with no hint."""
+    code = main(["batch", "--designs", "Ti", "--convention", "axial", "--duration", "0.05", "--transient", "0.01"])
+    out = capsys.readouterr().out
+    assert code == 0 and "1 of 1 design diverged" in out and "--timestep" in out and "modes" in out
