@@ -166,9 +166,13 @@ def test_ctrl_c_reaches_the_python_api_within_a_second(n_segments, timestep_s):
     from mat_hopper.materials import parse_design
 
     design = parse_design("SS", n_segments=n_segments)
-    settings = SimSettings(duration_s=150.0, timestep_s=timestep_s, transient_s=0.0, record_rate_hz=100.0)
+    # long enough to outlast the 1 s wait many times over (about 2e6 steps, tens
+    # of seconds), short enough that a lost signal cannot hang the suite
+    settings = SimSettings(duration_s=2e6 * timestep_s, timestep_s=timestep_s, transient_s=0.0, record_rate_hz=100.0)
     run = RolloutRunner(design, "forward", settings)
     run.advance(10)  # compiled, model built
+    # a pytest-xdist worker ignores SIGINT: this process gets Python's own handler for the test
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     killer = subprocess.Popen(
         [sys.executable, "-c", KILLER, str(os.getpid()), "1.0"], stdout=subprocess.PIPE, text=True
     )
@@ -177,6 +181,7 @@ def test_ctrl_c_reaches_the_python_api_within_a_second(n_segments, timestep_s):
             run.advance()
         caught = time.time()
     finally:
+        signal.signal(signal.SIGINT, previous)
         sent = float(killer.stdout.readline())
         killer.wait(10)
     assert caught - sent < 1.0, f"{caught - sent:.2f} s"
