@@ -482,7 +482,9 @@ def test_csv_dash_is_standard_output(here, capsysbinary):
     assert main(["modes", "--csv", "-"]) == 0
     cap = capsysbinary.readouterr()
     out = cap.out.decode()
-    assert out.splitlines()[0] == "mode,chain_hz,rod_hz,error_pct" and len(out.splitlines()) == 4  # 3 segments: 3 modes
+    assert (
+        out.splitlines()[0] == "mode,chain_hz,rod_hz,error_pct,kind" and len(out.splitlines()) == 4
+    )  # 3 segments: 3 modes
     assert "wrote 3 rows to standard output" in cap.err.decode()
     assert os.listdir(here) == []
 
