@@ -38,20 +38,6 @@ from ._objective import OBJECTIVES, RESULT_ATTR
 from ._robust import SE_ATTR, leg_mass_kg
 
 
-def trial_design(name: str, storage, number: int):
-    """(trial, design, config) of trial `number` of study `name`; ValueError
-    if there is none, or it has no parameters."""
-    from .report import load
-
-    study, config = load(name, storage)
-    trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]
-    if not trials:
-        raise ValueError(f"study {name!r} has no trial {number} (trials 0..{len(study.trials) - 1})")
-    t = trials[0]
-    design = config.space.design(t.params, name=f"{name}#{number}")
-    return t, design, config
-
-
 def design_frame(trial, design, config) -> pd.DataFrame:
     """The one-row table of the module doc (design columns first)."""
     frame = designs_to_frame([design])
@@ -99,6 +85,8 @@ def export_trial(name: str, storage, number: int, out_dir: str) -> dict:
     doc). Returns {"csv": path, "mjcf": {behaviour: path}, "design": LegDesign,
     "config": StudyConfig, "trial": FrozenTrial}; ValueError for a trial the
     study does not hold."""
+    from .report import trial_design  # report imports the package's plots; loaded on use
+
     t, design, config = trial_design(name, storage, number)
     os.makedirs(out_dir, exist_ok=True)
     stem = os.path.join(out_dir, f"{name}-trial{number}")

@@ -329,13 +329,24 @@ def replay(name: str, storage, number: int):
     Raises:
         ValueError: no such study, not ours, or no such trial.
     """
+    t, design, config = trial_design(name, storage, number)
+    return t, design, evaluate(design, config.objective), config
+
+
+def trial_design(name: str, storage, number: int):
+    """(FrozenTrial, LegDesign, StudyConfig) of trial `number` of study
+    `name` (its design named ``name#number``), for :func:`replay` and
+    ``optimize --export``.
+
+    Raises:
+        ValueError: no such study, not ours, or no such trial.
+    """
     study, config = load(name, storage)
     trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]
     if not trials:
         raise ValueError(f"study {name!r} has no trial {number} (trials 0..{len(study.trials) - 1})")
     t = trials[0]
-    design = config.space.design(t.params, name=f"{name}#{number}")
-    return t, design, evaluate(design, config.objective), config
+    return t, config.space.design(t.params, name=f"{name}#{number}"), config
 
 
 # --- the book's study ----------------------------------------------------------
