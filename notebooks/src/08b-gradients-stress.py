@@ -12,12 +12,12 @@
 # The paper motivates functional gradients by the stress concentrations
 # and fatigue at biological interfaces (bone, tendon, muscle), but its
 # model never computes a stress. This chapter does, in the terms a 1-D leg
-# of springs allows (issue 21, {mod}`mat_hopper.fatigue`):
+# of springs allows (issue 21, `mat_hopper.fatigue`):
 #
 # - **bending**: under the `bending` convention each segment carries two
 #   hinge springs of the pseudo-rigid-body model, K = γ K_Θ E I / l
 #   (Howell, *Compliant Mechanisms*, 2001; the values and their stated
-#   error are in {mod}`mat_hopper.materials`); `axial` keeps the authors'
+#   error are in `mat_hopper.materials`); `axial` keeps the authors'
 #   slide springs at E A / l, `paper` their stiffness;
 # - **stress**: per segment and physics step the axial stress F / A and the
 #   bending stress M c / I from the springs' forces and moments; per hop the
@@ -165,7 +165,7 @@ plt.show()
 # same, checked below) and at the harmonic mean of its moduli (springs in
 # series: the same end-to-end compliance). Its strength is its class's
 # (a 70 GPa metal: the aluminium alloy's S-N curve; see
-# {mod}`mat_hopper.fatigue`). Gradient and control run on the same seeded
+# `mat_hopper.fatigue`). Gradient and control run on the same seeded
 # replicates (start offset, tilt, a 5 N push, sensor noise), under
 # `bending`, and are compared **paired by seed** on log10 of hops to
 # failure; a pair counts only if both runs stayed up. Lives beyond

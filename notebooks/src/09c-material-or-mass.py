@@ -15,7 +15,7 @@
 # A claim about a *material* holds only against a control that differs
 # from the design in that material alone. This chapter builds three
 # controls for every design of the paper's claims
-# ({mod}`mat_hopper.controls`):
+# (`mat_hopper.controls`):
 #
 # - the **rigid twin**: the same segment densities, no springs (same mass,
 #   centre of mass and hip inertia): what the moduli add;
@@ -31,7 +31,7 @@
 # comparisons are paired: log ratios of run means per seed, a paired t
 # test with its t interval, Holm's correction within each claim, and an
 # equivalence margin of ±10 % that separates "no difference" from "not
-# enough evidence" ({mod}`mat_hopper.analysis.paired`).
+# enough evidence" (`mat_hopper.analysis.paired`).
 
 # %%
 from mat_hopper import book
@@ -59,7 +59,7 @@ print(
 # %% [markdown]
 # ## The controls, built
 #
-# Each control is an ordinary {class}`~mat_hopper.materials.LegDesign`. Its
+# Each control is an ordinary `mat_hopper.materials.LegDesign`. Its
 # leg mass, centre of mass (below the hip) and hip inertia come from the
 # compiled MuJoCo model (tested against a hand calculation of capsule
 # volumes and the parallel-axis theorem):
@@ -288,7 +288,7 @@ book.show(equal_mass, pattern="{:.3g}")
 #
 # The package's jerk (chapter 6) low-passes the base acceleration with a
 # causal 2nd-order 50 Hz filter, which passes some of the leg's kHz
-# ringing. The body jerk ({mod}`mat_hopper.jerk`) uses a zero-phase
+# ringing. The body jerk (`mat_hopper.jerk`) uses a zero-phase
 # 4th-order Butterworth (Winter 2009) after an anti-aliasing mean. How the
 # jerk claim (ρ-inc lower than SS) moves with the cut-off and the order:
 
