@@ -226,18 +226,63 @@ def estimate_timestep(
     return w, 2.0 / w
 
 
+def auto_control_period(
+    design: LegDesign,
+    convention: str = DEFAULT_CONVENTION,
+    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
+    control_period_s: float = ref.TIMESTEP_S,
+    safety: float = AUTO_SAFETY,
+) -> float:
+    """The controller's period under ``timestep_s="auto"``, s.
+
+    The authors' period (1e-4 s) unless the controller's own explicit limit
+    (:func:`controller_timestep`: its delayed stance damping, and under a
+    bending convention its hips' flight damping) lies below it; then
+    control_period_s / k with the smallest k whose period is at most
+    ``safety`` x that limit. Physics substeps cannot help a controller
+    limit: the torque is held over the whole control period. Binds for soft
+    legs that bend (trabecular bone: limit 5.8e-5 s under ``bending``, so
+    2.5e-5 s), never for the paper's designs under ``paper``/``axial``
+    (2.1e-4 s under the authors' sensor timing).
+
+    Args:
+        design: the leg.
+        convention: the stiffness convention.
+        sensor_timing: the controller's sensor timing (its latency shrinks
+            the stance limit, :func:`delayed_damping_factor`).
+        control_period_s: the authors' period, s.
+        safety: the fraction of the limit a shortened period may reach.
+
+    Returns:
+        The control period, s.
+    """
+    limit = controller_timestep(design, convention, sensor_timing=sensor_timing)
+    if limit >= control_period_s:
+        return control_period_s
+    return control_period_s / math.ceil(control_period_s / (safety * limit) - 1e-9)
+
+
 def auto_substeps(
     design: LegDesign,
     convention: str = DEFAULT_CONVENTION,
     segment_mass: str = DEFAULT_SEGMENT_MASS,
-    control_period_s: float = ref.TIMESTEP_S,
+    control_period_s: float | None = None,
     safety: float = AUTO_SAFETY,
+    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
 ) -> tuple[int, float, float]:
-    """(substeps k, physics step s, spring bound s): the smallest k whose
-    physics step control_period_s / k is at most ``safety`` x the spring
-    chain's bound 2 / w_max. The control period stays the controller's
-    (1e-4 s, the paper's loop rate). Raises ValueError when more than
-    1000 substeps would be needed."""
+    """(substeps k, physics step s, spring bound s) of ``timestep_s="auto"``.
+
+    The control period is :func:`auto_control_period` (the authors' 1e-4 s
+    unless the controller's own limit is smaller) when ``control_period_s``
+    is None; the physics takes the smallest k whose step control_period / k
+    is at most ``safety`` x the springs' explicit bound 2 / w_max
+    (:func:`estimate_timestep`).
+
+    Raises:
+        ValueError: when more than 1000 substeps would be needed.
+    """
+    if control_period_s is None:
+        control_period_s = auto_control_period(design, convention, sensor_timing, safety=safety)
     _, bound = estimate_timestep(design, convention, segment_mass)
     k = max(1, math.ceil(control_period_s / (safety * bound) - 1e-9))
     if k > 1000:

@@ -51,6 +51,7 @@ from ._loop import (
 )
 from .behaviours import behaviour as get_behaviour
 from .control import (
+    DEFAULT_SENSOR_TIMING,
     ControllerSettings,
     SensorTiming,
     initial_state,
@@ -282,7 +283,11 @@ def is_auto(timestep_s) -> bool:
 
 
 def resolve_timestep(
-    timestep_s, design=None, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS
+    timestep_s,
+    design=None,
+    convention: str = DEFAULT_CONVENTION,
+    segment_mass: str = DEFAULT_SEGMENT_MASS,
+    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
 ) -> tuple[float, int]:
     """The one place where ``timestep_s="auto"`` is resolved.
 
@@ -291,11 +296,13 @@ def resolve_timestep(
         design: the leg (a LegDesign or a name); needed for ``"auto"``.
         convention: the stiffness convention of the run.
         segment_mass: the segment mass convention of the run.
+        sensor_timing: the run's sensor timing (the controller's limit).
 
     Returns:
         (timestep_s, substeps): the step given and 1 substep, or for
-        ``"auto"`` the controller's 1e-4 s period split into the fewest
-        substeps that keep the leg's springs stable (:func:`auto_timestep`).
+        ``"auto"`` the control period (the authors' 1e-4 s unless the
+        controller's own limit is smaller) split into the fewest substeps
+        that keep the leg's springs stable (:func:`auto_timestep`).
 
     Raises:
         ValueError: ``"auto"`` without a design, or another string.
@@ -306,7 +313,7 @@ def resolve_timestep(
         raise ValueError(f"timestep_s must be a number (s) or {AUTO!r}, got {timestep_s!r}")
     if design is None:
         raise ValueError("the time step is 'auto': pass the design (its substeps depend on it)")
-    substeps, dt = auto_timestep(design, convention, segment_mass)
+    substeps, dt = auto_timestep(design, convention, segment_mass, sensor_timing)
     return dt, substeps
 
 
@@ -340,6 +347,7 @@ def sim_settings(design=None, **settings) -> SimSettings:
             design,
             settings.get("convention", DEFAULT_CONVENTION),
             settings.get("segment_mass", DEFAULT_SEGMENT_MASS),
+            settings.get("sensor_timing", DEFAULT_SENSOR_TIMING),
         )
     if settings.get("controller") is None:
         settings.pop("controller", None)
@@ -508,6 +516,7 @@ def simulate(
     perturbation: Perturbation | None = None,
     segment_mass: str | None = None,
     substeps: int | None = None,
+    damping: str | None = None,
     record_qpos: bool = False,
     settings: SimSettings | None = None,
 ) -> Rollout:
@@ -526,7 +535,8 @@ def simulate(
             (:func:`resolve_timestep`).
         transient_s: hop cycles starting before it are not scored, s (the
             run must outlast it).
-        convention: ``"paper"`` or ``"axial"`` stiffness.
+        convention: ``"paper"``, ``"axial"``, ``"bending"`` or
+            ``"axial+bending"`` (:data:`mat_hopper.materials.CONVENTIONS`).
         sensor_timing: ``"authors"``, ``"fresh"``, ``"latency-L"`` or an
             integer latency in physics steps.
         controller: the controller's gains (ControllerSettings).
@@ -534,6 +544,8 @@ def simulate(
         perturbation: seeded disturbances for replicates.
         segment_mass: ``"leg"`` or ``"capsule"``.
         substeps: physics steps per control period (not with ``"auto"``).
+        damping: ``"authors"`` (1 N s/m) or ``"loss-factor"``
+            (:mod:`mat_hopper.damping`).
         record_qpos: also keep all joint positions (``Rollout.qpos``, (n, nq)) for rendering.
         settings: a SimSettings giving all of the settings at once; then no
             other setting may be given.
@@ -562,6 +574,7 @@ def simulate(
             ("perturbation", perturbation),
             ("segment_mass", segment_mass),
             ("substeps", substeps),
+            ("damping", damping),
         )
         if value is not None
     }
@@ -579,11 +592,12 @@ def auto_timestep(
     design,
     convention: str = DEFAULT_CONVENTION,
     segment_mass: str = DEFAULT_SEGMENT_MASS,
-    control_period_s: float = ref.TIMESTEP_S,
+    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
 ) -> tuple[int, float]:
     """(substeps, physics step s) for ``timestep_s="auto"``: the controller
-    keeps its period (1e-4 s) and the physics takes the fewest substeps
-    whose step is at most AUTO_SAFETY (0.5) x the spring chain's explicit
-    bound (:func:`mat_hopper.modes.auto_substeps`)."""
-    k, dt, _ = auto_substeps(_as_design(design), convention, segment_mass, control_period_s)
+    keeps its period (1e-4 s) unless its own explicit limit is smaller
+    (:func:`mat_hopper.modes.auto_control_period`), and the physics takes
+    the fewest substeps whose step is at most AUTO_SAFETY (0.5) x the
+    springs' explicit bound (:func:`mat_hopper.modes.auto_substeps`)."""
+    k, dt, _ = auto_substeps(_as_design(design), convention, segment_mass, sensor_timing=sensor_timing)
     return k, dt

@@ -6,7 +6,17 @@ import math
 import numpy as np
 import pytest
 
-from mat_hopper.fatigue import STRENGTH, Strength, miner_damage, rainflow_cycles, strength
+from mat_hopper.fatigue import (
+    CLASS_STRENGTH,
+    DESIGN_LIFE_CYCLES,
+    STRENGTH,
+    Strength,
+    _fibres,
+    equivalent_amplitude,
+    miner_damage,
+    rainflow_cycles,
+    strength,
+)
 from mat_hopper.materials import LegDesign, material
 
 
@@ -34,6 +44,45 @@ def test_miner_damage_by_hand():
     assert st.cycles_to_failure(20e6, 20e6) == pytest.approx(524288.0)
     d = miner_damage(np.array([0.0, 40.0, 10.0, 30.0, 0.0]) * 1e6, st)
     assert d == pytest.approx(1.909211e-6, rel=1e-6)
+
+
+def test_equivalent_amplitude_by_hand():
+    # The hand-counted history above: its largest cycle is the range-40 half
+    # cycle, amplitude 20 MPa at mean 20 MPa. Morrow with sigma_f' = 100 MPa:
+    # 20 / (1 - 20 / 100) = 25 MPa.
+    st = Strength(50.0, 100.0, -0.1, "test")
+    assert equivalent_amplitude(np.array([0.0, 40.0, 10.0, 30.0, 0.0]) * 1e6, st) == pytest.approx(25e6)
+    assert equivalent_amplitude(np.array([5e6]), st) == 0.0
+
+
+def test_amplitude_at_the_design_life_by_hand():
+    # Dowling's 2024-T4: 900 MPa x (2e7)^-0.102; log10(2e7) = 7.30103, x -0.102 =
+    # -0.744705, 10^-0.744705 = 10^0.255295 / 10 = 1.80009 / 10: 162.01 MPa at 1e7 cycles.
+    assert DESIGN_LIFE_CYCLES == 1e7
+    assert STRENGTH["al"].amplitude_at(1e7) == pytest.approx(162.01e6, rel=1e-4)
+    # and it is the amplitude that lasts exactly that long
+    assert STRENGTH["al"].cycles_to_failure(STRENGTH["al"].amplitude_at(1e7)) == pytest.approx(1e7)
+
+
+def test_eight_fibres_catch_an_oblique_moment():
+    # bending stress s about an axis at 45 degrees: (bx, by) = s (1/sqrt2, 1/sqrt2).
+    # The four fibres at 0/90/180/270 degrees see s / sqrt2 = 0.707 s; the
+    # eight fibres include 45 degrees, which sees the whole s.
+    s = 100e6
+    block = np.zeros((3, 4))
+    block[:, 1] = block[:, 2] = s / math.sqrt(2.0)
+    assert max(f.max() for f in _fibres(block)) == pytest.approx(s)
+    assert len(_fibres(block)) == 8
+
+
+def test_strength_of_a_catalogue_name_with_other_properties_is_its_class():
+    # a porous stainless steel point of the density sweep (4 g/cm^3, 193 GPa) is
+    # not the catalogue's AISI 304: it takes the metals' class curve, not SS's
+    from mat_hopper.materials import Material
+
+    porous = Material("SS", 4.0, 193.0, "metal", "sweep")
+    assert strength(porous) is CLASS_STRENGTH["metal"]
+    assert strength(material("SS")) is STRENGTH["ss"]
 
 
 def test_strength_catalogue():

@@ -2,7 +2,7 @@ import math
 
 import pytest
 
-from mat_hopper.materials import LegDesign, parse_design, segment_masses
+from mat_hopper.materials import LegDesign, material, parse_design, segment_masses
 from mat_hopper.modes import _rod_roots, auto_substeps, axial_modes, chain_frequencies, estimate_timestep
 
 
@@ -80,3 +80,21 @@ def test_stable_step_covers_the_rotational_modes():
     assert k > 1 and dt <= 0.5 * bound
     # axial+bending: the slides' chain is part of the same model, its w_max no lower
     assert estimate_timestep(d, "axial+bending")[0] >= estimate_timestep(d, "axial")[0] * (1 - 1e-9)
+
+
+def test_auto_shortens_the_control_period_only_where_the_controller_limit_binds():
+    from mat_hopper.modes import auto_control_period, controller_timestep
+    from mat_hopper.sim import simulate
+
+    ss = LegDesign.mono(material("SS"))
+    assert auto_control_period(ss, "paper") == 1e-4  # the paper's designs keep the authors' period
+    assert auto_control_period(ss, "axial") == 1e-4
+    soft = LegDesign.mono(material("TrabecularBone"))
+    limit = controller_timestep(soft, "bending")
+    assert limit < 1e-4  # its hips' flight damping on the hinge-free hip: 5.8e-5 s
+    period = auto_control_period(soft, "bending")
+    assert period <= 0.5 * limit and round(1e-4 / period) * period == pytest.approx(1e-4)
+    # at the authors' period it diverges in the first flight; at auto's it hops
+    assert not simulate(soft, "forward", duration_s=0.5, transient_s=0.0, convention="bending").stable
+    r = simulate(soft, "forward", duration_s=2.0, transient_s=0.0, convention="bending", timestep_s="auto")
+    assert r.stable and r.settings.control_period_s == pytest.approx(period)

@@ -299,6 +299,18 @@ def test_simulate_exposes_segment_mass_and_substeps():
     assert two.settings.substeps == 2 and two.settings.control_period_s == pytest.approx(1e-4)
 
 
+def test_simulate_exposes_every_setting():
+    """Every SimSettings field is a keyword of simulate() (damping was added
+    to the settings without it: a setting the API could not reach)."""
+    import dataclasses
+    import inspect
+
+    params = set(inspect.signature(simulate).parameters)
+    assert {f.name for f in dataclasses.fields(SimSettings)} <= params
+    r = simulate("SS", "static", duration_s=0.05, transient_s=0.0, damping="loss-factor")
+    assert r.settings.damping == "loss-factor"
+
+
 def test_sim_settings_is_the_one_builder():
     from mat_hopper.sim import sim_settings
 

@@ -210,6 +210,38 @@ def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: boo
     return runner.result()
 
 
+FELL_TILT_DEG = (
+    60.0  # a base tilted further than this is falling (a hopping base pitches up to about 45 deg and recovers)
+)
+
+
+def _unstable_line(rollout, auto: bool) -> str:
+    """Why a run ended early: a fall (the base tilted past FELL_TILT_DEG
+    before the numbers blew up) or a numerical divergence, with the hint
+    that fits (a stiff convention without --timestep auto; the authors'
+    controller on a leg that bends)."""
+    import numpy as np
+
+    from ..rollout import C
+
+    conv = rollout.settings.convention
+    tilt = np.degrees(np.hypot(rollout.data[:, C["roll"]], rollout.data[:, C["pitch"]]))
+    over = np.flatnonzero(tilt > FELL_TILT_DEG)
+    end = f"the run ended at t = {rollout.diverged_at_s:.4f} s"
+    if len(over):
+        line = f"UNSTABLE: the hopper fell (base tilted past {FELL_TILT_DEG:g} deg at t = {rollout.time[over[0]]:.3f} s); {end}"
+        if conv in ("bending", "axial+bending"):
+            line += (
+                " (on a leg that bends the authors' controller can be laterally unstable: a sideways mode grows "
+                "from round-off; see the book's chapter 'Do gradients relieve stress?')"
+            )
+        return line
+    line = f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s (numerical divergence: |qacc| > 1e6 or NaN)"
+    if conv != "paper" and not auto:
+        line += f" ({conv} springs are stiff: try --timestep auto, physics substeps chosen from the spring bound)"
+    return line
+
+
 def cmd_simulate(args) -> int:
     profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
     check_output_file(args.csv, "--csv", stdout=True)
@@ -233,13 +265,7 @@ def cmd_simulate(args) -> int:
         f"hip inertia {mp.hip_inertia_kg_m2:.4f} kg m^2"
     )
     if not rollout.stable:
-        hint = ""
-        if settings.convention != "paper" and _timestep(args.timestep) != AUTO:
-            hint = (
-                f" ({settings.convention} springs are stiff: try --timestep auto, physics substeps chosen "
-                "from the spring bound)"
-            )
-        print(f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s{hint}")
+        print(_unstable_line(rollout, auto=_timestep(args.timestep) == AUTO))
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
     if len(hops):
         desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
