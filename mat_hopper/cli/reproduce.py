@@ -47,6 +47,12 @@ def _check_size(profile, args) -> None:
 
 def cmd_reproduce(args) -> int:
     profile = get_profile(args.profile)
+    if args.push_scale is not None:
+        from dataclasses import replace
+
+        if args.push_scale < 0:
+            raise ValueError(f"--push-scale must be >= 0 (0: no push), got {args.push_scale:g}")
+        profile = replace(profile, push_scale=args.push_scale)
     check_name_list(args.experiments, "--experiments")
     check_name_list(args.conventions, "--conventions")
     if args.workers is not None and args.scheduler:
@@ -101,7 +107,7 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--experiments",
         default="1,2,3,stability,robustness",
-        help="comma-separated: 1, 2, 3, stability, robustness, controls (default all six)",
+        help="comma-separated: 1, 2, 3, stability, robustness, controls (default the first five)",
     )
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
@@ -110,8 +116,14 @@ def register_cli(sub) -> None:
         "--replicates",
         type=int,
         default=None,
-        help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default: the profile's, 6 paper, "
+        help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default: the profile's, 10 paper, "
         "3 quick; the claims' inferential basis)",
+    )
+    p.add_argument(
+        "--push-scale",
+        type=float,
+        default=None,
+        help="the replicates' push, x 5 N for 0.1 s inside the scored window (default 1; 0: no push)",
     )
     p.add_argument(
         "--conventions",

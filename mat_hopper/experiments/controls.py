@@ -17,10 +17,11 @@ mass distribution (the designs' densities) x springs (rigid, ``paper``,
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from ..behaviours import behaviour as get_behaviour
 from ..controls import CONTROLS, control
 from ..materials import parse_design
-from ..perturbations import Perturbation
 from .profiles import get_profile
 from .runner import RunSpec, run_grid
 
@@ -61,7 +62,6 @@ def control_tasks(
     """
     profile = get_profile(profile)
     n = _replicates(profile, replicates)
-    window = (profile.transient_s, profile.duration_s)
     runs = [(parse_design(b), b, NO_CONTROL) for b in baselines]
     for name in designs:
         d = parse_design(name)
@@ -74,7 +74,7 @@ def control_tasks(
         for bname in behaviours:
             beh = get_behaviour(bname)
             for rep in range(n):
-                pert = Perturbation.replicate(rep, window)
+                pert = profile.replicate(rep)
                 labels = {
                     "experiment": "controls",
                     "profile": profile.name,
@@ -125,7 +125,6 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
     """
     profile = get_profile(profile)
     n = _replicates(profile, replicates)
-    window = (profile.transient_s, profile.duration_s)
     out = []
     for name in designs:
         d = parse_design(name)
@@ -151,7 +150,7 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
                         "mass_of": name,
                         "springs": springs,
                     }
-                    pert = Perturbation.replicate(rep, window)
+                    pert = profile.replicate(rep)
                     out.append(RunSpec(design, beh, prof.sim_settings(pert, design=step_of), labels))
     return out
 
@@ -181,14 +180,13 @@ def push_scale_tasks(profile=None, designs=("SS", "rho-inc"), behaviour="ramp", 
     """
     profile = get_profile(profile)
     n = _replicates(profile, replicates)
-    window = (profile.transient_s, profile.duration_s)
     beh = get_behaviour(behaviour)
     out = []
     for name in designs:
         d = parse_design(name)
         for scale in scales:
             for rep in range(n):
-                pert = Perturbation.replicate(rep, window, push_scale=float(scale))
+                pert = replace(profile, push_scale=float(scale)).replicate(rep)
                 labels = {
                     "experiment": "push_scale",
                     "profile": profile.name,

@@ -33,7 +33,6 @@ from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..materials import REPRODUCTION_CONVENTIONS, LegDesign, Material, paper_designs, parse_design
-from ..perturbations import Perturbation
 from ..porosity import DEFAULT_POROSITY_MODEL, check_porosity_model, porous_modulus
 from ..sim import AUTO
 from . import robustness
@@ -101,11 +100,7 @@ class Experiment:
             for bname in self.behaviours:
                 beh = get_behaviour(bname)
                 for rep in [UNPERTURBED, *range(replicates)]:
-                    pert = (
-                        None
-                        if rep == UNPERTURBED
-                        else Perturbation.replicate(rep, (profile.transient_s, profile.duration_s))
-                    )
+                    pert = None if rep == UNPERTURBED else profile.replicate(rep)
                     labels = {
                         "experiment": self.name,
                         "profile": profile.name,

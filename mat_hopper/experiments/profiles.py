@@ -48,11 +48,15 @@ class Profile:
     segment_mass: ``"leg"`` or ``"capsule"`` (:mod:`mat_hopper.materials`);
     replicates: perturbed replicate runs per design and behaviour, the
     claims' inferential basis (``reproduce`` runs them for every hopping
-    experiment) and chapter 6's. Two-sided Mann-Whitney U with n against
-    n runs reaches p = 2 / C(2n, n) at best, times the Holm family's size:
-    n = 6 reaches 0.035 for a family of 16 comparisons (4 materials x 4
-    behaviours), the paper profile's; the quick profile's 3 cannot reach
-    0.05 (:func:`mat_hopper.analysis.claims.smallest_p`)."""
+    experiment) and chapter 6's. The replicates share their seeds across
+    designs, so comparisons are paired; an exact sign-flip test on n pairs
+    reaches p = 2 / 2^n at best (:func:`mat_hopper.analysis.paired.sign_flip_p`),
+    and Holm's first threshold in a family of m comparisons is 0.05 / m:
+    n = 10 (the paper profile's) reaches 0.002 and so serves families of
+    up to 25 (the largest claim's is 16: 4 materials x 4 behaviours); the
+    quick profile's 3 (p >= 0.25) can test nothing;
+    push_scale: the replicates' push, times 5 N for 0.1 s (0: no push;
+    :meth:`mat_hopper.perturbations.Perturbation.replicate`)."""
 
     name: str
     duration_s: float
@@ -66,9 +70,10 @@ class Profile:
     record_rate_hz: float = 1000.0
     convention: str = "paper"
     axial_timestep_s: float | str = AUTO
-    replicates: int = 6
+    replicates: int = 10
     sensor_timing: SensorTiming = SensorTiming()
     segment_mass: str = DEFAULT_SEGMENT_MASS
+    push_scale: float = 1.0
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -88,6 +93,7 @@ class Profile:
         if not self.stability_tolerance > 1:
             raise ValueError(f"stability_tolerance must be a factor > 1, got {self.stability_tolerance!r}")
         check_replicates(self.replicates)
+        Perturbation.replicate(0, self.scored_window_s, push_scale=self.push_scale)  # checks push_scale
         if int(self.stability_max_iter) < 0:
             raise ValueError(f"stability_max_iter must be >= 0, got {self.stability_max_iter!r}")
 
@@ -112,6 +118,11 @@ class Profile:
         """(transient_s, duration_s), s: the hops that are scored; replicate
         pushes are drawn inside it (:meth:`Perturbation.replicate`)."""
         return (self.transient_s, self.duration_s)
+
+    def replicate(self, seed: int) -> Perturbation:
+        """Replicate `seed`'s perturbation under this profile: its push
+        inside the scored window, push_scale x the book's force."""
+        return Perturbation.replicate(seed, self.scored_window_s, push_scale=self.push_scale)
 
     def key_dict(self) -> dict:
         """Every field as a cache or study key records it (a sensor timing by its name)."""
@@ -184,6 +195,7 @@ _PROFILE_FIELDS = (
     ("stability_grid_size", "stable-time-step map: designs per axis"),
     ("stability_duration_s", "stable-time-step map: static hopping per try (s)"),
     ("replicates", "perturbed replicates per design and behaviour (claims, chapter 6)"),
+    ("push_scale", "replicates' push, x 5 N for 0.1 s"),
 )
 
 

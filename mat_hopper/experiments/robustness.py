@@ -25,7 +25,6 @@ from ..analysis.robustness import DEFAULT, Variant, designs_and_behaviours, vari
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..materials import parse_design
-from ..perturbations import Perturbation
 from .profiles import get_profile
 from .runner import RunSpec
 
@@ -39,11 +38,7 @@ def tasks(profile, variant_list=None) -> list:
     out = []
     for v in variant_list or variants():
         prof = profile.for_convention(v.convention).for_sensor_timing(v.sensor_timing)
-        pert = (
-            None
-            if v.replicate is None
-            else Perturbation.replicate(v.replicate, (profile.transient_s, profile.duration_s))
-        )
+        pert = None if v.replicate is None else profile.replicate(v.replicate)
         for d, b in designs_and_behaviours():
             design = parse_design(d)
             settings = prof.sim_settings(pert, design=design)
