@@ -217,13 +217,20 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
 
 def planned_steps(profile, names, conventions, replicates: int) -> float:
     """Physics steps a reproduction would take at most (every task run,
-    nothing cached), without building its task list: the tasks grow
-    linearly with the replicates, so the plans at 0 and 1 replicates give
-    the rest. Used to refuse, before any work, runs beyond
-    :data:`mat_hopper.limits.MAX_TOTAL_STEPS`."""
+    nothing cached), without building its whole task list: the tasks grow
+    linearly with the replicates from 2 on (the controls run at least 2,
+    and the profile's number when given 0), so the plans at 2 and 3
+    replicates give the rest. Used to refuse,
+    before any work, runs beyond :data:`mat_hopper.limits.MAX_TOTAL_STEPS`."""
     prof = get_profile(profile)
-    at = [sum(task_steps(t) for ts in _tasks(prof, names, conventions, r).values() for t in ts) for r in (0, 1)]
-    return at[0] + replicates * (at[1] - at[0])
+
+    def exact(r: int) -> float:
+        return sum(task_steps(t) for ts in _tasks(prof, names, conventions, r).values() for t in ts)
+
+    if replicates <= 3:  # 0 means "the profile's" to the controls: count it as it runs
+        return exact(replicates)
+    at = [exact(2), exact(3)]
+    return at[0] + (replicates - 2) * (at[1] - at[0])
 
 
 def _check_conventions(conventions) -> tuple:
