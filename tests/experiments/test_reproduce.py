@@ -120,9 +120,10 @@ def test_planned_steps_count_the_controls_as_they_run():
     # The controls run at least 2 replicates, and the profile's number when
     # given 0: the plan extrapolated from 0 and 1 replicates came out negative.
     from mat_hopper.experiments.paper import parse_experiments
+    from mat_hopper.experiments.profiles import PROFILES
     from mat_hopper.experiments.reproduce import _tasks, planned_steps, task_steps
 
     names = parse_experiments("1,controls")
     for r in (0, 1, 4):
-        exact = sum(task_steps(t) for ts in _tasks("quick", names, ("paper",), r).values() for t in ts)
+        exact = sum(task_steps(t) for ts in _tasks(PROFILES["quick"], names, ("paper",), r).values() for t in ts)
         assert planned_steps("quick", names, ("paper",), r) == pytest.approx(exact)
