@@ -243,9 +243,12 @@ def _claim_hop_height(ctx: _Context) -> Outcome:
 
 def _comparison_rows(ctx, exps, designs, behaviours, metric, baseline="MD"):
     """The claim's own comparisons, Holm-corrected among themselves (each
-    claim is its own family) with the paired conclusion re-drawn."""
+    claim is its own family) with the paired conclusion re-drawn. Paired
+    comparisons whose family an exact sign-flip test cannot bring under
+    Holm's threshold at their n (:func:`mat_hopper.analysis.paired.reachable`)
+    are never significant: a "difference" there is "not enough evidence"."""
     from ..metrics import holm
-    from .paired import conclusion
+    from .paired import DIFFERENCE, NOT_ENOUGH, conclusion, reachable
 
     c, basis = ctx.compare(exps, metric, baseline)
     if len(c) == 0:
@@ -258,6 +261,11 @@ def _comparison_rows(ctx, exps, designs, behaviours, metric, baseline="MD"):
             rows["conclusion"] = [
                 conclusion(p, lo, hi, alpha=ctx.alpha) for p, lo, hi in zip(rows.p_holm, rows.ci_low, rows.ci_high)
             ]
+        if "n_pairs" in rows.columns and rows.get("paired", pd.Series(False, index=rows.index)).all():
+            if not reachable(int(rows["n_pairs"].min()), len(rows), ctx.alpha):
+                rows["significant"] = False
+                if "conclusion" in rows.columns:
+                    rows.loc[rows["conclusion"] == DIFFERENCE, "conclusion"] = NOT_ENOUGH
     return rows, basis
 
 

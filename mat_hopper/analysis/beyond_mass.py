@@ -14,13 +14,13 @@ interval and the share of the claim's effect it leaves, and a verdict
 ``beyond mass``, per formula of the claim's quantity (power: paper
 formula, hip, total; jerk: the body's zero-phase jerk and the causal one):
 
-- the comparisons: for a rigid baseline (MD), the design against its rigid
-  twin and against its mass-matched leg (left out where that leg is the
-  design itself, same physics key); for an elastic baseline (SS), the
-  per-seed difference in differences ln[(d/d_rigid)/(b/b_rigid)], the
-  springs' effect in the design beyond the springs' effect in the
-  baseline (the mass-matched leg still differs from SS in modulus:
-  ``untestable with these controls``);
+- the comparisons: the design against its mass-matched leg, a
+  homogeneous leg of its own mass (left out where that leg is the design
+  itself, same physics key): does the design beat it, as it beats the
+  baseline? And for a rigid baseline (MD) the design against its rigid
+  twin; for an elastic baseline (SS) the per-seed difference in
+  differences ln[(d/d_rigid)/(b/b_rigid)], the springs' effect in the
+  design beyond the springs' effect in the baseline;
 - a comparison counts only where the claim's own effect (design vs
   baseline, paired, Holm over the claim's) holds in the claimed direction;
   it votes yes (Holm p < alpha in the claimed direction), no (inside the
@@ -174,7 +174,10 @@ def comparison_frame(hops: pd.DataFrame, claim_id: str, metric: str | None = Non
     the difference in differences ln[(d/d_rigid)/(b/b_rigid)]: what the
     design's springs do beyond what the baseline's springs do, the mass
     distributions held by the rigid twins (the mass-matched leg still
-    differs from SS in modulus, so it isolates nothing there). Each with
+    differs from SS in modulus, so it isolates nothing there), and for
+    either baseline the design against its mass-matched leg (a
+    homogeneous leg of its own mass: what its distribution of mass and
+    modulus adds). Each with
     its paired effect (t interval, paired t p, exact sign-flip p and its
     smallest reachable p) and the share of the claim's effect it leaves.
 
@@ -212,12 +215,11 @@ def comparison_frame(hops: pd.DataFrame, claim_id: str, metric: str | None = Non
             x_claim = np.log(own / b)
             comps = []
             rigid = np.log(own / _series(means, d, "rigid", beh, metric))
-            if elastic:
-                comps.append(("springs vs both rigid twins", rigid - np.log(b / b_rigid)))
-            else:
-                comps.append(("rigid twin", rigid))
-                if not _is_own_mass_leg(d):
-                    comps.append(("mass-matched", np.log(own / _series(means, d, "mass", beh, metric))))
+            comps.append(
+                ("springs vs both rigid twins", rigid - np.log(b / b_rigid)) if elastic else ("rigid twin", rigid)
+            )
+            if not _is_own_mass_leg(d):  # a homogeneous leg of the design's own mass: what the distribution adds
+                comps.append(("mass-matched", np.log(own / _series(means, d, "mass", beh, metric))))
             main = paired_effect(np.exp(x_claim.dropna()), np.ones(int(x_claim.notna().sum())))
             for label, x in comps:
                 x = x.dropna()
@@ -305,17 +307,16 @@ def _one_metric(claim_id, hops, metric, alpha) -> dict:
     own = dict(zip(zip(*e.drop_duplicates(["design", "behaviour"])[["design", "behaviour"]].T.values), claim_holm))
     e["own_effect"] = [own[(r.design, r.behaviour)] < alpha and np.sign(r.claim_pct) == sign for r in e.itertuples()]
     verdict = _verdict(e, sign, alpha)
+    mass_rows = e[e["comparison"] == "mass-matched"]
+    vs_mass = _fmt(mass_rows) if len(mass_rows) else "homogeneous: the design is its own mass-matched leg"
     if _is_rigid(baseline):
-        mass_rows = e[e["comparison"] == "mass-matched"]
-        vs_mass = _fmt(mass_rows) if len(mass_rows) else "homogeneous: the design is its own mass-matched leg"
         vs_rigid = _fmt(e[e["comparison"] == "rigid twin"])
     else:
-        vs_mass = f"{ISOLATE_NOT}: the mass-matched leg and {baseline} still differ in modulus"
-        vs_rigid = "springs beyond the baseline's springs: " + _fmt(e)
+        vs_rigid = "springs beyond the baseline's springs: " + _fmt(e[e["comparison"] == "springs vs both rigid twins"])
     return {"vs_rigid_twin": vs_rigid, "vs_mass_matched": vs_mass, "beyond_mass": verdict}
 
 
-def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects=None, alpha=0.05) -> dict:
+def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects=None, alpha=0.05, sweep_hops=None) -> dict:
     """The beyond-mass columns of one claim (module doc), one verdict per
     formula of the claim's quantity (power: paper formula, hip, total;
     jerk: body zero-phase, causal), joined as ``label: text | ...``.
@@ -325,13 +326,15 @@ def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects=None, alpha
         hops: the control runs' per-hop rows, unusable runs dropped (or None: not run).
         effects: unused (kept for callers of the earlier signature).
         alpha: significance level.
+        sweep_hops: experiment 2's per-hop rows, for the sweep claims
+            (:func:`sweep_controls`).
 
     Returns:
         dict of :data:`CONTROL_COLUMNS` (text); empty strings for claims
         that are not about materials.
     """
     if claim_id in SWEEP_CLAIMS:
-        return dict(zip(CONTROL_COLUMNS, ("", "", "untestable here: see the attribution at equal mass")))
+        return sweep_controls(claim_id, sweep_hops, alpha)
     if claim_id not in MATERIAL_CLAIMS:
         return dict.fromkeys(CONTROL_COLUMNS, "")
     if hops is None or len(hops) == 0:
@@ -343,8 +346,68 @@ def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects=None, alpha
     return {c: " | ".join(f"{label}: {p[c]}" for label, p in parts) for c in CONTROL_COLUMNS}
 
 
-def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None, alpha: float = 0.05, bad=None):
-    """The claims table with :data:`CONTROL_COLUMNS` added (module doc).
+def sweep_controls(claim_id: str, sweep_hops: pd.DataFrame | None, alpha: float = 0.05) -> dict:
+    """The beyond-mass columns of the one-property sweep claims.
+
+    ``density_over_modulus`` compares density (the leg's mass) with
+    modulus: a claim about mass itself, which no mass control can test.
+    ``low_modulus_tracks_worse`` pools light polymer points against heavy
+    metal points; at equal mass it is read from each base material's
+    modulus sweep (density, and so mass, fixed; :func:`modulus_at_equal_mass`):
+    ``yes`` where every sweep's slope of log tracking error on log modulus
+    is negative with Holm p < alpha, ``partly`` where at least half are,
+    ``no`` otherwise.
+
+    Args:
+        claim_id: one of :data:`SWEEP_CLAIMS`.
+        sweep_hops: experiment 2's per-hop rows (or None: not run).
+        alpha: significance level.
+
+    Returns:
+        dict of :data:`CONTROL_COLUMNS`.
+    """
+    if claim_id == "density_over_modulus":
+        return dict(zip(CONTROL_COLUMNS, ("", "", "n/a: density is the leg's mass; the claim is about mass itself")))
+    if sweep_hops is None or len(sweep_hops) == 0 or "sweep_base" not in sweep_hops.columns:
+        return dict(zip(CONTROL_COLUMNS, ("", NOT_RUN, NOT_RUN)))
+    t = modulus_at_equal_mass(sweep_hops)
+    slopes = t[t["term"] == "log_modulus"].copy() if len(t) else t
+    if len(slopes) == 0:
+        return dict(zip(CONTROL_COLUMNS, ("", NOT_RUN, NOT_RUN)))
+    slopes["p_holm"] = holm(slopes["p"].to_numpy(float))
+    k = int(((slopes["p_holm"] < alpha) & (slopes["estimate"] < 0)).sum())
+    m = len(slopes)
+    verdict = YES if k == m else PARTLY if k >= m / 2 else NO
+    text = "; ".join(
+        f"{r.scope}: error ~ E^{r.estimate:+.3f} [{r.ci_low:+.3f}, {r.ci_high:+.3f}], p_holm {r.p_holm:.2g}"
+        for r in slopes.itertuples()
+    )
+    why = f"{verdict} ({k}/{m} modulus sweeps at equal mass: tracking error falls with modulus, Holm p < {alpha:g})"
+    return {"vs_rigid_twin": "", "vs_mass_matched": text, "beyond_mass": why}
+
+
+def mass_property_text(claim_id: str, segment_mass: str = "leg") -> str:
+    """Leg mass (kg), centre of mass below the hip (m) and hip inertia
+    (kg m^2) of each design of a material claim and of its baseline
+    (MuJoCo's compiled models, :func:`mat_hopper.controls.mass_properties`);
+    empty for other claims."""
+    from ..controls import mass_properties
+
+    if claim_id not in MATERIAL_CLAIMS:
+        return ""
+    designs, baseline = MATERIAL_CLAIMS[claim_id][:2]
+    parts = []
+    for name in dict.fromkeys([*designs, baseline]):
+        mp = mass_properties(parse_design(name), segment_mass)
+        parts.append(f"{name} {mp.leg_mass_kg:.2f} kg, {mp.leg_com_m:.3f} m, {mp.hip_inertia_kg_m2:.3f} kg m^2")
+    return "; ".join(parts)
+
+
+def beyond_mass_columns(
+    claims: pd.DataFrame, control_hops: pd.DataFrame | None, alpha: float = 0.05, bad=None, sweep_hops=None
+):
+    """The claims table with :data:`CONTROL_COLUMNS` and ``mass_properties``
+    (:func:`mass_property_text`) added (module doc).
 
     Args:
         claims: :func:`mat_hopper.analysis.claims.claims_table`.
@@ -353,9 +416,10 @@ def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None,
         alpha: significance level.
         bad: unusable control runs (:func:`mat_hopper.analysis.stats.unusable_runs`
             of the control runs' summaries), dropped as the main claims drop theirs.
+        sweep_hops: experiment 2's per-hop rows (the sweep claims, :func:`sweep_controls`).
 
     Returns:
-        DataFrame, a copy with the three columns.
+        DataFrame, a copy with the four columns.
     """
     from .stats import drop_unusable
 
@@ -368,13 +432,18 @@ def beyond_mass_columns(claims: pd.DataFrame, control_hops: pd.DataFrame | None,
         h = control_hops
         if h is not None and "convention" in h.columns:
             h = h[h["convention"] == r.get("convention", "paper")]
+        s = sweep_hops
+        if s is not None and "convention" in s.columns:
+            s = s[s["convention"] == r.get("convention", "paper")]
         key = (r["claim_id"], r.get("convention"))
         if key not in cache:
-            cache[key] = claim_controls(r["claim_id"], h, None, alpha)
+            cache[key] = claim_controls(r["claim_id"], h, None, alpha, sweep_hops=s)
         for c in CONTROL_COLUMNS:
             cols[c].append(cache[key][c])
     for c in CONTROL_COLUMNS:
         out[c] = cols[c]
+    texts = {cid: mass_property_text(cid) for cid in out["claim_id"].unique()}
+    out["mass_properties"] = out["claim_id"].map(texts)
     return out
 
 

@@ -41,8 +41,10 @@ Rules (thresholds are module constants):
 Comparisons are those of :mod:`mat_hopper.analysis.stats` on the ``basis`` chosen
 (``auto``: replicate means where every design and behaviour has
 replicates, else the paper's hop cycles of the unperturbed run; the
-``basis`` column says which); the Holm family is one metric within one
-experiment (experiments 1 and 3 together for the gradient claims). Hop
+``basis`` column says which); the Holm family of a claim is its own
+comparisons (one metric), and on the replicate basis a comparison is
+significant only where an exact sign-flip test on its n paired seeds
+could reach Holm's threshold in that family (:func:`mat_hopper.analysis.paired.reachable`). Hop
 cycles of runs that diverged, fell over or failed are never used
 (:func:`mat_hopper.analysis.stats.drop_unusable`).
 """
@@ -368,7 +370,7 @@ def claims_table(
     under the paper's formula, hip power and total power side by side),
     jerk_verdicts (the jerk claim under the causal and the body jerk), and
     the beyond-mass columns of :func:`mat_hopper.analysis.beyond_mass.beyond_mass_columns`
-    (vs_rigid_twin, vs_mass_matched, beyond_mass) from ``controls``, the
+    (vs_rigid_twin, vs_mass_matched, beyond_mass, mass_properties) from ``controls``, the
     per-hop rows of :func:`mat_hopper.experiments.controls.run_controls`
     ("not run" without them), its unusable runs dropped as the main
     claims' are, from ``control_runs`` (their run summaries). The tables must hold one profile and one
@@ -393,7 +395,8 @@ def claims_table(
         rows += [{**_claim_row(claim, ctx, fine, fine_label), "sensor_timing": timing} for claim in CLAIMS]
     out = pd.DataFrame(rows, columns=[*COLUMNS, "power_verdicts", "jerk_verdicts"])
     bad_controls = _stats.unusable_runs(control_runs, timestep_s) if control_runs is not None else None
-    out = _beyond.beyond_mass_columns(out, controls, alpha, bad_controls)
+    sweeps = hops[hops["experiment"] == "exp2"] if len(hops) and "experiment" in hops.columns else None
+    out = _beyond.beyond_mass_columns(out, controls, alpha, bad_controls, sweep_hops=sweeps)
     if profiles:
         out.insert(list(out.columns).index("detail"), "profile", profiles)
     return out

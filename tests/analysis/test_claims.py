@@ -163,3 +163,15 @@ def test_paired_verdicts_need_a_reachable_sign_flip_threshold():
     hops, runs = results(n=6, replicates=3)
     row = claims.claims_table(hops, runs, conventions=("paper",)).set_index("claim_id").loc["tracking_all_beat_md"]
     assert row["verdict"] == claims.NOT_TESTABLE and "sign-flip" in row["ours"] and "n = 3" in row["ours"]
+
+
+def test_percent_claims_details_say_not_enough_evidence_where_no_verdict_is_reachable():
+    # SS 55 % lower than MD on every behaviour: a family of 4 at 3 seeds (p >= 0.25 x 4):
+    # however clear the t test, no comparison of the family may read "difference"
+    hops, runs = results(n=6, replicates=3)
+    row = claims.claims_table(hops, runs, conventions=("paper",)).set_index("claim_id").loc["tracking_ss_55"]
+    assert "difference" not in row["detail"].replace("no difference", "")
+    # with 10 seeds the same family is testable (2 / 2^10 x 4 = 0.008)
+    hops, runs = results(n=6, replicates=10)
+    row = claims.claims_table(hops, runs, conventions=("paper",)).set_index("claim_id").loc["tracking_ss_55"]
+    assert "paired, n = 10: difference" in row["detail"]
