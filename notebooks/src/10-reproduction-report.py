@@ -173,8 +173,12 @@ for name, t in jerk.items():
 # frequency of 1 kHz samples, so the number is aliased ringing, and sparse
 # samples smooth the hops' accelerations away. Our `jerk_m_s3` is instead
 # computed at the physics rate, from the base's vertical acceleration
-# low-passed by a second-order Butterworth filter at 50 Hz (Winter, 2009),
-# and does not depend on the record rate:
+# low-passed by a causal second-order Butterworth filter at 50 Hz, and
+# does not depend on the record rate. A causal filter of that order still
+# passes some of the kHz ringing (a gain of about 8 at 2 kHz after the
+# derivative); the body jerk `jerk_body_m_s3` uses the zero-phase
+# fourth-order filter that Winter (2009) recommends for movement data
+# (chapter "Material or mass?" shows the jerk claim under both):
 
 # %%
 for r in rollouts:
