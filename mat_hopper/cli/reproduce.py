@@ -107,7 +107,8 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--experiments",
         default="1,2,3,stability,robustness",
-        help="comma-separated: 1, 2, 3, stability, robustness, controls (default the first five)",
+        help="comma-separated: 1, 2, 3, stability, robustness, controls, 2-gibson-ashby (experiment 2 with "
+        "porosity that softens) (default the first five)",
     )
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")

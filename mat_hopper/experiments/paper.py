@@ -255,6 +255,13 @@ class ControlsStudy:
         return control_tasks(profile, replicates=max(n, 2))
 
 
+def experiment_2_gibson_ashby() -> Experiment:
+    """Experiment 2 with porosity that softens: a density point below the
+    base material's is that solid made porous (Gibson-Ashby, E = E_s
+    (rho / rho_s)^2; :func:`experiment_2`)."""
+    return experiment_2("gibson-ashby")
+
+
 EXPERIMENTS = {
     "exp1": experiment_1,
     "exp2": experiment_2,
@@ -262,6 +269,7 @@ EXPERIMENTS = {
     "stability": StabilityMap,
     "robustness": RobustnessStudy,
     "controls": ControlsStudy,
+    "exp2-gibson-ashby": experiment_2_gibson_ashby,
 }
 EXPERIMENT_NAMES = tuple(EXPERIMENTS)
 
@@ -277,11 +285,13 @@ def experiment_name(text: str) -> str:
         "stab": "stability",
         "robust": "robustness",
         "control": "controls",
+        "2-gibson-ashby": "exp2-gibson-ashby",
+        "2ga": "exp2-gibson-ashby",
     }
     key = alias.get(key, key)
     if key not in EXPERIMENTS:
         raise ValueError(
-            f"unknown experiment {text!r}; accepted: 1, 2, 3, stability, robustness, controls (or "
+            f"unknown experiment {text!r}; accepted: 1, 2, 3, stability, robustness, controls, 2-gibson-ashby (or "
             f"{', '.join(EXPERIMENTS)})"
         )
     return key
@@ -289,7 +299,8 @@ def experiment_name(text: str) -> str:
 
 def parse_experiments(text: str | None) -> list[str]:
     """'1,2,3,stability' -> ['exp1', 'exp2', 'exp3', 'stability'] (order
-    kept, duplicates dropped); None or 'all': all six (with robustness and controls)."""
+    kept, duplicates dropped); None or 'all': all seven (with robustness,
+    controls and experiment 2 under Gibson-Ashby porosity)."""
     if text is None or str(text).strip().lower() == "all":
         return list(EXPERIMENT_NAMES)
     names = [experiment_name(p) for p in str(text).split(",") if p.strip()]

@@ -131,7 +131,7 @@ def test_profile_and_experiment_bad_input():
         parse_experiments(",")
     with pytest.raises(ValueError, match="replicates"):
         experiment_1().tasks("quick", replicates=-1)
-    assert parse_experiments("1,2,3,stability,robust,controls") == list(EXPERIMENT_NAMES)
+    assert parse_experiments("1,2,3,stability,robust,controls,2-gibson-ashby") == list(EXPERIMENT_NAMES)
     assert parse_experiments("stability, exp1, 1") == ["stability", "exp1"]
 
 
@@ -159,3 +159,13 @@ def test_exp2_under_gibson_ashby_softens_porous_points():
     assert {k: v for k, v in b.items() if v["sweep_property"] == "modulus"} == {
         k: {**v, "porosity_model": "gibson-ashby"} for k, v in a.items() if v["sweep_property"] == "modulus"
     }
+
+
+def test_experiment_2_runs_under_gibson_ashby_porosity_by_name():
+    # a porous steel point (density 2 g/cm^3 of the solid's 8) is softer by
+    # (2 / 8)^2 = 1/16 under Gibson-Ashby: 193 GPa -> 12.0625 GPa
+    exp = get_experiment("2-gibson-ashby")
+    assert exp.name == "exp2-gibson-ashby"
+    soft = [p for p in exp.points if dict(p.tags)["sweep_base"] == "SS" and dict(p.tags)["sweep_property"] == "density"]
+    by_rho = {dict(p.tags)["density_g_cm3"]: dict(p.tags)["modulus_gpa"] for p in soft}
+    assert by_rho[8.0] == 193.0 and by_rho[2.0] == pytest.approx(12.0625)
