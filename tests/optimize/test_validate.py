@@ -13,60 +13,91 @@ from mat_hopper.materials import paper_designs
 from mat_hopper.optimize import Objective
 from mat_hopper.optimize.validate import (
     AXIAL,
+    CHECKS,
     FINE_CONTROL,
     FINE_PLAIN,
     NOMINAL,
+    REPLICATE,
+    answer,
+    beats,
     check_settings,
-    dominates,
-    mean_interval,
-    paper_best,
+    dominated_by,
+    paired_table,
     validation_tasks,
+    verdicts,
 )
 
 T, P = "tracking_error_m", "power_w"
+OB = Objective(replicates=0, profile=Profile("tiny", duration_s=2.0, transient_s=0.5))  # the ramp
 
 
-def box(t, p):
-    return {T: t, P: p}
-
-
-def test_interval_dominance_by_hand():
-    a = box((2.0, 3.0), (2.0, 3.0))
-    assert dominates(box((0.5, 1.5), (0.5, 1.5)), a)  # clearly better on both
-    assert dominates(box((0.5, 1.5), (2.5, 3.5)), a)  # clearly better on one, overlapping (a tie) on the other
-    assert not dominates(box((1.5, 2.5), (2.5, 3.5)), a)  # ties on both
-    assert not dominates(box((0.5, 1.5), (3.5, 4.0)), a)  # better on one, clearly worse on the other
-    assert not dominates(a, a)
-    # touching intervals overlap (a tie): 3.0 is not wholly below 3.0
-    assert not dominates(box((1.0, 2.0), (3.0, 3.0)), box((2.0, 2.5), (3.0, 3.0)))
-
-
-def test_paper_best_from_intervals():
+def _runs(legs: dict, n: int) -> pd.DataFrame:
+    """A validation's run table: {(role, name): (tracking factor, power factor)} on
+    n shared seeds (seed k scales every design alike, as shared perturbations do),
+    plus every check of the front designs, all ended well."""
+    rng = np.random.default_rng(0)
+    seed = np.exp(rng.normal(0, 0.2, n))
     rows = []
-    for name, t, p in (
-        ("A", (1, 2), (5, 6)),
-        ("B", (3, 4), (1, 2)),
-        ("C", (3, 4), (3, 4)),
-        ("D", (1.5, 2.5), (5.5, 7)),
-    ):
-        rows += [
-            {"role": "paper", "design": name, "objective": T, "n": 3, "ci_low": t[0], "ci_high": t[1]},
-            {"role": "paper", "design": name, "objective": P, "n": 3, "ci_low": p[0], "ci_high": p[1]},
-        ]
-    # C is dominated by B (tie on tracking, better power); D by nothing (A ties it on both,
-    # B is clearly worse on tracking)
-    assert paper_best(pd.DataFrame(rows)) == ["A", "B", "D"]
+    for (role, name), (ft, fp) in legs.items():
+        for r in range(n):
+            noise = np.exp(rng.normal(0, 0.01, 2))
+            rows.append({"role": role, "design": name, "behaviour": "ramp", "check": REPLICATE, "replicate": r,
+                         "status": "ok", f"mean_{T}": 0.01 * ft * seed[r] * noise[0],
+                         f"mean_{P}": 2.0 * fp * seed[r] * noise[1]})  # fmt: skip
+        if role == "front":
+            for c in CHECKS:
+                if c != REPLICATE:
+                    rows.append({"role": role, "design": name, "behaviour": "ramp", "check": c, "replicate": -1,
+                                 "status": "ok"})  # fmt: skip
+    return pd.DataFrame(rows)
 
 
-def test_mean_interval():
-    lo, hi = mean_interval([1.0, 2.0, 3.0, 4.0])
-    assert 1.0 <= lo < 2.5 < hi <= 4.0  # brackets the mean 2.5 within the data's range
-    assert mean_interval([2.0, 2.0, 2.0]) == (2.0, 2.0)
-    assert all(np.isnan(mean_interval([1.0])))
+LEGS = {
+    ("front", "f"): (1.0, 1.0),
+    ("paper", "A"): (0.5, 1.0),  # clearly better tracking, same power: dominates f
+    ("paper", "B"): (0.5, 2.0),  # better tracking, worse power: a trade-off, no domination
+    ("control", "f~mass"): (1.2, 1.0),  # f tracks 17 % better than a homogeneous leg of its mass
+    ("control", "f~rigid"): (1.0, 1.0),  # its springs change nothing
+}
+
+
+def test_paired_dominance_by_hand():
+    t = paired_table(_runs(LEGS, 10), OB)
+    # 4 comparators x 2 objectives, Holm over the 8; 10 seeds reach 2/1024 x 8 = 0.016 < 0.05
+    assert len(t) == 8 and t["testable"].all()
+    assert dominated_by(t, "f") == ["A"]
+    assert beats(t, "f", "mass-matched") == "yes" and beats(t, "f", "rigid twin") == "no"
+    row = t[(t["against"] == "f~mass") & (t["objective"] == T)].iloc[0]
+    assert row["pct_change"] == pytest.approx(100 * (1 / 1.2 - 1), abs=1.0)  # -16.7 %
+    v = verdicts(_runs(LEGS, 10), t).set_index("design")
+    assert v.loc["f", "survives"] is False  # stable everywhere, but A dominates it
+    assert v.loc["f", "dominated by"] == "A"
+
+
+def test_three_seeds_test_nothing():
+    # 2 / 2^3 x 8 = 2: no comparison can be significant, so survival is untestable, not granted
+    runs = _runs(LEGS, 3)
+    t = paired_table(runs, OB)
+    assert not t["testable"].any() and dominated_by(t, "f") == []
+    v = verdicts(runs, t).set_index("design")
+    assert v.loc["f", "survives"] == "untestable" and v.loc["f", "beats its mass-matched leg"] == "untestable"
+
+
+def test_controls_run_beside_every_front_design():
+    from mat_hopper.materials import parse_design
+
+    tasks = validation_tasks({"g": parse_design("PVC-Ti-SS"), "t": parse_design("Ti")}, OB, replicates=2)
+    labels = pd.DataFrame([t.labels for t in tasks])
+    ctl = labels[labels["role"] == "control"]
+    # the gradient gets both controls; homogeneous Ti is its own mass-matched leg
+    assert sorted(ctl["design"].unique()) == ["g~mass", "g~rigid", "t~rigid"]
+    assert set(ctl["check"]) == {REPLICATE} and set(ctl["replicate"]) == {0, 1}
+    # fresh seeds: the validation's replicate seeds are 0..n-1, the search's start at 1000
+    assert max(labels["replicate"]) < 1000
 
 
 def test_check_settings_keep_the_control_period_and_sensor_delay():
-    ob = Objective(replicates=0, profile=Profile("tiny", duration_s=2.0, transient_s=0.5))
+    ob = OB
     st = check_settings(paper_designs()["SS"], ob)
     assert st[NOMINAL].timestep_s == 1e-4
     fine = st[FINE_CONTROL]
@@ -86,19 +117,22 @@ def test_check_settings_keep_the_control_period_and_sensor_delay():
         "circle",
     }
     assert len(checks[checks["role"] == "paper"]) == 9 * (2 + 1)
+    assert len(checks[checks["role"] == "control"]) == 2  # Ti's rigid twin, 2 replicates
 
 
 def test_validate_front_end_to_end(tmp_path):
-    """A tiny front: Ti (a mono-material) and a design far off the front
-    that the paper's designs must dominate clearly."""
+    """A tiny front: a design far off the front (heavy and stiff), with
+    its rigid twin, three seeds: survival untestable or failed, and the
+    answer says so."""
     from mat_hopper.materials import LegDesign
-    from mat_hopper.optimize.validate import beats_paper, validate_front
+    from mat_hopper.optimize.validate import validate_front
 
     ob = Objective(replicates=0, profile=Profile("tiny", duration_s=4.0, transient_s=1.0))
     heavy = LegDesign.from_properties([20.0, 20.0, 20.0], [300.0, 300.0, 300.0], name="heavy")
     v = validate_front({"heavy": heavy}, ob, replicates=3, cache_dir=tmp_path, workers=2)
     ver = v["verdicts"].set_index("design")
-    assert not ver.loc["heavy", "survives"]
-    assert ver.loc["heavy", "dominated by"] or not ver.loc["heavy", "stable everywhere"]
+    assert ver.loc["heavy", "survives"] in (False, "untestable")
     assert set(v["paper_best"]) <= set(paper_designs())
-    assert beats_paper(v).empty  # nothing survived
+    assert "heavy~rigid" in set(v["runs"]["design"])
+    assert np.isnan(v["surviving_fraction"]) or v["surviving_fraction"] == 0.0
+    assert "untestable" in answer(v, {"heavy": heavy}) or "0 of 1" in answer(v, {"heavy": heavy})
