@@ -70,7 +70,7 @@ def test_paired_dominance_by_hand():
     row = t[(t["against"] == "f~mass") & (t["objective"] == T)].iloc[0]
     assert row["pct_change"] == pytest.approx(100 * (1 / 1.2 - 1), abs=1.0)  # -16.7 %
     v = verdicts(_runs(LEGS, 10), t).set_index("design")
-    assert v.loc["f", "survives"] is False  # stable everywhere, but A dominates it
+    assert v.loc["f", "survives"] == False  # noqa: E712 (stable everywhere, but A dominates it)
     assert v.loc["f", "dominated by"] == "A"
 
 
