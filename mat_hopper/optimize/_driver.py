@@ -8,8 +8,9 @@ tell them in order.
 hand it to :func:`run_loop`, which drives any
 :class:`~mat_hopper.optimize._evaluators.Evaluator`. Each round
 
-1. counts the study's finished and running trials (other commands'
-   included) and stops at the target;
+1. fails and re-queues the running trials of dead runs (on this machine
+   by process, anywhere by stale heartbeat), counts the study's finished
+   and running trials (other commands' included) and stops at the target;
 2. asks k = min(batch size, trials left) trials in a row with Optuna's
    ask-and-tell interface (enqueued trials first: the paper's designs,
    then re-queued ones; TPE's constant liar keeps the round's trials
@@ -41,9 +42,10 @@ Guarantees:
   unfinished trials are failed and re-queued, and the run goes on (a fresh
   pool);
 - the whole run killed (SIGKILL, a machine lost): its trials stay RUNNING
-  under its name; the next run on the same machine fails and re-queues them
-  at once (:func:`~mat_hopper.optimize._storage.recover_dead`), a run on
-  any machine once their heartbeat is older than the grace period
+  under its name (its evaluation processes end with it); the next round of
+  any run on the same machine fails and re-queues them at once
+  (:func:`~mat_hopper.optimize._storage.recover_dead`), of a run on any
+  machine once their heartbeat is older than the grace period
   (``optuna.storages.fail_stale_trials``, RDB storages);
 - shared storage: any number of commands may run one study, each this
   loop; each stops when the study holds its target (finished plus running);
@@ -90,8 +92,8 @@ class RunResult:
         done, running: finished and running trials at the end (other commands' included).
         told: (trial number, state name) of each trial this run told, in order.
         lost: trials of this run whose evaluation process died (failed and re-queued).
-        recovered: trials of dead earlier runs on this machine, failed and
-            re-queued when the run started.
+        recovered: trials of dead runs on this machine (earlier ones, or
+            other commands), failed and re-queued by this run.
         evaluator: what simulated (``"pool:2"``, ``"warp:cuda"``; empty when
             the study needed nothing).
     """
@@ -180,10 +182,7 @@ def _run(config: StudyConfig, options: RunOptions, url: str, evaluator: Evaluato
     study = create_or_load(config, storage, backend=evaluator.backend)
     if RACING_ATTR in study.user_attrs:  # its open bracket's trials stay RUNNING
         raise ValueError(f"study {config.name!r} is a racing study (mat_hopper.optimize.run_racing): resume it there")
-    recovered = recover_dead(study, storage, max_retry=options.max_retry, reason="process of an earlier run died")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-        optuna.storages.fail_stale_trials(study)
+    recovered = _recover(study, storage, options.max_retry)
     done, running = counts(study)
     result = RunResult(config.name, redact(url), options.trials, done, running, recovered=recovered)
     if options.trials - done - running <= 0:
@@ -192,6 +191,17 @@ def _run(config: StudyConfig, options: RunOptions, url: str, evaluator: Evaluato
     study = optuna.load_study(study_name=config.name, storage=storage, sampler=make_sampler(options.sampler, seed))
     with evaluator:
         return run_loop(study, storage, config, evaluator, options, batch_size=batch_size, result=result)
+
+
+def _recover(study, storage, max_retry: int) -> list[int]:
+    """Fail and re-queue the running trials of dead runs: on this machine at
+    once (by process), anywhere once their heartbeat is stale (RDB storages;
+    Optuna's callback re-queues those). Returns the numbers failed here by process."""
+    recovered = recover_dead(study, storage, max_retry=max_retry, reason="process of an earlier run died")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        optuna.storages.fail_stale_trials(study)
+    return recovered
 
 
 def run_loop(
@@ -265,6 +275,7 @@ class _Loop:
         try:
             with self.beat:
                 while True:
+                    self.result.recovered += _recover(self.study, self.storage, o.max_retry)  # other runs' too
                     done, running = counts(self.study)
                     bar.n = min(done, o.trials)
                     bar.set_postfix(running=running, refresh=False)
