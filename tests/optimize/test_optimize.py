@@ -29,7 +29,8 @@ from running_trials import (
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.materials import LegDesign, paper_designs
-from mat_hopper.optimize._driver import run_study
+from mat_hopper.optimize._driver import run_loop, run_study
+from mat_hopper.optimize._evaluators import Evaluator, Lost
 from mat_hopper.optimize._objective import Objective, evaluate
 from mat_hopper.optimize._samplers import check_sampler, make_sampler, sampler_seed
 from mat_hopper.optimize._space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample
@@ -419,6 +420,45 @@ def test_diverging_and_failing_designs_never_crash_the_study(tmp_path):
         assert all(np.isfinite(t.values))
     with pytest.raises(ValueError, match="exists with other settings"):
         create_or_load(StudyConfig("div", SearchSpace(), TINY_OBJ), storage)
+
+
+class _Losing(Evaluator):
+    """An evaluator whose processes always die (or that raises `error`)."""
+
+    name = "losing"
+
+    def __init__(self, error=None):
+        self.error, self.rounds = error, []
+
+    def evaluate(self, designs, objective, desc="trials"):
+        self.rounds.append(len(designs))
+        if self.error:
+            raise self.error
+        return [Lost("evaluation process died (test)") for _ in designs]
+
+
+def test_rounds_lost_whole_stop_the_loop_and_errors_fail_the_round():
+    """Evaluation processes that die round after round: each round's trials
+    are failed and re-queued, and the loop stops after max_retry + 1 such
+    rounds (it would ask forever). An evaluator that raises: its round's
+    trials fail with the error, which reaches the caller. Nothing is left
+    running either way."""
+    config = tiny_config("lose")
+    for evaluator, raised in ((_Losing(), ValueError), (_Losing(RuntimeError("device lost")), RuntimeError)):
+        storage = optuna.storages.InMemoryStorage()
+        study = create_or_load(config, storage)
+        with pytest.raises(raised) as e:
+            run_loop(study, storage, config, evaluator, RunOptions(trials=4, max_retry=1, progress=False))
+        ts = study.get_trials()
+        assert not [t for t in ts if t.state == TrialState.RUNNING]
+        if raised is ValueError:
+            assert "died in 2 rounds in a row" in str(e.value) and evaluator.rounds == [4, 4]
+            failed = [t for t in ts if t.state == TrialState.FAIL]
+            assert len(failed) == 8 and all(t.user_attrs[FAIL_REASON_ATTR].startswith("evaluation") for t in failed)
+            assert len([t for t in ts if "failed_trial" in t.system_attrs]) == 8  # each re-queued
+        else:
+            assert evaluator.rounds == [4]
+            assert [t.user_attrs[ERROR_ATTR] for t in ts[:4]] == ["RuntimeError: device lost"] * 4
 
 
 # --- PostgreSQL: workers, resume by a third process, dead workers ------------
