@@ -4,17 +4,19 @@ Runs a fresh study (SQLite in a temporary folder, the default storage)
 with --workers processes and the paper profile (60 s runs, 1e-4 s step),
 then prints
 
-- trials/hour end to end, wall clock (study creation and worker start
-  included): what this machine gave, other load included;
+- trials/hour end to end, wall clock (study creation and the start of the
+  evaluation processes included): what this machine gave, other load included;
 - full-run trials/hour: simulated seconds per wall hour / 60, which does
   not flatter the figure when some designs diverge early (cheap trials);
-- CPU seconds per trial (the workers' own CPU time, every overhead of
-  Optuna and the database included) and what that gives on --workers idle
-  cores: the figure to compare across machines when the cores are shared;
+- CPU seconds per trial (the command's and its evaluation processes' CPU
+  time, every overhead of Optuna, the database and the run cache included)
+  and what that gives on --workers idle cores: the figure to compare across
+  machines when the cores are shared;
 - the simulator's own limit: one bare 60 s SS ramp rollout (CPU time);
-- the optimizer's own overhead (sampler, storage, heartbeat, metrics): a
-  few trials in this process, CPU inside the simulation against CPU of the
-  whole ``study.optimize``. Measured in one process at one moment, so it
+- the optimizer's own overhead (sampler, storage, heartbeat, run cache,
+  metrics): a few trials of the optimizer's loop in this process (one
+  evaluation process: this one), CPU inside the simulation against CPU of
+  the whole loop. Measured in one process at one moment, so it
   holds when the host's speed drifts (on a shared VM the same rollout takes
   anywhere from 4 to 7 s of CPU from one minute to the next).
 
@@ -30,22 +32,22 @@ from __future__ import annotations
 import argparse
 import multiprocessing
 import os
-import resource
 import tempfile
+import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 
 import optuna
 from optuna.trial import TrialState
 
-import mat_hopper.optimize._study as optimize_module
+import mat_hopper.optimize._evaluators as evaluators_module
 from mat_hopper.experiments.profiles import PROFILES
-from mat_hopper.optimize._coordinator import run_study
+from mat_hopper.optimize._driver import run_loop, run_study
+from mat_hopper.optimize._evaluators import PoolEvaluator
 from mat_hopper.optimize._objective import Objective
 from mat_hopper.optimize._samplers import make_sampler
 from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._storage import open_storage
-from mat_hopper.optimize._study import RunOptions, StudyConfig, TrialObjective, create_or_load
+from mat_hopper.optimize._study import RunOptions, StudyConfig, create_or_load
 from mat_hopper.sim import simulate
 
 
@@ -71,14 +73,13 @@ def main(argv=None):
     # study: the host's speed drifts, so the study is set against both.
     before = None if a.no_limit else bare_parallel_wall(prof, a.workers)
     with tempfile.TemporaryDirectory() as tmp:
-        opts = RunOptions(trials=a.trials, workers=a.workers, studies_dir=tmp, progress=False)
-        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-        t0 = time.perf_counter()
-        res = run_study(config, opts)
-        wall = time.perf_counter() - t0
-        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-        worker_cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
-        study = optuna.load_study(study_name="bench", storage=open_storage(opts.storage_url("bench")))
+        opts = RunOptions(trials=a.trials, workers=a.workers, studies_dir=tmp, progress=False, cache_dir=f"{tmp}/cache")
+        with CpuMeter() as cpu:
+            t0 = time.perf_counter()
+            res = run_study(config, opts)
+            wall = time.perf_counter() - t0
+        worker_cpu = cpu.seconds
+        study = optuna.load_study(study_name="bench", storage=opts.open("bench"))
         done = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
         sim_s = sum(t.user_attrs["result"]["simulated_s"] for t in done)
         del study
@@ -91,8 +92,8 @@ def main(argv=None):
     print(f"full-run trials/hour (simulated s / {prof.duration_s:g} per wall hour): {full:.0f}")
     per_trial = worker_cpu / max(1, len(done))
     print(
-        f"worker CPU per trial: {per_trial:.2f} s -> {a.workers * 3600 / per_trial:.0f} trials/hour "
-        f"on {a.workers} idle cores"
+        f"CPU per trial (command and evaluation processes): {per_trial:.2f} s -> "
+        f"{a.workers * 3600 / per_trial:.0f} trials/hour on {a.workers} idle cores"
     )
     if not res.finished:
         print("warning: the study did not reach its target")
@@ -145,32 +146,78 @@ def bare_parallel_wall(prof, workers: int) -> float:
         return time.perf_counter() - t0
 
 
+class CpuMeter:
+    """CPU seconds of this process and every process below it while the
+    block runs: /proc sampled every 0.2 s from a thread (the evaluation
+    processes are the fork server's children, which RUSAGE_CHILDREN never
+    sees). Linux only."""
+
+    def __init__(self):
+        self.last: dict[int, float] = {}
+        self._stop = threading.Event()
+
+    @staticmethod
+    def _cpu(pid: int) -> tuple[int, float] | None:
+        try:
+            with open(f"/proc/{pid}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+        except OSError:
+            return None
+        return int(fields[1]), (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+    def _sample(self) -> None:
+        stats = {int(p): self._cpu(int(p)) for p in os.listdir("/proc") if p.isdigit()}
+        stats = {p: v for p, v in stats.items() if v is not None}
+        mine, grew = {os.getpid()}, True
+        while grew:  # this process's descendants
+            new = {p for p, (pp, _) in stats.items() if pp in mine} - mine
+            grew, mine = bool(new), mine | new
+        for p in mine:
+            self.last[p] = max(self.last.get(p, 0.0), stats[p][1])
+
+    def _run(self) -> None:
+        while not self._stop.wait(0.2):
+            self._sample()
+
+    def __enter__(self) -> CpuMeter:
+        self.start = self._cpu(os.getpid())[1]
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._sample()
+        self._stop.set()
+        self._thread.join()
+        self.seconds = sum(self.last.values()) - self.start
+
+
 def overhead(config: StudyConfig, n: int) -> tuple[float, float]:
-    """CPU seconds of n trials of study.optimize in this process, and of the
-    simulation inside them (the objective's evaluate, timed by wrapping it)."""
+    """CPU seconds of n trials of the optimizer's loop in this process (one
+    evaluation process: this one), and of the simulation inside them
+    (run_behaviour, timed by wrapping it)."""
     inside = [0.0]
-    evaluate = optimize_module.evaluate
+    run_behaviour = evaluators_module.run_behaviour
 
     def timed(*args, **kwargs):
         c0 = time.process_time()
         try:
-            return evaluate(*args, **kwargs)
+            return run_behaviour(*args, **kwargs)
         finally:
             inside[0] += time.process_time() - c0
 
     with tempfile.TemporaryDirectory() as tmp:
         opts = RunOptions(trials=n, workers=1, studies_dir=tmp, progress=False)
-        storage = open_storage(
-            opts.storage_url(config.name), heartbeat_s=opts.heartbeat_s, grace_s=opts.grace_s, max_retry=opts.max_retry
-        )
+        storage = opts.open(config.name)
         study = create_or_load(config, storage, make_sampler(opts.sampler, opts.seed))
-        optimize_module.evaluate = timed
+        evaluators_module.run_behaviour = timed
         try:
-            c0 = time.process_time()
-            study.optimize(TrialObjective(config), n_trials=n)
-            total = time.process_time() - c0
+            with PoolEvaluator(f"{tmp}/cache", workers=1) as evaluator:
+                c0 = time.process_time()
+                run_loop(study, storage, config, evaluator, opts)
+                total = time.process_time() - c0
         finally:
-            optimize_module.evaluate = evaluate
+            evaluators_module.run_behaviour = run_behaviour
         del study
     return total, inside[0]
 

@@ -4,10 +4,10 @@ Every sampler gets the same study: the same objective (tracking error and
 hip power on the ramp, the book's constraints), the same space
 (continuous density and modulus per segment, 3 segments; optionally
 restricted to Ashby classes), the same enqueued paper designs first, the
-same seed, batch size and trial budget, run with
-:func:`mat_hopper.optimize._batched.run_batched` (the book's way: batches
-of trials through the result runner, so the paper designs' runs, shared
-by every sampler, are simulated once). Then it prints the hypervolume of
+same seed, batch size and trial budget, run by the optimizer's loop
+(:func:`mat_hopper.optimize.run_loop` with the CPU pool evaluator, as the
+book runs its study: rounds of trials through the result runner, so the
+paper designs' runs, shared by every sampler, are simulated once). Then it prints the hypervolume of
 each sampler's feasible trials after every ``--every`` trials, side by
 side, and the mean over the budget (the area under the curve: which
 sampler got there first), the final value and the number of feasible
@@ -39,16 +39,24 @@ import optuna
 import pandas as pd
 
 from mat_hopper.experiments.profiles import get_profile
-from mat_hopper.optimize import Objective, SearchSpace, StudyConfig, trials_frame
-from mat_hopper.optimize._batched import run_batched
-from mat_hopper.optimize._samplers import make_sampler, worker_seed
+from mat_hopper.optimize import (
+    Objective,
+    PoolEvaluator,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    create_or_load,
+    run_loop,
+    trials_frame,
+)
+from mat_hopper.optimize._samplers import make_sampler, sampler_seed
 from mat_hopper.optimize.report import HV_MARGIN, feasible_complete, hypervolume_2d
 
 
 def sampler_for(name: str, seed: int):
     if name == "random":
-        return optuna.samplers.RandomSampler(seed=worker_seed(seed, 0, 0))
-    return make_sampler(name, worker_seed(seed, 0, 0))  # the seed run_batched gives a fresh study
+        return optuna.samplers.RandomSampler(seed=sampler_seed(seed, 0))
+    return make_sampler(name, sampler_seed(seed, 0))
 
 
 def hv_table(frames: dict, reference, trials: int) -> pd.DataFrame:
@@ -91,15 +99,11 @@ def main(argv=None) -> pd.DataFrame:
     frames, walls = {}, {}
     for name in [s.strip() for s in args.samplers.split(",") if s.strip()]:
         t0 = time.perf_counter()
-        study = run_batched(
-            config,
-            optuna.storages.InMemoryStorage(),
-            trials=args.trials,
-            batch=args.batch,
-            sampler=sampler_for(name, args.seed),
-            cache_dir=args.cache or f"{tmp}/cache",
-            workers=args.workers,
-        )
+        storage = optuna.storages.InMemoryStorage()
+        study = create_or_load(config, storage, sampler=sampler_for(name, args.seed))
+        options = RunOptions(trials=args.trials, batch_size=args.batch, progress=False)
+        with PoolEvaluator(args.cache or f"{tmp}/cache", workers=args.workers) as evaluator:
+            run_loop(study, storage, config, evaluator, options)
         walls[name] = time.perf_counter() - t0
         frames[name] = trials_frame(study, config)
         print(f"{name}: {args.trials} trials in {walls[name]:.0f} s", flush=True)

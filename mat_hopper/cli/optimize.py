@@ -9,11 +9,14 @@ import sys
 
 from optuna.trial import TrialState
 
+from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..experiments.profiles import PROFILES, get_profile
-from ..limits import check_count, check_workers
+from ..limits import MAX_WORLDS, check_count, check_workers
 from ..materials import LegDesign
 from ..optimize import (
     CONFIG_ATTR,
+    DEFAULT_BATCH,
+    DEFAULT_BATCH_SIZE,
     DEFAULT_CVAR_ALPHA,
     DEFAULT_REPLICATES,
     DEFAULT_WORKERS,
@@ -117,6 +120,8 @@ def _options_from_args(args, trials: int = 1) -> RunOptions:
         storage=args.storage,
         studies_dir=args.studies_dir,
         progress=not args.no_progress,
+        batch_size=getattr(args, "batch_size", None),
+        cache_dir=getattr(args, "cache", None),
     )
 
 
@@ -169,16 +174,17 @@ def _cmd_optimize(args) -> int:
         raise ValueError("give --study NAME (or --report NAME)")
     check_count(args.trials, "--trials", 1, what="finished trials to reach")
     check_workers(args.workers)
+    check_count(args.batch_size, "--batch-size", 1, MAX_WORLDS, "trials simulated together per round")
     options = _options_from_args(args, args.trials)
     check_sampler(options.sampler)
     with named_by_flags(**OPTION_OF_FIELD):
         fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
     _check_size(args, fresh)
     check_objectives_vary(fresh.objective)
-    _check_backend(args)
+    cache = _check_backend(args)
     check_study_name(args.study)
     studies_dir = None if args.storage else args.studies_dir
-    with nothing_left_behind(studies_dir):
+    with nothing_left_behind(studies_dir, cache):
         if not args.storage:  # the study's own SQLite file: checked before it is made
             path = os.path.join(args.studies_dir, f"{args.study}.db")
             if os.path.isdir(path):
@@ -186,17 +192,16 @@ def _cmd_optimize(args) -> int:
         storage = options.open(args.study)
         stored = stored_config(args.study, storage)
         config = config_from_args(args, stored) if stored else fresh
-        dispose(storage)  # no connection of this process may reach the forked workers
+        dispose(storage)  # this look's pooled connection: the run opens its own
         res = _run_backend(config, options, args)
     print(
         f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
         + (f", {res.running} still running elsewhere" if res.running else "")
     )
-    if res.dead_workers:
-        print(
-            f"{len(res.dead_workers)} worker(s) died (pid, exit code): {res.dead_workers}; "
-            f"trials failed and re-queued: {res.recovered}"
-        )
+    if res.lost:
+        print(f"an evaluation process died: trials failed and re-queued: {res.lost}")
+    if res.recovered:
+        print(f"trials of an earlier run that died, failed and re-queued: {res.recovered}")
     where = f" --storage '{res.url}'" if args.storage else ""
     if not args.storage and os.path.normpath(args.studies_dir) != "studies":  # the default folder needs no flag
         where = f" --studies-dir {shlex.quote(args.studies_dir)}"
@@ -224,26 +229,29 @@ def _check_size(args, config: StudyConfig) -> None:
     )
 
 
-def _check_backend(args) -> None:
-    """--backend's options, and mujoco-warp for warp: one-line errors before any file is made."""
+def _check_backend(args) -> str | None:
+    """--backend's options, and mujoco-warp for warp: one-line errors before
+    any file is made. Returns the CPU path's cache folder (None on warp)."""
+    if getattr(args, "race", False) and args.batch_size is not None:
+        raise ValueError("--batch-size is not for --race: racing asks brackets of 9 trials")
     if args.backend != "warp":
-        if args.device is not None or args.batch_size is not None:
-            raise ValueError("--device and --batch-size are for --backend warp")
-        return
-    from ..limits import MAX_WORLDS
-
-    check_count(args.batch_size, "--batch-size", 1, MAX_WORLDS, "trials simulated together")
+        if args.device is not None:
+            raise ValueError("--device is for --backend warp")
+        return check_output_dir(args.cache or os.environ.get(CACHE_ENV) or DEFAULT_CACHE_DIR, "--cache")
+    if args.cache is not None:
+        raise ValueError("--cache is for --backend mujoco (the warp backend caches nothing)")
     from ..batch import WarpUnavailable, require_warp
 
     try:
         require_warp()
     except WarpUnavailable as e:  # one line, exit 2, as mat-hopper batch
         raise ValueError(str(e)) from None
+    return None
 
 
 def _run_backend(config: StudyConfig, options: RunOptions, args):
-    """The study on --backend mujoco (CPU workers, the reference) or warp
-    (MuJoCo Warp batches of --batch-size trials, mat_hopper.optimize._batch)."""
+    """The study on --backend mujoco (CPU processes, the reference) or warp
+    (MuJoCo Warp batches), rounds of --batch-size trials either way."""
     if getattr(args, "race", False):
         if args.backend == "warp":
             raise ValueError("--race runs on --backend mujoco (the warp backend has no perturbations yet)")
@@ -252,9 +260,9 @@ def _run_backend(config: StudyConfig, options: RunOptions, args):
         return race_study(config, options)
     if args.backend != "warp":
         return run_study(config, options)
-    from ..optimize import DEFAULT_BATCH_SIZE, run_batch_study
+    from ..optimize import run_batch_study
 
-    return run_batch_study(config, options, device=args.device, batch_size=args.batch_size or DEFAULT_BATCH_SIZE)
+    return run_batch_study(config, options, device=args.device)
 
 
 def register_cli(sub) -> None:
@@ -309,7 +317,28 @@ def register_cli(sub) -> None:
         help="constrain the leg's mass to a paper design's (e.g. SS) or to a mass in kg; none: unconstrained (default)",
     )
     p.add_argument("--leg-mass-tolerance", type=float, help="kg, +- around --leg-mass (default 5 %% of the target)")
-    p.add_argument("--workers", type=int, default=DEFAULT_WORKERS, help="worker processes here (2)")
+    _add_run_arguments(p)
+    p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
+    p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
+    p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")
+    p.add_argument("--render", action="store_true", help="with --replay: also render it (mat_hopper.viz.render)")
+    p.add_argument(
+        "--export",
+        type=int,
+        metavar="TRIAL",
+        help="write trial TRIAL's design as CSV (for simulate --design-csv, batch --designs-csv) and MJCF, in --out",
+    )
+    p.set_defaults(func=cmd_optimize)
+
+
+def _add_run_arguments(p) -> None:
+    """How a study runs: processes, rounds, storage, sampler, backend, racing."""
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=DEFAULT_WORKERS,
+        help="processes that simulate here (2); they never change the trials (see --batch-size)",
+    )
     p.add_argument(
         "--storage",
         help="Optuna storage URL (default sqlite:///STUDIES_DIR/NAME.db); "
@@ -325,25 +354,24 @@ def register_cli(sub) -> None:
         default="mujoco",
         help="mujoco: CPU rollouts in --workers processes, the reference (default); warp: MuJoCo Warp batches",
     )
+    p.add_argument(
+        "--cache",
+        help=f"--backend mujoco: cache of the trials' runs (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR}): "
+        "a repeated design, a re-queued trial or a rerun costs nothing",
+    )
     p.add_argument("--device", help="Warp device for --backend warp: cpu or cuda (default: cuda where Warp sees a GPU)")
-    p.add_argument("--batch-size", type=int, help="--backend warp: trials asked and simulated together (64)")
+    p.add_argument(
+        "--batch-size",
+        type=int,
+        help=f"trials asked, simulated together and told per round ({DEFAULT_BATCH}; --backend warp "
+        f"{DEFAULT_BATCH_SIZE}); with --seed it fixes a fresh study's trials",
+    )
     p.add_argument(
         "--race",
         action="store_true",
         help="multi-fidelity racing: screen trials on short one-replicate runs and promote 1 in 3 to the study's "
         "full fidelity; --trials counts screened trials, in brackets of 9; give it again to resume",
     )
-    p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
-    p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
-    p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")
-    p.add_argument("--render", action="store_true", help="with --replay: also render it (mat_hopper.viz.render)")
-    p.add_argument(
-        "--export",
-        type=int,
-        metavar="TRIAL",
-        help="write trial TRIAL's design as CSV (for simulate --design-csv, batch --designs-csv) and MJCF, in --out",
-    )
-    p.set_defaults(func=cmd_optimize)
 
 
 def _needs_baselines(name: str, storage) -> bool:

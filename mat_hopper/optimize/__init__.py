@@ -5,20 +5,25 @@ under a hop-height and a stability constraint.
 The public names are re-exported here, as Optuna does: the search space
 (:class:`SearchSpace`), the objective (:class:`Objective`,
 :func:`evaluate`), the study (:class:`StudyConfig`, :class:`RunOptions`,
-:func:`run_study`; :func:`run_batch_study`, the same on the MuJoCo Warp batch
-backend, Optuna's ask-and-tell), its storage and its report (:func:`write_report`,
-:func:`replay`). The private modules ``_space``, ``_objective``,
-``_samplers``, ``_storage``, ``_study`` (with ``_coordinator``, the run's
-coordinator, and ``_processes``, its worker processes and signals) and ``_batch`` hold them; :mod:`~mat_hopper.optimize.report`
-writes a study's tables and plots; ``_robust`` holds the noise- and
-mass-aware scores (replicates on common random numbers, mean or CVaR, the
-leg-mass constraint); ``_export`` writes a trial's design as CSV and MJCF; ``_racing`` runs
-multi-fidelity racing (successive halving on ask-and-tell). The command line is
-:mod:`mat_hopper.cli.optimize`.
+:func:`run_study` on the CPU process pool; :func:`run_batch_study`, the same
+on the MuJoCo Warp batch backend), its storage and its report
+(:func:`write_report`, :func:`replay`). The private modules ``_space``,
+``_objective``, ``_samplers``, ``_storage`` and ``_study`` hold them;
+``_driver`` is the one ask-and-tell loop that runs every study, and
+``_evaluators`` what simulates a round of its trials (the CPU pool,
+:class:`PoolEvaluator`; the Warp batch, :class:`WarpEvaluator`, scoring
+with ``_batch``); ``_processes`` holds the signals;
+:mod:`~mat_hopper.optimize.report` writes a study's tables and plots;
+``_robust`` holds the noise- and mass-aware scores (replicates on common
+random numbers, mean or CVaR, the leg-mass constraint); ``_export`` writes a
+trial's design as CSV and MJCF; ``_racing`` runs multi-fidelity racing
+(successive halving on ask-and-tell, through the same evaluators). The
+command line is :mod:`mat_hopper.cli.optimize`.
 """
 
-from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch, run_batch_study
-from ._coordinator import RunResult, run_study
+from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch
+from ._driver import RunResult, run_batch_study, run_loop, run_study
+from ._evaluators import DEFAULT_BATCH, Evaluator, Lost, PoolEvaluator, WarpEvaluator
 from ._export import design_frame, design_mjcf, export_trial
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
 from ._processes import stop_signals
@@ -53,6 +58,12 @@ __all__ = [
     "DEFAULT_BATCH_SIZE",
     "evaluate_batch",
     "run_batch_study",
+    "run_loop",
+    "DEFAULT_BATCH",
+    "Evaluator",
+    "Lost",
+    "PoolEvaluator",
+    "WarpEvaluator",
     "design_frame",
     "design_mjcf",
     "export_trial",

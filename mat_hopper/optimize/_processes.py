@@ -1,53 +1,13 @@
-"""The optimizer's processes (private): how worker processes start, die
-with their coordinator, and how SIGTERM and SIGHUP stop a run the way
-Ctrl-C does. :mod:`mat_hopper.optimize._study` uses them.
+"""The optimizer's signals (private): SIGTERM and SIGHUP stop a run the way
+Ctrl-C does, and a short critical section can hold them back.
+:mod:`mat_hopper.optimize._driver` uses them.
 """
 
 from __future__ import annotations
 
-import multiprocessing as mp
-import os
 import signal
-import sys
 import threading
 from contextlib import contextmanager
-
-
-def _orphaned(parent: int) -> bool:
-    return os.getppid() != parent
-
-
-def _die_with_parent() -> None:
-    """Linux: SIGTERM this worker when its coordinator dies, even by
-    SIGKILL (prctl PR_SET_PDEATHSIG), so that no worker runs on orphaned;
-    its trial is failed and re-queued by the next run (or the heartbeat)."""
-    if not sys.platform.startswith("linux"):
-        return
-    try:
-        import ctypes
-
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(1, signal.SIGTERM, 0, 0, 0)  # PR_SET_PDEATHSIG
-    except (OSError, AttributeError):
-        pass
-
-
-def _start_method() -> str:
-    """fork when this process has no other thread (workers start at once,
-    with everything imported; they never touch the parent's connections and
-    open their own storage); else spawn, which re-imports MuJoCo, numba and
-    Optuna in every worker (seconds) but is safe beside threads."""
-    if "fork" in mp.get_all_start_methods() and threading.active_count() == 1:
-        return "fork"
-    return "spawn"
-
-
-def _warm_up() -> None:
-    """Load the compiled rollout (numba's on-disk cache, about 0.6 s) once
-    here, so that forked workers start with it."""
-    from ..sim import SimSettings, simulate
-
-    simulate("SS", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
 
 
 class HeldSignals:
@@ -55,7 +15,7 @@ class HeldSignals:
     inside it is recorded, and delivered again (``signal.raise_signal``,
     with the handlers from before) at :meth:`release` or at the block's end,
     whichever comes first. Used where a trial exists in the storage but
-    does not yet name its worker: a process stopped there would leave a
+    does not yet name its process: a process stopped there would leave a
     RUNNING trial that no one can tell is dead.
 
     Python-level handlers, not a thread's signal mask: Python runs handlers
@@ -103,7 +63,7 @@ class HeldSignals:
 
 class Interrupted(KeyboardInterrupt):
     """SIGTERM or SIGHUP, handled like Ctrl-C (KeyboardInterrupt): the
-    coordinator stops its workers, fails and re-queues their trials."""
+    optimizer's loop fails and re-queues its running trials."""
 
     def __init__(self, signum: int):
         super().__init__(signal.Signals(signum).name)

@@ -24,14 +24,18 @@ mid-rung resumes there: the trials keep their parameters (they stay
 RUNNING in the storage), the rungs already recorded are not run again, and
 promotions are recomputed from the records: the same as an uninterrupted
 run. A trial left RUNNING outside the open bracket (a kill between its ask
-and the bracket's record) is failed. The runs go through
-:func:`mat_hopper.optimize._batched.evaluate_many` (the runner's cache and
-pool): a run that a later rung repeats (the same design, behaviour and
-settings) costs nothing, and a resumed rung re-reads what was cached.
+and the bracket's record) is failed. Each rung's designs are evaluated
+together by the optimizer's evaluator interface
+(:mod:`mat_hopper.optimize._evaluators`; by default
+:class:`~mat_hopper.optimize._evaluators.PoolEvaluator`, the runner's cache
+and pool): a run that a later rung repeats (the same design, behaviour and
+settings) costs nothing, a resumed rung re-reads what was cached, and a
+design whose evaluation process died is evaluated again (up to
+``MAX_LOST`` times, then failed).
 
 One process runs a racing study at a time (its trials stay RUNNING while
 their bracket races, without a heartbeat; a new bracket fails RUNNING
-trials outside it); the processes it uses are the runner's pool. Public
+trials outside it); the processes it uses are the evaluator's. Public
 Optuna API only: trials are told by number (``Study.tell``), and a
 resumed trial is reached through the storage's public
 ``get_trial_id_from_study_id_trial_number``.
@@ -39,6 +43,7 @@ resumed trial is reached through the storage's public
 
 from __future__ import annotations
 
+import contextlib
 import math
 import warnings
 from dataclasses import asdict, dataclass, replace
@@ -49,8 +54,9 @@ from optuna.trial import TrialState
 
 from ..experiments.profiles import get_profile
 from ..materials import LegDesign
+from ._evaluators import Evaluator, Lost, PoolEvaluator
 from ._objective import OBJECTIVES, Evaluation, Objective, record_evaluation
-from ._samplers import make_sampler, worker_seed
+from ._samplers import make_sampler, sampler_seed
 from ._storage import ERROR_ATTR, WORKER_ATTR
 from ._study import StudyConfig, _quiet, create_or_load
 
@@ -60,6 +66,7 @@ RUNG_ATTR = "rung"  # trial user attrs rung0, rung1, ...: a rung's record
 REACHED_ATTR = "racing_rung"  # trial user attr: the last rung it ran
 DEFAULT_ETA = 3
 DEFAULT_SCREEN = 9
+MAX_LOST = 3  # evaluations of a design whose evaluation process died, before its trial fails
 
 
 @dataclass(frozen=True)
@@ -245,18 +252,31 @@ def run_racing(
     seed: int = 0,
     cache_dir=None,
     workers: int | None = None,
+    evaluator: Evaluator | None = None,
     on_rung=None,
 ) -> optuna.Study:
-    """Run (or resume) study `config` in `storage` (a URL or an Optuna
-    storage) until it holds `brackets` finished brackets of `racing`
-    (default :func:`default_racing`), with `sampler` seeded from `seed` (as
-    :func:`mat_hopper.optimize._batched.run_batched`); runs through the
-    runner's cache (`cache_dir`) and pool (`workers`). `on_rung(bracket,
-    rung)` is called after each rung's records are stored (tests use it to
-    kill the process there). Returns the study. ValueError for bad
-    settings, or a study raced with other settings."""
-    from ..experiments.runner import Runner
+    """Run (or resume) a racing study until it holds `brackets` finished brackets (module doc).
 
+    Args:
+        config: the study.
+        storage: a URL or an Optuna storage.
+        brackets: finished brackets to reach.
+        racing: the rungs (None: :func:`default_racing`).
+        sampler: a sampler's name (seeded from `seed` and the study's size,
+            as :func:`mat_hopper.optimize.run_study` seeds it) or an Optuna sampler as it is.
+        seed: the sampler's seed.
+        cache_dir, workers: the default evaluator's cache and processes
+            (:class:`~mat_hopper.optimize._evaluators.PoolEvaluator`).
+        evaluator: what simulates instead (the caller closes it).
+        on_rung: called as on_rung(bracket, rung) after each rung's records are
+            stored (tests kill the process there).
+
+    Returns:
+        The study.
+
+    Raises:
+        ValueError: bad settings, or a study raced with other settings.
+    """
     if isinstance(brackets, bool) or not isinstance(brackets, int) or brackets < 1:
         raise ValueError(f"brackets must be an integer >= 1, got {brackets!r}")
     racing = racing or default_racing(config.objective)
@@ -266,11 +286,11 @@ def run_racing(
     storage = _storage_of(storage)
     n_existing = len(create_or_load(config, storage).get_trials(deepcopy=False))
     if isinstance(sampler, str):
-        sampler = make_sampler(sampler, worker_seed(seed, n_existing, 0))
+        sampler = make_sampler(sampler, sampler_seed(seed, n_existing))
     study = create_or_load(config, storage, sampler=sampler)
     _check_racing(study, racing)
     trials = _Trials(study, storage)
-    with Runner(cache_dir, workers=workers, progress=False) as runner:
+    with contextlib.nullcontext(evaluator) if evaluator else PoolEvaluator(cache_dir, workers=workers) as ev:
         while True:
             b = study.user_attrs.get(BRACKET_ATTR)
             if b is None or b["closed"]:
@@ -279,9 +299,22 @@ def run_racing(
                 b = _open_bracket(study, trials, config, racing, 0 if b is None else b["index"] + 1)
             else:
                 _fail_strays(study, trials, set(b["trials"]))
-            _run_bracket(study, trials, b, config, racing, runner, on_rung)
+            _run_bracket(study, trials, b, config, racing, ev, on_rung)
             study.set_user_attr(BRACKET_ATTR, {**b, "closed": True})
     return study
+
+
+def _evaluate(evaluator: Evaluator, designs: list, objective: Objective, desc: str) -> list:
+    """The evaluator's outcomes, a design whose evaluation process died
+    evaluated again (MAX_LOST times in all, then its error)."""
+    out = evaluator.evaluate(designs, objective, desc=desc)
+    for _ in range(MAX_LOST - 1):
+        again = [i for i, o in enumerate(out) if isinstance(o, Lost)]
+        if not again:
+            break
+        for i, o in zip(again, evaluator.evaluate([designs[i] for i in again], objective, desc=desc)):
+            out[i] = o
+    return [o.reason if isinstance(o, Lost) else o for o in out]
 
 
 def _fail_strays(study, trials: _Trials, keep: set) -> None:
@@ -299,7 +332,7 @@ def _open_bracket(study, trials: _Trials, config: StudyConfig, racing: Racing, i
     b = {"index": index, "trials": [], "closed": False}
     study.set_user_attr(BRACKET_ATTR, b)
     for _ in range(racing.screen):
-        with warnings.catch_warnings():  # racing trials run outside Study.optimize, as _batched's
+        with warnings.catch_warnings():  # racing trials run outside Study.optimize (no heartbeat)
             warnings.filterwarnings("ignore", message="Heartbeat of storage", category=UserWarning)
             t = study.ask()
         trials.live[t.number] = t
@@ -331,10 +364,8 @@ def _designs(trials: _Trials, numbers, space) -> dict[int, LegDesign]:
     return out
 
 
-def _run_bracket(study, trials: _Trials, b: dict, config: StudyConfig, racing: Racing, runner, on_rung) -> None:
+def _run_bracket(study, trials: _Trials, b: dict, config: StudyConfig, racing: Racing, evaluator, on_rung) -> None:
     """Rungs of one bracket, from the first whose records are missing."""
-    from ._batched import evaluate_many
-
     designs = _designs(trials, b["trials"], config.space)
     alive = sorted(designs)
     last = len(racing.rungs) - 1
@@ -343,7 +374,7 @@ def _run_bracket(study, trials: _Trials, b: dict, config: StudyConfig, racing: R
         key = f"{RUNG_ATTR}{r}"
         stored = {n: trials.frozen(n).user_attrs.get(key) for n in alive}
         todo = [n for n in alive if stored[n] is None]
-        evs = evaluate_many([designs[n] for n in todo], objective, runner, desc=f"bracket {b['index']} rung {r}")
+        evs = _evaluate(evaluator, [designs[n] for n in todo], objective, f"bracket {b['index']} rung {r}")
         full: dict[int, Evaluation] = {}
         for n, ev in zip(todo, evs):
             if isinstance(ev, str):  # the runs raised: a failed trial
@@ -358,7 +389,7 @@ def _run_bracket(study, trials: _Trials, b: dict, config: StudyConfig, racing: R
         if on_rung is not None:
             on_rung(b["index"], r)
         if r == last:
-            _tell_complete(study, trials, alive, designs, objective, full, runner)
+            _tell_complete(study, trials, alive, designs, objective, full, evaluator)
             return
         records = {n: _as_evaluation(stored[n]) for n in alive}
         keep = set(promote(records, racing.kept(len(alive))))
@@ -370,17 +401,19 @@ def _run_bracket(study, trials: _Trials, b: dict, config: StudyConfig, racing: R
         alive = sorted(keep)
 
 
-def _tell_complete(study, trials: _Trials, numbers, designs, objective, evaluated, runner) -> None:
+def _tell_complete(study, trials: _Trials, numbers, designs, objective, evaluated, evaluator) -> None:
     """Tell the last rung's trials with their full-fidelity records (an
     Evaluation evaluated now, or, resumed, re-read from the runner's cache)."""
-    from ._batched import evaluate_many
-
     missing = [n for n in numbers if n not in evaluated]
     if missing:
-        for n, ev in zip(missing, evaluate_many([designs[n] for n in missing], objective, runner, desc="told")):
+        for n, ev in zip(missing, _evaluate(evaluator, [designs[n] for n in missing], objective, "told")):
             evaluated[n] = ev
     for n in numbers:
         ev = evaluated[n]
+        if isinstance(ev, str):  # a resumed rung whose runs raised this time
+            trials[n].set_user_attr(ERROR_ATTR, ev[:500])
+            study.tell(n, state=TrialState.FAIL)
+            continue
         record_evaluation(trials[n], designs[n], ev)
         study.tell(n, list(ev.values))
 
@@ -411,14 +444,25 @@ def simulated_seconds(study: optuna.Study, racing: Racing) -> dict:
     }
 
 
-def race_study(config: StudyConfig, options, racing: Racing | None = None, cache_dir=None):
-    """:func:`run_racing` for the command line: `options` (a
-    :class:`~mat_hopper.optimize._study.RunOptions`) give the storage, the
-    sampler and seed, the local processes (``workers``) and the size:
-    ``trials`` screened trials, rounded up to whole brackets. Returns a
-    :class:`~mat_hopper.optimize.RunResult` (done and target in
-    screened trials)."""
-    from ._coordinator import RunResult
+def race_study(config: StudyConfig, options, racing: Racing | None = None):
+    """:func:`run_racing` for the command line.
+
+    Args:
+        config: the study.
+        options: a :class:`~mat_hopper.optimize._study.RunOptions`: the
+            storage, the sampler and seed, the processes (``workers``), the
+            cache (``cache_dir``) and the size: ``trials`` screened trials,
+            rounded up to whole brackets.
+        racing: the rungs (None: :func:`default_racing`).
+
+    Returns:
+        A :class:`~mat_hopper.optimize.RunResult` (done and target in
+        screened trials).
+
+    Raises:
+        ValueError: as :func:`run_racing`; a database error as one line.
+    """
+    from ._driver import RunResult
     from ._storage import redact, storage_errors
 
     racing = racing or default_racing(config.objective)
@@ -432,8 +476,8 @@ def race_study(config: StudyConfig, options, racing: Racing | None = None, cache
             racing=racing,
             sampler=options.sampler,
             seed=options.seed,
-            cache_dir=cache_dir,
+            cache_dir=options.cache_dir,
             workers=options.workers,
         )
         done = closed_brackets(study) * racing.screen
-    return RunResult(config.name, redact(url), brackets * racing.screen, done, 0)
+    return RunResult(config.name, redact(url), brackets * racing.screen, done, 0, evaluator="racing")

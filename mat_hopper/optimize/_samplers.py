@@ -1,6 +1,6 @@
 """Optuna's samplers as the optimizer uses them (private): which ones,
-checked before any work, and seeded per worker so that resumed runs and
-parallel workers never repeat each other's proposals.
+checked before any work, and seeded per run so that a resumed run does not
+repeat the proposals of the run before it.
 """
 
 from __future__ import annotations
@@ -50,8 +50,16 @@ def make_sampler(name: str, seed: int):
         return optuna.samplers.GPSampler(seed=seed)
 
 
-def worker_seed(seed: int, n_existing: int, index: int) -> int:
-    """Sampler seed of one worker: from the run's seed, the study's size
-    when the run started and the worker's index (so resumed runs and
-    parallel workers do not repeat each other's random proposals)."""
-    return int(np.random.SeedSequence([seed, n_existing, index]).generate_state(1)[0])
+def sampler_seed(seed: int, n_existing: int) -> int:
+    """The sampler seed of one run.
+
+    Args:
+        seed: the run's seed (``--seed``).
+        n_existing: the study's trials when the run started.
+
+    Returns:
+        A seed from both (a resumed run does not repeat the random
+        proposals of the run before it; a fresh study's is fixed by `seed`).
+    """
+    # the trailing 0: the former worker index, kept so that earlier studies' seeds stay the same
+    return int(np.random.SeedSequence([seed, n_existing, 0]).generate_state(1)[0])

@@ -1,4 +1,4 @@
-"""Where studies live: storage URLs, connection checks, and dead workers.
+"""Where studies live: storage URLs, connection checks, and dead runs.
 
 Storage choices (``--storage``):
 
@@ -8,16 +8,15 @@ Storage choices (``--storage``):
   writer; commits are not fsynced one by one, ``synchronous=NORMAL``: a
   power cut may lose the last trials, never corrupt the file) and every
   connection waits up to 60 s for the lock, which is
-  ample for a few local workers whose trials last seconds and write a few
+  ample for a few commands whose trials last seconds and write a few
   rows each. Every transaction begins with BEGIN IMMEDIATE: SQLite has no
-  row locks, and without it two workers could both take the same enqueued
+  row locks, and without it two commands could both take the same enqueued
   (WAITING) trial. It keeps Optuna's heartbeat (below), which the journal
-  file backend lacks; that is why it is the default for ``--workers N`` on
-  one machine. Reports open the file read-only (``mode=ro``): no lock, so
+  file backend lacks; that is why it is the default on one machine. Reports open the file read-only (``mode=ro``): no lock, so
   they never wait for a writer, and they never checkpoint nor remove the
   ``-wal``/``-shm`` files a writer holds.
 - any SQLAlchemy/Optuna RDB URL, e.g.
-  ``postgresql://USER:PASSWORD@HOST:5432/DB``: the way to run many workers
+  ``postgresql://USER:PASSWORD@HOST:5432/DB``: the way to run a study
   on many machines (every machine runs the same ``mat-hopper optimize``
   command against the same URL). ``postgresql://`` uses SQLAlchemy 2's
   default driver, psycopg 3 (pinned in environment.txt);
@@ -25,7 +24,7 @@ Storage choices (``--storage``):
 - ``journal:///PATH/study.log``: Optuna's journal file backend, for a
   shared file system without a database server (NFS v3+; symlink lock).
   No heartbeat: a machine that dies mid-trial leaves that trial RUNNING
-  until a worker on the same machine restarts (see :func:`recover_dead`).
+  until a run on the same machine starts (see :func:`recover_dead`).
 
 First starts. Several processes may open one fresh storage at once: the
 tables are created under a PostgreSQL advisory lock, and a process that
@@ -36,17 +35,18 @@ retries; the study itself is created once (see
 Errors are one line naming the cause (:func:`storage_error`): "cannot
 reach" only when the server was not reached.
 
-Dead workers. On RDB storages Optuna's heartbeat is on: a running trial
-records a heartbeat every ``heartbeat_s``; one silent for ``grace_s`` is
-marked FAIL by the next worker that starts a trial, and its parameters
-are enqueued again (at most ``max_retry`` times; :func:`retry_trial` does
-what :class:`optuna.storages.RetryHeartbeatStaleTrialCallback` does, with
-the same ``failed_trial`` and ``retry_history`` system attrs, but carries
-over only the paper-design label, not the dead run's attributes). On every storage, each
-trial records its worker (host, boot id, pid); the local coordinator fails
-and re-enqueues a dead local worker's trial at once (:func:`recover_dead`),
-and so does every new run on the same machine for workers of an earlier
-run that died.
+Dead runs. On RDB storages Optuna's heartbeat is on: the optimizer's loop
+(:mod:`mat_hopper.optimize._driver`) records a heartbeat of each of its
+running trials every ``heartbeat_s``; a trial silent for ``grace_s`` is
+marked FAIL by the next run that starts anywhere
+(``optuna.storages.fail_stale_trials``), and its parameters are enqueued
+again (at most ``max_retry`` times; :func:`retry_trial` does what
+:class:`optuna.storages.RetryHeartbeatStaleTrialCallback` does, with the
+same ``failed_trial`` and ``retry_history`` system attrs, but carries over
+only the paper-design label, not the dead run's attributes). On every
+storage, each trial records the process that asked it (host, boot id,
+pid), and every new run on the same machine fails and re-enqueues the
+trials of a process that is gone at once (:func:`recover_dead`).
 """
 
 from __future__ import annotations
@@ -78,7 +78,7 @@ UNREACHABLE = re.compile(
 SCHEMA_ATTEMPTS = 10  # tries to create the tables when first starts race
 SCHEMA_LOCK_KEY = 0x6D61_7468  # PostgreSQL advisory lock held while the tables are made
 WORKER_ATTR = "worker"  # trial user attr: {"host", "boot", "pid"}
-FAIL_REASON_ATTR = "fail_reason"  # trial user attr set on trials of dead workers
+FAIL_REASON_ATTR = "fail_reason"  # trial user attr: why a running trial was failed and re-queued
 ERROR_ATTR = "error"  # trial user attr set when the evaluation raised
 PAPER_ATTR = "paper_design"  # trial user attr of the enqueued paper designs
 KEEP_ON_RETRY = (PAPER_ATTR,)
@@ -173,7 +173,7 @@ def storage_file(url: str) -> str | None:
 def _sqlite_path_check(db: str) -> None:
     if not db or db == ":memory:" or db.startswith("file::memory:"):
         raise ValueError(
-            "an in-memory SQLite database cannot be shared by worker processes; give a file: sqlite:///studies/NAME.db"
+            "an in-memory SQLite database cannot be shared by processes; give a file: sqlite:///studies/NAME.db"
         )
     path = os.path.abspath(db)
     folder = os.path.dirname(path)
@@ -463,7 +463,7 @@ def dispose(storage) -> None:
         engine.dispose()
 
 
-# --- worker identity and dead workers ------------------------------------
+# --- process identity and dead runs ------------------------------------
 
 
 def _boot_id() -> str:
@@ -534,30 +534,57 @@ class RetryStaleTrial:
         retry_trial(study, trial, self.max_retry)
 
 
-def recover_dead(study, *, pids=None, max_retry: int = 3, reason: str = "worker died") -> list[int]:
-    """Fail the RUNNING trials of dead workers on this machine and enqueue
-    their parameters again (:func:`retry_trial`).
+def fail_and_retry(study, storage, number: int, reason: str, max_retry: int = 3) -> bool:
+    """Fail a RUNNING trial (user attr ``fail_reason``) and enqueue its
+    parameters again (:func:`retry_trial`), through the storage's public API.
 
-    pids: the dead workers' process ids, known dead; None: every RUNNING
-    trial recorded by this machine (same host and boot) whose process is
-    gone. Returns the numbers of the trials failed here (a trial another
-    process failed first is left alone)."""
+    Args:
+        study: the trial's study.
+        storage: the storage the study was opened on.
+        number: the trial's number.
+        reason: why it failed (stored as ``fail_reason``).
+        max_retry: retries per trial.
+
+    Returns:
+        True when this call failed it; False when the trial had finished or
+        another process failed it first.
+    """
+    study_id = storage.get_study_id_from_name(study.study_name)
+    trial_id = storage.get_trial_id_from_study_id_trial_number(study_id, number)
+    try:
+        storage.set_trial_user_attr(trial_id, FAIL_REASON_ATTR, reason)
+        if not storage.set_trial_state_values(trial_id, state=TrialState.FAIL):
+            return False
+    except (optuna.exceptions.UpdateFinishedTrialError, RuntimeError):
+        return False
+    retry_trial(study, storage.get_trial(trial_id), max_retry)
+    return True
+
+
+def recover_dead(study, storage, *, max_retry: int = 3, reason: str = "worker died") -> list[int]:
+    """Fail the RUNNING trials of dead processes on this machine and enqueue
+    their parameters again (:func:`fail_and_retry`).
+
+    Args:
+        study: the study.
+        storage: the storage it was opened on.
+        max_retry: retries per trial.
+        reason: the ``fail_reason``, followed by the dead process's id.
+
+    Returns:
+        The numbers of the trials failed here: every RUNNING trial recorded
+        by this machine (same host and boot id) whose process is gone (a
+        trial another process failed first is left alone).
+    """
     me = worker_identity()
-    storage = study._storage
     failed = []
     for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
         w = t.user_attrs.get(WORKER_ATTR)
         if not isinstance(w, dict) or w.get("host") != me["host"] or w.get("boot") != me["boot"]:
             continue
         pid = int(w.get("pid", -1))
-        if pid == me["pid"] or (pids is not None and pid not in pids) or (pids is None and _alive(pid)):
+        if pid == me["pid"] or _alive(pid):
             continue
-        try:
-            storage.set_trial_user_attr(t._trial_id, FAIL_REASON_ATTR, f"{reason} (pid {pid})")
-            ok = storage.set_trial_state_values(t._trial_id, state=TrialState.FAIL)
-        except (optuna.exceptions.UpdateFinishedTrialError, RuntimeError):
-            continue
-        if ok:
+        if fail_and_retry(study, storage, t.number, f"{reason} (pid {pid})", max_retry):
             failed.append(t.number)
-            retry_trial(study, storage.get_trial(t._trial_id), max_retry)
     return failed

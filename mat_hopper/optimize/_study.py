@@ -4,36 +4,44 @@ Searches leg designs (per-segment density and modulus, or catalogue
 materials: :mod:`mat_hopper.optimize._space`) for low tracking error and
 low hip power under a hop-height and a stability constraint
 (:mod:`mat_hopper.optimize._objective`). Every study starts from the
-paper's designs SS, rho-inc and PVC-Ti-SS (enqueued first).
+paper's designs SS, rho-inc and PVC-Ti-SS (enqueued first). This module
+holds what a study is (:class:`StudyConfig`, stored in the study), how to
+run it (:class:`RunOptions`) and its creation (:func:`create_or_load`);
+:mod:`mat_hopper.optimize._driver` runs it: one ask-and-tell loop, with
+the trials of each round simulated together by an evaluator
+(:mod:`mat_hopper.optimize._evaluators`: the CPU process pool, or the
+MuJoCo Warp batch).
 
 Command line::
 
     mat-hopper optimize --study NAME --trials 200 [--behaviour ramp] [--segments 3]
-        [--space continuous|catalogue|KIND,KIND,...] [--workers 2] [--storage URL]
-        [--sampler tpe|nsga2|gp] [--seed 0] [--profile paper|quick]
+        [--space continuous|catalogue|KIND,KIND,...] [--workers 2] [--batch-size 8] [--storage URL]
+        [--sampler tpe|nsga2|gp] [--seed 0] [--profile paper|quick] [--cache DIR]
     mat-hopper optimize --report NAME      # Pareto front, hypervolume, importances, CSV
     mat-hopper optimize --study NAME --replay TRIAL [--render]
 
 ``--trials N`` is the study's size: the run stops once the study holds N
 finished trials (complete, or failed with an error in the evaluation);
 re-running the same command resumes an interrupted study and does
-nothing for a finished one. Trials whose worker died are failed and
+nothing for a finished one. Trials whose process died are failed and
 re-enqueued; their retries count, they do not.
 
 Storage (:mod:`mat_hopper.optimize._storage`): by default one SQLite file
 per study, ``studies/<name>.db``; ``--storage postgresql://...`` for many
 machines (run the same command on each; give each machine its own
 ``--seed``); ``--storage journal:///shared/path/x.log`` for a shared file
-system. ``--workers N`` starts N worker processes on this machine
-(default 2, one per core), all against the same storage.
+system. ``--workers N`` is the number of processes that simulate on this
+machine (default 2, one per core); ``--batch-size K`` the trials asked,
+simulated together and told per round (default 8).
 
 Samplers: multi-objective TPE (default; multivariate, constant liar so
-parallel workers do not propose the same point), NSGA-II
-(``nsga2``, population 50) or Optuna's GP sampler (``gp``, needs PyTorch).
-All see the constraints, which each trial sets with
-``Trial.set_constraint`` (Optuna 5's replacement of ``constraints_func``). Each worker's sampler seed is
-derived from ``--seed``, the worker's index and the study's size when the
-run started, so one worker on a fresh study is exactly reproducible.
+that the trials of a round, and of other machines, are kept apart),
+NSGA-II (``nsga2``, population 50) or Optuna's GP sampler (``gp``, needs
+PyTorch). All see the constraints, which each trial sets with
+``Trial.set_constraint`` (Optuna 5's replacement of ``constraints_func``).
+A run's sampler seed is derived from ``--seed`` and the study's size when
+the run started: a fresh study is exactly reproducible for a seed and a
+batch size, on any machine and with any number of ``--workers``.
 
 Watch a study live with optuna-dashboard (pinned in environment.txt)::
 
@@ -46,8 +54,6 @@ then open http://127.0.0.1:8080/. See docs/optimizer.md.
 from __future__ import annotations
 
 import os
-import signal
-import sys
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -56,33 +62,15 @@ import optuna
 from optuna.trial import TrialState
 
 from ..materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
-from ._objective import (
-    OBJECTIVES,
-    Objective,
-    evaluate,
-    record_evaluation,
-)
-from ._processes import (
-    HeldSignals,
-    _die_with_parent,
-    _orphaned,
-)
-from ._samplers import SAMPLERS, make_sampler
+from ._objective import OBJECTIVES, Objective
+from ._samplers import SAMPLERS
 from ._space import SearchSpace
-from ._storage import (
-    ERROR_ATTR,
-    PAPER_ATTR,
-    WORKER_ATTR,
-    check_study_name,
-    default_url,
-    open_storage,
-    storage_errors,
-    worker_identity,
-)
+from ._storage import ERROR_ATTR, PAPER_ATTR, check_study_name, default_url, open_storage
 
 DEFAULT_WORKERS = 2
 CONFIG_ATTR = "mat_hopper_config"
 BACKEND_ATTR = "mat_hopper_backend"  # study user attr: the simulator of its trials ("warp"; absent: the CPU path)
+TRIAL_BACKEND_ATTR = "backend"  # trial user attr of a warp study's trials: the backend that evaluated it
 CONFIG_VERSION = 1
 CREATE_WAIT_S = 30.0  # how long a second first start waits for the creator's config
 
@@ -174,21 +162,27 @@ class RunOptions:
 
     Args:
         trials: target number of finished trials.
-        workers: local worker processes.
+        workers: local processes that simulate (None: all cores; 1: in the
+            run's own process). They never change the trials: see batch_size.
         sampler: an Optuna sampler's name (:data:`SAMPLERS`).
-        seed: the sampler's seed (each worker's is derived from it).
+        seed: the sampler's seed (the run's is derived from it and the study's size).
         storage: a storage URL (None: ``studies_dir/<name>.db``).
         studies_dir: the folder of the default SQLite files.
         heartbeat_s, grace_s: heartbeat interval and grace period of RDB storages, s.
-        max_retry: retries per trial of a dead worker.
+        max_retry: retries per trial whose process died.
         progress: show a progress bar.
+        batch_size: trials asked, simulated together and told per round (None:
+            the backend's default, 8 on the CPU, 64 on warp). With the seed, it
+            fixes a fresh study's trials on any machine.
+        cache_dir: the CPU path's cache of runs (None: $MAT_HOPPER_CACHE, else
+            results/cache).
 
     Raises:
         ValueError: any value out of range (naming it).
     """
 
     trials: int = 200
-    workers: int = DEFAULT_WORKERS
+    workers: int | None = DEFAULT_WORKERS
     sampler: str = "tpe"
     seed: int = 0
     storage: str | None = None
@@ -197,14 +191,21 @@ class RunOptions:
     grace_s: int = 60
     max_retry: int = 3
     progress: bool = True
+    batch_size: int | None = None
+    cache_dir: str | None = None
 
     def __post_init__(self):
-        for name, lo in (("trials", 1), ("workers", 1), ("max_retry", 0)):
+        for name, lo, optional in (("trials", 1, False), ("workers", 1, True), ("max_retry", 0, False)):
             v = getattr(self, name)
+            if v is None and optional:
+                continue
             if isinstance(v, bool) or not isinstance(v, int) or v < lo:
                 raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
-        if self.workers > 256:
+        if self.workers is not None and self.workers > 256:
             raise ValueError(f"workers must be in [1, 256], got {self.workers}")
+        b = self.batch_size
+        if b is not None and (isinstance(b, bool) or not isinstance(b, int) or b < 1):
+            raise ValueError(f"batch_size must be an integer >= 1 (trials asked per round), got {b!r}")
         s = str(self.sampler).strip().lower()
         if s not in SAMPLERS:
             raise ValueError(f"unknown sampler {self.sampler!r}; accepted: {', '.join(SAMPLERS)}")
@@ -213,6 +214,15 @@ class RunOptions:
             raise ValueError(f"seed must be an integer >= 0, got {self.seed!r}")
 
     def storage_url(self, study_name: str) -> str:
+        """The study's storage URL.
+
+        Args:
+            study_name: the study's name.
+
+        Returns:
+            ``storage`` (its scheme in lower case), or the default SQLite
+            file's URL in ``studies_dir`` (made if missing).
+        """
         if self.storage:
             from ..parsing import normalize_url
 
@@ -221,6 +231,17 @@ class RunOptions:
         return default_url(study_name, self.studies_dir)
 
     def open(self, study_name: str):
+        """The study's storage, opened (:func:`~mat_hopper.optimize.open_storage`).
+
+        Args:
+            study_name: the study's name.
+
+        Returns:
+            An Optuna storage with these heartbeat and retry settings.
+
+        Raises:
+            ValueError: an unreachable or bad storage (one line).
+        """
         return open_storage(
             self.storage_url(study_name), heartbeat_s=self.heartbeat_s, grace_s=self.grace_s, max_retry=self.max_retry
         )
@@ -343,7 +364,7 @@ def create_or_load(
 
 def counts(study) -> tuple[int, int]:
     """(finished, running): finished = complete, or failed by an error in
-    the evaluation (a trial of a dead worker is retried, not counted)."""
+    the evaluation (a trial whose process died is retried, not counted)."""
     done = running = 0
     for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE, TrialState.FAIL, TrialState.RUNNING)):
         if t.state == TrialState.RUNNING:
@@ -351,102 +372,3 @@ def counts(study) -> tuple[int, int]:
         elif t.state == TrialState.COMPLETE or ERROR_ATTR in t.user_attrs:
             done += 1
     return done, running
-
-
-# --- the objective, in a worker -------------------------------------------
-
-
-class TrialObjective:
-    """Optuna objective: a design from the space, simulated and scored.
-    Sets the constraints (``hop_height``, ``unstable``; <= 0 feasible) and
-    two user attrs (each one database write): ``worker`` at the start, and
-    ``result`` (feasible, hop height m, design text, mass kg, simulated s,
-    per-behaviour rows) at the end."""
-
-    def __init__(self, config: StudyConfig, identity: dict | None = None, tick=None, claimed=None):
-        self.config = config
-        self.identity = identity or worker_identity()
-        self.tick = tick
-        self.claimed = claimed  # called once the trial names its worker
-
-    def __call__(self, trial) -> tuple[float, float]:
-        trial.set_user_attr(WORKER_ATTR, self.identity)
-        if self.claimed is not None:
-            self.claimed()
-        try:
-            design = self.config.space.suggest(trial)
-            ev = evaluate(design, self.config.objective, tick=self.tick)
-        except Exception as e:
-            trial.set_user_attr(ERROR_ATTR, f"{type(e).__name__}: {e}"[:500])
-            raise
-        record_evaluation(trial, design, ev)
-        return ev.values
-
-
-def _claim(tickets, study, target: int) -> bool:
-    """Take one trial from this run's budget, unless the study (other
-    machines included) already has enough finished or running."""
-    with tickets.get_lock():
-        if tickets.value <= 0:
-            return False
-        tickets.value -= 1
-    done, running = counts(study)
-    if done + running >= target:
-        with tickets.get_lock():
-            tickets.value += 1
-        return False
-    return True
-
-
-@dataclass(frozen=True)
-class _Job:
-    name: str
-    config_key: dict
-    options: RunOptions
-    url: str
-    seed: int
-    target: int
-
-
-def _worker_main(job: _Job, tickets, conn, parent: int) -> None:
-    """One worker process: claim, run one trial, repeat; report what it told.
-    It opens its own storage (no connection crosses the fork), ignores
-    Ctrl-C and hang-ups (the coordinator handles them and stops it), stops
-    claiming when its coordinator is gone, and reports a storage failure as
-    one line (exit code 3) instead of a traceback."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGHUP, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    _die_with_parent()
-    if _orphaned(parent):
-        os._exit(4)
-    _quiet()
-    o = job.options
-    told = []
-    report = {"pid": os.getpid(), "seed": job.seed, "told": told}
-    code = 0
-    try:
-        with storage_errors(job.url):
-            storage = open_storage(job.url, heartbeat_s=o.heartbeat_s, grace_s=o.grace_s, max_retry=o.max_retry)
-            study = optuna.load_study(study_name=job.name, storage=storage, sampler=make_sampler(o.sampler, job.seed))
-            config = StudyConfig.from_key(job.name, job.config_key)
-            record = lambda s, t: told.append((t.number, t.state.name))
-            while not _orphaned(parent) and _claim(tickets, study, job.target):
-                # SIGTERM (the coordinator's stop, or the parent's death) waits
-                # from before Optuna creates the RUNNING trial until the trial
-                # names this worker: a worker killed in between would leave a
-                # RUNNING trial that nobody can tell is dead.
-                with HeldSignals(signal.SIGTERM) as held:
-                    objective = TrialObjective(config, claimed=held.release)
-                    study.optimize(objective, n_trials=1, catch=(Exception,), callbacks=[record])
-    except ValueError as e:
-        report["error"] = str(e).splitlines()[0]
-        code = 3
-    try:
-        conn.send(report)
-        conn.close()
-    except OSError:  # the coordinator is gone; the study has everything
-        pass
-    if code:
-        sys.stderr.flush()
-        os._exit(code)

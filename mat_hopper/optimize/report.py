@@ -48,7 +48,7 @@ from ._objective import OBJECTIVES, RESULT_ATTR, Objective, evaluate
 from ._robust import SE_ATTR, leg_mass_kg
 from ._space import resample
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
-from ._study import CONFIG_ATTR, StudyConfig, _quiet
+from ._study import CONFIG_ATTR, RunOptions, StudyConfig, _quiet
 
 BASELINES = ("SS", "rho-inc")
 HV_MARGIN = 0.1
@@ -378,7 +378,7 @@ def book_study(
 ) -> dict:
     """Run (or resume, or just load) the book's design study, then write its report.
 
-    The study (:func:`mat_hopper.optimize._batched.run_batched`): continuous
+    The study (:func:`mat_hopper.optimize.run_study`): continuous
     density and modulus per segment (3 segments; in the hulls of
     `ashby_classes` when given), tracking error and hip power on `behaviours`
     under the profile, the paper's nine designs first (the rigid MD as a
@@ -410,7 +410,7 @@ def book_study(
     import json
 
     from ..experiments.profiles import get_profile
-    from ._batched import run_batched
+    from ._driver import run_study
     from ._space import SearchSpace
     from ._storage import default_url
 
@@ -425,7 +425,17 @@ def book_study(
     config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{profile.name}{classes}-{digest}", space, objective)
     os.makedirs(studies_dir, exist_ok=True)
     url = default_url(config.name, str(studies_dir))
-    run_batched(config, url, trials=n, batch=batch, sampler=sampler, seed=seed, cache_dir=cache_dir, workers=workers)
+    options = RunOptions(
+        trials=n,
+        workers=workers,
+        sampler=sampler,
+        seed=seed,
+        storage=url,
+        progress=False,
+        batch_size=batch,
+        cache_dir=None if cache_dir is None else str(cache_dir),
+    )
+    run_study(config, options)
     report = write_report(config.name, url, str(out_dir))
     report.update(name=config.name, url=url, config=config)
     return report

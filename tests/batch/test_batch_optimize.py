@@ -63,7 +63,7 @@ def study(tmp_path_factory):
         batch_size=4,
     )
     print(f"4 trials, one batch: {time.perf_counter() - t0:.1f} s")
-    assert res.done == 4 and res.finished and res.start_method == "warp:cpu"
+    assert res.done == 4 and res.finished and res.evaluator == "warp:cpu"
     url = f"sqlite:///{folder / 'warp-tiny.db'}"
     return optuna.load_study(study_name="warp-tiny", storage=open_storage(url))
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 
+import optuna
 import pandas as pd
 
 from mat_hopper import optimize
@@ -65,18 +66,21 @@ def test_book_study_runs_and_resumes(tmp_path):
     pd.testing.assert_frame_equal(rep["trials"].drop(columns="worker"), again["trials"].drop(columns="worker"))
 
 
-def test_batched_study_is_the_same_with_one_or_two_processes(tmp_path):
+def test_study_in_rounds_is_the_same_with_one_or_two_processes(tmp_path):
     """Ask a batch, run it as one grid, tell in order: the trials do not
     depend on the number of processes (nor on the cache)."""
     from mat_hopper.experiments.profiles import Profile
-    from mat_hopper.optimize._batched import run_batched
 
     tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
     config = optimize.StudyConfig("det", optimize.SearchSpace(), optimize.Objective(replicates=0, profile=tiny))
     frames = []
     for workers in (1, 2):
         url = f"sqlite:///{tmp_path}/det{workers}.db"
-        study = run_batched(config, url, trials=11, batch=3, cache_dir=tmp_path / f"cache{workers}", workers=workers)
+        opts = optimize.RunOptions(
+            trials=11, workers=workers, storage=url, batch_size=3, cache_dir=str(tmp_path / f"cache{workers}")
+        )
+        optimize.run_study(config, opts)
+        study = optuna.load_study(study_name="det", storage=optimize.open_storage(url))
         frames.append(optimize.trials_frame(study, config).drop(columns="worker"))
     assert len(frames[0]) == 11 and (frames[0]["state"] == "COMPLETE").all()
     assert frames[0]["paper_design"].tolist()[:8] == [
@@ -92,22 +96,32 @@ def test_batched_study_is_the_same_with_one_or_two_processes(tmp_path):
     pd.testing.assert_frame_equal(frames[0], frames[1])
 
 
-def test_batched_study_resumes_a_batch_left_running(tmp_path):
-    """A batch interrupted after its trials were asked: the next run
-    evaluates them from their parameters instead of leaving them running."""
-    import optuna
+def test_a_round_left_running_by_a_dead_run_is_recovered(tmp_path):
+    """A round asked by a run that died (SIGKILL, its trials RUNNING under
+    its name): the next run on this machine fails them, re-queues their
+    parameters and finishes the study."""
+    import subprocess
+    import sys
 
     from mat_hopper.experiments.profiles import Profile
-    from mat_hopper.optimize._batched import run_batched
-    from mat_hopper.optimize._study import create_or_load
+    from mat_hopper.optimize._storage import FAIL_REASON_ATTR, WORKER_ATTR, worker_identity
 
     tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
     config = optimize.StudyConfig("resume", optimize.SearchSpace(), optimize.Objective(replicates=0, profile=tiny))
     url = f"sqlite:///{tmp_path}/r.db"
-    study = create_or_load(config, url)
+    study = optimize.create_or_load(config, optimize.open_storage(url))
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    gone = worker_identity(int(dead.stdout))  # this machine, a process that has ended
     for _ in range(2):
-        config.space.suggest(study.ask())  # asked, never told: a crash mid-batch
-    study = run_batched(config, url, trials=3, batch=2, cache_dir=tmp_path / "cache", workers=1)
-    states = [t.state for t in study.trials if t.state != optuna.trial.TrialState.WAITING]  # seeds still queued
-    assert states == [optuna.trial.TrialState.COMPLETE] * 3
-    assert [t.user_attrs["paper_design"] for t in study.trials[:3]] == ["SS", "rho-inc", "PVC-Ti-SS"]
+        trial = study.ask()
+        trial.set_user_attr(WORKER_ATTR, gone)
+        config.space.suggest(trial)
+    res = optimize.run_study(config, optimize.RunOptions(trials=3, storage=url, cache_dir=str(tmp_path / "cache")))
+    assert res.recovered == [0, 1] and res.finished
+    ts = study.get_trials()
+    assert [t.state for t in ts[:2]] == [optuna.trial.TrialState.FAIL] * 2
+    assert ts[0].user_attrs[FAIL_REASON_ATTR] == f"process of an earlier run died (pid {gone['pid']})"
+    retries = {t.system_attrs.get("failed_trial"): t for t in ts if "failed_trial" in t.system_attrs}
+    assert sorted(retries) == [0, 1] and [retries[n].params for n in (0, 1)] == [ts[0].params, ts[1].params]
+    assert [t.state for t in ts].count(optuna.trial.TrialState.COMPLETE) == 3
+    assert not [t for t in ts if t.state == optuna.trial.TrialState.RUNNING]

@@ -11,10 +11,12 @@ import optuna
 import pytest
 
 from mat_hopper.experiments.profiles import Profile
+from mat_hopper.optimize._driver import run_loop
+from mat_hopper.optimize._evaluators import PoolEvaluator
 from mat_hopper.optimize._objective import Objective
 from mat_hopper.optimize._space import SearchSpace
 from mat_hopper.optimize._storage import default_url, open_storage
-from mat_hopper.optimize._study import StudyConfig, TrialObjective, create_or_load
+from mat_hopper.optimize._study import RunOptions, StudyConfig, create_or_load
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 
@@ -50,8 +52,10 @@ def test_dashboard_renders_the_study_and_its_trials(tmp_path):
     ob = Objective(profile=Profile("tiny", duration_s=2.0, transient_s=0.5), replicates=2)
     config = StudyConfig("watched", SearchSpace(), ob)
     url = default_url("watched", str(tmp_path))
-    study = create_or_load(config, open_storage(url))
-    study.optimize(TrialObjective(config), n_trials=2)
+    storage = open_storage(url)
+    study = create_or_load(config, storage)
+    with PoolEvaluator(str(tmp_path / "cache"), workers=1) as evaluator:
+        run_loop(study, storage, config, evaluator, RunOptions(trials=2, progress=False))
     study_id = open_storage(url).get_study_id_from_name("watched")
     with dashboard(url) as base, browser.Chromium() as chromium:
         home = chromium.wait_for_text(f"{base}/dashboard/", ["watched"], timeout_s=30)

@@ -16,10 +16,12 @@ from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.model import build_model
 from mat_hopper.optimize import export_trial, leg_mass_kg
+from mat_hopper.optimize._driver import run_loop
+from mat_hopper.optimize._evaluators import PoolEvaluator
 from mat_hopper.optimize._objective import Objective, evaluate
 from mat_hopper.optimize._space import SearchSpace
 from mat_hopper.optimize._storage import default_url, open_storage
-from mat_hopper.optimize._study import StudyConfig, TrialObjective, create_or_load
+from mat_hopper.optimize._study import RunOptions, StudyConfig, create_or_load
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
@@ -29,10 +31,12 @@ def _study(folder, name, replicates, n_trials=3):
     config = StudyConfig(name, SearchSpace(), Objective(profile=TINY, replicates=replicates))
     folder.mkdir(exist_ok=True)
     url = default_url(name, str(folder))
-    study = create_or_load(config, open_storage(url), sampler=optuna.samplers.RandomSampler(seed=1))
+    storage = open_storage(url)
+    study = create_or_load(config, storage, sampler=optuna.samplers.RandomSampler(seed=1))
     study.enqueue_trial({"seg1_density_g_cm3": 3.3, "seg1_modulus_gpa": 12.5, "seg2_density_g_cm3": 1.7,
                          "seg2_modulus_gpa": 0.93, "seg3_density_g_cm3": 9.1, "seg3_modulus_gpa": 410.0})  # fmt: skip
-    study.optimize(TrialObjective(config), n_trials=n_trials)
+    with PoolEvaluator(str(folder / "cache"), workers=1) as evaluator:
+        run_loop(study, storage, config, evaluator, RunOptions(trials=n_trials, progress=False))
     return config, url, study
 
 

@@ -1,6 +1,7 @@
 """The design optimizer: search space, constraints, samplers, storages
-(SQLite and a real PostgreSQL server), worker processes, dead workers,
-reports. Runs use a 2 s profile (tiny) so the file stays short."""
+(SQLite and a real PostgreSQL server), the one loop and its evaluation
+processes, dead processes, reports. Runs use a 2 s profile (tiny) so the
+file stays short."""
 
 from __future__ import annotations
 
@@ -18,14 +19,20 @@ import optuna
 import pandas as pd
 import pytest
 from optuna.trial import TrialState
-from running_trials import stop_a_running_trial
+from running_trials import (
+    descendants,
+    stop_a_running_trial,
+    stop_an_evaluation_process,
+    wait_for_evaluation_processes,
+)
 
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.materials import LegDesign, paper_designs
-from mat_hopper.optimize._coordinator import run_study
+from mat_hopper.optimize._driver import run_loop, run_study
+from mat_hopper.optimize._evaluators import Evaluator, Lost
 from mat_hopper.optimize._objective import Objective, evaluate
-from mat_hopper.optimize._samplers import check_sampler, make_sampler, worker_seed
+from mat_hopper.optimize._samplers import check_sampler, make_sampler, sampler_seed
 from mat_hopper.optimize._space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample
 from mat_hopper.optimize._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR, open_storage
 from mat_hopper.optimize._study import RunOptions, StudyConfig, counts, create_or_load
@@ -35,11 +42,22 @@ optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
 TINY_OBJ = Objective(replicates=0, profile=TINY)
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-ENV = {**os.environ, "PYTHONPATH": REPO + os.pathsep + os.environ.get("PYTHONPATH", "")}
+
+
+def _env():
+    """This interpreter's environment (the test's cache included) with the repository importable."""
+    return {**os.environ, "PYTHONPATH": REPO + os.pathsep + os.environ.get("PYTHONPATH", "")}
 
 
 def tiny_config(name, **space):
     return StudyConfig(name, SearchSpace(**space), TINY_OBJ)
+
+
+@pytest.fixture(autouse=True)
+def own_cache(tmp_path, monkeypatch):
+    """Every test's runs in a cache of its own (a run cached by another
+    test would finish at once)."""
+    monkeypatch.setenv("MAT_HOPPER_CACHE", str(tmp_path / "cache"))
 
 
 def _trials(url, name):
@@ -243,19 +261,20 @@ def test_gp_sampler_needs_torch_or_builds():
 # --- studies on SQLite ------------------------------------------------------
 
 
-def _check_run(res, trials, url, name, workers):
-    """Every trial recorded once: COMPLETE trials = the union of what the
-    workers told, nobody told a trial twice, no trial is left running."""
+def _check_run(res, trials, url, name):
+    """Every trial recorded once: COMPLETE trials = what the run told, in
+    trial order, no trial told twice, none left running, each named by
+    this process (the one that asked it)."""
     ts, _ = _trials(url, name)
-    assert res.dead_workers == []
-    told = [n for r in res.worker_reports for n, state in r["told"]]
-    assert len(told) == len(set(told))
+    assert res.lost == []
+    told = [n for n, state in res.told]
+    assert told == sorted(set(told))
     complete = [t.number for t in ts if t.state == TrialState.COMPLETE]
-    assert sorted(told) == complete and len(complete) == trials
+    assert told == complete and len(complete) == trials
     assert not [t for t in ts if t.state in (TrialState.RUNNING, TrialState.WAITING)]
     params = [json.dumps(t.params, sort_keys=True) for t in ts if t.state == TrialState.COMPLETE]
     assert len(set(params)) == len(params)
-    assert len({t.user_attrs[WORKER_ATTR]["pid"] for t in ts}) == workers
+    assert {t.user_attrs[WORKER_ATTR]["pid"] for t in ts} == {os.getpid()}
     return ts
 
 
@@ -265,7 +284,7 @@ def test_sqlite_study_two_workers_paper_designs_first_report_replay(tmp_path, mo
     res = run_study(tiny_config(name), opts)
     url = opts.storage_url(name)
     assert url == f"sqlite:///{tmp_path}/studies/sq.db" and res.finished
-    ts = _check_run(res, 7, url, name, workers=2)
+    ts = _check_run(res, 7, url, name)
     assert [t.user_attrs.get(PAPER_ATTR) for t in ts[:3]] == ["SS", "rho-inc", "PVC-Ti-SS"]
     assert ts[1].params["seg1_density_g_cm3"] == 1.39 and ts[0].params["seg3_modulus_gpa"] == 193.0
     for t in ts:
@@ -273,7 +292,7 @@ def test_sqlite_study_two_workers_paper_designs_first_report_replay(tmp_path, mo
         assert t.user_attrs["result"]["feasible"] == all(v <= 0 for v in t.constraints.values())
     # running again with the same target does nothing; a larger one resumes
     again = run_study(tiny_config(name), opts)
-    assert again.worker_reports == [] and again.done == 7
+    assert again.told == [] and again.evaluator == "" and again.done == 7
 
     rep = write_report(name, open_storage(url), str(tmp_path / "report"))
     for p in rep["paths"].values():
@@ -301,12 +320,24 @@ def test_sqlite_study_two_workers_paper_designs_first_report_replay(tmp_path, mo
     assert (tmp_path / "r2" / "pareto.png").exists()
 
 
+TWO_COMMANDS = """
+import sys
+from mat_hopper.experiments.profiles import Profile
+from mat_hopper.optimize import Objective, RunOptions, SearchSpace, StudyConfig, run_study
+config = StudyConfig(sys.argv[1], SearchSpace(), Objective(replicates=0, profile=Profile("blink", 0.2, 0.1)))
+if __name__ == "__main__":
+    res = run_study(config, RunOptions(trials=25, workers=1, storage=sys.argv[2], seed=int(sys.argv[3]), progress=False))
+    print(len(res.told), res.finished or res.running > 0)  # the other's last round may still run
+"""
+
+
 @pytest.mark.parametrize("kind", ["sqlite", "journal"])
-def test_each_enqueued_trial_is_taken_by_one_worker(kind, tmp_path):
-    """Two workers popping queued (WAITING) trials at once: SQLite has no row
-    locks (we begin transactions IMMEDIATE), the journal appends under a
-    file lock. A trial run twice would kill a worker (cannot tell a
-    finished trial) and show up in the told lists."""
+def test_each_enqueued_trial_is_taken_by_one_command(kind, tmp_path):
+    """Two commands popping queued (WAITING) trials at once, rounds of 8
+    asked in a row: SQLite has no row locks (we begin transactions
+    IMMEDIATE), the journal appends under a file lock. A trial taken by both
+    would be told twice (Optuna refuses the second tell: that command fails)
+    or show up twice among the complete trials."""
     name = f"race-{kind}"
     url = f"sqlite:///{tmp_path}/{name}.db" if kind == "sqlite" else f"journal:///{tmp_path}/{name}.log"
     config = StudyConfig(
@@ -314,25 +345,60 @@ def test_each_enqueued_trial_is_taken_by_one_worker(kind, tmp_path):
     )
     study = create_or_load(config, open_storage(url))
     rng = np.random.default_rng(0)
-    for _ in range(17):
-        study.enqueue_trial(
-            {f"seg{i}_{p}": float(rng.uniform(1.0, 9.0)) for i in (1, 2, 3) for p in ("density_g_cm3", "modulus_gpa")}
+    enqueued = [
+        {f"seg{i}_{p}": float(rng.uniform(1.0, 9.0)) for i in (1, 2, 3) for p in ("density_g_cm3", "modulus_gpa")}
+        for _ in range(17)
+    ]
+    for params in enqueued:
+        study.enqueue_trial(params)
+    procs = [
+        subprocess.Popen(
+            [sys.executable, "-c", TWO_COMMANDS, name, url, str(seed)],
+            env=_env(),
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
         )
-    res = run_study(config, RunOptions(trials=25, workers=2, storage=url, progress=False))  # 8 seeds + 17
-    assert res.dead_workers == [] and res.finished
-    _check_run(res, 25, url, name, workers=2)
+        for seed in (1, 2)
+    ]
+    outs = [p.communicate(timeout=300) for p in procs]
+    for p, (out, err) in zip(procs, outs):
+        assert p.returncode == 0 and out.split()[1] == "True", err
+    ts, _ = _trials(url, name)
+    complete = [t for t in ts if t.state == TrialState.COMPLETE]
+    assert sum(int(out.split()[0]) for out, _ in outs) == len(complete) >= 25  # each told what it asked, once
+    assert [t.state for t in ts if t.state != TrialState.COMPLETE] == []
+    params = [json.dumps(t.params, sort_keys=True) for t in complete]
+    assert len(set(params)) == len(params)
+    taken = {json.dumps(p, sort_keys=True) for p in enqueued}
+    assert taken <= set(params)  # every queued design ran, once
 
 
-def test_seeded_single_worker_is_deterministic(tmp_path):
+def test_seeded_study_is_deterministic_with_any_number_of_processes(tmp_path):
+    """A fresh study is fixed by its seed and batch size: the same trials
+    (parameters and values, bit for bit) with one process or two, with the
+    default batch of 8 and with a batch of 3."""
     runs = []
-    for name, seed in (("d1", 3), ("d2", 3), ("d3", 4)):
-        opts = RunOptions(trials=10, workers=1, seed=seed, studies_dir=str(tmp_path), progress=False)
+    for name, seed, workers, batch in (("d1", 3, 1, None), ("d2", 3, 2, None), ("d3", 4, 1, None), ("b1", 3, 1, 3)):
+        opts = RunOptions(
+            trials=10,
+            workers=workers,
+            seed=seed,
+            studies_dir=str(tmp_path),
+            progress=False,
+            batch_size=batch,
+            cache_dir=str(tmp_path / f"cache-{name}"),  # each computes its own runs
+        )
         run_study(tiny_config(name), opts)
         ts, _ = _trials(opts.storage_url(name), name)
         runs.append([(t.params, t.values) for t in ts])
     assert runs[0] == runs[1]
     assert runs[0][:8] == runs[2][:8] and runs[0][8:] != runs[2][8:]  # the eight seeds, then the sampler
-    assert worker_seed(3, 0, 0) != worker_seed(3, 0, 1) != worker_seed(3, 5, 0)
+    assert [p for p, _ in runs[3]] == [p for p, _ in runs[0]]  # TPE's first 10 are random: any batch
+    opts = RunOptions(trials=10, workers=2, seed=3, studies_dir=str(tmp_path), progress=False, batch_size=3)
+    run_study(tiny_config("b2"), opts)
+    assert [(t.params, t.values) for t in _trials(opts.storage_url("b2"), "b2")[0]] == runs[3]
+    assert sampler_seed(3, 0) != sampler_seed(3, 5) != sampler_seed(4, 5)
 
 
 def test_diverging_and_failing_designs_never_crash_the_study(tmp_path):
@@ -356,13 +422,52 @@ def test_diverging_and_failing_designs_never_crash_the_study(tmp_path):
         create_or_load(StudyConfig("div", SearchSpace(), TINY_OBJ), storage)
 
 
+class _Losing(Evaluator):
+    """An evaluator whose processes always die (or that raises `error`)."""
+
+    name = "losing"
+
+    def __init__(self, error=None):
+        self.error, self.rounds = error, []
+
+    def evaluate(self, designs, objective, desc="trials"):
+        self.rounds.append(len(designs))
+        if self.error:
+            raise self.error
+        return [Lost("evaluation process died (test)") for _ in designs]
+
+
+def test_rounds_lost_whole_stop_the_loop_and_errors_fail_the_round():
+    """Evaluation processes that die round after round: each round's trials
+    are failed and re-queued, and the loop stops after max_retry + 1 such
+    rounds (it would ask forever). An evaluator that raises: its round's
+    trials fail with the error, which reaches the caller. Nothing is left
+    running either way."""
+    config = tiny_config("lose")
+    for evaluator, raised in ((_Losing(), ValueError), (_Losing(RuntimeError("device lost")), RuntimeError)):
+        storage = optuna.storages.InMemoryStorage()
+        study = create_or_load(config, storage)
+        with pytest.raises(raised) as e:
+            run_loop(study, storage, config, evaluator, RunOptions(trials=4, max_retry=1, progress=False))
+        ts = study.get_trials()
+        assert not [t for t in ts if t.state == TrialState.RUNNING]
+        if raised is ValueError:
+            assert "died in 2 rounds in a row" in str(e.value) and evaluator.rounds == [4, 4]
+            failed = [t for t in ts if t.state == TrialState.FAIL]
+            assert len(failed) == 8 and all(t.user_attrs[FAIL_REASON_ATTR].startswith("evaluation") for t in failed)
+            assert len([t for t in ts if "failed_trial" in t.system_attrs]) == 8  # each re-queued
+        else:
+            assert evaluator.rounds == [4]
+            assert [t.user_attrs[ERROR_ATTR] for t in ts[:4]] == ["RuntimeError: device lost"] * 4
+
+
 # --- PostgreSQL: workers, resume by a third process, dead workers ------------
 
 
 def _cli(*args, **kw):
     return subprocess.run(
         [sys.executable, "-m", "mat_hopper", "optimize", *args],
-        env=ENV,
+        env=_env(),
         capture_output=True,
         text=True,
         timeout=120,
@@ -374,7 +479,7 @@ def _cli(*args, **kw):
 def test_postgres_two_workers_then_a_third_process_resumes(pg_url):
     name = "pg"
     res = run_study(tiny_config(name), RunOptions(trials=6, workers=2, storage=pg_url, progress=False))
-    first = _check_run(res, 6, pg_url, name, workers=2)
+    first = _check_run(res, 6, pg_url, name)
     out = _cli("--study", name, "--trials", "8", "--workers", "1", "--storage", pg_url, "--no-progress")
     assert out.returncode == 0, out.stderr
     assert "8/8 trials finished" in out.stdout
@@ -386,9 +491,12 @@ def test_postgres_two_workers_then_a_third_process_resumes(pg_url):
 
 
 @pytest.mark.slow
-def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
+def test_sigkilled_evaluation_process_loses_only_its_round_which_is_retried(pg_url):
+    """An evaluation process SIGKILLed while it simulates: the trials of its
+    round that were running are failed (fail_reason) and re-queued, each
+    retried once with its parameters, and the command finishes the study."""
     name = "kill"
-    # bounds that hold no paper design: nothing enqueued ahead of the re-queued trial
+    # bounds that hold no paper design: nothing enqueued ahead of the re-queued trials
     space = SearchSpace(n_segments=3, density_g_cm3=(1.5, 2.5), modulus_gpa=(0.45, 9.0))
     assert space.seeds() == []
     config = StudyConfig(name, space, Objective(replicates=0, profile=Profile("k", duration_s=3.0, transient_s=0.5)))
@@ -405,40 +513,43 @@ def test_sigkilled_worker_loses_only_its_trial_which_is_retried(pg_url):
             "6",
             "--workers",
             "2",
+            "--batch-size",
+            "4",
             "--storage",
             pg_url,
             "--no-progress",
         ],
-        env=ENV,
+        env=_env(),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
     )
     try:
-        victim, pid = stop_a_running_trial(pg_url, name)
+        running, pid = stop_an_evaluation_process(pg_url, name, proc.pid)
         os.kill(pid, signal.SIGKILL)
         out, err = proc.communicate(timeout=120)
     finally:
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == 0, err
-    assert "died" in out
+    assert "an evaluation process died" in out
     ts, _ = _trials(pg_url, name)
-    dead = ts[victim]
-    assert dead.state == TrialState.FAIL and "exited with code -9" in dead.user_attrs[FAIL_REASON_ATTR]
-    retries = [t for t in ts if t.system_attrs.get("failed_trial") == victim]
-    assert len(retries) == 1 and retries[0].state == TrialState.COMPLETE and retries[0].params == dead.params
-    assert retries[0].user_attrs.get(PAPER_ATTR) == dead.user_attrs.get(PAPER_ATTR)
+    failed = [t for t in ts if t.state == TrialState.FAIL]
+    assert failed and {t.number for t in failed} <= running  # the round killed mid-way, no other
+    for dead in failed:
+        assert dead.user_attrs[FAIL_REASON_ATTR].startswith("evaluation process died")
+        retries = [t for t in ts if t.system_attrs.get("failed_trial") == dead.number]
+        assert len(retries) == 1 and retries[0].state == TrialState.COMPLETE and retries[0].params == dead.params
     assert sum(t.state == TrialState.COMPLETE for t in ts) == 6
-    assert [t.number for t in ts if t.state == TrialState.FAIL] == [victim]
     assert not [t for t in ts if t.state in (TrialState.RUNNING, TrialState.WAITING)]
 
 
 @pytest.mark.slow
 def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
-    """Coordinator and worker both SIGKILLed (a machine lost): Optuna's
-    heartbeat marks the trial failed and our callback enqueues it again;
-    a new run finishes the study."""
+    """The command SIGKILLed (as by the OOM killer; a machine lost alike): its
+    processes end with it, its heartbeat goes silent, Optuna's
+    fail_stale_trials marks the trial failed and our callback enqueues it
+    again; a new run finishes the study."""
     name = "hb"
     # bounds that hold no paper design: nothing enqueued ahead of the re-queued trial
     space = SearchSpace(n_segments=3, density_g_cm3=(1.5, 2.5), modulus_gpa=(0.45, 9.0))
@@ -456,21 +567,29 @@ def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
             "--trials",
             "3",
             "--workers",
-            "1",
+            "2",
             "--storage",
             pg_url,
             "--no-progress",
         ],
-        env=ENV,
+        env=_env(),
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
-        start_new_session=True,
     )
     try:
+        wait_for_evaluation_processes(proc.pid)
         victim, _ = stop_a_running_trial(pg_url, name)
-    finally:
-        os.killpg(proc.pid, signal.SIGKILL)
+        below = descendants(proc.pid)  # its fork server, resource tracker, evaluation processes
+        assert len(below) >= 3
+        proc.kill()  # the command alone: its processes end with it
         proc.wait(30)
+        deadline = time.monotonic() + 20
+        while [q for q in below if os.path.exists(f"/proc/{q}")] and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert [q for q in below if os.path.exists(f"/proc/{q}")] == []  # no orphaned process
+    finally:
+        if proc.poll() is None:
+            proc.kill()
     storage = open_storage(pg_url, heartbeat_s=1, grace_s=2)
     study = optuna.load_study(study_name=name, storage=storage)
     assert study.trials[victim].state == TrialState.RUNNING

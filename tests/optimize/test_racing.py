@@ -15,8 +15,8 @@ import pytest
 from optuna.trial import TrialState
 
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize import _batched
-from mat_hopper.optimize._coordinator import run_study
+from mat_hopper.optimize._driver import run_study
+from mat_hopper.optimize._evaluators import Lost, PoolEvaluator
 from mat_hopper.optimize._objective import Evaluation, Objective, evaluate
 from mat_hopper.optimize._racing import (
     BRACKET_ATTR,
@@ -116,8 +116,50 @@ run_racing(StudyConfig("race", SearchSpace(), ob), {url!r}, brackets=1, racing=r
 """
 
 
+class Counting(PoolEvaluator):
+    """The CPU evaluator, counting the designs of each call."""
+
+    def __init__(self, *a, **kw):
+        super().__init__(*a, **kw)
+        self.evaluated = []
+
+    def evaluate(self, designs, objective, desc="trials"):
+        self.evaluated.append(len(designs))
+        return super().evaluate(designs, objective, desc)
+
+
+class Dying(PoolEvaluator):
+    """The CPU evaluator whose first evaluation of each design loses it (as
+    if its evaluation process died)."""
+
+    def __init__(self, *a, **kw):
+        super().__init__(*a, **kw)
+        self.seen = set()
+
+    def evaluate(self, designs, objective, desc="trials"):
+        out = super().evaluate(designs, objective, desc)
+        lost = [Lost("evaluation process died") if d.name not in self.seen else o for d, o in zip(designs, out)]
+        self.seen |= {d.name for d in designs}
+        return lost
+
+
+def test_racing_evaluates_a_lost_design_again(tmp_path):
+    """A design whose evaluation process died is evaluated again (racing keeps
+    its bracket: its trials are not re-queued), and the study is the one an
+    evaluator that never loses a design makes."""
+    config = StudyConfig("lost", SearchSpace(), OB)
+    racing = Racing(rungs=RACING.rungs, eta=3, screen=3)
+    with Dying(str(tmp_path / "cache"), workers=1) as dying:
+        lossy = run_racing(config, f"sqlite:///{tmp_path}/lost.db", brackets=1, racing=racing, evaluator=dying)
+    plain = run_racing(config, f"sqlite:///{tmp_path}/plain.db", brackets=1, racing=racing, workers=1,
+                       cache_dir=str(tmp_path / "cache"))  # fmt: skip
+    summary = lambda s: [(t.number, t.state, t.params, t.values) for t in s.get_trials()]  # noqa: E731
+    assert summary(lossy) == summary(plain)
+    assert [t.state for t in plain.get_trials()].count(TrialState.COMPLETE) == 1
+
+
 @pytest.mark.slow  # a fresh interpreter (numba's first import) and two studies: 16-95 s here
-def test_sigkill_mid_rung_resumes_there(tmp_path, monkeypatch):
+def test_sigkill_mid_rung_resumes_there(tmp_path):
     """SIGKILL right after rung 0 of the first bracket is stored: the
     resumed run does not ask new trials nor run rung 0 again, and ends with
     the study an uninterrupted run makes."""
@@ -132,12 +174,10 @@ def test_sigkill_mid_rung_resumes_there(tmp_path, monkeypatch):
     running = killed.get_trials(states=(TrialState.RUNNING,))
     assert len(running) == 11 and all("rung0" in t.user_attrs for t in running)
 
-    evaluated = []
-    real = _batched.evaluate_many
-    monkeypatch.setattr(_batched, "evaluate_many", lambda d, *a, **k: evaluated.append(len(d)) or real(d, *a, **k))
     config = StudyConfig("race", SearchSpace(), OB)
-    resumed = run_racing(config, url, brackets=1, racing=racing, cache_dir=str(tmp_path / "cache-resumed"), workers=1)
-    assert evaluated == [0, 4]  # rung 0: nothing run again; rung 1: the 4 promoted
+    with Counting(str(tmp_path / "cache-resumed"), workers=1) as counting:
+        resumed = run_racing(config, url, brackets=1, racing=racing, evaluator=counting)
+    assert counting.evaluated == [0, 4]  # rung 0: nothing run again; rung 1: the 4 promoted
     fresh = run_racing(
         config, f"sqlite:///{tmp_path}/fresh.db", brackets=1, racing=racing, cache_dir=str(tmp_path / "c"), workers=1
     )

@@ -14,9 +14,11 @@ from mat_hopper.behaviours import behaviour
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.materials import LegDesign, paper_designs
 from mat_hopper.optimize import _robust
+from mat_hopper.optimize._driver import run_loop
+from mat_hopper.optimize._evaluators import PoolEvaluator
 from mat_hopper.optimize._objective import OBJECTIVES, Objective, aggregate, evaluate
 from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._study import StudyConfig, TrialObjective, create_or_load
+from mat_hopper.optimize._study import RunOptions, StudyConfig, create_or_load
 from mat_hopper.sim import C, RolloutRunner
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
@@ -75,7 +77,16 @@ def test_objective_fields_checked_and_keyed():
 # --- common random numbers ------------------------------------------------------
 
 
-def test_common_random_numbers_across_trials():
+def _optimize(config, n: int, cache, sampler=None):
+    """A study in memory with n trials, asked, evaluated and told by the optimizer's loop."""
+    storage = optuna.storages.InMemoryStorage()
+    study = create_or_load(config, storage, sampler=sampler)
+    with PoolEvaluator(str(cache), workers=1) as evaluator:
+        run_loop(study, storage, config, evaluator, RunOptions(trials=n, progress=False))
+    return study
+
+
+def test_common_random_numbers_across_trials(tmp_path):
     """Every trial draws the same perturbations: the same seeds, and from
     them the same start of the base (the first recorded sample) whatever
     the leg; a study's trials record those seeds."""
@@ -99,8 +110,7 @@ def test_common_random_numbers_across_trials():
     assert not np.array_equal(starts["SS", seeds[0]], starts["SS", seeds[1]])
 
     config = StudyConfig("crn", SearchSpace(), ob)
-    study = create_or_load(config, optuna.storages.InMemoryStorage())
-    study.optimize(TrialObjective(config), n_trials=2)
+    study = _optimize(config, 2, tmp_path / "cache")
     done = study.get_trials(states=(optuna.trial.TrialState.COMPLETE,))
     assert len(done) == 2
     for t in done:
@@ -146,15 +156,14 @@ def test_leg_mass_by_hand():
     assert _robust.leg_mass_target_kg(4.5, 3, "leg") == 4.5
 
 
-def test_mass_constraint_honoured():
+def test_mass_constraint_honoured(tmp_path):
     """Trials record their leg mass and the ``leg_mass`` constraint; every
     feasible trial, and every trial of Optuna's constrained front, has a
     leg mass within the tolerance of SS's."""
     ob = Objective(profile=TINY, replicates=0, leg_mass="SS", leg_mass_tolerance_kg=0.5)
     target = _robust.leg_mass_kg(paper_designs()["SS"], ob.segment_mass)
     config = StudyConfig("mass", SearchSpace(density_g_cm3=(4.0, 12.0)), ob)
-    study = create_or_load(config, optuna.storages.InMemoryStorage(), sampler=optuna.samplers.RandomSampler(seed=3))
-    study.optimize(TrialObjective(config), n_trials=14)
+    study = _optimize(config, 14, tmp_path / "cache", sampler=optuna.samplers.RandomSampler(seed=3))
     feasible, infeasible = [], []
     for t in study.get_trials(states=(optuna.trial.TrialState.COMPLETE,)):
         res = t.user_attrs["result"]
@@ -209,8 +218,8 @@ def test_cli_options_and_their_errors(tmp_path, monkeypatch, capsys):
 
 
 def test_warp_backend_needs_unperturbed_runs():
-    from mat_hopper.optimize._batch import batch_settings, check_unperturbed, run_batch_study
-    from mat_hopper.optimize._study import RunOptions
+    from mat_hopper.optimize import run_batch_study
+    from mat_hopper.optimize._batch import batch_settings, check_unperturbed
 
     check_unperturbed(Objective(profile=TINY, replicates=0))
     with pytest.raises(ValueError, match="--replicates 0"):

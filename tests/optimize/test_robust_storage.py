@@ -18,14 +18,17 @@ import optuna
 import pytest
 from optuna.trial import TrialState
 from pg_server import new_database
-from running_trials import stop_a_running_trial
+from running_trials import (
+    descendants,
+    stop_a_running_trial,
+    stop_an_evaluation_process,
+    wait_for_evaluation_processes,
+)
 
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize import _coordinator as coordinator_mod
 from mat_hopper.optimize import _storage
-from mat_hopper.optimize import _study as study_mod
-from mat_hopper.optimize._coordinator import run_study
+from mat_hopper.optimize._driver import run_study
 from mat_hopper.optimize._objective import Objective
 from mat_hopper.optimize._processes import HeldSignals
 from mat_hopper.optimize._space import SearchSpace
@@ -37,6 +40,7 @@ TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ENV = {**os.environ, "PYTHONPATH": REPO + os.pathsep + os.environ.get("PYTHONPATH", "")}
 ENV.pop("MAT_HOPPER_PROFILE", None)
+ENV.pop("MAT_HOPPER_CACHE", None)  # each command below is given a cache of its own
 
 
 def tiny(name, profile=TINY, behaviours="ramp"):
@@ -55,7 +59,9 @@ def _one_line_exit_2(argv, capsys, text):
 def small_study(tmp_path_factory):
     """A finished 4-trial study in its default SQLite file: (studies dir, name)."""
     d = tmp_path_factory.mktemp("studies")
-    run_study(tiny("small"), RunOptions(trials=4, workers=1, studies_dir=str(d), progress=False))
+    run_study(
+        tiny("small"), RunOptions(trials=4, workers=1, studies_dir=str(d), progress=False, cache_dir=str(d / "c"))
+    )
     return d, "small"
 
 
@@ -198,41 +204,6 @@ def test_locked_database_is_one_line_naming_the_cause(tmp_path, capsys, monkeypa
 # --- 5: no connection crosses a fork ------------------------------------------------
 
 
-def test_no_database_connection_crosses_the_fork(tmp_path, monkeypatch):
-    """Each worker opens its own storage; when it starts, no file descriptor
-    it inherited points at the study's SQLite files (a copy of the parent's
-    connection, whose closing would drop the parent's POSIX locks)."""
-    parent, log = os.getpid(), tmp_path / "inherited.txt"
-    real_open = study_mod.open_storage
-
-    def spy(url, **kw):
-        if os.getpid() != parent:
-            fds = []
-            for fd in os.listdir("/proc/self/fd"):
-                try:
-                    target = os.readlink(f"/proc/self/fd/{fd}")
-                except OSError:
-                    continue
-                if "fork.db" in target:
-                    fds.append(target)
-            with open(log, "a") as f:
-                f.write(f"{os.getpid()} {fds}\n")
-        return real_open(url, **kw)
-
-    monkeypatch.setattr(study_mod, "open_storage", spy)
-    # fork even when an earlier test left a thread running (run_study would spawn)
-    monkeypatch.setattr(coordinator_mod, "_start_method", lambda: "fork")
-    res = run_study(
-        tiny("fork"), RunOptions(trials=5, workers=2, storage=f"sqlite:///{tmp_path}/fork.db", progress=False)
-    )
-    assert res.start_method == "fork" and res.finished
-    lines = log.read_text().splitlines()
-    assert len(lines) == 2 and all(line.endswith(" []") for line in lines), lines
-
-
-# --- 5: SIGTERM and SIGHUP like Ctrl-C -------------------------------------------
-
-
 def _alive(pid):
     try:
         with open(f"/proc/{pid}/stat") as f:
@@ -241,42 +212,79 @@ def _alive(pid):
         return False
 
 
-def test_sigterm_right_after_the_trial_is_made_waits_until_it_names_its_worker(tmp_path, monkeypatch):
+def _files(pid):
+    out = []
+    for fd in os.listdir(f"/proc/{pid}/fd"):
+        try:
+            out.append(os.readlink(f"/proc/{pid}/fd/{fd}"))
+        except OSError:
+            continue
+    return out
+
+
+def test_no_database_connection_crosses_the_fork(tmp_path):
+    """The evaluation processes never hold the study's SQLite files: they
+    start from a fork server that never opened the storage, so no copy of
+    the command's connection (whose closing would drop its POSIX locks)
+    reaches them. Checked on a process caught simulating, and its siblings."""
+    url = f"sqlite:///{tmp_path}/fork.db"
+    cmd = [sys.executable, "-m", "mat_hopper", "optimize", "--study", "fork", "--trials", "4", "--workers", "2"]
+    cmd += ["--profile", "quick", "--replicates", "0", "--storage", url, "--cache", str(tmp_path / "c")]
+    p = subprocess.Popen([*cmd, "--no-progress"], env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        _, pid = stop_an_evaluation_process(url, "fork", p.pid)
+        try:
+            assert "fork.db" in " ".join(_files(p.pid))  # the command holds it
+            held = {q: [f for f in _files(q) if "fork.db" in f] for q in descendants(p.pid) if _alive(q)}
+            assert pid in held and not any(held.values()), held
+        finally:
+            os.kill(pid, signal.SIGCONT)
+        out, err = p.communicate(timeout=300)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == 0, err
+
+
+# --- 5: SIGTERM and SIGHUP like Ctrl-C -------------------------------------------
+
+
+def test_sigterm_right_after_the_trial_is_made_waits_until_it_names_its_process(tmp_path, monkeypatch):
     """A SIGTERM that lands just after Optuna made the RUNNING trial
-    (Study.ask returned), before the trial names its worker, left a RUNNING
+    (Study.ask returned), before the trial names its process, left a RUNNING
     trial that no one could recover (CI, stop 17). Now the signal waits: the
-    worker dies with its name on the trial, the coordinator fails and
-    re-queues it, and the study finishes. The signal is sent by the forked
-    worker to itself, in that very window."""
+    trial is named, then the run stops, failing and re-queueing it; the next
+    run finishes the study. The signal is sent by the process to itself, in
+    that very window."""
     real_ask = optuna.Study.ask
-    shot = tmp_path / "shot"
+    shot = []
 
     def ask(self, *a, **kw):
         trial = real_ask(self, *a, **kw)
-        if os.getpid() != parent and not shot.exists():
-            shot.write_text(str(os.getpid()))
+        if not shot:
+            shot.append(trial.number)
             os.kill(os.getpid(), signal.SIGTERM)
-            time.sleep(0.5)  # a signal at its default action would have ended us by now
+            time.sleep(0.5)  # the handler would have raised by now
         return trial
 
-    parent = os.getpid()
     monkeypatch.setattr(optuna.Study, "ask", ask)
-    monkeypatch.setattr(coordinator_mod, "_start_method", lambda: "fork")
     url = f"sqlite:///{tmp_path}/held.db"
-    res = run_study(tiny("held"), RunOptions(trials=2, workers=1, storage=url, progress=False))
-    pid = int(shot.read_text())
-    assert res.finished and res.dead_workers == [(pid, -signal.SIGTERM)]
+    opts = RunOptions(trials=2, workers=1, storage=url, progress=False, cache_dir=str(tmp_path / "c"))
+    with pytest.raises(KeyboardInterrupt) as stop:
+        run_study(tiny("held"), opts)
+    assert getattr(stop.value, "signal_name", None) == "SIGTERM" and shot == [0]
     ts = optuna.load_study(study_name="held", storage=open_storage(url)).trials
-    assert [t.state for t in ts[:3]] == [TrialState.FAIL, TrialState.COMPLETE, TrialState.COMPLETE]
     assert not [t for t in ts if t.state == TrialState.RUNNING]
-    assert ts[0].user_attrs[WORKER_ATTR]["pid"] == pid
-    assert ts[0].user_attrs[FAIL_REASON_ATTR] == f"worker exited with code -15 (pid {pid})"
-    assert res.recovered == [0]
-    # trial 0 was a seed (enqueued) killed before it was suggested: its retry is that seed again
+    assert ts[0].state == TrialState.FAIL and ts[0].user_attrs[WORKER_ATTR]["pid"] == os.getpid()
+    assert ts[0].user_attrs[FAIL_REASON_ATTR] == f"interrupted (SIGTERM) (pid {os.getpid()})"
+    # trial 0 was a seed (enqueued) stopped before it was suggested: its retry is that seed again
     (retry,) = [t for t in ts if t.system_attrs.get("failed_trial") == 0]
     assert retry.state == TrialState.WAITING and retry.params == {}
     assert retry.system_attrs["fixed_params"] == ts[0].system_attrs["fixed_params"]
     assert len(ts[0].system_attrs["fixed_params"]) == 6
+    res = run_study(tiny("held"), opts)
+    ts = optuna.load_study(study_name="held", storage=open_storage(url)).trials
+    assert res.finished and [t.state for t in ts[:3]] == [TrialState.FAIL, TrialState.COMPLETE, TrialState.COMPLETE]
 
 
 def test_held_signals_deliver_at_release_with_the_old_handlers():
@@ -300,27 +308,35 @@ def test_held_signals_deliver_at_release_with_the_old_handlers():
 
 
 @pytest.mark.parametrize("sig", [signal.SIGTERM, pytest.param(signal.SIGHUP, marks=pytest.mark.slow)])
-def test_sigterm_and_sighup_stop_workers_and_requeue_their_trials(sig, tmp_path):
+def test_sigterm_and_sighup_stop_the_run_and_requeue_its_trials(sig, tmp_path):
     name, url = "sig", f"sqlite:///{tmp_path}/sig.db"
     create_or_load(tiny(name, Profile("k", duration_s=4.0, transient_s=0.5)), open_storage(url))
     tmp = tmp_path / "tmp"
     tmp.mkdir()
     cmd = [sys.executable, "-m", "mat_hopper", "optimize", "--study", name, "--trials", "12", "--workers", "2"]
-    cmd += ["--storage", url, "--no-progress"]
+    cmd += ["--storage", url, "--no-progress", "--cache", str(tmp_path / "c")]
     p = subprocess.Popen(
         cmd, env={**ENV, "TMPDIR": str(tmp)}, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
     )
     try:
+        wait_for_evaluation_processes(p.pid)
         victim, pid = stop_a_running_trial(url, name)
+        assert pid == p.pid  # the command names its trials
+        below = descendants(pid)  # its evaluation processes, fork server, resource tracker
+        assert len(below) >= 3, below
         p.send_signal(sig)
-        os.kill(pid, signal.SIGCONT)  # the worker meets the coordinator's stop mid-trial
+        os.kill(pid, signal.SIGCONT)  # the command meets the signal mid-round
         out, err = p.communicate(timeout=60)
     finally:
         if p.poll() is None:
             p.kill()
     assert p.returncode == 128 + sig, err
     assert err.strip().splitlines() == [f"interrupted by {signal.Signals(sig).name}"]
-    assert not _alive(pid)  # no orphaned worker
+    assert not _alive(pid)
+    deadline = time.monotonic() + 10
+    while [q for q in below if _alive(q)] and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert [q for q in below if _alive(q)] == []  # no orphaned process
     study = optuna.load_study(study_name=name, storage=open_storage(url))
     n = len(study.trials)
     time.sleep(3.0)
