@@ -489,8 +489,13 @@ def _report(name: str, storage, args, out: str) -> int:
                 "for every design (round-off only); no Pareto front, hypervolume or importances to report"
             ) from None
     if _needs_baselines(name, storage):
-        storage = open_existing(name, args)  # writes the baselines it runs into the study
-    rep = write_report(name, storage, out)
+        writer = open_existing(name, args)  # writes the baselines it runs into the study
+        try:
+            rep = write_report(name, writer, out)
+        finally:
+            dispose(writer)
+    else:
+        rep = write_report(name, storage, out)
     frame, front = rep["trials"], rep["pareto"]
     states = frame["state"].value_counts().to_dict() if len(frame) else {}
     n_ok = len(feasible_complete(frame))
