@@ -217,6 +217,8 @@ def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: boo
 
 def cmd_simulate(args) -> int:
     profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
+    if args.profile is not None and None not in (args.duration, args.transient, args.timestep):
+        raise ValueError("--profile sets the defaults of --duration, --transient and --timestep: all three are given")
     check_output_file(args.csv, "--csv", stdout=True)
     check_distinct_paths({"--csv": args.csv}, {"--design-csv": args.design_csv})  # never over the input table
     design = design_from_args(args)

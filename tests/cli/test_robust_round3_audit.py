@@ -190,6 +190,7 @@ def test_messages_name_the_flags_not_the_parameters(here, capsys, argv, text):
         (["optimize", "--report", "s", "--no-progress"], ("--no-progress", "--report")),
         (["optimize", "--study", "s", "--replay", "0", "--convention", "axial"], ("--convention", "--replay")),
         (["optimize", "--study", "a", "--report", "b"], ("--study a", "--report b")),
+        (["simulate", "--profile", "quick", "--timestep", "1e-4", *SHORT], ("--profile", "--duration")),
     ],
 )
 def test_options_that_would_be_ignored_are_refused_naming_the_pair(here, capsys, argv, texts):
