@@ -132,9 +132,11 @@ def setup(profile: str | Profile | None = None, *, chdir: bool = True, figure_fo
     cache at ``<root>/results/cache`` unless $MAT_HOPPER_CACHE says
     otherwise, and, inside IPython, show matplotlib figures inline as PNG
     (``retina``: twice the pixels) or SVG."""
+    from .parsing import env_value
+
     root = repo_root()
     prof = get_profile(profile)
-    cache = Path(os.environ.get(CACHE_ENV) or root / DEFAULT_CACHE_DIR)
+    cache = Path(env_value(CACHE_ENV, "a folder") or root / DEFAULT_CACHE_DIR)  # set but empty: an error
     if not cache.is_absolute():
         cache = root / cache
     os.environ[CACHE_ENV] = str(cache)

@@ -18,7 +18,6 @@ holds its records in memory.
 from __future__ import annotations
 
 import math
-import os
 
 MAX_TOTAL_STEPS = 20_000_000_000
 LIMIT_ENV = "MAT_HOPPER_MAX_STEPS"
@@ -30,10 +29,11 @@ MAX_WORLDS = 65_536  # worlds in one MuJoCo Warp batch (--max-batch, --batch-siz
 def max_total_steps() -> float:
     """The limit in physics steps: ``$MAT_HOPPER_MAX_STEPS`` if set, else
     MAX_TOTAL_STEPS. Raises ValueError for a value that is not a number > 0."""
-    text = os.environ.get(LIMIT_ENV)
+    from .parsing import env_value, parse_number
+
+    text = env_value(LIMIT_ENV, "a number of physics steps")
     if text is None:
         return float(MAX_TOTAL_STEPS)
-    from .parsing import parse_number
 
     return parse_number(text, f"${LIMIT_ENV}", low=1.0)
 

@@ -11,6 +11,10 @@ Numbers are ASCII decimals only (``12``, ``-1.5``, ``2e-4``): Python's
 scripts (``"١٢"``), none of which a user means as a run setting. A rigid
 segment is the word ``rigid``, spelled out, never ``inf``.
 
+Environment variables the tool reads ($MAT_HOPPER_PROFILE, ...) are read
+by :func:`env_value`: set but empty is an error naming the variable, never
+a silent default.
+
 Every error is a ValueError naming the option or argument (`flag`) the
 user typed.
 """
@@ -18,6 +22,7 @@ user typed.
 from __future__ import annotations
 
 import math
+import os
 import re
 from collections.abc import Iterable
 
@@ -42,6 +47,28 @@ def parse_name(text, choices: Iterable[str], flag: str) -> str:
         if c.lower() == key:
             return c
     raise ValueError(f"unknown {flag} {text!r}; accepted: {', '.join(choices)}")
+
+
+def is_decimal(text) -> bool:
+    """Whether `text` is an ASCII decimal (what :func:`parse_number` reads
+    from a string): ``12``, ``-1.5``, ``2e-4``; not ``inf``, ``1_0``, ``١``."""
+    return isinstance(text, str) and _DECIMAL.fullmatch(text.strip()) is not None
+
+
+def env_value(name: str, hint: str = "") -> str | None:
+    """The value of environment variable `name`, blanks trimmed; None when it
+    is not set. Set but empty (or blanks) is an error naming the variable:
+    an empty value is never read as "use the default".
+
+    Raises:
+        ValueError: ``$NAME is set but empty; unset it or give a value`` (and `hint`).
+    """
+    text = os.environ.get(name)
+    if text is None:
+        return None
+    if not text.strip():
+        raise ValueError(f"${name} is set but empty; unset it or give a value{f' ({hint})' if hint else ''}")
+    return text.strip()
 
 
 def parse_number(

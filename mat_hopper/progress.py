@@ -5,7 +5,8 @@ On a terminal (stderr is a TTY) a stage shows tqdm's bar. In a pipe or a
 log, bars would write carriage returns nobody sees; a stage then writes a
 line when it starts, a line at most every LINE_EVERY_S seconds while it
 runs (so that a long batch is never silent), and a line when it ends, with
-its count and wall time. In a Jupyter kernel tqdm's notebook widget is used.
+its count and wall time ("done", or "stopped" when an error or a signal cut
+it short). In a Jupyter kernel tqdm's notebook widget is used.
 """
 
 from __future__ import annotations
@@ -53,22 +54,34 @@ class StageLines:
     def refresh(self) -> None:
         self.update(0)  # a line if one is due (callers that set n themselves)
 
-    def close(self) -> None:
+    def close(self, stopped: bool | None = None) -> None:
+        """The stage's last line: "done" when it ended, "stopped" when it was
+        cut short (`stopped`; None: when an exception, such as Ctrl-C or
+        SIGTERM, is on its way through the caller's ``finally`` and the
+        count is short of its total)."""
         if not self._closed:
             self._closed = True
-            self._line(f"done, {self._count()} in {time.monotonic() - self._t0:.1f} s")
+            if stopped is None:
+                short = self.total is None or self.n < self.total
+                stopped = sys.exc_info()[0] is not None and short
+            what = "stopped" if stopped else "done"
+            self._line(f"{what}, {self._count()} in {time.monotonic() - self._t0:.1f} s")
 
     def __iter__(self):
-        for item in self.iterable:
-            yield item
-            self.update(1)
-        self.close()
+        try:
+            for item in self.iterable:
+                yield item
+                self.update(1)
+        except BaseException:  # an error, an interrupt, or the loop left early (GeneratorExit)
+            self.close(stopped=True)
+            raise
+        self.close(stopped=False)
 
     def __enter__(self) -> StageLines:
         return self
 
-    def __exit__(self, *exc) -> None:
-        self.close()
+    def __exit__(self, exc_type, *exc) -> None:
+        self.close(stopped=exc_type is not None)
 
 
 def progress_bar(iterable=None, *, enabled: bool = True, file=None, tqdm_class=None, **kwargs):

@@ -15,7 +15,7 @@ import tempfile
 from contextlib import contextmanager
 
 from ..atomic import TEMP_PREFIX
-from ..parsing import RIGID, parse_name, parse_number
+from ..parsing import RIGID, is_decimal, parse_name, parse_number
 
 # A value argparse would take for an option: "-1", "-1.5e3", "-1,2,3".
 NEGATIVE_LIST = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
@@ -271,19 +271,45 @@ def check_output_file(path, flag: str, *, stdout: bool = False) -> str | None:
     return path
 
 
-def check_distinct_outputs(**paths) -> None:
-    """Outputs of one command name different files or folders: keyword
-    FLAG=PATH pairs (underscores for dashes, e.g. tiles="a.png"); None
-    entries are skipped. Raises ValueError naming both flags."""
+def path_key(path) -> str:
+    """One spelling of a path: absolute, symlinks and ``..`` resolved (two
+    keys are equal when the paths name one file or folder)."""
+    return os.path.normcase(os.path.realpath(os.fspath(path)))
+
+
+def check_distinct_paths(outputs: dict, inputs: dict | None = None) -> None:
+    """The files and folders a command writes (`outputs`, FLAG: PATH) are
+    all different, and none is a file it reads (`inputs`, FLAG: PATH):
+    an output on an input's path would overwrite it. Paths are compared
+    with symlinks and ``..`` resolved; None entries and "-" (standard
+    output) are skipped. Raises ValueError naming both flags."""
+    reads = {path_key(p): (flag, p) for flag, p in (inputs or {}).items() if p is not None and os.fspath(p) != STDOUT}
     seen: dict[str, str] = {}
-    for name, path in paths.items():
-        if path is None or os.fspath(path) == "-":
+    for flag, path in outputs.items():
+        if path is None or os.fspath(path) == STDOUT:
             continue
-        flag = "--" + name.replace("_", "-")
-        key = os.path.normcase(os.path.realpath(os.fspath(path)))
+        key = path_key(path)
+        if key in reads:
+            src, p = reads[key]
+            raise ValueError(
+                f"{flag} {os.fspath(path)!r} is the file {src} {os.fspath(p)!r} reads: writing it would overwrite "
+                "the input; give the output another name"
+            )
         if key in seen:
             raise ValueError(f"{seen[key]} and {flag} name the same path {os.fspath(path)!r}; give each its own")
         seen[key] = flag
+
+
+def check_distinct_outputs(**paths) -> None:
+    """:func:`check_distinct_paths` of keyword FLAG=PATH pairs (underscores
+    for dashes, e.g. tiles="a.png")."""
+    check_distinct_paths({"--" + name.replace("_", "-"): path for name, path in paths.items()})
+
+
+def is_inside(inner, outer) -> bool:
+    """Whether folder `inner` lies inside folder `outer` (symlinks and ``..`` resolved)."""
+    a, b = path_key(inner), path_key(outer)
+    return a != b and a.startswith(b.rstrip(os.sep) + os.sep)
 
 
 def check_output_dir(path, flag: str) -> str | None:
@@ -340,17 +366,45 @@ def nothing_left_behind(*folders):
 
 SENSOR_TIMING_HELP = (
     "when the controller reads the base sensors: authors (default: one physics step old, "
-    "as the authors' loop), fresh, or an integer latency in physics steps"
+    "as the authors' loop), fresh, latency-L, or an integer latency L in physics steps"
 )
 
 
-def sensor_timing_arg(text: str):
-    """--sensor-timing: a name, or digits for a latency in physics steps
-    (checked here, before any work, by the controller's own parser)."""
-    from ..control import SensorTiming
+def sensor_timing_arg(text, flag: str = "--sensor-timing"):
+    """--sensor-timing: a name (authors, fresh; any case), ``latency-L`` or
+    an integer L, the latency in physics steps; L through
+    :func:`mat_hopper.parsing.parse_number` (ASCII digits only: "٣" and "²"
+    are refused). A SensorTiming is returned as is. Raises ValueError
+    naming `flag`."""
+    from ..control import _LATENCY_PREFIX, MAX_SENSOR_LATENCY_STEPS, SENSOR_TIMINGS, SensorTiming
 
-    text = str(text).strip()
-    try:
-        return SensorTiming(int(text) if text.isdigit() else text)  # ValueError naming the accepted values
-    except ValueError as e:
-        raise ValueError(f"--sensor-timing: {e}") from None
+    if isinstance(text, SensorTiming):
+        return text
+    s = "" if text is None else str(text).strip()
+    accepted = (
+        f"accepted: {', '.join(SENSOR_TIMINGS)}, {_LATENCY_PREFIX}L or an integer L of physics steps "
+        f"in [0, {MAX_SENSOR_LATENCY_STEPS}]"
+    )
+    if not s:
+        raise ValueError(f"{flag} is empty; {accepted}")
+    if s.lower() in SENSOR_TIMINGS:
+        return SensorTiming(s.lower())
+    steps = s[len(_LATENCY_PREFIX) :] if s.lower().startswith(_LATENCY_PREFIX) else s
+    if not is_decimal(steps):
+        raise ValueError(f"{flag}: unknown sensor timing {s!r}; {accepted}")
+    latency = parse_number(steps, flag, integer=True, low=0, high=MAX_SENSOR_LATENCY_STEPS, unit="physics steps")
+    return SensorTiming(latency)
+
+
+def sensor_timing_type(flag: str = "--sensor-timing"):
+    """The argparse type of a --sensor-timing option: read when the command
+    line is, before any command prints or works."""
+
+    def read(text):
+        try:
+            return sensor_timing_arg(text, flag)
+        except ValueError as e:  # argparse puts "argument FLAG: " in front
+            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag}: ").removeprefix(f"{flag} ")) from None
+
+    read.__name__ = "sensor timing"
+    return read

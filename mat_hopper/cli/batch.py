@@ -19,7 +19,7 @@ from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
 from ..experiments.profiles import PROFILE_ENV, PROFILES
 from ..materials import CONVENTIONS
-from ._checks import SENSOR_TIMING_HELP
+from ._checks import SENSOR_TIMING_HELP, sensor_timing_type
 
 CSV_HELP = (
     "CSV of designs: columns density_1..density_N (g/cm^3) and modulus_1..modulus_N "
@@ -65,7 +65,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         f"(default ${PROFILE_ENV}, else paper)",
     )
     p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
-    p.add_argument("--sensor-timing", default="authors", help=SENSOR_TIMING_HELP)
+    p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
     p.add_argument(
         "--backend",
         choices=("mujoco", "warp"),
@@ -116,9 +116,10 @@ def run_batch(args) -> int:
     from ..batch import RESULT_COLUMNS, designs_from_csv, evaluate, parse_design_list
     from ..behaviours import behaviour
     from ..experiments.profiles import get_profile
-    from ._checks import check_output_file, named_by_flags, sensor_timing_arg
+    from ._checks import check_distinct_paths, check_output_file, named_by_flags, sensor_timing_arg
 
     check_output_file(args.csv, "--csv", stdout=True)  # before any work
+    check_distinct_paths({"--csv": args.csv}, {"--designs-csv": args.designs_csv})  # never over the input table
     profile = get_profile(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
     timing = sensor_timing_arg(args.sensor_timing)
     _check_applicable(args)

@@ -10,7 +10,7 @@ from ..control import DEFAULT_SENSOR_TIMING
 from ..limits import check_count
 from ..materials import AXIAL_CONVENTIONS, BENDING_CONVENTIONS, CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
 from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, bending_modes, controller_timestep, estimate_timestep
-from ._checks import check_output_file, write_table
+from ._checks import check_output_file, sensor_timing_type, write_table
 from .simulate import design_from_args
 
 BOUNDARY_CONDITIONS = (
@@ -33,41 +33,55 @@ BENDING_FORMULA = (
 DEFAULT_MODES = 5
 
 
-def cmd_modes(args) -> int:
-    check_output_file(args.csv, "--csv", stdout=True)  # before any work
-    check_count(args.modes, "--modes", 1, 64, "axial modes to list")
-    design = design_from_args(args)
-    n_modes = DEFAULT_MODES if args.modes is None else args.modes
-    head = (
-        f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass {args.segment_mass}"
-    )
-    fmt = lambda v: f"{v:.6g}"
-    tables = []
+def _tables(args, design, n_modes: int) -> dict:
+    """{kind: table} of the convention's axial and bending modes, every
+    count checked (--modes beyond the leg's modes is refused, whichever the
+    kind) before anything is printed."""
+    tables = {}
     if args.convention in AXIAL_CONVENTIONS:
-        table = axial_modes(
+        tables["axial"] = axial_modes(
             design,
             convention="axial" if args.convention == "axial+bending" else args.convention,
             segment_mass=args.segment_mass,
             n_modes=n_modes,
         )
-        if args.modes is not None and len(table) < args.modes:  # as many modes as masses that move
-            raise ValueError(
-                f"--modes {args.modes}: this leg's spring chain has {len(table)} axial modes; ask for at most that"
-            )
-        print(f"{head}: axial modes (Hz)")
-        print(table.to_string(index=False, float_format=fmt))
-        print(BOUNDARY_CONDITIONS)
-        print(FORMULA)
-        tables.append(table.assign(kind="axial"))
     if args.convention in BENDING_CONVENTIONS:
-        table = bending_modes(design, convention=args.convention, segment_mass=args.segment_mass, n_modes=n_modes)
-        print(f"{head}: bending modes in one plane (Hz), chain beside the continuum cantilever")
-        print(table.to_string(index=False, float_format=fmt))
-        print(BENDING_FORMULA)
-        tables.append(table.assign(kind="bending"))
-    table = pd.concat(tables, ignore_index=True)
+        tables["bending"] = bending_modes(
+            design, convention=args.convention, segment_mass=args.segment_mass, n_modes=n_modes
+        )
+    for kind, table in tables.items():
+        if args.modes is not None and len(table) < args.modes:  # as many modes as masses (hinges) that move
+            chain = "spring chain" if kind == "axial" else "hinge chain"
+            raise ValueError(
+                f"--modes {args.modes}: this leg's {chain} has {len(table)} {kind} modes; ask for at most that"
+            )
+    return tables
+
+
+def cmd_modes(args) -> int:
+    check_output_file(args.csv, "--csv", stdout=True)  # before any work
+    check_count(args.modes, "--modes", 1, 64, "modes to list")
+    design = design_from_args(args)
+    n_modes = DEFAULT_MODES if args.modes is None else args.modes
+    head = (
+        f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass {args.segment_mass}"
+    )
+    # every table and limit is computed (and checked) before the first line is printed
+    tables = _tables(args, design, n_modes)
     w, spring = estimate_timestep(design, args.convention, args.segment_mass)
     control = controller_timestep(design, args.convention, sensor_timing=args.sensor_timing)
+    k, dt, _ = auto_substeps(design, args.convention, args.segment_mass)
+    fmt = lambda v: f"{v:.6g}"
+    if "axial" in tables:
+        print(f"{head}: axial modes (Hz)")
+        print(tables["axial"].to_string(index=False, float_format=fmt))
+        print(BOUNDARY_CONDITIONS)
+        print(FORMULA)
+    if "bending" in tables:
+        print(f"{head}: bending modes in one plane (Hz), chain beside the continuum cantilever")
+        print(tables["bending"].to_string(index=False, float_format=fmt))
+        print(BENDING_FORMULA)
+    table = pd.concat([t.assign(kind=kind) for kind, t in tables.items()], ignore_index=True)
     which = (
         "the spring chain (2 / w_max)"
         if spring < control
@@ -83,7 +97,6 @@ def cmd_modes(args) -> int:
             f"warning: the controller's limit {control:.3g} s is below its {ref.TIMESTEP_S:g} s control period: "
             "substeps cannot help; this leg is beyond the authors' controller at its rate"
         )
-    k, dt, _ = auto_substeps(design, args.convention, args.segment_mass)
     print(
         f"--timestep auto: {k} physics substep(s) of {dt:.3g} s per {ref.TIMESTEP_S:g} s control period "
         f"(at most {AUTO_SAFETY:g} x the spring bound)"
@@ -113,10 +126,16 @@ def register_cli(sub) -> None:
     )
     p.add_argument("--segment-mass", default=DEFAULT_SEGMENT_MASS, choices=SEGMENT_MASSES, help="segment mass")
     p.add_argument(
-        "--sensor-timing", default=DEFAULT_SENSOR_TIMING, help="for the controller's limit (authors, fresh, or steps)"
+        "--sensor-timing",
+        default=DEFAULT_SENSOR_TIMING,
+        type=sensor_timing_type(),
+        help="for the controller's limit (authors, fresh, latency-L, or L physics steps)",
     )
     p.add_argument(
-        "--modes", type=int, default=None, help=f"how many modes (default {DEFAULT_MODES}, or as many as the leg has)"
+        "--modes",
+        type=int,
+        default=None,
+        help=f"how many modes of each kind (default {DEFAULT_MODES}, or as many as the leg has)",
     )
     p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here (- for standard output)")
     p.set_defaults(func=cmd_modes)

@@ -55,7 +55,94 @@ OPTION_OF_FIELD = {
     "materials": "--materials",
     "ashby_classes": "--ashby-classes",
     "kinds": "--space",
+    "replicates": "--replicates",
+    "risk": "--risk",
+    "cvar_alpha": "--cvar-alpha",
+    "leg_mass_tolerance_kg": "--leg-mass-tolerance",
+    "leg_mass": "--leg-mass",
 }
+
+# The options of each kind of work; one given to another kind is refused
+# naming the pair (it would be silently ignored). --report, --replay and
+# --export read the study's stored settings and run nothing.
+STUDY_OPTIONS = (
+    "behaviour",
+    "segments",
+    "space",
+    "density_bounds",
+    "modulus_bounds",
+    "materials",
+    "ashby_classes",
+    "segment_mass",
+    "profile",
+    "convention",
+    "replicates",
+    "risk",
+    "cvar_alpha",
+    "leg_mass",
+    "leg_mass_tolerance",
+)
+RUN_OPTIONS = ("trials", "workers", "sampler", "seed", "backend", "device", "batch_size", "race", "no_progress")
+# Defaults of options left None by the parser (None: not given, so that a
+# given one can be told from the default).
+DEFAULTS = {"trials": 200, "workers": DEFAULT_WORKERS, "sampler": "tpe", "seed": 0, "backend": "mujoco"}
+DEFAULT_STUDIES_DIR = "studies"
+
+
+def _flag(dest: str) -> str:
+    return "--" + dest.replace("_", "-")
+
+
+def _given(args, dest: str) -> bool:
+    value = getattr(args, dest, None)
+    return value is not None and value is not False
+
+
+def check_options(args) -> None:
+    """Every option given acts in the work asked for (a study run, --report,
+    --replay or --export), or the conflicting pair is refused (ValueError,
+    one line naming both); then the defaults of options left out."""
+    if args.export is not None and args.replay is not None:
+        raise ValueError("--export and --replay: give one (--export writes a trial's design; --replay re-simulates it)")
+    mode = next((f for f in ("--export", "--replay", "--report") if _given(args, f[2:])), None)
+    if args.study and args.report and args.study != args.report:
+        raise ValueError(f"--study {args.study} and --report {args.report} name two studies; give one")
+    if mode is not None:
+        for dest in (*STUDY_OPTIONS, *RUN_OPTIONS):
+            if _given(args, dest):
+                raise ValueError(f"{_flag(dest)} is for a study run; {mode} runs no trials (it reads the stored study)")
+    elif args.study and (args.cvar_alpha is not None) and (args.risk or "").strip().lower() != "cvar":
+        given = f"--risk {args.risk.strip()}" if args.risk else "no --risk (mean)"
+        raise ValueError(f"--cvar-alpha is for --risk cvar, given {given}; give --risk cvar with it")
+    if args.render and mode != "--replay":
+        raise ValueError(f"--render is for --replay TRIAL{f', not {mode}' if mode else ''}")
+    if args.out is not None and (mode is None or (mode == "--replay" and not args.render)):
+        what = "a study run writes only its storage" if mode is None else "--replay alone writes nothing"
+        raise ValueError(f"--out is for --report, --export or --replay --render ({what})")
+    if args.storage and args.studies_dir is not None:
+        writes_there = args.out is None and (mode in ("--report", "--export") or (mode == "--replay" and args.render))
+        if not writes_there:
+            raise ValueError(
+                "--storage and --studies-dir: the study is in --storage, and nothing of this command goes to "
+                "--studies-dir (the folder of SQLite studies without --storage, and of outputs without --out)"
+            )
+    for dest, value in DEFAULTS.items():
+        if getattr(args, dest) is None:
+            setattr(args, dest, value)
+    if args.studies_dir is None:
+        args.studies_dir = DEFAULT_STUDIES_DIR
+
+
+def _check_space_options(args, space: SearchSpace) -> None:
+    """Bounds are for continuous segments and --materials for catalogue
+    ones: each refused, naming --space, when the space has none."""
+    where = f"--space {args.space}" if args.space is not None else "the default --space continuous"
+    if "continuous" not in space.kinds:
+        for dest in ("density_bounds", "modulus_bounds"):
+            if _given(args, dest):
+                raise ValueError(f"{_flag(dest)} is for continuous segments; {where} has none")
+    if "catalogue" not in space.kinds and _given(args, "materials"):
+        raise ValueError(f"--materials is for catalogue segments; {where} has none (e.g. --space catalogue)")
 
 
 def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
@@ -149,6 +236,7 @@ def open_existing(name: str, args, *, read_only: bool = False):
 
 
 def cmd_optimize(args) -> int:
+    check_options(args)  # before any file is opened or made
     url = args.storage or os.path.join(args.studies_dir, f"{args.report or args.study}.db")
     with storage_errors(url):  # a database error: one line naming the storage and the cause
         return _cmd_optimize(args)
@@ -179,6 +267,7 @@ def _cmd_optimize(args) -> int:
     check_sampler(options.sampler)
     with named_by_flags(**OPTION_OF_FIELD):
         fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
+    _check_space_options(args, fresh.space)
     _check_size(args, fresh)
     check_objectives_vary(fresh.objective)
     cache = _check_backend(args)
@@ -191,7 +280,8 @@ def _cmd_optimize(args) -> int:
                 raise ValueError(f"sqlite storage {os.path.abspath(path)}: is a folder, not a database file")
         storage = options.open(args.study)
         stored = stored_config(args.study, storage)
-        config = config_from_args(args, stored) if stored else fresh
+        with named_by_flags(**OPTION_OF_FIELD):
+            config = config_from_args(args, stored) if stored else fresh
         dispose(storage)  # this look's pooled connection: the run opens its own
         res = _run_backend(config, options, args)
     print(
@@ -265,17 +355,30 @@ def _run_backend(config: StudyConfig, options: RunOptions, args):
     return run_batch_study(config, options, device=args.device)
 
 
+def _seeds_text() -> str:
+    """The help's sentence on the paper designs every study starts from, as
+    the default space enqueues them (SearchSpace.seeds)."""
+    from ..optimize._space import PAPER_SEEDS
+
+    seeds = [name for name, _ in SearchSpace().seeds()]
+    left = [name for name in PAPER_SEEDS if name not in seeds]
+    return (
+        f"Starts from the paper's designs its space can express, enqueued before the sampler's first trial: "
+        f"{len(seeds)} of {len(PAPER_SEEDS)} in the default continuous space ({', '.join(seeds)}"
+        + (f"; not {', '.join(left)}, a rigid leg" if left else "")
+        + ")."
+    )
+
+
 def register_cli(sub) -> None:
     p = sub.add_parser(
         "optimize",
         help="search leg designs with Optuna (multi-objective, resumable, parallel)",
         description="Search per-segment densities and moduli (or catalogue materials) for low tracking "
-        "error and hip power, hop height 1 +- 0.05 m and stable runs. Starts from the "
-        "paper's designs its space can express (8 of 9 in the continuous space: all but the rigid MD), "
-        "enqueued before the sampler's first trial.",
+        f"error and hip power, hop height 1 +- 0.05 m and stable runs. {_seeds_text()}",
     )
     p.add_argument("--study", help="study name (letters, digits, _ . -); resumes if it exists")
-    p.add_argument("--trials", type=int, default=200, help="study size: finished trials to reach (200)")
+    p.add_argument("--trials", type=int, default=None, help="study size: finished trials to reach (200)")
     p.add_argument(
         "--behaviour",
         "--behavior",
@@ -336,22 +439,26 @@ def _add_run_arguments(p) -> None:
     p.add_argument(
         "--workers",
         type=int,
-        default=DEFAULT_WORKERS,
-        help="processes that simulate here (2); they never change the trials (see --batch-size)",
+        default=None,
+        help=f"processes that simulate here ({DEFAULT_WORKERS}); they never change the trials (see --batch-size)",
     )
     p.add_argument(
         "--storage",
         help="Optuna storage URL (default sqlite:///STUDIES_DIR/NAME.db); "
         "postgresql://USER@HOST:PORT/DB or journal:///PATH for shared studies",
     )
-    p.add_argument("--studies-dir", default="studies", help="folder of the default SQLite files (studies)")
-    p.add_argument("--sampler", default="tpe", help=f"one of {', '.join(SAMPLERS)} (tpe)")
-    p.add_argument("--seed", type=int, default=0, help="sampler seed (0)")
+    p.add_argument(
+        "--studies-dir",
+        default=None,
+        help=f"folder of the default SQLite files, and of outputs without --out ({DEFAULT_STUDIES_DIR})",
+    )
+    p.add_argument("--sampler", default=None, help=f"one of {', '.join(SAMPLERS)} (tpe)")
+    p.add_argument("--seed", type=int, default=None, help="sampler seed (0)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument(
         "--backend",
         choices=("mujoco", "warp"),
-        default="mujoco",
+        default=None,
         help="mujoco: CPU rollouts in --workers processes, the reference (default); warp: MuJoCo Warp batches",
     )
     p.add_argument(
@@ -392,6 +499,13 @@ def _needs_baselines(name: str, storage) -> bool:
 
 def cmd_report(name: str, args, out: str) -> int:
     storage = open_existing(name, args, read_only=True)
+    try:
+        return _report(name, storage, args, out)
+    finally:
+        dispose(storage)  # a read-only use leaves no -wal/-shm files beside the study
+
+
+def _report(name: str, storage, args, out: str) -> int:
     key = storage.get_study_user_attrs(storage.get_study_id_from_name(name)).get(CONFIG_ATTR)
     if key:
         try:
@@ -403,8 +517,13 @@ def cmd_report(name: str, args, out: str) -> int:
                 "for every design (round-off only); no Pareto front, hypervolume or importances to report"
             ) from None
     if _needs_baselines(name, storage):
-        storage = open_existing(name, args)  # writes the baselines it runs into the study
-    rep = write_report(name, storage, out)
+        writer = open_existing(name, args)  # writes the baselines it runs into the study
+        try:
+            rep = write_report(name, writer, out)
+        finally:
+            dispose(writer)
+    else:
+        rep = write_report(name, storage, out)
     frame, front = rep["trials"], rep["pareto"]
     states = frame["state"].value_counts().to_dict() if len(frame) else {}
     n_ok = len(feasible_complete(frame))
@@ -450,17 +569,17 @@ def cmd_replay(name: str, storage, args) -> int:
             else f"replay differs from the stored values {tuple(t.values)}"
         )
     if args.render:
-        return _render(design, config, args)
+        return _render(name, design, config, args)
     return 0 if t.state != TrialState.COMPLETE or tuple(t.values) == tuple(ev.values) else 1
 
 
-def _render(design: LegDesign, config: StudyConfig, args) -> int:
+def _render(name: str, design: LegDesign, config: StudyConfig, args) -> int:
     """Gait tiles and a 10 s video of the replayed design on each behaviour,
     in --out or the studies folder: <study>-trial<N>-<behaviour>-*."""
     folder = args.out or args.studies_dir
     backend = choose_backend()
     for b in config.objective.behaviours:
-        stem = os.path.join(folder, f"{args.study}-trial{args.replay}-{b}")
+        stem = os.path.join(folder, f"{name}-trial{args.replay}-{b}")
         for path in render_files(
             design,
             b,
@@ -481,7 +600,11 @@ def cmd_export(args) -> int:
     if not name:
         raise ValueError("--export TRIAL needs --study NAME (or --report NAME)")
     out = check_output_dir(args.out or args.studies_dir, "--out")
-    res = export_trial(name, open_existing(name, args, read_only=True), args.export, out)
+    storage = open_existing(name, args, read_only=True)
+    try:
+        res = export_trial(name, storage, args.export, out)
+    finally:
+        dispose(storage)  # a read-only use leaves no -wal/-shm files beside the study
     print(f"trial {args.export} of {name}: {describe(res['design'].segments)}")
     print(f"wrote {res['csv']}")
     for path in res["mjcf"].values():

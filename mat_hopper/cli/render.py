@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 import sys
 
+from ..behaviours import behaviour
+from ..damping import DEFAULT_DAMPING
 from ..sim import is_auto
 from ..viz.render import (
     _LIBS,
@@ -17,8 +19,43 @@ from ..viz.render import (
     render_files,
 )
 from ..viz.render import _check_extension as check_extension
-from ._checks import check_distinct_outputs, check_output_file
+from ..viz.render import _check_fps as check_fps
+from ._checks import check_distinct_paths, check_output_file, named_by_flags
 from .simulate import add_sim_arguments, describe_settings, design_from_args, sim_settings_from_args
+
+# Which outputs use each picture option: given without any of them, it is
+# refused (it would be silently ignored). Defaults apply when left out.
+PICTURE_OPTIONS = {
+    "fps": (("video",), 30.0),
+    "seconds": (("video",), 10.0),
+    "size": (("video", "still"), "640x480"),  # gait tiles have their own frame size
+    "start": (("video", "tiles"), 0.0),
+    "tile_start": (("tiles",), 5.0),
+}
+# A still pictures the leg at rest: nothing is simulated, so run settings have no use.
+RUN_DEFAULTS = {"convention": "paper", "sensor_timing": "authors", "segment_mass": "leg", "damping": DEFAULT_DAMPING}
+
+
+def _flag(dest: str) -> str:
+    return "--" + dest.replace("_", "-")
+
+
+def _check_options(args) -> None:
+    """Every option given is used by an output asked for (or the pair is
+    refused, one line); then the defaults of those left out."""
+    asked = [o for o in ("tiles", "video", "still") if getattr(args, o)]
+    for dest, (outputs, default) in PICTURE_OPTIONS.items():
+        if getattr(args, dest) is None:
+            setattr(args, dest, default)
+        elif not any(getattr(args, o) for o in outputs):
+            users = " or ".join(_flag(o) for o in outputs)
+            verb = "does" if len(asked) == 1 else "do"
+            raise ValueError(f"{_flag(dest)} is for {users}; {' and '.join(map(_flag, asked))} {verb} not use it")
+    for dest, default in (("timestep", None), *RUN_DEFAULTS.items()):
+        if getattr(args, dest) is not None and asked == ["still"]:
+            raise ValueError(f"{_flag(dest)} is for --video and --tiles (a run); --still pictures the leg at rest")
+        if getattr(args, dest) is None:
+            setattr(args, dest, default)
 
 
 def cmd_render(args) -> int:
@@ -30,9 +67,15 @@ def cmd_render(args) -> int:
                 check_extension(getattr(args, flag), allowed)
             except ValueError as e:
                 raise ValueError(f"--{flag}: {e}") from None
-    check_distinct_outputs(tiles=args.tiles, video=args.video, still=args.still)
-    size = parse_size(args.size)
+    check_distinct_paths(
+        {"--tiles": args.tiles, "--video": args.video, "--still": args.still}, {"--design-csv": args.design_csv}
+    )
+    _check_options(args)
+    with named_by_flags(size="--size", fps="--fps"):  # the library's words, the options' names
+        size = parse_size(args.size)
+        check_fps(args.fps)
     design = design_from_args(args)
+    beh = behaviour(args.behaviour)
     # every run setting (time step or auto, sensor timing, segment mass) and the
     # run size are checked here, before any work: the run simulates start + the
     # longer of the video and the tile window
@@ -51,10 +94,10 @@ def cmd_render(args) -> int:
     except RenderBackendError as e:
         print(f"mat-hopper render: error: {e}", file=sys.stderr)
         return 3
-    print(f"{design.name} on {args.behaviour}: {describe_settings(settings, is_auto(str(args.timestep)))}")
+    print(f"{design.name} on {beh.name}: {describe_settings(settings, is_auto(str(args.timestep)))}")
     for path in render_files(
         design,
-        args.behaviour,
+        beh,
         tiles=args.tiles,
         video=args.video,
         still=args.still,
@@ -81,15 +124,18 @@ def register_cli(sub) -> None:
     p.add_argument("--tiles", help="gait-tile figure to write (.png, .svg, .pdf, .jpg)")
     p.add_argument("--video", help="video to write (.mp4 or .gif)")
     p.add_argument("--still", help="picture of the model at rest to write (.png, .jpg)")
-    p.add_argument("--seconds", type=float, default=10.0, help="simulated seconds of video (10)")
-    p.add_argument("--start", type=float, default=0.0, help="video starts at this simulated time, s (0)")
-    p.add_argument("--tile-start", type=float, default=5.0, help="gait tiles start this many seconds after --start (5)")
-    p.add_argument("--fps", type=float, default=30.0, help="video frames per simulated second (30)")
-    p.add_argument("--size", default="640x480", help="video and still size WIDTHxHEIGHT in pixels")
+    p.add_argument("--seconds", type=float, default=None, help="simulated seconds of video (10)")
+    p.add_argument("--start", type=float, default=None, help="video and tiles start at this simulated time, s (0)")
+    p.add_argument(
+        "--tile-start", type=float, default=None, help="gait tiles start this many seconds after --start (5)"
+    )
+    p.add_argument("--fps", type=float, default=None, help="video frames per simulated second (30)")
+    p.add_argument("--size", default=None, help="video and still size WIDTHxHEIGHT in pixels (640x480)")
     p.add_argument(
         "--backend",
         choices=tuple(_LIBS),
         default=None,
         help="OpenGL backend (default: $MUJOCO_GL if osmesa or egl, else osmesa, else egl)",
     )
-    p.set_defaults(func=cmd_render)
+    # run settings left out stay None, so that a --still alone can refuse them (cmd_render sets the defaults)
+    p.set_defaults(func=cmd_render, **dict.fromkeys(RUN_DEFAULTS))

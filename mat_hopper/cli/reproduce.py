@@ -3,14 +3,14 @@
 
 from __future__ import annotations
 
-import os
 import sys
 
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..experiments.reproduce import default_out_dir, reproduce
 from ..limits import check_total_steps, check_workers
-from ._checks import check_distinct_outputs, check_name_list, check_output_dir, nothing_left_behind
+from ..parsing import env_value
+from ._checks import check_distinct_paths, check_name_list, check_output_dir, is_inside, nothing_left_behind
 
 
 def _connect(address: str):
@@ -58,10 +58,17 @@ def cmd_reproduce(args) -> int:
     if args.workers is not None and args.scheduler:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
     check_workers(args.workers)
-    _check_size(profile, args)
     out = check_output_dir(args.out or default_out_dir(profile.name), "--out")
-    cache = check_output_dir(args.cache or os.environ.get(CACHE_ENV) or DEFAULT_CACHE_DIR, "--cache")
-    check_distinct_outputs(out=out, cache=cache)  # tables and cached runs in one folder cannot be told apart
+    # an empty $MAT_HOPPER_CACHE is an error naming it, not --cache (a flag never typed)
+    env_cache = None if args.cache else env_value(CACHE_ENV, "a folder")
+    cache_flag = f"${CACHE_ENV}" if env_cache else "--cache"
+    cache = check_output_dir(args.cache or env_cache or DEFAULT_CACHE_DIR, cache_flag)
+    # tables and cached runs in one folder cannot be told apart; results inside the
+    # cache folder go when the cache is cleared
+    check_distinct_paths({"--out": out, cache_flag: cache})
+    if is_inside(out, cache):
+        raise ValueError(f"--out {out} is inside {cache_flag} {cache}; give the results a folder of their own")
+    _check_size(profile, args)
     # a failed run leaves no empty --out or cache folder behind
     with nothing_left_behind(out, cache):
         client = _connect(args.scheduler) if args.scheduler else None

@@ -21,8 +21,18 @@ from ..materials import (
     parse_design,
 )
 from ..metrics import METRICS, hop_table, run_summary
+from ..parsing import is_decimal, parse_number
 from ..sim import AUTO, is_auto
-from ._checks import SENSOR_TIMING_HELP, check_output_file, named_by_flags, parse_list, sensor_timing_arg, write_table
+from ._checks import (
+    SENSOR_TIMING_HELP,
+    check_distinct_paths,
+    check_output_file,
+    named_by_flags,
+    parse_list,
+    sensor_timing_arg,
+    sensor_timing_type,
+    write_table,
+)
 
 DEFAULT_DESIGN = "SS"
 PROGRESS_CHUNK_S = 1.0  # simulated seconds per progress-bar update
@@ -35,10 +45,9 @@ def _timestep(text):
         return None
     if is_auto(str(text)):
         return AUTO
-    try:
-        return float(text)
-    except ValueError:
-        raise ValueError(f"--timestep must be a number of seconds (e.g. 1e-4) or 'auto', got {text!r}") from None
+    if not is_decimal(str(text)):  # the one number parser's reading: ASCII decimals only ("١e-4", "1_0", "inf": no)
+        raise ValueError(f"--timestep must be a decimal number of seconds (e.g. 1e-4) or 'auto', got {text!r}")
+    return parse_number(text, "--timestep", unit="s")
 
 
 def design_from_args(args) -> LegDesign:
@@ -127,11 +136,7 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         f"design's spring bound); default: the profile's (1e-4; ${PROFILE_ENV})",
     )
     p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
-    p.add_argument(
-        "--sensor-timing",
-        default="authors",
-        help=SENSOR_TIMING_HELP,
-    )
+    p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
     p.add_argument(
         "--segment-mass",
         default="leg",
@@ -164,7 +169,7 @@ def _sim_settings(args, design: LegDesign, duration_s: float, transient_s: float
     return sim_settings(
         design,
         duration_s=duration_s,
-        timestep_s=get_profile().timestep_s if dt is None else dt,
+        timestep_s=get_profile(getattr(args, "profile", None)).timestep_s if dt is None else dt,
         transient_s=transient_s,
         convention=args.convention,
         sensor_timing=sensor_timing_arg(args.sensor_timing),
@@ -244,7 +249,10 @@ def _unstable_line(rollout, auto: bool) -> str:
 
 def cmd_simulate(args) -> int:
     profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
+    if args.profile is not None and None not in (args.duration, args.transient, args.timestep):
+        raise ValueError("--profile sets the defaults of --duration, --transient and --timestep: all three are given")
     check_output_file(args.csv, "--csv", stdout=True)
+    check_distinct_paths({"--csv": args.csv}, {"--design-csv": args.design_csv})  # never over the input table
     design = design_from_args(args)
     if args.control is not None:
         design = control(design, args.control, args.segment_mass)

@@ -7,7 +7,6 @@ column.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, fields, replace
 
 import pandas as pd
@@ -174,11 +173,15 @@ def get_profile(name: str | Profile | None = None) -> Profile:
     else ``paper``. A Profile is returned as is."""
     if isinstance(name, Profile):
         return name
-    if name is None:
-        name = os.environ.get(PROFILE_ENV) or "paper"
+    src = ""
+    if name is None:  # set but empty is an error naming the variable, not the paper profile
+        from ..parsing import env_value
+
+        name = env_value(PROFILE_ENV, f"accepted: {', '.join(PROFILES)}")
+        src = f" (from ${PROFILE_ENV})" if name is not None else ""
+        name = "paper" if name is None else name
     key = str(name).strip().lower()
     if key not in PROFILES:
-        src = f" (from ${PROFILE_ENV})" if name == os.environ.get(PROFILE_ENV) else ""
         raise ValueError(f"unknown profile {name!r}{src}; accepted: {', '.join(PROFILES)}")
     return PROFILES[key]
 

@@ -48,6 +48,7 @@ import math
 import numpy as np
 
 from ..materials import LegDesign, paper_designs, segment_masses
+from ..parsing import is_decimal, parse_number
 from ..perturbations import Perturbation
 
 RISKS = ("mean", "cvar")
@@ -169,15 +170,12 @@ def check_leg_mass(value):
         return None
     if isinstance(value, str):
         text = value.strip()
-        try:
-            value = float(text)
-        except ValueError:
-            names = {n.lower(): n for n in paper_designs()}
-            if text.lower() not in names:
-                raise ValueError(
-                    f"leg_mass: a paper design ({', '.join(paper_designs())}) or a mass in kg, got {text!r}"
-                ) from None
+        names = {n.lower(): n for n in paper_designs()}
+        if text.lower() in names:
             return names[text.lower()]
+        if not is_decimal(text):  # a mass is an ASCII decimal (mat_hopper.parsing): not "٣", "1_0" or "inf"
+            raise ValueError(f"leg_mass: a paper design ({', '.join(paper_designs())}) or a mass in kg, got {text!r}")
+        value = parse_number(text, "leg_mass", unit="kg")
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
         raise ValueError(f"leg_mass must be a paper design's name or a finite mass > 0 kg, got {value!r}")
     return float(value)

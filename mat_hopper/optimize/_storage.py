@@ -362,7 +362,8 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
         read_only: for reports: a SQLite file is opened read-only (``mode=ro``):
             no write lock is taken, so a report never waits for a writer, and a
             read-only connection never checkpoints nor removes the
-            ``-wal``/``-shm`` files a writer holds.
+            ``-wal``/``-shm`` files a writer holds; those it made itself
+            (no writer had the file open) go at :func:`dispose`.
 
     Returns:
         An ``optuna.storages.RDBStorage`` or ``JournalStorage``.
@@ -390,6 +391,7 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
         raise ValueError(f"grace_s must exceed heartbeat_s ({heartbeat_s} s), got {grace_s!r}")
     backend = parsed.get_backend_name()
     open_url, engine_kwargs = _engine_options(url, parsed, backend, read_only)
+    had_wal = backend == "sqlite" and any(os.path.exists(f"{parsed.database}{x}") for x in ("-wal", "-shm"))
     probe = _probe(url, open_url, engine_kwargs)
 
     def make():
@@ -409,6 +411,8 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
             storage = _retry_schema_race(make, url)
         if backend == "sqlite" and not read_only:
             _sqlite_immediate(storage.engine)
+        if backend == "sqlite" and read_only and not had_wal:
+            storage._mat_hopper_tidy = parsed.database  # dispose() removes the -wal/-shm this reader made
         return storage
     except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, OSError, RuntimeError) as e:
         raise storage_error(url, e) from None
@@ -461,6 +465,30 @@ def dispose(storage) -> None:
     engine = getattr(storage, "engine", None)
     if engine is not None:
         engine.dispose()
+    db = getattr(storage, "_mat_hopper_tidy", None)
+    if db is not None:
+        _tidy_read_only(db)
+
+
+def _tidy_read_only(db: str) -> None:
+    """Remove the ``-wal``/``-shm`` files a read-only use of SQLite file `db`
+    made. A reader of a WAL-mode file creates them when no writer holds
+    them, and, read-only, can never remove them: a report or an export
+    would leave them beside a finished study. A plain connection that reads
+    and closes removes them when it is the file's last connection (SQLite's
+    own rule, under its locks): a writer that opened the file meanwhile
+    keeps them. Nothing is written (the log is empty); on any error (a
+    read-only folder, a lock) they stay, harmlessly."""
+    if not any(os.path.exists(f"{db}{x}") for x in ("-wal", "-shm")):
+        return
+    try:
+        con = sqlite3.connect(db, timeout=0.1)
+        try:
+            con.execute("SELECT count(*) FROM sqlite_master").fetchone()
+        finally:
+            con.close()
+    except sqlite3.Error:
+        pass
 
 
 # --- process identity and dead runs ------------------------------------

@@ -46,11 +46,14 @@ IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".svg", ".pdf")
 
 
 def parse_size(text: str) -> tuple[int, int]:
-    """'640x480' -> (640, 480) pixels."""
-    try:
-        w, h = (int(v) for v in str(text).lower().split("x"))
-    except ValueError:
-        raise ValueError(f"size must be WIDTHxHEIGHT in pixels, e.g. 640x480; got {text!r}") from None
+    """'640x480' -> (640, 480) pixels; each side a whole ASCII decimal
+    (:func:`mat_hopper.parsing.parse_number`: not "٦٤٠" or "6_40")."""
+    from ..parsing import is_decimal, parse_number
+
+    parts = str(text).strip().lower().split("x")
+    if len(parts) != 2 or not all(is_decimal(p) and "." not in p and "e" not in p for p in parts):
+        raise ValueError(f"size must be WIDTHxHEIGHT in pixels, e.g. 640x480; got {text!r}")
+    w, h = (parse_number(p, "size", integer=True) for p in parts)
     if not (16 <= w <= 4096 and 16 <= h <= 4096):
         raise ValueError(f"size must be between 16x16 and 4096x4096 pixels, got {text!r}")
     return w, h

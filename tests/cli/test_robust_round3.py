@@ -275,7 +275,7 @@ def test_render_unknown_file_type_names_its_flag_before_work(here, capsys):
 
 def test_render_start_names_the_flags_not_the_parameter(here, capsys):
     """The issue's example: `render --start 1e6` blamed duration_s."""
-    cap = _refused(["render", "--start", "1e6", "--still", "s.png"], capsys, "--start + --seconds")
+    cap = _refused(["render", "--start", "1e6", "--video", "v.mp4"], capsys, "--start + --seconds")
     assert "duration_s" not in cap.err
 
 

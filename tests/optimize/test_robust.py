@@ -206,10 +206,10 @@ def test_cli_options_and_their_errors(tmp_path, monkeypatch, capsys):
     assert config_from_args(parser.parse_args(["optimize", "--study", "s"]), None).objective.replicates == 4
     monkeypatch.chdir(tmp_path)
     for argv, text in (
-        (["--replicates", "-1"], "replicates must be"),
-        (["--risk", "cvar", "--replicates", "1"], "replicates >= 2"),
-        (["--leg-mass", "steel"], "leg_mass"),
-        (["--leg-mass-tolerance", "0.1"], "needs leg_mass"),
+        (["--replicates", "-1"], "--replicates must be"),
+        (["--risk", "cvar", "--replicates", "1"], "--risk cvar needs --replicates >= 2"),
+        (["--leg-mass", "steel"], "--leg-mass:"),
+        (["--leg-mass-tolerance", "0.1"], "--leg-mass-tolerance needs --leg-mass"),
     ):
         assert main(["optimize", "--study", "bad", "--trials", "1", *argv]) == 2
         err = capsys.readouterr().err.strip()
