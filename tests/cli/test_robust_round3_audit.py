@@ -302,13 +302,15 @@ def test_export_leaves_no_wal_files_beside_the_study(here, capsys):
     from mat_hopper.optimize._objective import Objective
     from mat_hopper.optimize._space import SearchSpace
     from mat_hopper.optimize._storage import default_url, dispose, open_storage
-    from mat_hopper.optimize._study import StudyConfig, TrialObjective, create_or_load
+    from mat_hopper.optimize import PoolEvaluator, RunOptions, run_loop
+    from mat_hopper.optimize._study import StudyConfig, create_or_load
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     config = StudyConfig("s", SearchSpace(), Objective(profile=Profile("tiny", duration_s=1.0, transient_s=0.5)))
     os.mkdir("studies")
     storage = open_storage(default_url("s", "studies"))
-    create_or_load(config, storage).optimize(TrialObjective(config), n_trials=1)
+    with PoolEvaluator("cache", workers=1) as evaluator:
+        run_loop(create_or_load(config, storage), storage, config, evaluator, RunOptions(trials=1, progress=False))
     dispose(storage)
     assert os.listdir("studies") == ["s.db"]  # the writer, closed, left no -wal/-shm
     assert main(["optimize", "--study", "s", "--export", "0", "--out", "ex"]) == 0
