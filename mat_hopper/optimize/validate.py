@@ -361,7 +361,9 @@ def answer(validation: dict, front: dict) -> str:
     ver, table = validation["verdicts"], validation["paired"]
     n_front = len(ver)
     if n_front == 0:
-        return "The front held no design but the paper's own: no new leg to validate, and no gradient found beyond them."
+        return (
+            "The front held no design but the paper's own: no new leg to validate, and no gradient found beyond them."
+        )
     if np.isnan(validation["surviving_fraction"]):
         n = int(table["n_pairs"].min()) if len(table) else 0
         return (

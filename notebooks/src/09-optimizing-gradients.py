@@ -61,8 +61,12 @@
 # four gradients (ρ-inc's, ±5 %): every leg it compares weighs the same.
 
 # %%
+from mat_hopper import book
+
+b = book.setup()  # first: it imports tqdm's notebook bar quietly
 import hashlib
 import json
+import warnings
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -70,12 +74,11 @@ import optuna
 from IPython.display import display
 from myst_nb import glue
 
-from mat_hopper import book, optimize
+from mat_hopper import optimize
 from mat_hopper.materials import paper_designs
 from mat_hopper.optimize import validate
 from mat_hopper.viz import maps
 
-b = book.setup()
 space = optimize.SearchSpace()  # per segment: density 0.9-20 g/cm^3, modulus 0.1-1000 GPa, log scales
 objective = optimize.Objective(
     behaviours=("ramp",),

@@ -299,10 +299,10 @@ def test_export_leaves_no_wal_files_beside_the_study(here, capsys):
     import optuna
 
     from mat_hopper.experiments.profiles import Profile
+    from mat_hopper.optimize import PoolEvaluator, RunOptions, run_loop
     from mat_hopper.optimize._objective import Objective
     from mat_hopper.optimize._space import SearchSpace
     from mat_hopper.optimize._storage import default_url, dispose, open_storage
-    from mat_hopper.optimize import PoolEvaluator, RunOptions, run_loop
     from mat_hopper.optimize._study import StudyConfig, create_or_load
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
