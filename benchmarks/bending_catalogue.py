@@ -1,7 +1,7 @@
 """Issue 21's done-when: ``simulate --convention bending`` and
 ``--convention axial+bending`` for 60 s with ``--timestep auto`` on every
 catalogue material, forward hopping, through the same calls as the CLI
-(sim.auto_timestep, sim.simulate). One row per material and convention:
+(timestep.auto_timestep, sim.simulate). One row per material and convention:
 substeps, wall time, whether the run stayed stable (and when it diverged
 if not), and the stress / fatigue summary of :mod:`mat_hopper.fatigue`.
 
@@ -17,7 +17,8 @@ import pandas as pd
 
 from mat_hopper.materials import CATALOGUE, LegDesign
 from mat_hopper.metrics import run_summary
-from mat_hopper.sim import auto_timestep, simulate
+from mat_hopper.sim import simulate
+from mat_hopper.timestep import auto_timestep
 
 CONVENTIONS = ("bending", "axial+bending")
 

@@ -226,8 +226,9 @@ def _latency(timing) -> int:
         name = timing.strip().lower()
         if name in SENSOR_TIMINGS:
             return SENSOR_TIMINGS[name]
-        if name.startswith(_LATENCY_PREFIX) and name[len(_LATENCY_PREFIX) :].isdigit():
-            timing = int(name[len(_LATENCY_PREFIX) :])
+        digits = name[len(_LATENCY_PREFIX) :]
+        if name.startswith(_LATENCY_PREFIX) and digits.isascii() and digits.isdigit():  # ASCII digits only (not "٣")
+            timing = int(digits)
         else:
             raise ValueError(
                 f"unknown sensor timing {timing!r}; accepted: {', '.join(SENSOR_TIMINGS)}, "

@@ -219,7 +219,8 @@ def hop_stress(rollout, cycles: np.ndarray) -> pd.DataFrame:
         DESIGN_LIFE_CYCLES over it: > 1 lasts that long), ``yield_ratio``
         (peak over yield) and ``interface_jump_pa`` (max over the hop of
         |section stress_s - section stress_s+1|, record rate; NaN for the
-        last segment). Rigid segments carry no modelled stress (NaN).
+        last segment and beside a rigid one). Rigid segments carry no
+        modelled stress (NaN).
     """
     st, t = rollout.stress, rollout.time
     design: LegDesign = rollout.design
@@ -238,7 +239,8 @@ def hop_stress(rollout, cycles: np.ndarray) -> pd.DataFrame:
             else:
                 peak, damage, amp, safety = _segment_hop(st[a:b, s], strengths[s])
                 ratio = peak / (strengths[s].yield_mpa * 1e6)
-            jump = float(np.abs(section[a:b, s] - section[a:b, s + 1]).max()) if s + 1 < n and b > a else math.nan
+            elastic = s + 1 < n and strengths[s] is not None and strengths[s + 1] is not None  # a rigid side: no stress
+            jump = float(np.abs(section[a:b, s] - section[a:b, s + 1]).max()) if elastic and b > a else math.nan
             rows.append((h, s + 1, peak, damage, amp, safety, ratio, jump))
     columns = ["hop", "segment", "peak_stress_pa", "damage", "equivalent_amplitude_pa", "fatigue_safety"]
     return pd.DataFrame(rows, columns=[*columns, "yield_ratio", "interface_jump_pa"])

@@ -50,6 +50,7 @@ RESULT_MODULES = (
     "behaviours",
     "_loop",
     "sim",
+    "timestep",
     "rollout",
     "perturbations",
     "metrics",

@@ -71,6 +71,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from . import reference as ref
+from .parsing import is_decimal
 
 CONVENTIONS = ("paper", "axial", "bending", "axial+bending")
 # The conventions the reproduction compares (claims, convention checks, the
@@ -102,8 +103,10 @@ def _check_number(
     value, field: str, accepted: str, *, allow_zero: bool = False, bounds: tuple[float, float] | None = None
 ) -> float:
     """A finite number > 0 (>= 0 with allow_zero), inside bounds if given.
-    Numeric strings ("8", " 1e3 ") are parsed; anything else is refused."""
-    if isinstance(value, bool):
+    Numeric strings ("8", " 1e3 ") are parsed as ASCII decimals only
+    (:func:`mat_hopper.parsing.is_decimal`: not "inf", "1_0" or "٨");
+    anything else is refused."""
+    if isinstance(value, bool) or (isinstance(value, str) and not is_decimal(value)):
         raise ValueError(f"{field} must be a number {accepted}, got {value!r}")
     try:
         x = float(value)

@@ -66,9 +66,9 @@ from .materials import (
     parse_design,
 )
 from .model import HopperModel, build_model, check_timestep, reset_to_start, stress_gains
-from .modes import auto_substeps
 from .perturbations import NO_PUSH, Perturbation
 from .rollout import Rollout
+from .timestep import is_auto, resolve_timestep
 
 __all__ = [
     "CHANNELS",
@@ -77,12 +77,9 @@ __all__ = [
     "DEFAULT_RECORD_RATE_HZ",
     "SimSettings",
     "sim_settings",
-    "resolve_timestep",
-    "AUTO",
     "RolloutRunner",
     "prepare",
     "simulate",
-    "auto_timestep",
     "route_mujoco_warnings",
 ]
 
@@ -107,12 +104,6 @@ def loop_chunk_steps(n_segments: int) -> int:
     return max(1000, LOOP_CHUNK_STEPS * 3 // max(3, int(n_segments)))
 
 
-# The finer physics of the time-step checks (robustness study, optimizer validation):
-# a 2e-5 s step, 5 substeps of the 1e-4 s control period (and, to keep the authors'
-# 1e-4 s sensor delay, a latency of 5 physics steps).
-FINE_TIMESTEP_S = 2e-5
-FINE_SUBSTEPS = round(ref.TIMESTEP_S / FINE_TIMESTEP_S)
-AUTO = "auto"  # timestep_s="auto": physics substeps of the control period (resolve_timestep)
 # Jerk is computed at the physics rate: the base's z acceleration through a
 # causal Butterworth low-pass, then differentiated step by step. The cut-off
 # lies far below the leg's axial modes (2.5-4 kHz, barely damped) and the
@@ -275,46 +266,6 @@ def _check_substeps(substeps) -> None:
         raise ValueError(
             f"substeps must be an integer in [1, {MAX_SUBSTEPS}] (physics steps per control period), got {substeps!r}"
         )
-
-
-def is_auto(timestep_s) -> bool:
-    """Whether a time step is the word ``"auto"`` (any case, spaces ignored)."""
-    return isinstance(timestep_s, str) and timestep_s.strip().lower() == AUTO
-
-
-def resolve_timestep(
-    timestep_s,
-    design=None,
-    convention: str = DEFAULT_CONVENTION,
-    segment_mass: str = DEFAULT_SEGMENT_MASS,
-    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
-) -> tuple[float, int]:
-    """The one place where ``timestep_s="auto"`` is resolved.
-
-    Args:
-        timestep_s: a physics step in s, or ``"auto"``.
-        design: the leg (a LegDesign or a name); needed for ``"auto"``.
-        convention: the stiffness convention of the run.
-        segment_mass: the segment mass convention of the run.
-        sensor_timing: the run's sensor timing (the controller's limit).
-
-    Returns:
-        (timestep_s, substeps): the step given and 1 substep, or for
-        ``"auto"`` the control period (the authors' 1e-4 s unless the
-        controller's own limit is smaller) split into the fewest substeps
-        that keep the leg's springs stable (:func:`auto_timestep`).
-
-    Raises:
-        ValueError: ``"auto"`` without a design, or another string.
-    """
-    if not isinstance(timestep_s, str):
-        return timestep_s, 1
-    if not is_auto(timestep_s):
-        raise ValueError(f"timestep_s must be a number (s) or {AUTO!r}, got {timestep_s!r}")
-    if design is None:
-        raise ValueError("the time step is 'auto': pass the design (its substeps depend on it)")
-    substeps, dt = auto_timestep(design, convention, segment_mass, sensor_timing)
-    return dt, substeps
 
 
 def sim_settings(design=None, **settings) -> SimSettings:
@@ -586,18 +537,3 @@ def simulate(
     else:
         settings = sim_settings(_as_design(design), **given)
     return RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()
-
-
-def auto_timestep(
-    design,
-    convention: str = DEFAULT_CONVENTION,
-    segment_mass: str = DEFAULT_SEGMENT_MASS,
-    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
-) -> tuple[int, float]:
-    """(substeps, physics step s) for ``timestep_s="auto"``: the controller
-    keeps its period (1e-4 s) unless its own explicit limit is smaller
-    (:func:`mat_hopper.modes.auto_control_period`), and the physics takes
-    the fewest substeps whose step is at most AUTO_SAFETY (0.5) x the
-    springs' explicit bound (:func:`mat_hopper.modes.auto_substeps`)."""
-    k, dt, _ = auto_substeps(_as_design(design), convention, segment_mass, sensor_timing=sensor_timing)
-    return k, dt

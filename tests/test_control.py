@@ -229,3 +229,13 @@ def test_thrust_never_adapts_below_zero():
         assert update_phase(t0 + 0.4, 5.0, 0.9, -1.0, G, s) == c.TOUCHDOWN
         thrusts.append(s[c.S_THRUST])
     assert thrusts == [0.0, 0.0]
+
+
+def test_a_latency_is_read_in_ascii_digits_only():
+    # "latency-٣" (an Arabic-Indic three) was read as 3 by str.isdigit
+    from mat_hopper.control import SensorTiming
+
+    assert int(SensorTiming("latency-3")) == 3
+    for bad in ("latency-٣", "latency-²", "latency-3.0", "latency--1"):
+        with pytest.raises(ValueError, match="sensor timing"):
+            SensorTiming(bad)

@@ -181,3 +181,13 @@ def test_designs_in_the_papers_order():
     paper = ["MD", "PVC", "Al", "Ti", "SS", "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC"]
     assert order_designs(["mine", *reversed(paper), "SS"]) == [*paper, "mine"]
     assert list(paper_designs()) == paper
+
+
+def test_numeric_strings_are_ascii_decimals_only():
+    # float() reads "٨" as 8, "1_0" as 10 and "inf" as infinity: none is a density a user means
+    from mat_hopper.materials import Material
+
+    assert Material("x", "8", "193").density_g_cm3 == 8.0
+    for bad in ("٨", "1_0", "inf", "nan", "0x10"):
+        with pytest.raises(ValueError, match="density"):
+            Material("x", bad, 193.0)

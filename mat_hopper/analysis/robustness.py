@@ -45,7 +45,7 @@ from ..behaviours import BEHAVIOUR_NAMES
 from ..change import percent_change
 from ..control import SensorTiming
 from ..materials import MONO_NAMES
-from ..sim import FINE_SUBSTEPS, FINE_TIMESTEP_S
+from ..timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S
 
 DEFAULT_LATENCIES = (0, 1, 2, 5, 10)
 FACTOR = 2.0  # "moves more than 2x"

@@ -8,7 +8,7 @@ import sys
 
 from ..behaviours import behaviour
 from ..damping import DEFAULT_DAMPING
-from ..sim import is_auto
+from ..timestep import is_auto
 from ..viz.render import (
     _LIBS,
     IMAGE_EXTENSIONS,

@@ -22,7 +22,7 @@ from ..materials import (
 )
 from ..metrics import METRICS, hop_table, run_summary
 from ..parsing import is_decimal, parse_number
-from ..sim import AUTO, is_auto
+from ..timestep import AUTO, is_auto
 from ._checks import (
     SENSOR_TIMING_HELP,
     check_distinct_paths,

@@ -17,6 +17,7 @@ import pandas as pd
 
 from ..atomic import TEMP_PREFIX, atomic_path
 from ..keys import json_default
+from ..parsing import env_value
 
 DEFAULT_CACHE_DIR = os.path.join("results", "cache")
 CACHE_ENV = "MAT_HOPPER_CACHE"
@@ -30,7 +31,7 @@ class Cache:
     """Results on disk: one parquet file per key, written atomically."""
 
     def __init__(self, root: str | os.PathLike | None = None):
-        root = root or os.environ.get(CACHE_ENV) or DEFAULT_CACHE_DIR
+        root = root or env_value(CACHE_ENV, "the result cache folder") or DEFAULT_CACHE_DIR
         self.root = os.path.abspath(os.fspath(root))
         os.makedirs(self.root, exist_ok=True)
 

@@ -34,7 +34,7 @@ from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..materials import REPRODUCTION_CONVENTIONS, LegDesign, Material, paper_designs, parse_design
 from ..porosity import DEFAULT_POROSITY_MODEL, check_porosity_model, porous_modulus
-from ..sim import AUTO
+from ..timestep import AUTO
 from . import robustness
 from .profiles import Profile, check_replicates, get_profile
 from .runner import FAILED, RunSpec, run_grid

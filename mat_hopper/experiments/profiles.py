@@ -15,7 +15,8 @@ from .. import reference as ref
 from ..control import SensorTiming
 from ..materials import BENDING_CONVENTIONS, DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
 from ..perturbations import Perturbation
-from ..sim import AUTO, SimSettings, is_auto, sim_settings
+from ..sim import SimSettings, sim_settings
+from ..timestep import AUTO, is_auto
 
 PROFILE_ENV = "MAT_HOPPER_PROFILE"
 
@@ -41,7 +42,7 @@ class Profile:
     convention, whose springs (k = E A / L, SS 3.8e9 N/m) diverge at the
     paper's 1e-4 s: ``"auto"`` (default) keeps the controller at its
     1e-4 s period and gives each design the physics substeps its analytic
-    bound needs (:func:`mat_hopper.sim.auto_timestep`), or a number (s);
+    bound needs (:func:`mat_hopper.timestep.auto_timestep`), or a number (s);
     sensor_timing: when the controller reads the base (``"authors"``,
     ``"fresh"``, ``"latency-L"``; :mod:`mat_hopper.control`);
     segment_mass: ``"leg"`` or ``"capsule"`` (:mod:`mat_hopper.materials`);

@@ -78,7 +78,7 @@ from ..experiments.runner import FAILED, OK, RunSpec, run_grid
 from ..keys import design_key
 from ..materials import LegDesign, paper_designs
 from ..metrics import holm
-from ..sim import FINE_SUBSTEPS, FINE_TIMESTEP_S, resolve_timestep
+from ..timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S, resolve_timestep
 from ._objective import OBJECTIVES, Objective
 
 NOMINAL, REPLICATE, BEHAVIOUR = "nominal", "replicate", "behaviour"

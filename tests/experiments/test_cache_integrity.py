@@ -124,3 +124,11 @@ def test_a_file_without_checksum_or_summary_is_recomputed(tmp_path, missing):
     shutil.copy(cache.path("k"), tmp_path / "orig.parquet")
     pq.write_table(t.replace_schema_metadata(meta), cache.path("k"))
     assert cache.load("k") is None
+
+
+def test_an_empty_cache_variable_is_an_error_naming_it(monkeypatch):
+    from mat_hopper.experiments.cache import Cache
+
+    monkeypatch.setenv("MAT_HOPPER_CACHE", " ")
+    with pytest.raises(ValueError, match=r"\$MAT_HOPPER_CACHE is set but empty"):
+        Cache()
