@@ -12,7 +12,7 @@ is computed once.
 
 :func:`attribution_tasks` is the factorial of experiment 5 of issue 20:
 mass distribution (the designs' densities) x springs (rigid, ``paper``,
-``axial``), see :func:`mat_hopper.analysis.beyond_mass.attribution`.
+``axial``), see :func:`mat_hopper.analysis.attribution.attribution`.
 """
 
 from __future__ import annotations

@@ -43,7 +43,7 @@ import pandas as pd
 from myst_nb import glue
 
 from mat_hopper import mass_matched, mass_properties, parse_design, rigid_twin
-from mat_hopper.analysis import beyond_mass, claims, paired
+from mat_hopper.analysis import attribution, beyond_mass, claims, paired
 from mat_hopper.controls import inertia_matched
 from mat_hopper.experiments import controls as control_runs
 from mat_hopper.experiments import reproduce
@@ -275,7 +275,7 @@ glue("fig-push-scale", fig, display=False)
 # %%
 FACTORIAL_BEHAVIOURS = ("forward", "ramp")  # the abstract's ramp; static and circle left out (cost: see below)
 fact = control_runs.run_attribution(b.profile, behaviours=FACTORIAL_BEHAVIOURS, cache_dir=b.cache_dir)
-att = beyond_mass.attribution(fact.tables, metrics=("tracking_error_m", "power_w", "power_total_w", "jerk_body_m_s3"))
+att = attribution.attribution(fact.tables, metrics=("tracking_error_m", "power_w", "power_total_w", "jerk_body_m_s3"))
 b.downloads({"attribution": att})
 book.show(att, pattern="{:.3g}")
 
@@ -322,7 +322,7 @@ glue("fig-attribution-r2", ax.figure, display=False)
 
 # %%
 sweeps = reproduce.run_experiments(b.profile, "2", out_dir=b.out_dir, cache_dir=b.cache_dir)["exp2_hops"]
-equal_mass = beyond_mass.modulus_at_equal_mass(sweeps)
+equal_mass = attribution.modulus_at_equal_mass(sweeps)
 book.show(equal_mass, pattern="{:.3g}")
 
 # %% [markdown]
