@@ -14,13 +14,19 @@ from optuna.trial import TrialState
 
 from mat_hopper.optimize._storage import WORKER_ATTR, open_storage
 
+# How long a test waits for a trial or an evaluation process to appear: a
+# bound against a hang, not a speed check. Under CI's load (4 test workers
+# and the book's kernels on 2 cores) a first evaluation process took over
+# 90 s to start (a run fork-serves the pool, then compiles the loop).
+WAIT_S = 600.0
+
 
 def _state(storage, name: str, number: int) -> TrialState:
     study = optuna.load_study(study_name=name, storage=storage)
     return next(t.state for t in study.get_trials(deepcopy=False) if t.number == number)
 
 
-def stop_a_running_trial(url: str, name: str, timeout_s: float = 90.0) -> tuple[int, int]:
+def stop_a_running_trial(url: str, name: str, timeout_s: float = WAIT_S) -> tuple[int, int]:
     """(number, pid) of a trial of study ``name`` that is being simulated
     (its process named, all six parameters drawn), with the process that
     asked it (user attr ``worker``: the optimize command) stopped (SIGSTOP)
@@ -99,7 +105,7 @@ def evaluation_processes(root: int) -> list[int]:
     return out
 
 
-def wait_for_evaluation_processes(root: int, timeout_s: float = 90.0) -> list[int]:
+def wait_for_evaluation_processes(root: int, timeout_s: float = WAIT_S) -> list[int]:
     """The pool processes of `root` once there are any (AssertionError after `timeout_s`)."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
@@ -119,7 +125,7 @@ def _cpu_ticks(pid: int) -> int:
         return -1
 
 
-def stop_an_evaluation_process(url: str, name: str, root: int, timeout_s: float = 90.0) -> tuple[set[int], int]:
+def stop_an_evaluation_process(url: str, name: str, root: int, timeout_s: float = WAIT_S) -> tuple[set[int], int]:
     """(numbers of the trials of study ``name`` running at the stop, pid) of
     a process below ``root`` (the optimize command) that is simulating while
     the study has a running trial, with that process stopped (SIGSTOP): its

@@ -1,4 +1,5 @@
-"""Where studies live: storage URLs, connection checks, and dead runs.
+"""Where studies live: storage URLs and connection checks; the dead runs'
+trials are recovered by :mod:`mat_hopper.optimize._recovery`.
 
 Storage choices (``--storage``):
 
@@ -54,7 +55,6 @@ from __future__ import annotations
 import os
 import random
 import re
-import socket
 import sqlite3
 import time
 import warnings
@@ -62,7 +62,6 @@ from contextlib import contextmanager
 from urllib.parse import quote
 
 import optuna
-from optuna.trial import TrialState
 
 from ..parsing import normalize_url
 
@@ -395,6 +394,8 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
     probe = _probe(url, open_url, engine_kwargs)
 
     def make():
+        from ._recovery import RetryStaleTrial  # here: _recovery imports this module's attribute names
+
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
             return optuna.storages.RDBStorage(
@@ -489,130 +490,3 @@ def _tidy_read_only(db: str) -> None:
             con.close()
     except sqlite3.Error:
         pass
-
-
-# --- process identity and dead runs ------------------------------------
-
-
-def _boot_id() -> str:
-    try:
-        with open("/proc/sys/kernel/random/boot_id") as f:
-            return f.read().strip()
-    except OSError:
-        return ""
-
-
-def worker_identity(pid: int | None = None) -> dict:
-    """Who runs a trial: host name, boot id (tells reboots and containers
-    apart) and process id."""
-    return {"host": socket.gethostname(), "boot": _boot_id(), "pid": int(pid or os.getpid())}
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    try:  # a zombie is dead too
-        with open(f"/proc/{pid}/stat") as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except (OSError, IndexError):
-        return True
-
-
-def retry_trial(study, trial, max_retry: int = 3) -> bool:
-    """Enqueue a failed trial's parameters again, as Optuna's
-    RetryHeartbeatStaleTrialCallback does (same ``failed_trial`` and
-    ``retry_history`` system attrs), keeping only the user attrs in
-    KEEP_ON_RETRY. An enqueued trial's ``fixed_params`` go along, so a
-    seed whose worker died before it was suggested is retried as that seed.
-    False when the trial was retried max_retry times."""
-    history = list(trial.system_attrs.get("retry_history", [])) + [trial.number]
-    if len(history) > max_retry:
-        return False
-    study.add_trial(
-        optuna.trial.create_trial(
-            state=TrialState.WAITING,
-            params=trial.params,
-            distributions=trial.distributions,
-            user_attrs={k: v for k, v in trial.user_attrs.items() if k in KEEP_ON_RETRY},
-            system_attrs={
-                "failed_trial": trial.system_attrs.get("failed_trial", trial.number),
-                "retry_history": history,
-                # an enqueued design (a seed) whose worker died before it was
-                # suggested has no params yet: keep it enqueued
-                **(
-                    {"fixed_params": trial.system_attrs["fixed_params"]} if "fixed_params" in trial.system_attrs else {}
-                ),
-            },
-        )
-    )
-    return True
-
-
-class RetryStaleTrial:
-    """Optuna's heartbeat-stale callback: :func:`retry_trial`."""
-
-    def __init__(self, max_retry: int = 3):
-        self.max_retry = int(max_retry)
-
-    def __call__(self, study, trial) -> None:
-        retry_trial(study, trial, self.max_retry)
-
-
-def fail_and_retry(study, storage, number: int, reason: str, max_retry: int = 3) -> bool:
-    """Fail a RUNNING trial (user attr ``fail_reason``) and enqueue its
-    parameters again (:func:`retry_trial`), through the storage's public API.
-
-    Args:
-        study: the trial's study.
-        storage: the storage the study was opened on.
-        number: the trial's number.
-        reason: why it failed (stored as ``fail_reason``).
-        max_retry: retries per trial.
-
-    Returns:
-        True when this call failed it; False when the trial had finished or
-        another process failed it first.
-    """
-    study_id = storage.get_study_id_from_name(study.study_name)
-    trial_id = storage.get_trial_id_from_study_id_trial_number(study_id, number)
-    try:
-        storage.set_trial_user_attr(trial_id, FAIL_REASON_ATTR, reason)
-        if not storage.set_trial_state_values(trial_id, state=TrialState.FAIL):
-            return False
-    except (optuna.exceptions.UpdateFinishedTrialError, RuntimeError):
-        return False
-    retry_trial(study, storage.get_trial(trial_id), max_retry)
-    return True
-
-
-def recover_dead(study, storage, *, max_retry: int = 3, reason: str = "worker died") -> list[int]:
-    """Fail the RUNNING trials of dead processes on this machine and enqueue
-    their parameters again (:func:`fail_and_retry`).
-
-    Args:
-        study: the study.
-        storage: the storage it was opened on.
-        max_retry: retries per trial.
-        reason: the ``fail_reason``, followed by the dead process's id.
-
-    Returns:
-        The numbers of the trials failed here: every RUNNING trial recorded
-        by this machine (same host and boot id) whose process is gone (a
-        trial another process failed first is left alone).
-    """
-    me = worker_identity()
-    failed = []
-    for t in study.get_trials(deepcopy=False, states=(TrialState.RUNNING,)):
-        w = t.user_attrs.get(WORKER_ATTR)
-        if not isinstance(w, dict) or w.get("host") != me["host"] or w.get("boot") != me["boot"]:
-            continue
-        pid = int(w.get("pid", -1))
-        if pid == me["pid"] or _alive(pid):
-            continue
-        if fail_and_retry(study, storage, t.number, f"{reason} (pid {pid})", max_retry):
-            failed.append(t.number)
-    return failed

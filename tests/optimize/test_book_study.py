@@ -104,7 +104,8 @@ def test_a_round_left_running_by_a_dead_run_is_recovered(tmp_path):
     import sys
 
     from mat_hopper.experiments.profiles import Profile
-    from mat_hopper.optimize._storage import FAIL_REASON_ATTR, WORKER_ATTR, worker_identity
+    from mat_hopper.optimize._recovery import worker_identity
+    from mat_hopper.optimize._storage import FAIL_REASON_ATTR, WORKER_ATTR
 
     tiny = Profile("tiny", duration_s=2.0, transient_s=0.5)
     config = optimize.StudyConfig("resume", optimize.SearchSpace(), optimize.Objective(replicates=0, profile=tiny))
