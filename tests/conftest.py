@@ -23,3 +23,17 @@ def run_python(code: str, env_extra: dict | None = None, timeout: float = 300):
     return subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=timeout, cwd=ROOT
     )
+
+
+@pytest.fixture
+def short_tmp():
+    """A temporary folder with a short path, for a TMPDIR: multiprocessing's
+    fork server binds a Unix socket in it, and a socket path may hold at most
+    107 bytes. pytest's tmp_path under xdist (.../popen-gw1/test_<name>0/tmp)
+    made "AF_UNIX path too long" (CI stop 24)."""
+    import shutil
+    import tempfile
+
+    path = tempfile.mkdtemp(prefix="mh-", dir="/tmp")
+    yield __import__("pathlib").Path(path)
+    shutil.rmtree(path, ignore_errors=True)

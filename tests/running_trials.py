@@ -91,6 +91,15 @@ def descendants(root: int, min_depth: int = 1) -> list[int]:
     return out
 
 
+def _exited(pid: int) -> bool:
+    """Whether process `pid` is gone or a zombie (exited, not yet reaped)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except (OSError, IndexError):
+        return True
+
+
 def evaluation_processes(root: int) -> list[int]:
     """The pool processes of the optimize command `root`: the children of its
     fork server (forks of it, so with its command line)."""
@@ -112,6 +121,8 @@ def wait_for_evaluation_processes(root: int, timeout_s: float = WAIT_S) -> list[
         found = evaluation_processes(root)
         if found:
             return found
+        if _exited(root):
+            raise AssertionError(f"the command {root} exited before any evaluation process started")
         time.sleep(0.05)
     raise AssertionError(f"no evaluation process under {root} within {timeout_s:g} s")
 

@@ -291,11 +291,10 @@ def test_closed_pipe_is_not_a_traceback(tmp_path):
     assert p.returncode == 141
 
 
-def test_sigterm_on_reproduce_leaves_no_temp_folder_nor_partial_file(tmp_path):
+def test_sigterm_on_reproduce_leaves_no_temp_folder_nor_partial_file(tmp_path, short_tmp):
     """SIGTERM is handled like Ctrl-C: the pool stops, multiprocessing's
     pymp-* folder is removed, every cached file is whole."""
-    tmp = tmp_path / "tmp"
-    tmp.mkdir()
+    tmp = short_tmp  # the fork server's socket lives here: a short path (conftest)
     env = {**ENV, "TMPDIR": str(tmp)}
     cmd = [sys.executable, "-m", "mat_hopper", "reproduce", "--profile", "quick", "--experiments", "1"]
     cmd += ["--out", str(tmp_path / "out"), "--cache", str(tmp_path / "cache"), "--no-progress", "--workers", "2"]

@@ -308,11 +308,10 @@ def test_held_signals_deliver_at_release_with_the_old_handlers():
 
 
 @pytest.mark.parametrize("sig", [signal.SIGTERM, pytest.param(signal.SIGHUP, marks=pytest.mark.slow)])
-def test_sigterm_and_sighup_stop_the_run_and_requeue_its_trials(sig, tmp_path):
+def test_sigterm_and_sighup_stop_the_run_and_requeue_its_trials(sig, tmp_path, short_tmp):
     name, url = "sig", f"sqlite:///{tmp_path}/sig.db"
     create_or_load(tiny(name, Profile("k", duration_s=4.0, transient_s=0.5)), open_storage(url))
-    tmp = tmp_path / "tmp"
-    tmp.mkdir()
+    tmp = short_tmp  # the fork server's socket lives here: a short path (conftest)
     cmd = [sys.executable, "-m", "mat_hopper", "optimize", "--study", name, "--trials", "12", "--workers", "2"]
     cmd += ["--storage", url, "--no-progress", "--cache", str(tmp_path / "c")]
     p = subprocess.Popen(
