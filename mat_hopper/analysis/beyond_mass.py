@@ -383,10 +383,17 @@ def sweep_controls(claim_id: str, sweep_hops: pd.DataFrame | None, alpha: float 
 
 
 def mass_property_text(claim_id: str, segment_mass: str = "leg") -> str:
-    """Leg mass (kg), centre of mass below the hip (m) and hip inertia
-    (kg m^2) of each design of a material claim and of its baseline
-    (MuJoCo's compiled models, :func:`mat_hopper.controls.mass_properties`);
-    empty for other claims."""
+    """The mass properties of a material claim's designs, as text.
+
+    Args:
+        claim_id: a claim of :data:`MATERIAL_CLAIMS` (others give "").
+        segment_mass: the segment mass convention of the runs.
+
+    Returns:
+        ``"<design> <leg mass> kg, <centre of mass below the hip> m, <hip
+        inertia> kg m^2; ..."`` for each design and the baseline, from
+        MuJoCo's compiled models (:func:`mat_hopper.controls.mass_properties`).
+    """
     from ..controls import mass_properties
 
     if claim_id not in MATERIAL_CLAIMS:

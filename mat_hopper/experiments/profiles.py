@@ -120,8 +120,16 @@ class Profile:
         return (self.transient_s, self.duration_s)
 
     def replicate(self, seed: int) -> Perturbation:
-        """Replicate `seed`'s perturbation under this profile: its push
-        inside the scored window, push_scale x the book's force."""
+        """Replicate `seed`'s perturbation under this profile.
+
+        Args:
+            seed: the replicate's seed (>= 0; shared across designs, so
+                comparisons on it are paired).
+
+        Returns:
+            The :class:`~mat_hopper.perturbations.Perturbation`: its push
+            drawn inside the scored window, push_scale x the book's 5 N.
+        """
         return Perturbation.replicate(seed, self.scored_window_s, push_scale=self.push_scale)
 
     def key_dict(self) -> dict:
