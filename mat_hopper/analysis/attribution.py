@@ -80,7 +80,8 @@ def attribution(hops: pd.DataFrame, metrics=("tracking_error_m", "power_w", "pow
             groups = pd.factorize(d["mass_of"])[0]
             fe = " + C(replicate)" if d["replicate"].nunique() > 1 else ""
             terms = [t for t in ("axial_step", "springs_paper", "springs_axial") if d[t].nunique() > 1]
-            cov = {"cov_type": "cluster", "cov_kwds": {"groups": groups}}
+            # few clusters (the mass distributions, about 7): t with G - 1 degrees of freedom, not the normal
+            cov = {"cov_type": "cluster", "cov_kwds": {"groups": groups}, "use_t": True}
             a = smf.ols(f"y ~ log_mass + log_inertia{fe}", d).fit(**cov)
             b = smf.ols(f"y ~ log_mass + log_inertia{fe} + " + " + ".join(terms or ["0"]), d).fit(**cov)
             r = float(np.corrcoef(d["log_mass"], d["log_inertia"])[0, 1])
@@ -175,7 +176,8 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
         # the sweep points share their replicate seeds: errors clustered by seed where there are seeds
         if "replicate" in g.columns and g["replicate"].nunique() >= 2:
             groups = pd.factorize(g["replicate"])[0]
-            return smf.ols(formula, g).fit(cov_type="cluster", cov_kwds={"groups": groups})
+            # few clusters (the seeds, 3 to 10): t with G - 1 degrees of freedom, not the normal
+            return smf.ols(formula, g).fit(cov_type="cluster", cov_kwds={"groups": groups}, use_t=True)
         return smf.ols(formula, g).fit(cov_type="HC3")
 
     split = d[(d["modulus_gpa"] <= low_gpa) | (d["modulus_gpa"] >= high_gpa)].copy()

@@ -23,8 +23,9 @@ formula, hip, total; jerk: the body's zero-phase jerk and the causal one):
   design beyond the springs' effect in the baseline;
 - a comparison counts only where the claim's own effect (design vs
   baseline, paired, Holm over the claim's) holds in the claimed direction;
-  it votes yes (Holm p < alpha in the claimed direction), no (inside the
-  equivalence margin, or the other way) or not enough evidence;
+  it votes yes (Holm p < alpha in the claimed direction), equivalent
+  (inside the ±10 % margin), the other way, or no evidence; the verdict
+  names how many of each;
 - ``yes``: every counted comparison yes; ``partly``: at least half;
   ``no``: fewer, with a no among them; ``untestable``: otherwise, or where
   the family cannot reach Holm p < alpha with an exact sign-flip test at
@@ -253,29 +254,49 @@ def _fmt(rows: pd.DataFrame) -> str:
     )
 
 
+EQUIVALENT, OPPOSITE, NO_EVIDENCE, NO_OWN = "equivalent", "the other way", "no evidence", "no own effect"
+
+
 def _votes(e: pd.DataFrame, sign: int, alpha: float) -> list[str]:
+    """One vote per comparison: yes (beyond mass, the claimed way), equivalent
+    (inside the margin: the control reproduces the design), the other way
+    (significant, against the claim), no evidence, or no own effect."""
     votes = []
     for r in e.itertuples():
         if not r.own_effect:
-            votes.append("no own effect")
-        elif r.conclusion == DIFFERENCE and np.sign(r.pct_change) == sign:
-            votes.append(YES)
-        elif r.conclusion == NO_DIFFERENCE or (r.conclusion == DIFFERENCE and np.sign(r.pct_change) == -sign):
-            votes.append(NO)
+            votes.append(NO_OWN)
+        elif r.conclusion == DIFFERENCE:
+            votes.append(YES if np.sign(r.pct_change) == sign else OPPOSITE)
+        elif r.conclusion == NO_DIFFERENCE:
+            votes.append(EQUIVALENT)
         else:
-            votes.append(UNTESTABLE)
+            votes.append(NO_EVIDENCE)
     return votes
 
 
+def _tally(votes: list[str]) -> str:
+    kinds = (YES, EQUIVALENT, OPPOSITE, NO_EVIDENCE, NO_OWN)
+    return ", ".join(f"{votes.count(k)} {k}" for k in kinds if votes.count(k))
+
+
 def _verdict(e: pd.DataFrame, sign: int, alpha: float) -> str:
-    """The fraction rule of the main verdicts over the comparisons where the claim's own effect holds."""
+    """The fraction rule of the main verdicts over the comparisons where the
+    claim's own effect holds, with every vote counted by kind. Where n seeds
+    cannot reach Holm's threshold, no comparison can be significant, but an
+    interval inside the ±10 % margin still says the control reproduces the
+    design: every comparison so gives ``no``, otherwise ``untestable``."""
     family = len(e)
     n = int(e["n_pairs"].min())
     if not reachable(n, family, alpha):
         floor = min(1.0, family * float(e["p_min"].max()))
+        if (e["conclusion"] == NO_DIFFERENCE).all():
+            return (
+                f"{NO} (every one of {family} comparisons within the ±10 % margin: the controls reproduce the "
+                f"design; n = {n} seeds cannot test a difference, Holm p >= {floor:.2g})"
+            )
         return f"{UNTESTABLE} (n = {n} seeds can reach Holm p >= {floor:.2g} with an exact sign-flip test, family {family})"
     votes = _votes(e, sign, alpha)
-    live = [v for v in votes if v != "no own effect"]
+    live = [v for v in votes if v != NO_OWN]
     if not live:
         return f"{UNTESTABLE} (the claim's own effect is not significant in any of its {family} comparisons)"
     k = live.count(YES)
@@ -283,13 +304,11 @@ def _verdict(e: pd.DataFrame, sign: int, alpha: float) -> str:
         verdict = YES
     elif k >= len(live) / 2:
         verdict = PARTLY
-    elif NO in live:
+    elif EQUIVALENT in live or OPPOSITE in live:
         verdict = NO
     else:
         verdict = UNTESTABLE
-    return (
-        f"{verdict} ({k}/{len(live)} comparisons beyond mass; {len(votes) - len(live)} without the claim's own effect)"
-    )
+    return f"{verdict} ({_tally(votes)})"
 
 
 def _one_metric(claim_id, hops, metric, alpha) -> dict:
@@ -477,7 +496,12 @@ def headline_sentence(hops: pd.DataFrame, metric: str = "tracking_error_m", beha
         r = f.iloc[0]
         did = (
             f"its springs beyond SS's springs (both against their rigid twins) {r['pct_change']:+.1f} % "
-            f"[{r['ci_low']:+.1f}, {r['ci_high']:+.1f}], {r['share']:.2f} of the effect"
+            f"[{r['ci_low']:+.1f}, {r['ci_high']:+.1f}], "
+            + (
+                f"{r['share']:.2f} [{r['share_low']:.2f}, {r['share_high']:.2f}] of the effect"
+                if np.isfinite(r["share_low"])
+                else "a share of the effect that is unbounded (the effect itself is not clear of zero)"
+            )
         )
 
     def part(kind, label):
