@@ -274,7 +274,9 @@ def beats(table: pd.DataFrame, design: str, kind: str) -> str:
 
 def paper_best(runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA) -> list[str]:
     """The paper designs no other paper design dominates, paired by seed
-    (Holm over each design's comparisons with the other eight)."""
+    (Holm over each design's comparisons with the other eight; a design
+    with none to compare with, where the others fell on some seed, counts
+    as best)."""
     means = replicate_means(runs, objective)
     names = [d for r, d in dict.fromkeys(means.index.droplevel("replicate")) if r == "paper"]
     best = []
@@ -285,6 +287,9 @@ def paper_best(runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA) -
             if b != a
             for o, e in _compare(means, ("paper", a), ("paper", b)).items()
         ]
+        if not rows:  # no other paper design to compare with (the others fell on some seed)
+            best.append(a)
+            continue
         t = pd.DataFrame(rows)
         t["p_holm"] = holm(t["p"].to_numpy(float))
         t["significant"] = paired.reachable(int(t["n_pairs"].min()), len(t), alpha) & (t["p_holm"] < alpha)
