@@ -21,6 +21,7 @@ from ..optimize import (
     DEFAULT_REPLICATES,
     DEFAULT_WORKERS,
     KINDS,
+    OBJECTIVES,
     SAMPLERS,
     Objective,
     RunOptions,
@@ -42,6 +43,7 @@ from ..optimize import (
     study_exists,
     write_report,
 )
+from ..optimize._metrics import METRICS, check_warp, parse_objectives
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
 from ._checks import check_output_dir, named_by_flags, nothing_left_behind, parse_pair
@@ -175,6 +177,9 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
         hop_height_tolerance_m=ob.hop_height_tolerance_m,
         segment_mass=getattr(args, "segment_mass", None) or ob.segment_mass,
         **_noise_and_mass_from_args(args, ob),
+        objectives=ob.objectives
+        if getattr(args, "objectives", None) is None
+        else parse_objectives(args.objectives, "--objectives"),
     )
     return StudyConfig(args.study, space, objective)
 
@@ -270,6 +275,8 @@ def _cmd_optimize(args) -> int:
     _check_space_options(args, fresh.space)
     _check_size(args, fresh)
     check_objectives_vary(fresh.objective)
+    if args.backend == "warp":
+        check_warp(fresh.objective.objectives)
     cache = _check_backend(args)
     check_study_name(args.study)
     studies_dir = None if args.storage else args.studies_dir
@@ -420,6 +427,14 @@ def register_cli(sub) -> None:
         help="constrain the leg's mass to a paper design's (e.g. SS) or to a mass in kg; none: unconstrained (default)",
     )
     p.add_argument("--leg-mass-tolerance", type=float, help="kg, +- around --leg-mass (default 5 %% of the target)")
+    p.add_argument(
+        "--objectives",
+        metavar="M1,M2[,M3]",
+        help="two or three metrics to minimize, comma-separated, any case (default tracking_error_m,power_w): "
+        + "; ".join(f"{m.name} ({m.unit}, {m.label})" for m in METRICS.values())
+        + ". Stress and damage mean something only under a bending convention (under paper and axial the "
+        "stress is axial only); --backend warp computes tracking_error_m, power_w and leg_mass_kg only",
+    )
     _add_run_arguments(p)
     p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
     p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
@@ -528,10 +543,11 @@ def _report(name: str, storage, args, out: str) -> int:
     states = frame["state"].value_counts().to_dict() if len(frame) else {}
     n_ok = len(feasible_complete(frame))
     print(f"study {name}: {len(frame)} trials {states}, {n_ok} feasible, {len(front)} on the Pareto front")
-    for b, (te, pw) in rep["baselines"].items():
-        print(f"  {b}: tracking error {te:.4g} m, power {pw:.4g} W")
+    objectives = StudyConfig.from_key(name, key).objective.objectives if key else OBJECTIVES
+    for b, values in rep["baselines"].items():
+        print(f"  {b}: " + ", ".join(_value_text(o, v) for o, v in zip(objectives, values)))
     if len(front):  # the designs, not only their trial numbers: densities, moduli, leg mass
-        table = front_table(front).drop(columns=["hop height (m)"])
+        table = front_table(front, objectives).drop(columns=["hop height (m)"])
         table.insert(1, "design", front["design"].to_numpy())
         print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
         where = f" --storage '{redact(args.storage)}'" if args.storage else ""
@@ -550,15 +566,18 @@ def cmd_replay(name: str, storage, args) -> int:
         print(
             f"  {r['behaviour']}"
             + (f" (replicate seed {r['replicate']})" if r.get("replicate", -1) >= 0 else "")
-            + f": tracking error {r['tracking_error_m']:.6g} m, power {r['power_w']:.6g} W, "
-            f"hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
+            + ": "
+            + ", ".join(_value_text(o, r[o], 6) for o in config.objective.objectives)
+            + f", hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
             f"{'upright' if r['upright'] else 'UNSTABLE'}"
         )
-    se = ev.standard_errors
-    se_text = f" (standard errors {se[0]:.3g} m, {se[1]:.3g} W)" if se and se[0] == se[0] else ""
+    se, names = ev.standard_errors, ev.objective_names
+    se_text = f" (standard errors {', '.join(_value_text(o, v, 3, False) for o, v in zip(names, se))})"
+    se_text = se_text if se and se[0] == se[0] else ""
     cons = ", ".join(f"{n} {c:.4g}" for n, c in zip(ev.constraint_names, ev.constraints))
+    values = ", ".join(_value_text(o, v, 6, False) for o, v in zip(names, ev.values))
     print(
-        f"objectives {ev.values[0]:.6g} m, {ev.values[1]:.6g} W{se_text}; "
+        f"objectives {values}{se_text}; "
         f"{'feasible' if ev.feasible else 'infeasible'} (constraints {cons}); leg mass {ev.leg_mass_kg:.4g} kg"
     )
     if t.state == TrialState.COMPLETE:
@@ -571,6 +590,13 @@ def cmd_replay(name: str, storage, args) -> int:
     if args.render:
         return _render(name, design, config, args)
     return 0 if t.state != TrialState.COMPLETE or tuple(t.values) == tuple(ev.values) else 1
+
+
+def _value_text(name: str, value: float, digits: int = 4, label: bool = True) -> str:
+    """``hip power 0.123 W``: a metric's value with its unit (and its label)."""
+    m = METRICS[name]
+    unit = "" if m.unit == "1" else f" {m.unit}"
+    return (f"{m.label} " if label else "") + f"{value:.{digits}g}{unit}"
 
 
 def _render(name: str, design: LegDesign, config: StudyConfig, args) -> int:

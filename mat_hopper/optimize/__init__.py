@@ -16,7 +16,8 @@ with ``_batch``); ``_processes`` holds the signals;
 :mod:`~mat_hopper.optimize.report` writes a study's tables and plots;
 ``_robust`` holds the noise- and mass-aware scores (replicates on common
 random numbers, mean or CVaR, the leg-mass constraint); ``_export`` writes a
-trial's design as CSV and MJCF; ``_racing`` runs multi-fidelity racing
+trial's design as CSV and MJCF; ``_metrics`` is the named table of what an
+objective may minimize (:data:`METRICS`, with units); ``_racing`` runs multi-fidelity racing
 (successive halving on ask-and-tell, through the same evaluators). The
 command line is :mod:`mat_hopper.cli.optimize`.
 """
@@ -25,6 +26,7 @@ from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch
 from ._driver import RunResult, run_batch_study, run_loop, run_study
 from ._evaluators import DEFAULT_BATCH, Evaluator, Lost, PoolEvaluator, WarpEvaluator
 from ._export import design_frame, design_mjcf, export_trial
+from ._metrics import METRICS, Metric, parse_objectives
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
 from ._processes import stop_signals
 from ._racing import Racing, Rung, default_racing, promote, race_study, run_racing, simulated_seconds
@@ -52,7 +54,16 @@ from ._study import (
     stored_config,
     study_exists,
 )
-from .report import book_study, front_designs, front_table, pareto_frame, replay, trials_frame, write_report
+from .report import (
+    book_study,
+    front_designs,
+    front_table,
+    hypervolume,
+    pareto_frame,
+    replay,
+    trials_frame,
+    write_report,
+)
 
 __all__ = [
     "DEFAULT_BATCH_SIZE",
@@ -67,6 +78,9 @@ __all__ = [
     "design_frame",
     "design_mjcf",
     "export_trial",
+    "METRICS",
+    "Metric",
+    "parse_objectives",
     "CONSTRAINTS",
     "OBJECTIVES",
     "Evaluation",
@@ -117,6 +131,7 @@ __all__ = [
     "book_study",
     "front_designs",
     "front_table",
+    "hypervolume",
     "pareto_frame",
     "replay",
     "trials_frame",

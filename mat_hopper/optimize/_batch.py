@@ -13,7 +13,10 @@ of tracking error and hip power when the run scored hop cycles and ended
 upright, else the whole-run means over every finite recorded sample; the
 objectives are the means over the behaviours, the constraints the worst
 hop-height violation and instability (:func:`~._objective.aggregate`, the
-same function the CPU path calls). Only the simulator differs: MJWarp in
+same function the CPU path calls). The batch computes tracking error, hip
+power and (from the design) leg mass, no energetics and no stress: an
+objective that asks for another metric is refused in one line
+(:func:`check_unperturbed`). Only the simulator differs: MJWarp in
 float32 against MuJoCo's CPU engine in float64 (the batch agreement tests
 bound the difference: hop count +-1, height +-0.01 m, tracking error and
 power within 10 %).
@@ -37,15 +40,21 @@ from collections import OrderedDict
 from collections.abc import Sequence
 
 from ..materials import LegDesign
+from ._metrics import check_warp
 from ._objective import Evaluation, Objective, aggregate, scored_by_hops, whole_run_value
+from ._robust import leg_mass_kg
 
 BACKEND = "warp"
 DEFAULT_BATCH_SIZE = 64  # trials asked per round (a GPU takes thousands: raise it there)
 
 
 def check_unperturbed(objective: Objective) -> None:
-    """ValueError unless `objective` runs unperturbed (replicates 0): the
-    batch kernels have no perturbations (:mod:`mat_hopper.perturbations`)."""
+    """ValueError unless the batch can score `objective`: unperturbed runs
+    (replicates 0: the batch kernels have no perturbations,
+    :mod:`mat_hopper.perturbations`) and objectives it computes (tracking
+    error, hip power, leg mass: no energetics, no stress;
+    :func:`~mat_hopper.optimize._metrics.check_warp`), each refused in one line."""
+    check_warp(objective.objectives)
     if objective.replicates:
         raise ValueError(
             f"the warp backend runs unperturbed rollouts only: give --replicates 0 (this objective asks for "
@@ -122,11 +131,14 @@ def evaluate_batch(
         One :class:`Evaluation` per design, in order.
 
     Raises:
-        ValueError: a design that needs physics substeps under the profile.
+        ValueError: a design that needs physics substeps under the profile,
+            a perturbed objective, or an objective the batch cannot compute
+            (energetics, stress: one line naming them).
         mat_hopper.batch.WarpUnavailable: without mujoco-warp.
     """
     from ..batch import evaluate as batch_evaluate
 
+    check_unperturbed(objective)
     designs = list(designs)
     if not designs:
         return []
@@ -146,7 +158,9 @@ def evaluate_batch(
                 progress=progress,
             )
             for i, summary in zip(idx, table.to_dict("records")):
-                rows[i].append(behaviour_row(summary, b, settings.duration_s))
+                row = behaviour_row(summary, b, settings.duration_s)
+                row["leg_mass_kg"] = leg_mass_kg(designs[i], objective.segment_mass)
+                rows[i].append(row)
     return [aggregate(r, objective, d) for r, d in zip(rows, designs)]
 
 

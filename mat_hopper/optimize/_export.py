@@ -8,8 +8,8 @@ DIR (default the studies folder):
     it (``design``, ``density_i`` g/cm^3, ``modulus_i`` GPa, exact to the
     last bit: ``repr`` of each float), then the study's settings and the
     trial's record (study, trial, profile, convention, segment_mass,
-    replicates, risk, behaviours, leg_mass_kg, each objective and its
-    standard error). ``mat-hopper simulate --design-csv`` and ``mat-hopper
+    replicates, risk, behaviours, objectives, leg_mass_kg, each objective
+    and its standard error). ``mat-hopper simulate --design-csv`` and ``mat-hopper
     batch --designs-csv`` read it (they ignore the record's columns);
     simulating it with the study's settings reproduces the trial's metrics
     exactly (the simulator is deterministic).
@@ -34,7 +34,7 @@ from ..atomic import write_csv, write_text
 from ..batch import designs_to_frame
 from ..behaviours import behaviour as get_behaviour
 from ..model import build_spec
-from ._objective import OBJECTIVES, RESULT_ATTR
+from ._objective import RESULT_ATTR
 from ._robust import SE_ATTR, leg_mass_kg
 
 
@@ -52,12 +52,14 @@ def design_frame(trial, design, config) -> pd.DataFrame:
         "replicates": ob.replicates,
         "risk": ob.risk,
         "behaviours": ",".join(ob.behaviours),
+        "objectives": ",".join(ob.objectives),
         "leg_mass_kg": leg_mass_kg(design, ob.segment_mass),
         "feasible": bool((trial.user_attrs.get(RESULT_ATTR) or {}).get("feasible", False)),
     }
     se = trial.user_attrs.get(SE_ATTR) or {}
-    values = trial.values if trial.state == optuna.trial.TrialState.COMPLETE and trial.values else [None] * 2
-    for o, v in zip(OBJECTIVES, values):
+    names = ob.objectives
+    values = trial.values if trial.state == optuna.trial.TrialState.COMPLETE and trial.values else [None] * len(names)
+    for o, v in zip(names, values):
         record[o] = v
         record[f"{o}_se"] = se.get(o)
     for k, v in record.items():

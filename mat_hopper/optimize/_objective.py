@@ -1,10 +1,18 @@
 """What the optimizer minimizes, and the run profiles it simulates with.
 
-Objectives (both minimized), from the per-hop metrics of
-:mod:`mat_hopper.metrics` over the hop cycles after the transient:
+Objectives (all minimized): two or three metrics of the named table
+:data:`mat_hopper.optimize._metrics.METRICS` (``Objective.objectives``),
+from the per-hop metrics of :mod:`mat_hopper.metrics` over the hop cycles
+after the transient. The default, :data:`OBJECTIVES`:
 
 1. ``tracking_error_m``: mean planar distance base - desired path (m);
 2. ``power_w``: mean hip mechanical power (W).
+
+Others: ``power_total_w`` (all three actuators, thrust included, W),
+``energy_per_hop_j`` (J), ``peak_stress_pa`` (Pa), ``damage_per_hop``
+(Miner damage) and ``leg_mass_kg`` (kg; issue 22's third objective). A
+default objective's key has no ``objectives`` entry, so studies made
+before the setting keep their keys.
 
 With several behaviours, each objective is the plain mean over the
 behaviours of each behaviour's mean (every behaviour weighs the same,
@@ -29,9 +37,9 @@ feasible):
   ``axial`` only axial stress is modelled.
 
 A run that diverged, fell (base below 0.1 m at the end) or scored no hop
-cycle still gets finite objective values, the same quantities averaged
-over every finite recorded sample of the run, so the samplers can model
-it; the constraints make it infeasible.
+cycle still gets finite objective values, the same quantities over every
+finite recorded sample of the run (:func:`~._metrics.run_values`), so the
+samplers can model it; the constraints make it infeasible.
 
 Profiles are :mod:`mat_hopper.experiments.paper`' (one setting for the whole
 package): ``paper`` is the paper's protocol (60 s runs, 20 s transient,
@@ -73,23 +81,23 @@ from ..materials import (
 )
 from ..metrics import hop_table
 from ..rollout import hop_cycles
-from ..sim import C, RolloutRunner
+from ..sim import RolloutRunner
 from . import _robust
+from ._metrics import DEFAULT_OBJECTIVES, NO_DATA_VALUE, parse_objectives, run_values
 
-OBJECTIVES = ("tracking_error_m", "power_w")
+OBJECTIVES = DEFAULT_OBJECTIVES  # the default objectives (tracking error m, hip power W)
 CONSTRAINTS = ("hop_height", "unstable")
 STRESS_CONSTRAINTS = ("peak_stress", "fatigue_life")  # issue 21, each only when asked (module doc)
 RESULT_ATTR = "result"  # the trial user attr holding its Evaluation (record_evaluation)
 HOP_HEIGHT_TOLERANCE_M = 0.05
-NO_DATA_VALUE = 1e6  # objective value only when a run recorded no finite sample
 CHUNK_S = 0.5  # simulated s per compiled chunk (lets the heartbeat thread run)
 LEG_MATERIAL_LENGTH_M = ref.MATERIAL_LENGTH  # total length of the material segments, any N
 
 
 @dataclass(frozen=True)
 class Objective:
-    """What the optimizer minimizes: tracking error and hip power, under a hop-height
-    and a stability constraint (module doc).
+    """What the optimizer minimizes (by default tracking error and hip power),
+    under a hop-height and a stability constraint (module doc).
 
     Args:
         behaviours: behaviours to run (names).
@@ -104,10 +112,14 @@ class Objective:
         leg_mass: None (unconstrained), a paper design's name or a mass in kg.
         leg_mass_tolerance_kg: the leg mass constraint's tolerance, kg (None:
             DEFAULT_LEG_MASS_TOLERANCE of the target).
+        max_yield_fraction, min_hops_to_failure: the stress constraints (module doc; None: off).
+        objectives: the metrics minimized, two or three names of
+            :data:`~mat_hopper.optimize._metrics.METRICS` (a sequence or a
+            comma-separated string, any case; default :data:`OBJECTIVES`).
 
     Raises:
-        ValueError: an unknown behaviour, convention or risk, or a value out
-            of range (naming it).
+        ValueError: an unknown behaviour, convention, risk or objective, or a
+            value out of range (naming it).
     """
 
     behaviours: tuple[str, ...] = ("ramp",)
@@ -124,6 +136,7 @@ class Objective:
     cvar_alpha: float = _robust.DEFAULT_CVAR_ALPHA
     leg_mass: str | float | None = None  # None: unconstrained; a paper design's name or kg
     leg_mass_tolerance_kg: float | None = None  # None: DEFAULT_LEG_MASS_TOLERANCE of the target
+    objectives: tuple[str, ...] = OBJECTIVES  # minimized metrics (mat_hopper.optimize._metrics)
 
     def __post_init__(self):
         behs = self.behaviours
@@ -138,6 +151,7 @@ class Objective:
         if len(set(behs)) != len(behs):
             raise ValueError(f"behaviours: each at most once, got {','.join(behs)}")
         object.__setattr__(self, "behaviours", behs)
+        object.__setattr__(self, "objectives", parse_objectives(self.objectives))
         if not isinstance(self.profile, Profile):
             raise ValueError("profile must be a Profile")
         object.__setattr__(self, "convention", check_convention(self.convention))
@@ -177,6 +191,8 @@ class Objective:
                 if getattr(self, k) is not None
             },
             **_robust.key_fields(self),
+            # only when not the default: a default objective keeps the key it had before the setting
+            **({"objectives": list(self.objectives)} if self.objectives != OBJECTIVES else {}),
         }
 
     @classmethod
@@ -194,6 +210,7 @@ class Objective:
             max_yield_fraction=key.get("max_yield_fraction"),
             min_hops_to_failure=key.get("min_hops_to_failure"),
             **_robust.from_key_fields(key),
+            objectives=tuple(key.get("objectives", OBJECTIVES)),
         )
 
     def sim_settings(self, perturbation=None, design=None):
@@ -210,16 +227,20 @@ class Evaluation:
     """One design's outcome.
 
     Args:
-        values: objective values in :data:`OBJECTIVES` order (tracking error m, hip power W).
-        constraints: constraint values in :data:`CONSTRAINTS` order (<= 0 feasible).
+        values: objective values in the objective's order (``objective_names``).
+        constraints: constraint values in ``constraint_names`` order (<= 0 feasible).
         hop_height_m: the mean hop height, m.
         per_behaviour: one row (dict) per behaviour run.
         total_mass_kg: the robot's mass, kg.
         simulated_s: simulated time of all its runs, s.
+        standard_errors: per objective, over replicates (nan: one run).
+        replicate_values: per replicate, per objective.
+        leg_mass_kg: the material segments' mass, kg.
+        constraint_names, objective_names: what ``constraints`` and ``values`` hold.
     """
 
-    values: tuple[float, float]
-    constraints: tuple[float, float]
+    values: tuple[float, ...]
+    constraints: tuple[float, ...]
     hop_height_m: float
     per_behaviour: list[dict] = field(default_factory=list)
     total_mass_kg: float = float("nan")
@@ -228,6 +249,7 @@ class Evaluation:
     replicate_values: list[list[float]] = field(default_factory=list)  # per replicate, per objective
     leg_mass_kg: float = float("nan")
     constraint_names: tuple[str, ...] = CONSTRAINTS
+    objective_names: tuple[str, ...] = OBJECTIVES
 
     @property
     def feasible(self) -> bool:
@@ -238,20 +260,6 @@ def whole_run_value(mean: float) -> float:
     """A whole-run mean as an objective value: capped at NO_DATA_VALUE, and
     NO_DATA_VALUE when the run recorded no finite sample (mean is nan)."""
     return float(min(mean, NO_DATA_VALUE)) if math.isfinite(mean) else NO_DATA_VALUE
-
-
-def _whole_run_means(rollout) -> tuple[float, float]:
-    """Tracking error (m) and hip power (W) over every finite sample."""
-    d = rollout.data
-    if len(d) == 0:
-        return NO_DATA_VALUE, NO_DATA_VALUE
-    err = np.hypot(d[:, C["x"]] - d[:, C["x_des"]], d[:, C["y"]] - d[:, C["y_des"]])
-    power = np.hypot(*rollout.hip_power.T)
-    out = []
-    for v in (err, power):
-        v = v[np.isfinite(v)]
-        out.append(whole_run_value(float(v.mean())) if len(v) else NO_DATA_VALUE)
-    return out[0], out[1]
 
 
 def scored_by_hops(n_hops: int, upright: bool) -> bool:
@@ -265,7 +273,9 @@ def run_behaviour(
 ) -> dict:
     """Simulate one behaviour in chunks of CHUNK_S simulated s (calling
     tick() between chunks), under `perturbation` (None: unperturbed), and
-    score it; the row's ``replicate`` is the perturbation's seed (-1: none)."""
+    score it: every metric of :data:`~._metrics.METRICS` (whatever the
+    objective minimizes, so that a cached run serves any objective); the
+    row's ``replicate`` is the perturbation's seed (-1: none)."""
     settings = objective.sim_settings(perturbation, design=design)
     runner = RolloutRunner(design, get_behaviour(behaviour_name), settings)
     chunk = max(1, int(round(CHUNK_S / settings.timestep_s)))
@@ -276,17 +286,12 @@ def run_behaviour(
     rollout = runner.result()
     hops = hop_table(rollout)
     ok = bool(rollout.upright)
-    if scored_by_hops(len(hops), ok):
-        tracking = float(hops["tracking_error_m"].mean())
-        power = float(hops["power_w"].mean())
-    else:
-        tracking, power = _whole_run_means(rollout)
     height = float(hops["hop_height_m"].mean()) if len(hops) else float("nan")
     life = fatigue_summary(rollout, hop_cycles(rollout))
+    mass = _robust.leg_mass_kg(design, objective.segment_mass)
     return {
         "behaviour": behaviour_name,
-        "tracking_error_m": tracking,
-        "power_w": power,
+        **run_values(rollout, hops, life, mass, scored_by_hops(len(hops), ok)),
         "hop_height_m": height,
         "n_hops": int(len(hops)),
         "stable": bool(rollout.stable),
@@ -326,7 +331,7 @@ def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluatio
         tick: called once per run done (progress), or None.
 
     Returns:
-        An :class:`Evaluation`: objective values (tracking error m, power W),
+        An :class:`Evaluation`: objective values (the objective's metrics),
         constraint values (<= 0 feasible), hop height m, per-run rows
         (MuJoCo warnings counted in ``mujoco_warnings``, not printed).
     """
@@ -341,8 +346,8 @@ def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluatio
 
 
 def aggregate(rows: list[dict], objective: Objective, design: LegDesign | None = None) -> Evaluation:
-    """One design's Evaluation from its per-run rows (keys behaviour,
-    tracking_error_m, power_w, hop_height_m, n_hops, upright, simulated_s,
+    """One design's Evaluation from its per-run rows (keys behaviour, each
+    of the objective's metrics, hop_height_m, n_hops, upright, simulated_s,
     total_mass_kg, and replicate: the seed, -1 or absent for an unperturbed
     run), as the module doc and :mod:`~mat_hopper.optimize._robust` define
     it: each replicate's value is the mean over behaviours, the objective
@@ -350,10 +355,9 @@ def aggregate(rows: list[dict], objective: Objective, design: LegDesign | None =
     takes each behaviour's mean height over replicates. `design` gives the
     leg mass (needed when the objective constrains it). Used by the CPU path
     (:func:`evaluate`) and the batch paths alike."""
-    per_rep = _robust.replicate_values(rows, OBJECTIVES)
-    scored = [
-        _robust.score([v[i] for v in per_rep], objective.risk, objective.cvar_alpha) for i in range(len(OBJECTIVES))
-    ]
+    names = objective.objectives
+    per_rep = _robust.replicate_values(rows, names)
+    scored = [_robust.score([v[i] for v in per_rep], objective.risk, objective.cvar_alpha) for i in range(len(names))]
     values = tuple(v for v, _ in scored)
     target, tol = objective.hop_height_target_m, objective.hop_height_tolerance_m
     height_violation = max(
@@ -374,6 +378,7 @@ def aggregate(rows: list[dict], objective: Objective, design: LegDesign | None =
         replicate_values=[list(v) for v in per_rep],
         leg_mass_kg=mass,
         constraint_names=objective.constraint_names,
+        objective_names=names,
     )
 
 
@@ -423,4 +428,4 @@ def record_evaluation(trial, design, ev) -> None:
     for name, value in zip(ev.constraint_names, ev.constraints):
         trial.set_constraint(name, value)
     trial.set_user_attr(RESULT_ATTR, result_attr(design, ev))
-    trial.set_user_attr(_robust.SE_ATTR, {k: _finite(v) for k, v in zip(OBJECTIVES, ev.standard_errors)})
+    trial.set_user_attr(_robust.SE_ATTR, {k: _finite(v) for k, v in zip(ev.objective_names, ev.standard_errors)})

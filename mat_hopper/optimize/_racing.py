@@ -422,7 +422,7 @@ def simulated_seconds(study: optuna.Study, racing: Racing) -> dict:
     """Simulated seconds the study spent, from its rung records: total,
     per full-fidelity (complete) trial, and what scoring every screened
     trial at full fidelity would have cost (each at the mean full-fidelity
-    cost of the complete trials)."""
+    cost of the complete trials), and the study's objectives (their names)."""
     last = f"{RUNG_ATTR}{len(racing.rungs) - 1}"
     total, full, screened = 0.0, [], 0
     for t in study.get_trials(deepcopy=False):
@@ -440,7 +440,7 @@ def simulated_seconds(study: optuna.Study, racing: Racing) -> dict:
         "simulated_s": total,
         "simulated_s_per_complete": total / len(full) if full else math.nan,
         "all_full_fidelity_s": screened * per_full,
-        "objectives": list(OBJECTIVES),
+        "objectives": list(study.metric_names or OBJECTIVES),
     }
 
 

@@ -2,8 +2,9 @@
 
 Searches leg designs (per-segment density and modulus, or catalogue
 materials: :mod:`mat_hopper.optimize._space`) for low tracking error and
-low hip power under a hop-height and a stability constraint
-(:mod:`mat_hopper.optimize._objective`). Every study starts from the
+low hip power (or two or three other metrics: ``--objectives``,
+:mod:`mat_hopper.optimize._metrics`) under a hop-height and a stability
+constraint (:mod:`mat_hopper.optimize._objective`). Every study starts from the
 paper's designs SS, rho-inc and PVC-Ti-SS (enqueued first). This module
 holds what a study is (:class:`StudyConfig`, stored in the study), how to
 run it (:class:`RunOptions`) and its creation (:func:`create_or_load`);
@@ -17,6 +18,7 @@ Command line::
     mat-hopper optimize --study NAME --trials 200 [--behaviour ramp] [--segments 3]
         [--space continuous|catalogue|KIND,KIND,...] [--workers 2] [--batch-size 8] [--storage URL]
         [--sampler tpe|nsga2|gp] [--seed 0] [--profile paper|quick] [--cache DIR]
+        [--objectives tracking_error_m,power_w]
     mat-hopper optimize --report NAME      # Pareto front, hypervolume, importances, CSV
     mat-hopper optimize --study NAME --replay TRIAL [--render]
 
@@ -62,7 +64,8 @@ import optuna
 from optuna.trial import TrialState
 
 from ..materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
-from ._objective import OBJECTIVES, Objective
+from ._metrics import METRICS
+from ._objective import Objective
 from ._samplers import SAMPLERS
 from ._space import SearchSpace
 from ._storage import ERROR_ATTR, PAPER_ATTR, check_study_name, default_url, open_storage
@@ -111,14 +114,17 @@ def check_objectives_vary(objective: Objective) -> None:
         objective: the study's objective.
 
     Raises:
-        ValueError: static hopping alone (tracking error and hip power are zero
-            by symmetry for every design, round-off only).
+        ValueError: static hopping alone with an objective that is zero by
+            symmetry for every design there (tracking error, hip power:
+            round-off only; total power, energy, stress and mass vary).
     """
-    if all(b in DEGENERATE_BEHAVIOURS for b in objective.behaviours):
+    zero = [o for o in objective.objectives if METRICS[o].static_zero]
+    if zero and all(b in DEGENERATE_BEHAVIOURS for b in objective.behaviours):
+        what = " and ".join(METRICS[o].label for o in zero)
         raise ValueError(
-            f"--behaviour {','.join(objective.behaviours)} alone cannot be optimized: hopping in place, "
-            "tracking error and hip power are zero by symmetry for every design (round-off only); "
-            "add a moving behaviour, e.g. --behaviour static,ramp"
+            f"--behaviour {','.join(objective.behaviours)} alone cannot be optimized for {', '.join(zero)}: "
+            f"hopping in place, {what} {'are' if len(zero) > 1 else 'is'} zero by symmetry for every design "
+            "(round-off only); add a moving behaviour, e.g. --behaviour static,ramp"
         )
 
 
@@ -326,7 +332,10 @@ def create_or_load(
         warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
         try:
             study = optuna.create_study(
-                study_name=config.name, storage=storage, sampler=sampler, directions=["minimize"] * len(OBJECTIVES)
+                study_name=config.name,
+                storage=storage,
+                sampler=sampler,
+                directions=["minimize"] * len(config.objective.objectives),
             )
             created = True
         except optuna.exceptions.DuplicatedStudyError:
@@ -349,7 +358,7 @@ def create_or_load(
     if stored is None:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
-            study.set_metric_names(list(OBJECTIVES))
+            study.set_metric_names(list(config.objective.objectives))
         for name, params in config.space.seeds():
             study.enqueue_trial(params, user_attrs={PAPER_ATTR: name}, skip_if_exists=True)
         study.set_user_attr(CONFIG_ATTR, config.key())  # last: the study is ready

@@ -7,14 +7,16 @@
   height, constraint values, per-segment density g/cm^3 and modulus GPa,
   parameters, worker, error), ordered by trial number;
 - ``pareto.csv``: the non-dominated feasible designs, with the percent
-  change of tracking error and power against the paper's SS and rho-inc
+  change of each objective against the paper's SS and rho-inc
   (the study's own runs of them, or, when its space cannot express them,
   runs made here with the study's settings and kept in the study);
-- ``pareto.png``: power against tracking error, feasible, infeasible,
-  the Pareto front and the paper's designs marked;
+- ``pareto.png``: the second objective against the first (with three
+  objectives, one panel per pair), feasible, infeasible, the Pareto front
+  and the paper's designs marked;
 - ``hypervolume.csv`` / ``.png``: hypervolume of the feasible front after
   each trial, against a reference point 10 % beyond the worst feasible
-  value of each objective (both objectives minimized);
+  value of each objective (every objective minimized; any number of them,
+  :func:`hypervolume`);
 - ``importances.csv`` / ``.png``: Optuna's parameter importances
   (PED-ANOVA) for each objective.
 
@@ -23,8 +25,10 @@ simulates it again with the study's settings (bit-identical to the stored
 values, by the determinism of the simulator); with ``--render`` it also
 renders it (:func:`mat_hopper.viz.render.render_files`).
 
-The Pareto front is Optuna's ``study.best_trials``; the hypervolume and
-importance plots are ``optuna.visualization.matplotlib``'s. The Pareto
+The objectives are the study's (``Objective.objectives``, default tracking
+error and hip power; :mod:`mat_hopper.optimize._metrics`). The Pareto
+front is Optuna's ``study.best_trials``; the hypervolume and importance
+plots are ``optuna.visualization.matplotlib``'s (n objectives). The Pareto
 plot is ours: Optuna's cannot mark the paper's designs and baselines.
 """
 
@@ -44,6 +48,7 @@ from ..change import percent_change
 from ..materials import LegDesign, paper_designs
 from ..viz import study as study_plots
 from ..viz.style import save_figure
+from ._metrics import METRICS
 from ._objective import OBJECTIVES, RESULT_ATTR, Objective, evaluate
 from ._robust import SE_ATTR, leg_mass_kg
 from ._space import resample
@@ -78,7 +83,7 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
         The trials table, columns as the module doc lists them (units in the names).
     """
     rows = []
-    space = config.space
+    space, objectives = config.space, config.objective.objectives
     states = tuple(s for s in TrialState if s != TrialState.WAITING)
     for t in sorted(study.get_trials(deepcopy=False, states=states), key=lambda t: t.number):
         ua = t.user_attrs
@@ -89,21 +94,20 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
             "paper_design": ua.get(PAPER_ATTR, ""),
             "design": res.get("design", ""),
             "feasible": bool(res.get("feasible", False)),
-            "tracking_error_m": np.nan,
-            "power_w": np.nan,
+            **dict.fromkeys(objectives, np.nan),
             "hop_height_m": res.get("hop_height_m") if res.get("hop_height_m") is not None else np.nan,
             "total_mass_kg": res.get("total_mass_kg", np.nan),
             "leg_mass_kg": np.nan,
         }
         if t.state == TrialState.COMPLETE and t.values is not None:
-            row.update(dict(zip(OBJECTIVES, t.values)))
+            row.update(dict(zip(objectives, t.values)))
         se = ua.get(SE_ATTR) or {}
-        row.update({f"{o}_se": np.nan if se.get(o) is None else se[o] for o in OBJECTIVES})
+        row.update({f"{o}_se": np.nan if se.get(o) is None else se[o] for o in objectives})
         c = t.constraints
         row.update({f"constraint_{n}": c.get(n, np.nan) for n in config.objective.constraint_names})
         try:
             design = space.design(t.params)
-            row["leg_mass_kg"] = leg_mass_kg(design, config.objective.segment_mass)
+            row["leg_mass_kg"] = leg_mass_kg(design, config.objective.segment_mass)  # the objective's too
             for i, m in enumerate(design.segments, 1):
                 row[f"seg{i}_rho_g_cm3"] = m.density_g_cm3
                 row[f"seg{i}_e_gpa"] = m.modulus_gpa
@@ -126,64 +130,101 @@ def feasible_complete(frame: pd.DataFrame) -> pd.DataFrame:
     return frame[(frame["state"] == "COMPLETE") & frame["feasible"].astype(bool)]
 
 
-def pareto_frame(frame: pd.DataFrame, baselines: dict | None = None, *, best=None) -> pd.DataFrame:
-    """The Pareto front, by tracking error. Of trials with identical objective
-    values (a design evaluated twice, e.g. a retried trial) the first is kept:
-    Optuna lists every copy.
+def pareto_frame(
+    frame: pd.DataFrame, baselines: dict | None = None, *, best=None, objectives=OBJECTIVES
+) -> pd.DataFrame:
+    """The Pareto front, by its first objective. Of trials with identical
+    objective values (a design evaluated twice, e.g. a retried trial) the
+    first is kept: Optuna lists every copy.
 
     Args:
         frame: :func:`trials_frame`'s table.
-        baselines: {name: (tracking_error_m, power_w)} to compare against, or None.
+        baselines: {name: objective values in `objectives` order} to compare against, or None.
         best: the front's trial numbers, from Optuna's ``study.best_trials``
             (complete, feasible, non-dominated).
+        objectives: the study's objectives (``Objective.objectives``).
 
     Returns:
-        The front's rows, with percent changes against each baseline.
+        The front's rows, with percent changes against each baseline
+        (``<stem>_vs_<name>_pct``, the stem the metric's name without its
+        unit: ``tracking_error_vs_SS_pct``).
     """
+    objectives = tuple(objectives)
     ok = feasible_complete(frame)
     if ok.empty or not best:
         return ok.iloc[0:0].copy()
     front = ok[ok["trial"].isin(set(best))].sort_values("trial")
-    front = front.drop_duplicates(subset=list(OBJECTIVES), keep="first")
-    front = front.sort_values("tracking_error_m", kind="stable").copy()
+    front = front.drop_duplicates(subset=list(objectives), keep="first")
+    front = front.sort_values(objectives[0], kind="stable").copy()
     for name, vals in (baselines or {}).items():
-        for obj, base in zip(OBJECTIVES, vals):
-            front[f"{obj.rsplit('_', 1)[0]}_vs_{name}_pct"] = percent_change(front[obj].to_numpy(float), base)
-    cols = ["trial", "design", "paper_design", *OBJECTIVES, *(f"{o}_se" for o in OBJECTIVES), "hop_height_m"]
-    cols = [c for c in cols + ["leg_mass_kg"] if c in front.columns]  # a table of an older report may lack some
+        for obj, base in zip(objectives, vals):
+            front[f"{METRICS[obj].stem}_vs_{name}_pct"] = percent_change(front[obj].to_numpy(float), base)
+    cols = ["trial", "design", "paper_design", *objectives, *(f"{o}_se" for o in objectives), "hop_height_m"]
+    cols = list(dict.fromkeys(c for c in cols + ["leg_mass_kg"] if c in front.columns))  # an older table may lack some
     cols += [c for c in front.columns if c.endswith("_pct")]
     cols += [c for c in front.columns if c.startswith("seg") and c not in cols]
     return front[cols].reset_index(drop=True)
 
 
-def hypervolume_2d(points: np.ndarray, reference) -> float:
-    """Area dominated by `points` (n x 2, minimized) and bounded by `reference`.
+def hypervolume(points, reference) -> float:
+    """Volume dominated by `points` (n x d, every objective minimized) and
+    bounded by `reference` (d values), exact, for any d >= 1.
 
     Ours because Optuna's public API only plots the hypervolume history
     (``optuna.visualization.matplotlib.plot_hypervolume_history``, used for
-    the figure); the numbers for ``hypervolume.csv`` need this."""
-    p = np.asarray(points, float).reshape(-1, 2)
-    r = np.asarray(reference, float)
+    the figure; its computation is private) and no hypervolume package is
+    installed. Slicing (Zitzler's HSO): sort by the last objective; between
+    one point's value and the next, the dominated region's cross-section is
+    the (d - 1)-dimensional hypervolume of the points seen so far. d = 2 is
+    the usual staircase sweep. Cost O(n^(d-1) log n): fronts of tens of
+    points in 2 or 3 objectives take milliseconds.
+
+    Args:
+        points: (n, d) array-like (n may be 0).
+        reference: (d,) the bounding point; points not strictly below it in
+            every objective add nothing.
+
+    Returns:
+        float, in the product of the objectives' units.
+    """
+    r = np.asarray(reference, float).ravel()
+    p = np.asarray(points, float).reshape(-1, len(r))
     p = p[np.all(p < r, axis=1)]
     if len(p) == 0:
         return 0.0
-    p = p[np.lexsort((p[:, 1], p[:, 0]))]
-    area, best_y = 0.0, r[1]
-    for x, y in p:
-        if y < best_y:
-            area += (r[0] - x) * (best_y - y)
-            best_y = y
-    return float(area)
+    if len(r) == 1:
+        return float(r[0] - p[:, 0].min())
+    if len(r) == 2:  # staircase: by x, add each point's strip below the best y so far
+        p = p[np.lexsort((p[:, 1], p[:, 0]))]
+        area, best_y = 0.0, r[1]
+        for x, y in p:
+            if y < best_y:
+                area += (r[0] - x) * (best_y - y)
+                best_y = y
+        return float(area)
+    p = p[np.argsort(p[:, -1], kind="stable")]
+    volume = 0.0
+    for i in range(len(p)):  # the slab from this point's last value to the next one's (or the reference)
+        top = p[i + 1, -1] if i + 1 < len(p) else r[-1]
+        if top > p[i, -1]:
+            volume += hypervolume(p[: i + 1, :-1], r[:-1]) * (top - p[i, -1])
+    return float(volume)
 
 
-def hypervolume_history(frame: pd.DataFrame, reference=None) -> tuple[pd.DataFrame, tuple]:
+def hypervolume_2d(points: np.ndarray, reference) -> float:
+    """Area dominated by `points` (n x 2, minimized) and bounded by
+    `reference`: :func:`hypervolume` in two objectives."""
+    return hypervolume(np.asarray(points, float).reshape(-1, 2), reference)
+
+
+def hypervolume_history(frame: pd.DataFrame, reference=None, objectives=OBJECTIVES) -> tuple[pd.DataFrame, tuple]:
     """Hypervolume of the feasible complete trials up to each trial number,
     and the reference point used (default: worst feasible value of each
-    objective plus 10 % of its range)."""
+    objective plus 10 % of its range), in the `objectives`' columns."""
     ok = feasible_complete(frame)
     if ok.empty:
         return pd.DataFrame(columns=["trial", "hypervolume"]), ()
-    vals = ok[list(OBJECTIVES)].to_numpy(float)
+    vals = ok[list(objectives)].to_numpy(float)
     if reference is None:
         lo, hi = vals.min(axis=0), vals.max(axis=0)
         span = np.where(hi > lo, hi - lo, np.maximum(np.abs(hi), 1e-12))
@@ -192,7 +233,7 @@ def hypervolume_history(frame: pd.DataFrame, reference=None) -> tuple[pd.DataFra
     ok_trials = ok["trial"].to_numpy()
     out = []
     for n in trials:
-        out.append({"trial": int(n), "hypervolume": hypervolume_2d(vals[ok_trials <= n], reference)})
+        out.append({"trial": int(n), "hypervolume": hypervolume(vals[ok_trials <= n], reference)})
     return pd.DataFrame(out), tuple(reference)
 
 
@@ -214,7 +255,7 @@ def importances(study: optuna.Study) -> pd.DataFrame:
     rows = []
     if not enough_for_importances(study):
         return pd.DataFrame(columns=["objective", "param", "importance"])
-    for i, obj in enumerate(OBJECTIVES):
+    for i, obj in enumerate(study.metric_names or OBJECTIVES):
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
@@ -226,13 +267,14 @@ def importances(study: optuna.Study) -> pd.DataFrame:
 
 
 def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> dict:
-    """(tracking_error_m, power_w) of SS and rho-inc under the study's
-    settings: its enqueued run, or a run made now and kept in the study."""
-    out = {}
+    """The objective values (the study's objectives, in order) of SS and
+    rho-inc under the study's settings: its enqueued run, or a run made now
+    and kept in the study."""
+    out, objectives = {}, config.objective.objectives
     for name in BASELINES:
         rows = frame[(frame["paper_design"] == name) & (frame["state"] == "COMPLETE")] if not frame.empty else frame
         if len(rows):
-            out[name] = tuple(float(rows.iloc[0][o]) for o in OBJECTIVES)
+            out[name] = tuple(float(rows.iloc[0][o]) for o in objectives)
             continue
         key = f"baseline:{name}"
         if key in study.user_attrs:
@@ -264,10 +306,11 @@ def write_report(name: str, storage, out_dir: str) -> dict:
     """
     study, config = load(name, storage)
     os.makedirs(out_dir, exist_ok=True)
+    objectives = config.objective.objectives
     frame = trials_frame(study, config)
     base = baselines(study, config, frame)
-    front = pareto_frame(frame, base, best=[t.number for t in study.best_trials])
-    hv, ref_point = hypervolume_history(frame)
+    front = pareto_frame(frame, base, best=[t.number for t in study.best_trials], objectives=objectives)
+    hv, ref_point = hypervolume_history(frame, objectives=objectives)
     imp = importances(study)
     paths = {
         k: os.path.join(out_dir, f)
@@ -287,10 +330,13 @@ def write_report(name: str, storage, out_dir: str) -> dict:
     write_csv(imp, paths["importances"])
     beh = ",".join(config.objective.behaviours)
     what = f"{name}: {beh}, {config.objective.profile.name} profile, {config.space.n_segments} segments"
-    save_figure(study_plots.pareto_figure(frame, front, base, what), paths["pareto_plot"], formats=("png",), dpi=130)
+    axes = [(o, METRICS[o].axis_label) for o in objectives]
+    fig = study_plots.pareto_figure(frame, front, base, what, axes=axes)
+    save_figure(fig, paths["pareto_plot"], formats=("png",), dpi=130)
     ref_text = ", ".join(f"{v:.4g}" for v in ref_point)
+    unit = " ".join(METRICS[o].unit for o in objectives if METRICS[o].unit != "1") or "1"
     save_figure(
-        study_plots.hypervolume_figure(study, ref_point, f"{what}\nreference point ({ref_text})"),
+        study_plots.hypervolume_figure(study, ref_point, f"{what}\nreference point ({ref_text})", unit=unit),
         paths["hypervolume_plot"],
         formats=("png",),
         dpi=130,
@@ -375,12 +421,13 @@ def book_study(
     batch: int = STUDY_BATCH,
     cache_dir=None,
     workers: int | None = None,
+    objectives=OBJECTIVES,
 ) -> dict:
     """Run (or resume, or just load) the book's design study, then write its report.
 
     The study (:func:`mat_hopper.optimize.run_study`): continuous
     density and modulus per segment (3 segments; in the hulls of
-    `ashby_classes` when given), tracking error and hip power on `behaviours`
+    `ashby_classes` when given), `objectives` (tracking error and hip power) on `behaviours`
     under the profile, the paper's nine designs first (the rigid MD as a
     baseline run), in batches through the runner's cache and pool, so the
     study is the same on any machine. Its name carries a digest of the
@@ -398,6 +445,8 @@ def book_study(
         sampler: an Optuna sampler's name.
         batch: trials per batch.
         cache_dir, workers: the runner's cache folder and processes.
+        objectives: the metrics minimized (default tracking error and hip
+            power, whose study names are unchanged by the setting).
 
     Returns:
         The report dict (``trials``, ``pareto``, ``baselines``, ``hypervolume``,
@@ -416,7 +465,9 @@ def book_study(
 
     profile = get_profile(profile)
     n = STUDY_TRIALS.get(profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
-    objective = Objective(behaviours=tuple(behaviours), profile=profile, replicates=STUDY_REPLICATES)
+    objective = Objective(
+        behaviours=tuple(behaviours), profile=profile, replicates=STUDY_REPLICATES, objectives=objectives
+    )
     space = SearchSpace(ashby_classes=ashby_classes)
     probe = StudyConfig("probe", space, objective)
     run_key = {"config": probe.key(), "sampler": sampler, "seed": seed, "batch": batch}
@@ -441,37 +492,40 @@ def book_study(
     return report
 
 
-def front_table(front: pd.DataFrame) -> pd.DataFrame:
+def front_table(front: pd.DataFrame, objectives=None) -> pd.DataFrame:
     """A Pareto table for the page: a design a reader can build
     (``mat-hopper optimize --export TRIAL`` writes it).
 
     Args:
         front: :func:`pareto_frame`'s table.
+        objectives: the study's objectives (None: those whose standard-error
+            column the table has, else tracking error and hip power).
 
     Returns:
-        trial, the paper's design it is (if any), tracking error (mm), hip
-        power (mW), their standard errors (a noise-aware study's), hop height
-        (m), the percent changes against the baselines, the leg's mass (kg)
-        and each segment's density (g/cm^3) and modulus (GPa), base to foot,
-        with short column names.
+        trial, the paper's design it is (if any), each objective in its
+        display unit (tracking error mm, hip power mW, peak stress MPa, ...),
+        their standard errors (a noise-aware study's), hop height (m), the
+        percent changes against the baselines, the leg's mass (kg) and each
+        segment's density (g/cm^3) and modulus (GPa), base to foot, with
+        short column names.
     """
-    out = pd.DataFrame(
-        {
-            "trial": front["trial"].astype(int),
-            "paper design": front.get("paper_design", pd.Series([""] * len(front))).fillna(""),
-            "tracking error (mm)": front["tracking_error_m"] * 1e3,
-            "hip power (mW)": front["power_w"] * 1e3,
-            "hop height (m)": front["hop_height_m"],
-        }
-    )
-    for col, name, scale in (("tracking_error_m_se", "tracking SE (mm)", 1e3), ("power_w_se", "power SE (mW)", 1e3)):
-        if col in front.columns and front[col].notna().any():  # a noise-aware study's standard errors
-            out.insert(list(out.columns).index("hop height (m)"), name, front[col] * scale)
+    if objectives is None:
+        objectives = tuple(m for m in METRICS if f"{m}_se" in front.columns) or OBJECTIVES
+    metrics = [METRICS[o] for o in objectives]
+    out = pd.DataFrame({"trial": front["trial"].astype(int)})
+    out["paper design"] = front.get("paper_design", pd.Series([""] * len(front))).fillna("").to_numpy()
+    for m in metrics:
+        out[f"{m.label} ({m.display_unit})"] = front[m.name] * m.display_scale
+    for m in metrics:  # a noise-aware study's standard errors
+        col = f"{m.name}_se"
+        if m.noisy and col in front.columns and front[col].notna().any():
+            out[f"{m.short} SE ({m.display_unit})"] = front[col] * m.display_scale
+    out["hop height (m)"] = front["hop_height_m"]
+    shorts = {m.stem: m.short for m in METRICS.values()}
     for col in front.columns:
-        m = re.fullmatch(r"(tracking_error|power)_vs_(.+)_pct", col)
-        if m:
-            what = "tracking" if m.group(1) == "tracking_error" else "power"
-            out[f"{what} vs {m.group(2)} (%)"] = front[col]
+        hit = re.fullmatch(r"(.+)_vs_(.+)_pct", col)
+        if hit and hit.group(1) in shorts:
+            out[f"{shorts[hit.group(1)]} vs {hit.group(2)} (%)"] = front[col]
     out["leg mass (kg)"] = front["leg_mass_kg"] if "leg_mass_kg" in front.columns else np.nan
     i = 1
     while f"seg{i}_rho_g_cm3" in front.columns:

@@ -40,7 +40,12 @@ so every comparison of a front design with a comparator (each of the
 paper's nine designs, its mass-matched leg, its rigid twin) is paired by
 seed (:func:`mat_hopper.analysis.paired.paired_effect`: the log ratio of
 the replicate means, each a mean over the study's behaviours, with its t
-interval and paired t p). Multiplicity: Holm over all the comparisons of
+interval and paired t p), on each of the study's own objectives
+(``objective.objectives``: each metric's run-summary column,
+:class:`~mat_hopper.optimize._metrics.Metric`; leg mass as the objective
+counts it, the material segments'). A stress objective has no value for a
+leg without modelled stress (a rigid twin, MD): those comparisons are left
+out. Multiplicity: Holm over all the comparisons of
 one front design (comparators x objectives); a comparison is significant
 only where an exact sign-flip test on its n seeds could reach Holm's
 threshold in that family (:func:`mat_hopper.analysis.paired.reachable`).
@@ -79,7 +84,9 @@ from ..keys import design_key
 from ..materials import LegDesign, paper_designs
 from ..metrics import holm
 from ..timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S, resolve_timestep
-from ._objective import OBJECTIVES, Objective
+from ._metrics import METRICS
+from ._objective import Objective
+from ._robust import leg_mass_kg
 
 NOMINAL, REPLICATE, BEHAVIOUR = "nominal", "replicate", "behaviour"
 FINE_CONTROL, FINE_PLAIN, AXIAL = "step 2e-5 s, control 1e-4 s", "step 2e-5 s", "axial"
@@ -154,23 +161,41 @@ def validation_tasks(front: dict, objective: Objective, replicates: int, paper: 
     return tasks
 
 
+MATERIAL_LEG_MASS = "material_leg_mass_kg"  # runs column: the material segments' mass (the objective's)
+
+
+def _summary_column(name: str) -> str:
+    """The runs column of objective `name`: the run summary's
+    (:attr:`~mat_hopper.optimize._metrics.Metric.summary_column`), except
+    leg mass, whose summary column is the whole leg's (MuJoCo's model, foot
+    included): the objective's is the material segments' (MATERIAL_LEG_MASS)."""
+    return MATERIAL_LEG_MASS if name == "leg_mass_kg" else METRICS[name].summary_column
+
+
 def replicate_means(runs: pd.DataFrame, objective: Objective) -> pd.DataFrame:
-    """Per (role, design, replicate): each objective's mean over the study's
-    behaviours, from the replicate runs that ended well; a replicate that
-    fell or diverged on any behaviour is missing (NaN)."""
+    """Per (role, design, replicate): each of the objective's metrics
+    (``objective.objectives``, read from its run-summary column) as the mean
+    over the study's behaviours, from the replicate runs that ended well; a
+    replicate that fell or diverged on any behaviour is missing (NaN). A
+    stress metric of a leg with no modelled stress (rigid segments) is NaN,
+    so that it is left out of the comparisons (:func:`_compare`)."""
     reps = runs[(runs["check"] == REPLICATE) & (runs["status"] == OK)]
-    cols = [f"mean_{o}" for o in OBJECTIVES]
+    cols = {_summary_column(o): o for o in objective.objectives}
     g = reps.groupby(["role", "design", "replicate"])
-    means = g[cols].mean()
+    means = g[list(cols)].mean()
     complete = g["behaviour"].nunique() == len(objective.behaviours)
-    return means[complete].rename(columns=lambda c: c.removeprefix("mean_"))
+    return means[complete].rename(columns=cols)
 
 
 def _compare(means: pd.DataFrame, a: tuple, b: tuple) -> dict:
     """Paired effects of design a against design b ((role, name) each) per
-    objective, on the seeds both have."""
+    objective (the columns of `means`), on the seeds both have; an objective
+    that either design lacks altogether (a stress metric of a rigid leg) is
+    left out."""
     out = {}
-    for obj in OBJECTIVES:
+    for obj in means.columns:
+        if means.loc[a][obj].isna().all() or means.loc[b][obj].isna().all():
+            continue
         pair = pd.concat([means.loc[a][obj], means.loc[b][obj]], axis=1, join="inner").dropna()
         out[obj] = paired.paired_effect(pair.iloc[:, 0], pair.iloc[:, 1], confidence=CONFIDENCE)
     return out
@@ -249,7 +274,9 @@ def beats(table: pd.DataFrame, design: str, kind: str) -> str:
 
 def paper_best(runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA) -> list[str]:
     """The paper designs no other paper design dominates, paired by seed
-    (Holm over each design's comparisons with the other eight)."""
+    (Holm over each design's comparisons with the other eight; a design
+    with none to compare with, where the others fell on some seed, counts
+    as best)."""
     means = replicate_means(runs, objective)
     names = [d for r, d in dict.fromkeys(means.index.droplevel("replicate")) if r == "paper"]
     best = []
@@ -260,6 +287,9 @@ def paper_best(runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA) -
             if b != a
             for o, e in _compare(means, ("paper", a), ("paper", b)).items()
         ]
+        if not rows:  # no other paper design to compare with (the others fell on some seed)
+            best.append(a)
+            continue
         t = pd.DataFrame(rows)
         t["p_holm"] = holm(t["p"].to_numpy(float))
         t["significant"] = paired.reachable(int(t["n_pairs"].min()), len(t), alpha) & (t["p_holm"] < alpha)
@@ -332,6 +362,7 @@ def validate_front(
     tasks = validation_tasks(front, objective, n)
     res = run_grid(tasks, cache_dir, workers=workers, progress=progress, desc="front validation")
     runs = res.summary
+    runs[MATERIAL_LEG_MASS] = [leg_mass_kg(t.design, objective.segment_mass) for t in tasks]
     if res.n_failed:
         bad = runs[runs["status"] == FAILED]
         raise RuntimeError(f"{len(bad)} validation run(s) failed: {'; '.join(bad['error'].astype(str).unique()[:3])}")

@@ -23,62 +23,77 @@ def _feasible_complete(frame: pd.DataFrame) -> pd.DataFrame:
     return frame[(frame["state"] == "COMPLETE") & frame["feasible"].astype(bool)]
 
 
-def pareto_figure(frame: pd.DataFrame, front: pd.DataFrame, base: dict, title: str) -> Figure:
-    """Power against tracking error of every complete trial (feasible,
-    infeasible), the Pareto front, the paper's designs (gold stars) and
-    baseline runs made outside the study (white stars)."""
-    fig = Figure(figsize=(6.4, 4.8), layout="constrained")
-    ax = fig.subplots()
+DEFAULT_AXES = (("tracking_error_m", "tracking error (m, mean over hop cycles)"),
+                ("power_w", "hip power (W, mean over hop cycles)"))  # fmt: skip
+
+
+def pareto_figure(frame: pd.DataFrame, front: pd.DataFrame, base: dict, title: str, *, axes=DEFAULT_AXES) -> Figure:
+    """Every complete trial (feasible, infeasible), the Pareto front, the
+    paper's designs (gold stars) and baseline runs made outside the study
+    (white stars), in the objectives' plane: one panel for two objectives,
+    one per pair for three (the front's projections, no staircase).
+
+    Args:
+        frame: the trials table (:func:`mat_hopper.optimize.report.trials_frame`).
+        front: the Pareto table (:func:`mat_hopper.optimize.report.pareto_frame`).
+        base: {name: objective values, in `axes` order} of the baselines.
+        title: the figure's title.
+        axes: ((column, axis label), ...) of the objectives, two or three.
+
+    Returns:
+        A matplotlib Figure.
+    """
+    pairs = [(0, 1)] if len(axes) == 2 else [(i, j) for i in range(len(axes)) for j in range(i + 1, len(axes))]
+    fig = Figure(figsize=(6.4 if len(pairs) == 1 else 4.6 * len(pairs), 4.8), layout="constrained")
+    panels = fig.subplots(1, len(pairs), squeeze=False)[0]
+    for ax, (i, j) in zip(panels, pairs):
+        _pareto_panel(ax, frame, front, base, axes, (i, j), staircase=len(pairs) == 1)
+    if len(pairs) == 1:
+        panels[0].set_title(title, fontsize=10)
+    else:
+        fig.suptitle(title, fontsize=10)
+    return fig
+
+
+def _pareto_panel(ax, frame, front, base: dict, axes, ij, staircase: bool) -> None:
+    """One panel of :func:`pareto_figure`: objective ij[1] against ij[0]."""
+    (x, xlabel), (y, ylabel) = axes[ij[0]], axes[ij[1]]
     done = frame[frame["state"] == "COMPLETE"] if not frame.empty else frame
     ok = _feasible_complete(frame)
     bad = done[~done["feasible"].astype(bool)] if not done.empty else done
     shown = pd.concat([ok, done[done["paper_design"] != ""]]) if not done.empty else done
     if not ok.empty:
-        ax.scatter(ok["tracking_error_m"], ok["power_w"], s=14, c="tab:blue", alpha=0.6, label=f"feasible ({len(ok)})")
+        ax.scatter(ok[x], ok[y], s=14, c="tab:blue", alpha=0.6, label=f"feasible ({len(ok)})")
     if not bad.empty:
-        ax.scatter(
-            bad["tracking_error_m"],
-            bad["power_w"],
-            s=14,
-            c="0.6",
-            marker="x",
-            alpha=0.6,
-            label=f"infeasible ({len(bad)})",
-        )
+        ax.scatter(bad[x], bad[y], s=14, c="0.6", marker="x", alpha=0.6, label=f"infeasible ({len(bad)})")
     if not front.empty:
-        ax.plot(
-            front["tracking_error_m"],
-            front["power_w"],
-            "-o",
-            c="tab:red",
-            ms=5,
-            drawstyle="steps-post",
-            label=f"Pareto front ({len(front)})",
-        )
+        f = front.sort_values(x, kind="stable")
+        style = {"drawstyle": "steps-post"} if staircase else {}
+        fmt = "-o" if staircase else "o"
+        ax.plot(f[x], f[y], fmt, c="tab:red", ms=5, label=f"Pareto front ({len(front)})", **style)
     for _, r in done[done["paper_design"] != ""].iterrows() if not done.empty else ():
-        ax.scatter([r["tracking_error_m"]], [r["power_w"]], marker="*", s=160, c="gold", edgecolors="k", zorder=5)
+        ax.scatter([r[x]], [r[y]], marker="*", s=160, c="gold", edgecolors="k", zorder=5)
         ax.annotate(
             r["paper_design"] + ("" if r["feasible"] else " (infeasible)"),
-            (r["tracking_error_m"], r["power_w"]),
+            (r[x], r[y]),
             textcoords="offset points",
             xytext=(6, 6),
             fontsize=8,
         )
-    for name, (te, pw) in base.items():
+    for name, values in base.items():
         if done.empty or name not in set(done["paper_design"]):
-            ax.scatter([te], [pw], marker="*", s=160, c="white", edgecolors="k", zorder=5)
-            ax.annotate(f"{name} (baseline run)", (te, pw), textcoords="offset points", xytext=(6, 6), fontsize=8)
-            shown = pd.concat([shown, pd.DataFrame({"tracking_error_m": [te], "power_w": [pw]})])
+            bx, by = values[ij[0]], values[ij[1]]
+            ax.scatter([bx], [by], marker="*", s=160, c="white", edgecolors="k", zorder=5)
+            ax.annotate(f"{name} (baseline run)", (bx, by), textcoords="offset points", xytext=(6, 6), fontsize=8)
+            shown = pd.concat([shown, pd.DataFrame({x: [bx], y: [by]})])
     if len(shown):
-        for col, setter in (("tracking_error_m", ax.set_xlim), ("power_w", ax.set_ylim)):
+        for col, setter in ((x, ax.set_xlim), (y, ax.set_ylim)):
             lo, hi = float(shown[col].min()), float(shown[col].max())
             pad = 0.08 * (hi - lo) if hi > lo else 0.1 * abs(hi) + 1e-12
             setter(lo - pad, hi + pad)
-    ax.set_xlabel("tracking error (m, mean over hop cycles)")
-    ax.set_ylabel("hip power (W, mean over hop cycles)")
-    ax.set_title(title, fontsize=10)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
     ax.legend(fontsize=8, loc="best")
-    return fig
 
 
 def _optuna_axes_figure(ax) -> Figure:
@@ -91,22 +106,23 @@ def _optuna_axes_figure(ax) -> Figure:
     return fig
 
 
-def hypervolume_figure(study, reference_point, title: str) -> Figure:
-    """Hypervolume of the feasible front after each trial (Optuna's plot),
-    against `reference_point` (both objectives minimized)."""
+def hypervolume_figure(study, reference_point, title: str, *, unit: str = "m W") -> Figure:
+    """Hypervolume of the feasible front after each trial (Optuna's plot,
+    any number of objectives), against `reference_point` (every objective
+    minimized); `unit` is the product of the objectives' units."""
     from optuna.visualization.matplotlib import plot_hypervolume_history
 
     if not reference_point:  # no feasible trial yet: an empty plot with the title
         fig = Figure(figsize=(6.4, 3.6), layout="constrained")
         ax = fig.subplots()
         ax.set_xlabel("trial")
-        ax.set_ylabel("hypervolume (m W)")
+        ax.set_ylabel(f"hypervolume ({unit})")
         ax.set_title(title, fontsize=10)
         return fig
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # ExperimentalWarning
         ax = plot_hypervolume_history(study, list(reference_point))
-    ax.set_ylabel("hypervolume (m W)")
+    ax.set_ylabel(f"hypervolume ({unit})")
     ax.set_title(title, fontsize=10)
     return _optuna_axes_figure(ax)
 

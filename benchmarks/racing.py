@@ -1,0 +1,283 @@
+"""Does a noise-aware racing study find a front that holds up? Side by side with single draws (issue 22, item 5).
+
+Two studies per sampler seed, on the same budget of simulated seconds:
+
+``racing``
+    the robust study: every full-fidelity trial scored on K replicates
+    (default 4) on common random numbers (seeds 1000..), screened first on
+    one replicate and promoted by successive halving
+    (:func:`mat_hopper.optimize.run_racing`, :func:`~mat_hopper.optimize.default_racing`:
+    brackets of 9, 1 in 3 promoted). It runs the whole brackets
+    ``--budget-s`` buys (a bracket of the quick profile, K = 4: 9 x 12 s +
+    3 x 4 x 12 s = 252 s); its spend is its rung records' simulated seconds
+    (:func:`mat_hopper.optimize.simulated_seconds`);
+``single``
+    today's single-draw study (``replicates=0``: one unperturbed run per
+    trial, :func:`mat_hopper.optimize.run_study`), given as many trials as
+    the racing study's actual spend buys (it stops within one trial's
+    simulated seconds of it).
+
+Both: the same objective (``--objectives``, default tracking error and hip
+power; ``--behaviour``, default ramp; ``--profile``, default quick), the same
+space (continuous density and modulus, 3 segments), the paper's designs
+enqueued first, TPE seeded with the same seed. Each study's front
+(Optuna's ``best_trials``: feasible and non-dominated; for racing only
+complete, i.e. full-fidelity, trials) is then validated on fresh seeds
+(:func:`mat_hopper.optimize.validate.validate_front`, seeds 0..9, never the
+search's: 10 replicates, the fewest at which survival is testable; every
+check, the paper's nine and each design's mass-matched leg and rigid twin,
+Holm). Per study and seed the table gives the front's size, its surviving
+fraction and the hypervolume of the validated front: the survivors'
+replicate means (over the 10 fresh seeds, each a mean over the behaviours),
+against one reference point for every study and seed (the worst replicate
+mean of any validated front design on each objective, times 1.1), computed
+by :func:`mat_hopper.optimize.hypervolume` (ours, exact in any number of
+objectives; Optuna's own computation is private and no hypervolume package
+is installed). A front with no survivor has hypervolume 0. Then the
+medians over seeds per study.
+
+The issue's figures (5 seeds, quick profile, ramp; hours on 2 cores)::
+
+    python benchmarks/racing.py --seeds 5 --budget-s 1008 --workers 2 --csv racing.csv
+
+A first look (2 seeds, one bracket each; about 20 minutes on 2 cores)::
+
+    python benchmarks/racing.py --seeds 2 --budget-s 252 --duration-s 6 --transient-s 2 --workers 2
+
+All runs go through the result runner's cache (``--cache``; default
+``$MAT_HOPPER_CACHE``, else results/cache): the paper's validation runs are
+shared by every study and seed, and a rerun costs nothing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import os
+import tempfile
+import time
+
+import numpy as np
+import optuna
+import pandas as pd
+
+from mat_hopper.atomic import write_csv
+from mat_hopper.experiments.profiles import get_profile
+from mat_hopper.optimize import (
+    Objective,
+    PoolEvaluator,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    default_racing,
+    hypervolume,
+    open_storage,
+    parse_objectives,
+    run_racing,
+    run_study,
+    simulated_seconds,
+)
+from mat_hopper.optimize._robust import DEFAULT_REPLICATES
+from mat_hopper.optimize.validate import replicate_means, validate_front
+
+VALIDATION_SEEDS = 10  # fewer and survival is 'untestable' (validate.py's module doc)
+HV_FACTOR = 1.1  # the reference point: the worst validated value of each objective times this
+COLUMNS = [
+    "study",
+    "seed",
+    "complete_trials",
+    "simulated_s",
+    "front",
+    "survivors",
+    "surviving_fraction",
+    "hv_validated",
+    "search_wall_s",
+    "validation_wall_s",
+]
+
+
+def objective_of(args, replicates: int) -> Objective:
+    """The study's objective from the command line, with `replicates`."""
+    profile = get_profile(args.profile)
+    if args.duration_s is not None or args.transient_s is not None:
+        duration = profile.duration_s if args.duration_s is None else args.duration_s
+        transient = min(profile.transient_s, duration / 3) if args.transient_s is None else args.transient_s
+        profile = dataclasses.replace(profile, name=f"{profile.name}-{duration:g}s", duration_s=duration,
+                                      transient_s=transient)  # fmt: skip
+    return Objective(
+        behaviours=args.behaviour, profile=profile, replicates=replicates, objectives=parse_objectives(args.objectives)
+    )
+
+
+def bracket_s(config: StudyConfig, racing) -> float:
+    """Simulated seconds of one bracket when no run ends early: each rung's
+    trials x behaviours x replicates x run length."""
+    n, total = racing.screen, 0.0
+    for r in range(len(racing.rungs)):
+        ob = racing.objective_at(config.objective, r)
+        total += n * len(ob.behaviours) * max(1, ob.replicates) * ob.profile.duration_s
+        n = racing.kept(n)
+    return total
+
+
+def race(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> tuple[optuna.Study, float]:
+    """The racing study: the whole brackets the budget buys (at least one).
+    Returns (study, simulated s spent, from its rung records: a screen run
+    that the full rung repeats is charged twice, though the cache runs it once)."""
+    racing = default_racing(config.objective)
+    brackets = max(1, round(budget_s / bracket_s(config, racing)))
+    with PoolEvaluator(args.cache, workers=args.workers) as evaluator:
+        study = run_racing(config, open_storage(url), brackets=brackets, racing=racing, seed=seed, evaluator=evaluator)
+    return study, simulated_seconds(study, racing)["simulated_s"]
+
+
+def single(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> tuple[optuna.Study, float]:
+    """The single-draw study, grown until one more trial's simulated
+    seconds would pass the budget. Returns (study, simulated s spent)."""
+    ob = config.objective
+    per_trial = ob.profile.duration_s * len(ob.behaviours)  # a run that falls early costs less
+    trials, spent = max(1, int(budget_s // per_trial)), 0.0
+    while True:
+        opts = RunOptions(trials=trials, workers=args.workers, seed=seed, storage=url, progress=False,
+                          cache_dir=args.cache)  # fmt: skip
+        run_study(config, opts)
+        study = optuna.load_study(study_name=config.name, storage=url)
+        spent = sum(
+            (t.user_attrs.get("result") or {}).get("simulated_s", 0.0)
+            for t in study.get_trials(deepcopy=False)
+            if t.state.is_finished()
+        )
+        more = int((budget_s - spent) // per_trial)
+        if more < 1:
+            return study, spent
+        trials += more
+
+
+def front_of(study: optuna.Study, config: StudyConfig, label: str) -> dict:
+    """{name: LegDesign} of the study's front (``best_trials``: complete,
+    feasible, non-dominated), a design listed twice kept once."""
+    out, seen = {}, set()
+    for t in sorted(study.best_trials, key=lambda t: t.number):
+        key = tuple(sorted(t.params.items()))
+        if key not in seen:
+            seen.add(key)
+            out[f"{label}#{t.number}"] = config.space.design(t.params, name=f"{label}#{t.number}")
+    return out
+
+
+def one_seed(seed: int, args, folder: str) -> list[dict]:
+    """Both studies of one sampler seed, their fronts validated. Returns a
+    row per study (without the hypervolume: its reference point needs every
+    study) carrying the validated designs' replicate means (``points``,
+    ``survived``)."""
+    rows, budget = [], args.budget_s
+    for study_kind in ("racing", "single"):
+        reps = args.replicates if study_kind == "racing" else 0
+        config = StudyConfig(f"{study_kind}-s{seed}", SearchSpace(), objective_of(args, reps))
+        url = f"sqlite:///{os.path.join(folder, config.name)}.db"
+        t0 = time.perf_counter()
+        study, spent = (race if study_kind == "racing" else single)(config, url, seed, budget, args)
+        if study_kind == "racing":
+            budget = spent  # the single-draw study gets what racing spent
+        t1 = time.perf_counter()
+        front = front_of(study, config, config.name)
+        row = {"study": study_kind, "seed": seed, "simulated_s": spent, "front": len(front)}
+        row["complete_trials"] = len(study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,)))
+        row.update(validated(front, objective_of(args, reps), args))
+        row.update(search_wall_s=t1 - t0, validation_wall_s=time.perf_counter() - t1)
+        rows.append(row)
+        print(f"seed {seed} {study_kind}: {row['complete_trials']} complete trials, {spent:.0f} simulated s, "
+              f"front {len(front)}, survivors {row['survivors']} ({row['surviving_fraction']:.2f}); "
+              f"{row['search_wall_s']:.0f} + {row['validation_wall_s']:.0f} s", flush=True)  # fmt: skip
+    return rows
+
+
+def validated(front: dict, objective: Objective, args) -> dict:
+    """Survivors, surviving fraction and every front design's replicate
+    means over the fresh seeds (``points``, one row per design, in the
+    objective's order; ``survived``: booleans)."""
+    if not front:
+        return {"survivors": 0, "surviving_fraction": math.nan, "points": np.empty((0, 2)), "survived": []}
+    res = validate_front(front, objective, replicates=VALIDATION_SEEDS, cache_dir=args.cache, workers=args.workers)
+    means = replicate_means(res["runs"], objective)
+    names = [n for n in front if ("front", n) in means.index.droplevel("replicate")]
+    points = np.array([means.loc[("front", n)].mean().to_numpy(float) for n in names]).reshape(len(names), -1)
+    return {
+        "survivors": len(res["survivors"]),
+        "surviving_fraction": res["surviving_fraction"],
+        "points": points,
+        "survived": [n in res["survivors"] for n in names],
+    }
+
+
+def with_hypervolumes(rows: list[dict]) -> tuple[pd.DataFrame, np.ndarray]:
+    """The table (COLUMNS) with each study's validated hypervolume against
+    one reference point: the worst replicate mean of any validated design
+    on each objective, times HV_FACTOR (objectives are positive)."""
+    pts = [r["points"] for r in rows if len(r["points"])]
+    if pts:
+        reference = HV_FACTOR * np.nanmax(np.vstack(pts), axis=0)
+    else:
+        reference = np.array([])
+    for r in rows:
+        kept = r["points"][np.asarray(r["survived"], bool)] if len(r["points"]) else r["points"]
+        r["hv_validated"] = hypervolume(kept, reference) if len(kept) and len(reference) else 0.0
+    return pd.DataFrame(rows)[COLUMNS], reference
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    """The command line (module doc)."""
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--seeds", default="5", help="sampler seeds: a count N (0..N-1) or a comma list (5)")
+    ap.add_argument("--budget-s", type=float, default=252.0,
+                    help="simulated seconds per study (252: one racing bracket on the quick profile)")  # fmt: skip
+    ap.add_argument("--profile", default="quick", help="run profile (quick)")
+    ap.add_argument("--duration-s", type=float, help="run length, s (default the profile's)")
+    ap.add_argument(
+        "--transient-s", type=float, help="transient, s (default the profile's, at most a third of the run)"
+    )
+    ap.add_argument("--behaviour", default="ramp", help="behaviour(s), comma-separated (ramp)")
+    ap.add_argument("--objectives", default="tracking_error_m,power_w", help="two or three metrics (the default's)")
+    ap.add_argument("--replicates", type=int, default=DEFAULT_REPLICATES, help="K of the racing study's full fidelity")
+    ap.add_argument("--workers", type=int, default=2, help="processes that simulate (2)")
+    ap.add_argument("--cache", help="result cache (default $MAT_HOPPER_CACHE, else results/cache)")
+    ap.add_argument("--studies-dir", help="where the studies' SQLite files go (default a temporary folder)")
+    ap.add_argument("--csv", help="write the table here")
+    args = ap.parse_args(argv)
+    text = args.seeds.strip()
+    args.seed_list = list(range(int(text))) if text.isdigit() else [int(s) for s in text.split(",") if s.strip()]
+    if not args.seed_list or args.budget_s <= 0:
+        ap.error("give --seeds >= 1 and --budget-s > 0")
+    objective_of(args, args.replicates)  # bad settings fail here, before any run
+    return args
+
+
+def main(argv=None) -> pd.DataFrame:
+    """Run the benchmark (module doc); returns the table."""
+    args = parse_args(argv)
+    folder = args.studies_dir or tempfile.mkdtemp(prefix="mat-hopper-racing-")
+    os.makedirs(folder, exist_ok=True)
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    t0 = time.perf_counter()
+    rows = [r for seed in args.seed_list for r in one_seed(seed, args, folder)]
+    table, reference = with_hypervolumes(rows)
+    ob = objective_of(args, args.replicates)
+    print(
+        f"\n{','.join(ob.behaviours)}, {ob.profile.name} profile ({ob.profile.duration_s:g} s runs), budget "
+        f"{args.budget_s:g} simulated s, racing K = {args.replicates}, validation on {VALIDATION_SEEDS} fresh seeds; "
+        f"hypervolume reference ({', '.join(f'{v:.4g}' for v in reference)}) in {', '.join(ob.objectives)}"
+    )
+    print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    medians = table.groupby("study", sort=False)[["front", "surviving_fraction", "hv_validated"]].median()
+    print("\nmedians over seeds:")
+    print(medians.to_string(float_format=lambda v: f"{v:.4g}"))
+    print(f"wall {time.perf_counter() - t0:.0f} s")
+    if args.csv:
+        write_csv(table, args.csv)
+        print(f"wrote {args.csv}")
+    return table
+
+
+if __name__ == "__main__":
+    main()
