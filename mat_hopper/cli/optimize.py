@@ -7,21 +7,18 @@ import os
 import shlex
 import sys
 
-from optuna.trial import TrialState
-
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..experiments.profiles import PROFILES, get_profile
 from ..limits import MAX_WORLDS, check_count, check_workers
-from ..materials import LegDesign
 from ..optimize import (
-    CONFIG_ATTR,
     DEFAULT_BATCH,
     DEFAULT_BATCH_SIZE,
     DEFAULT_CVAR_ALPHA,
     DEFAULT_REPLICATES,
     DEFAULT_WORKERS,
     KINDS,
-    OBJECTIVES,
+    METRICS,
+    PAPER_SEEDS,
     SAMPLERS,
     Objective,
     RunOptions,
@@ -30,23 +27,15 @@ from ..optimize import (
     check_objectives_vary,
     check_sampler,
     check_study_name,
-    describe,
+    check_warp,
     dispose,
-    front_table,
-    open_storage,
-    redact,
-    replay,
+    parse_objectives,
     run_study,
     storage_errors,
-    storage_file,
     stored_config,
-    study_exists,
-    write_report,
 )
-from ..optimize._metrics import METRICS, check_warp, parse_objectives
-from ..optimize.report import BASELINES, feasible_complete
-from ..viz.render import choose_backend, render_files
 from ._checks import check_output_dir, named_by_flags, nothing_left_behind, parse_pair
+from ._optimize_outputs import cmd_export, cmd_replay, cmd_report, open_existing, options_from_args
 
 # The search space's and objective's fields, as their options (for messages).
 OPTION_OF_FIELD = {
@@ -203,43 +192,6 @@ def _noise_and_mass_from_args(args, ob: Objective) -> dict:
     }
 
 
-def _options_from_args(args, trials: int = 1) -> RunOptions:
-    return RunOptions(
-        trials=trials,
-        workers=args.workers,
-        sampler=args.sampler,
-        seed=args.seed,
-        storage=args.storage,
-        studies_dir=args.studies_dir,
-        progress=not args.no_progress,
-        batch_size=getattr(args, "batch_size", None),
-        cache_dir=getattr(args, "cache", None),
-    )
-
-
-def open_existing(name: str, args, *, read_only: bool = False):
-    """Storage holding an existing study `name` (ValueError if none);
-    read_only for reports (a SQLite file opened read-only: never waits for
-    a writer, never removes its -wal/-shm files)."""
-    check_study_name(name)
-    if not args.storage:
-        check_output_dir(args.studies_dir, "--studies-dir")
-    options = _options_from_args(args)
-    if not args.storage:
-        path = os.path.join(args.studies_dir, f"{name}.db")
-        if not os.path.exists(path):
-            raise ValueError(f"no study {name!r}: {path} does not exist (give --storage URL for a shared study)")
-    else:
-        path = storage_file(args.storage)
-        if path and not os.path.exists(path):
-            raise ValueError(f"no study {name!r}: {path} does not exist")
-    url = options.storage_url(name)
-    storage = open_storage(url, read_only=read_only)
-    if not study_exists(name, storage):
-        raise ValueError(f"no study {name!r} in {redact(options.storage_url(name))}")
-    return storage
-
-
 def cmd_optimize(args) -> int:
     check_options(args)  # before any file is opened or made
     url = args.storage or os.path.join(args.studies_dir, f"{args.report or args.study}.db")
@@ -268,7 +220,7 @@ def _cmd_optimize(args) -> int:
     check_count(args.trials, "--trials", 1, what="finished trials to reach")
     check_workers(args.workers)
     check_count(args.batch_size, "--batch-size", 1, MAX_WORLDS, "trials simulated together per round")
-    options = _options_from_args(args, args.trials)
+    options = options_from_args(args, args.trials)
     check_sampler(options.sampler)
     with named_by_flags(**OPTION_OF_FIELD):
         fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
@@ -365,8 +317,6 @@ def _run_backend(config: StudyConfig, options: RunOptions, args):
 def _seeds_text() -> str:
     """The help's sentence on the paper designs every study starts from, as
     the default space enqueues them (SearchSpace.seeds)."""
-    from ..optimize._space import PAPER_SEEDS
-
     seeds = [name for name, _ in SearchSpace().seeds()]
     left = [name for name in PAPER_SEEDS if name not in seeds]
     return (
@@ -494,155 +444,3 @@ def _add_run_arguments(p) -> None:
         help="multi-fidelity racing: screen trials on short one-replicate runs and promote 1 in 3 to the study's "
         "full fidelity; --trials counts screened trials, in brackets of 9; give it again to resume",
     )
-
-
-def _needs_baselines(name: str, storage) -> bool:
-    """Whether the report must run (and store) a paper baseline the study
-    lacks: its space cannot express SS or rho-inc (the report then writes
-    to the study, so it needs a writable storage)."""
-    import optuna
-
-    study = optuna.load_study(study_name=name, storage=storage)
-    have = {
-        t.user_attrs.get("paper_design")
-        for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
-        if t.user_attrs.get("paper_design")
-    }
-    attrs = study.user_attrs
-    return any(b not in have and f"baseline:{b}" not in attrs for b in BASELINES)
-
-
-def cmd_report(name: str, args, out: str) -> int:
-    storage = open_existing(name, args, read_only=True)
-    try:
-        return _report(name, storage, args, out)
-    finally:
-        dispose(storage)  # a read-only use leaves no -wal/-shm files beside the study
-
-
-def _report(name: str, storage, args, out: str) -> int:
-    key = storage.get_study_user_attrs(storage.get_study_id_from_name(name)).get(CONFIG_ATTR)
-    if key:
-        try:
-            check_objectives_vary(StudyConfig.from_key(name, key).objective)
-        except ValueError:
-            behs = ",".join(key["objective"].get("behaviours", []))
-            raise ValueError(
-                f"study {name!r} optimizes {behs} alone: tracking error and hip power are zero by symmetry "
-                "for every design (round-off only); no Pareto front, hypervolume or importances to report"
-            ) from None
-    if _needs_baselines(name, storage):
-        writer = open_existing(name, args)  # writes the baselines it runs into the study
-        try:
-            rep = write_report(name, writer, out)
-        finally:
-            dispose(writer)
-    else:
-        rep = write_report(name, storage, out)
-    frame, front = rep["trials"], rep["pareto"]
-    states = frame["state"].value_counts().to_dict() if len(frame) else {}
-    n_ok = len(feasible_complete(frame))
-    print(f"study {name}: {len(frame)} trials {states}, {n_ok} feasible, {len(front)} on the Pareto front")
-    objectives = StudyConfig.from_key(name, key).objective.objectives if key else OBJECTIVES
-    for b, values in rep["baselines"].items():
-        print(f"  {b}: " + ", ".join(_value_text(o, v) for o, v in zip(objectives, values)))
-    if len(front):  # the designs, not only their trial numbers: densities, moduli, leg mass
-        table = front_table(front, objectives).drop(columns=["hop height (m)"])
-        table.insert(1, "design", front["design"].to_numpy())
-        print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-        where = f" --storage '{redact(args.storage)}'" if args.storage else ""
-        print(f"export a design: mat-hopper optimize --study {name} --export TRIAL{where}")
-    for p in rep["paths"].values():
-        print(f"wrote {p}")
-    return 0
-
-
-def cmd_replay(name: str, storage, args) -> int:
-    t, design, ev, config = replay(name, storage, args.replay)
-    print(f"trial {t.number} ({t.state.name}) of {name}: {describe(design.segments)}")
-    for i, m in enumerate(design.segments, 1):
-        print(f"  segment {i}: {m.density_g_cm3:.6g} g/cm^3, {m.modulus_gpa:.6g} GPa ({m.name})")
-    for r in ev.per_behaviour:
-        print(
-            f"  {r['behaviour']}"
-            + (f" (replicate seed {r['replicate']})" if r.get("replicate", -1) >= 0 else "")
-            + ": "
-            + ", ".join(_value_text(o, r[o], 6) for o in config.objective.objectives)
-            + f", hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
-            f"{'upright' if r['upright'] else 'UNSTABLE'}"
-        )
-    se, names = ev.standard_errors, ev.objective_names
-    se_text = f" (standard errors {', '.join(_value_text(o, v, 3, False) for o, v in zip(names, se))})"
-    se_text = se_text if se and se[0] == se[0] else ""
-    cons = ", ".join(f"{n} {c:.4g}" for n, c in zip(ev.constraint_names, ev.constraints))
-    values = ", ".join(_value_text(o, v, 6, False) for o, v in zip(names, ev.values))
-    print(
-        f"objectives {values}{se_text}; "
-        f"{'feasible' if ev.feasible else 'infeasible'} (constraints {cons}); leg mass {ev.leg_mass_kg:.4g} kg"
-    )
-    if t.state == TrialState.COMPLETE:
-        same = tuple(t.values) == tuple(ev.values)
-        print(
-            "replay matches the stored values exactly"
-            if same
-            else f"replay differs from the stored values {tuple(t.values)}"
-        )
-    if args.render:
-        return _render(name, design, config, args)
-    return 0 if t.state != TrialState.COMPLETE or tuple(t.values) == tuple(ev.values) else 1
-
-
-def _value_text(name: str, value: float, digits: int = 4, label: bool = True) -> str:
-    """``hip power 0.123 W``: a metric's value with its unit (and its label)."""
-    m = METRICS[name]
-    unit = "" if m.unit == "1" else f" {m.unit}"
-    return (f"{m.label} " if label else "") + f"{value:.{digits}g}{unit}"
-
-
-def _render(name: str, design: LegDesign, config: StudyConfig, args) -> int:
-    """Gait tiles and a 10 s video of the replayed design on each behaviour,
-    in --out or the studies folder: <study>-trial<N>-<behaviour>-*."""
-    folder = args.out or args.studies_dir
-    backend = choose_backend()
-    for b in config.objective.behaviours:
-        stem = os.path.join(folder, f"{name}-trial{args.replay}-{b}")
-        for path in render_files(
-            design,
-            b,
-            tiles=f"{stem}-tiles.png",
-            video=f"{stem}.mp4",
-            convention=config.objective.convention,
-            backend=backend,
-        ):
-            print(f"wrote {path}")
-    return 0
-
-
-def cmd_export(args) -> int:
-    """--export TRIAL: the trial's design as CSV and MJCF (mat_hopper.optimize._export)."""
-    from ..optimize import export_trial
-
-    name = args.report or args.study
-    if not name:
-        raise ValueError("--export TRIAL needs --study NAME (or --report NAME)")
-    out = check_output_dir(args.out or args.studies_dir, "--out")
-    storage = open_existing(name, args, read_only=True)
-    try:
-        res = export_trial(name, storage, args.export, out)
-    finally:
-        dispose(storage)  # a read-only use leaves no -wal/-shm files beside the study
-    print(f"trial {args.export} of {name}: {describe(res['design'].segments)}")
-    print(f"wrote {res['csv']}")
-    for path in res["mjcf"].values():
-        print(f"wrote {path}")
-    ob = res["config"].objective
-    print(
-        f"simulate it: mat-hopper simulate --design-csv {res['csv']} --behaviour {ob.behaviours[0]} "
-        f"--profile {ob.profile.name} --convention {ob.convention} --segment-mass {ob.segment_mass}"
-        + (
-            f" (the study scores {ob.replicates} perturbed replicates; simulate runs the unperturbed one)"
-            if ob.replicates
-            else ""
-        )
-    )
-    return 0

@@ -26,7 +26,7 @@ from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch
 from ._driver import RunResult, run_batch_study, run_loop, run_study
 from ._evaluators import DEFAULT_BATCH, Evaluator, Lost, PoolEvaluator, WarpEvaluator
 from ._export import design_frame, design_mjcf, export_trial
-from ._metrics import METRICS, Metric, parse_objectives
+from ._metrics import METRICS, Metric, check_warp, parse_objectives
 from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
 from ._processes import stop_signals
 from ._racing import Racing, Rung, default_racing, promote, race_study, run_racing, simulated_seconds
@@ -42,7 +42,7 @@ from ._robust import (
     score,
 )
 from ._samplers import SAMPLERS, check_sampler
-from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, SearchSpace, describe, resample
+from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, PAPER_SEEDS, SearchSpace, describe, resample
 from ._storage import check_study_name, default_url, dispose, open_storage, redact, storage_errors, storage_file
 from ._study import (
     CONFIG_ATTR,
@@ -81,6 +81,8 @@ __all__ = [
     "METRICS",
     "Metric",
     "parse_objectives",
+    "check_warp",
+    "PAPER_SEEDS",
     "CONSTRAINTS",
     "OBJECTIVES",
     "Evaluation",
