@@ -73,11 +73,18 @@ from ._batch import check_unperturbed
 from ._evaluators import Evaluator, Lost, PoolEvaluator, WarpEvaluator
 from ._objective import RESULT_ATTR, Evaluation, record_evaluation, result_attr
 from ._processes import HeldSignals, _signals_ignored, stop_signals
-from ._racing import RACING_ATTR
 from ._recovery import fail_and_retry, recover_dead, worker_identity
 from ._samplers import check_sampler, make_sampler, sampler_seed
 from ._storage import ERROR_ATTR, WORKER_ATTR, redact, storage_errors
-from ._study import TRIAL_BACKEND_ATTR, RunOptions, StudyConfig, check_objectives_vary, counts, create_or_load
+from ._study import (
+    RACING_ATTR,
+    TRIAL_BACKEND_ATTR,
+    RunOptions,
+    StudyConfig,
+    check_objectives_vary,
+    counts,
+    create_or_load,
+)
 
 HELD = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)  # held from ask until the trial names its process
 

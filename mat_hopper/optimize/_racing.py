@@ -54,13 +54,13 @@ from optuna.trial import TrialState
 
 from ..experiments.profiles import get_profile
 from ..materials import LegDesign
+from ._driver import RunResult
 from ._evaluators import Evaluator, Lost, PoolEvaluator
 from ._objective import OBJECTIVES, Evaluation, Objective, record_evaluation
 from ._samplers import make_sampler, sampler_seed
 from ._storage import ERROR_ATTR, WORKER_ATTR
-from ._study import StudyConfig, _quiet, create_or_load
+from ._study import RACING_ATTR, StudyConfig, _quiet, create_or_load
 
-RACING_ATTR = "mat_hopper_racing"  # study user attr: the racing settings (resuming checks them)
 BRACKET_ATTR = "mat_hopper_bracket"  # study user attr: the open (or last) bracket
 RUNG_ATTR = "rung"  # trial user attrs rung0, rung1, ...: a rung's record
 REACHED_ATTR = "racing_rung"  # trial user attr: the last rung it ran
@@ -462,7 +462,6 @@ def race_study(config: StudyConfig, options, racing: Racing | None = None):
     Raises:
         ValueError: as :func:`run_racing`; a database error as one line.
     """
-    from ._driver import RunResult
     from ._storage import redact, storage_errors
 
     racing = racing or default_racing(config.objective)

@@ -14,7 +14,7 @@ import socket
 import optuna
 from optuna.trial import TrialState
 
-from ._storage import FAIL_REASON_ATTR, KEEP_ON_RETRY, WORKER_ATTR
+from ._storage import FAIL_REASON_ATTR, WORKER_ATTR, retry_trial
 
 
 def _boot_id() -> str:
@@ -43,46 +43,6 @@ def _alive(pid: int) -> bool:
             return f.read().rsplit(")", 1)[1].split()[0] != "Z"
     except (OSError, IndexError):
         return True
-
-
-def retry_trial(study, trial, max_retry: int = 3) -> bool:
-    """Enqueue a failed trial's parameters again, as Optuna's
-    RetryHeartbeatStaleTrialCallback does (same ``failed_trial`` and
-    ``retry_history`` system attrs), keeping only the user attrs in
-    KEEP_ON_RETRY. An enqueued trial's ``fixed_params`` go along, so a
-    seed whose worker died before it was suggested is retried as that seed.
-    False when the trial was retried max_retry times."""
-    history = list(trial.system_attrs.get("retry_history", [])) + [trial.number]
-    if len(history) > max_retry:
-        return False
-    study.add_trial(
-        optuna.trial.create_trial(
-            state=TrialState.WAITING,
-            params=trial.params,
-            distributions=trial.distributions,
-            user_attrs={k: v for k, v in trial.user_attrs.items() if k in KEEP_ON_RETRY},
-            system_attrs={
-                "failed_trial": trial.system_attrs.get("failed_trial", trial.number),
-                "retry_history": history,
-                # an enqueued design (a seed) whose worker died before it was
-                # suggested has no params yet: keep it enqueued
-                **(
-                    {"fixed_params": trial.system_attrs["fixed_params"]} if "fixed_params" in trial.system_attrs else {}
-                ),
-            },
-        )
-    )
-    return True
-
-
-class RetryStaleTrial:
-    """Optuna's heartbeat-stale callback: :func:`retry_trial`."""
-
-    def __init__(self, max_retry: int = 3):
-        self.max_retry = int(max_retry)
-
-    def __call__(self, study, trial) -> None:
-        retry_trial(study, trial, self.max_retry)
 
 
 def fail_and_retry(study, storage, number: int, reason: str, max_retry: int = 3) -> bool:

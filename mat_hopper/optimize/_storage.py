@@ -62,6 +62,7 @@ from contextlib import contextmanager
 from urllib.parse import quote
 
 import optuna
+from optuna.trial import TrialState
 
 from ..parsing import normalize_url
 
@@ -394,8 +395,6 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
     probe = _probe(url, open_url, engine_kwargs)
 
     def make():
-        from ._recovery import RetryStaleTrial  # here: _recovery imports this module's attribute names
-
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
             return optuna.storages.RDBStorage(
@@ -490,3 +489,46 @@ def _tidy_read_only(db: str) -> None:
             con.close()
     except sqlite3.Error:
         pass
+
+
+# --- a failed trial's retry (also Optuna's heartbeat callback) ---------------
+
+
+def retry_trial(study, trial, max_retry: int = 3) -> bool:
+    """Enqueue a failed trial's parameters again, as Optuna's
+    RetryHeartbeatStaleTrialCallback does (same ``failed_trial`` and
+    ``retry_history`` system attrs), keeping only the user attrs in
+    KEEP_ON_RETRY. An enqueued trial's ``fixed_params`` go along, so a
+    seed whose worker died before it was suggested is retried as that seed.
+    False when the trial was retried max_retry times."""
+    history = list(trial.system_attrs.get("retry_history", [])) + [trial.number]
+    if len(history) > max_retry:
+        return False
+    study.add_trial(
+        optuna.trial.create_trial(
+            state=TrialState.WAITING,
+            params=trial.params,
+            distributions=trial.distributions,
+            user_attrs={k: v for k, v in trial.user_attrs.items() if k in KEEP_ON_RETRY},
+            system_attrs={
+                "failed_trial": trial.system_attrs.get("failed_trial", trial.number),
+                "retry_history": history,
+                # an enqueued design (a seed) whose worker died before it was
+                # suggested has no params yet: keep it enqueued
+                **(
+                    {"fixed_params": trial.system_attrs["fixed_params"]} if "fixed_params" in trial.system_attrs else {}
+                ),
+            },
+        )
+    )
+    return True
+
+
+class RetryStaleTrial:
+    """Optuna's heartbeat-stale callback: :func:`retry_trial`."""
+
+    def __init__(self, max_retry: int = 3):
+        self.max_retry = int(max_retry)
+
+    def __call__(self, study, trial) -> None:
+        retry_trial(study, trial, self.max_retry)

@@ -72,6 +72,7 @@ from ._storage import ERROR_ATTR, PAPER_ATTR, check_study_name, default_url, ope
 
 DEFAULT_WORKERS = 2
 CONFIG_ATTR = "mat_hopper_config"
+RACING_ATTR = "mat_hopper_racing"  # study user attr: the racing settings of a racing study (_racing)
 BACKEND_ATTR = "mat_hopper_backend"  # study user attr: the simulator of its trials ("warp"; absent: the CPU path)
 TRIAL_BACKEND_ATTR = "backend"  # trial user attr of a warp study's trials: the backend that evaluated it
 CONFIG_VERSION = 1
