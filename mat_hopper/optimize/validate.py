@@ -94,6 +94,9 @@ CHECKS = (NOMINAL, REPLICATE, BEHAVIOUR, FINE_CONTROL, FINE_PLAIN, AXIAL)
 CONFIDENCE = 0.95
 ALPHA = 0.05
 CONTROL_KINDS = {"mass": "mass-matched", "rigid": "rigid twin"}
+HOMOGENEOUS = "homogeneous"  # comparator kind: homogeneous legs of the design's mass, a range of moduli
+HOMOGENEOUS_MODULI_GPA = (1.0, 10.0, 100.0, 1000.0)  # spans the search space's 0.1-1000 GPa in decades
+EQUIVALENCE_MARGIN = paired.EQUIVALENCE_MARGIN
 
 
 def check_settings(design: LegDesign, objective: Objective) -> dict:
@@ -108,10 +111,32 @@ def check_settings(design: LegDesign, objective: Objective) -> dict:
     }
 
 
+def homogeneous_legs(design: LegDesign, moduli_gpa=HOMOGENEOUS_MODULI_GPA) -> dict:
+    """Homogeneous legs of `design`'s leg mass across moduli: the best a
+    single material of that mass can do is among them, so a gradient that
+    none of them dominates offers what no homogeneous leg of its mass does.
+
+    Args:
+        design: the leg whose mass (mean density) they share.
+        moduli_gpa: their moduli, GPa.
+
+    Returns:
+        {"E=<modulus>": LegDesign}, every segment at the design's mean
+        density (the same leg mass under the ``leg`` segment-mass rule).
+    """
+    rho = float(np.mean(design.densities_g_cm3))
+    n = design.n_segments
+    return {
+        f"E={e:g}": LegDesign.from_properties([rho] * n, [float(e)] * n, name=f"homogeneous {rho:.3g} g/cm3 E={e:g}")
+        for e in moduli_gpa
+    }
+
+
 def _controls(name: str, design: LegDesign) -> dict:
     """{label: LegDesign} of a front design's controls that differ from it
     in physics (a homogeneous leg is its own mass-matched leg; a rigid leg
-    its own twin)."""
+    its own twin), and, for a gradient, the homogeneous legs of its mass
+    (:func:`homogeneous_legs`, labels ``homogeneous E=...``)."""
     out = {}
     for kind, make in (("mass", mass_matched), ("rigid", rigid_twin)):
         try:
@@ -120,6 +145,8 @@ def _controls(name: str, design: LegDesign) -> dict:
             continue
         if design_key(c) != design_key(design):
             out[kind] = c
+    if is_gradient(design):
+        out.update({f"{HOMOGENEOUS} {k}": leg for k, leg in homogeneous_legs(design).items()})
     return out
 
 
@@ -201,13 +228,24 @@ def _compare(means: pd.DataFrame, a: tuple, b: tuple) -> dict:
     return out
 
 
-def paired_table(runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA) -> pd.DataFrame:
+def paired_table(
+    runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA, front: dict | None = None
+) -> pd.DataFrame:
     """Every front design against each comparator (the paper's designs,
-    its mass-matched leg, its rigid twin), paired by seed (module doc).
+    its mass-matched leg, its rigid twin, the homogeneous legs of its
+    mass), paired by seed (module doc).
+
+    Args:
+        runs: a validation's run table.
+        objective: the study's objective (its objectives are compared).
+        alpha: the significance level.
+        front: {name: LegDesign} of the front designs (a paper design among
+            them is not compared with itself).
 
     Returns:
         One row per front design, comparator and objective: design,
-        against, kind (``paper``, ``mass-matched``, ``rigid twin``),
+        against, kind (``paper``, ``mass-matched``, ``rigid twin``,
+        ``homogeneous``),
         objective, n_pairs, pct_change, ci_low, ci_high (%: the design
         against the comparator; below 0: the design is lower, better), p,
         p_min, p_holm (over the design's rows), testable (an exact
@@ -215,12 +253,25 @@ def paired_table(runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA)
     """
     means = replicate_means(runs, objective)
     have = set(means.index.droplevel("replicate"))
+    front_design = front or {}
+    paper_key = {n: design_key(d) for n, d in paper_designs().items()}
     rows = []
     for name in runs.loc[runs["role"] == "front", "design"].unique():
         if ("front", name) not in have:
             continue
-        comparators = [(("paper", p), p, "paper") for r, p in sorted(have) if r == "paper"]
+        own = design_key(front_design[name]) if name in front_design else None
+        # the paper's designs, not the design itself (a paper gradient validated as a front design)
+        comparators = [
+            (("paper", p), p, "paper")
+            for r, p in sorted(have)
+            if r == "paper" and (own is None or paper_key.get(p) != own)
+        ]
         comparators += [(("control", f"{name}~{k}"), f"{name}~{k}", v) for k, v in CONTROL_KINDS.items()]
+        comparators += [
+            (("control", c), c, HOMOGENEOUS)
+            for r, c in sorted(have)
+            if r == "control" and c.startswith(f"{name}~{HOMOGENEOUS} ")
+        ]
         mine = []
         for key, label, kind in comparators:
             if key not in have:
@@ -259,17 +310,34 @@ def dominated_by(table: pd.DataFrame, design: str, kinds=("paper",)) -> list[str
     return out
 
 
+YES, WORSE, TRADE_OFF, EQUIVALENT, NO_EVIDENCE = "yes", "worse", "trade-off", "equivalent", "no evidence"
+
+
 def beats(table: pd.DataFrame, design: str, kind: str) -> str:
-    """``yes`` (significantly better on an objective, worse on none),
-    ``no``, ``untestable`` (n seeds cannot reach Holm's threshold) or
-    ``not run``: `design` against its comparator of `kind`."""
+    """How `design` compares with its comparator of `kind` (Holm-significant
+    comparisons): ``yes`` (better on an objective, worse on none),
+    ``worse`` (worse on one, better on none), ``trade-off`` (better on one,
+    worse on another), ``equivalent`` (every interval inside the ±10 %
+    margin), ``no evidence`` (none of these), ``untestable`` (n seeds
+    cannot reach Holm's threshold and the intervals leave the margin) or
+    ``not run``. With several comparators of the kind (the homogeneous
+    legs), the design must beat each one for ``yes``."""
     rows = table[(table["design"] == design) & (table["kind"] == kind)]
     if rows.empty:
         return "not run"
+    m = 100 * EQUIVALENCE_MARGIN
+    if ((rows["ci_low"] > -m) & (rows["ci_high"] < m)).all():
+        return EQUIVALENT
     if not rows["testable"].all():
         return "untestable"
-    better, worse = _better_worse(rows)
-    return "yes" if better and not worse else "no"
+    states = []
+    for _, r in rows.groupby("against", sort=False):
+        better, worse = _better_worse(r)
+        states.append(TRADE_OFF if better and worse else YES if better else WORSE if worse else NO_EVIDENCE)
+    for state in (WORSE, TRADE_OFF, NO_EVIDENCE):
+        if state in states:
+            return state
+    return YES
 
 
 def paper_best(runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA) -> list[str]:
@@ -320,6 +388,8 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame) -> pd.DataFrame:
             row["survives"] = False
         row["beats its mass-matched leg"] = beats(table, design, "mass-matched")
         row["beats its rigid twin"] = beats(table, design, "rigid twin")
+        homog = dominated_by(table, design, kinds=(HOMOGENEOUS,))
+        row["homogeneous legs of its mass dominating it"] = ", ".join(h.rsplit(" ", 1)[-1] for h in homog)
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -366,7 +436,7 @@ def validate_front(
     if res.n_failed:
         bad = runs[runs["status"] == FAILED]
         raise RuntimeError(f"{len(bad)} validation run(s) failed: {'; '.join(bad['error'].astype(str).unique()[:3])}")
-    table = paired_table(runs, objective, alpha)
+    table = paired_table(runs, objective, alpha, front)
     ver = verdicts(runs, table)
     keep = set(ver.loc[ver["survives"].astype(str) == "True", "design"]) if len(ver) else set()
     testable = len(ver) and not (ver["survives"].astype(str) == "untestable").any()
@@ -386,38 +456,56 @@ def is_gradient(design: LegDesign) -> bool:
 
 
 def answer(validation: dict, front: dict) -> str:
-    """The chapter's plain answer from a validation's numbers: how many
-    front designs survive, and whether a surviving gradient beats its own
-    mass-matched leg (with the paired intervals) and the paper's best."""
+    """The chapter's plain answer from a validation's numbers.
+
+    Args:
+        validation: :func:`validate_front`'s result.
+        front: the {name: LegDesign} validated.
+
+    Returns:
+        How many front designs survive, and for each surviving gradient how
+        it compares with a homogeneous leg of its own mass: its
+        mass-matched leg (:func:`beats`, with the paired intervals) and the
+        homogeneous legs of its mass across moduli (which of them dominate
+        it). A gradient beats the homogeneous leg of equal mass when it
+        beats its mass-matched leg and none of the homogeneous legs
+        dominates it.
+    """
     ver, table = validation["verdicts"], validation["paired"]
     n_front = len(ver)
     if n_front == 0:
-        return (
-            "The front held no design but the paper's own: no new leg to validate, and no gradient found beyond them."
-        )
+        return "The front held no design to validate."
     if np.isnan(validation["surviving_fraction"]):
         n = int(table["n_pairs"].min()) if len(table) else 0
         return (
             f"Survival is untestable here: {n} seeds cannot bring an exact sign-flip test under Holm's threshold "
             f"for the {len(table) // max(n_front, 1)} comparisons of a design; run the paper profile (10 seeds)."
         )
-    head = f"{len(validation['survivors'])} of {n_front} front designs survive validation."
+    head = f"{len(validation['survivors'])} of {n_front} designs survive validation."
     grads = [n for n, d in validation["survivors"].items() if is_gradient(d)]
     if not grads:
         return head + " No surviving design is a gradient."
-    parts = []
+    parts, k = [], 0
     for name in grads:
         rows = table[(table["design"] == name) & (table["kind"] == "mass-matched")]
         said = "; ".join(
             f"{r.objective} {r.pct_change:+.1f} % [{r.ci_low:+.1f}, {r.ci_high:+.1f}]" for r in rows.itertuples()
         )
         v = beats(table, name, "mass-matched")
-        dom = ", ".join(b for b in validation["paper_best"] if b in dominated_by(table, name))
-        parts.append(f"{name}: beats its mass-matched leg: {v} ({said})" + (f"; dominated by {dom}" if dom else ""))
-    k = sum(beats(table, n, "mass-matched") == "yes" for n in grads)
+        homog = [h.rsplit(" ", 1)[-1] for h in dominated_by(table, name, kinds=(HOMOGENEOUS,))]
+        k += v == YES and not homog
+        parts.append(
+            f"{name}: against its mass-matched leg {v} ({said}); "
+            + (
+                f"dominated by the homogeneous legs of its mass at {', '.join(homog)}"
+                if homog
+                else "no homogeneous leg of its mass dominates it"
+            )  # fmt: skip
+        )
     verdict = "Yes" if k else "No"
     return (
         head
-        + f" {verdict}: {k} of {len(grads)} surviving gradients beat a homogeneous leg of their own mass. "
-        + (" | ".join(parts))
+        + f" {verdict}: {k} of {len(grads)} surviving gradients beat the homogeneous leg of equal mass "
+        + "(better than their mass-matched leg, and dominated by no homogeneous leg of their mass). "
+        + " | ".join(parts)
     )

@@ -66,12 +66,30 @@ def test_paired_dominance_by_hand():
     # 4 comparators x 2 objectives, Holm over the 8; 10 seeds reach 2/1024 x 8 = 0.016 < 0.05
     assert len(t) == 8 and t["testable"].all()
     assert dominated_by(t, "f") == ["A"]
-    assert beats(t, "f", "mass-matched") == "yes" and beats(t, "f", "rigid twin") == "no"
+    # f beats its mass-matched leg; against its rigid twin every interval lies inside ±10 %
+    assert beats(t, "f", "mass-matched") == "yes" and beats(t, "f", "rigid twin") == "equivalent"
     row = t[(t["against"] == "f~mass") & (t["objective"] == T)].iloc[0]
     assert row["pct_change"] == pytest.approx(100 * (1 / 1.2 - 1), abs=1.0)  # -16.7 %
     v = verdicts(_runs(LEGS, 10), t).set_index("design")
     assert v.loc["f", "survives"] == False  # noqa: E712 (stable everywhere, but A dominates it)
     assert v.loc["f", "dominated by"] == "A"
+
+
+def test_a_gradient_against_the_homogeneous_legs_of_its_mass():
+    from mat_hopper.materials import parse_design
+    from mat_hopper.optimize.validate import homogeneous_legs
+
+    legs = homogeneous_legs(parse_design("rho-inc"))
+    # rho-inc's mean density (1.39 + 4.43 + 8) / 3 = 4.6067 g/cm^3, by hand
+    assert list(legs) == ["E=1", "E=10", "E=100", "E=1000"]
+    assert all(d.densities_g_cm3 == (pytest.approx(4.60667, rel=1e-5),) * 3 for d in legs.values())
+    runs = _runs(
+        {**LEGS, ("control", "f~homogeneous E=10"): (0.8, 1.0), ("control", "f~homogeneous E=100"): (1.2, 0.8)}, 10
+    )
+    t = paired_table(runs, OB)
+    # E=10 tracks 20 % better at the same power: it dominates f; E=100 is a trade-off
+    assert dominated_by(t, "f", kinds=("homogeneous",)) == ["f~homogeneous E=10"]
+    assert beats(t, "f", "homogeneous") == "worse"
 
 
 def test_three_seeds_test_nothing():
@@ -81,6 +99,8 @@ def test_three_seeds_test_nothing():
     assert not t["testable"].any() and dominated_by(t, "f") == []
     v = verdicts(runs, t).set_index("design")
     assert v.loc["f", "survives"] == "untestable" and v.loc["f", "beats its mass-matched leg"] == "untestable"
+    # an interval inside the ±10 % margin still says "equivalent" at three seeds
+    assert v.loc["f", "beats its rigid twin"] == "equivalent"
 
 
 def test_controls_run_beside_every_front_design():
@@ -89,8 +109,10 @@ def test_controls_run_beside_every_front_design():
     tasks = validation_tasks({"g": parse_design("PVC-Ti-SS"), "t": parse_design("Ti")}, OB, replicates=2)
     labels = pd.DataFrame([t.labels for t in tasks])
     ctl = labels[labels["role"] == "control"]
-    # the gradient gets both controls; homogeneous Ti is its own mass-matched leg
-    assert sorted(ctl["design"].unique()) == ["g~mass", "g~rigid", "t~rigid"]
+    # the gradient gets both controls and the homogeneous legs of its mass at four moduli;
+    # homogeneous Ti is its own mass-matched leg
+    homog = [f"g~homogeneous E={e}" for e in ("1", "10", "100", "1000")]
+    assert sorted(ctl["design"].unique()) == sorted(["g~mass", "g~rigid", *homog, "t~rigid"])
     assert set(ctl["check"]) == {REPLICATE} and set(ctl["replicate"]) == {0, 1}
     # fresh seeds: the validation's replicate seeds are 0..n-1, the search's start at 1000
     assert max(labels["replicate"]) < 1000
