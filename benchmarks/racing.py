@@ -29,20 +29,24 @@ check, the paper's nine and each design's mass-matched leg and rigid twin,
 Holm). Per study and seed the table gives the front's size, its surviving
 fraction and the hypervolume of the validated front: the survivors'
 replicate means (over the 10 fresh seeds, each a mean over the behaviours),
-against one reference point for every study and seed (the worst replicate
-mean of any validated front design on each objective, times 1.1), computed
+against one reference point for every study and seed (the worst of those
+means over every survivor of every study and seed, on each objective, times
+1.1: a front design that failed validation, with a mean of thousands of W,
+would otherwise stretch the box until tracking error no longer counts), computed
 by :func:`mat_hopper.optimize.hypervolume` (ours, exact in any number of
 objectives; Optuna's own computation is private and no hypervolume package
 is installed). A front with no survivor has hypervolume 0. Then the
 medians over seeds per study.
 
-The issue's figures (5 seeds, quick profile, ramp; hours on 2 cores)::
+The issue's figures (5 seeds, 4 brackets each, quick profile, ramp; about
+1.5 hours on 2 shared cores)::
 
     python benchmarks/racing.py --seeds 5 --budget-s 1008 --workers 2 --csv racing.csv
 
-A first look (2 seeds, one bracket each; about 20 minutes on 2 cores)::
-
-    python benchmarks/racing.py --seeds 2 --budget-s 252 --duration-s 6 --transient-s 2 --workers 2
+Smaller runs, as measured on 2 cores shared with another job (2026-12-02;
+docs/optimizer.md gives their figures): ``--seeds 3 --budget-s 756``
+(3 brackets) took 33.5 min; ``--seeds 2 --budget-s 252`` (one bracket:
+8 of its 9 screened trials are the paper's enqueued designs) 8.7 min.
 
 All runs go through the result runner's cache (``--cache``; default
 ``$MAT_HOPPER_CACHE``, else results/cache): the paper's validation runs are
@@ -98,7 +102,18 @@ COLUMNS = [
 
 
 def objective_of(args, replicates: int) -> Objective:
-    """The study's objective from the command line, with `replicates`."""
+    """The studies' objective.
+
+    Args:
+        args: the parsed command line (profile, run length, behaviours, objectives).
+        replicates: K (0: one unperturbed run per trial).
+
+    Returns:
+        An Objective.
+
+    Raises:
+        ValueError: a bad profile, behaviour or objective.
+    """
     profile = get_profile(args.profile)
     if args.duration_s is not None or args.transient_s is not None:
         duration = profile.duration_s if args.duration_s is None else args.duration_s
@@ -111,8 +126,15 @@ def objective_of(args, replicates: int) -> Objective:
 
 
 def bracket_s(config: StudyConfig, racing) -> float:
-    """Simulated seconds of one bracket when no run ends early: each rung's
-    trials x behaviours x replicates x run length."""
+    """Simulated seconds of one bracket when no run ends early.
+
+    Args:
+        config: the racing study.
+        racing: its Racing (rungs, eta, screen).
+
+    Returns:
+        s: over the rungs, trials x behaviours x replicates x run length.
+    """
     n, total = racing.screen, 0.0
     for r in range(len(racing.rungs)):
         ob = racing.objective_at(config.objective, r)
@@ -123,8 +145,18 @@ def bracket_s(config: StudyConfig, racing) -> float:
 
 def race(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> tuple[optuna.Study, float]:
     """The racing study: the whole brackets the budget buys (at least one).
-    Returns (study, simulated s spent, from its rung records: a screen run
-    that the full rung repeats is charged twice, though the cache runs it once)."""
+
+    Args:
+        config: the study (K replicates).
+        url: its storage.
+        seed: the sampler's seed.
+        budget_s: simulated seconds.
+        args: the command line (workers, cache).
+
+    Returns:
+        (study, simulated s spent, from its rung records: a screen run that
+        the full rung repeats is charged twice, though the cache runs it once).
+    """
     racing = default_racing(config.objective)
     brackets = max(1, round(budget_s / bracket_s(config, racing)))
     with PoolEvaluator(args.cache, workers=args.workers) as evaluator:
@@ -134,7 +166,18 @@ def race(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> tup
 
 def single(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> tuple[optuna.Study, float]:
     """The single-draw study, grown until one more trial's simulated
-    seconds would pass the budget. Returns (study, simulated s spent)."""
+    seconds would pass the budget.
+
+    Args:
+        config: the study (replicates 0).
+        url: its storage.
+        seed: the sampler's seed.
+        budget_s: simulated seconds (the racing study's spend).
+        args: the command line (workers, cache).
+
+    Returns:
+        (study, simulated s spent: its finished trials' runs).
+    """
     ob = config.objective
     per_trial = ob.profile.duration_s * len(ob.behaviours)  # a run that falls early costs less
     trials, spent = max(1, int(budget_s // per_trial)), 0.0
@@ -155,8 +198,17 @@ def single(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> t
 
 
 def front_of(study: optuna.Study, config: StudyConfig, label: str) -> dict:
-    """{name: LegDesign} of the study's front (``best_trials``: complete,
-    feasible, non-dominated), a design listed twice kept once."""
+    """The study's front.
+
+    Args:
+        study: an optuna.Study of ours.
+        config: its StudyConfig (the space builds the designs).
+        label: the designs' name prefix (``label#trial``).
+
+    Returns:
+        {name: LegDesign} of ``best_trials`` (complete, feasible,
+        non-dominated), a design listed twice kept once.
+    """
     out, seen = {}, set()
     for t in sorted(study.best_trials, key=lambda t: t.number):
         key = tuple(sorted(t.params.items()))
@@ -167,10 +219,18 @@ def front_of(study: optuna.Study, config: StudyConfig, label: str) -> dict:
 
 
 def one_seed(seed: int, args, folder: str) -> list[dict]:
-    """Both studies of one sampler seed, their fronts validated. Returns a
-    row per study (without the hypervolume: its reference point needs every
-    study) carrying the validated designs' replicate means (``points``,
-    ``survived``)."""
+    """Both studies of one sampler seed, their fronts validated.
+
+    Args:
+        seed: the sampler seed.
+        args: the command line.
+        folder: where the studies' SQLite files go.
+
+    Returns:
+        A row per study (COLUMNS but the hypervolume, whose reference point
+        needs every study) carrying the validated designs' replicate means
+        (``points``, ``survived``).
+    """
     rows, budget = [], args.budget_s
     for study_kind in ("racing", "single"):
         reps = args.replicates if study_kind == "racing" else 0
@@ -194,9 +254,18 @@ def one_seed(seed: int, args, folder: str) -> list[dict]:
 
 
 def validated(front: dict, objective: Objective, args) -> dict:
-    """Survivors, surviving fraction and every front design's replicate
-    means over the fresh seeds (``points``, one row per design, in the
-    objective's order; ``survived``: booleans)."""
+    """Validate a front on VALIDATION_SEEDS fresh seeds.
+
+    Args:
+        front: {name: LegDesign}.
+        objective: the studies' objective (profile, behaviours, objectives).
+        args: the command line (workers, cache).
+
+    Returns:
+        dict: survivors (count), surviving_fraction (NaN: untestable or no
+        front), points (each front design's replicate means averaged over
+        the seeds, in the objective's order) and survived (booleans).
+    """
     if not front:
         return {"survivors": 0, "surviving_fraction": math.nan, "points": np.empty((0, 2)), "survived": []}
     res = validate_front(front, objective, replicates=VALIDATION_SEEDS, cache_dir=args.cache, workers=args.workers)
@@ -212,22 +281,34 @@ def validated(front: dict, objective: Objective, args) -> dict:
 
 
 def with_hypervolumes(rows: list[dict]) -> tuple[pd.DataFrame, np.ndarray]:
-    """The table (COLUMNS) with each study's validated hypervolume against
-    one reference point: the worst replicate mean of any validated design
-    on each objective, times HV_FACTOR (objectives are positive)."""
-    pts = [r["points"] for r in rows if len(r["points"])]
-    if pts:
-        reference = HV_FACTOR * np.nanmax(np.vstack(pts), axis=0)
-    else:
-        reference = np.array([])
+    """Each study's validated hypervolume, against one reference point.
+
+    Args:
+        rows: :func:`one_seed`'s rows of every seed.
+
+    Returns:
+        (the table, COLUMNS; the reference point: the worst replicate mean
+        of any surviving design, of any study and seed, on each objective,
+        times HV_FACTOR, the objectives being positive).
+    """
     for r in rows:
-        kept = r["points"][np.asarray(r["survived"], bool)] if len(r["points"]) else r["points"]
-        r["hv_validated"] = hypervolume(kept, reference) if len(kept) and len(reference) else 0.0
+        r["kept"] = r["points"][np.asarray(r["survived"], bool)] if len(r["points"]) else r["points"]
+    pts = [r["kept"] for r in rows if len(r["kept"])]
+    reference = HV_FACTOR * np.nanmax(np.vstack(pts), axis=0) if pts else np.array([])
+    for r in rows:
+        r["hv_validated"] = hypervolume(r["kept"], reference) if len(r["kept"]) else 0.0
     return pd.DataFrame(rows)[COLUMNS], reference
 
 
 def parse_args(argv=None) -> argparse.Namespace:
-    """The command line (module doc)."""
+    """The command line (module doc).
+
+    Args:
+        argv: the arguments (None: sys.argv).
+
+    Returns:
+        The namespace, with ``seed_list``.
+    """
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seeds", default="5", help="sampler seeds: a count N (0..N-1) or a comma list (5)")
     ap.add_argument("--budget-s", type=float, default=252.0,
@@ -254,7 +335,14 @@ def parse_args(argv=None) -> argparse.Namespace:
 
 
 def main(argv=None) -> pd.DataFrame:
-    """Run the benchmark (module doc); returns the table."""
+    """Run the benchmark (module doc).
+
+    Args:
+        argv: the arguments (None: sys.argv).
+
+    Returns:
+        The table (COLUMNS), one row per study and seed.
+    """
     args = parse_args(argv)
     folder = args.studies_dir or tempfile.mkdtemp(prefix="mat-hopper-racing-")
     os.makedirs(folder, exist_ok=True)

@@ -66,11 +66,16 @@ class Lost:
     reason: str
 
 
+SCORE_SOURCES = ("_objective.py", "_metrics.py")  # the modules that score a run (run_behaviour, run_values)
+
+
 def _objective_source() -> str:
-    """Digest of the objective's source: an edited score never reuses old trial runs."""
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_objective.py")
-    with open(path, "rb") as f:
-        return hashlib.sha256(f.read()).hexdigest()[:16]
+    """Digest of the score's source (:data:`SCORE_SOURCES`): an edited score never reuses old trial runs."""
+    h = hashlib.sha256()
+    for name in SCORE_SOURCES:
+        with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), name), "rb") as f:
+            h.update(f.read())
+    return h.hexdigest()[:16]
 
 
 @dataclass(frozen=True, eq=False)

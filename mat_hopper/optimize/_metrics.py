@@ -119,7 +119,11 @@ DEFAULT_OBJECTIVES = ("tracking_error_m", "power_w")
 
 
 def describe_metrics() -> str:
-    """One line per metric, ``name (unit): label``, for ``--help`` and errors."""
+    """The table in one line, for ``--help`` and errors.
+
+    Returns:
+        ``name (unit): label`` of each metric, separated by ``"; "``.
+    """
     return "; ".join(f"{m.name} ({m.unit}): {m.label}" for m in METRICS.values())
 
 
@@ -151,8 +155,16 @@ def parse_objectives(value, flag: str = "objectives") -> tuple[str, ...]:
 
 
 def capped(value: float, name: str) -> float:
-    """`value` as metric `name`'s objective value: at most NO_DATA_VALUE x
-    its cap_scale, and that cap when the value is not finite (nan: no sample)."""
+    """A value as an objective value.
+
+    Args:
+        value: the metric's value (nan: no finite sample).
+        name: the metric (a key of :data:`METRICS`).
+
+    Returns:
+        `value`, at most NO_DATA_VALUE x the metric's cap_scale; that cap
+        when `value` is not finite.
+    """
     cap = NO_DATA_VALUE * METRICS[name].cap_scale
     return float(min(value, cap)) if math.isfinite(value) else cap
 
@@ -227,7 +239,16 @@ def run_values(rollout, hops, life: dict, leg_mass_kg: float, scored: bool) -> d
 
 
 def check_warp(objectives, backend: str = "warp") -> None:
-    """ValueError (one line) unless the warp batch computes every objective."""
+    """Refuse objectives the warp batch cannot compute.
+
+    Args:
+        objectives: metric names (keys of :data:`METRICS`).
+        backend: the backend named in the message.
+
+    Raises:
+        ValueError: (one line) an objective not marked ``warp``, naming it
+            and the metrics the batch computes.
+    """
     bad = [o for o in objectives if not METRICS[o].warp]
     if bad:
         ok = ", ".join(m.name for m in METRICS.values() if m.warp)

@@ -212,15 +212,31 @@ def hypervolume(points, reference) -> float:
 
 
 def hypervolume_2d(points: np.ndarray, reference) -> float:
-    """Area dominated by `points` (n x 2, minimized) and bounded by
-    `reference`: :func:`hypervolume` in two objectives."""
+    """:func:`hypervolume` in two objectives.
+
+    Args:
+        points: (n, 2) minimized objective values.
+        reference: (2,) the bounding point.
+
+    Returns:
+        The area dominated by `points` and bounded by `reference`.
+    """
     return hypervolume(np.asarray(points, float).reshape(-1, 2), reference)
 
 
 def hypervolume_history(frame: pd.DataFrame, reference=None, objectives=OBJECTIVES) -> tuple[pd.DataFrame, tuple]:
-    """Hypervolume of the feasible complete trials up to each trial number,
-    and the reference point used (default: worst feasible value of each
-    objective plus 10 % of its range), in the `objectives`' columns."""
+    """Hypervolume of the feasible complete trials up to each trial number.
+
+    Args:
+        frame: :func:`trials_frame`'s table.
+        reference: the reference point (None: the worst feasible value of
+            each objective plus HV_MARGIN of its range).
+        objectives: the study's objectives (the table's columns used).
+
+    Returns:
+        (a table of trial, hypervolume; the reference point as a tuple, ()
+        without a feasible trial).
+    """
     ok = feasible_complete(frame)
     if ok.empty:
         return pd.DataFrame(columns=["trial", "hypervolume"]), ()

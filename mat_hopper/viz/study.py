@@ -108,8 +108,18 @@ def _optuna_axes_figure(ax) -> Figure:
 
 def hypervolume_figure(study, reference_point, title: str, *, unit: str = "m W") -> Figure:
     """Hypervolume of the feasible front after each trial (Optuna's plot,
-    any number of objectives), against `reference_point` (every objective
-    minimized); `unit` is the product of the objectives' units."""
+    any number of objectives; every objective minimized).
+
+    Args:
+        study: an optuna.Study.
+        reference_point: one value per objective (empty: no feasible trial
+            yet, an empty plot).
+        title: the plot's title.
+        unit: the product of the objectives' units, for the axis.
+
+    Returns:
+        A matplotlib Figure.
+    """
     from optuna.visualization.matplotlib import plot_hypervolume_history
 
     if not reference_point:  # no feasible trial yet: an empty plot with the title
