@@ -17,7 +17,7 @@ from mat_hopper.behaviours import Behaviour, behaviour, desired_state  # noqa: E
 from mat_hopper.materials import parse_design  # noqa: E402
 from mat_hopper.metrics import run_summary  # noqa: E402
 from mat_hopper.model import build_model  # noqa: E402
-from mat_hopper.optimize._objective import _whole_run_means  # noqa: E402
+from mat_hopper.optimize._metrics import _whole_run  # noqa: E402
 from mat_hopper.rollout import Rollout  # noqa: E402
 from mat_hopper.sim import CHANNELS  # noqa: E402
 
@@ -354,7 +354,8 @@ def test_metrics_kernel_is_metrics_py(layout):
             np.testing.assert_allclose(got[w, K.A_ERR_SUM] / n_hops, s["mean_tracking_error_m"], rtol=1e-12)
             np.testing.assert_allclose(got[w, K.A_POW_SUM] / n_hops, s["mean_power_w"], rtol=1e-12)
         # whole-run means and the upright test: the CPU objective's own functions on the same samples
-        run_err, run_pow = _whole_run_means(ro)
+        whole = _whole_run(ro)
+        run_err, run_pow = whole["tracking_error_m"], whole["power_w"]
         np.testing.assert_allclose(got[w, K.A_RUN_ERR] / got[w, K.A_RUN_NERR], run_err, rtol=1e-12)
         np.testing.assert_allclose(got[w, K.A_RUN_POW] / got[w, K.A_RUN_NPOW], run_pow, rtol=1e-12)
         assert got[w, K.A_RUN_NERR] == got[w, K.A_RUN_NPOW] == len(rows)
