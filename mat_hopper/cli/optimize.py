@@ -51,6 +51,8 @@ OPTION_OF_FIELD = {
     "cvar_alpha": "--cvar-alpha",
     "leg_mass_tolerance_kg": "--leg-mass-tolerance",
     "leg_mass": "--leg-mass",
+    "max_yield_fraction": "--max-yield-fraction",
+    "min_hops_to_failure": "--min-hops-to-failure",
 }
 
 # The options of each kind of work; one given to another kind is refused
@@ -72,6 +74,8 @@ STUDY_OPTIONS = (
     "cvar_alpha",
     "leg_mass",
     "leg_mass_tolerance",
+    "max_yield_fraction",
+    "min_hops_to_failure",
 )
 RUN_OPTIONS = ("trials", "workers", "sampler", "seed", "backend", "device", "batch_size", "race", "no_progress")
 # Defaults of options left None by the parser (None: not given, so that a
@@ -175,8 +179,10 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
 
 def _noise_and_mass_from_args(args, ob: Objective) -> dict:
     """--replicates, --risk, --cvar-alpha, --leg-mass, --leg-mass-tolerance
-    (mat_hopper.optimize._robust), each the stored (or default) value when
-    left out; ``--leg-mass none`` lifts the constraint."""
+    (mat_hopper.optimize._robust) and the stress constraints
+    --max-yield-fraction, --min-hops-to-failure (issue 21), each the stored
+    (or default) value when left out; ``--leg-mass none`` lifts the
+    constraint."""
     given = lambda name: getattr(args, name, None) is not None  # noqa: E731
     leg_mass = ob.leg_mass
     if given("leg_mass"):
@@ -189,6 +195,8 @@ def _noise_and_mass_from_args(args, ob: Objective) -> dict:
         "leg_mass_tolerance_kg": args.leg_mass_tolerance
         if given("leg_mass_tolerance")
         else (ob.leg_mass_tolerance_kg if leg_mass is not None else None),
+        "max_yield_fraction": args.max_yield_fraction if given("max_yield_fraction") else ob.max_yield_fraction,
+        "min_hops_to_failure": args.min_hops_to_failure if given("min_hops_to_failure") else ob.min_hops_to_failure,
     }
 
 
@@ -229,6 +237,9 @@ def _cmd_optimize(args) -> int:
     check_objectives_vary(fresh.objective)
     if args.backend == "warp":
         check_warp(fresh.objective.objectives)
+        for dest in ("max_yield_fraction", "min_hops_to_failure"):  # a stress constraint needs stress
+            if getattr(fresh.objective, dest) is not None:
+                raise ValueError(f"{OPTION_OF_FIELD[dest]}: the warp backend computes no stress (use --backend mujoco)")
     cache = _check_backend(args)
     check_study_name(args.study)
     studies_dir = None if args.storage else args.studies_dir
@@ -377,6 +388,20 @@ def register_cli(sub) -> None:
         help="constrain the leg's mass to a paper design's (e.g. SS) or to a mass in kg; none: unconstrained (default)",
     )
     p.add_argument("--leg-mass-tolerance", type=float, help="kg, +- around --leg-mass (default 5 %% of the target)")
+    p.add_argument(
+        "--max-yield-fraction",
+        type=float,
+        metavar="F",
+        help="constraint: every segment's peak stress <= F x its yield strength, the worst behaviour "
+        "(e.g. 0.5; default off; meaningful under a bending convention)",
+    )
+    p.add_argument(
+        "--min-hops-to-failure",
+        type=float,
+        metavar="N",
+        help="constraint: fatigue life (Basquin S-N, Miner) of at least N hops, the worst behaviour "
+        "(e.g. 1e7; default off; meaningful under a bending convention)",
+    )
     p.add_argument(
         "--objectives",
         metavar="M1,M2[,M3]",

@@ -52,9 +52,16 @@ def check_unperturbed(objective: Objective) -> None:
     """ValueError unless the batch can score `objective`: unperturbed runs
     (replicates 0: the batch kernels have no perturbations,
     :mod:`mat_hopper.perturbations`) and objectives it computes (tracking
-    error, hip power, leg mass: no energetics, no stress;
-    :func:`~mat_hopper.optimize._metrics.check_warp`), each refused in one line."""
+    error, hip power, leg mass: no energetics, no stress, so no stress
+    constraint; :func:`~mat_hopper.optimize._metrics.check_warp`), each
+    refused in one line."""
     check_warp(objective.objectives)
+    stress = [f for f in ("max_yield_fraction", "min_hops_to_failure") if getattr(objective, f) is not None]
+    if stress:
+        raise ValueError(
+            f"the warp backend computes no stress: the constraints {', '.join(stress)} need the CPU path "
+            "(use --backend mujoco)"
+        )
     if objective.replicates:
         raise ValueError(
             f"the warp backend runs unperturbed rollouts only: give --replicates 0 (this objective asks for "

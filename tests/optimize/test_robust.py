@@ -226,3 +226,36 @@ def test_warp_backend_needs_unperturbed_runs():
         batch_settings(Objective(profile=TINY, replicates=4), LegDesign.mono("SS"))
     with pytest.raises(ValueError, match="--replicates 0"):  # before any storage or Warp
         run_batch_study(StudyConfig("w", SearchSpace(), Objective(profile=TINY)), RunOptions(storage="bad://"))
+
+
+def test_cli_stress_constraints(tmp_path, monkeypatch, capsys):
+    """--max-yield-fraction and --min-hops-to-failure (issue 21, item 7) set
+    the objective's stress constraints, are kept on resume, and are refused
+    where they cannot act: out of range, or on the warp backend (no stress)."""
+    import argparse
+    import os
+
+    from mat_hopper.cli import main
+    from mat_hopper.cli.optimize import config_from_args, register_cli
+
+    parser = argparse.ArgumentParser()
+    register_cli(parser.add_subparsers())
+    argv = ["optimize", "--study", "s", "--convention", "bending"]
+    args = parser.parse_args([*argv, "--max-yield-fraction", "0.5", "--min-hops-to-failure", "1e7"])
+    ob = config_from_args(args, None).objective
+    assert (ob.max_yield_fraction, ob.min_hops_to_failure) == (0.5, 1e7)
+    assert ob.constraint_names[-2:] == ("peak_stress", "fatigue_life")
+    resumed = config_from_args(parser.parse_args(["optimize", "--study", "s"]), config_from_args(args, None))
+    assert (resumed.objective.max_yield_fraction, resumed.objective.min_hops_to_failure) == (0.5, 1e7)
+    plain = config_from_args(parser.parse_args(argv), None).objective
+    assert "peak_stress" not in plain.constraint_names and "fatigue_life" not in plain.constraint_names
+    monkeypatch.chdir(tmp_path)
+    for extra, text in (
+        (["--max-yield-fraction", "-0.5"], "--max-yield-fraction must be"),
+        (["--min-hops-to-failure", "0"], "--min-hops-to-failure must be"),
+        (["--max-yield-fraction", "0.5", "--backend", "warp", "--replicates", "0"], "--max-yield-fraction: the warp"),
+    ):
+        assert main(["optimize", "--study", "bad", "--trials", "1", *extra]) == 2
+        err = capsys.readouterr().err.strip()
+        assert text in err and "\n" not in err, err
+    assert os.listdir(tmp_path) == []
