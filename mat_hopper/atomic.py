@@ -25,7 +25,21 @@ def _umask() -> int:
 @contextmanager
 def atomic_path(path, *, prefix: str = TEMP_PREFIX, fsync: bool = False):
     """Yield a temporary path next to `path` (same extension); on success
-    move it into place, with the permissions a plain open() would give."""
+    move it into place, with the permissions a plain open() would give.
+
+    Args:
+        path: the target file (str or path-like); its folder is created
+            (with parents) if missing.
+        prefix: the temporary file's name prefix (``.tmp-`` by default).
+        fsync: whether to fsync the temporary file before moving it into
+            place (default False).
+
+    Yields:
+        The temporary file's path (str), in the target's folder, with the
+        target's extension. When the ``with`` block exits normally it
+        replaces `path` (``os.replace``); on an exception it is removed and
+        `path` is left as it was.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=prefix, suffix=path.suffix)
@@ -43,14 +57,30 @@ def atomic_path(path, *, prefix: str = TEMP_PREFIX, fsync: bool = False):
 
 
 def write_text(text: str, path) -> str:
-    """Write a text file (UTF-8) atomically."""
+    """Write a text file (UTF-8) atomically.
+
+    Args:
+        text: the file's contents.
+        path: the file (str or path-like); its folder is created if missing.
+
+    Returns:
+        `path`, as a str.
+    """
     with atomic_path(path) as tmp:
         Path(tmp).write_text(text, encoding="utf-8")
     return str(path)
 
 
 def write_csv(frame, path) -> str:
-    """Write a pandas DataFrame as CSV (no index) atomically."""
+    """Write a pandas DataFrame as CSV (no index) atomically.
+
+    Args:
+        frame: the pandas DataFrame.
+        path: the file (str or path-like); its folder is created if missing.
+
+    Returns:
+        `path`, as a str.
+    """
     with atomic_path(path) as tmp:
         frame.to_csv(tmp, index=False)
     return str(path)
@@ -80,7 +110,20 @@ def remove_stale_mp_dirs(temp_dir: str | None = None, min_age_s: float = STALE_M
     without a handler) skips. A folder is removed only when it is ours,
     older than `min_age_s`, and holds nothing but sockets no process has
     bound (or nothing at all); a live process's folder is left alone.
-    Returns the folders removed."""
+    Returns the folders removed.
+
+    Args:
+        temp_dir: the folder to clean; None (the default) for
+            ``tempfile.gettempdir()``.
+        min_age_s: the least age (s, from the folder's modification time)
+            of a folder removed; default ``STALE_MP_AGE_S`` (60 s).
+
+    Returns:
+        The paths (str) of the folders removed; empty when `temp_dir`
+        cannot be listed. A folder holding anything where the socket table
+        (Linux's /proc/net/unix) cannot be read is kept; errors on single
+        folders are skipped.
+    """
     import shutil
     import stat
     import time

@@ -40,6 +40,13 @@ def order_behaviours(behaviours) -> list[str]:
     """Behaviour names in the paper's order (:data:`BEHAVIOUR_NAMES`), then
     the others as first seen; each once.
 
+    Args:
+        behaviours: an iterable of behaviour names (str), repeats allowed.
+
+    Returns:
+        A list of the distinct names: those of :data:`BEHAVIOUR_NAMES` in
+        that order, then the rest in order of first appearance.
+
     >>> order_behaviours(["circle", "static", "circle"])
     ['static', 'circle']
     """

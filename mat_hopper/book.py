@@ -65,7 +65,19 @@ def _is_root(folder: Path) -> bool:
 def repo_root(start: str | os.PathLike | None = None) -> Path:
     """The repository root: the nearest folder at or above `start` (default
     the current folder) whose pyproject.toml names mat-hopper; failing
-    that, the one above this package's source (an editable install)."""
+    that, the one above this package's source (an editable install).
+
+    Args:
+        start: the folder to search from, upwards; None (the default) for
+            the current working folder.
+
+    Returns:
+        The root folder, as a resolved Path.
+
+    Raises:
+        ValueError: no folder at or above `start`, nor above this package's
+            source, has a pyproject.toml naming mat-hopper.
+    """
     here = Path(start if start is not None else os.getcwd()).resolve()
     for folder in (here, *here.parents):
         if _is_root(folder):
@@ -131,7 +143,27 @@ def setup(profile: str | Profile | None = None, *, chdir: bool = True, figure_fo
     (argument, else $MAT_HOPPER_PROFILE, else paper), point the result
     cache at ``<root>/results/cache`` unless $MAT_HOPPER_CACHE says
     otherwise, and, inside IPython, show matplotlib figures inline as PNG
-    (``retina``: twice the pixels) or SVG."""
+    (``retina``: twice the pixels) or SVG.
+
+    Args:
+        profile: a profile name (``paper`` or ``quick``) or a Profile; None
+            (the default) for $MAT_HOPPER_PROFILE, else ``paper``
+            (:func:`mat_hopper.experiments.profiles.get_profile`).
+        chdir: whether to make the repository root the current folder
+            (default True).
+        figure_format: ``png``, ``retina`` (the default) or ``svg``; used
+            only inside IPython.
+
+    Returns:
+        The chapter's Book: the root, the profile, the cache folder (made
+        absolute against the root, and written to $MAT_HOPPER_CACHE) and
+        the output folder ``<root>/results/<profile name>``.
+
+    Raises:
+        ValueError: no repository root (:func:`repo_root`), an unknown
+            profile, $MAT_HOPPER_PROFILE or $MAT_HOPPER_CACHE set but empty,
+            or a `figure_format` other than png, retina or svg.
+    """
     from .parsing import env_value
 
     root = repo_root()
@@ -177,7 +209,26 @@ def show(
     significant digits, or to `decimals` places when given (``formats``:
     column -> format string or callable, e.g. ``{"porosity": "{:+.0%}"}``;
     `pattern`: one format string for every float, e.g. ``"{:+.0f} %"``),
-    missing values as `na_rep`, and the row index hidden unless `index`."""
+    missing values as `na_rep`, and the row index hidden unless `index`.
+
+    Args:
+        frame: the table (pandas DataFrame).
+        formats: {column: format string or callable}, applied over the
+            default number format; columns not in `frame` are ignored. None
+            (the default): no per-column formats.
+        index: whether to show the row index (default False).
+        na_rep: what missing and non-finite values show (default ``–``).
+        precision: significant digits of floats (default 4), when neither
+            `decimals` nor `pattern` is given.
+        decimals: fixed decimal places of floats; None (the default) for
+            `precision` significant digits.
+        pattern: one format string for every finite float, taking precedence
+            over `decimals` and `precision`; None (the default) for none.
+            Booleans and integers are shown as they are.
+
+    Returns:
+        A pandas Styler of `frame`, its index hidden unless `index`.
+    """
 
     def number(v):
         if isinstance(v, (bool, np.bool_)):
@@ -211,7 +262,24 @@ def build_command(
     $MAT_HOPPER_PROFILE set): the jupyter-book beside this interpreter (the
     venv's, so notebooks run on the venv's Python), warnings as errors,
     nitpicky, keep going to report every problem, then fail. The HTML goes
-    to ``<path_output or source>/_build/html``."""
+    to ``<path_output or source>/_build/html``.
+
+    Args:
+        source: the book's folder; None (the default) for :func:`repo_root`.
+        path_output: passed as ``--path-output`` when given (default None:
+            not passed).
+        toc: the table of contents file, passed as ``--toc`` when given
+            (default None: not passed).
+
+    Returns:
+        The command as a list of str: the jupyter-book executable,
+        ``build``, the source, ``-W -n --keep-going``, then the optional
+        ``--path-output`` and ``--toc`` arguments.
+
+    Raises:
+        ValueError: jupyter-book is neither beside this Python interpreter
+            nor on PATH, or (with `source` None) no repository root.
+    """
     import shutil
     import sys
 
@@ -233,7 +301,13 @@ def environment_table() -> pd.DataFrame:
     """Versions that change results (mat-hopper, MuJoCo), the interpreter
     running this (relative to the repository when inside it: the book's
     kernel is the venv's Python) and the profile variable as set, one row
-    each (columns item, value)."""
+    each (columns item, value).
+
+    Returns:
+        A pandas DataFrame of four rows (mat-hopper, MuJoCo, Python,
+        $MAT_HOPPER_PROFILE), columns ``item`` and ``value`` (str); the
+        profile variable reads ``(unset: paper)`` when unset or empty.
+    """
     import sys
 
     from .keys import versions

@@ -21,7 +21,20 @@ ROUNDOFF = 1e-9  # SI units: a magnitude below this is round-off, not a value
 def percent_change(value, baseline, *, floor: float = ROUNDOFF):
     """100 (value - baseline) / |baseline| in %, nan where |baseline| <
     `floor` or the baseline is not finite. Elementwise on arrays; a float
-    for scalars."""
+    for scalars.
+
+    Args:
+        value: the new value(s), a scalar or array-like (broadcast against
+            `baseline`).
+        baseline: the reference value(s), same units as `value`.
+        floor: the least |baseline| that gives a change, in the values' units
+            (default :data:`ROUNDOFF`, 1e-9).
+
+    Returns:
+        The change in %: a float when both inputs are scalars, else a float
+        array of the broadcast shape; nan where |baseline| < `floor` or the
+        baseline is not finite.
+    """
     v = np.asarray(value, dtype=float)
     b = np.asarray(baseline, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -247,7 +247,16 @@ def _latency(timing) -> int:
 def initial_state(settings: ControllerSettings) -> np.ndarray:
     """Fresh controller state: in flight, thrust at its start. The phase
     lock's clock starts at t = 0, as in the authors' loop, so no switch can
-    happen in the first ``phase_lock_s`` of a run."""
+    happen in the first ``phase_lock_s`` of a run.
+
+    Args:
+        settings: the controller's gains; only ``thrust_start_n`` (N) is read.
+
+    Returns:
+        A float64 array of length :data:`STATE_SIZE`: phase FLIGHT, last
+        switch at 0 s, thrust ``thrust_start_n`` N, highest z -inf, last hop
+        height nan, lift-off and touchdown counts 0.
+    """
     s = np.zeros(STATE_SIZE)
     s[S_PHASE] = FLIGHT
     s[S_T_SWITCH] = 0.0

@@ -273,11 +273,28 @@ def control(design: LegDesign, kind: str, segment_mass: str = DEFAULT_SEGMENT_MA
 
 
 def control_kind(name: str) -> str | None:
-    """The control kind a design name carries (``rho-inc~mass`` -> ``mass``), or None."""
+    """The control kind a design name carries (``rho-inc~mass`` -> ``mass``), or None.
+
+    Args:
+        name: a design name (converted with ``str``).
+
+    Returns:
+        The text after the last ``~`` when it is one of :data:`CONTROLS` and
+        a non-empty design name precedes it; None otherwise (no ``~``, an
+        empty base or an unknown kind).
+    """
     base, sep, kind = str(name).rpartition(CONTROL_SUFFIX)
     return kind if sep and base and kind in CONTROLS else None
 
 
 def control_of(name: str) -> str:
-    """The design a control's name belongs to (``rho-inc~mass`` -> ``rho-inc``); other names as they are."""
+    """The design a control's name belongs to (``rho-inc~mass`` -> ``rho-inc``); other names as they are.
+
+    Args:
+        name: a design name (converted with ``str``).
+
+    Returns:
+        The text before the last ``~`` when :func:`control_kind` finds a
+        control kind in the name, else ``str(name)`` unchanged.
+    """
     return str(name).rpartition(CONTROL_SUFFIX)[0] if control_kind(name) else str(name)

@@ -37,6 +37,17 @@ LOSS_FACTORS = {
 
 
 def check_damping(damping: str) -> str:
+    """The damping setting, checked against :data:`DAMPINGS` (exact spelling).
+
+    Args:
+        damping: ``"authors"`` or ``"loss-factor"``.
+
+    Returns:
+        `damping` unchanged.
+
+    Raises:
+        ValueError: a name not in :data:`DAMPINGS` (the message lists them).
+    """
     if damping not in DAMPINGS:
         raise ValueError(f"unknown damping {damping!r}; accepted: {', '.join(DAMPINGS)}")
     return damping
@@ -47,7 +58,19 @@ def loss_factor_class(mat: Material) -> str:
     own where :data:`LOSS_FACTORS` lists it; else ("custom": designs from
     properties, the sweeps) the class its modulus falls in on Ashby's
     loss-coefficient chart: >= 30 GPa metal, 1-30 GPa composite, < 1 GPa
-    polymer."""
+    polymer.
+
+    Args:
+        mat: the :class:`~mat_hopper.materials.Material` (elastic).
+
+    Returns:
+        A key of :data:`LOSS_FACTORS`: the material's own ``material_class``
+        where listed, else ``"metal"``, ``"composite"`` or ``"polymer"`` by
+        its modulus (GPa).
+
+    Raises:
+        ValueError: a rigid material (modulus None: no spring).
+    """
     if mat.rigid:
         raise ValueError(f"material {mat.name} is rigid: it has no spring")
     if mat.material_class in LOSS_FACTORS:
@@ -58,7 +81,17 @@ def loss_factor_class(mat: Material) -> str:
 
 def loss_factor(mat: Material) -> float:
     """A material's loss factor eta: its class's (:data:`LOSS_FACTORS`,
-    class by :func:`loss_factor_class`). Raises ValueError for a rigid one."""
+    class by :func:`loss_factor_class`). Raises ValueError for a rigid one.
+
+    Args:
+        mat: the :class:`~mat_hopper.materials.Material` (elastic).
+
+    Returns:
+        The loss factor eta (dimensionless), e.g. 1e-3 for a metal.
+
+    Raises:
+        ValueError: a rigid material (from :func:`loss_factor_class`).
+    """
     return LOSS_FACTORS[loss_factor_class(mat)]
 
 
@@ -67,5 +100,18 @@ def spring_damping(eta: float, stiffness: float, inertia: float) -> float:
     (N/m or N m/rad) on a degree of freedom of this inertia (kg or kg m^2,
     MuJoCo's dof_M0): c = eta sqrt(k m), i.e. a damping ratio zeta = eta / 2,
     the hysteretic loss factor's equivalent at the spring's own frequency
-    sqrt(k / m) (Lakes 2009, ch. 2)."""
+    sqrt(k / m) (Lakes 2009, ch. 2).
+
+    Args:
+        eta: the loss factor (dimensionless, :func:`loss_factor`).
+        stiffness: the spring's stiffness k, N/m (slide) or N m/rad (hinge).
+        inertia: the degree of freedom's inertia m, kg (slide) or kg m^2
+            (hinge).
+
+    Returns:
+        The damping coefficient c = eta sqrt(k m), N s/m or N m s/rad.
+
+    Raises:
+        ValueError: stiffness x inertia < 0 (from :func:`math.sqrt`).
+    """
     return eta * math.sqrt(stiffness * inertia)

@@ -123,7 +123,20 @@ def strength(mat: Material) -> Strength:
     a catalogue name *and* that entry's density and modulus; any other (a
     sweep's porous or softened point, a gradient's segment, a control) its
     class's (:data:`CLASS_STRENGTH`), the class read off its modulus.
-    Raises ValueError for a rigid one."""
+    Raises ValueError for a rigid one.
+
+    Args:
+        mat: the :class:`~mat_hopper.materials.Material`; its name is matched
+            case-insensitively, without surrounding spaces.
+
+    Returns:
+        The catalogue entry of :data:`STRENGTH` where name, density and
+        modulus all match the catalogue's; else the :data:`CLASS_STRENGTH`
+        curve of its class (:func:`mat_hopper.damping.loss_factor_class`).
+
+    Raises:
+        ValueError: a rigid material (it carries no modelled stress).
+    """
     if mat.rigid:
         raise ValueError(f"material {mat.name} is rigid: it carries no modelled stress")
     key = mat.name.strip().lower()
@@ -144,7 +157,16 @@ def strength(mat: Material) -> Strength:
 def rainflow_cycles(series) -> pd.DataFrame:
     """Rainflow cycles of a stress history (ASTM E1049-85; the library
     ``rainflow``): one row per cycle or half cycle, columns range, mean,
-    count (1 or 0.5), i_start, i_end (sample indices)."""
+    count (1 or 0.5), i_start, i_end (sample indices).
+
+    Args:
+        series: the stress history, a 1-D sequence (any unit; Pa here).
+
+    Returns:
+        DataFrame with columns ``range``, ``mean`` (the series' unit),
+        ``count``, ``i_start``, ``i_end``; empty (same columns) for fewer
+        than two samples.
+    """
     x = np.asarray(series, dtype=float)
     rows = list(rainflow.extract_cycles(x)) if len(x) >= 2 else []
     return pd.DataFrame(rows, columns=["range", "mean", "count", "i_start", "i_end"])
@@ -152,7 +174,17 @@ def rainflow_cycles(series) -> pd.DataFrame:
 
 def miner_damage(series_pa, st: Strength) -> float:
     """Palmgren-Miner damage sum of one uniaxial stress history (Pa) under
-    this S-N curve (rainflow-counted, Morrow-corrected)."""
+    this S-N curve (rainflow-counted, Morrow-corrected).
+
+    Args:
+        series_pa: the uniaxial stress history, 1-D sequence, Pa.
+        st: the material's :class:`Strength` (S-N curve).
+
+    Returns:
+        D = sum of count / N_f over the rainflow cycles (dimensionless; 1 =
+        failure); 0.0 without cycles, inf where a cycle's mean stress reaches
+        sigma_f'.
+    """
     c = rainflow_cycles(series_pa)
     if c.empty:
         return 0.0
@@ -181,7 +213,16 @@ def _fibres(block: np.ndarray) -> list[np.ndarray]:
 def equivalent_amplitude(series_pa, st: Strength) -> float:
     """The largest Morrow-corrected, fully reversed stress amplitude (Pa)
     among the rainflow cycles of one stress history (0 without cycles; inf
-    where the mean stress reaches sigma_f')."""
+    where the mean stress reaches sigma_f').
+
+    Args:
+        series_pa: the uniaxial stress history, 1-D sequence, Pa.
+        st: the material's :class:`Strength` (its sigma_f' corrects the mean).
+
+    Returns:
+        The largest sigma_a / (1 - sigma_m / sigma_f') over the cycles, Pa;
+        0.0 without cycles, inf where a cycle's mean stress reaches sigma_f'.
+    """
     c = rainflow_cycles(series_pa)
     if c.empty:
         return 0.0
@@ -250,7 +291,19 @@ def hop_stress_columns(rollout, cycles: np.ndarray) -> pd.DataFrame:
     """One row per hop for the hop table: the leg's peak stress (Pa, its
     worst segment), that segment, the leg's damage per hop (its worst
     segment's Miner sum) and whether any segment's peak exceeded its yield
-    strength (``yield_exceeded``)."""
+    strength (``yield_exceeded``).
+
+    Args:
+        rollout: a Rollout with stress records (``Rollout.stress``; None
+            gives no modelled stress).
+        cycles: (k, 2) hop cycles, (start, end) s.
+
+    Returns:
+        DataFrame, one row per hop (k rows), columns ``peak_stress_pa`` (Pa),
+        ``peak_stress_segment`` (1 = base end), ``damage`` (Miner sum of the
+        hop, worst segment) and ``yield_exceeded`` (bool). NaN (and False)
+        throughout where no segment has modelled stress.
+    """
     per = hop_stress(rollout, cycles)
     if per.empty or per["peak_stress_pa"].isna().all():
         nan = np.full(len(cycles), math.nan)

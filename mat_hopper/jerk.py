@@ -82,10 +82,22 @@ def body_acceleration(rollout, cutoff_hz: float = BODY_JERK_CUTOFF_HZ, order: in
 def body_jerk(rollout, cutoff_hz: float = BODY_JERK_CUTOFF_HZ, order: int = BODY_JERK_ORDER) -> np.ndarray:
     """|d az / dt| of :func:`body_acceleration` (m/s^3), per recorded sample.
 
-    Args, Raises: as :func:`body_acceleration`.
+    Args:
+        rollout: a :class:`mat_hopper.sim.Rollout` (its ``az_mean`` channel
+            and ``time``, s).
+        cutoff_hz: the Butterworth cut-off (Hz), below the record Nyquist
+            (default :data:`BODY_JERK_CUTOFF_HZ`, 20 Hz).
+        order: the Butterworth order of one pass, >= 1 (default
+            :data:`BODY_JERK_ORDER`, 4).
 
     Returns:
-        (n,) array, m/s^3.
+        (n,) array, m/s^3, one value per recorded sample (central
+        differences of the filtered acceleration against ``rollout.time``).
+
+    Raises:
+        ValueError: as :func:`body_acceleration`: fewer than 2 samples, a
+            cut-off at or above the record Nyquist, an order that is not an
+            integer >= 1, or too few samples for the filter.
     """
     a = body_acceleration(rollout, cutoff_hz, order)
     return np.abs(np.gradient(a, rollout.time))

@@ -26,7 +26,20 @@ __all__ = ["RESULT_MODULES", "design_key", "hash_key", "json_default", "settings
 
 
 def json_default(o):
-    """JSON for numpy scalars and arrays, and tuples (as lists), in keys and metadata."""
+    """JSON for numpy scalars and arrays, and tuples (as lists), in keys and metadata.
+
+    The ``default`` hook of :func:`json.dumps`.
+
+    Args:
+        o: the object json cannot encode itself.
+
+    Returns:
+        int for a numpy integer, float for a numpy floating, bool for a numpy
+        bool, a list for a tuple or a numpy array.
+
+    Raises:
+        TypeError: any other object (``not JSON serialisable``).
+    """
     if isinstance(o, (np.integer,)):
         return int(o)
     if isinstance(o, (np.floating,)):
@@ -81,7 +94,13 @@ def source_digest() -> str:
 
 def versions() -> dict:
     """What besides the settings changes results: mat-hopper's version and
-    source, and MuJoCo's version."""
+    source, and MuJoCo's version.
+
+    Returns:
+        A dict with keys ``mat_hopper`` (the package's ``__version__``),
+        ``source`` (:func:`source_digest`, 16 hex characters) and
+        ``mujoco`` (``mujoco.__version__``).
+    """
     import mujoco
 
     from . import __version__
@@ -91,7 +110,16 @@ def versions() -> dict:
 
 def design_key(design: LegDesign) -> dict:
     """A design as the physics sees it: per-segment density (g/cm^3) and
-    modulus (GPa, None = rigid). The name is a label, not physics."""
+    modulus (GPa, None = rigid). The name is a label, not physics.
+
+    Args:
+        design: the LegDesign.
+
+    Returns:
+        A dict with keys ``n_segments`` (int), ``densities_g_cm3`` (list
+        of float, g/cm^3) and ``moduli_gpa`` (list of float GPa, or None
+        where rigid), base to foot.
+    """
     return {
         "n_segments": design.n_segments,
         "densities_g_cm3": list(design.densities_g_cm3),
@@ -102,7 +130,16 @@ def design_key(design: LegDesign) -> dict:
 def settings_key(settings: SimSettings) -> dict:
     """Every field of SimSettings, by name: a setting added to SimSettings is
     in every key without another edit. Nested settings (controller gains,
-    perturbation) as dicts, a sensor timing by its name."""
+    perturbation) as dicts, a sensor timing by its name.
+
+    Args:
+        settings: the SimSettings.
+
+    Returns:
+        A dict {field name: value}: a SensorTiming as its name (str), any
+        other dataclass as ``dataclasses.asdict`` gives it, other values as
+        they are.
+    """
     return {f.name: _key_value(getattr(settings, f.name)) for f in fields(settings)}
 
 
@@ -115,6 +152,19 @@ def _key_value(value):
 
 
 def hash_key(key: dict) -> str:
-    """Stable short hash (hex) of a key dict."""
+    """Stable short hash (hex) of a key dict.
+
+    Args:
+        key: the key: JSON-encodable with :func:`json_default` (numpy
+            scalars and arrays, tuples); encoded with sorted keys, NaN
+            allowed.
+
+    Returns:
+        The first 24 hex characters of the SHA-256 of the key's JSON text.
+
+    Raises:
+        TypeError: a value that neither json nor :func:`json_default` can
+            encode.
+    """
     text = json.dumps(key, sort_keys=True, default=json_default, allow_nan=True)
     return hashlib.sha256(text.encode()).hexdigest()[:24]

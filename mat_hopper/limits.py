@@ -28,7 +28,17 @@ MAX_WORLDS = 65_536  # worlds in one MuJoCo Warp batch (--max-batch, --batch-siz
 
 def max_total_steps() -> float:
     """The limit in physics steps: ``$MAT_HOPPER_MAX_STEPS`` if set, else
-    MAX_TOTAL_STEPS. Raises ValueError for a value that is not a number > 0."""
+    MAX_TOTAL_STEPS. Raises ValueError for a value that is not a number > 0.
+
+    Returns:
+        The limit (float, physics steps): ``$MAT_HOPPER_MAX_STEPS`` read as
+        an ASCII decimal, or ``MAX_TOTAL_STEPS`` (2e10) when it is not set.
+
+    Raises:
+        ValueError: ``$MAT_HOPPER_MAX_STEPS`` set but empty, not a finite
+            ASCII decimal, or below 1 (:func:`mat_hopper.parsing.parse_number`
+            with ``low=1``).
+    """
     from .parsing import env_value, parse_number
 
     text = env_value(LIMIT_ENV, "a number of physics steps")
@@ -65,7 +75,22 @@ def check_total_steps(steps: float, what: str, advice: str = "") -> float:
 
 def check_count(value, flag: str, low: int = 1, high: int | None = None, what: str = "") -> int | None:
     """A count option: an integer in [low, high] (None passes: the option's
-    default). Raises ValueError naming `flag` and the accepted range."""
+    default). Raises ValueError naming `flag` and the accepted range.
+
+    Args:
+        value: the count: an int, or a float with a whole value; None passes.
+        flag: the option named in the error (``--replicates``).
+        low: the least value accepted (default 1).
+        high: the greatest value accepted; None (the default) for no bound.
+        what: what is counted, in parentheses in the error; default empty.
+
+    Returns:
+        `value` as an int, or None when `value` is None.
+
+    Raises:
+        ValueError: a bool, a value that is not an int or whole float, or
+            one outside [low, high].
+    """
     if value is None:
         return None
     ok = not isinstance(value, bool) and isinstance(value, int | float) and float(value).is_integer()
@@ -76,7 +101,20 @@ def check_count(value, flag: str, low: int = 1, high: int | None = None, what: s
 
 
 def check_workers(value, flag: str = "--workers") -> int | None:
-    """Worker processes: an integer in [1, MAX_WORKERS] (None: the default)."""
+    """Worker processes: an integer in [1, MAX_WORKERS] (None: the default).
+
+    Args:
+        value: the number of worker processes, or None (the command's
+            default).
+        flag: the option named in the error (default ``--workers``).
+
+    Returns:
+        `value` as an int, or None when `value` is None.
+
+    Raises:
+        ValueError: not an integer in [1, MAX_WORKERS] (256)
+            (:func:`check_count`).
+    """
     return check_count(value, flag, 1, MAX_WORKERS, "processes")
 
 
@@ -84,7 +122,21 @@ def task_steps(task) -> float:
     """Physics steps of one runner task: a run's n_steps; a stable-time-step
     measurement's bisection tries at the geometric mean of its bracket (a
     typical case: the tries close in on the design's stable step) plus, with
-    its scan, the reference ladder in full."""
+    its scan, the reference ladder in full.
+
+    Args:
+        task: a runner task: one with ``settings`` (a run) counts its
+            ``settings.n_steps``; one with ``dt_min``, ``dt_max`` (s) and
+            ``duration_s`` (a stable-time-step measurement) counts
+            ``max_iter`` (default 1) x ``duration_s / sqrt(dt_min * dt_max)``,
+            plus ``duration_s / dt`` for each dt of
+            :func:`mat_hopper.stability.spec_ladder` when its ``scan`` is
+            true.
+
+    Returns:
+        The estimated physics steps (float); 0.0 for a task with no
+        settings and a missing or zero dt_min, dt_max or duration_s.
+    """
     settings = getattr(task, "settings", None)
     if settings is not None:
         return float(settings.n_steps)

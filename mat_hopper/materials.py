@@ -120,7 +120,20 @@ def _check_number(
 
 
 def check_n_segments(n_segments) -> int:
-    """An integer number of segments in [1, MAX_SEGMENTS] (no bools, no 2.5)."""
+    """An integer number of segments in [1, MAX_SEGMENTS] (no bools, no 2.5).
+
+    Args:
+        n_segments: the count asked for: an int, or any value that
+            ``float()`` and ``int()`` both read to the same integer (3.0,
+            ``"3"``).
+
+    Returns:
+        The count as an int.
+
+    Raises:
+        ValueError: a bool, a value that is not an integer (2.5, ``"3.0"``,
+            nan, inf, None) or one outside [1, :data:`MAX_SEGMENTS`] (64).
+    """
     try:
         ok = (not isinstance(n_segments, bool)) and float(n_segments) == int(n_segments)
     except (TypeError, ValueError, OverflowError):
@@ -131,7 +144,18 @@ def check_n_segments(n_segments) -> int:
 
 
 def check_segment_mass(segment_mass: str) -> str:
-    """The segment-mass convention named (case-insensitive), as spelled in SEGMENT_MASSES."""
+    """The segment-mass convention named (case-insensitive), as spelled in SEGMENT_MASSES.
+
+    Args:
+        segment_mass: ``"leg"`` or ``"capsule"``, any case, blanks trimmed.
+
+    Returns:
+        The name as spelled in :data:`SEGMENT_MASSES`.
+
+    Raises:
+        ValueError: an empty name or one not in :data:`SEGMENT_MASSES` (from
+            :func:`mat_hopper.parsing.parse_name`).
+    """
     from .parsing import parse_name
 
     return parse_name(segment_mass, SEGMENT_MASSES, "segment mass convention")
@@ -259,7 +283,21 @@ def material(name: str) -> Material:
 
 
 def porosity(bulk_density_g_cm3: float, solid_density_g_cm3: float) -> float:
-    """Porosity Phi = 1 - rho_b / rho_s (dimensionless, 0 for a solid)."""
+    """Porosity Phi = 1 - rho_b / rho_s (dimensionless, 0 for a solid).
+
+    Args:
+        bulk_density_g_cm3: bulk density rho_b, g/cm^3 (finite, > 0; a
+            decimal string is read).
+        solid_density_g_cm3: density of the solid rho_s, g/cm^3 (finite,
+            > 0).
+
+    Returns:
+        Phi in [0, 1), a float.
+
+    Raises:
+        ValueError: a density that is not a finite number > 0, or a bulk
+            density above the solid density.
+    """
     rb = _check_number(bulk_density_g_cm3, "bulk density", "finite and > 0 g/cm^3")
     rs = _check_number(solid_density_g_cm3, "solid density", "finite and > 0 g/cm^3")
     if rb > rs:
@@ -268,7 +306,22 @@ def porosity(bulk_density_g_cm3: float, solid_density_g_cm3: float) -> float:
 
 
 def bulk_density(porosity_fraction: float, solid_density_g_cm3: float) -> float:
-    """Bulk density rho_b = rho_s (1 - Phi) in g/cm^3, for 0 <= Phi < 1."""
+    """Bulk density rho_b = rho_s (1 - Phi) in g/cm^3, for 0 <= Phi < 1.
+
+    Args:
+        porosity_fraction: porosity Phi (dimensionless, a fraction, not %).
+        solid_density_g_cm3: density of the solid rho_s, g/cm^3 (finite,
+            > 0).
+
+    Returns:
+        rho_b in g/cm^3, a float.
+
+    Raises:
+        ValueError: Phi outside [0, 1) (nan included) or a string
+            ``float()`` cannot read, or a solid density that is not a finite
+            number > 0.
+        TypeError: a Phi ``float()`` does not take (None, a list).
+    """
     phi = float(porosity_fraction)
     if not (0.0 <= phi < 1.0):
         raise ValueError(f"porosity must be in [0, 1), got {porosity_fraction!r}")
@@ -278,27 +331,72 @@ def bulk_density(porosity_fraction: float, solid_density_g_cm3: float) -> float:
 
 def check_convention(convention: str) -> str:
     """The stiffness convention named (case-insensitive, mat_hopper.parsing),
-    as spelled in CONVENTIONS. Raises ValueError for any other."""
+    as spelled in CONVENTIONS. Raises ValueError for any other.
+
+    Args:
+        convention: ``"paper"``, ``"axial"``, ``"bending"`` or
+            ``"axial+bending"``, any case, blanks trimmed.
+
+    Returns:
+        The name as spelled in :data:`CONVENTIONS`.
+
+    Raises:
+        ValueError: an empty name or one not in :data:`CONVENTIONS` (from
+            :func:`mat_hopper.parsing.parse_name`).
+    """
     from .parsing import parse_name
 
     return parse_name(convention, CONVENTIONS, "stiffness convention")
 
 
 def segment_length(n_segments: int) -> float:
-    """Length in m of one material segment when 0.3 m is split in n."""
+    """Length in m of one material segment when 0.3 m is split in n.
+
+    Args:
+        n_segments: number of material segments (> 0; not checked here, see
+            :func:`check_n_segments`).
+
+    Returns:
+        0.3 m / `n_segments`, m (0.1 m for the paper's 3 segments).
+    """
     return ref.MATERIAL_LENGTH / n_segments
 
 
 def capsule_volume_m3(radius_m: float, length_m: float) -> float:
     """Volume (m^3) of a capsule: a cylinder of this length plus its two
-    hemispherical end caps (what MuJoCo's ``fromto`` capsule holds)."""
+    hemispherical end caps (what MuJoCo's ``fromto`` capsule holds).
+
+    Args:
+        radius_m: the capsule's radius, m.
+        length_m: the length of its cylindrical part (between the caps'
+            centres), m.
+
+    Returns:
+        pi r^2 L + 4/3 pi r^3, m^3.
+    """
     return math.pi * radius_m**2 * length_m + 4.0 / 3.0 * math.pi * radius_m**3
 
 
 def capsule_density_scale(n_segments: int, segment_mass: str = DEFAULT_SEGMENT_MASS) -> float:
     """Factor on each material capsule's density (module doc): ``leg``,
     V3 / (N/3 V_N) with V_N the volume of one half-segment capsule of an
-    N-segment leg (exactly 1.0 at N = 3); ``capsule``, 1."""
+    N-segment leg (exactly 1.0 at N = 3); ``capsule``, 1.
+
+    Args:
+        n_segments: the leg's number of material segments N, in [1, 64].
+        segment_mass: the segment-mass convention, ``"leg"`` (default) or
+            ``"capsule"``, any case.
+
+    Returns:
+        The dimensionless density factor (< 1 for N > 3, > 1 for N < 3
+        under ``leg``: more segments, more end caps; 1.0 under
+        ``capsule``).
+
+    Raises:
+        ValueError: an unknown segment-mass convention
+            (:func:`check_segment_mass`) or a segment count that is not an
+            integer in [1, 64] (:func:`check_n_segments`).
+    """
     segment_mass = check_segment_mass(segment_mass)
     n = check_n_segments(n_segments)
     if segment_mass == "capsule":
@@ -315,7 +413,21 @@ def segment_masses(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS) 
     0.025 m (:func:`capsule_volume_m3`, end caps included), rho scaled by the
     segment-mass convention (:func:`capsule_density_scale`). The rest of the
     robot (base, hip stub, foot) is in :mod:`mat_hopper.model`; MuJoCo's
-    total is ``build_model(d).total_mass_kg``."""
+    total is ``build_model(d).total_mass_kg``.
+
+    Args:
+        design: the :class:`LegDesign`.
+        segment_mass: the segment-mass convention, ``"leg"`` (default) or
+            ``"capsule"``, any case.
+
+    Returns:
+        A tuple of N floats, kg, segment 1 (nearest the base) first; a rigid
+        segment has its mass too.
+
+    Raises:
+        ValueError: an unknown segment-mass convention (from
+            :func:`capsule_density_scale`).
+    """
     n = design.n_segments
     v = 2.0 * capsule_volume_m3(ref.MATERIAL_RADIUS, segment_length(n) / 2.0)
     scale = capsule_density_scale(n, segment_mass)
@@ -327,7 +439,26 @@ def spring_stiffness(
 ) -> float:
     """Axial spring stiffness in N/m for a segment of the given modulus
     (GPa); 0 under ``bending`` (axially rigid). ``axial+bending`` takes the
-    ``axial`` value."""
+    ``axial`` value.
+
+    Args:
+        modulus_gpa: Young's modulus, GPa (finite, > 0; not checked against
+            :data:`MODULUS_RANGE_GPA`).
+        convention: the stiffness convention, any case (default
+            ``"paper"``).
+        n_segments: the leg's number of segments N (default 3); read only
+            under ``axial`` and ``axial+bending`` (L = 0.3 m / N) and not
+            checked here.
+
+    Returns:
+        k in N/m: ``paper``, 9.4248e5 N/m per GPa x E (whatever N);
+        ``axial`` and ``axial+bending``, E A / L with A = pi (0.025 m)^2;
+        ``bending``, 0.0.
+
+    Raises:
+        ValueError: an unknown convention, or a modulus that is not a finite
+            number > 0.
+    """
     convention = check_convention(convention)
     e = _check_number(modulus_gpa, "modulus", "finite and > 0 GPa")
     if convention not in AXIAL_CONVENTIONS:
@@ -340,7 +471,15 @@ def spring_stiffness(
 
 def second_moment_m4(radius_m: float = ref.MATERIAL_RADIUS) -> float:
     """Second moment of area I = pi r^4 / 4 (m^4) of a solid circular
-    section about a diameter."""
+    section about a diameter.
+
+    Args:
+        radius_m: the section's radius, m (default 0.025 m, the material
+            capsules').
+
+    Returns:
+        I in m^4.
+    """
     return math.pi * radius_m**4 / 4.0
 
 
@@ -348,7 +487,19 @@ def prbm_constants(n_segments: int) -> tuple[float, float]:
     """(gamma, K_Theta) of each segment's pivot (module doc): Howell's
     end-force values (0.85, 2.65) for one segment, the midpoint pivot
     (0.5, 2) for a chain. The pivot lies (1 - gamma) l below the segment's
-    top."""
+    top.
+
+    Args:
+        n_segments: the leg's number of segments N, in [1, 64].
+
+    Returns:
+        (gamma, K_Theta), both dimensionless: (0.85, 2.65) at N = 1, else
+        (0.5, 2.0).
+
+    Raises:
+        ValueError: a segment count that is not an integer in [1, 64]
+            (:func:`check_n_segments`).
+    """
     n = check_n_segments(n_segments)
     return (PRBM_GAMMA, PRBM_K_THETA) if n == 1 else (CHAIN_GAMMA, CHAIN_K_THETA)
 
@@ -356,7 +507,20 @@ def prbm_constants(n_segments: int) -> tuple[float, float]:
 def bending_stiffness(modulus_gpa: float, n_segments: int = ref.REFERENCE_SEGMENTS) -> float:
     """Stiffness (N m/rad) of each of a segment's two hinge springs:
     K = gamma K_Theta E I / l with l = 0.3 m / N, I = pi r^4 / 4 and
-    (gamma, K_Theta) from :func:`prbm_constants` (Howell 2001, ch. 5)."""
+    (gamma, K_Theta) from :func:`prbm_constants` (Howell 2001, ch. 5).
+
+    Args:
+        modulus_gpa: Young's modulus E, GPa (finite, > 0; not checked
+            against :data:`MODULUS_RANGE_GPA`).
+        n_segments: the leg's number of segments N, in [1, 64] (default 3).
+
+    Returns:
+        K in N m/rad (r = 0.025 m).
+
+    Raises:
+        ValueError: a modulus that is not a finite number > 0, or a segment
+            count that is not an integer in [1, 64].
+    """
     e = _check_number(modulus_gpa, "modulus", "finite and > 0 GPa")
     gamma, k_theta = prbm_constants(n_segments)
     return gamma * k_theta * e * 1e9 * second_moment_m4() / segment_length(n_segments)
@@ -366,7 +530,18 @@ def prbm_tip_deflection_ratio(n_segments: int) -> float:
     """The chain's small-deflection tip deflection under an end force, over
     Euler-Bernoulli's P L^3 / (3 E I): the PRBM's stated error + 1. One
     segment: 3 gamma / K_Theta (0.962); N >= 2 midpoint pivots:
-    1 - 1 / (4 N^2)."""
+    1 - 1 / (4 N^2).
+
+    Args:
+        n_segments: the leg's number of segments N, in [1, 64].
+
+    Returns:
+        The dimensionless ratio (1 would be exact Euler-Bernoulli).
+
+    Raises:
+        ValueError: a segment count that is not an integer in [1, 64]
+            (:func:`check_n_segments`).
+    """
     n = check_n_segments(n_segments)
     gamma, k_theta = prbm_constants(n)
     # sum over pivots of (lever arm)^2 / K, lever arm (N - i + gamma) l
@@ -555,7 +730,13 @@ def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesi
 
 
 def paper_designs() -> dict[str, LegDesign]:
-    """The paper's mono-materials and gradients, by name."""
+    """The paper's mono-materials and gradients, by name.
+
+    Returns:
+        A dict name -> :class:`LegDesign`, in this order: the five
+        mono-materials (MD, PVC, Al, Ti, SS; 3 segments each), ``rho-inc``,
+        ``rho-dec``, ``PVC-Ti-SS`` and ``SS-Ti-PVC``.
+    """
     out = {n: LegDesign.mono(n) for n in MONO_NAMES}
     out.update(NAMED_DESIGNS)
     for g in ("PVC-Ti-SS", "SS-Ti-PVC"):
@@ -569,6 +750,13 @@ PAPER_DESIGN_ORDER = (*MONO_NAMES, "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC
 def order_designs(designs) -> list[str]:
     """Design names in the paper's order (:data:`PAPER_DESIGN_ORDER`), then
     the others as first seen; each once.
+
+    Args:
+        designs: an iterable of design names (str), repeats allowed.
+
+    Returns:
+        A list of the distinct names: those of :data:`PAPER_DESIGN_ORDER` in
+        that order, then the rest in order of first appearance.
 
     >>> order_designs(["mine", "SS", "rho-inc", "MD", "SS"])
     ['MD', 'SS', 'rho-inc', 'mine']

@@ -98,7 +98,25 @@ def _check_rollout(rollout) -> None:
 
 def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFrame:
     """One row per scored hop cycle, with every metric (see module doc).
-    Raises ValueError when `rollout` is not a Rollout."""
+    Raises ValueError when `rollout` is not a Rollout.
+
+    Args:
+        rollout: the :class:`~mat_hopper.rollout.Rollout` of a run.
+        transient_s: hop cycles starting before it (s) are not scored; None:
+            the rollout's own ``settings.transient_s``.
+
+    Returns:
+        DataFrame, one row per scored hop cycle (lift-off to lift-off), columns
+        ``design``, ``behaviour``, ``convention``, ``sensor_timing``,
+        ``segment_mass``, ``hop`` (0, 1, ...), ``t_start_s``, ``t_end_s``, every
+        metric of :data:`ALL_METRICS`, the leg's mass properties
+        (``leg_mass_kg``, ``leg_com_m``, ``hip_inertia_kg_m2``) and
+        :data:`STRESS_COLUMNS`. Empty (same columns) without scored cycles or
+        with fewer than 4 recorded samples.
+
+    Raises:
+        ValueError: `rollout` is not a Rollout.
+    """
     _check_rollout(rollout)
     cycles = hop_cycles(rollout, transient_s)
     d = rollout.data
@@ -174,7 +192,26 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     per-hop metrics, energy (J) and the run energetics of
     :func:`mat_hopper.energetics.run_energetics` (cost of transport over the
     path length travelled, nan without travel). Raises ValueError when
-    `rollout` is not a Rollout."""
+    `rollout` is not a Rollout.
+
+    Args:
+        rollout: the :class:`~mat_hopper.rollout.Rollout` of a run.
+        transient_s: hop cycles starting before it (s) are not scored; None:
+            the rollout's own ``settings.transient_s``.
+
+    Returns:
+        dict: ``design``, ``behaviour``, ``convention``, ``sensor_timing``,
+        ``segment_mass``, ``stable``, ``diverged_at_s``, ``n_hops``,
+        ``total_mass_kg``, the mass properties (``leg_mass_kg``, ``leg_com_m``,
+        ``hip_inertia_kg_m2``), ``mean_<metric>`` for every metric of
+        :data:`ALL_METRICS` (nan without hops), ``damping``, the stress and
+        fatigue of :func:`mat_hopper.fatigue.fatigue_summary`, ``energy_j``
+        (sum over the hops, J; nan without hops) and the keys of
+        :func:`mat_hopper.energetics.run_energetics`.
+
+    Raises:
+        ValueError: `rollout` is not a Rollout.
+    """
     _check_rollout(rollout)
     hops = hop_table(rollout, transient_s)
     out = {
@@ -200,7 +237,19 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
 
 def summarize(hops: pd.DataFrame, by=("design", "behaviour"), metrics=METRICS) -> pd.DataFrame:
     """Mean, median and IQR of each metric per group, tidy (one row per
-    group and metric)."""
+    group and metric).
+
+    Args:
+        hops: a hop table (:func:`hop_table`, or several concatenated).
+        by: the column names to group by (a sequence, not a single string),
+            groups in order of appearance.
+        metrics: the metric columns to summarize.
+
+    Returns:
+        DataFrame with one column per name in `by`, then ``metric``, ``n``
+        (hops in the group), ``mean``, ``median`` and ``iqr`` (75th minus
+        25th percentile), in the metric's unit.
+    """
     rows = []
     for key, g in hops.groupby(list(by), sort=False):
         key = key if isinstance(key, tuple) else (key,)
@@ -221,7 +270,17 @@ def summarize(hops: pd.DataFrame, by=("design", "behaviour"), metrics=METRICS) -
 
 
 def holm(pvalues) -> np.ndarray:
-    """Holm-Bonferroni adjusted p-values (same order as given)."""
+    """Holm-Bonferroni adjusted p-values (same order as given).
+
+    Args:
+        pvalues: raw p-values, array-like; non-finite ones (nan) are left out
+            of the family.
+
+    Returns:
+        float array of the input's shape: the adjusted p-values, capped at 1
+        and made monotone in the order of the raw ones; nan where the input is
+        not finite.
+    """
     p = np.asarray(pvalues, dtype=float)
     out = np.full_like(p, np.nan)
     ok = np.isfinite(p)
@@ -243,7 +302,33 @@ def compare(
     Holm-adjusted p (over all rows), rank-biserial effect size in [-1, 1]
     (positive: the design's values tend to be larger), and significance.
     Raises ValueError naming the argument: hops not a table with columns
-    design, `by` and every metric; alpha not in (0, 1); an unknown baseline."""
+    design, `by` and every metric; alpha not in (0, 1); an unknown baseline.
+
+    Args:
+        hops: a hop table (:func:`hop_table` rows of several designs).
+        baseline: the design name (column ``design``) compared against.
+        by: the column to group by (default ``"behaviour"``); designs are
+            compared with the baseline within each group.
+        metrics: the metric columns compared (a non-empty sequence of names).
+        alpha: significance level for the Holm-adjusted p (default 0.05).
+
+    Returns:
+        DataFrame, one row per group, design (other than the baseline) and
+        metric: `by`, ``design``, ``baseline``, ``metric``, ``n``,
+        ``n_baseline``, ``mean``, ``mean_baseline``, ``pct_change`` (%, nan
+        where the baseline mean is not finite or below 1e-12 in magnitude),
+        ``u`` (Mann-Whitney U of the design), ``p``, ``effect_size``
+        (2 U / (n n_baseline) - 1), ``p_holm`` and ``significant``
+        (``p_holm < alpha``). Where all values tie (within
+        round-off) u is nan, p 1 and the effect 0; where either side has no
+        hops u and p are nan. Empty (no columns) when no design but the
+        baseline is present.
+
+    Raises:
+        ValueError: hops not a DataFrame; metrics a string or empty; alpha
+            not a number in (0, 1); hops without a ``design`` or `by` column;
+            a baseline not among the designs; a metric not among the columns.
+    """
     if not isinstance(hops, pd.DataFrame):
         raise ValueError(f"hops must be a pandas DataFrame (a hop table), got {type(hops).__name__}")
     if isinstance(metrics, str) or not list(metrics):

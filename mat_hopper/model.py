@@ -121,7 +121,19 @@ MAX_TIMESTEP_S = 0.1  # s, the largest physics step accepted anywhere
 
 
 def check_timestep(timestep_s) -> float:
-    """The physics step as a float in (0, MAX_TIMESTEP_S] s; ValueError naming it otherwise."""
+    """The physics step as a float in (0, MAX_TIMESTEP_S] s; ValueError naming it otherwise.
+
+    Args:
+        timestep_s: the physics step, s: a number or anything ``float()``
+            reads (a numeric string).
+
+    Returns:
+        The step as a float, s.
+
+    Raises:
+        ValueError: a bool, a value ``float()`` cannot read, or a step that
+            is not finite or not in (0, :data:`MAX_TIMESTEP_S`] (0.1 s).
+    """
     if isinstance(timestep_s, bool):
         raise ValueError(f"timestep must be a number > 0 s, got {timestep_s!r}")
     try:
@@ -141,7 +153,17 @@ def ramp_pose(grade_deg: float) -> tuple[np.ndarray, np.ndarray]:
     -0.03 m is not a rounding of the height at which the top face would
     meet the ground at x = 0 (-0.0302 m at 2 deg); it leaves a step of about
     0.2 mm there, and ramp results move by 5-15 % if it is "corrected"
-    (docs/reference-hopper.md)."""
+    (docs/reference-hopper.md).
+
+    Args:
+        grade_deg: the ramp's pitch, deg (the paper's 2).
+
+    Returns:
+        (centre, quat): the box's centre, (3,) array in m, always
+        (RAMP_CENTER_X, 0, RAMP_CENTER_Z) = (2, 0, -0.03) m; and its
+        orientation, (4,) unit quaternion (w, x, y, z), a rotation by
+        -grade about the y axis.
+    """
     a = math.radians(grade_deg)
     quat = np.array([math.cos(-a / 2), 0.0, math.sin(-a / 2), 0.0])
     return np.array([ref.RAMP_CENTER_X, 0.0, ref.RAMP_CENTER_Z]), quat
@@ -153,7 +175,18 @@ def terrain_height_m(x_m, y_m, ramp_grade_deg: float | None = None):
     box's top face, z = cz + hz / cos(a) + tan(a) (x - cx) over the box's
     footprint (a the grade angle; the box's far end and sides are not
     modelled: the hopper never reaches them). Arrays broadcast.
-    tests/test_model.py checks it against MuJoCo's own ray casts."""
+    tests/test_model.py checks it against MuJoCo's own ray casts.
+
+    Args:
+        x_m: world x of the points, m (scalar or array).
+        y_m: world y of the points, m (broadcast against `x_m`).
+        ramp_grade_deg: None for flat ground (default), else the ramp's
+            pitch, deg (as :class:`mat_hopper.behaviours.Behaviour` holds it).
+
+    Returns:
+        Float array of the broadcast shape of `x_m` and `y_m` (0-d for
+        scalars), m: 0 on flat ground or off the ramp's footprint.
+    """
     x, y = np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float)
     ground = np.zeros(np.broadcast(x, y).shape)
     if ramp_grade_deg is None:
@@ -209,7 +242,28 @@ def build_spec(
     five, which the controller reads; what rollouts use, see CONTROL_SENSORS);
     segment_mass: "leg" (each segment 1/N of the 3-segment leg's material
     mass; identical to the authors' model at N = 3) or "capsule" (the
-    authors' per-capsule density at any N), see :mod:`mat_hopper.materials`."""
+    authors' per-capsule density at any N), see :mod:`mat_hopper.materials`.
+
+    Args:
+        design: the :class:`~mat_hopper.materials.LegDesign`.
+        ramp_grade_deg: None for flat ground (default), else the ramp box's
+            pitch, deg (:func:`ramp_pose`); not range-checked here.
+        timestep_s: the physics step, s, in (0, 0.1] (default 1e-4, the
+            paper's).
+        convention: the stiffness convention (``paper``, ``axial``,
+            ``bending``, ``axial+bending``; any case; default ``paper``).
+        sensors: ``"all"`` (default) or ``"control"``, exact spelling.
+        segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
+
+    Returns:
+        The uncompiled ``mujoco.MjSpec``, named ``hopper_<design name>``,
+        with the ``start`` keyframe.
+
+    Raises:
+        ValueError: a design that is not a LegDesign, an unknown sensor
+            set, convention or segment-mass convention, or a time step not
+            in (0, 0.1] s (:func:`check_timestep`).
+    """
     if not isinstance(design, LegDesign):
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
     if sensors not in SENSOR_SETS:
@@ -412,7 +466,21 @@ def _add_sensors(spec: mujoco.MjSpec, sensors: str) -> None:
 
 
 def layout_of(model: mujoco.MjModel) -> Layout:
-    """Look every address the controller needs up by name."""
+    """Look every address the controller needs up by name.
+
+    Args:
+        model: a compiled hopper ``MjModel`` (:func:`build_model`; either
+            sensor set has the five sensors read here).
+
+    Returns:
+        The :class:`Layout`: qpos and dof addresses of the base (its first
+        joint, ``base_x``), hips and foot spring, the base body's id, the
+        sensordata addresses of the five controller sensors and the three
+        actuator indices.
+
+    Raises:
+        KeyError: a model lacking one of the names (MuJoCo's named access).
+    """
     jq = lambda n: int(model.joint(n).qposadr[0])
     jd = lambda n: int(model.joint(n).dofadr[0])
     sa = lambda n: int(model.sensor(n).adr[0])
@@ -440,7 +508,15 @@ def layout_of(model: mujoco.MjModel) -> Layout:
 
 def reset_to_start(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     """Reset data to the keyframe ``start`` (base z slide at 1.2 m, all else
-    0) and compute the derived quantities (mj_forward)."""
+    0) and compute the derived quantities (mj_forward).
+
+    Args:
+        model: the compiled hopper ``MjModel`` (with the ``start`` keyframe).
+        data: its ``MjData``, overwritten in place.
+
+    Raises:
+        KeyError: a model without the ``start`` keyframe.
+    """
     mujoco.mj_resetDataKeyframe(model, data, model.key(START_KEY).id)
     mujoco.mj_forward(model, data)
 
@@ -461,7 +537,30 @@ def build_model(
     N m s/rad, as the spec; ``loss-factor``: each material spring's damping
     set on the compiled model from its material's loss factor,
     :func:`mat_hopper.damping.spring_damping` with MuJoCo's dof_M0 as the
-    inertia). Raises ValueError for invalid arguments."""
+    inertia). Raises ValueError for invalid arguments.
+
+    Args:
+        design: the :class:`~mat_hopper.materials.LegDesign`.
+        ramp_grade_deg: None for flat ground (default), else the ramp's
+            pitch, deg.
+        timestep_s: the physics step, s, in (0, 0.1] (default 1e-4).
+        convention: the stiffness convention, any case (default ``paper``).
+        sensors: ``"all"`` (default) or ``"control"``.
+        segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
+        damping: ``"authors"`` (default) or ``"loss-factor"``, exact
+            spelling (:data:`mat_hopper.damping.DAMPINGS`).
+
+    Returns:
+        The :class:`HopperModel`: the compiled ``MjModel``, the arguments
+        (``convention`` and ``segment_mass`` as passed), its :class:`Layout`,
+        and per segment the axial spring stiffness (N/m) and each bending
+        hinge's stiffness (N m/rad), 0.0 for a rigid segment or where the
+        convention has no such spring.
+
+    Raises:
+        ValueError: an unknown damping, or any argument :func:`build_spec`
+            refuses.
+    """
     check_damping(damping)
     spec = build_spec(
         design,
@@ -498,7 +597,18 @@ def build_model(
 def material_joints(model: mujoco.MjModel, design: LegDesign) -> list[tuple[int, str]]:
     """(segment index from 0, joint name) of every material spring in the
     compiled model: the axial slide and the two bending hinges, where the
-    convention gives them."""
+    convention gives them.
+
+    Args:
+        model: the compiled hopper ``MjModel``.
+        design: the design it was built from (only its segment count is
+            read).
+
+    Returns:
+        A list of (segment index from 0, joint name) pairs, segment by
+        segment and, within one, ``mat_spring_i``, ``mat_bend_x_i``,
+        ``mat_bend_y_i`` as present; empty for a rigid leg.
+    """
     out = []
     for i in range(1, design.n_segments + 1):
         for name in (AXIAL_SPRING, *BEND_SPRINGS):
@@ -524,7 +634,18 @@ def stress_gains(hm: HopperModel) -> tuple[np.ndarray, np.ndarray]:
     stiffness x position (MuJoCo's qfrc_spring = -k q, the section carries
     +k q): axial sigma = k q / A with A = pi r^2 (tension > 0 when the slide
     along -z extends); bending sigma = k_b theta c / I at the extreme fibre
-    c = r, I = pi r^4 / 4."""
+    c = r, I = pi r^4 / 4.
+
+    Args:
+        hm: the compiled :class:`HopperModel` (the stiffnesses are read from
+            its model's ``jnt_stiffness``).
+
+    Returns:
+        (adr, gain), both (N, 3) with columns axial slide, hinge about x,
+        hinge about y: adr an int64 array of qpos addresses (-1 where the
+        segment has no such spring); gain a float array, Pa/m for the slide
+        column and Pa/rad for the hinge columns (0.0 where there is none).
+    """
     m, n = hm.model, hm.design.n_segments
     r = ref.MATERIAL_RADIUS
     area, inertia = math.pi * r**2, second_moment_m4(r)

@@ -66,7 +66,21 @@ AUTO_SAFETY = 0.5
 def chain_frequencies(masses_kg, stiffnesses_n_m) -> np.ndarray:
     """All natural frequencies (rad/s, ascending, the rigid-body 0 first)
     of a free-free chain of masses (kg) joined in series by springs (N/m;
-    len(masses) - 1 of them): eigenvalues of K v = w^2 M v."""
+    len(masses) - 1 of them): eigenvalues of K v = w^2 M v.
+
+    Args:
+        masses_kg: the n >= 2 lumped masses, kg, in chain order (1-D).
+        stiffnesses_n_m: the n - 1 springs, N/m; spring i joins masses i and
+            i + 1.
+
+    Returns:
+        (n,) array of w, rad/s, ascending; the first is the rigid-body mode
+        (0 up to round-off: negative eigenvalues are clipped to 0).
+
+    Raises:
+        ValueError: fewer than 2 masses, masses not 1-D, a spring count other
+            than n - 1, a mass not > 0, or a stiffness not finite and > 0.
+    """
     m = np.asarray(masses_kg, dtype=float)
     k = np.asarray(stiffnesses_n_m, dtype=float)
     if m.ndim != 1 or len(m) < 2 or len(k) != len(m) - 1:
@@ -85,7 +99,19 @@ def chain_frequencies(masses_kg, stiffnesses_n_m) -> np.ndarray:
 
 def spring_chain_wmax(masses_kg, stiffnesses_n_m) -> float:
     """Highest natural frequency (rad/s) of a free-free chain of masses
-    (kg) joined in series by springs (N/m; len(masses) - 1 of them)."""
+    (kg) joined in series by springs (N/m; len(masses) - 1 of them).
+
+    Args:
+        masses_kg: the n >= 2 lumped masses, kg, in chain order.
+        stiffnesses_n_m: the n - 1 springs between them, N/m.
+
+    Returns:
+        w_max, rad/s, a float (the largest of :func:`chain_frequencies`).
+
+    Raises:
+        ValueError: as :func:`chain_frequencies` (a malformed chain, or a
+            mass or stiffness not finite and > 0).
+    """
     return float(chain_frequencies(masses_kg, stiffnesses_n_m).max())
 
 
@@ -94,7 +120,25 @@ def leg_chain(
 ) -> tuple[list[float], list[float]]:
     """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
     the compiled model: base + leg body, segment bodies (merged across
-    rigid segments), foot; springs in between, foot spring last."""
+    rigid segments), foot; springs in between, foot spring last.
+
+    Args:
+        design: the :class:`~mat_hopper.materials.LegDesign`.
+        convention: ``paper`` (default) or ``axial``, any case; the bending
+            conventions are refused.
+        segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
+
+    Returns:
+        (masses, springs): lists of floats, kg and N/m. masses has one node
+        per elastic segment plus two (base + leg body first, the foot body
+        last; a rigid segment's body is added to the node above it);
+        springs has one fewer: each elastic segment's ``mat_spring_i``, then
+        the foot spring.
+
+    Raises:
+        ValueError: an unknown or bending convention, or an argument
+            :func:`mat_hopper.model.build_model` refuses.
+    """
     convention = check_convention(convention)
     if convention in BENDING_CONVENTIONS:
         raise ValueError(
@@ -122,7 +166,15 @@ def delayed_damping_factor(latency_steps: int) -> float:
     equation w[n+1] = w[n] - a h w[n-L]. c(0) = 2 (plain explicit Euler),
     c(1) = 1 (the authors' one-step-old gyro), c(L) ~ pi / (2 L) for large L.
     Source: S. A. Levin and R. M. May, "A note on difference-delay
-    equations", Theoretical Population Biology 9 (1976) 178-187."""
+    equations", Theoretical Population Biology 9 (1976) 178-187.
+
+    Args:
+        latency_steps: the latency L, steps (read with ``int()``, so a float
+            is truncated; meant >= 0, not checked).
+
+    Returns:
+        c(L), dimensionless, a float in (0, 2] for L >= 0.
+    """
     lat = int(latency_steps)
     return 2.0 * math.cos(lat * math.pi / (2 * lat + 1))
 
@@ -138,7 +190,29 @@ def controller_timestep(
     feedback, I (kg m^2) the base's smallest moment of inertia about a
     horizontal axis through its origin (the hip), from the compiled model,
     and c(L) the factor of :func:`delayed_damping_factor` for the sensor
-    timing's latency L (2 when fresh, 1 for the authors' one-step lag)."""
+    timing's latency L (2 when fresh, 1 for the authors' one-step lag).
+    Under a bending convention the smaller of this and
+    :func:`hip_flight_timestep`.
+
+    Args:
+        design: the :class:`~mat_hopper.materials.LegDesign`.
+        convention: the stiffness convention (default ``paper``); the hip
+            flight limit is added only when it is spelled as in
+            :data:`mat_hopper.materials.BENDING_CONVENTIONS`.
+        stance_kd: the stance attitude D gain, per rad/s before the gear
+            (default the reference's, 1).
+        gear: the hip actuators' gear (default 600).
+        sensor_timing: the controller's sensor timing, a name or an integer
+            latency L (:class:`mat_hopper.control.SensorTiming`; default
+            ``"authors"``).
+
+    Returns:
+        The control-period limit, s.
+
+    Raises:
+        ValueError: an unknown sensor timing, or an argument
+            :func:`mat_hopper.model.build_model` refuses.
+    """
     m = build_model(design, convention=convention).model
     b = m.body("base").id
     rot = np.zeros(9)
@@ -166,7 +240,25 @@ def hip_flight_timestep(
     mass matrix at the start pose (what the hip moves first when the
     segments below can bend). Conservative for stiff hinges, whose modes
     are faster than the control; binding for soft ones (trabecular bone:
-    5.8e-5 s, under the authors' 1e-4 s control period)."""
+    5.8e-5 s, under the authors' 1e-4 s control period).
+
+    Args:
+        design: the :class:`~mat_hopper.materials.LegDesign`.
+        convention: the stiffness convention the model is built with
+            (default ``"bending"``); with no bending hinges I is the hip_y
+            dof's own 1 / (M^-1)_hh.
+        flight_kd: the flight PD's D gain, per rad/s before the gear; None
+            (default) takes :class:`mat_hopper.control.ControllerSettings`'s
+            ``flight_kd`` (0.1).
+        gear: the hip actuators' gear (default 600).
+
+    Returns:
+        The limit, s.
+
+    Raises:
+        ValueError: an argument :func:`mat_hopper.model.build_model`
+            refuses.
+    """
     from .control import ControllerSettings
 
     kd = ControllerSettings().flight_kd if flight_kd is None else float(flight_kd)
@@ -206,7 +298,21 @@ def model_frequencies(
     """All natural frequencies (rad/s, ascending) of the whole compiled
     hopper, linearised at its start pose (free base: the rigid-body zeros
     first): axial, rotational (bending hinges, hips) and foot spring
-    together. What the stable step of the ``bending`` conventions uses."""
+    together. What the stable step of the ``bending`` conventions uses.
+
+    Args:
+        design: the :class:`~mat_hopper.materials.LegDesign`.
+        convention: the stiffness convention, any case (default ``paper``).
+        segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
+
+    Returns:
+        (nv,) array of w, rad/s, ascending (nv: the model's degrees of
+        freedom; negative eigenvalues clipped to 0).
+
+    Raises:
+        ValueError: an unknown convention, or an argument
+            :func:`mat_hopper.model.build_model` refuses.
+    """
     check_convention(convention)
     return _sprung_eig(build_model(design, convention=convention, segment_mass=segment_mass).model)
 
@@ -217,7 +323,25 @@ def estimate_timestep(
     """(w_max rad/s, 2 / w_max s): the explicit-spring stability limit.
     ``paper``, ``axial``: the axial spring chain (:func:`leg_chain`);
     ``bending``, ``axial+bending``: the whole model's highest mode, the
-    rotational ones included (:func:`model_frequencies`)."""
+    rotational ones included (:func:`model_frequencies`).
+
+    Args:
+        design: the :class:`~mat_hopper.materials.LegDesign`.
+        convention: the stiffness convention (default ``paper``); the whole
+            model is used only when it is spelled as in
+            :data:`mat_hopper.materials.BENDING_CONVENTIONS`.
+        segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
+
+    Returns:
+        (w_max, dt_max): the highest natural frequency, rad/s, and the
+        explicit bound 2 / w_max, s.
+
+    Raises:
+        ValueError: an unknown convention, a bending one not spelled as in
+            :data:`~mat_hopper.materials.BENDING_CONVENTIONS` (refused by
+            :func:`leg_chain`), or an argument
+            :func:`mat_hopper.model.build_model` refuses.
+    """
     check_convention(convention)
     if convention in BENDING_CONVENTIONS:
         w = float(model_frequencies(design, convention, segment_mass).max())
@@ -278,8 +402,26 @@ def auto_substeps(
     is at most ``safety`` x the springs' explicit bound 2 / w_max
     (:func:`estimate_timestep`).
 
+    Args:
+        design: the :class:`~mat_hopper.materials.LegDesign`.
+        convention: the stiffness convention (default ``paper``).
+        segment_mass: ``"leg"`` (default) or ``"capsule"``.
+        control_period_s: the control period, s; None (default) takes
+            :func:`auto_control_period`'s.
+        safety: the fraction of each explicit bound a step may reach
+            (default :data:`AUTO_SAFETY`, 0.5).
+        sensor_timing: the controller's sensor timing (read only when
+            `control_period_s` is None; default ``"authors"``).
+
+    Returns:
+        (k, dt, bound): the substeps per control period (an int >= 1), the
+        physics step control_period / k, s, and the springs' bound
+        2 / w_max, s.
+
     Raises:
-        ValueError: when more than 1000 substeps would be needed.
+        ValueError: when more than 1000 substeps would be needed, or as
+            :func:`estimate_timestep` and :func:`controller_timestep` raise
+            (unknown convention, segment mass or sensor timing).
     """
     if control_period_s is None:
         control_period_s = auto_control_period(design, convention, sensor_timing, safety=safety)
@@ -320,7 +462,27 @@ def axial_modes(
     Needs a leg of one material (a uniform rod): raises ValueError for a
     graded or rigid design. Under the ``paper`` convention the chain's
     springs are the authors' (not E A N / L) and the comparison says how
-    far that leg is from the rod of its modulus."""
+    far that leg is from the rod of its modulus.
+
+    Args:
+        design: a leg of one elastic material (every segment the same
+            density and modulus).
+        convention: the stiffness convention with axial slides (default
+            ``"axial"``; ``"paper"`` as above).
+        segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
+        n_modes: how many modes to compare (default 5).
+
+    Returns:
+        DataFrame, one row per mode, at most min(n_modes, N) rows (the
+        chain of N springs has N elastic modes): mode (1, 2, ...), chain_hz
+        and rod_hz (Hz), error_pct (100 (chain / rod - 1), %).
+
+    Raises:
+        ValueError: a graded or rigid design, or an argument
+            :func:`mat_hopper.model.build_model` refuses.
+        KeyError: the ``bending`` convention (its model has no axial slides
+            ``mat_spring_i`` to read).
+    """
     mats = set(design.segments)
     if len({(m.density_g_cm3, m.modulus_gpa) for m in mats}) != 1 or design.segments[0].rigid:
         raise ValueError(
@@ -385,7 +547,28 @@ def bending_modes(
     Columns: mode, chain_hz, beam_hz, error_pct.
 
     Needs a leg of one elastic material under a bending convention: raises
-    ValueError otherwise."""
+    ValueError otherwise.
+
+    Args:
+        design: a leg of one elastic material (every segment the same
+            density and modulus).
+        convention: ``"bending"`` (default) or ``"axial+bending"``, exact
+            spelling.
+        segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
+        n_modes: how many modes to compare (default 5).
+
+    Returns:
+        DataFrame, one row per mode, at most min(n_modes, N) rows (N hinges
+        about x): mode (1, 2, ...), chain_hz and beam_hz (Hz), beta_l (the
+        root beta_n L used, dimensionless) and error_pct
+        (100 (chain / beam - 1), %).
+
+    Raises:
+        ValueError: a convention not in
+            :data:`~mat_hopper.materials.BENDING_CONVENTIONS`, a graded or
+            rigid design, or an argument :func:`mat_hopper.model.build_spec`
+            refuses.
+    """
     if convention not in BENDING_CONVENTIONS:
         raise ValueError(
             f"bending modes need a bending convention ({', '.join(BENDING_CONVENTIONS)}), got {convention!r}"

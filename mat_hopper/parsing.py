@@ -36,6 +36,16 @@ def parse_name(text, choices: Iterable[str], flag: str) -> str:
     """The choice `text` names, compared case-insensitively after trimming
     blanks; returns the choice as spelled in `choices`.
 
+    Args:
+        text: the name typed or passed (any object, read as str; None is
+            empty).
+        choices: the accepted names.
+        flag: the option or argument named in errors (``--convention``).
+
+    Returns:
+        The first of `choices` equal to `text`, case-insensitively, as
+        spelled in `choices`.
+
     Raises:
         ValueError: empty, or not one of `choices` (the message lists them).
     """
@@ -51,7 +61,15 @@ def parse_name(text, choices: Iterable[str], flag: str) -> str:
 
 def is_decimal(text) -> bool:
     """Whether `text` is an ASCII decimal (what :func:`parse_number` reads
-    from a string): ``12``, ``-1.5``, ``2e-4``; not ``inf``, ``1_0``, ``١``."""
+    from a string): ``12``, ``-1.5``, ``2e-4``; not ``inf``, ``1_0``, ``١``.
+
+    Args:
+        text: the value to test; anything but a str gives False.
+
+    Returns:
+        True when `text` is a str whose blank-trimmed text is an ASCII
+        decimal (optional sign, digits, optional fraction and exponent).
+    """
     return isinstance(text, str) and _DECIMAL.fullmatch(text.strip()) is not None
 
 
@@ -59,6 +77,14 @@ def env_value(name: str, hint: str = "") -> str | None:
     """The value of environment variable `name`, blanks trimmed; None when it
     is not set. Set but empty (or blanks) is an error naming the variable:
     an empty value is never read as "use the default".
+
+    Args:
+        name: the variable's name, without ``$``.
+        hint: appended to the error, in parentheses, when given (e.g. the
+            accepted values); default empty.
+
+    Returns:
+        The value with blanks trimmed, or None when the variable is not set.
 
     Raises:
         ValueError: ``$NAME is set but empty; unset it or give a value`` (and `hint`).
@@ -132,13 +158,30 @@ def parse_number(
 
 def url_scheme(url: str) -> str | None:
     """The scheme of `url` in lower case (RFC 3986: case-insensitive), or
-    None when it has none."""
+    None when it has none.
+
+    Args:
+        url: the URL (read as str, blanks trimmed), e.g. ``SQLite:///x.db``.
+
+    Returns:
+        The scheme without its colon, in lower case (``sqlite``), or None
+        when `url` does not start with a scheme (a letter, then letters,
+        digits, ``+``, ``.`` or ``-``, then ``:``).
+    """
     m = _SCHEME.match(str(url).strip())
     return m.group(1).lower() if m else None
 
 
 def normalize_url(url: str) -> str:
-    """`url` with its scheme in lower case (the rest as given)."""
+    """`url` with its scheme in lower case (the rest as given).
+
+    Args:
+        url: the URL (read as str).
+
+    Returns:
+        `url` with blanks trimmed and its scheme (:func:`url_scheme`) in
+        lower case; unchanged otherwise when it has no scheme.
+    """
     url = str(url).strip()
     scheme = url_scheme(url)
     return scheme + url[len(scheme) :] if scheme else url

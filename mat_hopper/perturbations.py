@@ -130,11 +130,20 @@ def push_window_s(transient_s: float, duration_s: float) -> tuple[float, float]:
     """Where a replicate's push starts (s): PUSH_WINDOW_FRACTION of the way
     through the scored window [transient_s, duration_s].
 
+    Args:
+        transient_s: the scored window's start (the transient's end), s.
+        duration_s: the run's end, s.
+
+    Returns:
+        (start, end) of the push window, s: transient_s + f (duration_s -
+        transient_s) for each f of :data:`PUSH_WINDOW_FRACTION` (0.1, 0.5).
+
     >>> push_window_s(20.0, 60.0)
     (24.0, 40.0)
 
     Raises:
-        ValueError: duration_s not after transient_s.
+        ValueError: duration_s not after transient_s, a negative
+            transient_s, or either not finite.
     """
     t0, t1 = float(transient_s), float(duration_s)
     if not (math.isfinite(t0) and math.isfinite(t1) and 0 <= t0 < t1):

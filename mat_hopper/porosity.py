@@ -33,6 +33,18 @@ GIBSON_ASHBY_EXPONENT = 2.0
 
 
 def check_porosity_model(porosity_model: str) -> str:
+    """The porosity model, checked against :data:`POROSITY_MODELS` (exact spelling).
+
+    Args:
+        porosity_model: ``"independent"`` or ``"gibson-ashby"``.
+
+    Returns:
+        `porosity_model` unchanged.
+
+    Raises:
+        ValueError: a name not in :data:`POROSITY_MODELS` (the message lists
+            them).
+    """
     if porosity_model not in POROSITY_MODELS:
         raise ValueError(f"unknown porosity_model {porosity_model!r}; accepted: {', '.join(POROSITY_MODELS)}")
     return porosity_model
@@ -40,7 +52,22 @@ def check_porosity_model(porosity_model: str) -> str:
 
 def gibson_ashby_modulus(solid_modulus_gpa: float, relative_density: float, n: float = GIBSON_ASHBY_EXPONENT) -> float:
     """E = E_s (rho / rho_s)^n (GPa) of an open-cell foam of relative
-    density rho / rho_s in (0, 1] (Gibson & Ashby 1997, ch. 5; n = 2, C1 = 1)."""
+    density rho / rho_s in (0, 1] (Gibson & Ashby 1997, ch. 5; n = 2, C1 = 1).
+
+    Args:
+        solid_modulus_gpa: the solid's modulus E_s, GPa (a finite int or
+            float > 0, no bool).
+        relative_density: rho / rho_s, dimensionless, in (0, 1].
+        n: the exponent (default :data:`GIBSON_ASHBY_EXPONENT`, 2; not
+            checked).
+
+    Returns:
+        E, GPa, a float.
+
+    Raises:
+        ValueError: a modulus or relative density that is not a finite int
+            or float > 0 (a bool included), or a relative density above 1.
+    """
     es, rel = _positive(solid_modulus_gpa, "solid modulus"), _positive(relative_density, "relative density")
     if rel > 1.0:
         raise ValueError(f"relative density must be in (0, 1], got {relative_density!r}")
@@ -51,7 +78,24 @@ def porous_modulus(solid: Material, density_g_cm3: float, porosity_model: str = 
     """The modulus (GPa) of ``solid`` made to density_g_cm3: its own under
     ``independent``; under ``gibson-ashby`` softened as
     :func:`gibson_ashby_modulus` where the density lies below the solid's
-    (a denser-than-solid point cannot be porous and keeps E_s)."""
+    (a denser-than-solid point cannot be porous and keeps E_s).
+
+    Args:
+        solid: the solid :class:`~mat_hopper.materials.Material` (its
+            density, g/cm^3, and modulus, GPa).
+        density_g_cm3: the porous version's density, g/cm^3 (read only
+            under ``gibson-ashby``, below the solid's).
+        porosity_model: ``"independent"`` (default) or ``"gibson-ashby"``,
+            exact spelling.
+
+    Returns:
+        The modulus, GPa; None for a rigid solid (modulus None).
+
+    Raises:
+        ValueError: an unknown porosity model, or under ``gibson-ashby`` a
+            density that is not a finite number > 0 (from
+            :func:`gibson_ashby_modulus`).
+    """
     check_porosity_model(porosity_model)
     if solid.rigid or porosity_model == "independent" or density_g_cm3 >= solid.density_g_cm3:
         return solid.modulus_gpa

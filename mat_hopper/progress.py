@@ -89,7 +89,27 @@ def progress_bar(iterable=None, *, enabled: bool = True, file=None, tqdm_class=N
     its widget in Jupyter), :class:`StageLines` otherwise, nothing when not
     `enabled`. kwargs: tqdm's (total, desc, unit, initial, ...); the lines
     use total, desc, unit and initial. tqdm_class: a tqdm subclass for the
-    bar (e.g. one without a monitor thread, where processes fork)."""
+    bar (e.g. one without a monitor thread, where processes fork).
+
+    Args:
+        iterable: what to iterate over with progress, or None for a display
+            updated by hand (``update``).
+        enabled: whether to show anything (default True); when False, a
+            disabled tqdm is returned.
+        file: the stream of the bar or the lines; None (the default) for
+            ``sys.stderr``. Whether it is a terminal (``isatty``) picks the
+            bar or the lines. Not used in Jupyter.
+        tqdm_class: the tqdm class of the bar (and of the disabled one);
+            None (the default) for ``tqdm.tqdm``. Not used in Jupyter
+            (``tqdm.auto``) nor for the lines.
+        **kwargs: tqdm's keyword arguments, passed to tqdm; the lines keep
+            only ``total``, ``desc``, ``unit`` and ``initial``.
+
+    Returns:
+        A tqdm (disabled, ``tqdm.auto``'s in a Jupyter kernel, or a bar on
+        `file`) or a :class:`StageLines` on `file`, used alike: iterate it,
+        ``update`` it, ``close`` it or use it as a context manager.
+    """
     stream = file or sys.stderr
     if not enabled:
         from tqdm import tqdm

@@ -100,7 +100,15 @@ LOOP_CHUNK_STEPS = 20_000  # for legs of up to 3 segments
 
 
 def loop_chunk_steps(n_segments: int) -> int:
-    """Physics steps per compiled-loop call for a leg of n_segments."""
+    """Physics steps per compiled-loop call for a leg of n_segments.
+
+    Args:
+        n_segments: segments of the leg (values below 3 count as 3).
+
+    Returns:
+        :data:`LOOP_CHUNK_STEPS` x 3 // n_segments (integer division), at
+        least 1000: 20000 for up to 3 segments, 1000 from 60 segments on.
+    """
     return max(1000, LOOP_CHUNK_STEPS * 3 // max(3, int(n_segments)))
 
 
@@ -121,7 +129,19 @@ def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkF
     """The jerk low-pass for this physics step, at rest on input az0 (its
     steady state, scipy.signal.sosfilt_zi) so a run starts without a
     filter transient. Steps coarser than 4 ms (where jerk means little)
-    lower the cut-off to 0.2 / timestep_s, below their Nyquist frequency."""
+    lower the cut-off to 0.2 / timestep_s, below their Nyquist frequency.
+
+    Args:
+        timestep_s: the physics time step, s (> 0).
+        az0_m_s2: the filter's steady-state input, m/s^2 (default -g, the
+            base's free fall at the start).
+
+    Returns:
+        :class:`~mat_hopper._loop.JerkFilter`: coef (b0, b1, b2, a1, a2) of
+        the order-:data:`JERK_FILTER_ORDER` Butterworth at
+        min(:data:`JERK_CUTOFF_HZ`, 0.2 / timestep_s) Hz, and state (z1, z2,
+        az0_m_s2 as the previous output, 0, 0).
+    """
     import scipy.signal
 
     cutoff = min(JERK_CUTOFF_HZ, 0.2 / timestep_s)
@@ -317,7 +337,27 @@ def prepare(
     design, behaviour, settings: SimSettings, start_xy_offset=(0.0, 0.0), start_tilt=(0.0, 0.0)
 ) -> tuple[HopperModel, mujoco.MjData]:
     """Model and initial data for a rollout: start pose per the behaviour,
-    plus an optional offset (m) and roll/pitch tilt (rad)."""
+    plus an optional offset (m) and roll/pitch tilt (rad).
+
+    Args:
+        design: a :class:`~mat_hopper.materials.LegDesign` or a design name
+            (:func:`mat_hopper.materials.parse_design`).
+        behaviour: a behaviour name or :class:`~mat_hopper.behaviours.Behaviour`;
+            its ramp grade shapes the terrain and its start_xy_m the start.
+        settings: the :class:`SimSettings`; its timestep_s, convention,
+            segment_mass and damping build the model.
+        start_xy_offset: (dx, dy), m, added to the behaviour's start position.
+        start_tilt: (roll, pitch) of the base at the start, rad.
+
+    Returns:
+        (hopper, data): the compiled :class:`~mat_hopper.model.HopperModel`
+        (control sensors) and its ``mujoco.MjData`` at the start keyframe
+        (base z 1.2 m) with the position and tilt set, after ``mj_forward``.
+
+    Raises:
+        ValueError: a design that is neither a LegDesign nor a known name, an
+            unknown behaviour, or a setting the model builder rejects.
+    """
     design = _as_design(design)
     beh = get_behaviour(behaviour)
     hm = build_model(

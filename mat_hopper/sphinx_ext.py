@@ -45,7 +45,20 @@ def runtime_record(exec_data: dict[str, dict], titles: dict[str, str] | None = N
     """The runtimes of one build as a table: one row per executed document
     (docname, title, runtime_s, succeeded), in document order, from
     myst-nb's per-document ``exec_data``; documents without a runtime are
-    left out."""
+    left out.
+
+    Args:
+        exec_data: {docname: myst-nb's exec_data dict (``runtime``, s, and
+            ``succeeded``), or None}.
+        titles: {docname: title}; None (the default) or a missing docname:
+            the title is the docname.
+
+    Returns:
+        A pandas DataFrame with columns ``docname``, ``title``,
+        ``runtime_s`` (float, s) and ``succeeded`` (bool; False where
+        exec_data has no ``succeeded``), one row per document with a runtime,
+        sorted by docname; empty (with these columns) when none has one.
+    """
     titles = titles or {}
     rows = []
     for doc in sorted(exec_data):
@@ -68,7 +81,19 @@ def runtime_table(records: dict[str, pd.DataFrame | None]) -> pd.DataFrame:
     """Chapters as rows, profiles as columns (``<profile>_s``, seconds; nan
     where that profile has no record of the chapter), from each profile's
     :func:`runtime_record`, and a last row ``total``. Columns: docname,
-    title, then one per profile in :data:`PROFILES` order."""
+    title, then one per profile in :data:`PROFILES` order.
+
+    Args:
+        records: {profile name: its :func:`runtime_record` table, or None
+            where it has none}; None and empty tables count as no record, and
+            names not in :data:`PROFILES` are ignored.
+
+    Returns:
+        A pandas DataFrame: one row per docname found in any record (sorted
+        by docname, the title from the first record naming it), then the
+        ``total`` row (docname ``""``), whose ``<profile>_s`` is the sum of
+        the chapters' known times (s), or nan when there is none.
+    """
     frames = {p: r for p, r in records.items() if r is not None and len(r)}
     docs: dict[str, str] = {}
     for r in frames.values():
@@ -231,6 +256,18 @@ def _unique_scripts(app, pagename, templatename, context, doctree):
 
 
 def setup(app):
+    """Register the extension with Sphinx (``extensions`` in the book's
+    configuration): the ``runtime-table`` directive and its post-transform,
+    the recording of this build's runtimes on ``env-updated``, and the
+    removal of repeated script tags on ``html-page-context``.
+
+    Args:
+        app: the Sphinx application.
+
+    Returns:
+        The extension's metadata: ``{"parallel_read_safe": True,
+        "parallel_write_safe": True}``.
+    """
     app.connect("html-page-context", _unique_scripts)
     app.add_node(RuntimeTableNode)
     app.add_directive("runtime-table", RuntimeTableDirective)

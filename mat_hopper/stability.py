@@ -107,7 +107,23 @@ def try_timestep(
 ) -> dict:
     """Static hopping for duration_s at timestep_s (transient 0): a dict
     with dt_s, stable (no divergence), upright (the criterion of docs/reference-hopper.md),
-    diverged_at_s (nan if none) and final_base_z_m."""
+    diverged_at_s (nan if none) and final_base_z_m.
+
+    Args:
+        design: the leg (a LegDesign, or a design name as
+            :func:`mat_hopper.sim.simulate` reads it).
+        timestep_s: the physics step to try, s.
+        duration_s: simulated seconds of static hopping (2 s, the reference's).
+        convention: the stiffness convention (default ``paper``).
+
+    Returns:
+        dict: dt_s (float, s), stable (bool), upright (bool), diverged_at_s
+        (s, nan when stable) and final_base_z_m (the base's last recorded
+        height, m; nan when nothing was recorded).
+
+    Raises:
+        ValueError: invalid settings (time step, duration, convention) or design.
+    """
     from .sim import C, SimSettings, simulate
 
     settings = SimSettings(duration_s=duration_s, timestep_s=timestep_s, transient_s=0.0, convention=convention)
@@ -172,7 +188,29 @@ def largest_stable_timestep(
     bracket: ``"analytic"`` (default) starts at the analytic bound (the
     smaller of the spring chain's 2 / w_max and the controller's limit) and
     steps by a factor ANALYTIC_FACTOR (1.5) until the outcome changes;
-    ``"ladder"`` starts at dt_max and steps down by sqrt(10), as before."""
+    ``"ladder"`` starts at dt_max and steps down by sqrt(10), as before.
+
+    Args:
+        design: the leg.
+        dt_min: the smallest step tried, s (> 0).
+        dt_max: the largest step tried, s (dt_min < dt_max <= 0.1).
+        tolerance: bisection stops when dt_unstable_s / dt_stable_s <= this
+            factor (> 1).
+        max_iter: most bisection tries (>= 0).
+        duration_s: simulated seconds of static hopping per try.
+        convention: the stiffness convention.
+        tries: a list to append every try to (the dicts of
+            :func:`try_timestep` with ``method`` ``"bracket"`` or ``"bisect"``);
+            None keeps them nowhere.
+        bracket: ``"analytic"`` or ``"ladder"``.
+
+    Returns:
+        (dt_stable_s, dt_unstable_s), s; either may be nan as above.
+
+    Raises:
+        ValueError: a range not 0 < dt_min < dt_max <= 0.1 s, tolerance <= 1,
+            max_iter < 0, an unknown bracket, or invalid try settings.
+    """
     _check_range(dt_min, dt_max, tolerance, max_iter)
     if bracket not in BRACKETS:
         raise ValueError(f"bracket must be one of {', '.join(BRACKETS)}, got {bracket!r}")
@@ -215,7 +253,16 @@ def spec_ladder(
 ) -> np.ndarray:
     """The reference protocol's time steps (s), largest first: n log-spaced
     from `first` down to `last`. One definition for every scan: a try's
-    outcome can depend on the last bit of its step."""
+    outcome can depend on the last bit of its step.
+
+    Args:
+        first: the largest step, s (1e-3).
+        last: the smallest step, s (1e-5).
+        n: the number of steps (20).
+
+    Returns:
+        (n,) array of steps, s (``numpy.geomspace(first, last, n)``).
+    """
     return np.geomspace(first, last, int(n))
 
 
@@ -230,7 +277,25 @@ def spec_scan(
     tries: list | None = None,
 ) -> float:
     """The reference protocol (docs/reference-hopper.md): the first stable of n log-spaced steps from
-    `first` down to `last` (s); nan when none is stable."""
+    `first` down to `last` (s); nan when none is stable.
+
+    Args:
+        design: the leg.
+        first: the largest step tried, s.
+        last: the smallest step tried, s.
+        n: the number of steps (:func:`spec_ladder`).
+        duration_s: simulated seconds of static hopping per try.
+        convention: the stiffness convention.
+        tries: a list to append every try to (the dicts of
+            :func:`try_timestep` with ``method`` ``"spec"``); None keeps them
+            nowhere.
+
+    Returns:
+        The first upright step, s, or nan. The scan stops at it.
+
+    Raises:
+        ValueError: invalid try settings (duration, convention) or design.
+    """
     tries = [] if tries is None else tries
     for dt in spec_ladder(first, last, n):
         r = try_timestep(design, float(dt), duration_s=duration_s, convention=convention)
@@ -252,7 +317,21 @@ def scan_consistent(
 ) -> bool:
     """Whether the reference scan's answer fits the bisection's bracket if
     stability were monotone in the step: no ladder step >= dt_unstable is
-    stable, and no ladder step <= dt_stable is passed over."""
+    stable, and no ladder step <= dt_stable is passed over.
+
+    Args:
+        dt_stable: the bisection's largest stable step, s (nan: none found).
+        dt_unstable: its smallest unstable step above, s (nan: none).
+        dt_spec: the scan's first stable step, s (nan: none).
+        first: the ladder's largest step, s.
+        last: the ladder's smallest step, s.
+        n: the ladder's number of steps.
+
+    Returns:
+        True when consistent (steps compared with a relative tolerance of
+        1e-9). With dt_stable nan, True only when dt_spec is nan too; with
+        dt_spec nan, True only when no ladder step lies at or below dt_stable.
+    """
     ladder = spec_ladder(first, last, n)
     eps = 1e-9
     if math.isnan(dt_stable):
@@ -376,7 +455,19 @@ class StabilitySpec:
 
 def stability_grid(size: int = ref.STABILITY_GRID_SIZE) -> tuple[np.ndarray, np.ndarray]:
     """The map axes of docs/reference-hopper.md: densities (g/cm^3) and moduli
-    (GPa), log-spaced over its ranges and rounded to 0.1, `size` values each."""
+    (GPa), log-spaced over its ranges and rounded to 0.1, `size` values each.
+
+    Args:
+        size: values per axis (an integer >= 1; 20, the reference's).
+
+    Returns:
+        (densities_g_cm3, moduli_gpa): two (size,) arrays, log-spaced over
+        [1.39, 8.0] g/cm^3 and [4.0, 340.0] GPa before rounding; with size 1,
+        each range's geometric mean (rounded alike).
+
+    Raises:
+        ValueError: size < 1.
+    """
     size = int(size)
     if size < 1:
         raise ValueError(f"stability grid size must be >= 1, got {size!r}")
@@ -401,7 +492,25 @@ def agreement(table: pd.DataFrame) -> pd.DataFrame:
     median and range of measured / estimate, the fractions within a factor
     2 and with the estimate inside the measured bracket [max_stable,
     unstable); and the fraction where the reference scan ("spec scan") fits the bracket.
-    Columns: estimate, quantity, value."""
+    Columns: estimate, quantity, value.
+
+    Args:
+        table: the stability map's summary, one row per design (as
+            :meth:`StabilitySpec.compute` gives): max_stable_timestep_s,
+            unstable_timestep_s, analytic_timestep_s and/or
+            combined_timestep_s (an estimate whose column is missing is
+            skipped), optionally scan_consistent.
+
+    Returns:
+        DataFrame with columns estimate (``spring``, ``combined``, ``spec
+        scan``), quantity and value. Per estimate: n_designs, n_measured
+        (rows with a finite measured step and estimate); with one measured or
+        more, median_ratio_measured_to_estimate, min_ratio, max_ratio,
+        fraction_within_factor_2, fraction_estimate_in_bracket; with three or
+        more (and spread in both), loglog_pearson_r and loglog_slope. The
+        ``spec scan`` row, fraction_scan_consistent, is over every row of
+        `table`.
+    """
     rows = []
     for name, col in ESTIMATES.items():
         if col not in table.columns:

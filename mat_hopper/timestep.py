@@ -35,7 +35,15 @@ def _design(design) -> LegDesign:
 
 
 def is_auto(timestep_s) -> bool:
-    """Whether a time step is the word ``"auto"`` (any case, spaces ignored)."""
+    """Whether a time step is the word ``"auto"`` (any case, spaces ignored).
+
+    Args:
+        timestep_s: a time step as given: a number (s) or a string.
+
+    Returns:
+        True for a str equal to ``"auto"`` once leading and trailing blanks
+        are stripped and case is folded; False otherwise (numbers included).
+    """
     return isinstance(timestep_s, str) and timestep_s.strip().lower() == AUTO
 
 
@@ -84,6 +92,26 @@ def auto_timestep(
     keeps its period (1e-4 s) unless its own explicit limit is smaller
     (:func:`mat_hopper.modes.auto_control_period`), and the physics takes
     the fewest substeps whose step is at most AUTO_SAFETY (0.5) x the
-    springs' explicit bound (:func:`mat_hopper.modes.auto_substeps`)."""
+    springs' explicit bound (:func:`mat_hopper.modes.auto_substeps`).
+
+    Args:
+        design: the leg, a :class:`~mat_hopper.materials.LegDesign` or a
+            design name (:func:`~mat_hopper.materials.parse_design`).
+        convention: the stiffness convention of the run (default ``paper``).
+        segment_mass: the segment-mass convention of the run (default
+            ``leg``).
+        sensor_timing: the run's sensor timing (the controller's limit;
+            default ``"authors"``).
+
+    Returns:
+        (substeps, timestep_s): the physics substeps per control period (an
+        int >= 1) and the physics step, s.
+
+    Raises:
+        ValueError: a design that is neither a LegDesign nor a str, an
+            unknown design name, more than 1000 substeps, or as
+            :func:`mat_hopper.modes.auto_substeps` raises (unknown
+            convention, segment mass or sensor timing).
+    """
     k, dt, _ = auto_substeps(_design(design), convention, segment_mass, sensor_timing=sensor_timing)
     return k, dt

@@ -300,7 +300,23 @@ def timestep_check(claim_id: str, hops: pd.DataFrame, fine_hops: pd.DataFrame | 
     """Which of the claim's runs move by more than TIMESTEP_MOVE_TOL (10 %)
     between ``hops`` and ``fine_hops`` (the same runs at a finer step), in
     words: "converged (n runs)", "moves > 10 %: MD ramp tracking_error_m
-    +410 %; ..." (a moving baseline named first), "not checked"."""
+    +410 %; ..." (a moving baseline named first), "not checked".
+
+    Args:
+        claim_id: a claim of :data:`CLAIMS`; the runs and metrics compared are its entry in :data:`USES`.
+        hops: the per-hop rows of the claim's runs at the runs' own step (design, behaviour, the claim's
+            metric columns; only the unperturbed run, replicate -1, is read where a ``replicate`` column
+            exists).
+        fine_hops: the same runs at the finer step (same columns), or None.
+        label: names the finer step in the text.
+
+    Returns:
+        str: "converged at <label> (n runs within 10 %)", "moves > 10 % at <label>: <design> <behaviour>
+        <metric> <change> %; ..." (percent change of the run's mean at the finer step against its mean in
+        ``hops``; a change that is nan, e.g. a diverged fine run, counts as moving; runs of MD sorted
+        first), or "not checked" where the claim has no entry in :data:`USES`, either table is None or
+        empty, or no (design, behaviour) of the claim is in both.
+    """
     use = USES.get(claim_id)
     if use is None or fine_hops is None or len(fine_hops) == 0 or len(hops) == 0:
         return "not checked"
@@ -352,29 +368,47 @@ def claims_table(
 ) -> pd.DataFrame:
     """Every claim of the paper beside ours, per stiffness convention.
 
-    hops: the per-hop table of experiments 1-3 (all conventions; columns of
-    :func:`mat_hopper.metrics.hop_table` plus experiment, convention,
-    replicate and the sweep columns); runs: the run summaries (status,
-    stable, upright, diverged_at_s, ...; optional, tells unstable runs
-    apart from missing ones); stability: the stable-time-step map (one row
-    per grid point; a ``convention`` column, else taken as ``paper``);
-    basis: ``hops``, ``replicates`` or ``auto``; timestep_s: the runs' time
-    step (s), named in "unstable at dt=..." when runs has no timestep_s
-    column; fine_hops: the unperturbed runs the claims use (design,
-    behaviour, metrics) at a finer step, for the ``timestep_check`` column
-    (:func:`timestep_check`; "not checked" without them), fine_label names
-    that step. Columns: claim_id, claim, paper, ours, verdict, convention,
-    sensor_timing, basis, n_replicates (per design and behaviour, 0 on the
-    hop-cycle basis), timestep_check, detail, rule (and profile, when the
-    tables have one), power_verdicts (claims that quote power: the verdict
-    under the paper's formula, hip power and total power side by side),
-    jerk_verdicts (the jerk claim under the causal and the body jerk), and
-    the beyond-mass columns of :func:`mat_hopper.analysis.beyond_mass.beyond_mass_columns`
-    (vs_rigid_twin, vs_mass_matched, beyond_mass, mass_properties) from ``controls``, the
-    per-hop rows of :func:`mat_hopper.experiments.controls.run_controls`
-    ("not run" without them), its unusable runs dropped as the main
-    claims' are, from ``control_runs`` (their run summaries). The tables must hold one profile and one
-    sensor timing (ValueError otherwise)."""
+    The tables must hold one profile and one sensor timing (ValueError
+    otherwise). Tables without a ``convention`` column are taken as the
+    ``paper`` convention's.
+
+    Args:
+        hops: the per-hop table of experiments 1-3 (all conventions; columns of
+            :func:`mat_hopper.metrics.hop_table` plus experiment, convention,
+            replicate and the sweep columns); None: no hopping results.
+        runs: the run summaries (status, stable, upright, diverged_at_s, ...;
+            optional, tells unstable runs apart from missing ones).
+        stability: the stable-time-step map (one row per grid point; a
+            ``convention`` column, else taken as ``paper``).
+        conventions: the stiffness conventions to judge the claims under (names of
+            :data:`mat_hopper.materials.CONVENTIONS`; default ``paper`` and ``axial``).
+        basis: ``hops``, ``replicates`` or ``auto`` (module doc).
+        alpha: significance level of the Holm-adjusted comparisons (and of the beyond-mass columns).
+        timestep_s: the runs' time step (s), named in "unstable at dt=..." when runs has no timestep_s
+            column.
+        fine_hops: the unperturbed runs the claims use (design, behaviour, metrics) at a finer step, for
+            the ``timestep_check`` column (:func:`timestep_check`; "not checked" without them).
+        fine_label: names that step.
+        controls: the per-hop rows of :func:`mat_hopper.experiments.controls.run_controls`, for the
+            beyond-mass columns ("not run" without them).
+        control_runs: the control runs' summaries: their unusable runs are dropped from ``controls`` as
+            the main claims' are.
+
+    Returns:
+        DataFrame, one row per claim and convention. Columns: claim_id, claim, paper, ours, verdict,
+        convention, sensor_timing, basis, n_replicates (per design and behaviour, 0 on the hop-cycle
+        basis), timestep_check, detail, rule (and profile, when the tables have one), power_verdicts
+        (claims that quote power: the verdict under the paper's formula, hip power and total power side
+        by side), jerk_verdicts (the jerk claim under the causal and the body jerk), and the beyond-mass
+        columns of :func:`mat_hopper.analysis.beyond_mass.beyond_mass_columns` (vs_rigid_twin,
+        vs_mass_matched, beyond_mass, mass_properties; the sweep claims' from experiment 2's rows of
+        ``hops``).
+
+    Raises:
+        ValueError: ``basis`` not hops, replicates or auto; an unknown convention; a non-empty ``hops``
+            without a ``design`` column; tables holding several profiles (hops, runs, stability) or
+            several sensor timings (hops, runs).
+    """
     if basis not in _stats.BASES + ("auto",):
         raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
     hops = pd.DataFrame() if hops is None else hops
@@ -475,7 +509,17 @@ def to_markdown(
     columns=("claim", "convention", "paper", "ours", "verdict", "beyond_mass", "basis", "timestep_check"),
 ) -> str:
     """The claims as a markdown table (one row per claim and convention),
-    the rules listed below it."""
+    the rules listed below it.
+
+    Args:
+        table: :func:`claims_table`'s table (or some of its rows).
+        columns: the columns to show, in order; those not in `table` are skipped.
+
+    Returns:
+        str: the markdown, ending in a newline; "|" in cells escaped, newlines and nan as spaces and
+        empty cells. The "Verdict rules:" list (one item per claim_id) follows only where `table` has
+        ``rule`` and ``claim_id`` columns.
+    """
     cols = [c for c in columns if c in table.columns]
     lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" for _ in cols) + "|"]
     for r in table.to_dict("records"):
@@ -490,7 +534,16 @@ def to_markdown(
 
 def write_claims(table: pd.DataFrame, directory) -> tuple[str, str]:
     """Write ``claims.md`` (markdown table) and ``claims.csv`` (every
-    column) into `directory`, each atomically. Returns their paths."""
+    column) into `directory`, each atomically. Returns their paths.
+
+    Args:
+        table: :func:`claims_table`'s table.
+        directory: the folder (str or path-like); created if missing.
+
+    Returns:
+        tuple[str, str]: the paths of ``claims.md`` (:func:`to_markdown`, default columns) and
+        ``claims.csv`` (no index).
+    """
     directory = os.fspath(directory)
     md = os.path.join(directory, "claims.md")
     csv = os.path.join(directory, "claims.csv")

@@ -26,7 +26,20 @@ def contact_toggles(rollout, transient_s: float | None = None) -> float:
     Counted on the recorded samples: record at the physics rate
     (``record_rate_hz = 1 / timestep_s``) to see every toggle; a coarser
     record can only undercount. Raises ValueError when no touchdown falls
-    in the window."""
+    in the window.
+
+    Args:
+        rollout: a :class:`mat_hopper.rollout.Rollout` (from :func:`mat_hopper.sim.simulate`); its touch
+            channel (N), time (s) and the state machine's events are read.
+        transient_s: start of the window, s (simulated time); None: ``rollout.settings.transient_s``.
+
+    Returns:
+        float: the contact-state changes between consecutive recorded samples at or after `transient_s`,
+        divided by the controller's touchdown events at or after it.
+
+    Raises:
+        ValueError: no touchdown event at or after `transient_s`.
+    """
     t0 = rollout.settings.transient_s if transient_s is None else float(transient_s)
     t = rollout.time
     keep = t >= t0
@@ -44,7 +57,19 @@ def contact_toggles(rollout, transient_s: float | None = None) -> float:
 
 def contact_table(rollouts) -> pd.DataFrame:
     """:func:`contact_toggles` of each rollout, one row each: design,
-    behaviour, timestep_s, record_rate_hz, toggles_per_touchdown."""
+    behaviour, timestep_s, record_rate_hz, toggles_per_touchdown.
+
+    Args:
+        rollouts: an iterable of :class:`mat_hopper.rollout.Rollout`, each counted over its scored window
+            (``settings.transient_s`` on).
+
+    Returns:
+        DataFrame, one row per rollout in the given order. Columns: design, behaviour (names),
+        timestep_s (the physics step, s), record_rate_hz (Hz), toggles_per_touchdown.
+
+    Raises:
+        ValueError: a rollout with no touchdown in its scored window (from :func:`contact_toggles`).
+    """
     rows = []
     for r in rollouts:
         rows.append(

@@ -62,6 +62,12 @@ def wilcoxon_smallest_p(n_pairs: int) -> float:
     """Smallest two-sided exact Wilcoxon signed-rank p with n pairs: every
     sign the same, 2 / 2^n (nan for n < 1).
 
+    Args:
+        n_pairs: the number of pairs n.
+
+    Returns:
+        float: min(1, 2 / 2^n) (1.0 for n = 1), nan for n < 1.
+
     >>> wilcoxon_smallest_p(6)
     0.03125
     """
@@ -74,6 +80,14 @@ def reachable(n_pairs: int, family_size: int = 1, alpha: float = 0.05) -> bool:
     two-sided p is 2 / 2^n, Holm's first step multiplies it by the family
     size).
 
+    Args:
+        n_pairs: the number of paired seeds n.
+        family_size: the number of comparisons m in the Holm family.
+        alpha: significance level.
+
+    Returns:
+        bool: True where m * 2 / 2^n < alpha (:func:`wilcoxon_smallest_p`); False for n < 1.
+
     >>> reachable(3, 1), reachable(6, 1), reachable(6, 16), reachable(10, 16)
     (False, True, False, True)
     """
@@ -83,7 +97,14 @@ def reachable(n_pairs: int, family_size: int = 1, alpha: float = 0.05) -> bool:
 
 def sign_flip_p(x) -> float:
     """Exact two-sided sign-flip permutation p of the mean of paired
-    differences `x` (scipy.stats.permutation_test, every sign pattern)."""
+    differences `x` (scipy.stats.permutation_test, every sign pattern).
+
+    Args:
+        x: (n,) paired differences (here log ratios or differences of run means), array-like.
+
+    Returns:
+        float: the p-value, at most 1; nan where `x` is empty.
+    """
     x = np.asarray(x, dtype=float)
     if len(x) < 1:
         return math.nan

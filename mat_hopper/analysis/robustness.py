@@ -168,7 +168,22 @@ def variants(
     """The study's variants, the default first: one per sensor latency
     (paper convention), one per other convention (authors' timing, axial
     runs with auto substeps), the two time-step variants (module doc), one
-    per replicate seed 0 .. replicates - 1 (default settings, perturbed)."""
+    per replicate seed 0 .. replicates - 1 (default settings, perturbed).
+
+    Args:
+        latencies: sensor latencies in physics steps (each passed to :class:`mat_hopper.control.SensorTiming`
+            as an int); the default's (1, ``authors``) is not repeated.
+        conventions: stiffness conventions; ``paper`` (the default's) is not repeated.
+        replicates: the number of perturbed replicate seeds.
+        timesteps: whether to add the two time-step variants (``2e-5 s physics``, ``2e-5 s step``).
+
+    Returns:
+        list[Variant]: :data:`DEFAULT` first, then the latency, convention, time-step and replicate
+        variants in that order.
+
+    Raises:
+        ValueError: a latency outside [0, 1000] physics steps (:class:`mat_hopper.control.SensorTiming`).
+    """
     out = [DEFAULT]
     for lat in latencies:
         name = SensorTiming(int(lat)).name
@@ -193,7 +208,13 @@ def variants(
 
 
 def designs_and_behaviours() -> list[tuple[str, str]]:
-    """The (design, behaviour) runs the quantities need, each once."""
+    """The (design, behaviour) runs the quantities need, each once.
+
+    Returns:
+        list[tuple[str, str]]: (design, behaviour) pairs of every quantity's design and baseline,
+        designs in the order of :data:`mat_hopper.materials.MONO_NAMES` (others after), then behaviours
+        in the order of :data:`mat_hopper.behaviours.BEHAVIOUR_NAMES`.
+    """
     pairs = []
     for q in QUANTITIES:
         for d in (q.design, q.baseline):
@@ -206,10 +227,21 @@ def designs_and_behaviours() -> list[tuple[str, str]]:
 def quantity_values(hops: pd.DataFrame, runs: pd.DataFrame | None = None) -> pd.DataFrame:
     """Every quantity's value (percent change of means) per variant.
 
-    hops: per-hop rows with columns variant, design, behaviour and the
-    metrics; runs: one row per run with variant, design, behaviour and
-    ``status`` ("ok" when usable) -- runs that diverged or fell give no
-    value. Returns columns variant, quantity_id, claim, paper_pct, value_pct."""
+    Args:
+        hops: per-hop rows with columns variant, design, behaviour and the
+            metrics (``tracking_error_m``, ``power_w``).
+        runs: one row per run with variant, design, behaviour and
+            ``status`` ("ok" when usable) -- runs that diverged or fell give no
+            value; None, empty or without ``status``: every run with hop rows counts as usable.
+
+    Returns:
+        DataFrame with columns variant, quantity_id, claim, paper_pct, value_pct: one row per variant
+        (those of `hops`, then those only in `runs`) and quantity of :data:`QUANTITIES`. value_pct is
+        the percent change (%) of the design's mean over its hop rows against the baseline's; nan where
+        either run has no hop rows or is not usable, or the baseline's mean is round-off
+        (:func:`mat_hopper.change.percent_change`). Empty (those columns) when neither table has a
+        ``variant`` column.
+    """
     columns = ["variant", "quantity_id", "claim", "paper_pct", "value_pct"]
     if "variant" not in hops.columns and (runs is None or "variant" not in runs.columns):
         return pd.DataFrame(columns=columns)
@@ -247,7 +279,18 @@ def quantity_values(hops: pd.DataFrame, runs: pd.DataFrame | None = None) -> pd.
 
 def classify(value: float, default: float, factor: float = FACTOR) -> str:
     """``keeps``, ``moves > 2x``, ``flips`` or ``no value`` for one value
-    against the default's (module doc)."""
+    against the default's (module doc).
+
+    Args:
+        value: the variant's value (a percent change, %).
+        default: the default's value of the same quantity (%).
+        factor: the ratio beyond which a value moves (default 2; the label stays ``moves > 2x``).
+
+    Returns:
+        str: ``no value`` where either is not finite or `default` is 0; ``flips`` where the signs differ
+        (a `value` of exactly 0 included); ``keeps`` where value / default lies in [1 / factor, factor];
+        ``moves > 2x`` otherwise.
+    """
     if not (np.isfinite(value) and np.isfinite(default)) or default == 0:
         return NO_VALUE
     if np.sign(value) != np.sign(default):
@@ -258,7 +301,17 @@ def classify(value: float, default: float, factor: float = FACTOR) -> str:
 
 def robustness_table(values: pd.DataFrame, default: str = DEFAULT.label) -> pd.DataFrame:
     """values (:func:`quantity_values`) with the default's value beside each
-    row, the ratio to it and the class (:func:`classify`)."""
+    row, the ratio to it and the class (:func:`classify`).
+
+    Args:
+        values: :func:`quantity_values`'s table (variant, quantity_id, value_pct, ...).
+        default: the label of the default variant.
+
+    Returns:
+        DataFrame: a copy of `values` with default_pct (the default variant's value_pct of the same
+        quantity, nan where it has none), ratio_to_default (value_pct / default_pct) and class
+        (:func:`classify`, factor 2; the default's own rows included).
+    """
     base = values[values["variant"] == default].set_index("quantity_id")["value_pct"]
     out = values.copy()
     out["default_pct"] = out["quantity_id"].map(base)
@@ -270,7 +323,18 @@ def robustness_table(values: pd.DataFrame, default: str = DEFAULT.label) -> pd.D
 def summary(table: pd.DataFrame, default: str = DEFAULT.label) -> pd.DataFrame:
     """Per quantity: the default's value, the paper's, the range over the
     variants, and how many variants keep it, move it more than 2x or flip
-    it (the default itself not counted)."""
+    it (the default itself not counted).
+
+    Args:
+        table: :func:`robustness_table`'s table.
+        default: the label of the default variant.
+
+    Returns:
+        DataFrame, one row per quantity that has a non-default variant. Columns: quantity_id, paper_pct,
+        default_pct (nan without the default's row), min_pct, max_pct (over the other variants), the
+        count of variants in each class (keeps, moves > 2x, flips, no value), flipped_by and moved_by
+        (the variants' labels, comma-separated).
+    """
     t = table[table["variant"] != default]
     rows = []
     for qid, g in t.groupby("quantity_id", sort=False):
@@ -297,7 +361,16 @@ FINE_LABEL = "2e-5 s physics (control 1e-4 s)"
 def fine_step_hops(robustness_hops: pd.DataFrame | None) -> pd.DataFrame | None:
     """The robustness study's finer-physics runs (2e-5 s, five substeps per
     control period, the same 1e-4 s sensor delay) as the claims table's
-    time-step check reads them (paper convention, unperturbed)."""
+    time-step check reads them (paper convention, unperturbed).
+
+    Args:
+        robustness_hops: the robustness study's per-hop rows (with a ``variant`` column), or None.
+
+    Returns:
+        DataFrame or None: the rows of the ``2e-5 s physics`` variant without their ``sensor_timing``
+        column, for :func:`mat_hopper.analysis.claims.claims_table`'s ``fine_hops``; None where the table
+        is None, empty, has no ``variant`` column or no such rows.
+    """
     if robustness_hops is None or len(robustness_hops) == 0 or "variant" not in robustness_hops.columns:
         return None
     fine = robustness_hops[robustness_hops["variant"] == FINE_PHYSICS]

@@ -117,7 +117,15 @@ def _families(table: pd.DataFrame):
 
 
 def seconds(x: float) -> str:
-    """A duration in s, short: 0.5, 12.9, 1e-4, 2.5e-3."""
+    """A duration in s, short: 0.5, 12.9, 1e-4, 2.5e-3.
+
+    Args:
+        x: the duration, s.
+
+    Returns:
+        str: three significant digits for 0.01 <= |x| < 1e4, else two significant digits (a trailing
+        zero dropped) and an unpadded exponent ("2.5e-3", "1e-4"); 0, nan and inf as ``format(x, "g")``.
+    """
     if not np.isfinite(x) or x == 0:
         return f"{x:g}"
     if 0.01 <= abs(x) < 1e4:
@@ -132,8 +140,20 @@ def unusable_runs(runs: pd.DataFrame | None, timestep_s: float | None = None) ->
     (not upright at the end) or failed, with a reason in ``why`` ("unstable
     at dt=1e-4 s, diverged at t=2.5e-3 s", "fell over", "failed"). Uses the
     columns status, stable, upright, diverged_at_s and timestep_s where
-    present (else the `timestep_s` argument, s). Columns: design, behaviour,
-    experiment, replicate, key, the sweep columns, why."""
+    present (else the `timestep_s` argument, s).
+
+    Args:
+        runs: a run-summary table (one row per run), or None.
+        timestep_s: the runs' physics step, s, named in ``why`` where `runs` has no ``timestep_s``
+            column; None: not named.
+
+    Returns:
+        DataFrame, one row per unusable run. Columns: design, behaviour, experiment, profile,
+        convention, replicate, key, the sweep columns (:data:`SWEEP_COLUMNS`), why; columns `runs`
+        lacks are nan. A run is diverged where status is "diverged" or ``stable`` is false, fallen
+        where status is "fallen" or ``upright`` is false (a missing stable or upright value counts as
+        false), failed where status is "failed". Empty (those columns) for None or an empty table.
+    """
     cols = ["design", "behaviour", "experiment", "profile", "convention", "replicate", "key", *SWEEP_COLUMNS, "why"]
     if runs is None or len(runs) == 0:
         return pd.DataFrame(columns=cols)
@@ -169,7 +189,17 @@ def drop_unusable(hops: pd.DataFrame, bad: pd.DataFrame | None) -> pd.DataFrame:
     :func:`unusable_runs`) are dropped, matched by the runner's ``key``
     column where both have it, else by experiment, profile, convention,
     design, behaviour, replicate and sweep point. A diverged run keeps the hop cycles it
-    scored before diverging; they are not results."""
+    scored before diverging; they are not results.
+
+    Args:
+        hops: a per-hop table.
+        bad: :func:`unusable_runs`'s table, or None. Only the matching columns that `hops` has and
+            that are filled in every row of `bad` are used.
+
+    Returns:
+        DataFrame: the rows of `hops` not in a run of `bad` (original index kept); `hops` itself where
+        `bad` is None or either table is empty.
+    """
     if bad is None:
         return hops
     if len(bad) == 0 or len(hops) == 0:
@@ -197,7 +227,15 @@ def drop_unusable(hops: pd.DataFrame, bad: pd.DataFrame | None) -> pd.DataFrame:
 
 def select_replicates(hops: pd.DataFrame, replicate: int | None = UNPERTURBED) -> pd.DataFrame:
     """Rows of one replicate id (default: the unperturbed run, -1); all rows
-    when `replicate` is None or the table has no ``replicate`` column."""
+    when `replicate` is None or the table has no ``replicate`` column.
+
+    Args:
+        hops: a per-hop table.
+        replicate: the replicate id to keep (-1: the unperturbed run), or None.
+
+    Returns:
+        DataFrame: the rows whose ``replicate`` equals `replicate`, or `hops` itself.
+    """
     if replicate is None or "replicate" not in hops.columns:
         return hops
     return hops[hops["replicate"] == replicate]
@@ -208,7 +246,17 @@ def combine_experiments(hops: pd.DataFrame, experiments=None) -> pd.DataFrame:
     gradients of experiment 3 beside MD and SS of experiment 1): every
     design and behaviour (per profile and convention) is taken from the
     first experiment in `experiments` (default: sorted) that has it, and the
-    ``experiment`` column becomes their names joined by "+"."""
+    ``experiment`` column becomes their names joined by "+".
+
+    Args:
+        hops: a per-hop table with an ``experiment`` column.
+        experiments: experiment names in order of precedence (compared as str); None: every
+            experiment of the table, sorted.
+
+    Returns:
+        DataFrame: a copy of the kept rows (rows of experiments not named dropped), ``experiment`` set
+        to e.g. "exp1+exp3"; `hops` itself where it has no ``experiment`` column or is empty.
+    """
     if "experiment" not in hops.columns or len(hops) == 0:
         return hops
     exps = [
@@ -235,7 +283,26 @@ def summary_table(
     family), tidy, with the percent change of mean and median against the
     baseline design in the same family and behaviour (nan without one).
 
-    Built on :func:`mat_hopper.metrics.summarize`."""
+    Built on :func:`mat_hopper.metrics.summarize`.
+
+    Args:
+        hops: a per-hop table.
+        by: the grouping columns; the family columns present (experiment, profile, convention) are
+            put in front.
+        metrics: metric columns.
+        baseline: the baseline design; None: no percent-change columns.
+        replicate: the replicate id summarized (default the unperturbed run, -1; None: every row,
+            :func:`select_replicates`).
+
+    Returns:
+        DataFrame, one row per group and metric. Columns: family columns, `by`, metric, n (hop
+        cycles), mean, median, iqr and, with a baseline and ``design`` in `by`: mean_baseline,
+        median_baseline, pct_change_mean, pct_change_median (%), baseline. Empty (without the baseline
+        columns) when no row is left.
+
+    Raises:
+        ValueError: a metric that is not a column of `hops`.
+    """
     metrics = _check_metrics(hops, metrics)
     hops = select_replicates(hops, replicate)
     fam = _present(hops, FAMILY_COLUMNS)
@@ -269,7 +336,28 @@ def compare_hops(
     family per metric, experiment, profile and convention. By default only
     the unperturbed run (replicate -1) is used; ``replicate=None`` pools all.
 
-    Adds the family columns and ``basis = "hops"``."""
+    Adds the family columns and ``basis = "hops"``.
+
+    Metric values smaller in magnitude than ``ROUNDOFF`` count as 0 (module doc); families without
+    the baseline are skipped.
+
+    Args:
+        hops: a per-hop table (design, `by`, the metric columns).
+        baseline: the baseline design.
+        by: the grouping inside which designs are compared.
+        metrics: metric columns.
+        alpha: significance level of the Holm-adjusted p.
+        replicate: the replicate id compared (:func:`select_replicates`); None pools all.
+
+    Returns:
+        DataFrame: family columns, then the columns of :func:`mat_hopper.metrics.compare` (`by`,
+        design, baseline, metric, n, n_baseline, mean, mean_baseline, pct_change, u, p, effect_size,
+        p_holm, significant), then basis.
+
+    Raises:
+        ValueError: a metric that is not a column of `hops`; the baseline in no family; or from
+            :func:`mat_hopper.metrics.compare` (no `by` column, alpha not in (0, 1)).
+    """
     metrics = _check_metrics(hops, metrics)
     hops = select_replicates(hops, replicate)
     frames = [res for _, res in _compare_families(hops, baseline, by, metrics, alpha)]
@@ -287,7 +375,20 @@ def replicate_means(hops: pd.DataFrame, *, metrics=ALL_METRICS, include_unpertur
     """One row per run: the mean of each metric over its scored hop cycles
     and ``n_hops``. Run keys: the family columns, design, behaviour,
     replicate and, where present, the sweep columns. The unperturbed run
-    (replicate -1) is left out unless `include_unperturbed`."""
+    (replicate -1) is left out unless `include_unperturbed`.
+
+    Args:
+        hops: a per-hop table with a ``replicate`` column.
+        metrics: metric columns to average; those not in `hops` are skipped.
+        include_unperturbed: keep the unperturbed run (replicate -1).
+
+    Returns:
+        DataFrame, one row per run: the run keys, n_hops, the mean of each metric. Empty (those
+        columns) when no row is left.
+
+    Raises:
+        ValueError: `hops` has no ``replicate`` column.
+    """
     if "replicate" not in hops.columns:
         raise ValueError("replicate_means needs a 'replicate' column (int, -1 for the unperturbed run)")
     metrics = tuple(m for m in metrics if m in hops.columns)
@@ -311,7 +412,23 @@ def bootstrap_pct_change(
     Both samples are resampled independently with replacement `n_boot`
     times from ``numpy.random.default_rng(seed)`` (deterministic). Returns
     (pct_change, low, high); nan where a sample is empty or the baseline
-    mean is 0; resamples whose baseline mean is 0 are dropped."""
+    mean is 0; resamples whose baseline mean is 0 are dropped.
+
+    Args:
+        values: the design's samples (e.g. replicate means); non-finite values are dropped.
+        baseline_values: the baseline's samples; non-finite values are dropped.
+        n_boot: the number of bootstrap resamples.
+        confidence: of the interval, in (0, 1).
+        seed: of the resampling.
+
+    Returns:
+        tuple[float, float, float]: (pct_change, low, high), %. "0" is a baseline mean below
+        ``ROUNDOFF`` in magnitude (:func:`mat_hopper.change.percent_change`); low and high are nan
+        where every resample is dropped.
+
+    Raises:
+        ValueError: `confidence` not in (0, 1); `n_boot` below 1.
+    """
     a = np.asarray(values, dtype=float)
     b = np.asarray(baseline_values, dtype=float)
     a, b = a[np.isfinite(a)], b[np.isfinite(b)]
@@ -377,7 +494,29 @@ def compare_replicates(
     replicates, rank-biserial effect size. Either way raw and Holm-adjusted
     p (one family per metric, experiment, profile and convention; the
     claims re-correct within each claim), significance, ``basis =
-    "replicates"`` and ``paired``."""
+    "replicates"`` and ``paired``.
+
+    Args:
+        hops: a per-hop table with a ``replicate`` column.
+        baseline: the baseline design.
+        by: the grouping inside which designs are compared.
+        metrics: metric columns.
+        alpha: significance level.
+        n_boot: bootstrap resamples of the interval (unpaired only).
+        confidence: of the interval, in (0, 1).
+        seed: of the bootstrap (unpaired only).
+        paired: ``auto``, True or False.
+
+    Returns:
+        DataFrame, one row per family, `by` group, design and metric. Paired: the columns of
+        :func:`mat_hopper.analysis.paired.compare_paired` and basis. Unpaired: family columns and the
+        columns of :func:`mat_hopper.metrics.compare`, then ci_low, ci_high, basis, paired (False).
+
+    Raises:
+        ValueError: a metric that is not a column of `hops`; no ``replicate`` column; no replicate run
+            (replicate >= 0); the baseline without replicate runs; `paired` not ``auto``, True or False;
+            ``paired=True`` where the designs do not share the baseline's seeds.
+    """
     from .paired import compare_paired
 
     metrics = _check_metrics(hops, metrics)
@@ -425,7 +564,17 @@ def compare_replicates(
 
 def has_replicates(hops: pd.DataFrame, min_replicates: int = 2) -> bool:
     """True when every run key of the table has at least `min_replicates`
-    perturbed replicates (replicate >= 0)."""
+    perturbed replicates (replicate >= 0).
+
+    Args:
+        hops: a per-hop table.
+        min_replicates: the fewest replicates each run key needs.
+
+    Returns:
+        bool: True where every combination of the family columns, design and behaviour present has at
+        least `min_replicates` distinct replicate ids other than -1; False without a ``replicate``
+        column, for an empty table, or without perturbed rows.
+    """
     if "replicate" not in hops.columns or len(hops) == 0:
         return False
     reps = hops[hops["replicate"] != UNPERTURBED]
@@ -451,7 +600,24 @@ def compare_designs(
     unperturbed run), "replicates", or "auto" (replicates when every design
     and behaviour has at least 2, else hops). Extra keyword arguments go to
     :func:`compare_replicates` (n_boot, confidence, seed) or
-    :func:`compare_hops` (replicate)."""
+    :func:`compare_hops` (replicate).
+
+    Args:
+        hops: a per-hop table.
+        baseline: the baseline design.
+        basis: ``hops``, ``replicates`` or ``auto`` (:func:`has_replicates`).
+        by: the grouping inside which designs are compared.
+        metrics: metric columns.
+        alpha: significance level.
+        **kwargs: passed on to :func:`compare_replicates` or :func:`compare_hops`.
+
+    Returns:
+        DataFrame: :func:`compare_replicates`'s or :func:`compare_hops`'s table (its ``basis`` column
+        says which).
+
+    Raises:
+        ValueError: `basis` not hops, replicates or auto; or from the comparison run.
+    """
     if basis not in BASES + ("auto",):
         raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
     if basis == "auto":

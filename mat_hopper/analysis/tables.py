@@ -19,7 +19,15 @@ from ..materials import CONVENTIONS, LegDesign, order_designs, paper_designs
 
 def design_table(designs: dict[str, LegDesign] | None = None) -> pd.DataFrame:
     """One row per design and segment (1 nearest the base): design,
-    segment, material, density_g_cm3, modulus_gpa (nan: rigid)."""
+    segment, material, density_g_cm3, modulus_gpa (nan: rigid).
+
+    Args:
+        designs: designs by name; None: :func:`mat_hopper.materials.paper_designs`.
+
+    Returns:
+        DataFrame with columns design, segment (1, 2, ...), material (name), density_g_cm3 (g/cm^3),
+        modulus_gpa (GPa, nan: rigid).
+    """
     designs = paper_designs() if designs is None else designs
     rows = []
     for name, d in designs.items():
@@ -42,7 +50,21 @@ _JOINT_TYPES = {0: "free", 1: "ball", 2: "slide", 3: "hinge"}
 def joint_table(design: LegDesign | str = "SS", convention: str = "paper") -> pd.DataFrame:
     """Every joint of the compiled hopper, from the base down: name, type
     (slide m, hinge rad), stiffness (N/m or N m/rad), damping, range (nan:
-    unlimited), the body it moves."""
+    unlimited), the body it moves.
+
+    Args:
+        design: the leg, or its name (:func:`mat_hopper.materials.parse_design`).
+        convention: the stiffness convention the model is built with (:func:`mat_hopper.model.build_model`).
+
+    Returns:
+        DataFrame, one row per joint in MuJoCo's order. Columns: joint (name), type (free, ball, slide
+        or hinge), body, stiffness (N/m or N m/rad), damping (N s/m or N m s/rad, of the joint's first
+        degree of freedom), range_low, range_high (m or rad; nan: unlimited).
+
+    Raises:
+        ValueError: an unknown design name, or invalid arguments to :func:`mat_hopper.model.build_model`
+            (e.g. an unknown convention).
+    """
     from ..materials import parse_design
     from ..model import build_model
 
@@ -70,7 +92,18 @@ def joint_table(design: LegDesign | str = "SS", convention: str = "paper") -> pd
 def replicate_table(comparison: pd.DataFrame, metrics=("tracking_error_m", "power_w")) -> pd.DataFrame:
     """A compare_replicates table for reading: one row per design and
     metric, percent change of the mean with its 95 % bootstrap interval,
-    the Holm-adjusted p and a star where p < 0.05."""
+    the Holm-adjusted p and a star where p < 0.05.
+
+    Args:
+        comparison: :func:`mat_hopper.analysis.stats.compare_replicates`'s table (design, metric, n,
+            pct_change, ci_low, ci_high, p_holm, significant).
+        metrics: the metrics kept.
+
+    Returns:
+        DataFrame, one row per row of `comparison` with a kept metric (no behaviour column). Columns:
+        design, metric, n, change ("+12 % [+3, +20]": pct_change with ci_low, ci_high), "p (Holm)"
+        (three significant digits), "" ("*" where the ``significant`` column is true).
+    """
     c = comparison[comparison["metric"].isin(metrics)]
     return pd.DataFrame(
         {
@@ -94,7 +127,22 @@ def pct_change_table(
     columns (from :func:`mat_hopper.analysis.stats.summary_table`). Where the
     baseline's mean is round-off (:func:`~mat_hopper.change.percent_change`;
     e.g. the tracking error of hopping in place) the change is nan: a
-    percentage of nothing means nothing."""
+    percentage of nothing means nothing.
+
+    Args:
+        hops: a per-hop table (design, behaviour, `metric`; the unperturbed run, replicate -1, is used).
+        metric: the metric column.
+        baseline: the baseline design.
+        designs: the designs shown (rows, in the paper's order); None: those of the table.
+        behaviours: the behaviours shown (columns, in the paper's order); None: those of the table.
+
+    Returns:
+        DataFrame of percent changes (%), designs as index (the baseline left out unless named in
+        `designs`, then all nan), behaviours as columns; the columns' name is "<metric>: % vs <baseline>".
+
+    Raises:
+        ValueError: `metric` is not a column of `hops` (:func:`mat_hopper.analysis.stats.summary_table`).
+    """
     from . import stats
 
     s = stats.summary_table(hops, metrics=(metric,), baseline=baseline)
@@ -113,7 +161,20 @@ def outcome_table(runs: pd.DataFrame) -> pd.DataFrame:
     """How each run ended, designs as rows and behaviours as columns: "ok,
     N hops" (N scored hop cycles), "fell" (the body ended below 0.1 m),
     "diverged at T s" (numerical blow-up, simulated time) or "failed"
-    (an error; see the runs table). Unperturbed runs only."""
+    (an error; see the runs table). Unperturbed runs only.
+
+    Args:
+        runs: a run-summary table (design, behaviour, status; n_hops, diverged_at_s and replicate where
+            present).
+
+    Returns:
+        DataFrame of str, designs as index and behaviours as columns, each in the paper's order: "ok, N
+        hops" ("ok" without an n_hops value), "diverged at T s" (T to two significant digits) or the
+        run's status as written (e.g. "fallen", "failed", "diverged" without a time); nan where no run.
+
+    Raises:
+        ValueError: `runs` lacks a column design, behaviour or status.
+    """
     need = ("design", "behaviour", "status")
     missing = [c for c in need if c not in runs.columns]
     if missing:
@@ -139,7 +200,19 @@ def outcome_table(runs: pd.DataFrame) -> pd.DataFrame:
 def outcome_summary(runs: pd.DataFrame) -> str:
     """One paragraph on how the (unperturbed) runs ended: how many ended
     upright, then each design and behaviour that did not, with how
-    (diverged at T s, fell, failed)."""
+    (diverged at T s, fell, failed).
+
+    Args:
+        runs: a run-summary table, as for :func:`outcome_table`.
+
+    Returns:
+        str: "K of N runs ended upright." or "K of N runs ended upright; not: <design> <behaviour>:
+        <outcome>; ...." (the behaviour left out where the table has only one), outcomes as in
+        :func:`outcome_table`; N counts the design-behaviour cells that have a run.
+
+    Raises:
+        ValueError: `runs` lacks a column design, behaviour or status.
+    """
     t = outcome_table(runs)
     cells = [(d, b, v) for d in t.index for b in t.columns if isinstance(v := t.loc[d, b], str)]
     bad = [(d, b, v) for d, b, v in cells if not v.startswith("ok")]
@@ -154,7 +227,20 @@ def outcome_summary(runs: pd.DataFrame) -> str:
 def metric_table(hops: pd.DataFrame, metric: str, stat: str = "mean", *, scale: float = 1.0) -> pd.DataFrame:
     """`stat` (mean or median) of `metric` over the scored hop cycles of
     the unperturbed runs, times `scale` (e.g. 1e3 for mm), designs as rows
-    and behaviours as columns."""
+    and behaviours as columns.
+
+    Args:
+        hops: a per-hop table (design, behaviour, `metric`).
+        metric: the metric column.
+        stat: ``mean`` or ``median``.
+        scale: factor on every value.
+
+    Returns:
+        DataFrame, designs as index and behaviours as columns, each in the paper's order.
+
+    Raises:
+        ValueError: `stat` not mean or median; `metric` not a column of `hops`.
+    """
     from . import stats
 
     if stat not in ("mean", "median"):
@@ -171,7 +257,21 @@ def sweep_spans(hops: pd.DataFrame, metric: str = "tracking_error_m") -> pd.Data
     smallest and largest mean of `metric` over the sweep's points (mean
     over each point's scored hop cycles, unperturbed runs), their span,
     and the property values where they occur. Columns sweep_base,
-    sweep_property, n_points, min, at_min, max, at_max, span."""
+    sweep_property, n_points, min, at_min, max, at_max, span.
+
+    Args:
+        hops: experiment 2's per-hop rows (sweep_base, sweep_property, density_g_cm3, modulus_gpa,
+            `metric`; replicate -1 only where a ``replicate`` column exists).
+        metric: the metric column.
+
+    Returns:
+        DataFrame, one row per (sweep_base, sweep_property) in order of appearance. min, max and span
+        in the metric's unit; at_min, at_max the swept property's value (density_g_cm3 in g/cm^3 for a
+        ``density`` sweep, else modulus_gpa in GPa).
+
+    Raises:
+        ValueError: `hops` lacks one of the needed columns.
+    """
     need = ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa", metric)
     missing = [c for c in need if c not in hops.columns]
     if missing:
@@ -207,7 +307,23 @@ def order_effect(
     against the first's, per behaviour and metric, with the Mann-Whitney U
     test on hop cycles (unperturbed runs; Holm over each pair's
     behaviours and metrics). Columns pair, behaviour, metric, pct_change,
-    p_holm, significant."""
+    p_holm, significant.
+
+    Args:
+        hops: a per-hop table holding both designs of every pair (their experiments are merged into
+            one family).
+        pairs: (first, second) design names; the second is compared against the first.
+        metrics: metric columns.
+        alpha: significance level.
+
+    Returns:
+        DataFrame, one row per pair, behaviour and metric; pair is "<second> vs <first>", pct_change in
+        %. The Holm correction is :func:`mat_hopper.analysis.stats.compare_hops`'s: one family per metric
+        (and profile and convention) within each pair.
+
+    Raises:
+        ValueError: a pair's design missing from `hops`; a metric not a column of `hops`.
+    """
     from . import stats
 
     frames = []
@@ -232,7 +348,18 @@ def starred(
 ) -> pd.DataFrame:
     """A tidy comparison as a wide table for the page: `value` (a percent
     change) as "+12 %" with a star where `flag` is true, `rows` as the
-    index and `column` values as columns ("–" where nan)."""
+    index and `column` values as columns ("–" where nan).
+
+    Args:
+        table: a tidy comparison (e.g. :func:`order_effect`'s).
+        rows: the columns that make the index.
+        column: the column whose values become columns (behaviours in the paper's order).
+        value: the percent-change column.
+        flag: the boolean column that earns a star.
+
+    Returns:
+        DataFrame of str: "+12 %", "+12 % *" where `flag` is true, "–" where `value` is not finite.
+    """
 
     def cell(r) -> str:
         v = r[value]
@@ -279,7 +406,24 @@ def claims_for(
     from a reproduction's tables (``exp*_hops``, ``exp*_runs``,
     ``stability``, ``controls_hops`` where present), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
     (None). conventions: default those present in the tables. columns:
-    which to keep (None: all)."""
+    which to keep (None: all).
+
+    Args:
+        tables: result tables by name (``exp1_hops``, ``exp1_runs``, ..., ``stability``,
+            ``robustness_hops`` for the time-step check, ``controls_hops``, ``controls_runs``); the
+            ``exp*_hops`` and ``exp*_runs`` tables are concatenated.
+        chapter: a key of :data:`CHAPTER_CLAIMS`, or None: every claim.
+        conventions: the stiffness conventions; None: those present in the tables (``paper`` where
+            none is).
+        columns: the columns kept; None: all.
+
+    Returns:
+        DataFrame, one row per claim and convention (a chapter's claims in :data:`CHAPTER_CLAIMS`'s
+        order), index reset.
+
+    Raises:
+        ValueError: an unknown chapter; or from :func:`mat_hopper.analysis.claims.claims_table`.
+    """
     from . import claims
 
     if chapter is not None and chapter not in CHAPTER_CLAIMS:
@@ -318,7 +462,11 @@ def claims_for(
 
 def claim_rules() -> pd.DataFrame:
     """The rule behind each claim's verdict (:data:`mat_hopper.analysis.claims.CLAIMS`):
-    columns claim, rule."""
+    columns claim, rule.
+
+    Returns:
+        DataFrame, one row per claim in :data:`mat_hopper.analysis.claims.CLAIMS`'s order.
+    """
     from . import claims
 
     return pd.DataFrame([{"claim": c.claim, "rule": c.rule} for c in claims.CLAIMS])
@@ -342,7 +490,21 @@ def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
 
     ``mean_jerk_m_s3`` repeats ``raw_jerk_m_s3`` (the column's name before
     the metric changed). Columns rate_hz, raw_jerk_m_s3, metric_jerk_m_s3,
-    mean_jerk_m_s3."""
+    mean_jerk_m_s3.
+
+    Args:
+        rollout: a :class:`mat_hopper.rollout.Rollout`; averaged from ``rollout.settings.transient_s`` on.
+        rates_hz: the record rates to emulate, Hz. Each is rounded to the record rate divided by a whole
+            number k (every k-th sample).
+
+    Returns:
+        DataFrame, one row per rate: rate_hz (the emulated rate, Hz), raw_jerk_m_s3, metric_jerk_m_s3,
+        mean_jerk_m_s3 (m/s^3).
+
+    Raises:
+        ValueError: fewer than 4 recorded samples; a rate for which k rounds to 0 (at or above about twice
+            the record rate); a rate that leaves fewer than 3 samples.
+    """
     from ..sim import C
 
     d = rollout.data
@@ -381,7 +543,20 @@ def setting_comparison(
     baseline) pair, per ``setting`` of the table (e.g. from
     :func:`axial_check`): rows setting, columns "<metric>: <design> vs
     <baseline>"; nan where either is missing or the baseline's mean is
-    round-off (:func:`~mat_hopper.change.percent_change`)."""
+    round-off (:func:`~mat_hopper.change.percent_change`).
+
+    Args:
+        hops: a per-hop table with columns setting, design and the metrics.
+        pairs: (design, baseline) names.
+        metrics: metric columns.
+
+    Returns:
+        DataFrame, one row per setting (in order of appearance, index named ``setting``), percent
+        changes (%) of the means over all rows of each design and setting.
+
+    Raises:
+        ValueError: `hops` has no ``setting`` column.
+    """
     if "setting" not in hops.columns:
         raise ValueError("setting_comparison needs a 'setting' column")
     means = hops.groupby(["setting", "design"])[list(metrics)].mean()
@@ -405,7 +580,22 @@ def power_formula_table(hops: pd.DataFrame, design: str = "SS", baseline: str = 
     """Percent change of `design`'s mean hip power against `baseline`'s, per
     behaviour, measured two ways: the real mechanical power of the hip
     motors (``power_w``, ours) and the authors' formula
-    (``power_paper_w``). Rows: the two measures; columns: behaviours."""
+    (``power_paper_w``). Rows: the two measures; columns: behaviours.
+
+    Args:
+        hops: a per-hop table (design, behaviour, power_w, power_paper_w; the unperturbed run is used,
+            :func:`pct_change_table`).
+        design: the design.
+        baseline: the baseline design.
+
+    Returns:
+        DataFrame of percent changes (%): rows "real hip power (ours)" and "the authors' formula",
+        behaviours as columns (nan where `design` has no value); the columns' name is
+        "power: <design> vs <baseline> (%)".
+
+    Raises:
+        ValueError: `hops` lacks power_w or power_paper_w.
+    """
     rows = {}
     for metric, label in (("power_w", "real hip power (ours)"), ("power_paper_w", "the authors' formula")):
         t = pct_change_table(hops, metric, baseline, designs=[baseline, design])
@@ -420,7 +610,20 @@ def leg_mass_table(runs: pd.DataFrame) -> pd.DataFrame:
     :func:`mat_hopper.materials.segment_masses`, kg, from the runs'
     per-segment ``densities_g_cm3`` "a/b/c" and ``segment_mass``
     convention) as ``leg_mass_kg``; unperturbed runs only. Columns: those of
-    `runs` plus leg_mass_kg."""
+    `runs` plus leg_mass_kg.
+
+    Args:
+        runs: a run-summary table with ``densities_g_cm3`` ("a/b/c", g/cm^3 per segment, hip to foot)
+            and, optionally, ``segment_mass`` (default ``leg``) and ``replicate`` (-1 kept).
+
+    Returns:
+        DataFrame: the kept rows, index reset, with leg_mass_kg (kg).
+
+    Raises:
+        ValueError: no ``densities_g_cm3`` column; a density out of range
+            (:meth:`mat_hopper.materials.LegDesign.from_properties`); an unknown segment-mass convention
+            (:func:`mat_hopper.materials.segment_masses`).
+    """
     from ..materials import LegDesign, segment_masses
 
     need = ("densities_g_cm3",)
@@ -444,7 +647,22 @@ def failure_table(runs: pd.DataFrame) -> pd.DataFrame:
     when the numbers blew up: the hopper failed first), ``fell`` (ended
     below 0.1 m without blowing up) or ``failed`` (an error). Columns:
     design, behaviour, kind, at_s (time of the blow-up, s; nan for a plain
-    fall), final_base_z_m (the last recorded body height), n_hops."""
+    fall), final_base_z_m (the last recorded body height), n_hops.
+
+    Args:
+        runs: a run-summary table (design, behaviour, status, final_base_z_m; upright, diverged_at_s,
+            n_hops and replicate where present; without ``upright`` a run is upright when its status is
+            "ok").
+
+    Returns:
+        DataFrame, one row per unperturbed run whose status is not "ok" or that is not upright, with
+        the columns above (at_s and final_base_z_m in s and m; n_hops 0 where missing). "Below 0.1 m"
+        is not at or above :data:`mat_hopper.reference.STABLE_MIN_BASE_Z` (a nan height counts as
+        below).
+
+    Raises:
+        ValueError: `runs` lacks a column design, behaviour, status or final_base_z_m.
+    """
     from .. import reference as ref
 
     need = ("design", "behaviour", "status", "final_base_z_m")

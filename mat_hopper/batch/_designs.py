@@ -232,7 +232,26 @@ def design_columns(design: LegDesign, n_max: int | None = None, segment_mass: st
     modulus_1..N (GPa, ``rigid`` where rigid), leg_mass_kg (everything
     below the hip, :func:`mat_hopper.controls.mass_properties`, as the hop
     table's column); NaN past its last segment up to n_max. Every table of
-    designs carries them, so that its rows can be told apart and read back."""
+    designs carries them, so that its rows can be told apart and read back.
+
+    Args:
+        design: a LegDesign.
+        n_max: the number of segment columns; None (the default) for the
+            design's own number of segments. Columns past the design's last
+            segment hold NaN; a smaller n_max than the design's segments
+            leaves out the segments past it.
+        segment_mass: the segment-mass convention of leg_mass_kg (``leg``,
+            the default, or ``capsule``; :mod:`mat_hopper.materials`).
+
+    Returns:
+        A dict {column: value}: ``density_1``..``density_<n_max>`` (float,
+        g/cm^3), then ``modulus_1``..``modulus_<n_max>`` (float GPa, or the
+        string ``"rigid"``), then ``leg_mass_kg`` (float, kg).
+
+    Raises:
+        ValueError: an unknown segment-mass convention (from
+            :func:`mat_hopper.controls.mass_properties`).
+    """
     from ..controls import mass_properties
 
     n_max = design.n_segments if n_max is None else n_max

@@ -108,7 +108,18 @@ def content_checksum(table, payload: bytes) -> str:
     the table read back from parquet give the same digest; any change to a
     stored number, string or the summary gives another. Ours because
     parquet's own page checksums are optional and not verified on read by
-    default."""
+    default.
+
+    Args:
+        table: the ``pyarrow.Table`` written or read back (its columns, their
+            types and its schema metadata are hashed; the entries under the
+            cache's own metadata and checksum keys are left out).
+        payload: the metadata payload, JSON bytes of ``{"summary": ..., "key": ...}``
+            as :meth:`Cache.store` writes it.
+
+    Returns:
+        The SHA-256 digest as 64 lowercase hex characters.
+    """
     import pyarrow as pa
 
     h = hashlib.sha256()

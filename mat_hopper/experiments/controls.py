@@ -92,7 +92,30 @@ def control_tasks(
 
 def run_controls(profile=None, *, cache_dir=None, workers=None, progress: bool = False, **kw):
     """Run :func:`control_tasks` (cached). Returns the GridResult: ``tables``
-    the per-hop rows, ``summary`` one row per run."""
+    the per-hop rows, ``summary`` one row per run.
+
+    Args:
+        profile: a Profile or its name (default: $MAT_HOPPER_PROFILE, else ``paper``).
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        workers: local worker processes (an integer >= 1; default: every core
+            this process may use).
+        progress: show a progress bar.
+        **kw: passed to :func:`control_tasks`: ``designs``, ``behaviours``,
+            ``kinds``, ``replicates``, ``baselines``.
+
+    Returns:
+        The :class:`~mat_hopper.experiments.runner.GridResult`: ``tables`` the
+        per-hop rows, ``summary`` one row per run, each with the task labels
+        in front. A run that raised is a ``failed`` summary row (with its
+        error text), not an exception.
+
+    Raises:
+        ValueError: an unknown profile, design, behaviour or control kind,
+            replicates < 2 (:func:`control_tasks`), an empty grid,
+            invalid `workers`, or $MAT_HOPPER_CACHE set but empty
+            (:func:`~mat_hopper.experiments.runner.run_grid`).
+    """
     return run_grid(control_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="controls")
 
 
@@ -156,7 +179,30 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
 
 
 def run_attribution(profile=None, *, cache_dir=None, workers=None, progress: bool = False, **kw):
-    """Run :func:`attribution_tasks` (cached); the GridResult."""
+    """Run :func:`attribution_tasks` (cached); the GridResult.
+
+    Args:
+        profile: a Profile or its name (default: $MAT_HOPPER_PROFILE, else ``paper``).
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        workers: local worker processes (an integer >= 1; default: every core
+            this process may use).
+        progress: show a progress bar.
+        **kw: passed to :func:`attribution_tasks`: ``designs``, ``behaviours``,
+            ``replicates``.
+
+    Returns:
+        The :class:`~mat_hopper.experiments.runner.GridResult`: ``tables`` the
+        per-hop rows, ``summary`` one row per run, each with the task labels
+        in front (``springs``, ``mass_of``, ...). A run that raised is a ``failed`` summary row (with its
+        error text), not an exception.
+
+    Raises:
+        ValueError: an unknown profile, design or behaviour, replicates < 2
+            (:func:`attribution_tasks`), an empty grid,
+            invalid `workers`, or $MAT_HOPPER_CACHE set but empty
+            (:func:`~mat_hopper.experiments.runner.run_grid`).
+    """
     return run_grid(attribution_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="attribution")
 
 
@@ -202,5 +248,29 @@ def push_scale_tasks(profile=None, designs=("SS", "rho-inc"), behaviour="ramp", 
 
 
 def run_push_scale(profile=None, *, cache_dir=None, workers=None, progress: bool = False, **kw):
-    """Run :func:`push_scale_tasks` (cached); the GridResult."""
+    """Run :func:`push_scale_tasks` (cached); the GridResult.
+
+    Args:
+        profile: a Profile or its name (default: $MAT_HOPPER_PROFILE, else ``paper``).
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        workers: local worker processes (an integer >= 1; default: every core
+            this process may use).
+        progress: show a progress bar.
+        **kw: passed to :func:`push_scale_tasks`: ``designs``, ``behaviour``,
+            ``scales``, ``replicates``.
+
+    Returns:
+        The :class:`~mat_hopper.experiments.runner.GridResult`: ``tables`` the
+        per-hop rows, ``summary`` one row per run, each with the task labels
+        in front (``push_scale``, ...). A run that raised is a ``failed`` summary row (with its
+        error text), not an exception.
+
+    Raises:
+        ValueError: an unknown profile, design or behaviour, replicates < 2, a
+            push scale that is not a finite number >= 0 (:func:`push_scale_tasks`),
+            an empty grid,
+            invalid `workers`, or $MAT_HOPPER_CACHE set but empty
+            (:func:`~mat_hopper.experiments.runner.run_grid`).
+    """
     return run_grid(push_scale_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="push scale")

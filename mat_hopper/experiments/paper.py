@@ -152,7 +152,14 @@ class StabilityMap:
 
 
 def experiment_1() -> Experiment:
-    """Mono-materials on all four behaviours."""
+    """Mono-materials on all four behaviours.
+
+    Returns:
+        The :class:`Experiment` ``exp1``: the five mono-material legs of
+        :data:`mat_hopper.reference.MONO_MATERIALS` (MD, PVC, Al, Ti, SS; label
+        column ``group`` = ``mono``) x static, forward, ramp and circle, with
+        MD as its baseline.
+    """
     designs = paper_designs()
     points = tuple(DesignPoint(designs[n], n, (("group", "mono"),)) for n in ref.MONO_MATERIALS)
     return Experiment("exp1", "Mono-materials x four behaviours", points, BEHAVIOUR_NAMES, ("MD",))
@@ -164,15 +171,27 @@ SWEEP_SHORT = {"density": "rho", "modulus": "E"}
 def experiment_2(porosity_model: str = DEFAULT_POROSITY_MODEL) -> Experiment:
     """One property at a time around PVC, Al, Ti and SS, forward hopping.
 
-    porosity_model: ``independent`` (the paper's: a density point changes
-    the density only) or ``gibson-ashby`` (a density point below the base
-    material's is that solid made porous, E = E_s (rho / rho_s)^2,
-    :func:`mat_hopper.porosity.porous_modulus`; points above keep E_s).
+    Args:
+        porosity_model: ``independent`` (the paper's: a density point changes
+            the density only) or ``gibson-ashby`` (a density point below the base
+            material's is that solid made porous, E = E_s (rho / rho_s)^2,
+            :func:`mat_hopper.porosity.porous_modulus`; points above keep E_s).
 
-    Labels: sweep_base (the material), sweep_property (density|modulus),
-    sweep_value, density_g_cm3, modulus_gpa (the segment's modulus as
-    simulated), is_base (the point that is the base material itself; its
-    design label is the material's name), porosity_model."""
+    Returns:
+        The :class:`Experiment` ``exp2`` (``exp2-<porosity_model>`` for a model
+        other than the default) on the ``forward`` behaviour: every point of
+        :data:`mat_hopper.reference.SWEEPS`, plus the base material's own value
+        where a sweep lacks it, as a 3-segment mono-material leg.
+
+        Labels: sweep_base (the material), sweep_property (density|modulus),
+        sweep_value, density_g_cm3, modulus_gpa (the segment's modulus as
+        simulated), is_base (the point that is the base material itself; its
+        design label is the material's name), porosity_model; and group
+        (``"<base> <property>"``).
+
+    Raises:
+        ValueError: an unknown porosity model.
+    """
     check_porosity_model(porosity_model)
     designs = paper_designs()
     points = []
@@ -211,7 +230,14 @@ def experiment_2(porosity_model: str = DEFAULT_POROSITY_MODEL) -> Experiment:
 
 
 def experiment_3() -> Experiment:
-    """Functional gradients on all four behaviours, with MD and SS."""
+    """Functional gradients on all four behaviours, with MD and SS.
+
+    Returns:
+        The :class:`Experiment` ``exp3``: rho-inc, rho-dec, PVC-Ti-SS and
+        SS-Ti-PVC (label column ``group`` = ``gradient``) and MD and SS
+        (``group`` = ``baseline``) x static, forward, ramp and circle, with
+        baselines MD and SS.
+    """
     designs = paper_designs()
     grads = ("rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC")
     points = tuple(DesignPoint(designs[n], n, (("group", "gradient"),)) for n in grads)
@@ -258,7 +284,11 @@ class ControlsStudy:
 def experiment_2_gibson_ashby() -> Experiment:
     """Experiment 2 with porosity that softens: a density point below the
     base material's is that solid made porous (Gibson-Ashby, E = E_s
-    (rho / rho_s)^2; :func:`experiment_2`)."""
+    (rho / rho_s)^2; :func:`experiment_2`).
+
+    Returns:
+        The :class:`Experiment` ``exp2-gibson-ashby``.
+    """
     return experiment_2("gibson-ashby")
 
 
@@ -275,7 +305,19 @@ EXPERIMENT_NAMES = tuple(EXPERIMENTS)
 
 
 def experiment_name(text: str) -> str:
-    """Canonical name: '1' or 'exp1' -> 'exp1'; 'stability' (or 'stab', '4')."""
+    """Canonical name: '1' or 'exp1' -> 'exp1'; 'stability' (or 'stab', '4').
+
+    Args:
+        text: an experiment's name or alias, any case, blanks trimmed: ``1``,
+            ``2``, ``3``, ``4``/``stab``, ``robust``, ``control``,
+            ``2-gibson-ashby``/``2ga``, or a key of :data:`EXPERIMENTS`.
+
+    Returns:
+        The key of :data:`EXPERIMENTS` (e.g. ``"exp1"``, ``"stability"``).
+
+    Raises:
+        ValueError: an unknown name, listing the accepted ones.
+    """
     key = str(text).strip().lower()
     alias = {
         "1": "exp1",
@@ -300,7 +342,18 @@ def experiment_name(text: str) -> str:
 def parse_experiments(text: str | None) -> list[str]:
     """'1,2,3,stability' -> ['exp1', 'exp2', 'exp3', 'stability'] (order
     kept, duplicates dropped); None or 'all': all seven (with robustness,
-    controls and experiment 2 under Gibson-Ashby porosity)."""
+    controls and experiment 2 under Gibson-Ashby porosity).
+
+    Args:
+        text: comma-separated names or aliases (:func:`experiment_name`);
+            None or ``"all"`` (any case) for every experiment.
+
+    Returns:
+        list of canonical names (keys of :data:`EXPERIMENTS`).
+
+    Raises:
+        ValueError: an unknown name, or no name at all (e.g. ``""`` or ``","``).
+    """
     if text is None or str(text).strip().lower() == "all":
         return list(EXPERIMENT_NAMES)
     names = [experiment_name(p) for p in str(text).split(",") if p.strip()]
@@ -310,7 +363,19 @@ def parse_experiments(text: str | None) -> list[str]:
 
 
 def get_experiment(name: str) -> Experiment | StabilityMap | RobustnessStudy | ControlsStudy:
-    """An experiment by name (see :func:`experiment_name`)."""
+    """An experiment by name (see :func:`experiment_name`).
+
+    Args:
+        name: an experiment's name or alias (:func:`experiment_name`).
+
+    Returns:
+        A new :class:`Experiment` (``exp1``, ``exp2``, ``exp3``,
+        ``exp2-gibson-ashby``), :class:`StabilityMap`, :class:`RobustnessStudy`
+        or :class:`ControlsStudy`.
+
+    Raises:
+        ValueError: an unknown name.
+    """
     return EXPERIMENTS[experiment_name(name)]()
 
 
@@ -325,7 +390,20 @@ def convention_tasks(
     (names as :func:`~mat_hopper.materials.parse_design` reads them, or
     LegDesigns; default the mono-materials) under each convention, with
     the profile's try
-    length, tolerance and tries (no 20-step reference scan)."""
+    length, tolerance and tries (no 20-step reference scan).
+
+    Args:
+        names: design names or LegDesigns.
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        conventions: stiffness conventions (:data:`mat_hopper.materials.CONVENTIONS`).
+
+    Returns:
+        list of :class:`~mat_hopper.stability.StabilitySpec`, convention-major;
+        labels: experiment (``"conventions"``), profile, convention, design.
+
+    Raises:
+        ValueError: an unknown profile, design or convention.
+    """
 
     prof = get_profile(profile)
     out = []
@@ -352,7 +430,28 @@ def convention_stability(
     controller_timestep_s, the limit 2 I / c of the controller's explicit
     stance attitude damping, the same for every leg), one row each, with
     the stiffest material spring (material_spring_n_m; nan for the rigid
-    MD leg)."""
+    MD leg).
+
+    Args:
+        names: design names or LegDesigns.
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        conventions: stiffness conventions.
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        workers: local worker processes (default: every core this process may use).
+
+    Returns:
+        DataFrame in the order of :func:`convention_tasks`: design, convention,
+        material_spring_n_m (N/m), analytic_timestep_s, controller_timestep_s,
+        max_stable_timestep_s and unstable_timestep_s (s; nan where the
+        search found no such step).
+
+    Raises:
+        RuntimeError: a measurement raised (each failed design and convention
+            named with its error).
+        ValueError: as :func:`convention_tasks`, invalid `workers`, or
+            $MAT_HOPPER_CACHE set but empty.
+    """
     res = run_grid(
         convention_tasks(names, profile, conventions), cache_dir, workers=workers, progress=False, desc="conventions"
     )
@@ -389,7 +488,28 @@ def in_place_replicates(
     :meth:`~mat_hopper.perturbations.Perturbation.replicate`; n from the
     profile's ``replicates`` by default), run or loaded through the
     result cache. Returns the per-hop table (column ``replicate``, -1 for
-    the unperturbed run), for :func:`mat_hopper.analysis.stats.compare_replicates`."""
+    the unperturbed run), for :func:`mat_hopper.analysis.stats.compare_replicates`.
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        n: perturbed replicates per leg (an integer >= 0; None: the
+            profile's ``replicates``).
+        behaviour: the behaviour name.
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        workers: local worker processes (default: every core this process may use).
+
+    Returns:
+        DataFrame, one row per scored hop: the labels of
+        :meth:`Experiment.tasks` (experiment ``exp1``, profile, convention,
+        sensor_timing, design, behaviour, replicate, group, densities_g_cm3,
+        moduli_gpa), the hop metrics and the cache ``key``.
+
+    Raises:
+        RuntimeError: a run raised (the count and up to three error texts).
+        ValueError: an unknown profile or behaviour, an `n` that is not an
+            integer >= 0, invalid `workers`, or $MAT_HOPPER_CACHE set but empty.
+    """
     profile = get_profile(profile)
     n = profile.replicates if n is None else n
     exp = replace(experiment_1(), behaviours=(behaviour,))
@@ -418,7 +538,29 @@ def clock_drift(
     paper's protocol, our default) under the book's profile, duration and
     transient unchanged. Runs through the runner (cached in `cache_dir`). One row per
     design and factor: clock_factor, speed_m_s, status, n_hops,
-    mean_tracking_error_m, mean_power_w."""
+    mean_tracking_error_m, mean_power_w.
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        designs: design names (a mono-material name gives its 3-segment leg)
+            or LegDesigns.
+        factors: clock factors r, finite numbers > 0 (the commanded speed is
+            r x the paper's 0.05 m/s).
+        behaviour: the behaviour name.
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        workers: local worker processes (default: every core this process may use).
+
+    Returns:
+        DataFrame, design-major: design, clock_factor, speed_m_s (m/s),
+        status, n_hops, mean_tracking_error_m (m) and mean_power_w (W).
+
+    Raises:
+        ValueError: a factor that is not a finite number > 0, an unknown
+            profile, design or behaviour, invalid `workers`, or
+            $MAT_HOPPER_CACHE set but empty.
+        RuntimeError: a run raised (the errors joined).
+    """
     profile = get_profile(profile)
     tasks = []
     for d in designs:
@@ -469,7 +611,31 @@ def axial_check(
     stands for both conventions. Returns {"timestep_s", "hops" (per-hop
     table with ``setting`` ("paper, profile step", "paper, axial's steps",
     "axial, axial's steps"), ``timestep_s`` and ``substeps`` columns),
-    "runs"}."""
+    "runs"}.
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        designs: design names (:func:`mat_hopper.materials.parse_design`).
+        behaviour: the behaviour name.
+        timestep_s: the axial runs' physics step (s), or ``"auto"``; None:
+            the profile's ``axial_timestep_s``.
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        workers: local worker processes (default: every core this process may use).
+
+    Returns:
+        dict: ``"timestep_s"`` (``"auto"`` or the step as a float, s),
+        ``"hops"`` (the per-hop table; labels experiment ``axial-check``,
+        profile, convention, design, behaviour, setting, timestep_s,
+        substeps) and ``"runs"`` (one summary row per design and setting,
+        with status, error and key). The settings are named after the
+        profile's convention (``paper`` for the shipped profiles).
+
+    Raises:
+        RuntimeError: a run raised (the errors joined).
+        ValueError: an unknown profile, design or behaviour, an invalid time
+            step, invalid `workers`, or $MAT_HOPPER_CACHE set but empty.
+    """
     prof = get_profile(profile)
     legs = {d: parse_design(d) for d in designs}
     if timestep_s is None:

@@ -22,6 +22,18 @@ PROFILE_ENV = "MAT_HOPPER_PROFILE"
 
 
 def check_replicates(replicates) -> int:
+    """Check a replicate count.
+
+    Args:
+        replicates: perturbed replicate runs per design and behaviour.
+
+    Returns:
+        `replicates` unchanged.
+
+    Raises:
+        ValueError: a bool, a value that is not an ``int`` (``3.0``, ``"3"``)
+            or one < 0.
+    """
     if isinstance(replicates, bool) or not isinstance(replicates, int) or replicates < 0:
         raise ValueError(f"replicates must be an integer >= 0 (runs per design and behaviour), got {replicates!r}")
     return replicates
@@ -179,7 +191,19 @@ PROFILES = {
 
 def get_profile(name: str | Profile | None = None) -> Profile:
     """A profile by name (``paper`` or ``quick``); None: $MAT_HOPPER_PROFILE,
-    else ``paper``. A Profile is returned as is."""
+    else ``paper``. A Profile is returned as is.
+
+    Args:
+        name: ``"paper"`` or ``"quick"`` (any case, blanks trimmed), a
+            Profile, or None.
+
+    Returns:
+        The :class:`Profile` (the shared instance of :data:`PROFILES` for a name).
+
+    Raises:
+        ValueError: an unknown name (naming $MAT_HOPPER_PROFILE when it came
+            from there), or $MAT_HOPPER_PROFILE set but empty.
+    """
     if isinstance(name, Profile):
         return name
     src = ""
@@ -213,7 +237,22 @@ _PROFILE_FIELDS = (
 
 def profile_table(profile: str | Profile | None = None) -> pd.DataFrame:
     """The profile's settings beside the paper's protocol (the ``paper``
-    profile): columns setting, meaning, this build, paper."""
+    profile): columns setting, meaning, this build, paper.
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+
+    Returns:
+        DataFrame, one row per setting shown (duration_s, transient_s,
+        timestep_s, record_rate_hz, convention, axial_timestep_s,
+        sensor_timing, segment_mass, stability_grid_size,
+        stability_duration_s, replicates, push_scale): columns ``setting``,
+        ``meaning`` (with its unit), ``this build`` and ``paper`` (a sensor
+        timing by its name).
+
+    Raises:
+        ValueError: as :func:`get_profile`.
+    """
     prof = get_profile(profile)
     paper = PROFILES["paper"]
     rows = [

@@ -57,6 +57,14 @@ class Reproduction:
 
 
 def default_out_dir(profile_name: str) -> str:
+    """The default output folder of a reproduction.
+
+    Args:
+        profile_name: the profile's name (e.g. ``"paper"``).
+
+    Returns:
+        ``results/<profile_name>``, relative to the working folder.
+    """
     return os.path.join("results", profile_name)
 
 
@@ -79,11 +87,46 @@ def reproduce(
     their tables into out_dir, then figures and claims. Every input is
     checked before any work starts.
 
-    conventions: stiffness conventions of the hopping experiments (1-3),
-    e.g. ("paper", "axial"); axial runs use the profile's
-    axial_timestep_s. The stability map uses the profile's own convention.
-    The claims table has rows for the conventions asked for (a claim whose
-    runs are missing among them reads "not run")."""
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        experiments: comma-separated names or aliases (``"1,2,3,stability"``),
+            a list of them, or None (or ``"all"``) for every experiment
+            (:func:`~mat_hopper.experiments.paper.parse_experiments`).
+        out_dir: the folder for the CSV tables, figures and claims (created if
+            missing); None: :func:`default_out_dir`.
+        workers: local worker processes (an integer >= 1; default: every core);
+            not with `scheduler`.
+        scheduler: a Dask scheduler address (``tcp://host:8786``) or a
+            ``distributed.Client``; None runs local processes.
+        replicates: perturbed replicates per design and behaviour (an integer
+            >= 0); None: the profile's ``replicates``.
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        progress: show a progress bar per experiment.
+        figures: also write the figures and the claims table.
+        conventions: stiffness conventions of the hopping experiments (1-3),
+            e.g. ("paper", "axial"), or one comma-separated string; axial runs use
+            the profile's axial_timestep_s. The stability map uses the profile's own
+            convention. The claims table has rows for the conventions asked for (a
+            claim whose runs are missing among them reads "not run").
+        log: called with one line of text per step (the profile, each
+            experiment's counts and failed tasks, the stability agreement, the
+            figures).
+
+    Returns:
+        The :class:`Reproduction`: its tables by name (those of the module
+        doc, plus ``claims`` with figures), the files written, wall seconds
+        per experiment (and ``figures``), and failed and computed task counts
+        per experiment. Failed tasks are counted and logged, not raised.
+
+    Raises:
+        ValueError: an unknown profile, experiment or convention, no
+            convention, invalid `replicates` or `workers`, an `out_dir` that
+            exists and is not a folder, a plan above the physics-step limit
+            (:func:`mat_hopper.limits.check_total_steps`), `workers` together
+            with `scheduler`, an invalid or unreachable scheduler, or
+            $MAT_HOPPER_PROFILE or $MAT_HOPPER_CACHE set but empty.
+    """
     prof = get_profile(profile)
     conventions = _check_conventions(conventions)
     names = parse_experiments(
@@ -221,7 +264,24 @@ def planned_steps(profile, names, conventions, replicates: int) -> float:
     linearly with the replicates from 2 on (the controls run at least 2,
     and the profile's number when given 0), so the plans at 2 and 3
     replicates give the rest. Used to refuse,
-    before any work, runs beyond :data:`mat_hopper.limits.MAX_TOTAL_STEPS`."""
+    before any work, runs beyond :data:`mat_hopper.limits.MAX_TOTAL_STEPS`.
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        names: canonical experiment names, as
+            :func:`~mat_hopper.experiments.paper.parse_experiments` returns them.
+        conventions: stiffness conventions of the hopping experiments.
+        replicates: perturbed replicates per design and behaviour (>= 0).
+
+    Returns:
+        The physics steps (:func:`mat_hopper.limits.task_steps` summed over
+        every task): exact for replicates <= 3, extrapolated linearly from 2
+        and 3 replicates above.
+
+    Raises:
+        ValueError: an unknown profile, experiment or convention, or (for an
+            experiment that takes replicates) `replicates` < 0 or not an integer.
+    """
     prof = get_profile(profile)
 
     def exact(r: int) -> float:
@@ -264,7 +324,28 @@ def run_experiments(
     (``exp1_hops``, ``exp1_runs``, ..., ``stability``,
     ``stability_agreement``). A task that raised (not a diverged run: that
     is a result) raises RuntimeError. Prints one line per experiment (runs
-    computed now / loaded from the cache) unless quiet."""
+    computed now / loaded from the cache) unless quiet.
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        experiments: comma-separated names or aliases (None or ``"all"``: every
+            experiment).
+        out_dir: the folder for the CSV tables; None: ``results/<profile>/``.
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        replicates: perturbed replicates per design and behaviour; None: the
+            profile's.
+        workers: local worker processes (default: every core).
+        quiet: print nothing.
+
+    Returns:
+        dict of DataFrames by table name (:attr:`Reproduction.tables`), under
+        the ``paper`` convention only.
+
+    Raises:
+        RuntimeError: a task raised (the experiments with failed tasks named).
+        ValueError: as :func:`reproduce`.
+    """
     prof = get_profile(profile)
     out_dir = str(out_dir) if out_dir is not None else None
     cache_dir = str(cache_dir) if cache_dir is not None else None

@@ -34,7 +34,24 @@ def tasks(profile, variant_list=None) -> list:
     labels: study, profile, variant, variant_kind, convention,
     sensor_timing, timestep_s, substeps, replicate. Runs the default shares
     with experiments 1 and 3 (and replicates with the claims' replicates)
-    have the same settings, hence the same cache keys: computed once."""
+    have the same settings, hence the same cache keys: computed once.
+
+    Args:
+        profile: a :class:`~mat_hopper.experiments.profiles.Profile` (not a name).
+        variant_list: the variants (:class:`~mat_hopper.analysis.robustness.Variant`)
+            to run; None (or empty): :func:`~mat_hopper.analysis.robustness.variants`.
+
+    Returns:
+        list of RunSpec, variant-major, one per variant and (design,
+        behaviour) of :func:`~mat_hopper.analysis.robustness.designs_and_behaviours`.
+        timestep_s (s) and substeps are the run's physics step and substeps
+        per control period; replicate is -1 for an unperturbed variant. The
+        design and behaviour columns come from the runner's default labels.
+
+    Raises:
+        ValueError: a variant's unknown convention or sensor timing, or
+            invalid settings.
+    """
     out = []
     for v in variant_list or variants():
         prof = profile.for_convention(v.convention).for_sensor_timing(v.sensor_timing)
@@ -65,7 +82,19 @@ def batch_variants(variant_list=None) -> list[Variant]:
     (its axial runs need substeps): the sensor latencies and the plain
     ``2e-5 s step``. The default comes first, as in :func:`variants`.
     variant_list: None for :func:`variants`; raises ValueError for an entry
-    that is not a :class:`Variant`."""
+    that is not a :class:`Variant`.
+
+    Args:
+        variant_list: the variants to filter (any iterable); None:
+            :func:`~mat_hopper.analysis.robustness.variants`.
+
+    Returns:
+        list of the given variants, in their order, that have no replicate,
+        one substep and the default (``paper``) convention.
+
+    Raises:
+        ValueError: an entry that is not a :class:`Variant`.
+    """
     given = variants() if variant_list is None else list(variant_list)
     bad = [v for v in given if not isinstance(v, Variant)]
     if bad:
@@ -88,7 +117,31 @@ def batch_runs(
     list, a non-Variant, or a variant no batch can run raises ValueError
     naming it, before any work; backend, device, workers: as
     :func:`mat_hopper.batch.evaluate` (checked there, before its first
-    batch)."""
+    batch).
+
+    Args:
+        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        variant_list: the variants to run; None: :func:`batch_variants`.
+        backend: ``"warp"`` (MuJoCo Warp, the default here) or ``"mujoco"``
+            (the CPU rollouts).
+        device: the Warp device (``"cpu"``, ``"cuda"``) for the warp backend.
+        workers: processes for the mujoco backend (default: every core).
+        progress: show a progress bar per batch.
+
+    Returns:
+        DataFrame, one row per variant, behaviour and design: variant,
+        variant_kind, design, behaviour, sensor_timing, timestep_s (s),
+        n_hops, tracking_error_m (m), power_w (W), hop_height_m (m), status
+        and backend.
+
+    Raises:
+        ValueError: an empty `variant_list`, a non-Variant entry, a variant no
+            batch can run (named), an unknown profile, or what
+            :func:`mat_hopper.batch.evaluate` refuses (options of the other
+            backend, an unknown backend, bad counts).
+        WarpUnavailable: the warp backend without mujoco-warp installed (an
+            ImportError).
+    """
     from ..batch import BatchSettings, evaluate  # MuJoCo Warp, imported only when a batch runs
 
     profile = get_profile(profile)  # a name or a Profile

@@ -141,7 +141,12 @@ def _execute(task) -> tuple[str, pd.DataFrame | None, dict | None, str | None]:
 
 
 def default_workers() -> int:
-    """All cores this process may use."""
+    """All cores this process may use.
+
+    Returns:
+        The size of this process's CPU affinity set (``os.cpu_count()`` where
+        affinity is not available), at least 1.
+    """
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover (not Linux)
@@ -149,6 +154,18 @@ def default_workers() -> int:
 
 
 def check_workers(workers) -> int | None:
+    """Check a count of local worker processes.
+
+    Args:
+        workers: processes (an integer >= 1, Python or NumPy), or None for the
+            default (every core).
+
+    Returns:
+        `workers` as an int, or None when None.
+
+    Raises:
+        ValueError: a bool, a non-integer or a value < 1.
+    """
     if workers is None:
         return None
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
@@ -399,7 +416,33 @@ def run_grid(
     progress: bool = True,
     desc: str = "runs",
 ) -> GridResult:
-    """Run a grid once (see :class:`Runner`)."""
+    """Run a grid once (see :class:`Runner`).
+
+    Args:
+        tasks: the grid: runner tasks (:class:`RunSpec`,
+            :class:`~mat_hopper.stability.StabilitySpec`, ...), each with
+            ``key``, ``compute`` and ``labels``.
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        workers: local worker processes (an integer >= 1; default: every core;
+            1 runs in this process); not with `scheduler`.
+        scheduler: a Dask scheduler address or a ``distributed.Client``; None
+            runs local processes.
+        progress: show a tqdm bar.
+        desc: the progress bar's label.
+
+    Returns:
+        The :class:`GridResult`, in grid order: ``tables`` every task's table
+        with its labels in front and a ``key`` column, ``summary`` one row per
+        task (labels, summary fields, status, error, key), and the task,
+        unique, cached, computed and failed counts. A task that raised is a
+        ``failed`` summary row with its error text, not an exception.
+
+    Raises:
+        ValueError: an empty grid, an entry that is not a task, invalid
+            `workers`, `workers` together with `scheduler`, an invalid or
+            unreachable scheduler, or $MAT_HOPPER_CACHE set but empty.
+    """
     with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as r:
         return r.run(tasks, desc=desc)
 
@@ -488,7 +531,28 @@ def rollouts(
     second (default the settings'); record_qpos: keep joint positions (for
     rendering). Through the one cache and pool (:class:`Runner`, tasks
     :class:`RolloutSpec`): missing ones run in parallel, all are read back
-    from the cache."""
+    from the cache.
+
+    Args:
+        designs: design names or LegDesigns.
+        behaviours: behaviour names or Behaviours.
+        settings: the :class:`~mat_hopper.sim.SimSettings` of every rollout.
+        record_rate_hz: samples per simulated second, Hz (None: the settings').
+        record_qpos: keep every joint position (``Rollout.qpos``).
+        cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
+            ``results/cache``).
+        workers: local worker processes (default: every core).
+
+    Returns:
+        list of :class:`~mat_hopper.rollout.Rollout`, one per (design,
+        behaviour), design-major.
+
+    Raises:
+        ValueError: no design or no behaviour, an unknown design or behaviour
+            name, an invalid record rate or `workers`, or $MAT_HOPPER_CACHE set
+            but empty.
+        RuntimeError: a rollout raised (the errors joined).
+    """
     from ..behaviours import behaviour as get_behaviour
     from ..materials import parse_design
 

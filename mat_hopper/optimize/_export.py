@@ -39,7 +39,23 @@ from ._robust import SE_ATTR, leg_mass_kg
 
 
 def design_frame(trial, design, config) -> pd.DataFrame:
-    """The one-row table of the module doc (design columns first)."""
+    """The one-row table of the module doc (design columns first).
+
+    Args:
+        trial: the Optuna ``FrozenTrial``.
+        design: its LegDesign.
+        config: the study's :class:`~mat_hopper.optimize.StudyConfig`.
+
+    Returns:
+        A one-row pandas DataFrame: :func:`mat_hopper.batch.designs_to_frame`'s
+        columns (design, density_i g/cm^3, modulus_i GPa, as ``repr``
+        strings), then study, trial, state (the trial state's name),
+        profile, convention, segment_mass, replicates, risk, behaviours and
+        objectives (comma-separated), leg_mass_kg (the material segments,
+        kg), feasible (bool, False without a stored result), and per
+        objective its value and ``<objective>_se`` (None when the trial is
+        not COMPLETE, or has no standard error).
+    """
     frame = designs_to_frame([design])
     ob = config.objective
     record = {
@@ -69,7 +85,19 @@ def design_frame(trial, design, config) -> pd.DataFrame:
 
 def design_mjcf(design, config, behaviour: str) -> str:
     """MJCF text of the hopper with `design` under the study's settings, on
-    `behaviour`'s terrain, from MuJoCo's XML writer."""
+    `behaviour`'s terrain, from MuJoCo's XML writer.
+
+    Args:
+        design: the LegDesign.
+        config: the study's :class:`~mat_hopper.optimize.StudyConfig`: its
+            objective's profile gives the time step (s), stiffness convention
+            and segment-mass convention.
+        behaviour: a behaviour name (``static``, ``forward``, ``ramp`` or
+            ``circle``); its ramp grade (deg) sets the terrain.
+
+    Returns:
+        The MJCF document (str), from ``mujoco.MjSpec.to_xml``.
+    """
     ob = config.objective
     settings = ob.sim_settings(design=design)
     spec = build_spec(
@@ -86,7 +114,26 @@ def export_trial(name: str, storage, number: int, out_dir: str) -> dict:
     """Write trial `number`'s design as CSV and MJCF into `out_dir` (module
     doc). Returns {"csv": path, "mjcf": {behaviour: path}, "design": LegDesign,
     "config": StudyConfig, "trial": FrozenTrial}; ValueError for a trial the
-    study does not hold."""
+    study does not hold.
+
+    Args:
+        name: the study's name (also the stem of the files).
+        storage: the study's Optuna storage or storage URL.
+        number: the trial's number.
+        out_dir: the folder written into (made if missing).
+
+    Returns:
+        A dict: ``csv`` (the path of ``<out_dir>/<name>-trial<number>.csv``),
+        ``mjcf`` ({behaviour: path of ``<name>-trial<number>-<behaviour>.xml``},
+        one per behaviour of the study), ``design`` (the LegDesign),
+        ``config`` (the StudyConfig) and ``trial`` (the FrozenTrial).
+
+    Raises:
+        ValueError: a study not made by mat-hopper, a trial the study does
+            not hold, or one without the space's parameters
+            (:func:`mat_hopper.optimize.report.trial_design`).
+        KeyError: no study named `name` (from ``optuna.load_study``).
+    """
     from .report import trial_design  # report imports the package's plots; loaded on use
 
     t, design, config = trial_design(name, storage, number)

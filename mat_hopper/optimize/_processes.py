@@ -79,6 +79,9 @@ def stop_signals():
     ends; elsewhere it does nothing (Python delivers signals to the main
     thread only).
 
+    Yields:
+        None; the block runs with the handlers in place.
+
     Raises:
         Interrupted: (a KeyboardInterrupt) on SIGTERM or SIGHUP inside the block.
     """

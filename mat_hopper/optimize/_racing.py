@@ -133,7 +133,18 @@ class Racing:
 
 def default_racing(objective: Objective) -> Racing:
     """Screen on the quick profile's run length (or the study's, if shorter)
-    with one replicate, then the study's own fidelity; eta 3, 9 per bracket."""
+    with one replicate, then the study's own fidelity; eta 3, 9 per bracket.
+
+    Args:
+        objective: the study's :class:`~mat_hopper.optimize.Objective`.
+
+    Returns:
+        A :class:`Racing` of two rungs: the screen, Rung(duration_s, transient_s
+        (s): the smaller of the quick profile's and the objective profile's;
+        replicates: 1, or 0 for an objective of 0 replicates, one unperturbed
+        run), then Rung() (the study's fidelity); eta DEFAULT_ETA (3),
+        screen DEFAULT_SCREEN (9).
+    """
     quick = get_profile("quick")
     prof = objective.profile
     screen = Rung(
@@ -151,7 +162,19 @@ def promote(records: dict[int, Evaluation], k: int) -> list[int]:
     per-objective ranks, then by trial number (deterministic).
 
     Ours: Optuna's non-dominated sorting is private
-    (``optuna.study._multi_objective``)."""
+    (``optuna.study._multi_objective``).
+
+    Args:
+        records: {trial number: Evaluation} of one rung; only each
+            Evaluation's ``values`` (minimized) and ``constraints`` (<= 0
+            feasible; the violation is the sum of the positive ones) are
+            read.
+        k: how many to keep.
+
+    Returns:
+        Up to `k` trial numbers, best first (all of them when `k` is at
+        least their number).
+    """
     nums = sorted(records)
     vals = np.array([records[n].values for n in nums], float).reshape(len(nums), -1)
     violation = np.array([sum(max(c, 0.0) for c in records[n].constraints) for n in nums])
@@ -422,7 +445,24 @@ def simulated_seconds(study: optuna.Study, racing: Racing) -> dict:
     """Simulated seconds the study spent, from its rung records: total,
     per full-fidelity (complete) trial, and what scoring every screened
     trial at full fidelity would have cost (each at the mean full-fidelity
-    cost of the complete trials), and the study's objectives (their names)."""
+    cost of the complete trials), and the study's objectives (their names).
+
+    Args:
+        study: the racing ``optuna.Study``; trials without a ``rung<r>``
+            user attr are not counted.
+        racing: its :class:`Racing` (its number of rungs names the last,
+            full-fidelity rung).
+
+    Returns:
+        A dict: ``screened`` (int, trials with a rung record),
+        ``complete`` (int, COMPLETE trials with a last-rung record),
+        ``simulated_s`` (float, s, every rung record of every trial),
+        ``simulated_s_per_complete`` (``simulated_s`` / ``complete``, s;
+        nan without a complete trial), ``all_full_fidelity_s`` (``screened``
+        x the mean last-rung cost of the complete trials, s; nan without
+        one) and ``objectives`` (list of the study's metric names, else the
+        default objectives).
+    """
     last = f"{RUNG_ATTR}{len(racing.rungs) - 1}"
     total, full, screened = 0.0, [], 0
     for t in study.get_trials(deepcopy=False):

@@ -69,7 +69,15 @@ SE_ATTR = "standard_error"  # trial user attr: {objective: standard error}
 
 def replicate_seeds(replicates: int) -> tuple[int, ...]:
     """The perturbation seeds of every trial of a study with `replicates`
-    replicates (the same for every trial: common random numbers)."""
+    replicates (the same for every trial: common random numbers).
+
+    Args:
+        replicates: the study's number of replicates K (0: none).
+
+    Returns:
+        The seeds SEARCH_SEED_START .. SEARCH_SEED_START + K - 1 (1000,
+        1001, ...), as a tuple of ints; empty for 0 replicates.
+    """
     return tuple(SEARCH_SEED_START + r for r in range(replicates))
 
 
@@ -158,7 +166,20 @@ def score(values, risk: str = "mean", alpha: float = DEFAULT_CVAR_ALPHA) -> tupl
 
 
 def leg_mass_kg(design: LegDesign, segment_mass: str) -> float:
-    """kg, the material segments' mass (:func:`mat_hopper.materials.segment_masses`)."""
+    """kg, the material segments' mass (:func:`mat_hopper.materials.segment_masses`).
+
+    Args:
+        design: the LegDesign.
+        segment_mass: the segment-mass convention (``leg`` or ``capsule``,
+            any case).
+
+    Returns:
+        The sum of the design's material segment masses, kg (float); the
+        rest of the robot (base, hip stub, foot) is not included.
+
+    Raises:
+        ValueError: an unknown segment-mass convention.
+    """
     return float(sum(segment_masses(design, segment_mass)))
 
 

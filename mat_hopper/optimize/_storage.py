@@ -222,6 +222,9 @@ def storage_errors(url: str):
     Args:
         url: the storage's URL (named in the message, password hidden).
 
+    Yields:
+        None; other exceptions raised in the block pass unchanged.
+
     Raises:
         ValueError: for SQLAlchemy's errors, Optuna's StorageInternalError and
             sqlite3's raised inside (:func:`storage_error`'s one line).

@@ -264,8 +264,14 @@ def _quiet() -> None:
 def study_exists(name: str, storage) -> bool:
     """Whether `storage` (an Optuna storage) holds a study named `name`.
 
+    Args:
+        name: the study's name.
+        storage: an Optuna storage object (``get_study_id_from_name`` is
+            called on it; a URL string is not accepted).
+
     Returns:
-        True when it does.
+        True when it does; False when the storage answers KeyError (no
+        such study).
     """
     try:
         storage.get_study_id_from_name(name)

@@ -108,7 +108,36 @@ def tune(
 ) -> Tuning:
     """Tune one design's gains (module doc, step 1). `runner`: a
     :class:`~mat_hopper.experiments.runner.Runner` to reuse (its cache and
-    pool); default a fresh one on the default cache."""
+    pool); default a fresh one on the default cache.
+
+    Args:
+        design: a LegDesign or a design name (``"SS"``, ``"rho-inc"``, ...).
+        profile: a Profile or its name; None (the default) for
+            $MAT_HOPPER_PROFILE, else ``paper``.
+        behaviour: the behaviour tuned on (default ``forward``).
+        trials: the study's trials, the authors' gains first (an int >= 1;
+            default :data:`TRIALS`, 24).
+        batch: trials asked and run together per round (default
+            :data:`BATCH`, 8); not checked, and should be >= 1.
+        seed: the TPE sampler's seed (default 0).
+        runner: a Runner to reuse (not closed here); None (the default) for a
+            fresh ``Runner(progress=False)``, closed at the end.
+
+    Returns:
+        A :class:`Tuning`: ``design`` (its name), ``gains`` (the best
+        feasible trial's {``foot_placement_gain`` (s), ``stance_kp``,
+        ``stance_kd``}), ``score`` (its J, 2 at the authors' gains),
+        ``default`` and ``best`` ({``tracking_error_m`` (m), ``power_w``
+        (W)} at the authors' and at the best gains) and ``trials`` (one row
+        per trial: trial, the three gains, tracking_error_m, power_w,
+        hop_height_m, upright, height_error_m, score).
+
+    Raises:
+        ValueError: `trials` not an integer >= 1, an unknown design name,
+            profile or behaviour.
+        RuntimeError: a tuning run failed, or the design falls or diverges
+            at the authors' gains.
+    """
     if isinstance(trials, bool) or not isinstance(trials, int) or trials < 1:
         raise ValueError(f"trials must be an integer >= 1, got {trials!r}")
     design = parse_design(design) if isinstance(design, str) else design
@@ -183,7 +212,43 @@ def codesign(
     gains, score, tracking and power at both), ``hops`` (per-hop table of
     the replicate runs, ``experiment`` = the gain setting),
     ``comparison`` (:func:`compare_replicates` against `baseline`),
-    ``tunings`` ({design: Tuning}) and ``answer`` (text)."""
+    ``tunings`` ({design: Tuning}) and ``answer`` (text).
+
+    Args:
+        designs: design names or LegDesigns (default the paper's mono-material
+            designs, :data:`mat_hopper.materials.MONO_NAMES`); keyed by the
+            name given or the LegDesign's name.
+        profile: a Profile or its name; None (the default) for
+            $MAT_HOPPER_PROFILE, else ``paper``.
+        behaviour: the behaviour tuned and compared on (default ``forward``).
+        trials: each design's tuning trials (default :data:`TRIALS`, 24).
+        replicates: perturbed replicates per design and gain setting; None
+            (the default) for the profile's ``replicates``.
+        seed: the tuning samplers' seed (default 0); the replicates' seeds
+            are 0 .. replicates - 1.
+        cache_dir: the runner's cache folder; None (the default) for the
+            runner's default ($MAT_HOPPER_CACHE, else results/cache).
+        workers: the runner's local processes; None (the default) for all
+            cores.
+        baseline: the design compared against (default ``MD``); must be one
+            of `designs` (by name).
+
+    Returns:
+        A dict: ``gains`` (DataFrame, one row per design: design, the three
+        best gains, score, and ``tracking_error_m`` (m) and ``power_w`` (W)
+        at the authors' and at the own gains), ``hops`` (the runner's
+        per-hop table, with labels experiment, profile, design, replicate),
+        ``comparison`` (:func:`compare_replicates`'s table on
+        tracking_error_m and power_w), ``tunings`` ({design name: Tuning}),
+        ``survival`` (:func:`survival`'s table) and ``answer`` (str,
+        :func:`answer`).
+
+    Raises:
+        ValueError: fewer than 2 replicates, a baseline not among the
+            designs, an unknown design name, profile or behaviour, or
+            :func:`tune`'s.
+        RuntimeError: a comparison run failed, or :func:`tune`'s.
+    """
     profile = get_profile(profile)
     n = profile.replicates if replicates is None else int(replicates)
     if n < 2:
@@ -232,7 +297,26 @@ def codesign(
 def survival(comparison: pd.DataFrame) -> pd.DataFrame:
     """One row per design and metric: percent change against the baseline
     with its interval at the authors' and at the design's own gains, and
-    whether the difference is clear at each and survives (module doc)."""
+    whether the difference is clear at each and survives (module doc).
+
+    Args:
+        comparison: :func:`compare_replicates`'s table from :func:`codesign`:
+            columns experiment (``authors' gains`` or ``own gains``), design,
+            metric, pct_change, ci_low and ci_high (%); the first row of each
+            (experiment, design, metric) is read.
+
+    Returns:
+        A pandas DataFrame, one row per (design, metric) at the authors'
+        gains: design, metric, ``change (%) authors``, ``ci_low (%)
+        authors``, ``ci_high (%) authors``, ``clear authors`` (bool: the
+        interval excludes zero), the same four for ``own``, and
+        ``survives`` (bool: clear at the authors' gains, and clear with the
+        same sign at the own gains).
+
+    Raises:
+        KeyError: `comparison` lacks the authors' gains, or the own gains'
+            row of a design and metric it has at the authors' gains.
+    """
     rows = []
     c = comparison.set_index(["experiment", "design", "metric"])
     for design, metric in c.loc[DEFAULT].index.unique():
@@ -255,7 +339,17 @@ def survival(comparison: pd.DataFrame) -> pd.DataFrame:
 
 def spread(hops: pd.DataFrame, metric: str = "tracking_error_m") -> dict:
     """{gain setting: (max - min) / min of the designs' means of replicate
-    means}: how far apart the materials are."""
+    means}: how far apart the materials are.
+
+    Args:
+        hops: a per-hop table with columns experiment (the gain setting),
+            design, replicate and `metric`.
+        metric: the metric column (default ``tracking_error_m``).
+
+    Returns:
+        {gain setting: spread}, the spread a float ratio (0.25 is 25 %),
+        in the order pandas groups the settings.
+    """
     out = {}
     for setting, g in hops.groupby("experiment"):
         m = g.groupby(["design", "replicate"])[metric].mean().groupby("design").mean()
@@ -264,7 +358,19 @@ def spread(hops: pd.DataFrame, metric: str = "tracking_error_m") -> dict:
 
 
 def answer(surv: pd.DataFrame, hops: pd.DataFrame, baseline: str = BASELINE) -> str:
-    """The chapter's plain answer from the survival table and the spread."""
+    """The chapter's plain answer from the survival table and the spread.
+
+    Args:
+        surv: :func:`survival`'s table.
+        hops: the per-hop table (:func:`spread` of its tracking error, at
+            each gain setting).
+        baseline: the baseline's name, as the text names it (default ``MD``).
+
+    Returns:
+        A paragraph (str): how many of the clear differences at the
+        authors' gains survive, the spread of tracking error (%) at both
+        gain settings (nan where a setting is missing), then the verdict.
+    """
     clear = surv[surv["clear authors"]]
     kept = clear[clear["survives"]]
     sp = spread(hops)

@@ -60,6 +60,24 @@ HV_MARGIN = 0.1
 
 
 def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
+    """A study of ours and the config it was created with (Optuna's logging
+    set to warnings only).
+
+    Args:
+        name: the study's name.
+        storage: an Optuna storage or a storage URL (as
+            ``optuna.load_study`` takes it).
+
+    Returns:
+        (the ``optuna.Study``, its :class:`StudyConfig`, rebuilt from the
+        study's user attr ``mat_hopper_config``).
+
+    Raises:
+        KeyError: no study named `name` in `storage` (from
+            ``optuna.load_study``).
+        ValueError: the study has no ``mat_hopper_config`` (not made by
+            ``mat-hopper optimize``).
+    """
     _quiet()
     study = optuna.load_study(study_name=name, storage=storage)
     key = study.user_attrs.get(CONFIG_ATTR)
@@ -125,6 +143,16 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
 
 
 def feasible_complete(frame: pd.DataFrame) -> pd.DataFrame:
+    """The rows of a trials table that are complete and feasible.
+
+    Args:
+        frame: :func:`trials_frame`'s table (columns ``state`` and
+            ``feasible`` at least, unless empty).
+
+    Returns:
+        The rows with state ``COMPLETE`` and a true ``feasible``, index
+        kept; `frame` itself when it is empty.
+    """
     if frame.empty:
         return frame
     return frame[(frame["state"] == "COMPLETE") & frame["feasible"].astype(bool)]
@@ -260,14 +288,35 @@ def enough_for_importances(study: optuna.Study) -> bool:
     """Whether the study has MIN_SAMPLED_TRIALS finished trials its sampler
     chose: the enqueued paper designs (user attr ``paper_design``, up to 8
     of them) say nothing about which parameter matters, so a study that
-    has run only those (e.g. ``--trials 6``) gets no importances."""
+    has run only those (e.g. ``--trials 6``) gets no importances.
+
+    Args:
+        study: an ``optuna.Study``.
+
+    Returns:
+        True when at least MIN_SAMPLED_TRIALS (4) of its COMPLETE trials
+        have no (or an empty) ``paper_design`` user attr.
+    """
     complete = study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
     return sum(1 for t in complete if not t.user_attrs.get("paper_design")) >= MIN_SAMPLED_TRIALS
 
 
 def importances(study: optuna.Study) -> pd.DataFrame:
     """Parameter importances (Optuna's default, PED-ANOVA) per objective;
-    empty until the sampler has chosen MIN_SAMPLED_TRIALS finished trials."""
+    empty until the sampler has chosen MIN_SAMPLED_TRIALS finished trials.
+
+    Args:
+        study: an ``optuna.Study`` of ours; its ``metric_names`` (else the
+            default objectives) name the objectives, in order.
+
+    Returns:
+        A pandas DataFrame with columns ``objective``, ``param`` and
+        ``importance`` (float), one row per objective and parameter in
+        Optuna's order; an objective whose importances Optuna cannot
+        compute (ValueError, RuntimeError or ZeroDivisionError) is left out,
+        and the table is empty (with these columns) when
+        :func:`enough_for_importances` is False.
+    """
     rows = []
     if not enough_for_importances(study):
         return pd.DataFrame(columns=["objective", "param", "importance"])
@@ -285,7 +334,22 @@ def importances(study: optuna.Study) -> pd.DataFrame:
 def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> dict:
     """The objective values (the study's objectives, in order) of SS and
     rho-inc under the study's settings: its enqueued run, or a run made now
-    and kept in the study."""
+    and kept in the study.
+
+    Args:
+        study: the ``optuna.Study``; a run made now is stored in its user
+            attr ``baseline:<name>``, and read from there on later calls.
+        config: its :class:`StudyConfig`.
+        frame: :func:`trials_frame`'s table: the first COMPLETE row whose
+            ``paper_design`` is the baseline's name gives its values.
+
+    Returns:
+        {``"SS"``: values, ``"rho-inc"``: values}, each a tuple of floats
+        in the order of ``config.objective.objectives`` (their units). A
+        baseline neither in `frame` nor in the study's user attrs is
+        resampled to the study's number of segments and evaluated now
+        (:func:`~mat_hopper.optimize._objective.evaluate`).
+    """
     out, objectives = {}, config.objective.objectives
     for name in BASELINES:
         rows = frame[(frame["paper_design"] == name) & (frame["state"] == "COMPLETE")] if not frame.empty else frame
@@ -400,8 +464,20 @@ def trial_design(name: str, storage, number: int):
     `name` (its design named ``name#number``), for :func:`replay` and
     ``optimize --export``.
 
+    Args:
+        name: the study's name.
+        storage: its Optuna storage or storage URL.
+        number: the trial's number.
+
+    Returns:
+        (the trial as an Optuna ``FrozenTrial``, the LegDesign its
+        parameters describe in the study's space, the study's
+        :class:`StudyConfig`).
+
     Raises:
-        ValueError: no such study, not ours, or no such trial.
+        KeyError: no such study (from ``optuna.load_study``, via :func:`load`).
+        ValueError: not ours, no such trial, or a trial without the
+            space's parameters.
     """
     study, config = load(name, storage)
     trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]

@@ -100,7 +100,22 @@ EQUIVALENCE_MARGIN = paired.EQUIVALENCE_MARGIN
 
 
 def check_settings(design: LegDesign, objective: Objective) -> dict:
-    """{check: SimSettings} of the study's behaviours for one design (module doc)."""
+    """{check: SimSettings} of the study's behaviours for one design (module doc).
+
+    Args:
+        design: the LegDesign (needed for the automatic time step of the
+            ``auto`` and ``axial`` settings).
+        objective: the study's objective (its profile, convention and
+            segment-mass convention).
+
+    Returns:
+        A dict of four SimSettings, the same for every behaviour:
+        ``nominal`` (the objective's settings), ``step 2e-5 s, control 1e-4
+        s`` (2e-5 s step, 5 substeps, sensor latency of 5 steps), ``step
+        2e-5 s`` (2e-5 s step) and ``axial`` (the ``axial`` convention at
+        its automatic time step and substeps,
+        :func:`mat_hopper.timestep.resolve_timestep`).
+    """
     base = objective.sim_settings(design=design)
     dt, k = resolve_timestep("auto", design, "axial", objective.segment_mass)
     return {
@@ -155,7 +170,29 @@ def validation_tasks(front: dict, objective: Objective, replicates: int, paper: 
     the replicates of each front design's controls, and the replicates
     (and nominal runs) of the `paper` designs (default: all nine).
     Replicate seeds 0..n-1 (:meth:`Profile.replicate`): never the search's
-    (1000..)."""
+    (1000..).
+
+    Args:
+        front: {name: LegDesign} of the front designs.
+        objective: the study's objective (profile, behaviours, settings).
+        replicates: perturbed replicates per design and behaviour (seeds
+            0 .. replicates - 1); not checked here.
+        paper: {name: LegDesign} of the paper designs compared against;
+            None (the default) for :func:`mat_hopper.materials.paper_designs`.
+
+    Returns:
+        A list of RunSpec, labels role (``front``, ``paper`` or ``control``),
+        design, behaviour, check (one of :data:`CHECKS`), replicate (-1 for
+        an unperturbed run), control_of (the front design's name, or "") and
+        control (``mass``, ``rigid``, ``homogeneous E=<GPa>``, or ""). Front
+        designs: the replicates and every :func:`check_settings` check on the
+        study's behaviours, and the nominal run on each other behaviour;
+        their controls (named ``<name>~<kind>``;
+        :func:`mat_hopper.controls.mass_matched` and
+        :func:`mat_hopper.controls.rigid_twin` where they differ in physics,
+        and the homogeneous legs of a gradient): the replicates; paper
+        designs: the replicates and the nominal run.
+    """
     tasks = []
     others = [b for b in BEHAVIOUR_NAMES if b not in objective.behaviours]
     paper = paper_designs() if paper is None else paper
@@ -205,7 +242,19 @@ def replicate_means(runs: pd.DataFrame, objective: Objective) -> pd.DataFrame:
     over the study's behaviours, from the replicate runs that ended well; a
     replicate that fell or diverged on any behaviour is missing (NaN). A
     stress metric of a leg with no modelled stress (rigid segments) is NaN,
-    so that it is left out of the comparisons (:func:`_compare`)."""
+    so that it is left out of the comparisons (:func:`_compare`).
+
+    Args:
+        runs: a validation's run table (columns role, design, replicate,
+            behaviour, check, status and the objectives' summary columns,
+            :data:`MATERIAL_LEG_MASS` for leg mass).
+        objective: the study's objective (its objectives and behaviours).
+
+    Returns:
+        A pandas DataFrame indexed by (role, design, replicate), one column
+        per objective name (its units); only replicates with a run of
+        status ``ok`` on every one of the study's behaviours have a row.
+    """
     reps = runs[(runs["check"] == REPLICATE) & (runs["status"] == OK)]
     cols = {_summary_column(o): o for o in objective.objectives}
     g = reps.groupby(["role", "design", "replicate"])
@@ -301,7 +350,18 @@ def _better_worse(rows: pd.DataFrame) -> tuple[bool, bool]:
 
 def dominated_by(table: pd.DataFrame, design: str, kinds=("paper",)) -> list[str]:
     """The comparators of `kinds` that dominate `design` in a
-    :func:`paired_table`: significantly better on an objective, worse on none."""
+    :func:`paired_table`: significantly better on an objective, worse on none.
+
+    Args:
+        table: :func:`paired_table`'s table.
+        design: the front design's name.
+        kinds: the comparator kinds considered (default ``("paper",)``;
+            others: ``mass-matched``, ``rigid twin``, ``homogeneous``).
+
+    Returns:
+        The comparators' names (the table's ``against``), in table order;
+        empty when none dominates `design`.
+    """
     out = []
     for against, rows in table[(table["design"] == design) & table["kind"].isin(kinds)].groupby("against", sort=False):
         better, worse = _better_worse(rows)
@@ -321,7 +381,21 @@ def beats(table: pd.DataFrame, design: str, kind: str) -> str:
     margin), ``no evidence`` (none of these), ``untestable`` (n seeds
     cannot reach Holm's threshold and the intervals leave the margin) or
     ``not run``. With several comparators of the kind (the homogeneous
-    legs), the design must beat each one for ``yes``."""
+    legs), the design must beat each one for ``yes``.
+
+    Args:
+        table: :func:`paired_table`'s table.
+        design: the front design's name.
+        kind: the comparator kind (``paper``, ``mass-matched``, ``rigid
+            twin`` or ``homogeneous``).
+
+    Returns:
+        One of ``not run`` (no rows), ``equivalent`` (checked first: every
+        row's interval strictly inside the margin), ``untestable`` (some row
+        not testable), then, over the comparators of the kind, ``worse`` if
+        any is, else ``trade-off`` if any is, else ``no evidence`` if any
+        is, else ``yes``.
+    """
     rows = table[(table["design"] == design) & (table["kind"] == kind)]
     if rows.empty:
         return "not run"
@@ -344,7 +418,18 @@ def paper_best(runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA) -
     """The paper designs no other paper design dominates, paired by seed
     (Holm over each design's comparisons with the other eight; a design
     with none to compare with, where the others fell on some seed, counts
-    as best)."""
+    as best).
+
+    Args:
+        runs: a validation's run table (:func:`validate_front`'s ``runs``).
+        objective: the study's objective (its objectives are compared).
+        alpha: the significance level (default :data:`ALPHA`, 0.05).
+
+    Returns:
+        The names of the best paper designs, in the order of
+        :func:`replicate_means`' index (sorted by name); designs without a
+        complete replicate are not among them.
+    """
     means = replicate_means(runs, objective)
     names = [d for r, d in dict.fromkeys(means.index.droplevel("replicate")) if r == "paper"]
     best = []
@@ -370,7 +455,23 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame) -> pd.DataFrame:
     """One row per front design: stable under each check (True/False),
     stable everywhere, the paper designs that dominate it, whether that
     could be tested at its n, survives, and whether it beats its
-    mass-matched leg and its rigid twin (:func:`beats`)."""
+    mass-matched leg and its rigid twin (:func:`beats`).
+
+    Args:
+        runs: a validation's run table (role, design, check, status, ...).
+        table: :func:`paired_table`'s table of those runs.
+
+    Returns:
+        A pandas DataFrame, one row per front design in order of first
+        appearance: design, ``stable: <check>`` for each of :data:`CHECKS`
+        (False where the check has no run), ``stable everywhere``,
+        ``dominated by`` (comma-separated paper designs), ``survives``
+        (True, False, or ``"untestable"`` where a stable design's
+        comparisons are not all testable or there are none), ``beats its
+        mass-matched leg`` and ``beats its rigid twin`` (:func:`beats`), and
+        ``homogeneous legs of its mass dominating it`` (comma-separated
+        ``E=<GPa>`` labels).
+    """
     front = runs[runs["role"] == "front"]
     rows = []
     for design, g in front.groupby("design", sort=False):
@@ -451,7 +552,15 @@ def validate_front(
 
 
 def is_gradient(design: LegDesign) -> bool:
-    """Whether a design's segments differ (in density or modulus)."""
+    """Whether a design's segments differ (in density or modulus).
+
+    Args:
+        design: the LegDesign.
+
+    Returns:
+        True when two of its segments have different (density, modulus)
+        pairs (a rigid segment's modulus is None); False for a homogeneous leg.
+    """
     return len(set(zip(design.densities_g_cm3, design.moduli_gpa))) > 1
 
 

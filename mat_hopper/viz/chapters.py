@@ -28,7 +28,22 @@ def convention_figure(table: pd.DataFrame):
     """Two panels per material, both conventions side by side: the material
     spring's stiffness (N/m) and the largest stable time step (s; bar:
     measured, with its bracket; marker: the estimate 2 / w_max), log
-    scales. table: from :func:`convention_stability`."""
+    scales. table: from :func:`convention_stability`.
+
+    Args:
+        table: one row per design and convention (:func:`convention_stability`,
+            :mod:`mat_hopper.experiments.paper`), columns ``design``,
+            ``convention``, ``material_spring_n_m`` (N/m; nan for a rigid
+            leg), ``analytic_timestep_s``, ``max_stable_timestep_s``,
+            ``unstable_timestep_s`` (s) and, optionally,
+            ``controller_timestep_s`` (s, drawn as the controller limit).
+
+    Returns:
+        The ``matplotlib.figure.Figure``.
+
+    Raises:
+        ValueError: a required column is missing (named).
+    """
     need = (
         "design",
         "convention",
@@ -126,7 +141,21 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
     tracking error); right, a short window (default: 1.5 s after the
     transient) with stance shaded: base height, thrust force on the foot
     spring, hip pitch angle against its target, base x against the
-    desired x. Times are simulated seconds."""
+    desired x. Times are simulated seconds.
+
+    Args:
+        rollout: the :class:`~mat_hopper.rollout.Rollout` to show.
+        window_s: (start, end) of the close-up, simulated s; None: 1.5 s
+            starting at the transient (or 1.5 s before the run's end, if
+            earlier, but not before 0).
+
+    Returns:
+        The ``matplotlib.figure.Figure`` (4 x 2 panels).
+
+    Raises:
+        ValueError: a rollout with fewer than 2 recorded samples, or a window
+            whose end is not after its start.
+    """
     from ..sim import C
 
     d = rollout.data
@@ -202,7 +231,15 @@ def jerk_rate_panel(ax, jerk: dict) -> None:
     table from :func:`mat_hopper.analysis.tables.jerk_by_rate`}, log-log):
     solid, the old finite difference of the recorded acceleration (aliased
     leg ringing, labelled as such); dashed, the book's metric (50 Hz
-    low-pass at the physics rate), flat in the rate."""
+    low-pass at the physics rate), flat in the rate.
+
+    Args:
+        ax: the matplotlib ``Axes`` drawn on (scales, labels, title and legend
+            set).
+        jerk: {design name: table} with columns ``rate_hz`` and
+            ``raw_jerk_m_s3`` (or, from older tables, ``mean_jerk_m_s3``), m/s^3,
+            and optionally ``metric_jerk_m_s3`` (the dashed line).
+    """
     for i, (d, t) in enumerate(jerk.items()):
         colour = design_colour(d, i)
         raw = t["raw_jerk_m_s3"] if "raw_jerk_m_s3" in t else t["mean_jerk_m_s3"]
@@ -218,7 +255,15 @@ def jerk_rate_panel(ax, jerk: dict) -> None:
 
 
 def jerk_rate_figure(jerk: dict):
-    """One panel: :func:`jerk_rate_panel`."""
+    """One panel: :func:`jerk_rate_panel`.
+
+    Args:
+        jerk: {design name: :func:`mat_hopper.analysis.tables.jerk_by_rate`
+            table}, as for :func:`jerk_rate_panel`.
+
+    Returns:
+        The ``matplotlib.figure.Figure``.
+    """
     with rc_context(STYLE):
         fig = Figure(figsize=(5.2, 3.6), layout="constrained")
         jerk_rate_panel(fig.subplots(), jerk)
@@ -231,7 +276,21 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
     :func:`clock_drift`); (B) mean |jerk| against the sampling rate, per
     design ({design: table from :func:`jerk_by_rate`}, log-log); (C) the
     percent change of power of one design against another, real hip power
-    beside the authors' formula (table from :func:`power_formula_table`)."""
+    beside the authors' formula (table from :func:`power_formula_table`).
+
+    Args:
+        clock: :func:`mat_hopper.experiments.paper.clock_drift` rows, columns
+            ``design``, ``clock_factor`` and ``mean_tracking_error_m`` (m, drawn
+            in mm).
+        jerk: {design name: :func:`mat_hopper.analysis.tables.jerk_by_rate`
+            table}, drawn by :func:`jerk_rate_panel`.
+        power: :func:`mat_hopper.analysis.tables.power_formula_table`: one row
+            per measure (bars, legend label = index), one column per behaviour
+            (%); its ``columns.name`` labels the y axis.
+
+    Returns:
+        The ``matplotlib.figure.Figure`` (panels A, B, C).
+    """
     with rc_context(STYLE):
         fig = Figure(figsize=(11.0, 3.4), layout="constrained")
         a, b, c = fig.subplots(1, 3)
@@ -272,7 +331,22 @@ def leg_mass_figure(table: pd.DataFrame, md_tracking_m: float | None = None):
     :func:`mat_hopper.analysis.tables.leg_mass_table` of experiment 2's
     runs: density sweeps filled and joined per base material, modulus
     sweeps (which leave the mass alone) hollow; `md_tracking_m`, the rigid
-    MD leg's forward tracking error, as a dashed line."""
+    MD leg's forward tracking error, as a dashed line.
+
+    Args:
+        table: :func:`mat_hopper.analysis.tables.leg_mass_table` rows, columns
+            ``sweep_base``, ``sweep_property`` (``"density"`` or
+            ``"modulus"``), ``sweep_value``, ``leg_mass_kg`` (kg) and
+            ``mean_tracking_error_m`` (m, drawn in mm); where an ``upright``
+            column is present, only its true rows are drawn.
+        md_tracking_m: the MD leg's tracking error, m; None or nan: no line.
+
+    Returns:
+        The ``matplotlib.figure.Figure``.
+
+    Raises:
+        ValueError: a required column is missing (named).
+    """
     need = ("sweep_base", "sweep_property", "sweep_value", "leg_mass_kg", "mean_tracking_error_m")
     missing = [c for c in need if c not in table.columns]
     if missing:
@@ -312,8 +386,23 @@ def codesign_figure(hops: pd.DataFrame, designs, default: str, tuned: str, *, ti
     an arrow from one to the other.
 
     hops: per-hop rows with experiment, design, replicate, tracking_error_m
-    and power_w (:func:`mat_hopper.optimize.codesign.codesign`'s ``hops``); designs: the materials, in legend order. Each point is the
-    mean over replicates of the per-replicate means."""
+    and power_w (:func:`mat_hopper.optimize.codesign.codesign`'s ``hops``);
+    designs: the materials, in legend order. Each point is the mean over
+    replicates of the per-replicate means.
+
+    Args:
+        hops: per-hop rows, columns ``experiment``, ``design``, ``replicate``,
+            ``tracking_error_m`` (m, drawn in mm) and ``power_w`` (W).
+        designs: the design names drawn, in legend order; each must have rows
+            in both experiments.
+        default: the ``experiment`` value of the runs at the authors' gains.
+        tuned: the ``experiment`` value of the runs at each material's tuned
+            gains.
+        title: the axes' title; empty: none.
+
+    Returns:
+        The ``matplotlib.figure.Figure``.
+    """
     means = (
         hops.groupby(["experiment", "design", "replicate"])[["tracking_error_m", "power_w"]]
         .mean()
@@ -349,7 +438,16 @@ def convergence_figure(metrics: pd.DataFrame):
 
     metrics: one row per design, behaviour and N with n_segments,
     tracking_error_m, power_w, hop_height_m
-    (:func:`mat_hopper.experiments.convergence.metrics_table`)."""
+    (:func:`mat_hopper.experiments.convergence.metrics_table`).
+
+    Args:
+        metrics: columns ``design``, ``behaviour``, ``n_segments``,
+            ``tracking_error_m`` (m, drawn in mm), ``power_w`` (W) and
+            ``hop_height_m`` (m).
+
+    Returns:
+        The ``matplotlib.figure.Figure`` (three panels, one legend below).
+    """
     with rc_context(STYLE):
         fig = Figure(figsize=(9, 3.2), layout="constrained")
         axes = fig.subplots(1, 3)
@@ -374,7 +472,18 @@ def agreement_figure(table: pd.DataFrame):
     shaded; runs that diverged on both backends marked "diverged". A run
     without scored hop cycles shows its whole-run means' differences.
 
-    table: :func:`mat_hopper.batch.agreement` rows (behaviour may be nan)."""
+    table: :func:`mat_hopper.batch.agreement` rows (behaviour may be nan).
+
+    Args:
+        table: one row per run, columns ``design``, ``behaviour`` (a string,
+            or nan for none), ``tracking_error_diff_pct``, ``power_diff_pct``
+            (%), ``agrees`` (bar colour), ``stable_ref`` and ``stable``
+            (both false: "diverged"); ``run_tracking_error_diff_pct`` and
+            ``run_power_diff_pct``, where present, fill the non-finite values.
+
+    Returns:
+        The ``matplotlib.figure.Figure`` (two panels sharing the rows).
+    """
     from ..batch import RELATIVE_TOLERANCE
 
     band = 100 * RELATIVE_TOLERANCE

@@ -239,7 +239,34 @@ def figure4_mono(
     here on `basis` when not given. designs default: MD PVC Al Ti SS that
     are present; log_metrics: metrics drawn on a log axis; runs: the run
     summaries: hop cycles of runs that diverged, fell or failed are left
-    out (:func:`mat_hopper.analysis.stats.drop_unusable`)."""
+    out (:func:`mat_hopper.analysis.stats.drop_unusable`).
+
+    Args:
+        hops: per-hop table with columns ``design``, ``behaviour`` and every
+            metric (optionally ``replicate``, ``experiment``).
+        comparison: design comparison table (columns ``metric``, ``design``,
+            ``behaviour``, ``significant``, optionally ``basis``); None:
+            computed here when `baseline` is among the drawn designs.
+        metrics: the metric columns, one panel each, in order.
+        designs: the designs drawn, in the paper's order; None: those of MD,
+            PVC, Al, Ti, SS present in `hops` or among the unusable runs.
+        behaviours: the behaviours on x; None: those in `hops`.
+        baseline: the design the stars compare against.
+        basis: ``"hops"``, ``"replicates"`` or ``"auto"``, passed to
+            :func:`mat_hopper.analysis.stats.compare_designs` when the
+            comparison is computed here.
+        alpha: significance level of the Holm-adjusted p.
+        log_metrics: the metrics drawn on a log axis.
+        runs: run summaries; None: no run is left out.
+
+    Returns:
+        The ``matplotlib.figure.Figure`` (one panel per metric).
+
+    Raises:
+        ValueError: `hops` lacks a required column, has no rows for the
+            requested designs and behaviours, or (when the comparison is
+            computed here) `basis` is not one of the accepted values.
+    """
     _require(hops, ("design", "behaviour", *metrics), "figure4_mono")
     bad = _stats.unusable_runs(runs)
     designs = order_designs(
@@ -295,7 +322,32 @@ def figure5_gradients(
 
     hops: per-hop table holding the gradients (experiment 3) and MD and SS
     (experiment 1); each design is taken from one experiment and all are
-    compared as one family. runs: as in :func:`figure4_mono`."""
+    compared as one family. runs: as in :func:`figure4_mono`.
+
+    Args:
+        hops: per-hop table with columns ``design``, ``behaviour`` and every
+            metric (optionally ``replicate``, ``experiment``).
+        comparison: design comparison table, as for :func:`figure4_mono`;
+            None: computed here when `baseline` is among the designs.
+        panels: one tuple of design names per column (panel A, B, ...);
+            designs absent from `hops` are skipped.
+        metrics: the metric columns, one row of panels each.
+        behaviours: the behaviours on x; None: those in `hops`.
+        baseline: the design the stars compare against.
+        basis: ``"hops"``, ``"replicates"`` or ``"auto"``, as for
+            :func:`figure4_mono`.
+        alpha: significance level of the Holm-adjusted p.
+        log_metrics: the metrics drawn on a log axis.
+        runs: run summaries; None: no run is left out.
+
+    Returns:
+        The ``matplotlib.figure.Figure`` (metrics x panels).
+
+    Raises:
+        ValueError: `hops` lacks a required column, has no rows for the
+            panels' designs and the behaviours, or (when the comparison is
+            computed here) `basis` is not one of the accepted values.
+    """
     _require(hops, ("design", "behaviour", *metrics), "figure5_gradients")
     all_designs = order_designs([d for p in panels for d in p])
     behaviours = order_behaviours(behaviours or hops["behaviour"].unique())
@@ -349,7 +401,18 @@ def figure5_gradients(
 def rollout_series(rollout) -> pd.DataFrame:
     """Per hop cycle of one rollout, from its start (no transient cut):
     mid-time (s) and the metrics of :func:`mat_hopper.metrics.hop_table`
-    (hop height m, tracking error m, hip power W, ...), one row per cycle."""
+    (hop height m, tracking error m, hip power W, ...), one row per cycle.
+
+    Args:
+        rollout: the :class:`~mat_hopper.rollout.Rollout`.
+
+    Returns:
+        DataFrame: :func:`mat_hopper.metrics.hop_table` at ``transient_s=0``
+        plus ``t_mid_s``, the cycle's mid-time (s).
+
+    Raises:
+        ValueError: `rollout` is not a Rollout.
+    """
     from ..metrics import hop_table
 
     t = hop_table(rollout, transient_s=0.0)
@@ -367,7 +430,24 @@ def figure5_timeseries(
     own cycles) at its mid-time, one column per behaviour (forward, then
     ramp), one line per design. The transient (cycles not scored) is shaded.
 
-    rollouts: iterable of :class:`~mat_hopper.rollout.Rollout`."""
+    rollouts: iterable of :class:`~mat_hopper.rollout.Rollout`.
+
+    Args:
+        rollouts: the Rollouts, any designs and behaviours.
+        behaviours: the behaviour columns, in the paper's order; None: those
+            of the rollouts.
+        metrics: :func:`mat_hopper.metrics.hop_table` columns, one row of
+            panels each (default :data:`TIMESERIES_METRICS`).
+        transient_s: the shaded transient, s; None: the first rollout's
+            ``settings.transient_s``. It only changes the shading.
+
+    Returns:
+        The ``matplotlib.figure.Figure`` (metrics x behaviours); a dotted
+        vertical line marks where an unstable rollout diverged.
+
+    Raises:
+        ValueError: no rollouts.
+    """
     rollouts = list(rollouts)
     if not rollouts:
         raise ValueError("figure5_timeseries needs at least one Rollout")
@@ -450,7 +530,25 @@ def write_figures(
     those); ``stability_map``; ``ashby``;
     ``fig5_timeseries`` when `rollouts` (Rollout objects of forward and
     ramp hopping) are given. A convention other than ``paper`` gets its
-    name as a suffix (``fig4_mono_axial``). Returns the paths written."""
+    name as a suffix (``fig4_mono_axial``). Returns the paths written.
+
+    Args:
+        tables: {name: DataFrame}, the names above; others are ignored.
+        out_dir: the output folder (str or path); files go to its
+            ``figures/`` subfolder, made as needed.
+        rollouts: Rollouts for ``fig5_timeseries``; None or empty: skipped.
+        basis: ``"auto"``, ``"hops"`` or ``"replicates"`` (see above).
+        formats: file formats of each figure, among ``"png"``, ``"svg"``,
+            ``"pdf"``.
+        dpi: resolution of raster formats, dots per inch.
+
+    Returns:
+        The paths written, one per figure and format, in writing order.
+
+    Raises:
+        ValueError: an unknown `basis` or format, or a figure function's
+            own ValueError (e.g. a table without its required columns).
+    """
     if basis not in ("auto", "hops", "replicates"):
         raise ValueError(f"basis must be one of auto, hops, replicates; got {basis!r}")
     fig_dir = Path(out_dir) / "figures"

@@ -97,7 +97,26 @@ def stability_figure(
     analytic_timestep_s; ``analytic="combined_timestep_s"`` adds the
     controller limit); materials: catalogue names
     marked on the map; convention: keep the rows of this convention (when
-    the table has a convention column) and name it in the title."""
+    the table has a convention column) and name it in the title.
+
+    Args:
+        stab: the stability table, one row per grid point (and convention);
+            several rows of one grid point keep the smallest steps.
+        materials: catalogue names marked on the map (names not in the
+            catalogue, rigid materials and those outside the map are skipped).
+        convention: the convention kept; None: the table's only one (if any).
+        measured: the measured-step column (s); None: the first present of
+            :data:`MEASURED_COLUMNS`.
+        analytic: the estimate's column (s); None: the first present of
+            :data:`ANALYTIC_COLUMNS`.
+
+    Returns:
+        The ``matplotlib.figure.Figure`` (panels A and B).
+
+    Raises:
+        ValueError: a table of several conventions without `convention`, a
+            missing column (named), or no rows left.
+    """
     t, convention, measured_name, an_label = _stability_columns(stab, convention, measured, analytic)
     rho = np.sort(t["density_g_cm3"].unique())
     mod = np.sort(t["modulus_gpa"].unique())
@@ -255,7 +274,17 @@ def _draw_measured_vs_analytic(fig, ax2, t, vmin, vmax, an_label) -> None:
 
 def catalogue_table(catalogue=None) -> pd.DataFrame:
     """The material catalogue as a table: name, density_g_cm3, modulus_gpa
-    (nan for rigid), material_class, source."""
+    (nan for rigid), material_class, source.
+
+    Args:
+        catalogue: {name: Material} or an iterable of
+            :class:`~mat_hopper.materials.Material`; None (or an empty dict):
+            :data:`mat_hopper.materials.CATALOGUE`.
+
+    Returns:
+        DataFrame, one row per material, columns ``name``, ``density_g_cm3``
+        (g/cm^3), ``modulus_gpa`` (GPa), ``material_class`` and ``source``.
+    """
     mats = (catalogue or CATALOGUE).values() if isinstance(catalogue or CATALOGUE, dict) else catalogue
     return pd.DataFrame(
         [
@@ -289,7 +318,24 @@ def ashby_figure(
     materials by class, the paper's two material classes as shaded regions
     (:data:`CLASS_REGIONS`) and the design bounds (:data:`DESIGN_BOUNDS`,
     dashed). materials: a table like :func:`catalogue_table` (the default);
-    rigid materials (no modulus) are left out."""
+    rigid materials (no modulus) are left out.
+
+    Args:
+        materials: table with columns ``name``, ``density_g_cm3``,
+            ``modulus_gpa`` and ``material_class``; None: :func:`catalogue_table`.
+        regions: {name: region} shaded, each with ``density_g_cm3`` and
+            ``modulus_gpa`` ranges (lo, hi), ``colour`` and an optional
+            ``label``; None: :data:`CLASS_REGIONS`.
+        bounds: ``{"density_g_cm3": (lo, hi), "modulus_gpa": (lo, hi)}``, the
+            dashed box; None: :data:`DESIGN_BOUNDS`.
+        highlight: names of the materials drawn large, ringed and in bold.
+
+    Returns:
+        The ``matplotlib.figure.Figure``.
+
+    Raises:
+        ValueError: `materials` lacks a required column.
+    """
     t = catalogue_table() if materials is None else materials
     _require(t, ("name", "density_g_cm3", "modulus_gpa", "material_class"), "ashby_figure")
     t = t[np.isfinite(t["modulus_gpa"].astype(float))]
@@ -395,7 +441,16 @@ def _draw_material_class(ax, s, cls, highlight) -> None:
 def designs_figure(designs: dict[str, LegDesign] | None = None):
     """The legs side by side: one column of segments per design (segment 1
     at the top, nearest the base), coloured by density (left panel) and by
-    modulus (right panel, grey: rigid), both on log colour scales."""
+    modulus (right panel, grey: rigid), both on log colour scales.
+
+    Args:
+        designs: {name: :class:`~mat_hopper.materials.LegDesign`}, in column
+            order; None: :func:`mat_hopper.materials.paper_designs`.
+
+    Returns:
+        The ``matplotlib.figure.Figure``; each cell is labelled with its
+        value (g/cm^3 or GPa) or "rigid".
+    """
     from ..analysis.tables import design_table
 
     t = design_table(designs)

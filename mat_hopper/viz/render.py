@@ -47,7 +47,19 @@ IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".svg", ".pdf")
 
 def parse_size(text: str) -> tuple[int, int]:
     """'640x480' -> (640, 480) pixels; each side a whole ASCII decimal
-    (:func:`mat_hopper.parsing.parse_number`: not "٦٤٠" or "6_40")."""
+    (:func:`mat_hopper.parsing.parse_number`: not "٦٤٠" or "6_40").
+
+    Args:
+        text: ``"WIDTHxHEIGHT"`` (the ``x`` in any case, blanks around the
+            whole ignored); anything else is converted with ``str`` first.
+
+    Returns:
+        (width, height) in pixels, ints.
+
+    Raises:
+        ValueError: not two whole ASCII decimals joined by ``x``, or a side
+            outside 16 to 4096 pixels.
+    """
     from ..parsing import is_decimal, parse_number
 
     parts = str(text).strip().lower().split("x")
@@ -85,7 +97,29 @@ def record(
     convention: the stiffness convention (None: the settings', else the
     paper's); settings: the run's other settings (time step, substeps,
     sensor timing, segment mass, convention; its duration and transient are
-    replaced). Raises ValueError for a convention other than the settings'."""
+    replaced). Raises ValueError for a convention other than the settings'.
+
+    Args:
+        design: a :class:`~mat_hopper.materials.LegDesign` or a design name.
+        behaviour: a behaviour name or :class:`~mat_hopper.behaviours.Behaviour`.
+        seconds: simulated time recorded after `start_s`, s (finite, > 0).
+        start_s: start of the window of interest, s (finite, >= 0); the run
+            lasts start_s + seconds with no transient.
+        convention: the stiffness convention; None: the settings' (or, without
+            settings, the default).
+        settings: the run's :class:`~mat_hopper.sim.SimSettings`; None: the
+            defaults.
+
+    Returns:
+        The :class:`~mat_hopper.rollout.Rollout`, with ``qpos`` (every joint
+        position at the record rate).
+
+    Raises:
+        ValueError: `seconds` not finite and positive, `start_s` not finite and
+            >= 0, a `convention` other than the settings', or any error of
+            :func:`mat_hopper.sim.simulate` (unknown design, behaviour or
+            setting).
+    """
     if not (math.isfinite(seconds) and seconds > 0):
         raise ValueError(f"seconds must be > 0, got {seconds!r}")
     if not (math.isfinite(start_s) and start_s >= 0):
@@ -110,7 +144,26 @@ def iter_frames(
     progress: bool = False,
 ):
     """Yield RGB frames (height, width, 3) of a rollout at the given times
-    (s), one at a time (a long video never sits in memory)."""
+    (s), one at a time (a long video never sits in memory).
+
+    Args:
+        rollout: a :class:`~mat_hopper.rollout.Rollout` recorded with
+            ``record_qpos=True``.
+        times_s: the frames' simulated times, s; each shows the first record
+            at or after its time (the last record for later times).
+        size: (width, height) of the frames, pixels.
+        camera: the :class:`Camera`; None: ``Camera()``.
+        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
+        progress: show a progress bar (``mat_hopper.progress``).
+
+    Yields:
+        (height, width, 3) uint8 RGB arrays, one per time, in order.
+
+    Raises:
+        ValueError: a rollout without joint positions (raised at the first
+            frame requested, as for any generator).
+        RenderBackendError: no usable off-screen OpenGL library or context.
+    """
     if rollout.qpos is None:
         raise ValueError("the rollout has no joint positions: simulate(..., record_qpos=True)")
     w, h = size
@@ -135,7 +188,23 @@ def iter_frames(
 def render_frames(
     rollout: Rollout, times_s, *, size=(640, 480), camera: Camera | None = None, backend: str | None = None
 ) -> np.ndarray:
-    """RGB frames (n, height, width, 3) of a rollout at the given times (s)."""
+    """RGB frames (n, height, width, 3) of a rollout at the given times (s).
+
+    Args:
+        rollout: a :class:`~mat_hopper.rollout.Rollout` recorded with
+            ``record_qpos=True``.
+        times_s: the n frames' simulated times, s (as for :func:`iter_frames`).
+        size: (width, height) of the frames, pixels.
+        camera: the :class:`Camera`; None: ``Camera()``.
+        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
+
+    Returns:
+        (n, height, width, 3) uint8 array.
+
+    Raises:
+        ValueError: a rollout without joint positions, or no times.
+        RenderBackendError: no usable off-screen OpenGL library or context.
+    """
     return np.stack(list(iter_frames(rollout, times_s, size=size, camera=camera, backend=backend)))
 
 
@@ -146,7 +215,20 @@ def render_frames(
 def standing_qpos(model: mujoco.MjModel, behaviour: Behaviour) -> np.ndarray:
     """The start pose (upright, at the behaviour's start) lowered until the
     foot rests on the ground or ramp (MuJoCo's own foot-terrain distance, to
-    1 um): the pose for a picture of the model."""
+    1 um): the pose for a picture of the model.
+
+    Args:
+        model: a compiled hopper model (e.g. of :func:`render_spec`), with
+            the joint ``base_x`` and the geoms ``foot`` and ``ground`` (and
+            ``ramp``).
+        behaviour: the :class:`~mat_hopper.behaviours.Behaviour` whose
+            start_xy_m places the base.
+
+    Returns:
+        (model.nq,) qpos array: the start keyframe at the behaviour's start,
+        the base z slide lowered by the foot-terrain gap (at most 8
+        corrections).
+    """
     d = mujoco.MjData(model)
     reset_to_start(model, d)
     bx = int(model.joint("base_x").qposadr[0])
@@ -173,7 +255,26 @@ def render_still(
 ) -> np.ndarray:
     """One RGB picture (height, width, 3) of the hopper at its start pose,
     standing on its foot (standing=False: at the simulation's start height,
-    0.56 m up), segments coloured by density, the behaviour's path marked."""
+    0.56 m up), segments coloured by density, the behaviour's path marked.
+
+    Args:
+        design: a :class:`~mat_hopper.materials.LegDesign` or a design name.
+        behaviour: a behaviour name or :class:`~mat_hopper.behaviours.Behaviour`
+            (its start, terrain and 20 s of its path are drawn).
+        size: (width, height) of the picture, pixels.
+        camera: the :class:`Camera`; None: a close view for ``standing``, a
+            wider, higher one otherwise.
+        standing: True: the pose of :func:`standing_qpos`; False: that pose
+            with the base z slide (qpos) set to 0.
+        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
+
+    Returns:
+        (height, width, 3) uint8 RGB array.
+
+    Raises:
+        ValueError: an unknown design or behaviour.
+        RenderBackendError: no usable off-screen OpenGL library or context.
+    """
     design = _as_design(design)
     beh = get_behaviour(behaviour)
     w, h = size
@@ -224,7 +325,33 @@ def gait_tiles(
 ):
     """The paper's gait-tile figure: n_frames of a hop sequence (one hop
     cycle, about 0.7 s, by default) side by side, the desired path marked, segments coloured by density. Returns a
-    matplotlib Figure (frames also in ``fig.frames``)."""
+    matplotlib Figure (frames also in ``fig.frames``).
+
+    Args:
+        design: a :class:`~mat_hopper.materials.LegDesign` or a design name,
+            simulated when no `rollout` is given.
+        behaviour: a behaviour name or Behaviour, likewise.
+        rollout: a Rollout with ``qpos`` to show instead (its own design and
+            behaviour are shown); None: :func:`record` one of `seconds` from
+            `start_s`.
+        start_s: time of the first frame, simulated s.
+        seconds: span of the frames, s (cut at the rollout's end).
+        n_frames: the number of frames, evenly spaced, >= 1.
+        size: (width, height) of each frame, pixels.
+        camera: the :class:`Camera`; None: ``Camera(distance_m=2.1)``.
+        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
+
+    Returns:
+        The ``matplotlib.figure.Figure``, the frames side by side with their
+        times and a density colour bar; ``fig.frames`` holds them as an
+        (n_frames, height, width, 3) uint8 array.
+
+    Raises:
+        ValueError: `n_frames` < 1, a rollout without joint positions, or an
+            error of :func:`record` (invalid `seconds` or `start_s`, unknown
+            design or behaviour).
+        RenderBackendError: no usable off-screen OpenGL library or context.
+    """
     from matplotlib.figure import Figure
 
     if int(n_frames) < 1:
@@ -253,7 +380,21 @@ def video_times(
     rollout: Rollout, *, start_s: float = 0.0, seconds: float | None = None, fps: float = 30.0
 ) -> np.ndarray:
     """Simulated times (s) of the frames: start_s + k / fps up to the end of
-    the window (start_s + seconds) or of the rollout, both ends included."""
+    the window (start_s + seconds) or of the rollout, both ends included.
+
+    Args:
+        rollout: the :class:`~mat_hopper.rollout.Rollout`.
+        start_s: the first frame's time, s.
+        seconds: the window's length, s; None: to the rollout's end.
+        fps: frames per simulated second, in (0, 240].
+
+    Returns:
+        1-D float array of the frame times, s.
+
+    Raises:
+        ValueError: `fps` outside (0, 240], or a window that starts after the
+            rollout ends.
+    """
     fps = _check_fps(fps)
     t_end = float(rollout.time[-1]) if seconds is None else start_s + seconds
     n = int(math.floor((min(t_end, float(rollout.time[-1])) - start_s) * fps + 1e-9)) + 1
@@ -272,7 +413,26 @@ def video_frames(
     camera: Camera | None = None,
     backend: str | None = None,
 ) -> np.ndarray:
-    """Frames (n, height, width, 3) of a rollout at fps frames per simulated second."""
+    """Frames (n, height, width, 3) of a rollout at fps frames per simulated second.
+
+    Args:
+        rollout: a :class:`~mat_hopper.rollout.Rollout` recorded with
+            ``record_qpos=True``.
+        start_s: the first frame's time, s.
+        seconds: the window's length, s; None: to the rollout's end.
+        fps: frames per simulated second, in (0, 240].
+        size: (width, height) of the frames, pixels.
+        camera: the :class:`Camera`; None: ``Camera()``.
+        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
+
+    Returns:
+        (n, height, width, 3) uint8 array, the frames at :func:`video_times`.
+
+    Raises:
+        ValueError: as :func:`video_times`, or a rollout without joint
+            positions.
+        RenderBackendError: no usable off-screen OpenGL library or context.
+    """
     return render_frames(
         rollout,
         video_times(rollout, start_s=start_s, seconds=seconds, fps=fps),
@@ -284,7 +444,20 @@ def video_frames(
 
 def write_video(frames, path: str, fps: float) -> str:
     """Write frames (an array or any iterable of (h, w, 3) uint8 images) as
-    MP4 (H.264, imageio-ffmpeg; streamed) or GIF, atomically."""
+    MP4 (H.264, imageio-ffmpeg; streamed) or GIF, atomically.
+
+    Args:
+        frames: (n, h, w, 3) uint8 array or iterable of (h, w, 3) uint8
+            images (a GIF collects them in memory first).
+        path: the file, ending in ``.mp4`` or ``.gif`` (any case).
+        fps: frames per second of the video, in (0, 240].
+
+    Returns:
+        `path`, as given.
+
+    Raises:
+        ValueError: another file extension, or `fps` outside (0, 240].
+    """
     import imageio.v2 as imageio
 
     ext = _check_extension(path, VIDEO_EXTENSIONS)
@@ -321,7 +494,31 @@ def save_video(
     progress: bool = False,
 ) -> str:
     """Simulate (unless a rollout with qpos is given) and write a video,
-    frames streamed to the file as they are rendered."""
+    frames streamed to the file as they are rendered.
+
+    Args:
+        design: a :class:`~mat_hopper.materials.LegDesign` or a design name,
+            simulated when no `rollout` is given.
+        behaviour: a behaviour name or Behaviour, likewise.
+        path: the video file, ``.mp4`` or ``.gif``.
+        seconds: simulated time shown from `start_s`, s.
+        fps: frames per simulated second, in (0, 240].
+        size: (width, height) of the frames, pixels.
+        start_s: the first frame's time, s.
+        rollout: a Rollout with ``qpos`` to show instead; None: :func:`record`
+            one.
+        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
+        progress: show a progress bar while rendering.
+
+    Returns:
+        `path`, as given.
+
+    Raises:
+        ValueError: a file extension other than .mp4 or .gif, `fps` outside
+            (0, 240], a rollout without joint positions, or an error of
+            :func:`record` or :func:`video_times`.
+        RenderBackendError: no usable off-screen OpenGL library or context.
+    """
     _check_extension(path, VIDEO_EXTENSIONS)
     _check_fps(fps)
     if rollout is None:
@@ -332,7 +529,20 @@ def save_video(
 
 
 def save_image(fig_or_rgb, path: str) -> str:
-    """Write a Figure or an RGB array as an image file, atomically."""
+    """Write a Figure or an RGB array as an image file, atomically.
+
+    Args:
+        fig_or_rgb: a matplotlib Figure (``savefig``; PNGs without the
+            Software tag) or an (h, w, 3) uint8 ``numpy`` array (imageio).
+        path: the file; its extension (any case) among
+            :data:`IMAGE_EXTENSIONS` picks the format.
+
+    Returns:
+        `path`, as given.
+
+    Raises:
+        ValueError: an extension not in :data:`IMAGE_EXTENSIONS`.
+    """
     ext = _check_extension(path, IMAGE_EXTENSIONS)
     with atomic_path(path) as tmp:
         if isinstance(fig_or_rgb, np.ndarray):
@@ -366,7 +576,38 @@ def render_files(
     a still of the model at rest (`still`) of one design on one behaviour.
     Every input is checked before any work. settings: the run's time step,
     sensor timing and segment mass (:func:`record`); a convention given must be its own.
-    Returns the paths written."""
+    Returns the paths written.
+
+    Args:
+        design: a :class:`~mat_hopper.materials.LegDesign` or a design name.
+        behaviour: a behaviour name or :class:`~mat_hopper.behaviours.Behaviour`.
+        tiles: the gait-tile file (:func:`gait_tiles`, 8 frames from
+            start_s + tile_start_s); None: none.
+        video: the video file; None: none.
+        still: the still's file (:func:`render_still`, standing); None: none.
+        seconds: the video's length, simulated s (> 0); the run lasts
+            max(seconds, tile_start_s + 1) from `start_s`.
+        start_s: the video's start, simulated s (>= 0).
+        tile_start_s: the tiles' start after `start_s`, s (>= 0).
+        fps: the video's frames per simulated second, in (0, 240].
+        size: (width, height) of the video and the still, pixels.
+        convention: the stiffness convention (see :func:`record`).
+        backend: ``"osmesa"`` or ``"egl"`` (as ``MUJOCO_GL``); None:
+            :func:`choose_backend` from the environment.
+        log: called with one line of text: a note when the run diverged, and
+            the video's frame count.
+        settings: the run's :class:`~mat_hopper.sim.SimSettings`; None: the
+            defaults.
+
+    Returns:
+        The paths written, in the order still, tiles, video.
+
+    Raises:
+        ValueError: no output asked for, `fps` outside (0, 240], an
+            unsupported extension, `seconds` not > 0, `tile_start_s` not >= 0,
+            an unknown design or behaviour, or an error of :func:`record`.
+        RenderBackendError: no usable off-screen OpenGL library or context.
+    """
     if not tiles and not video and not still:
         raise ValueError("nothing to render: give tiles, video and/or still")
     fps = _check_fps(fps)

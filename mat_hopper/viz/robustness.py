@@ -32,7 +32,25 @@ def robustness_figure(table: pd.DataFrame, default: str = "authors"):
     variant. Cells show the value (%) coloured by its class against the
     default (light green keeps, orange moves > 2x, red flips, grey no
     value: a run diverged or fell). table: from
-    :func:`mat_hopper.analysis.robustness.robustness_table`."""
+    :func:`mat_hopper.analysis.robustness.robustness_table`.
+
+    Args:
+        table: one row per quantity and variant, columns ``variant``,
+            ``quantity_id`` (a row label), ``paper_pct`` (the paper's figure,
+            %; the first row of each quantity is used), ``value_pct`` (%) and
+            ``class`` (one of :data:`mat_hopper.analysis.robustness.CLASSES`;
+            anything else is drawn as no value).
+        default: the variant of the default settings, shown in its own
+            column (a dash where the table has none); the other variants follow
+            in table order.
+
+    Returns:
+        The ``matplotlib.figure.Figure``.
+
+    Raises:
+        ValueError: a required column is missing (named), or (pandas' pivot)
+            a quantity with two rows of one variant.
+    """
     need = ("variant", "quantity_id", "paper_pct", "value_pct", "class")
     missing = [c for c in need if c not in table.columns]
     if missing:

@@ -45,7 +45,22 @@ def choose_backend(env=None, find_library=ctypes.util.find_library) -> str:
     fallback), else $PYOPENGL_PLATFORM when it does; otherwise OSMesa if its
     library is there, else EGL (MUJOCO_GL=glfw, an on-screen window, is not
     used for off-screen work). Raises RenderBackendError naming the missing
-    libraries."""
+    libraries.
+
+    Args:
+        env: the environment read (a mapping of variable names to values);
+            None: ``os.environ``.
+        find_library: the library lookup, called with ``"OSMesa"`` or
+            ``"EGL"`` and returning None when absent (default
+            ``ctypes.util.find_library``; tests pass their own).
+
+    Returns:
+        ``"osmesa"`` or ``"egl"``.
+
+    Raises:
+        RenderBackendError: the asked backend's library is missing, or (none
+            asked) neither library is found.
+    """
     env = os.environ if env is None else env
     asked = env.get("MUJOCO_GL", "").strip().lower()
     if asked not in _LIBS:
@@ -92,7 +107,18 @@ def _gl_context_class(backend: str):
 
 
 def density_color(density_g_cm3: float) -> np.ndarray:
-    """RGBA of a density (g/cm^3) on the viridis scale over log density."""
+    """RGBA of a density (g/cm^3) on the viridis scale over log density.
+
+    Args:
+        density_g_cm3: the density, g/cm^3 (> 0); values outside
+            :data:`DENSITY_RANGE_G_CM3` take the scale's end colours.
+
+    Returns:
+        (4,) float array, RGBA in [0, 1].
+
+    Raises:
+        ValueError: a density <= 0 (``math.log``).
+    """
     from matplotlib import colormaps
 
     lo, hi = np.log(DENSITY_RANGE_G_CM3)
@@ -119,7 +145,27 @@ def render_spec(
 ) -> mujoco.MjSpec:
     """The simulation's spec, dressed for pictures: segment colours by
     density, a checker floor, sky, and markers along the desired path.
-    Joints are unchanged, so recorded qpos replays on it."""
+    Joints are unchanged, so recorded qpos replays on it.
+
+    Args:
+        design: the :class:`~mat_hopper.materials.LegDesign` (not a name).
+        behaviour: the :class:`~mat_hopper.behaviours.Behaviour`: its ramp
+            grade (None: flat) and its desired path.
+        convention: the stiffness convention of the model (as the rollout's,
+            so its qpos fits).
+        path_until_s: the path is marked from 0 to this simulated time, s:
+            markers 5 cm of path apart, or 0.5 s apart where that is longer
+            (one marker, at the start, for a path that does not move).
+        width: frame width, pixels; the off-screen buffer is at least 640.
+        height: frame height, pixels; the off-screen buffer is at least 480.
+
+    Returns:
+        The uncompiled ``mujoco.MjSpec`` (call ``compile()``).
+
+    Raises:
+        ValueError: a design that is not a LegDesign or an unknown convention
+            (:func:`mat_hopper.model.build_spec`).
+    """
     spec = build_spec(design, ramp_grade_deg=behaviour.ramp_grade_deg, convention=convention)
     # Segment colours glow a little (emission) so they read on a thin leg in shade.
     spec.add_material(name="segment", emission=0.35, specular=0.3)

@@ -87,17 +87,47 @@ def _new_figure(width_in: float, height_in: float) -> Figure:
 
 
 def design_colour(design: str, i: int = 0) -> str:
-    """The design's colour (fixed for the paper's designs)."""
+    """The design's colour (fixed for the paper's designs).
+
+    Args:
+        design: the design name.
+        i: index into the fallback colours, used for a design not in
+            :data:`DESIGN_COLOURS` (cycled).
+
+    Returns:
+        A hex colour string, e.g. ``"#0173b2"``.
+    """
     return DESIGN_COLOURS.get(design, _FALLBACK[i % len(_FALLBACK)])
 
 
 def design_label(design: str) -> str:
+    """The design's name as the figures print it (``rho-inc`` as ``ρ-inc``).
+
+    Args:
+        design: the design name.
+
+    Returns:
+        Its label in :data:`DESIGN_LABELS`, else the name itself.
+    """
     return DESIGN_LABELS.get(design, design)
 
 
 def metric_scale(metric: str, values=None) -> tuple[float, str]:
     """(factor, axis label with unit) for a metric: values times factor are
-    in the labelled unit; an SI prefix is chosen so typical values are >= 1."""
+    in the labelled unit; an SI prefix is chosen so typical values are >= 1.
+
+    Args:
+        metric: the metric column; those of :data:`METRIC_INFO` get a label and
+            unit, any other is its own label.
+        values: the metric's values (array-like, SI), whose median magnitude
+            (finite, non-zero values) picks the prefix (none, m or µ); None:
+            no prefix. Only the metrics of :data:`METRIC_INFO` allowing
+            prefixes take one.
+
+    Returns:
+        (factor, label): the multiplier (1, 1e3 or 1e6) and the axis label,
+        e.g. ``(1000.0, "Tracking error (mm)")``.
+    """
     label, unit, prefixes = METRIC_INFO.get(metric, (metric, "", False))
     factor, prefix = 1.0, ""
     if prefixes and values is not None:
@@ -119,7 +149,12 @@ def _panel_label(ax, letter: str):
 def plain_log_ticks(axis) -> None:
     """Plain-number tick labels (0.5, 1, 2, 5, 10, ...) on a log axis
     (an ``ax.xaxis``, ``ax.yaxis`` or a colorbar's ``cb.ax.yaxis``); 1-2-5
-    steps when the axis spans fewer than three decades."""
+    steps when the axis spans fewer than three decades.
+
+    Args:
+        axis: the matplotlib ``Axis``, already on a log scale with its view
+            limits set (they choose the steps).
+    """
     lo, hi = sorted(abs(v) for v in axis.get_view_interval())
     decades = math.log10(hi / lo) if lo > 0 and hi > 0 else 10.0
     subs = (1.0, 2.0, 5.0) if decades < 3 else (1.0,)
@@ -149,7 +184,23 @@ def save_figure(fig: Figure, path_stem, *, formats=("png", "svg"), dpi: int = DP
     """Write `fig` as ``<path_stem>.png`` and ``<path_stem>.svg`` (folders
     made as needed), each atomically: a temp file in the same folder, then
     ``os.replace``. Metadata carry no date, so the same figure gives the
-    same files. Returns the paths written."""
+    same files. Returns the paths written.
+
+    Args:
+        fig: the ``matplotlib.figure.Figure``.
+        path_stem: the file path without extension (str or path); a
+            ``.png``, ``.svg`` or ``.pdf`` suffix is dropped.
+        formats: the formats written, in order, among ``"png"``, ``"svg"``
+            and ``"pdf"``.
+        dpi: resolution, dots per inch.
+
+    Returns:
+        The paths written, ``<path_stem>.<format>`` per format.
+
+    Raises:
+        ValueError: a format not among png, svg, pdf (the formats before it
+            in `formats` are written already).
+    """
     stem = Path(path_stem)
     if stem.suffix.lower() in (".png", ".svg", ".pdf"):
         stem = stem.with_suffix("")

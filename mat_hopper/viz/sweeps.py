@@ -49,7 +49,28 @@ def figure4_sweeps(
     (Mann-Whitney U on hop cycles, Holm over all points): filled markers
     differ significantly, open ones do not. runs: the run summaries of
     experiment 2: points whose run diverged, fell or failed are left out of
-    the lines and marked with a cross on the axis."""
+    the lines and marked with a cross on the axis.
+
+    Args:
+        hops: per-hop table with columns ``sweep_base``, ``sweep_property``
+            (``"density"`` or ``"modulus"``), ``density_g_cm3``,
+            ``modulus_gpa`` and `metric` (optionally ``replicate``: only the
+            unperturbed run's cycles are drawn where present).
+        baseline_hops: per-hop rows holding the `baseline` design (column
+            ``design``); None: no baseline line and no test (every marker
+            filled).
+        metric: the metric column drawn (SI; scaled by :func:`metric_scale`).
+        baseline: the design name taken from `baseline_hops`.
+        alpha: significance level of the Holm-adjusted p.
+        runs: run summaries of experiment 2; None: no run is left out.
+
+    Returns:
+        The ``matplotlib.figure.Figure`` (panels D and E).
+
+    Raises:
+        ValueError: `hops` lacks a required column, or (with baseline hops)
+            `alpha` not in (0, 1) (:func:`mat_hopper.metrics.compare`).
+    """
     _require(hops, ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa", metric), "figure4_sweeps")
     table, bad, baseline_hops = _sweep_table(hops, baseline_hops, runs, metric)
     base, significant = _against_baseline(table, baseline_hops, baseline, metric, alpha)
