@@ -148,26 +148,7 @@ def reproduce(
     )
     with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as runner:
         for name in names:
-            t0 = time.perf_counter()
-            res = runner.run(tasks[name], desc=name)
-            wall = time.perf_counter() - t0
-            rep.wall_s[name] = wall
-            rep.failed[name] = res.n_failed
-            rep.computed[name] = res.n_computed
-            made = _tables_of(name, res)
-            for tname, frame in made.items():
-                path = os.path.join(out_dir, f"{tname}.csv")
-                write_csv(frame, path)
-                rep.tables[tname] = frame
-                rep.files.append(path)
-            log(
-                f"{name}: {res.n_tasks} tasks ({res.n_unique} unique): {res.n_cached} cached, "
-                f"{res.n_computed - res.n_failed} computed, {res.n_failed} failed in {wall:.1f} s wall"
-            )
-            if res.n_failed:
-                bad = res.summary[res.summary["status"] == "failed"]
-                for row in bad.head(5).itertuples():
-                    log(f"  failed: {row.design} {getattr(row, 'behaviour', '')}: {row.error}")
+            _run_experiment(runner, name, tasks[name], rep, log)
     if "stability_agreement" in rep.tables:
         _log_agreement(rep.tables["stability_agreement"], log)
     if figures:
@@ -175,6 +156,30 @@ def reproduce(
         rep.files += _figures_and_claims(rep, log)
         rep.wall_s["figures"] = time.perf_counter() - t0
     return rep
+
+
+def _run_experiment(runner, name: str, tasks, rep: Reproduction, log) -> None:
+    """Run one experiment's tasks, write its tables into ``rep.out_dir`` and
+    record them, its wall time and its counts in `rep` (reproduce's steps)."""
+    t0 = time.perf_counter()
+    res = runner.run(tasks, desc=name)
+    wall = time.perf_counter() - t0
+    rep.wall_s[name] = wall
+    rep.failed[name] = res.n_failed
+    rep.computed[name] = res.n_computed
+    for tname, frame in _tables_of(name, res).items():
+        path = os.path.join(rep.out_dir, f"{tname}.csv")
+        write_csv(frame, path)
+        rep.tables[tname] = frame
+        rep.files.append(path)
+    log(
+        f"{name}: {res.n_tasks} tasks ({res.n_unique} unique): {res.n_cached} cached, "
+        f"{res.n_computed - res.n_failed} computed, {res.n_failed} failed in {wall:.1f} s wall"
+    )
+    if res.n_failed:
+        bad = res.summary[res.summary["status"] == "failed"]
+        for row in bad.head(5).itertuples():
+            log(f"  failed: {row.design} {getattr(row, 'behaviour', '')}: {row.error}")
 
 
 def _tasks(prof, names, conventions, replicates) -> dict:

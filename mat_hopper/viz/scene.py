@@ -221,6 +221,13 @@ def render_spec(
     ground.material, ground.rgba, ground.size = "floor", [1, 1, 1, 1], [8, 8, 0.1]
     if behaviour.ramp_grade_deg is not None:
         spec.geom("ramp").rgba = [0.5, 0.62, 0.8, 1]
+    _add_path_markers(spec, behaviour, path_until_s)
+    return spec
+
+
+def _add_path_markers(spec: mujoco.MjSpec, behaviour: Behaviour, path_until_s: float) -> None:
+    """Mark `behaviour`'s desired path on `spec` from 0 to `path_until_s`
+    (render_spec's Args)."""
     # The desired path: small flat discs every 5 cm of path (or 0.5 s).
     ts = np.arange(
         0.0, path_until_s, max(0.05 / max(behaviour.speed_m_s, 1e-9), 0.5) if behaviour.speed_m_s > 0 else path_until_s
@@ -238,7 +245,6 @@ def render_spec(
             conaffinity=0,
             mass=0,
         )
-    return spec
 
 
 @dataclass
