@@ -197,6 +197,32 @@ def single(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> t
         trials += more
 
 
+def stored(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> tuple[optuna.Study, float]:
+    """A study an earlier run of this benchmark stored (``--validate-only``):
+    loaded, not searched further.
+
+    Args:
+        config: the study (K replicates: racing; 0: single draws).
+        url: its storage.
+        seed, budget_s: unused (the signature of :func:`race` and :func:`single`).
+        args: the command line (unused).
+
+    Returns:
+        (study, simulated s it spent, counted as :func:`race` or :func:`single` counts).
+
+    Raises:
+        ValueError: no such study in the storage.
+    """
+    try:
+        study = optuna.load_study(study_name=config.name, storage=url)
+    except KeyError as e:  # Optuna's error for a missing study
+        raise ValueError(f"--validate-only: no study {config.name!r} in {url}") from e
+    if config.objective.replicates:
+        return study, simulated_seconds(study, default_racing(config.objective))["simulated_s"]
+    finished = [t for t in study.get_trials(deepcopy=False) if t.state.is_finished()]
+    return study, sum((t.user_attrs.get("result") or {}).get("simulated_s", 0.0) for t in finished)
+
+
 def front_of(study: optuna.Study, config: StudyConfig, label: str) -> dict:
     """The study's front.
 
@@ -237,7 +263,8 @@ def one_seed(seed: int, args, folder: str) -> list[dict]:
         config = StudyConfig(f"{study_kind}-s{seed}", SearchSpace(), objective_of(args, reps))
         url = f"sqlite:///{os.path.join(folder, config.name)}.db"
         t0 = time.perf_counter()
-        study, spent = (race if study_kind == "racing" else single)(config, url, seed, budget, args)
+        search = stored if args.validate_only else race if study_kind == "racing" else single
+        study, spent = search(config, url, seed, budget, args)
         if study_kind == "racing":
             budget = spent  # the single-draw study gets what racing spent
         t1 = time.perf_counter()
@@ -325,11 +352,15 @@ def parse_args(argv=None) -> argparse.Namespace:
     ap.add_argument("--cache", help="result cache (default $MAT_HOPPER_CACHE, else results/cache)")
     ap.add_argument("--studies-dir", help="where the studies' SQLite files go (default a temporary folder)")
     ap.add_argument("--csv", help="write the table here")
+    ap.add_argument("--validate-only", action="store_true",
+                    help="re-validate the studies stored in --studies-dir by an earlier run; search nothing")  # fmt: skip
     args = ap.parse_args(argv)
     text = args.seeds.strip()
     args.seed_list = list(range(int(text))) if text.isdigit() else [int(s) for s in text.split(",") if s.strip()]
     if not args.seed_list or args.budget_s <= 0:
         ap.error("give --seeds >= 1 and --budget-s > 0")
+    if args.validate_only and not (args.studies_dir and os.path.isdir(args.studies_dir)):
+        ap.error("--validate-only needs --studies-dir, an existing folder of an earlier run's studies")
     objective_of(args, args.replicates)  # bad settings fail here, before any run
     return args
 

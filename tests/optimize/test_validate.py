@@ -92,6 +92,41 @@ def test_a_gradient_against_the_homogeneous_legs_of_its_mass():
     assert beats(t, "f", "homogeneous") == "worse"
 
 
+def test_the_benchmarks_full_comparator_set_is_testable_at_ten_seeds():
+    """The racing benchmark's NaN surviving fraction: a front design meets
+    the 9 paper designs, 2 controls and 4 homogeneous legs on 2 objectives,
+    30 comparisons. In one Holm family 30 x 2 / 2^10 = 0.059 > 0.05 (by
+    hand): nothing testable. Per question, the paper family is 18 x 2 / 2^10
+    = 0.035 < 0.05 and each control family smaller: all testable."""
+    legs = {("front", "f"): (1.0, 1.0)}
+    legs.update({("paper", f"P{k}"): (0.5 if k == 0 else 2.0, 1.0) for k in range(9)})  # P0 dominates f
+    legs.update({("control", "f~mass"): (1.2, 1.0), ("control", "f~rigid"): (1.0, 1.0)})
+    legs.update({("control", f"f~homogeneous E={e}"): (1.3, 1.3) for e in (1, 10, 100, 1000)})
+    runs = _runs(legs, 10)
+    t = paired_table(runs, OB)
+    assert len(t) == 30 and t["testable"].all()
+    assert t.groupby("kind").size().to_dict() == {"homogeneous": 8, "mass-matched": 2, "paper": 18, "rigid twin": 2}
+    v = verdicts(runs, t).set_index("design")
+    assert v.loc["f", "survives"] == False  # noqa: E712 (P0 dominates it: a verdict, not "untestable")
+    assert v.loc["f", "dominated by"] == "P0"
+    assert beats(t, "f", "homogeneous") == "yes"
+
+
+def test_survival_is_judged_on_the_paper_family_alone():
+    """A homogeneous comparator that fell on 7 of 10 seeds leaves 3 pairs:
+    its family cannot be tested (2 / 2^3 = 0.25), but survival asks only
+    about the paper's designs, whose 10 pairs can: f's verdict stands."""
+    legs = {**LEGS, ("control", "f~homogeneous E=1"): (1.3, 1.3)}
+    runs = _runs(legs, 10)
+    runs = runs[~((runs["design"] == "f~homogeneous E=1") & (runs["replicate"] >= 3))]
+    t = paired_table(runs, OB)
+    assert not t.loc[t["kind"] == "homogeneous", "testable"].any()
+    assert t.loc[t["kind"] == "paper", "testable"].all()
+    v = verdicts(runs, t).set_index("design")
+    assert v.loc["f", "survives"] == False  # noqa: E712 (A dominates it), not "untestable"
+    assert beats(t, "f", "homogeneous") == "untestable"
+
+
 def test_three_seeds_test_nothing():
     # 2 / 2^3 x 8 = 2: no comparison can be significant, so survival is untestable, not granted
     runs = _runs(LEGS, 3)
