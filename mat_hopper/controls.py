@@ -54,6 +54,7 @@ from .materials import (
     Material,
     check_segment_mass,
 )
+from .parsing import parse_name
 
 CONTROLS = ("rigid", "mass", "inertia")
 CONTROL_SUFFIX = "~"  # a control's name: "<design>~<control>", e.g. "rho-inc~mass"
@@ -251,22 +252,39 @@ def inertia_matched(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS)
 _BUILDERS = {"rigid": rigid_twin, "mass": mass_matched, "inertia": inertia_matched}
 
 
+def check_control(kind: str) -> str:
+    """The control kind named (case-insensitive, blanks trimmed;
+    :func:`mat_hopper.parsing.parse_name`), as spelled in :data:`CONTROLS`.
+
+    Args:
+        kind: ``"rigid"``, ``"mass"`` or ``"inertia"``, any case.
+
+    Returns:
+        The kind as spelled in :data:`CONTROLS` (``"Mass"`` gives ``"mass"``).
+
+    Raises:
+        ValueError: an empty name or one not in :data:`CONTROLS` (the
+            message lists them).
+    """
+    return parse_name(kind, CONTROLS, "control")
+
+
 def control(design: LegDesign, kind: str, segment_mass: str = DEFAULT_SEGMENT_MASS) -> LegDesign:
     """The control of one kind (``rigid``, ``mass`` or ``inertia``) for a design.
 
     Args:
         design: the leg.
-        kind: one of :data:`CONTROLS`.
+        kind: one of :data:`CONTROLS`, any case (:func:`check_control`).
         segment_mass: the segment-mass convention (matters for ``inertia``).
 
     Returns:
-        LegDesign of the control.
+        LegDesign of the control, named ``<design>~<kind>`` with the kind
+        as spelled in :data:`CONTROLS`.
 
     Raises:
         ValueError: unknown kind, or as the builder raises.
     """
-    if kind not in _BUILDERS:
-        raise ValueError(f"control must be one of {', '.join(CONTROLS)}, got {kind!r}")
+    kind = check_control(kind)
     if kind == "inertia":
         return inertia_matched(design, segment_mass)
     return _BUILDERS[kind](design)

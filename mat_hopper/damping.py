@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 
 from .materials import Material
+from .parsing import parse_name
 
 # How the material springs dissipate (one named setting, SimSettings.damping):
 # "authors": every joint 1 N s/m (or N m s/rad), the authors' file;
@@ -37,20 +38,21 @@ LOSS_FACTORS = {
 
 
 def check_damping(damping: str) -> str:
-    """The damping setting, checked against :data:`DAMPINGS` (exact spelling).
+    """The damping setting named (case-insensitive, blanks trimmed;
+    :func:`mat_hopper.parsing.parse_name`), as spelled in :data:`DAMPINGS`.
 
     Args:
-        damping: ``"authors"`` or ``"loss-factor"``.
+        damping: ``"authors"`` or ``"loss-factor"``, any case.
 
     Returns:
-        `damping` unchanged.
+        The name as spelled in :data:`DAMPINGS` (``"Loss-Factor"`` gives
+        ``"loss-factor"``).
 
     Raises:
-        ValueError: a name not in :data:`DAMPINGS` (the message lists them).
+        ValueError: an empty name or one not in :data:`DAMPINGS` (the
+            message lists them).
     """
-    if damping not in DAMPINGS:
-        raise ValueError(f"unknown damping {damping!r}; accepted: {', '.join(DAMPINGS)}")
-    return damping
+    return parse_name(damping, DAMPINGS, "damping")
 
 
 def loss_factor_class(mat: Material) -> str:

@@ -36,6 +36,7 @@ from .materials import (
     second_moment_m4,
     spring_stiffness,
 )
+from .parsing import parse_name
 
 BASE_JOINTS = ("base_x", "base_y", "base_z", "base_roll", "base_pitch", "base_yaw")
 HIP_JOINTS = ("hip_y", "hip_x")
@@ -223,6 +224,24 @@ def _slide(body, name, stiffness, damping, *, limit=None):
     return j
 
 
+def check_sensors(sensors: str) -> str:
+    """The sensor set named (case-insensitive, blanks trimmed;
+    :func:`mat_hopper.parsing.parse_name`), as spelled in :data:`SENSOR_SETS`.
+
+    Args:
+        sensors: ``"all"`` or ``"control"``, any case.
+
+    Returns:
+        The name as spelled in :data:`SENSOR_SETS` (``"Control"`` gives
+        ``"control"``).
+
+    Raises:
+        ValueError: an empty name or one not in :data:`SENSOR_SETS` (the
+            message lists them).
+    """
+    return parse_name(sensors, SENSOR_SETS, "sensors")
+
+
 def build_spec(
     design: LegDesign,
     *,
@@ -252,7 +271,8 @@ def build_spec(
             paper's).
         convention: the stiffness convention (``paper``, ``axial``,
             ``bending``, ``axial+bending``; any case; default ``paper``).
-        sensors: ``"all"`` (default) or ``"control"``, exact spelling.
+        sensors: ``"all"`` (default) or ``"control"``, any case
+            (:func:`check_sensors`).
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
 
     Returns:
@@ -266,8 +286,7 @@ def build_spec(
     """
     if not isinstance(design, LegDesign):
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
-    if sensors not in SENSOR_SETS:
-        raise ValueError(f"sensors must be one of {sorted(SENSOR_SETS)}, got {sensors!r}")
+    sensors = check_sensors(sensors)
     convention = check_convention(convention)
     segment_mass = check_segment_mass(segment_mass)
     dt = check_timestep(timestep_s)
@@ -545,14 +564,16 @@ def build_model(
             pitch, deg.
         timestep_s: the physics step, s, in (0, 0.1] (default 1e-4).
         convention: the stiffness convention, any case (default ``paper``).
-        sensors: ``"all"`` (default) or ``"control"``.
+        sensors: ``"all"`` (default) or ``"control"``, any case.
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
-        damping: ``"authors"`` (default) or ``"loss-factor"``, exact
-            spelling (:data:`mat_hopper.damping.DAMPINGS`).
+        damping: ``"authors"`` (default) or ``"loss-factor"``, any case
+            (:func:`mat_hopper.damping.check_damping`).
 
     Returns:
         The :class:`HopperModel`: the compiled ``MjModel``, the arguments
-        (``convention`` and ``segment_mass`` as passed), its :class:`Layout`,
+        (the names ``convention``, ``sensors``, ``segment_mass`` and
+        ``damping`` in their canonical spelling, e.g. ``"Bending"`` as
+        ``"bending"``), its :class:`Layout`,
         and per segment the axial spring stiffness (N/m) and each bending
         hinge's stiffness (N m/rad), 0.0 for a rigid segment or where the
         convention has no such spring.
@@ -561,7 +582,10 @@ def build_model(
         ValueError: an unknown damping, or any argument :func:`build_spec`
             refuses.
     """
-    check_damping(damping)
+    damping = check_damping(damping)
+    convention = check_convention(convention)
+    segment_mass = check_segment_mass(segment_mass)
+    sensors = check_sensors(sensors)
     spec = build_spec(
         design,
         ramp_grade_deg=ramp_grade_deg,

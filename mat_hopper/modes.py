@@ -47,6 +47,7 @@ import scipy.optimize
 from . import reference as ref
 from .control import DEFAULT_SENSOR_TIMING, SensorTiming
 from .materials import (
+    AXIAL_CONVENTIONS,
     BENDING_CONVENTIONS,
     DEFAULT_CONVENTION,
     DEFAULT_SEGMENT_MASS,
@@ -196,9 +197,9 @@ def controller_timestep(
 
     Args:
         design: the :class:`~mat_hopper.materials.LegDesign`.
-        convention: the stiffness convention (default ``paper``); the hip
-            flight limit is added only when it is spelled as in
-            :data:`mat_hopper.materials.BENDING_CONVENTIONS`.
+        convention: the stiffness convention, any case (default
+            ``paper``); under ``bending`` or ``axial+bending`` the hip flight
+            limit is added.
         stance_kd: the stance attitude D gain, per rad/s before the gear
             (default the reference's, 1).
         gear: the hip actuators' gear (default 600).
@@ -210,9 +211,10 @@ def controller_timestep(
         The control-period limit, s.
 
     Raises:
-        ValueError: an unknown sensor timing, or an argument
+        ValueError: an unknown convention or sensor timing, or an argument
             :func:`mat_hopper.model.build_model` refuses.
     """
+    convention = check_convention(convention)
     m = build_model(design, convention=convention).model
     b = m.body("base").id
     rot = np.zeros(9)
@@ -244,9 +246,9 @@ def hip_flight_timestep(
 
     Args:
         design: the :class:`~mat_hopper.materials.LegDesign`.
-        convention: the stiffness convention the model is built with
-            (default ``"bending"``); with no bending hinges I is the hip_y
-            dof's own 1 / (M^-1)_hh.
+        convention: the stiffness convention the model is built with, any
+            case (default ``"bending"``); with no bending hinges I is the
+            hip_y dof's own 1 / (M^-1)_hh.
         flight_kd: the flight PD's D gain, per rad/s before the gear; None
             (default) takes :class:`mat_hopper.control.ControllerSettings`'s
             ``flight_kd`` (0.1).
@@ -313,7 +315,7 @@ def model_frequencies(
         ValueError: an unknown convention, or an argument
             :func:`mat_hopper.model.build_model` refuses.
     """
-    check_convention(convention)
+    convention = check_convention(convention)
     return _sprung_eig(build_model(design, convention=convention, segment_mass=segment_mass).model)
 
 
@@ -327,9 +329,9 @@ def estimate_timestep(
 
     Args:
         design: the :class:`~mat_hopper.materials.LegDesign`.
-        convention: the stiffness convention (default ``paper``); the whole
-            model is used only when it is spelled as in
-            :data:`mat_hopper.materials.BENDING_CONVENTIONS`.
+        convention: the stiffness convention, any case (default
+            ``paper``); the whole model is used under ``bending`` and
+            ``axial+bending``.
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
 
     Returns:
@@ -337,12 +339,10 @@ def estimate_timestep(
         explicit bound 2 / w_max, s.
 
     Raises:
-        ValueError: an unknown convention, a bending one not spelled as in
-            :data:`~mat_hopper.materials.BENDING_CONVENTIONS` (refused by
-            :func:`leg_chain`), or an argument
+        ValueError: an unknown convention, or an argument
             :func:`mat_hopper.model.build_model` refuses.
     """
-    check_convention(convention)
+    convention = check_convention(convention)
     if convention in BENDING_CONVENTIONS:
         w = float(model_frequencies(design, convention, segment_mass).max())
     else:
@@ -371,7 +371,7 @@ def auto_control_period(
 
     Args:
         design: the leg.
-        convention: the stiffness convention.
+        convention: the stiffness convention, any case.
         sensor_timing: the controller's sensor timing (its latency shrinks
             the stance limit, :func:`delayed_damping_factor`).
         control_period_s: the authors' period, s.
@@ -404,8 +404,8 @@ def auto_substeps(
 
     Args:
         design: the :class:`~mat_hopper.materials.LegDesign`.
-        convention: the stiffness convention (default ``paper``).
-        segment_mass: ``"leg"`` (default) or ``"capsule"``.
+        convention: the stiffness convention, any case (default ``paper``).
+        segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
         control_period_s: the control period, s; None (default) takes
             :func:`auto_control_period`'s.
         safety: the fraction of each explicit bound a step may reach
@@ -467,8 +467,9 @@ def axial_modes(
     Args:
         design: a leg of one elastic material (every segment the same
             density and modulus).
-        convention: the stiffness convention with axial slides (default
-            ``"axial"``; ``"paper"`` as above).
+        convention: the stiffness convention with axial slides, any case
+            (default ``"axial"``; ``"paper"`` as above; ``"axial+bending"``
+            reads its slides; ``"bending"``, which has none, is refused).
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
         n_modes: how many modes to compare (default 5).
 
@@ -478,11 +479,16 @@ def axial_modes(
         and rod_hz (Hz), error_pct (100 (chain / rod - 1), %).
 
     Raises:
-        ValueError: a graded or rigid design, or an argument
+        ValueError: an unknown convention, the ``bending`` convention (its
+            model has no axial slides ``mat_spring_i`` to read), a graded or
+            rigid design, or an argument
             :func:`mat_hopper.model.build_model` refuses.
-        KeyError: the ``bending`` convention (its model has no axial slides
-            ``mat_spring_i`` to read).
     """
+    convention = check_convention(convention)
+    if convention not in AXIAL_CONVENTIONS:
+        raise ValueError(
+            f"axial modes need a convention with axial slides ({', '.join(AXIAL_CONVENTIONS)}), got {convention!r}"
+        )
     mats = set(design.segments)
     if len({(m.density_g_cm3, m.modulus_gpa) for m in mats}) != 1 or design.segments[0].rigid:
         raise ValueError(
@@ -552,8 +558,8 @@ def bending_modes(
     Args:
         design: a leg of one elastic material (every segment the same
             density and modulus).
-        convention: ``"bending"`` (default) or ``"axial+bending"``, exact
-            spelling.
+        convention: ``"bending"`` (default) or ``"axial+bending"``, any
+            case.
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
         n_modes: how many modes to compare (default 5).
 
@@ -564,11 +570,12 @@ def bending_modes(
         (100 (chain / beam - 1), %).
 
     Raises:
-        ValueError: a convention not in
+        ValueError: an unknown convention or one not in
             :data:`~mat_hopper.materials.BENDING_CONVENTIONS`, a graded or
             rigid design, or an argument :func:`mat_hopper.model.build_spec`
             refuses.
     """
+    convention = check_convention(convention)
     if convention not in BENDING_CONVENTIONS:
         raise ValueError(
             f"bending modes need a bending convention ({', '.join(BENDING_CONVENTIONS)}), got {convention!r}"

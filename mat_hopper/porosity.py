@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 from .materials import Material
+from .parsing import parse_name
 
 
 def _positive(value, field: str) -> float:
@@ -33,21 +34,22 @@ GIBSON_ASHBY_EXPONENT = 2.0
 
 
 def check_porosity_model(porosity_model: str) -> str:
-    """The porosity model, checked against :data:`POROSITY_MODELS` (exact spelling).
+    """The porosity model named (case-insensitive, blanks trimmed;
+    :func:`mat_hopper.parsing.parse_name`), as spelled in
+    :data:`POROSITY_MODELS`.
 
     Args:
-        porosity_model: ``"independent"`` or ``"gibson-ashby"``.
+        porosity_model: ``"independent"`` or ``"gibson-ashby"``, any case.
 
     Returns:
-        `porosity_model` unchanged.
+        The name as spelled in :data:`POROSITY_MODELS` (``"Gibson-Ashby"``
+        gives ``"gibson-ashby"``).
 
     Raises:
-        ValueError: a name not in :data:`POROSITY_MODELS` (the message lists
-            them).
+        ValueError: an empty name or one not in :data:`POROSITY_MODELS` (the
+            message lists them).
     """
-    if porosity_model not in POROSITY_MODELS:
-        raise ValueError(f"unknown porosity_model {porosity_model!r}; accepted: {', '.join(POROSITY_MODELS)}")
-    return porosity_model
+    return parse_name(porosity_model, POROSITY_MODELS, "porosity_model")
 
 
 def gibson_ashby_modulus(solid_modulus_gpa: float, relative_density: float, n: float = GIBSON_ASHBY_EXPONENT) -> float:
@@ -86,7 +88,7 @@ def porous_modulus(solid: Material, density_g_cm3: float, porosity_model: str = 
         density_g_cm3: the porous version's density, g/cm^3 (read only
             under ``gibson-ashby``, below the solid's).
         porosity_model: ``"independent"`` (default) or ``"gibson-ashby"``,
-            exact spelling.
+            any case (:func:`check_porosity_model`).
 
     Returns:
         The modulus, GPa; None for a rigid solid (modulus None).
@@ -96,7 +98,7 @@ def porous_modulus(solid: Material, density_g_cm3: float, porosity_model: str = 
             density that is not a finite number > 0 (from
             :func:`gibson_ashby_modulus`).
     """
-    check_porosity_model(porosity_model)
+    porosity_model = check_porosity_model(porosity_model)
     if solid.rigid or porosity_model == "independent" or density_g_cm3 >= solid.density_g_cm3:
         return solid.modulus_gpa
     return gibson_ashby_modulus(solid.modulus_gpa, density_g_cm3 / solid.density_g_cm3)

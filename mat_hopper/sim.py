@@ -179,7 +179,8 @@ class SimSettings:
             by :func:`sim_settings` (:func:`resolve_timestep`), not here.
         transient_s: hop cycles starting before it are not scored, s.
         convention: modulus-to-stiffness convention, one of ``materials.CONVENTIONS``:
-            ``"paper"``, ``"axial"``, ``"bending"``, ``"axial+bending"``.
+            ``"paper"``, ``"axial"``, ``"bending"``, ``"axial+bending"``;
+            any case, stored as spelled there.
         record_rate_hz: recorded samples per simulated second, Hz.
         controller: the controller's gains.
         perturbation: seeded disturbances, or None.
@@ -189,14 +190,16 @@ class SimSettings:
             physics step old), ``"fresh"``, ``"latency-L"`` or an integer L.
         segment_mass: ``"leg"`` (default: mass independent of the number
             of segments, the authors' model at N = 3) or ``"capsule"`` (the
-            authors' per-capsule density at any N; :mod:`mat_hopper.materials`).
+            authors' per-capsule density at any N; :mod:`mat_hopper.materials`);
+            any case, stored as spelled there.
         substeps: physics steps per control period, an integer in [1, 1000];
             the controller runs every ``substeps`` steps, i.e. with period
             :attr:`control_period_s` (1 by default: every step, as the
             authors' loop).
         damping: how the material springs dissipate, ``"authors"``
             (default: 1 N s/m, the authors' file) or ``"loss-factor"`` (each
-            material's loss factor, :data:`mat_hopper.damping.LOSS_FACTORS`).
+            material's loss factor, :data:`mat_hopper.damping.LOSS_FACTORS`);
+            any case, stored as spelled in :data:`mat_hopper.damping.DAMPINGS`.
 
     Raises:
         ValueError: on any invalid value, naming the field.
@@ -219,7 +222,7 @@ class SimSettings:
         _check_substeps(self.substeps)
         object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
         object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
-        check_damping(self.damping)
+        object.__setattr__(self, "damping", check_damping(self.damping))
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -527,15 +530,15 @@ def simulate(
         transient_s: hop cycles starting before it are not scored, s (the
             run must outlast it).
         convention: ``"paper"``, ``"axial"``, ``"bending"`` or
-            ``"axial+bending"`` (:data:`mat_hopper.materials.CONVENTIONS`).
-        sensor_timing: ``"authors"``, ``"fresh"``, ``"latency-L"`` or an
-            integer latency in physics steps.
+            ``"axial+bending"``, any case (:data:`mat_hopper.materials.CONVENTIONS`).
+        sensor_timing: ``"authors"``, ``"fresh"``, ``"latency-L"`` (any
+            case) or an integer latency in physics steps.
         controller: the controller's gains (ControllerSettings).
         record_rate_hz: samples per simulated second, Hz (1 kHz).
         perturbation: seeded disturbances for replicates.
-        segment_mass: ``"leg"`` or ``"capsule"``.
+        segment_mass: ``"leg"`` or ``"capsule"``, any case.
         substeps: physics steps per control period (not with ``"auto"``).
-        damping: ``"authors"`` (1 N s/m) or ``"loss-factor"``
+        damping: ``"authors"`` (1 N s/m) or ``"loss-factor"``, any case
             (:mod:`mat_hopper.damping`).
         record_qpos: also keep all joint positions (``Rollout.qpos``, (n, nq)) for rendering.
         settings: a SimSettings giving all of the settings at once; then no

@@ -65,6 +65,7 @@ from . import reference as ref
 from .keys import design_key, hash_key, versions
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
 from .modes import controller_timestep, delayed_damping_factor, estimate_timestep, leg_chain, spring_chain_wmax
+from .parsing import parse_name
 
 # The analytic bounds live in mat_hopper.modes (pure physics, no runner);
 # re-exported here where the measured ones are.
@@ -114,7 +115,7 @@ def try_timestep(
             :func:`mat_hopper.sim.simulate` reads it).
         timestep_s: the physics step to try, s.
         duration_s: simulated seconds of static hopping (2 s, the reference's).
-        convention: the stiffness convention (default ``paper``).
+        convention: the stiffness convention, any case (default ``paper``).
 
     Returns:
         dict: dt_s (float, s), stable (bool), upright (bool), diverged_at_s
@@ -198,11 +199,12 @@ def largest_stable_timestep(
             factor (> 1).
         max_iter: most bisection tries (>= 0).
         duration_s: simulated seconds of static hopping per try.
-        convention: the stiffness convention.
+        convention: the stiffness convention, any case.
         tries: a list to append every try to (the dicts of
             :func:`try_timestep` with ``method`` ``"bracket"`` or ``"bisect"``);
             None keeps them nowhere.
-        bracket: ``"analytic"`` or ``"ladder"``.
+        bracket: ``"analytic"`` or ``"ladder"``, any case
+            (:func:`mat_hopper.parsing.parse_name`).
 
     Returns:
         (dt_stable_s, dt_unstable_s), s; either may be nan as above.
@@ -212,8 +214,8 @@ def largest_stable_timestep(
             max_iter < 0, an unknown bracket, or invalid try settings.
     """
     _check_range(dt_min, dt_max, tolerance, max_iter)
-    if bracket not in BRACKETS:
-        raise ValueError(f"bracket must be one of {', '.join(BRACKETS)}, got {bracket!r}")
+    bracket = parse_name(bracket, BRACKETS, "bracket")
+    convention = check_convention(convention)
     tries = [] if tries is None else tries
 
     def ok(dt, method):
@@ -354,7 +356,8 @@ class StabilitySpec:
 
     duration_s of static hopping per try; bisection in [dt_min, dt_max] s
     to `tolerance` in at most `max_iter` tries; `scan`: also run the reference (docs/reference-hopper.md)
-    20-step protocol."""
+    20-step protocol. `convention` and `bracket` are names, any case, stored
+    (and keyed) in their canonical spelling."""
 
     design: LegDesign
     duration_s: float = ref.STABILITY_TEST_DURATION_S
@@ -374,6 +377,7 @@ class StabilitySpec:
         if not self.duration_s > 0:
             raise ValueError(f"duration_s must be > 0 s, got {self.duration_s!r}")
         object.__setattr__(self, "convention", check_convention(self.convention))
+        object.__setattr__(self, "bracket", parse_name(self.bracket, BRACKETS, "bracket"))
 
     def key_dict(self) -> dict:
         return {

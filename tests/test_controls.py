@@ -131,7 +131,7 @@ def test_names_and_errors():
     assert [control(d, k).name for k in CONTROLS] == ["rho-inc~rigid", "rho-inc~mass", "rho-inc~inertia"]
     assert control_kind("rho-inc~mass") == "mass" and control_kind("SS") is None
     assert control_of("rho-inc~mass") == "rho-inc" and control_of("SS") == "SS"
-    with pytest.raises(ValueError, match="control must be one of"):
+    with pytest.raises(ValueError, match="unknown control 'stiff'; accepted: rigid, mass, inertia"):
         control(d, "stiff")
     with pytest.raises(ValueError, match="design must be a LegDesign"):
         rigid_twin("SS")
@@ -159,3 +159,12 @@ def test_the_design_itself_is_found_by_its_physics_key():
     assert _is_own_mass_leg("SS") and not _is_own_mass_leg("rho-inc")
     # rho-dec and rho-inc have other centres of mass but neither is its own mass-matched leg
     assert not _is_own_mass_leg("rho-dec")
+
+
+def test_control_kind_any_case():
+    from mat_hopper.controls import check_control
+
+    d = parse_design("rho-inc")
+    assert check_control(" Inertia ") == "inertia"
+    assert control(d, "MASS").name == "rho-inc~mass"
+    assert control(d, "Rigid").densities_g_cm3 == control(d, "rigid").densities_g_cm3

@@ -18,3 +18,16 @@ def test_spring_damping_is_eta_times_sqrt_k_m():
 
     # eta 0.01 on k = 100 N/m, m = 4 kg: 0.01 * sqrt(400) = 0.2 N s/m (damping ratio eta / 2 = 0.005)
     assert spring_damping(0.01, 100.0, 4.0) == pytest.approx(0.2)
+
+
+def test_damping_name_any_case_is_stored_canonical():
+    from mat_hopper.damping import check_damping
+    from mat_hopper.sim import SimSettings
+
+    assert check_damping(" Loss-Factor ") == "loss-factor"
+    assert check_damping("AUTHORS") == "authors"
+    assert SimSettings(damping="LOSS-FACTOR").damping == "loss-factor"
+    with pytest.raises(ValueError, match="unknown damping 'viscous'; accepted: authors, loss-factor"):
+        check_damping("viscous")
+    with pytest.raises(ValueError, match="damping is empty"):
+        SimSettings(damping=" ")

@@ -167,3 +167,33 @@ def test_terrain_height_against_mujoco_ray_casts():
         assert terrain_height_m(x, 0.4, 2.0) == pytest.approx(2.0 - dist, abs=1e-9), x
     assert terrain_height_m(0.0, 0.0, 2.0) == pytest.approx(2.2e-4, abs=2e-5)  # the spec's 0.2 mm step
     assert terrain_height_m([1.0, 2.0], 0.0, None).tolist() == [0.0, 0.0]
+
+
+# --- names enter any case and are stored in their canonical spelling ---------
+
+_MODEL_ARRAYS = ("jnt_type", "jnt_stiffness", "dof_damping", "body_mass", "geom_size", "sensor_type", "qpos0")
+
+
+def _assert_same_mjmodel(a: mujoco.MjModel, b: mujoco.MjModel) -> None:
+    for name in _MODEL_ARRAYS:
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+
+
+def test_build_model_bending_convention_any_case():
+    d = LegDesign.mono("SS", 3)
+    mixed, plain = build_model(d, convention="Bending"), build_model(d, convention="bending")
+    _assert_same_mjmodel(mixed.model, plain.model)
+    assert mixed.convention == "bending"
+    assert mixed.bending_stiffness_n_m_rad == plain.bending_stiffness_n_m_rad
+    assert all(k > 0 for k in mixed.bending_stiffness_n_m_rad)  # SS hinges: not zero
+
+
+def test_build_model_segment_mass_damping_and_sensors_any_case():
+    d = LegDesign.mono("Ti", 3)
+    mixed = build_model(d, segment_mass=" Capsule ", damping="Loss-Factor", sensors="CONTROL")
+    plain = build_model(d, segment_mass="capsule", damping="loss-factor", sensors="control")
+    _assert_same_mjmodel(mixed.model, plain.model)
+    assert (mixed.segment_mass, mixed.damping, mixed.sensors) == ("capsule", "loss-factor", "control")
+    assert mixed.model.nsensor == len(CONTROL_SENSORS)
+    with pytest.raises(ValueError, match="unknown sensors 'some'; accepted: all, control"):
+        build_model(d, sensors="some")

@@ -98,3 +98,32 @@ def test_auto_shortens_the_control_period_only_where_the_controller_limit_binds(
     assert not simulate(soft, "forward", duration_s=0.5, transient_s=0.0, convention="bending").stable
     r = simulate(soft, "forward", duration_s=2.0, transient_s=0.0, convention="bending", timestep_s="auto")
     assert r.stable and r.settings.control_period_s == pytest.approx(period)
+
+
+def test_timestep_bounds_read_the_convention_any_case():
+    from mat_hopper.modes import controller_timestep, model_frequencies
+
+    soft = LegDesign.mono(material("TrabecularBone"))
+    # the hips' flight limit (bending only) binds for this leg: < 1e-4 s under either spelling
+    assert controller_timestep(soft, "Bending") == controller_timestep(soft, "bending") < 1e-4
+    d = LegDesign.mono("SS", 3)
+    assert estimate_timestep(d, "Axial+Bending") == estimate_timestep(d, "axial+bending")
+    assert estimate_timestep(d, " PAPER ") == estimate_timestep(d, "paper")
+    assert list(model_frequencies(d, "Bending")) == list(model_frequencies(d, "bending"))
+
+
+def test_modes_tables_read_the_convention_any_case():
+    import pandas as pd
+
+    from mat_hopper.modes import bending_modes
+
+    pd.testing.assert_frame_equal(
+        bending_modes(LegDesign.mono("SS", 4), convention="Axial+Bending", n_modes=2),
+        bending_modes(LegDesign.mono("SS", 4), convention="axial+bending", n_modes=2),
+    )
+    ss = LegDesign.mono("SS", 3)
+    pd.testing.assert_frame_equal(axial_modes(ss, convention="AXIAL"), axial_modes(ss, convention="axial"))
+    with pytest.raises(ValueError, match="axial slides"):
+        axial_modes(ss, convention="Bending")  # no mat_spring_i: a clear ValueError, not a KeyError
+    with pytest.raises(ValueError, match="unknown stiffness convention"):
+        axial_modes(ss, convention="radial")

@@ -17,3 +17,15 @@ def test_gibson_ashby_half_density_quarter_modulus():
         porous_modulus(ss, 4.0, "closed-cell")
     with pytest.raises(ValueError, match="relative density"):
         gibson_ashby_modulus(200.0, 1.5)
+
+
+def test_porosity_model_any_case_is_canonical():
+    from mat_hopper.materials import material
+    from mat_hopper.porosity import check_porosity_model, porous_modulus
+
+    assert check_porosity_model(" Gibson-Ashby ") == "gibson-ashby"
+    assert check_porosity_model("INDEPENDENT") == "independent"
+    # E_s (rho / rho_s)^2 = 193 / 4 for SS at half its 8 g/cm^3, whatever the spelling
+    assert porous_modulus(material("SS"), 4.0, "GIBSON-ASHBY") == pytest.approx(193.0 / 4)
+    with pytest.raises(ValueError, match="unknown porosity_model 'closed-cell'; accepted: independent, gibson-ashby"):
+        check_porosity_model("closed-cell")

@@ -156,3 +156,14 @@ def test_analytic_bracket_agrees_with_the_ladder_in_fewer_tries():
         assert len(a_tries) < len(l_tries)
     with pytest.raises(ValueError, match="bracket"):
         largest_stable_timestep(parse_design("SS"), bracket="guess")
+
+
+def test_stability_spec_names_any_case_share_the_key():
+    d = LegDesign.from_properties([8.0], [300.0])
+    mixed = StabilitySpec(d, duration_s=0.5, scan=False, bracket="Ladder", convention="Axial")
+    plain = StabilitySpec(d, duration_s=0.5, scan=False, bracket="ladder", convention="axial")
+    assert (mixed.bracket, mixed.convention) == ("ladder", "axial")
+    assert mixed.key_dict()["bracket_factor"] == math.sqrt(10.0)
+    assert mixed.key() == plain.key()
+    with pytest.raises(ValueError, match="unknown bracket 'binary'; accepted: analytic, ladder"):
+        StabilitySpec(d, bracket="binary")

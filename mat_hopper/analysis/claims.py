@@ -61,7 +61,8 @@ from ..atomic import write_text
 from ..behaviours import BEHAVIOUR_NAMES
 from ..change import percent_change
 from ..control import DEFAULT_SENSOR_TIMING
-from ..materials import CONVENTIONS, REPRODUCTION_CONVENTIONS
+from ..materials import REPRODUCTION_CONVENTIONS, check_convention
+from ..parsing import parse_name
 from . import beyond_mass as _beyond
 from . import stats as _stats
 from ._claim_checks import (  # noqa: F401 (public names of this module)
@@ -381,8 +382,8 @@ def claims_table(
         stability: the stable-time-step map (one row per grid point; a
             ``convention`` column, else taken as ``paper``).
         conventions: the stiffness conventions to judge the claims under (names of
-            :data:`mat_hopper.materials.CONVENTIONS`; default ``paper`` and ``axial``).
-        basis: ``hops``, ``replicates`` or ``auto`` (module doc).
+            :data:`mat_hopper.materials.CONVENTIONS`, any case; default ``paper`` and ``axial``).
+        basis: ``hops``, ``replicates`` or ``auto``, any case (module doc).
         alpha: significance level of the Holm-adjusted comparisons (and of the beyond-mass columns).
         timestep_s: the runs' time step (s), named in "unstable at dt=..." when runs has no timestep_s
             column.
@@ -409,15 +410,13 @@ def claims_table(
             without a ``design`` column; tables holding several profiles (hops, runs, stability) or
             several sensor timings (hops, runs).
     """
-    if basis not in _stats.BASES + ("auto",):
-        raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
+    basis = parse_name(basis, _stats.BASES + ("auto",), "basis")
     hops = pd.DataFrame() if hops is None else hops
     profiles = _one_value((hops, runs, stability), "profile", "profiles")
     timing = _one_value((hops, runs), "sensor_timing", "sensor timings") or str(DEFAULT_SENSOR_TIMING)
     rows = []
     for conv in conventions:
-        if conv not in CONVENTIONS:
-            raise ValueError(f"unknown convention {conv!r}; accepted: {', '.join(CONVENTIONS)}")
+        conv = check_convention(conv)
         h = _by_convention(hops, conv)
         r = _by_convention(runs, conv)
         bad = _stats.unusable_runs(r, timestep_s)

@@ -50,6 +50,7 @@ import pandas as pd
 from scipy import stats
 
 from ..metrics import holm
+from ..parsing import parse_name
 
 EQUIVALENCE_MARGIN = 0.10  # +-10 %: inside it a difference counts as none (the margin)
 CONFIDENCE = 0.95
@@ -120,7 +121,7 @@ def paired_effect(
     Args:
         values, baseline_values: (n,) run means, pair k in position k.
         confidence: of the interval, in (0, 1).
-        interval: ``t`` or ``bca``.
+        interval: ``t`` or ``bca``, any case.
         seed: of the BCa resampling (deterministic).
 
     Returns:
@@ -138,8 +139,7 @@ def paired_effect(
         raise ValueError(f"values and baseline_values must be 1-D and paired, got shapes {a.shape} and {b.shape}")
     if not 0 < confidence < 1:
         raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
-    if interval not in INTERVALS:
-        raise ValueError(f"interval must be one of {', '.join(INTERVALS)}, got {interval!r}")
+    interval = parse_name(interval, INTERVALS, "interval")
     ok = np.isfinite(a) & np.isfinite(b)
     a, b = a[ok], b[ok]
     n = len(a)

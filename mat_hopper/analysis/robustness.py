@@ -44,7 +44,7 @@ from .. import reference as ref
 from ..behaviours import BEHAVIOUR_NAMES
 from ..change import percent_change
 from ..control import SensorTiming
-from ..materials import MONO_NAMES
+from ..materials import MONO_NAMES, check_convention
 from ..timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S
 
 DEFAULT_LATENCIES = (0, 1, 2, 5, 10)
@@ -141,7 +141,13 @@ FINE_PHYSICS = "2e-5 s physics"  # the variant the claims table's time-step chec
 class Variant:
     """One setting of the study: label, stiffness convention, sensor timing,
     physics step (s; None: the profile's) and substeps per control period,
-    and perturbed replicate seed (None: unperturbed)."""
+    and perturbed replicate seed (None: unperturbed).
+
+    The convention (any case) is stored as spelled in
+    :data:`mat_hopper.materials.CONVENTIONS` and the sensor timing (a name,
+    any case, or an integer latency) by its canonical name
+    (:class:`mat_hopper.control.SensorTiming`); ValueError for unknown ones.
+    """
 
     label: str
     convention: str = "paper"
@@ -149,6 +155,10 @@ class Variant:
     replicate: int | None = None
     timestep_s: float | None = None
     substeps: int = 1
+
+    def __post_init__(self):
+        object.__setattr__(self, "convention", check_convention(self.convention))
+        object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing).name)
 
     @property
     def kind(self) -> str:
@@ -173,7 +183,9 @@ def variants(
     Args:
         latencies: sensor latencies in physics steps (each passed to :class:`mat_hopper.control.SensorTiming`
             as an int); the default's (1, ``authors``) is not repeated.
-        conventions: stiffness conventions; ``paper`` (the default's) is not repeated.
+        conventions: stiffness conventions, any case (each variant labelled
+            and run by its canonical name); ``paper`` (the default's) is not
+            repeated.
         replicates: the number of perturbed replicate seeds.
         timesteps: whether to add the two time-step variants (``2e-5 s physics``, ``2e-5 s step``).
 
@@ -182,7 +194,8 @@ def variants(
         variants in that order.
 
     Raises:
-        ValueError: a latency outside [0, 1000] physics steps (:class:`mat_hopper.control.SensorTiming`).
+        ValueError: a latency outside [0, 1000] physics steps (:class:`mat_hopper.control.SensorTiming`),
+            or an unknown convention.
     """
     out = [DEFAULT]
     for lat in latencies:
@@ -190,6 +203,7 @@ def variants(
         if name != DEFAULT.sensor_timing:
             out.append(Variant(name, sensor_timing=name))
     for conv in conventions:
+        conv = check_convention(conv)
         if conv != DEFAULT.convention:
             out.append(Variant(conv, convention=conv))
     if timesteps:

@@ -60,6 +60,7 @@ import pandas as pd
 from .. import metrics as _metrics
 from ..change import ROUNDOFF, percent_change
 from ..metrics import ALL_METRICS, METRICS
+from ..parsing import parse_name
 
 
 def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alpha: float):
@@ -605,7 +606,8 @@ def compare_designs(
     Args:
         hops: a per-hop table.
         baseline: the baseline design.
-        basis: ``hops``, ``replicates`` or ``auto`` (:func:`has_replicates`).
+        basis: ``hops``, ``replicates`` or ``auto`` (:func:`has_replicates`),
+            any case.
         by: the grouping inside which designs are compared.
         metrics: metric columns.
         alpha: significance level.
@@ -618,8 +620,7 @@ def compare_designs(
     Raises:
         ValueError: `basis` not hops, replicates or auto; or from the comparison run.
     """
-    if basis not in BASES + ("auto",):
-        raise ValueError(f"basis must be one of hops, replicates, auto; got {basis!r}")
+    basis = parse_name(basis, BASES + ("auto",), "basis")
     if basis == "auto":
         basis = "replicates" if has_replicates(hops) else "hops"
     if basis == "replicates":

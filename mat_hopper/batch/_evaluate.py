@@ -6,6 +6,7 @@ from collections.abc import Sequence
 
 import pandas as pd
 
+from ..parsing import parse_name
 from ._cpu import evaluate_cpu
 from ._settings import BACKENDS, BatchSettings
 
@@ -28,7 +29,8 @@ def evaluate(
         behaviour: a Behaviour or a name (``"forward"``, ...).
         settings: the run's :class:`BatchSettings` (None: the paper's 60 s at
             1e-4 s, 20 s transient).
-        backend: ``"mujoco"`` (CPU rollouts, the reference) or ``"warp"`` (MuJoCo Warp).
+        backend: ``"mujoco"`` (CPU rollouts, the reference) or ``"warp"`` (MuJoCo Warp),
+            any case (:func:`mat_hopper.parsing.parse_name`).
         device: the Warp device for the warp backend (``"cpu"``, ``"cuda"``).
         workers: processes for the mujoco backend (default: every core).
         max_batch: most worlds in one warp batch.
@@ -54,6 +56,7 @@ def evaluate(
         raise ValueError(
             f"settings must be a BatchSettings (or None: the paper's 60 s runs), got {type(settings).__name__}"
         )
+    backend = parse_name(backend, BACKENDS, "backend")
     for name, value in (("workers", workers), ("max_batch", max_batch)):
         if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < 1):
             raise ValueError(f"{name} must be an integer >= 1 (or None), got {value!r}")

@@ -20,7 +20,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ..behaviours import behaviour as get_behaviour
-from ..controls import CONTROLS, control
+from ..controls import CONTROLS, check_control, control
 from ..materials import parse_design
 from .profiles import get_profile
 from .runner import RunSpec, run_grid
@@ -48,20 +48,24 @@ def control_tasks(
         profile: a Profile or its name (default: $MAT_HOPPER_PROFILE).
         designs: design names (:func:`mat_hopper.materials.parse_design`).
         behaviours: behaviour names.
-        kinds: control kinds (``rigid``, ``mass``, ``inertia``).
+        kinds: control kinds (``rigid``, ``mass``, ``inertia``; any case).
         replicates: seeds per run (default: the profile's; >= 2).
         baselines: designs run without controls (the claims' baselines).
 
     Returns:
         list of RunSpec; labels: experiment ("controls"), profile,
-        convention, sensor_timing, design (the control's name for a control),
-        behaviour, replicate, control_of (the design), control (kind or "none").
+        convention, sensor_timing (its name, e.g. ``"authors"``), design
+        (the control's name for a control), behaviour, replicate,
+        control_of (the design), control (kind as spelled in
+        :data:`~mat_hopper.controls.CONTROLS`, or "none"). Names are
+        recorded in their canonical spelling.
 
     Raises:
         ValueError: unknown design, behaviour or kind, or replicates < 2.
     """
     profile = get_profile(profile)
     n = _replicates(profile, replicates)
+    kinds = [check_control(k) for k in kinds]
     runs = [(parse_design(b), b, NO_CONTROL) for b in baselines]
     for name in designs:
         d = parse_design(name)
@@ -79,7 +83,7 @@ def control_tasks(
                     "experiment": "controls",
                     "profile": profile.name,
                     "convention": profile.convention,
-                    "sensor_timing": profile.sensor_timing,
+                    "sensor_timing": profile.sensor_timing.name,
                     "design": design.name,
                     "behaviour": beh.name,
                     "replicate": rep,
@@ -142,7 +146,8 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
         replicates: seeds per cell (default: the profile's; >= 2).
 
     Returns:
-        list of RunSpec; labels as :func:`control_tasks` plus ``springs``
+        list of RunSpec; labels as :func:`control_tasks` (sensor_timing by
+        its name) plus ``springs``
         (rigid, paper, axial, rigid, axial step) and ``mass_of`` (the design
         whose densities).
     """
@@ -166,7 +171,7 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
                         "experiment": "attribution",
                         "profile": profile.name,
                         "convention": prof.convention,
-                        "sensor_timing": profile.sensor_timing,
+                        "sensor_timing": profile.sensor_timing.name,
                         "design": design.name,
                         "behaviour": beh.name,
                         "replicate": rep,
@@ -222,7 +227,8 @@ def push_scale_tasks(profile=None, designs=("SS", "rho-inc"), behaviour="ramp", 
 
     Returns:
         list of RunSpec; labels: experiment ("push_scale"), profile,
-        convention, sensor_timing, design, behaviour, replicate, push_scale.
+        convention, sensor_timing (its name, e.g. ``"authors"``), design,
+        behaviour, replicate, push_scale.
     """
     profile = get_profile(profile)
     n = _replicates(profile, replicates)
@@ -237,7 +243,7 @@ def push_scale_tasks(profile=None, designs=("SS", "rho-inc"), behaviour="ramp", 
                     "experiment": "push_scale",
                     "profile": profile.name,
                     "convention": profile.convention,
-                    "sensor_timing": profile.sensor_timing,
+                    "sensor_timing": profile.sensor_timing.name,
                     "design": d.name,
                     "behaviour": beh.name,
                     "replicate": rep,

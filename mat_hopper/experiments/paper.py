@@ -34,7 +34,7 @@ from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..materials import REPRODUCTION_CONVENTIONS, LegDesign, Material, paper_designs, parse_design
 from ..porosity import DEFAULT_POROSITY_MODEL, check_porosity_model, porous_modulus
-from ..timestep import AUTO
+from ..timestep import AUTO, is_auto
 from . import robustness
 from .profiles import Profile, check_replicates, get_profile
 from .runner import FAILED, RunSpec, run_grid
@@ -175,7 +175,9 @@ def experiment_2(porosity_model: str = DEFAULT_POROSITY_MODEL) -> Experiment:
         porosity_model: ``independent`` (the paper's: a density point changes
             the density only) or ``gibson-ashby`` (a density point below the base
             material's is that solid made porous, E = E_s (rho / rho_s)^2,
-            :func:`mat_hopper.porosity.porous_modulus`; points above keep E_s).
+            :func:`mat_hopper.porosity.porous_modulus`; points above keep E_s);
+            any case (:func:`mat_hopper.porosity.check_porosity_model`): the
+            name and labels carry its canonical spelling.
 
     Returns:
         The :class:`Experiment` ``exp2`` (``exp2-<porosity_model>`` for a model
@@ -192,7 +194,7 @@ def experiment_2(porosity_model: str = DEFAULT_POROSITY_MODEL) -> Experiment:
     Raises:
         ValueError: an unknown porosity model.
     """
-    check_porosity_model(porosity_model)
+    porosity_model = check_porosity_model(porosity_model)
     designs = paper_designs()
     points = []
     for base, sweeps in ref.SWEEPS.items():
@@ -546,7 +548,8 @@ def clock_drift(
             or LegDesigns.
         factors: clock factors r, finite numbers > 0 (the commanded speed is
             r x the paper's 0.05 m/s).
-        behaviour: the behaviour name.
+        behaviour: the behaviour name, any case (recorded by its canonical
+            name).
         cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
             ``results/cache``).
         workers: local worker processes (default: every core this process may use).
@@ -575,7 +578,7 @@ def clock_drift(
                 "experiment": "clock",
                 "profile": profile.name,
                 "design": design.name,
-                "behaviour": behaviour,
+                "behaviour": beh.name,
                 "clock_factor": float(r),
                 "speed_m_s": beh.speed_m_s,
             }
@@ -617,8 +620,8 @@ def axial_check(
         profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
         designs: design names (:func:`mat_hopper.materials.parse_design`).
         behaviour: the behaviour name.
-        timestep_s: the axial runs' physics step (s), or ``"auto"``; None:
-            the profile's ``axial_timestep_s``.
+        timestep_s: the axial runs' physics step (s), or ``"auto"`` (any
+            case); None: the profile's ``axial_timestep_s``.
         cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
             ``results/cache``).
         workers: local worker processes (default: every core this process may use).
@@ -640,6 +643,8 @@ def axial_check(
     legs = {d: parse_design(d) for d in designs}
     if timestep_s is None:
         timestep_s = prof.axial_timestep_s
+    if is_auto(timestep_s):  # any case, blanks trimmed: stored as AUTO
+        timestep_s = AUTO
     beh = get_behaviour(behaviour)
     plan = []
     for d, leg in legs.items():

@@ -49,15 +49,16 @@ class Profile:
     stability_tolerance: bisection stops when the bracket is within this
     factor; stability_max_iter: bisection tries at most; stability_scan:
     also run the 20-step protocol of docs/reference-hopper.md; record_rate_hz: samples per
-    simulated second; convention: modulus-to-stiffness convention;
+    simulated second; convention: modulus-to-stiffness convention (any
+    case, stored as spelled in :data:`mat_hopper.materials.CONVENTIONS`);
     axial_timestep_s: the physics step of runs under the ``axial``
     convention, whose springs (k = E A / L, SS 3.8e9 N/m) diverge at the
     paper's 1e-4 s: ``"auto"`` (default) keeps the controller at its
     1e-4 s period and gives each design the physics substeps its analytic
-    bound needs (:func:`mat_hopper.timestep.auto_timestep`), or a number (s);
-    sensor_timing: when the controller reads the base (``"authors"``,
+    bound needs (:func:`mat_hopper.timestep.auto_timestep`; any case), or a
+    number (s); sensor_timing: when the controller reads the base (``"authors"``,
     ``"fresh"``, ``"latency-L"``; :mod:`mat_hopper.control`);
-    segment_mass: ``"leg"`` or ``"capsule"`` (:mod:`mat_hopper.materials`);
+    segment_mass: ``"leg"`` or ``"capsule"``, any case (:mod:`mat_hopper.materials`);
     replicates: perturbed replicate runs per design and behaviour, the
     claims' inferential basis (``reproduce`` runs them for every hopping
     experiment) and chapter 6's. The replicates share their seeds across
@@ -92,9 +93,12 @@ class Profile:
             raise ValueError(f"profile name must be a non-empty string, got {self.name!r}")
         object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
         object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
+        object.__setattr__(self, "convention", check_convention(self.convention))
         for name in ("timestep_s", "axial_timestep_s"):
             value = getattr(self, name)
-            if isinstance(value, str) and value != AUTO:
+            if is_auto(value):  # any case: stored as AUTO
+                object.__setattr__(self, name, AUTO)
+            elif isinstance(value, str):
                 raise ValueError(f"{name} must be a number (s) or {AUTO!r}, got {value!r}")
         if not is_auto(self.timestep_s):
             self.sim_settings()  # validates duration, transient, time step, convention

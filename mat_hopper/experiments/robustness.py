@@ -30,16 +30,17 @@ from .runner import RunSpec
 
 
 def tasks(profile, variant_list=None) -> list:
-    """RunSpecs of every run of the study under ``profile`` (a Profile);
-    labels: study, profile, variant, variant_kind, convention,
+    """RunSpecs of every run of the study under ``profile``; labels: study, profile, variant, variant_kind, convention,
     sensor_timing, timestep_s, substeps, replicate. Runs the default shares
     with experiments 1 and 3 (and replicates with the claims' replicates)
     have the same settings, hence the same cache keys: computed once.
 
     Args:
-        profile: a :class:`~mat_hopper.experiments.profiles.Profile` (not a name).
+        profile: a :class:`~mat_hopper.experiments.profiles.Profile` or its
+            name, any case (:func:`~mat_hopper.experiments.profiles.get_profile`;
+            None: $MAT_HOPPER_PROFILE, else ``paper``).
         variant_list: the variants (:class:`~mat_hopper.analysis.robustness.Variant`)
-            to run; None (or empty): :func:`~mat_hopper.analysis.robustness.variants`.
+            to run; None: :func:`~mat_hopper.analysis.robustness.variants`.
 
     Returns:
         list of RunSpec, variant-major, one per variant and (design,
@@ -49,11 +50,19 @@ def tasks(profile, variant_list=None) -> list:
         design and behaviour columns come from the runner's default labels.
 
     Raises:
-        ValueError: a variant's unknown convention or sensor timing, or
-            invalid settings.
+        ValueError: an unknown profile, an empty `variant_list`, an entry
+            that is not a Variant, a variant's unknown convention or sensor
+            timing, or invalid settings.
     """
+    profile = get_profile(profile)  # a name or a Profile
+    given = variants() if variant_list is None else list(variant_list)
+    if not given:
+        raise ValueError("tasks: no variants to run (None runs variants())")
+    bad = [v for v in given if not isinstance(v, Variant)]
+    if bad:
+        raise ValueError(f"variants must be Variant objects (robustness.variants()), got {bad[0]!r}")
     out = []
-    for v in variant_list or variants():
+    for v in given:
         prof = profile.for_convention(v.convention).for_sensor_timing(v.sensor_timing)
         pert = None if v.replicate is None else profile.replicate(v.replicate)
         for d, b in designs_and_behaviours():
@@ -66,7 +75,7 @@ def tasks(profile, variant_list=None) -> list:
                 "profile": profile.name,
                 "variant": v.label,
                 "variant_kind": v.kind,
-                "convention": v.convention,
+                "convention": settings.convention,
                 "sensor_timing": settings.sensor_timing.name,
                 "timestep_s": settings.timestep_s,
                 "substeps": settings.substeps,

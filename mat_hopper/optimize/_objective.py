@@ -80,6 +80,7 @@ from ..materials import (
     check_segment_mass,
 )
 from ..metrics import hop_table
+from ..parsing import parse_name
 from ..rollout import hop_cycles
 from ..sim import RolloutRunner
 from . import _robust
@@ -107,7 +108,8 @@ class Objective:
         segment_mass: the segment mass convention (None: the profile's).
         replicates: perturbed replicates per behaviour on common random
             numbers (0: one unperturbed run; :mod:`mat_hopper.optimize._robust`).
-        risk: how replicates are scored, ``"mean"`` or ``"cvar"``.
+        risk: how replicates are scored, ``"mean"`` or ``"cvar"``, any case
+            (stored as spelled in :data:`mat_hopper.optimize._robust.RISKS`).
         cvar_alpha: the CVaR's tail fraction.
         leg_mass: None (unconstrained), a paper design's name or a mass in kg.
         leg_mass_tolerance_kg: the leg mass constraint's tolerance, kg (None:
@@ -166,6 +168,7 @@ class Objective:
             v = getattr(self, name)
             if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < math.inf):
                 raise ValueError(f"{name} must be a finite number > 0 or None, got {v!r}")
+        object.__setattr__(self, "risk", parse_name(self.risk, _robust.RISKS, "risk"))
         _robust.check_objective(self)
         object.__setattr__(self, "leg_mass", _robust.check_leg_mass(self.leg_mass))
 

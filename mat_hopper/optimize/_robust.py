@@ -48,7 +48,7 @@ import math
 import numpy as np
 
 from ..materials import LegDesign, paper_designs, segment_masses
-from ..parsing import is_decimal, parse_number
+from ..parsing import is_decimal, parse_name, parse_number
 from ..perturbations import Perturbation
 
 RISKS = ("mean", "cvar")
@@ -131,7 +131,7 @@ def score(values, risk: str = "mean", alpha: float = DEFAULT_CVAR_ALPHA) -> tupl
 
     Args:
         values: 1-D array-like, one finite value per replicate.
-        risk: "mean" or "cvar".
+        risk: "mean" or "cvar", any case.
         alpha: the CVaR level (risk "cvar").
 
     Returns:
@@ -142,6 +142,7 @@ def score(values, risk: str = "mean", alpha: float = DEFAULT_CVAR_ALPHA) -> tupl
     """
     from scipy import stats
 
+    risk = parse_name(risk, RISKS, "risk")
     v = np.asarray(values, float).ravel()
     if risk == "mean":
         value = float(v.mean())

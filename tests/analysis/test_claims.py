@@ -175,3 +175,13 @@ def test_percent_claims_details_say_not_enough_evidence_where_no_verdict_is_reac
     hops, runs = results(n=6, replicates=10)
     row = claims.claims_table(hops, runs, conventions=("paper",)).set_index("claim_id").loc["tracking_ss_55"]
     assert "paired, n = 10: difference" in row["detail"]
+
+
+def test_conventions_and_basis_any_case():
+    s = stability_table()
+    mixed = claims.claims_table(None, None, s, conventions=("Paper",), basis="AUTO")
+    plain = claims.claims_table(None, None, s, conventions=("paper",), basis="auto")
+    pd.testing.assert_frame_equal(mixed, plain)
+    assert set(mixed["convention"]) == {"paper"}
+    with pytest.raises(ValueError, match="unknown stiffness convention 'radial'"):
+        claims.claims_table(None, None, s, conventions=("radial",))

@@ -100,3 +100,10 @@ def test_significance_needs_a_reachable_sign_flip_threshold():
     assert not small["significant"] and small["conclusion"] == paired.NOT_ENOUGH
     six = paired.compare_paired(_runs(effect=1.3, n=6), "base").iloc[0]
     assert six["p_min"] == pytest.approx(2 / 64) and six["significant"] and six["conclusion"] == paired.DIFFERENCE
+
+
+def test_interval_name_any_case():
+    a, b = [1.10, 1.21, 1.05, 1.30], [1.0, 1.0, 1.0, 1.0]
+    assert paired.paired_effect(a, b, interval="T") == paired.paired_effect(a, b, interval="t")
+    with pytest.raises(ValueError, match="unknown interval 'z'; accepted: t, bca"):
+        paired.paired_effect(a, b, interval="z")

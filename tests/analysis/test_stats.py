@@ -125,3 +125,13 @@ def test_static_hopping_needs_replicates():
         simulate("SS", "static", duration_s=4, transient_s=1, perturbation=Perturbation.replicate(0))
     )
     assert len(moved) >= 2 and (moved["tracking_error_m"] > 1e-4).all()
+
+
+def test_basis_name_any_case():
+    hops = pd.concat(
+        [_table({"MD": [0.10, 0.11, 0.12], "SS": [0.03, 0.04, 0.05]}, replicate=-1, experiment="exp1")],
+        ignore_index=True,
+    )
+    mixed = stats.compare_designs(hops, "MD", basis=" Hops ", metrics=("tracking_error_m",))
+    pd.testing.assert_frame_equal(mixed, stats.compare_designs(hops, "MD", basis="hops", metrics=("tracking_error_m",)))
+    assert mixed["basis"].iloc[0] == "hops"

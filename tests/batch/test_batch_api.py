@@ -20,6 +20,8 @@ from mat_hopper.experiments.robustness import batch_runs, batch_variants
         (lambda: evaluate(["SS"], "forward", max_batch=-5), "max_batch must be an integer >= 1"),
         (lambda: evaluate(["SS"], "forward", backend="warp", workers=2), "workers is for backend='mujoco'"),
         (lambda: evaluate(["SS"], "forward", backend="gpu"), "unknown backend 'gpu'"),
+        # the backend's name is read any case: "MuJoCo" is the mujoco backend, so device is refused
+        (lambda: evaluate(["SS"], "forward", backend="MuJoCo", device="cuda"), "for backend='warp'"),
         (lambda: agreement(pd.DataFrame(), pd.DataFrame()), "has no column design"),
         (lambda: agreement(None, None), "must be a batch table"),
         (lambda: batch_variants("foo"), "must be Variant objects"),

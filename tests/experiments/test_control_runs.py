@@ -29,3 +29,21 @@ def test_push_scale_is_a_profile_setting_that_reaches_every_replicate():
     assert sorted({t.settings.perturbation.push_force_n for t in tasks}) == [0.0, 10.0]
     with pytest.raises(ValueError, match="push_scale"):
         replace(quick, push_scale=-1.0)
+
+
+def test_control_tables_record_names_not_latencies():
+    """The sensor timing column holds its name (as SimSettings.columns does),
+    never the int-like SensorTiming; control kinds are read any case."""
+    specs = {
+        "controls": ce.control_tasks("quick", designs=("SS",), behaviours=("static",), kinds=("Mass",), replicates=2),
+        "attribution": ce.attribution_tasks("quick", designs=("MD",), behaviours=("static",), replicates=2),
+        "push_scale": ce.push_scale_tasks("quick", designs=("SS",), scales=(1.0,), replicates=2),
+    }
+    for name, tasks in specs.items():
+        timings = [t.labels["sensor_timing"] for t in tasks]
+        assert timings and all(type(v) is str and v == "authors" for v in timings), name
+    controls = specs["controls"]
+    assert {t.labels["control"] for t in controls} == {"none", "mass"}
+    assert {t.labels["design"] for t in controls} >= {"SS~mass"}
+    with pytest.raises(ValueError, match="unknown control 'stiff'"):
+        ce.control_tasks("quick", designs=("SS",), kinds=("stiff",), replicates=2)

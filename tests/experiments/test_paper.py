@@ -169,3 +169,12 @@ def test_experiment_2_runs_under_gibson_ashby_porosity_by_name():
     soft = [p for p in exp.points if dict(p.tags)["sweep_base"] == "SS" and dict(p.tags)["sweep_property"] == "density"]
     by_rho = {dict(p.tags)["density_g_cm3"]: dict(p.tags)["modulus_gpa"] for p in soft}
     assert by_rho[8.0] == 193.0 and by_rho[2.0] == pytest.approx(12.0625)
+
+
+def test_names_any_case_are_stored_canonical():
+    exp = experiment_2("Gibson-Ashby")
+    assert exp.name == "exp2-gibson-ashby"
+    assert {dict(p.tags)["porosity_model"] for p in exp.points} == {"gibson-ashby"}
+    p = Profile("x", 12.0, 4.0, convention="Axial", axial_timestep_s="AUTO")
+    assert (p.convention, p.axial_timestep_s) == ("axial", "auto")
+    assert p.for_convention("AXIAL") is p

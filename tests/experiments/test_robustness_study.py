@@ -54,3 +54,28 @@ def test_warp_backend_runs_the_study():
     assert (warp["backend"] == "warp").all() and len(warp) == len(cpu)
     assert warp["status"].tolist() == cpu["status"].tolist()
     assert ((warp["n_hops"] - cpu["n_hops"]).abs() <= 1).all()
+
+
+def test_tasks_take_a_profile_name_and_refuse_an_empty_variant_list():
+    from mat_hopper.experiments.profiles import get_profile
+
+    by_name = study.tasks(" Quick ", [R.DEFAULT])
+    by_profile = study.tasks(get_profile("quick"), [R.DEFAULT])
+    assert [t.key() for t in by_name] == [t.key() for t in by_profile]
+    assert {t.labels["profile"] for t in by_name} == {"quick"}
+    with pytest.raises(ValueError, match="no variants"):
+        study.tasks("quick", [])
+    with pytest.raises(ValueError, match="unknown profile"):
+        study.tasks("fast", [R.DEFAULT])
+
+
+def test_variants_store_canonical_names():
+    v = R.Variant("axial", convention="Axial", sensor_timing="FRESH")
+    assert (v.convention, v.sensor_timing) == ("axial", "fresh")
+    assert R.Variant("paper", convention="PAPER") in study.batch_variants([R.Variant("paper", convention="PAPER")])
+    assert [v.convention for v in R.variants(conventions=("Axial",), latencies=(), timesteps=False, replicates=0)] == [
+        "paper",
+        "axial",
+    ]
+    with pytest.raises(ValueError, match="unknown stiffness convention"):
+        R.Variant("x", convention="radial")

@@ -259,3 +259,14 @@ def test_cli_stress_constraints(tmp_path, monkeypatch, capsys):
         err = capsys.readouterr().err.strip()
         assert text in err and "\n" not in err, err
     assert os.listdir(tmp_path) == []
+
+
+def test_risk_name_any_case_is_stored_canonical():
+    from mat_hopper.optimize._objective import Objective
+
+    v = [1.0, 2.0, 4.0, 8.0]
+    assert _robust.score(v, "CVaR", 0.5) == _robust.score(v, "cvar", 0.5)
+    assert _robust.score(v, " Mean ")[0] == 3.75
+    assert Objective(profile=TINY, replicates=3, risk="CVAR", cvar_alpha=0.5).risk == "cvar"
+    with pytest.raises(ValueError, match="unknown risk 'max'"):
+        _robust.score(v, "max")
