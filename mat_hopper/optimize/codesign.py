@@ -258,10 +258,9 @@ def codesign(
         :func:`answer`).
 
     Raises:
-        ValueError: `replicates` not an integer or fewer than 2, `trials`
-            not an integer >= 1, `seed` not an integer, a baseline not among
-            the designs, an unknown design name, profile or behaviour, or
-            :func:`tune`'s (all checked before any run).
+        ValueError: `replicates` not an integer >= 2, `trials` not one >= 1,
+            `seed` not an integer, a baseline not among the designs, an unknown
+            design name, profile or behaviour (all before any run), or :func:`tune`'s.
         RuntimeError: a comparison run failed, or :func:`tune`'s.
     """
     profile = get_profile(profile)
