@@ -114,16 +114,32 @@ STRENGTH: dict[str, Strength] = {
     "trabecularbone": _two_point(5.0, 6.0, 2.0, "Wegst & Ashby 2004, fig. 3 (two-point, fatigue ratio of bone)"),
     "tendon": _two_point(70.0, 100.0, 30.0, "Wegst & Ashby 2004, table 1 (two-point, fatigue ratio of bone)"),
 }
-# Curves of materials outside the catalogue, by the class their modulus falls in.
-CLASS_STRENGTH = {"metal": STRENGTH["al"], "composite": STRENGTH["cfrp"], "polymer": STRENGTH["pvc"]}
+# Curves of materials outside the catalogue, by their class
+# (:func:`mat_hopper.damping.loss_factor_class`: their own Ashby class where
+# :data:`mat_hopper.damping.LOSS_FACTORS` lists it, else the class their
+# modulus falls in). One entry per key of LOSS_FACTORS. Ceramic and natural
+# have no class curve of their own: they reuse a sourced catalogue curve of
+# the class, alumina's (the technical ceramic of the catalogue, Ashby's
+# mid-range values) and compact bone's (Wegst & Ashby 2004; Carter et al.
+# 1981), the natural material of the catalogue with both strength and
+# fatigue data measured.
+CLASS_STRENGTH = {
+    "metal": STRENGTH["al"],
+    "composite": STRENGTH["cfrp"],
+    "polymer": STRENGTH["pvc"],
+    "ceramic": STRENGTH["alumina"],
+    "natural": STRENGTH["corticalbone"],
+}
 
 
 def strength(mat: Material) -> Strength:
     """A material's :class:`Strength`: the catalogue's, for a material with
     a catalogue name *and* that entry's density and modulus; any other (a
     sweep's porous or softened point, a gradient's segment, a control) its
-    class's (:data:`CLASS_STRENGTH`), the class read off its modulus.
-    Raises ValueError for a rigid one.
+    class's (:data:`CLASS_STRENGTH`, which covers every class of
+    :data:`mat_hopper.damping.LOSS_FACTORS`): its own Ashby class where
+    listed, else the class read off its modulus. Raises ValueError for a
+    rigid one.
 
     Args:
         mat: the :class:`~mat_hopper.materials.Material`; its name is matched

@@ -28,7 +28,8 @@ MAX_WORLDS = 65_536  # worlds in one MuJoCo Warp batch (--max-batch, --batch-siz
 
 def max_total_steps() -> float:
     """The limit in physics steps: ``$MAT_HOPPER_MAX_STEPS`` if set, else
-    MAX_TOTAL_STEPS. Raises ValueError for a value that is not a number > 0.
+    MAX_TOTAL_STEPS. Raises ValueError for a value that is not a finite
+    number >= 1 (a limit below one step would refuse every command).
 
     Returns:
         The limit (float, physics steps): ``$MAT_HOPPER_MAX_STEPS`` read as

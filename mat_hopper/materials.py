@@ -317,14 +317,13 @@ def bulk_density(porosity_fraction: float, solid_density_g_cm3: float) -> float:
         rho_b in g/cm^3, a float.
 
     Raises:
-        ValueError: Phi outside [0, 1) (nan included) or a string
-            ``float()`` cannot read, or a solid density that is not a finite
-            number > 0.
-        TypeError: a Phi ``float()`` does not take (None, a list).
+        ValueError: Phi not a number in [0, 1) (nan, None, a bool, a list or
+            a string other than an ASCII decimal included), or a solid
+            density that is not a finite number > 0.
     """
-    phi = float(porosity_fraction)
-    if not (0.0 <= phi < 1.0):
-        raise ValueError(f"porosity must be in [0, 1), got {porosity_fraction!r}")
+    phi = _check_number(porosity_fraction, "porosity", "in [0, 1) (a fraction, not %)", allow_zero=True)
+    if not phi < 1.0:
+        raise ValueError(f"porosity must be in [0, 1) (a fraction, not %), got {porosity_fraction!r}")
     rs = _check_number(solid_density_g_cm3, "solid density", "finite and > 0 g/cm^3")
     return rs * (1.0 - phi)
 
@@ -353,13 +352,17 @@ def segment_length(n_segments: int) -> float:
     """Length in m of one material segment when 0.3 m is split in n.
 
     Args:
-        n_segments: number of material segments (> 0; not checked here, see
-            :func:`check_n_segments`).
+        n_segments: number of material segments, an integer in [1, 64]
+            (:func:`check_n_segments`).
 
     Returns:
         0.3 m / `n_segments`, m (0.1 m for the paper's 3 segments).
+
+    Raises:
+        ValueError: a segment count that is not an integer in [1, 64]
+            (:func:`check_n_segments`; 0 included).
     """
-    return ref.MATERIAL_LENGTH / n_segments
+    return ref.MATERIAL_LENGTH / check_n_segments(n_segments)
 
 
 def capsule_volume_m3(radius_m: float, length_m: float) -> float:
@@ -373,7 +376,13 @@ def capsule_volume_m3(radius_m: float, length_m: float) -> float:
 
     Returns:
         pi r^2 L + 4/3 pi r^3, m^3.
+
+    Raises:
+        ValueError: a radius that is not a finite number > 0, or a length
+            that is not a finite number >= 0.
     """
+    radius_m = _check_number(radius_m, "capsule radius", "finite and > 0 m")
+    length_m = _check_number(length_m, "capsule length", "finite and >= 0 m", allow_zero=True)
     return math.pi * radius_m**2 * length_m + 4.0 / 3.0 * math.pi * radius_m**3
 
 
@@ -446,9 +455,9 @@ def spring_stiffness(
             :data:`MODULUS_RANGE_GPA`).
         convention: the stiffness convention, any case (default
             ``"paper"``).
-        n_segments: the leg's number of segments N (default 3); read only
-            under ``axial`` and ``axial+bending`` (L = 0.3 m / N) and not
-            checked here.
+        n_segments: the leg's number of segments N (default 3); read (and
+            checked, an integer in [1, 64]) only under ``axial`` and
+            ``axial+bending`` (L = 0.3 m / N).
 
     Returns:
         k in N/m: ``paper``, 9.4248e5 N/m per GPa x E (whatever N);
@@ -456,8 +465,9 @@ def spring_stiffness(
         ``bending``, 0.0.
 
     Raises:
-        ValueError: an unknown convention, or a modulus that is not a finite
-            number > 0.
+        ValueError: an unknown convention, a modulus that is not a finite
+            number > 0, or under ``axial`` and ``axial+bending`` a segment
+            count that is not an integer in [1, 64].
     """
     convention = check_convention(convention)
     e = _check_number(modulus_gpa, "modulus", "finite and > 0 GPa")
@@ -479,7 +489,11 @@ def second_moment_m4(radius_m: float = ref.MATERIAL_RADIUS) -> float:
 
     Returns:
         I in m^4.
+
+    Raises:
+        ValueError: a radius that is not a finite number > 0.
     """
+    radius_m = _check_number(radius_m, "section radius", "finite and > 0 m")
     return math.pi * radius_m**4 / 4.0
 
 

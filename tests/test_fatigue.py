@@ -142,3 +142,22 @@ def test_loop_stress_is_the_springs_force_over_section():
         section = np.abs(r.stress[:, seg, 0]) + np.hypot(r.stress[:, seg, 1], r.stress[:, seg, 2])
         np.testing.assert_allclose(r.stress[:, seg, 3], section, rtol=1e-12)  # one step per record: peak = value
     assert np.abs(r.stress[:, :, 1:3]).max() > 0  # the leg did bend (the first touchdown is at about 0.4 s)
+
+
+def test_class_strength_covers_every_loss_factor_class():
+    # every class a material can be read into has a curve (no KeyError)
+    from mat_hopper.damping import LOSS_FACTORS
+
+    assert set(CLASS_STRENGTH) == set(LOSS_FACTORS)
+
+
+def test_strength_of_a_custom_ceramic_and_natural_material():
+    # Ashby-class materials outside the catalogue: ceramic takes alumina's
+    # curve (tensile strength 300 MPa as "yield"), natural compact bone's
+    # (yield 110 MPa, Wegst & Ashby 2004)
+    from mat_hopper.materials import Material
+
+    ceramic = Material("my-ceramic", 3.5, 250.0, "ceramic", "test")
+    assert strength(ceramic).yield_mpa == 300.0
+    natural = Material("my-bone", 1.8, 15.0, "natural", "test")
+    assert strength(natural).yield_mpa == 110.0

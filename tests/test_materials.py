@@ -191,3 +191,36 @@ def test_numeric_strings_are_ascii_decimals_only():
     for bad in ("٨", "1_0", "inf", "nan", "0x10"):
         with pytest.raises(ValueError, match="density"):
             Material("x", bad, 193.0)
+
+
+def test_segment_length_checks_the_count():
+    from mat_hopper.materials import segment_length
+
+    assert segment_length(3) == pytest.approx(0.1)  # 0.3 m of material in three
+    for bad in (0, -1, 2.5, None, True):
+        with pytest.raises(ValueError, match=r"n_segments must be an integer in \[1, 64\]"):
+            segment_length(bad)
+    with pytest.raises(ValueError, match="n_segments"):
+        spring_stiffness(70.0, "axial", 0)  # used to be ZeroDivisionError
+
+
+def test_bulk_density_refuses_a_porosity_that_is_not_a_number():
+    assert bulk_density(0.25, 2.0) == pytest.approx(1.5)
+    assert bulk_density("0.25", 2.0) == pytest.approx(1.5)  # a decimal string is read, as before
+    for bad in (None, [0.1], "lots", float("nan"), -0.1, 1.0):
+        with pytest.raises(ValueError, match=r"porosity must be .*in \[0, 1\)"):
+            bulk_density(bad, 2.0)
+
+
+def test_section_geometry_refuses_bad_radii():
+    from mat_hopper.materials import capsule_volume_m3, second_moment_m4
+
+    assert second_moment_m4(0.025) == pytest.approx(math.pi * 0.025**4 / 4)
+    assert capsule_volume_m3(1.0, 0.0) == pytest.approx(4.0 / 3.0 * math.pi)  # a sphere
+    for bad in (0.0, -0.025, None, float("inf")):
+        with pytest.raises(ValueError, match="section radius"):
+            second_moment_m4(bad)
+        with pytest.raises(ValueError, match="capsule radius"):
+            capsule_volume_m3(bad, 0.1)
+    with pytest.raises(ValueError, match="capsule length"):
+        capsule_volume_m3(0.025, -0.1)

@@ -17,6 +17,13 @@ from ..change import percent_change
 from ..materials import CONVENTIONS, LegDesign, order_designs, paper_designs
 
 
+def _need(table: pd.DataFrame, columns, what: str) -> None:
+    """ValueError naming the `columns` `table` lacks (the caller `what`)."""
+    missing = [c for c in dict.fromkeys(columns) if c not in table.columns]
+    if missing:
+        raise ValueError(f"{what} needs columns {missing}")
+
+
 def design_table(designs: dict[str, LegDesign] | None = None) -> pd.DataFrame:
     """One row per design and segment (1 nearest the base): design,
     segment, material, density_g_cm3, modulus_gpa (nan: rigid).
@@ -103,7 +110,12 @@ def replicate_table(comparison: pd.DataFrame, metrics=("tracking_error_m", "powe
         DataFrame, one row per row of `comparison` with a kept metric (no behaviour column). Columns:
         design, metric, n, change ("+12 % [+3, +20]": pct_change with ci_low, ci_high), "p (Holm)"
         (three significant digits), "" ("*" where the ``significant`` column is true).
+
+    Raises:
+        ValueError: `comparison` lacks one of the columns above.
     """
+    need = ("design", "metric", "n", "pct_change", "ci_low", "ci_high", "p_holm", "significant")
+    _need(comparison, need, "replicate_table")
     c = comparison[comparison["metric"].isin(metrics)]
     return pd.DataFrame(
         {
@@ -359,7 +371,11 @@ def starred(
 
     Returns:
         DataFrame of str: "+12 %", "+12 % *" where `flag` is true, "–" where `value` is not finite.
+
+    Raises:
+        ValueError: `table` lacks one of the columns `rows`, `column`, `value`, `flag`.
     """
+    _need(table, (*rows, column, value, flag), "starred")
 
     def cell(r) -> str:
         v = r[value]
@@ -472,6 +488,30 @@ def claim_rules() -> pd.DataFrame:
     return pd.DataFrame([{"claim": c.claim, "rule": c.rule} for c in claims.CLAIMS])
 
 
+def _subsampling_steps(rates_hz, record_hz: float, n_samples: int) -> list[int]:
+    """Every-k-th-sample steps k that emulate `rates_hz` from a record at
+    `record_hz` (:func:`jerk_by_rate`), all checked before any is used."""
+    try:
+        rates = [float(r) for r in rates_hz]
+    except (TypeError, ValueError):
+        raise ValueError(f"rates_hz must be numbers (Hz), got {rates_hz!r}") from None
+    if not rates:
+        raise ValueError("jerk_by_rate needs at least one rate")
+    possible = f"possible rates: {record_hz:g} Hz divided by a whole number ({record_hz:g}, {record_hz / 2:g}, ...)"
+    steps = []
+    for rate in rates:
+        if not (np.isfinite(rate) and rate > 0):
+            raise ValueError(f"rate {rate} Hz must be a finite number > 0; {possible}")
+        if rate > record_hz * (1 + 1e-6):  # 1e-6: the record rate is read off the samples' times
+            raise ValueError(f"rate {rate:g} Hz exceeds the record rate {record_hz:g} Hz; {possible}")
+        ratio = record_hz / rate
+        k = max(1, int(round(ratio))) if ratio < n_samples else n_samples
+        if (n_samples - 1) // k + 1 < 3:
+            raise ValueError(f"rate {rate:g} Hz leaves fewer than 3 samples")
+        steps.append(k)
+    return steps
+
+
 def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
     """Mean |jerk| (m/s^3) of the body's vertical motion after the
     transient, as it would be recorded at each rate (every k-th recorded
@@ -494,16 +534,19 @@ def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
 
     Args:
         rollout: a :class:`mat_hopper.rollout.Rollout`; averaged from ``rollout.settings.transient_s`` on.
-        rates_hz: the record rates to emulate, Hz. Each is rounded to the record rate divided by a whole
-            number k (every k-th sample).
+        rates_hz: the record rates to emulate, Hz (one or more, each finite and > 0). Subsampling can
+            only emulate the record rate R divided by a whole number k (R, R/2, R/3, ...): a rate at or
+            below R is rounded to the nearest of these (the ``rate_hz`` column says which); a rate above
+            R cannot be honoured and is refused, never lowered to R.
 
     Returns:
         DataFrame, one row per rate: rate_hz (the emulated rate, Hz), raw_jerk_m_s3, metric_jerk_m_s3,
         mean_jerk_m_s3 (m/s^3).
 
     Raises:
-        ValueError: fewer than 4 recorded samples; a rate for which k rounds to 0 (at or above about twice
-            the record rate); a rate that leaves fewer than 3 samples.
+        ValueError: no rate; a rate that is not a finite number > 0; a rate above the record rate (the
+            message gives the record rate and the possible rates); fewer than 4 recorded samples; a
+            rate that leaves fewer than 3 samples. Every rate is checked before any is computed.
     """
     from ..sim import C
 
@@ -512,14 +555,10 @@ def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
     if len(t) < 4:
         raise ValueError("jerk_by_rate: the rollout recorded fewer than 4 samples")
     dt = float(np.median(np.diff(t)))
+    steps = _subsampling_steps(rates_hz, 1.0 / dt, len(t))
     rows = []
-    for rate in rates_hz:
-        k = int(round(1.0 / (float(rate) * dt)))
-        if k < 1:
-            raise ValueError(f"rate {rate} Hz exceeds the record rate {1 / dt:g} Hz")
+    for k in steps:
         ts, a, j = t[::k], az[::k], jz[::k]
-        if len(ts) < 3:
-            raise ValueError(f"rate {rate} Hz leaves fewer than 3 samples")
         raw = np.abs(np.gradient(a, ts))
         keep = ts >= rollout.settings.transient_s
         rows.append(
@@ -555,10 +594,10 @@ def setting_comparison(
         changes (%) of the means over all rows of each design and setting.
 
     Raises:
-        ValueError: `hops` has no ``setting`` column.
+        ValueError: `hops` lacks the ``setting`` or ``design`` column or a metric's (the message names
+            them).
     """
-    if "setting" not in hops.columns:
-        raise ValueError("setting_comparison needs a 'setting' column")
+    _need(hops, ("setting", "design", *metrics), "setting_comparison")
     means = hops.groupby(["setting", "design"])[list(metrics)].mean()
     rows = {}
     for setting in dict.fromkeys(hops["setting"]):
@@ -626,10 +665,7 @@ def leg_mass_table(runs: pd.DataFrame) -> pd.DataFrame:
     """
     from ..materials import LegDesign, segment_masses
 
-    need = ("densities_g_cm3",)
-    missing = [c for c in need if c not in runs.columns]
-    if missing:
-        raise ValueError(f"leg_mass_table needs columns {missing}")
+    _need(runs, ("densities_g_cm3",), "leg_mass_table")
     r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs
     masses = []
     for text, conv in zip(r["densities_g_cm3"].astype(str), r.get("segment_mass", pd.Series("leg", index=r.index))):
@@ -661,17 +697,17 @@ def failure_table(runs: pd.DataFrame) -> pd.DataFrame:
         below).
 
     Raises:
-        ValueError: `runs` lacks a column design, behaviour, status or final_base_z_m.
+        ValueError: `runs` lacks a column design, behaviour, status or final_base_z_m, or lacks
+            diverged_at_s while one of its unperturbed runs diverged (the message names the columns).
     """
     from .. import reference as ref
 
-    need = ("design", "behaviour", "status", "final_base_z_m")
-    missing = [c for c in need if c not in runs.columns]
-    if missing:
-        raise ValueError(f"failure_table needs columns {missing}")
+    _need(runs, ("design", "behaviour", "status", "final_base_z_m"), "failure_table")
     r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs
     upright = r["upright"].astype(bool) if "upright" in r.columns else r["status"] == "ok"
     bad = r[(r["status"] != "ok") | ~upright]
+    if (bad["status"] == "diverged").any():  # the time of a blow-up: checked before any row is made
+        _need(runs, ("diverged_at_s",), "failure_table (a run diverged)")
     rows = []
     for row in bad.itertuples(index=False):
         z = float(row.final_base_z_m)

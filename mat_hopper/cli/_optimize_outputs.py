@@ -27,6 +27,7 @@ from ..optimize import (
     study_exists,
     write_report,
 )
+from ..optimize._study import load_existing
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
 from ._checks import check_output_dir
@@ -74,9 +75,7 @@ def _needs_baselines(name: str, storage) -> bool:
     """Whether the report must run (and store) a paper baseline the study
     lacks: its space cannot express SS or rho-inc (the report then writes
     to the study, so it needs a writable storage)."""
-    import optuna
-
-    study = optuna.load_study(study_name=name, storage=storage)
+    study = load_existing(name, storage)
     have = {
         t.user_attrs.get("paper_design")
         for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))

@@ -12,6 +12,7 @@ from ..timestep import is_auto
 from ..viz.render import (
     _LIBS,
     IMAGE_EXTENSIONS,
+    RASTER_EXTENSIONS,
     VIDEO_EXTENSIONS,
     RenderBackendError,
     choose_backend,
@@ -61,7 +62,7 @@ def _check_options(args) -> None:
 def cmd_render(args) -> int:
     if not args.tiles and not args.video and not args.still:
         raise ValueError("nothing to render: give --tiles FILE, --video FILE and/or --still FILE")
-    for flag, allowed in (("tiles", IMAGE_EXTENSIONS), ("video", VIDEO_EXTENSIONS), ("still", IMAGE_EXTENSIONS)):
+    for flag, allowed in (("tiles", IMAGE_EXTENSIONS), ("video", VIDEO_EXTENSIONS), ("still", RASTER_EXTENSIONS)):
         if check_output_file(getattr(args, flag), f"--{flag}"):
             try:
                 check_extension(getattr(args, flag), allowed)

@@ -125,7 +125,8 @@ def reproduce(
             exists and is not a folder, a plan above the physics-step limit
             (:func:`mat_hopper.limits.check_total_steps`), `workers` together
             with `scheduler`, an invalid or unreachable scheduler, or
-            $MAT_HOPPER_PROFILE or $MAT_HOPPER_CACHE set but empty.
+            $MAT_HOPPER_PROFILE or $MAT_HOPPER_CACHE set but empty; all
+            of them before `out_dir` is made.
     """
     prof = get_profile(profile)
     conventions = _check_conventions(conventions)
@@ -139,14 +140,18 @@ def reproduce(
         raise ValueError(f"--out {out_dir!r} exists and is not a folder")
     check_total_steps(planned_steps(prof, names, conventions, replicates), f"replicates={replicates}")
     tasks = _tasks(prof, names, conventions, replicates)
-    os.makedirs(out_dir, exist_ok=True)
-    rep = Reproduction(prof.name, out_dir, conventions=conventions)
-    log(
-        f"profile {prof.name}: {prof.duration_s:g} s runs, transient {prof.transient_s:g} s, "
-        f"dt {prof.timestep_s:g} s; stability grid {prof.stability_grid_size}x{prof.stability_grid_size}; "
-        f"replicates {replicates}; conventions {', '.join(conventions)}; out {out_dir}"
-    )
+    # the runner checks workers against scheduler, the scheduler and the cache
+    # folder; a scheduler is reached now: all before the results folder is made
     with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as runner:
+        if scheduler is not None:
+            runner._get_client()
+        os.makedirs(out_dir, exist_ok=True)
+        rep = Reproduction(prof.name, out_dir, conventions=conventions)
+        log(
+            f"profile {prof.name}: {prof.duration_s:g} s runs, transient {prof.transient_s:g} s, "
+            f"dt {prof.timestep_s:g} s; stability grid {prof.stability_grid_size}x{prof.stability_grid_size}; "
+            f"replicates {replicates}; conventions {', '.join(conventions)}; out {out_dir}"
+        )
         for name in names:
             _run_experiment(runner, name, tasks[name], rep, log)
     if "stability_agreement" in rep.tables:

@@ -129,10 +129,10 @@ def export_trial(name: str, storage, number: int, out_dir: str) -> dict:
         ``config`` (the StudyConfig) and ``trial`` (the FrozenTrial).
 
     Raises:
-        ValueError: a study not made by mat-hopper, a trial the study does
+        ValueError: no study named `name` (the message lists the studies
+            present), a study not made by mat-hopper, a trial the study does
             not hold, or one without the space's parameters
             (:func:`mat_hopper.optimize.report.trial_design`).
-        KeyError: no study named `name` (from ``optuna.load_study``).
     """
     from .report import trial_design  # report imports the package's plots; loaded on use
 

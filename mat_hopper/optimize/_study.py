@@ -280,6 +280,31 @@ def study_exists(name: str, storage) -> bool:
         return False
 
 
+def load_existing(name: str, storage, **kwargs) -> optuna.Study:
+    """An existing study, loaded: ``optuna.load_study`` with a ValueError,
+    not Optuna's KeyError, for a name the storage does not hold.
+
+    Args:
+        name: the study's name.
+        storage: an Optuna storage or a storage URL (as ``optuna.load_study``
+            takes it).
+        **kwargs: passed on to ``optuna.load_study`` (e.g. ``sampler``).
+
+    Returns:
+        The ``optuna.Study``.
+
+    Raises:
+        ValueError: no study named `name` in `storage` (the message names it
+            and lists the studies the storage holds).
+    """
+    try:
+        return optuna.load_study(study_name=name, storage=storage, **kwargs)
+    except KeyError:
+        present = sorted(optuna.study.get_all_study_names(storage))
+        held = ", ".join(repr(n) for n in present) if present else "none"
+        raise ValueError(f"no study {name!r} in the storage; studies present: {held}") from None
+
+
 def stored_config(name: str, storage) -> StudyConfig | None:
     """The config a study was created with.
 

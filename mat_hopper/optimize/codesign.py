@@ -34,6 +34,7 @@ authors' gains and at the designs' own gains (:func:`answer`).
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -91,6 +92,18 @@ def _score_row(summary: dict, target_m: float) -> dict:
     }
 
 
+def _check_int(value, name: str, lowest: int | None = None) -> int:
+    """`value` as an int: an integer (not a bool), >= `lowest` where given;
+    ValueError otherwise (a count that would loop forever or be silently
+    truncated)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        bound = f" >= {lowest}" if lowest is not None else ""
+        raise ValueError(f"{name} must be an integer{bound}, got {value!r}")
+    if lowest is not None and value < lowest:
+        raise ValueError(f"{name} must be an integer >= {lowest}, got {value!r}")
+    return int(value)
+
+
 def _settings(profile: Profile, gains: dict, perturbation=None, design=None):
     st = profile.sim_settings(perturbation, design=design)
     return replace(st, controller=replace(ControllerSettings(), **gains))
@@ -117,9 +130,9 @@ def tune(
         behaviour: the behaviour tuned on (default ``forward``).
         trials: the study's trials, the authors' gains first (an int >= 1;
             default :data:`TRIALS`, 24).
-        batch: trials asked and run together per round (default
-            :data:`BATCH`, 8); not checked, and should be >= 1.
-        seed: the TPE sampler's seed (default 0).
+        batch: trials asked and run together per round (an int >= 1;
+            default :data:`BATCH`, 8).
+        seed: the TPE sampler's seed (an int; default 0).
         runner: a Runner to reuse (not closed here); None (the default) for a
             fresh ``Runner(progress=False)``, closed at the end.
 
@@ -133,13 +146,13 @@ def tune(
         hop_height_m, upright, height_error_m, score).
 
     Raises:
-        ValueError: `trials` not an integer >= 1, an unknown design name,
-            profile or behaviour.
+        ValueError: `trials` or `batch` not an integer >= 1, `seed` not an
+            integer, an unknown design name, profile or behaviour.
         RuntimeError: a tuning run failed, or the design falls or diverges
             at the authors' gains.
     """
-    if isinstance(trials, bool) or not isinstance(trials, int) or trials < 1:
-        raise ValueError(f"trials must be an integer >= 1, got {trials!r}")
+    trials, batch = _check_int(trials, "trials", 1), _check_int(batch, "batch", 1)
+    seed = _check_int(seed, "seed")
     design = parse_design(design) if isinstance(design, str) else design
     profile = get_profile(profile)
     beh = get_behaviour(behaviour)
@@ -221,11 +234,12 @@ def codesign(
         profile: a Profile or its name; None (the default) for
             $MAT_HOPPER_PROFILE, else ``paper``.
         behaviour: the behaviour tuned and compared on (default ``forward``).
-        trials: each design's tuning trials (default :data:`TRIALS`, 24).
-        replicates: perturbed replicates per design and gain setting; None
-            (the default) for the profile's ``replicates``.
-        seed: the tuning samplers' seed (default 0); the replicates' seeds
-            are 0 .. replicates - 1.
+        trials: each design's tuning trials (an int >= 1; default
+            :data:`TRIALS`, 24).
+        replicates: perturbed replicates per design and gain setting (an
+            int >= 2); None (the default) for the profile's ``replicates``.
+        seed: the tuning samplers' seed (an int; default 0); the
+            replicates' seeds are 0 .. replicates - 1.
         cache_dir: the runner's cache folder; None (the default) for the
             runner's default ($MAT_HOPPER_CACHE, else results/cache).
         workers: the runner's local processes; None (the default) for all
@@ -244,15 +258,17 @@ def codesign(
         :func:`answer`).
 
     Raises:
-        ValueError: fewer than 2 replicates, a baseline not among the
-            designs, an unknown design name, profile or behaviour, or
-            :func:`tune`'s.
+        ValueError: `replicates` not an integer >= 2, `trials` not one >= 1,
+            `seed` not an integer, a baseline not among the designs, an unknown
+            design name, profile or behaviour (all before any run), or :func:`tune`'s.
         RuntimeError: a comparison run failed, or :func:`tune`'s.
     """
     profile = get_profile(profile)
-    n = profile.replicates if replicates is None else int(replicates)
+    n = profile.replicates if replicates is None else _check_int(replicates, "replicates")
     if n < 2:
         raise ValueError(f"comparing materials needs at least 2 replicates, got {n}")
+    _check_int(trials, "trials", 1)  # tune's checks, before any runner or run
+    _check_int(seed, "seed")
     legs = {d if isinstance(d, str) else d.name: parse_design(d) if isinstance(d, str) else d for d in designs}
     if baseline not in legs:
         raise ValueError(f"baseline {baseline!r} must be one of the designs ({', '.join(legs)})")

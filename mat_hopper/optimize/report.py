@@ -53,7 +53,7 @@ from ._objective import OBJECTIVES, RESULT_ATTR, Objective, evaluate
 from ._robust import SE_ATTR, leg_mass_kg
 from ._space import resample
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
-from ._study import CONFIG_ATTR, RunOptions, StudyConfig, _quiet
+from ._study import CONFIG_ATTR, RunOptions, StudyConfig, _quiet, load_existing
 
 BASELINES = ("SS", "rho-inc")
 HV_MARGIN = 0.1
@@ -73,13 +73,12 @@ def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
         study's user attr ``mat_hopper_config``).
 
     Raises:
-        KeyError: no study named `name` in `storage` (from
-            ``optuna.load_study``).
-        ValueError: the study has no ``mat_hopper_config`` (not made by
-            ``mat-hopper optimize``).
+        ValueError: no study named `name` in `storage` (the message lists
+            the studies present), or the study has no ``mat_hopper_config``
+            (not made by ``mat-hopper optimize``).
     """
     _quiet()
-    study = optuna.load_study(study_name=name, storage=storage)
+    study = load_existing(name, storage)
     key = study.user_attrs.get(CONFIG_ATTR)
     if not key:
         raise ValueError(f"study {name!r} was not made by mat-hopper optimize (no {CONFIG_ATTR})")
@@ -475,9 +474,9 @@ def trial_design(name: str, storage, number: int):
         :class:`StudyConfig`).
 
     Raises:
-        KeyError: no such study (from ``optuna.load_study``, via :func:`load`).
-        ValueError: not ours, no such trial, or a trial without the
-            space's parameters.
+        ValueError: no such study (the message lists the studies present),
+            not ours, no such trial, or a trial without the space's
+            parameters.
     """
     study, config = load(name, storage)
     trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]

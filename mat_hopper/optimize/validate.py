@@ -18,7 +18,8 @@ artefact. Each front design is therefore simulated again (every run is a
     behaviours; the paper's nine designs get the same replicates, for the
     comparison below;
 ``behaviour``
-    every other behaviour (static, forward, ramp, circle, less the study's);
+    every other behaviour (static, forward, ramp, circle, less the study's;
+    none where the study ran all four, and then the check is vacuous);
 ``step 2e-5 s, control 1e-4 s``
     physics at 2e-5 s with 5 substeps, so the controller keeps its 1e-4 s
     period and, with a 5-step sensor latency, the authors' physical sensor
@@ -73,6 +74,7 @@ dominates)?
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import replace
 
 import numpy as np
@@ -472,6 +474,18 @@ def paper_best(runs: pd.DataFrame, objective: Objective, alpha: float = ALPHA) -
     return best
 
 
+def _applicable_checks(g: pd.DataFrame) -> tuple:
+    """The checks of :data:`CHECKS` that apply to one front design's runs
+    `g`: all of them, less ``behaviour`` where the study's own behaviours
+    (those of its runs under the other checks) already cover every one of
+    :data:`~mat_hopper.behaviours.BEHAVIOUR_NAMES`: then no other behaviour
+    is left to run, and the check is vacuous."""
+    own = set(g.loc[g["check"] != BEHAVIOUR, "behaviour"])
+    if set(BEHAVIOUR_NAMES) <= own:
+        return tuple(c for c in CHECKS if c != BEHAVIOUR)
+    return CHECKS
+
+
 def verdicts(runs: pd.DataFrame, table: pd.DataFrame) -> pd.DataFrame:
     """One row per front design: stable under each check (True/False),
     stable everywhere, the paper designs that dominate it, whether that
@@ -479,13 +493,18 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame) -> pd.DataFrame:
     mass-matched leg and its rigid twin (:func:`beats`).
 
     Args:
-        runs: a validation's run table (role, design, check, status, ...).
+        runs: a validation's run table (role, design, behaviour, check,
+            status, ...).
         table: :func:`paired_table`'s table of those runs.
 
     Returns:
         A pandas DataFrame, one row per front design in order of first
         appearance: design, ``stable: <check>`` for each of :data:`CHECKS`
-        (False where the check has no run), ``stable everywhere``,
+        (False where the check has no run; ``stable: behaviour`` True,
+        vacuously, where the study itself ran every behaviour of
+        :data:`~mat_hopper.behaviours.BEHAVIOUR_NAMES`, so that no other
+        is left), ``stable everywhere`` (stable under every check that
+        applies: over the behaviours the study ran, and the others),
         ``dominated by`` (comma-separated paper designs), ``survives``
         (True, False, or ``"untestable"`` where a stable design's
         comparisons with the paper's designs, survival's Holm family, are
@@ -498,10 +517,14 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame) -> pd.DataFrame:
     rows = []
     for design, g in front.groupby("design", sort=False):
         row = {"design": design}
+        applicable = _applicable_checks(g)
         for check in CHECKS:
             sel = g[g["check"] == check]
+            if check not in applicable:  # no other behaviour to run: vacuously stable
+                row[f"stable: {check}"] = True
+                continue
             row[f"stable: {check}"] = bool(len(sel)) and bool((sel["status"] == OK).all())
-        row["stable everywhere"] = all(row[f"stable: {c}"] for c in CHECKS)
+        row["stable everywhere"] = all(row[f"stable: {c}"] for c in applicable)
         mine = table[(table["design"] == design) & (table["kind"] == "paper")]  # survival's family
         testable = bool(len(mine)) and bool(mine["testable"].all())
         dom = dominated_by(table, design)
@@ -533,7 +556,7 @@ def validate_front(
     Args:
         front: {name: LegDesign}.
         objective: the study's objective (profile, behaviours, settings).
-        replicates: seeds per design (default the profile's; >= 2).
+        replicates: seeds per design (an int >= 2; default the profile's).
         cache_dir, workers, progress: the runner's.
         alpha: the significance level of the paired comparisons.
 
@@ -546,9 +569,12 @@ def validate_front(
         survival is untestable).
 
     Raises:
-        ValueError: fewer than 2 replicates.
+        ValueError: `replicates` not an integer, or fewer than 2 (checked
+            before any run).
         RuntimeError: a validation run raised (not a fall: that is a result).
     """
+    if replicates is not None and (isinstance(replicates, bool) or not isinstance(replicates, numbers.Integral)):
+        raise ValueError(f"replicates must be an integer >= 2, got {replicates!r}")
     n = objective.profile.replicates if replicates is None else int(replicates)
     if n < 2:
         raise ValueError(f"validating a front needs at least 2 replicates per design, got {n}")

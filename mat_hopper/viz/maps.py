@@ -17,7 +17,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Polygon, Rectangle
 from matplotlib.ticker import FuncFormatter
 
-from ..materials import CATALOGUE, DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, LegDesign
+from ..materials import CATALOGUE, DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, LegDesign, Material
 from .style import (
     CLASS_COLOURS,
     STYLE,
@@ -278,14 +278,29 @@ def catalogue_table(catalogue=None) -> pd.DataFrame:
 
     Args:
         catalogue: {name: Material} or an iterable of
-            :class:`~mat_hopper.materials.Material`; None (or an empty dict):
-            :data:`mat_hopper.materials.CATALOGUE`.
+            :class:`~mat_hopper.materials.Material`; None (the default):
+            :data:`mat_hopper.materials.CATALOGUE`. An empty selection (an
+            empty dict, list, ...) is a selection of no material: an empty
+            table, not the whole catalogue.
 
     Returns:
-        DataFrame, one row per material, columns ``name``, ``density_g_cm3``
-        (g/cm^3), ``modulus_gpa`` (GPa), ``material_class`` and ``source``.
+        DataFrame, one row per material (none for an empty selection),
+        columns ``name``, ``density_g_cm3`` (g/cm^3), ``modulus_gpa`` (GPa),
+        ``material_class`` and ``source``.
+
+    Raises:
+        ValueError: a string, or an entry that is not a
+            :class:`~mat_hopper.materials.Material` (checked before the
+            table is made).
     """
-    mats = (catalogue or CATALOGUE).values() if isinstance(catalogue or CATALOGUE, dict) else catalogue
+    if catalogue is None:
+        catalogue = CATALOGUE
+    if isinstance(catalogue, (str, bytes)):
+        raise ValueError(f"catalogue must be {{name: Material}} or Materials, not the string {catalogue!r}")
+    mats = list(catalogue.values() if isinstance(catalogue, dict) else catalogue)
+    bad = [m for m in mats if not isinstance(m, Material)]
+    if bad:
+        raise ValueError(f"catalogue entries must be Materials; got {bad[0]!r}")
     return pd.DataFrame(
         [
             {
@@ -296,7 +311,8 @@ def catalogue_table(catalogue=None) -> pd.DataFrame:
                 "source": m.source,
             }
             for m in mats
-        ]
+        ],
+        columns=["name", "density_g_cm3", "modulus_gpa", "material_class", "source"],
     )
 
 

@@ -42,7 +42,8 @@ from .scene import (  # noqa: F401 (the scene's names are re-exported)
 )
 
 VIDEO_EXTENSIONS = (".mp4", ".gif")
-IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".svg", ".pdf")
+IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".svg", ".pdf")  # a Figure (matplotlib's savefig)
+RASTER_EXTENSIONS = (".png", ".jpg", ".jpeg")  # an RGB array (imageio): no vector formats
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -534,18 +535,21 @@ def save_image(fig_or_rgb, path: str) -> str:
     Args:
         fig_or_rgb: a matplotlib Figure (``savefig``; PNGs without the
             Software tag) or an (h, w, 3) uint8 ``numpy`` array (imageio).
-        path: the file; its extension (any case) among
-            :data:`IMAGE_EXTENSIONS` picks the format.
+        path: the file; its extension (any case) picks the format: among
+            :data:`IMAGE_EXTENSIONS` for a Figure, among
+            :data:`RASTER_EXTENSIONS` (no .svg or .pdf) for an array.
 
     Returns:
         `path`, as given.
 
     Raises:
-        ValueError: an extension not in :data:`IMAGE_EXTENSIONS`.
+        ValueError: an extension not among those of its input (checked
+            before anything is written).
     """
-    ext = _check_extension(path, IMAGE_EXTENSIONS)
+    rgb = isinstance(fig_or_rgb, np.ndarray)
+    ext = _check_extension(path, RASTER_EXTENSIONS if rgb else IMAGE_EXTENSIONS)
     with atomic_path(path) as tmp:
-        if isinstance(fig_or_rgb, np.ndarray):
+        if rgb:
             import imageio.v2 as imageio
 
             imageio.imwrite(tmp, fig_or_rgb)
@@ -582,9 +586,11 @@ def render_files(
         design: a :class:`~mat_hopper.materials.LegDesign` or a design name.
         behaviour: a behaviour name or :class:`~mat_hopper.behaviours.Behaviour`.
         tiles: the gait-tile file (:func:`gait_tiles`, 8 frames from
-            start_s + tile_start_s); None: none.
-        video: the video file; None: none.
-        still: the still's file (:func:`render_still`, standing); None: none.
+            start_s + tile_start_s; .png, .jpg, .jpeg, .svg or .pdf); None:
+            none.
+        video: the video file (.mp4 or .gif); None: none.
+        still: the still's file (:func:`render_still`, standing; an RGB
+            picture: .png, .jpg or .jpeg); None: none.
         seconds: the video's length, simulated s (> 0); the run lasts
             max(seconds, tile_start_s + 1) from `start_s`.
         start_s: the video's start, simulated s (>= 0).
@@ -611,7 +617,7 @@ def render_files(
     if not tiles and not video and not still:
         raise ValueError("nothing to render: give tiles, video and/or still")
     fps = _check_fps(fps)
-    for path, allowed in ((tiles, IMAGE_EXTENSIONS), (still, IMAGE_EXTENSIONS), (video, VIDEO_EXTENSIONS)):
+    for path, allowed in ((tiles, IMAGE_EXTENSIONS), (still, RASTER_EXTENSIONS), (video, VIDEO_EXTENSIONS)):
         if path:
             _check_extension(path, allowed)
     if not (math.isfinite(seconds) and seconds > 0):

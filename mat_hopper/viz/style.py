@@ -8,6 +8,7 @@ backend: figures are ``matplotlib.figure.Figure`` objects.
 from __future__ import annotations
 
 import math
+import numbers
 from pathlib import Path
 
 import numpy as np
@@ -198,17 +199,26 @@ def save_figure(fig: Figure, path_stem, *, formats=("png", "svg"), dpi: int = DP
         The paths written, ``<path_stem>.<format>`` per format.
 
     Raises:
-        ValueError: a format not among png, svg, pdf (the formats before it
-            in `formats` are written already).
+        ValueError: `formats` empty or a plain string, a format not among
+            png, svg, pdf, or a `dpi` that is not a finite number > 0 (all
+            checked before any folder or file is written).
     """
+    if isinstance(formats, str):
+        raise ValueError(f"formats must be a sequence of formats, e.g. ('png',), not the string {formats!r}")
+    formats = list(formats)
+    if not formats:
+        raise ValueError("formats must name at least one of png, svg, pdf")
+    bad = [f for f in formats if f not in ("png", "svg", "pdf")]
+    if bad:
+        raise ValueError(f"formats must be among png, svg, pdf; got {', '.join(map(repr, bad))}")
+    if isinstance(dpi, bool) or not isinstance(dpi, numbers.Real) or not (math.isfinite(dpi) and dpi > 0):
+        raise ValueError(f"dpi must be a finite number > 0, got {dpi!r}")
     stem = Path(path_stem)
     if stem.suffix.lower() in (".png", ".svg", ".pdf"):
         stem = stem.with_suffix("")
     stem.parent.mkdir(parents=True, exist_ok=True)
     written = []
     for fmt in formats:
-        if fmt not in ("png", "svg", "pdf"):
-            raise ValueError(f"formats must be among png, svg, pdf; got {fmt!r}")
         target = stem.parent / f"{stem.name}.{fmt}"
         meta = {"Software": None} if fmt == "png" else {"Date": None} if fmt == "svg" else {"CreationDate": None}
         with (

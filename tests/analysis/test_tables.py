@@ -176,3 +176,77 @@ def test_failure_table_tells_numerical_from_falls():
     assert f.loc["B", "kind"] == "numerical" and f.loc["B", "at_s"] == 0.0012
     assert f.loc["C", "kind"] == "fell, then diverged" and f.loc["C", "at_s"] == 9.4
     assert f.loc["D", "kind"] == "fell" and np.isnan(f.loc["D", "at_s"])
+
+
+def test_failure_table_without_diverged_at_s_names_the_column():
+    runs = pd.DataFrame(
+        {
+            "design": ["A", "B"],
+            "behaviour": ["forward"] * 2,
+            "status": ["ok", "diverged"],
+            "final_base_z_m": [0.9, 1.2],
+        }
+    )
+    with pytest.raises(ValueError, match=r"failure_table.*needs columns \['diverged_at_s'\]"):
+        tab.failure_table(runs)
+    # no diverged run: the time of a blow-up is not needed
+    f = tab.failure_table(runs.assign(status=["ok", "fallen"], final_base_z_m=[0.9, 0.05]))
+    assert list(f["kind"]) == ["fell"]
+    with pytest.raises(ValueError, match=r"needs columns \['behaviour', 'final_base_z_m'\]"):
+        tab.failure_table(runs.drop(columns=["behaviour", "final_base_z_m"]))
+
+
+def test_tables_name_missing_columns():
+    with pytest.raises(ValueError, match=r"replicate_table needs columns \['design', 'n'"):
+        tab.replicate_table(pd.DataFrame({"metric": ["power_w"], "pct_change": [1.0]}))
+    with pytest.raises(ValueError, match=r"starred needs columns \['significant'\]"):
+        tab.starred(pd.DataFrame({"pair": ["x"], "metric": ["m"], "behaviour": ["forward"], "pct_change": [1.0]}))
+    hops = pd.DataFrame({"setting": ["a", "a"], "design": ["MD", "SS"], "power_w": [1.0, 2.0]})
+    with pytest.raises(ValueError, match=r"setting_comparison needs columns \['tracking_error_m'\]"):
+        tab.setting_comparison(hops)
+    with pytest.raises(ValueError, match=r"setting_comparison needs columns \['design'\]"):
+        tab.setting_comparison(hops.drop(columns="design"), metrics=("power_w",))
+
+
+def _linear_record(rate_hz=1000.0, n=2001):
+    """A hand-made record at `rate_hz` (as in the test above)."""
+    from mat_hopper.behaviours import behaviour
+    from mat_hopper.materials import parse_design
+    from mat_hopper.rollout import Rollout
+    from mat_hopper.sim import CHANNELS, C, SimSettings
+
+    t = np.arange(n) / rate_hz
+    data = np.zeros((len(t), len(CHANNELS)))
+    data[:, C["t"]], data[:, C["az"]], data[:, C["jerk_z"]] = t, 2.0 * t, -3.0
+    settings = SimSettings(duration_s=2.0, transient_s=0.5, timestep_s=1e-4)
+    return Rollout(parse_design("SS"), behaviour("forward"), settings, data, np.zeros((0, 3)), -1, 1.0, ())
+
+
+@pytest.mark.parametrize("rate", [1500.0, 1999.0, 1001.0])
+def test_jerk_by_rate_refuses_a_rate_above_the_record_rate(rate):
+    # between 1x and 2x the 1 kHz record rate: subsampling cannot give it
+    # (it used to be lowered to 1000 Hz without a word)
+    with pytest.raises(ValueError, match=r"exceeds the record rate 1000 Hz; possible rates: 1000 Hz divided by"):
+        tab.jerk_by_rate(_linear_record(), rates_hz=(100.0, rate))
+
+
+@pytest.mark.parametrize(
+    ("rates", "text"),
+    [
+        ((0.0,), "must be a finite number > 0"),
+        ((-10.0,), "must be a finite number > 0"),
+        ((float("nan"),), "must be a finite number > 0"),
+        ((), "at least one rate"),
+        (100.0, "rates_hz must be numbers"),
+        ((1e-3,), "leaves fewer than 3 samples"),
+    ],
+)
+def test_jerk_by_rate_refuses_bad_rates(rates, text):
+    with pytest.raises(ValueError, match=text):
+        tab.jerk_by_rate(_linear_record(), rates_hz=rates)
+
+
+def test_jerk_by_rate_rounds_a_rate_below_the_record_rate_to_a_whole_step():
+    # 1 kHz / 3 = 333.33 Hz is the nearest possible rate to 300 Hz
+    j = tab.jerk_by_rate(_linear_record(), rates_hz=(300.0, 1000.0))
+    assert list(j["rate_hz"]) == pytest.approx([1000.0 / 3, 1000.0])

@@ -127,3 +127,18 @@ def test_planned_steps_count_the_controls_as_they_run():
     for r in (0, 1, 4):
         exact = sum(task_steps(t) for ts in _tasks(PROFILES["quick"], names, ("paper",), r).values() for t in ts)
         assert planned_steps("quick", names, ("paper",), r) == pytest.approx(exact)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"workers": 2, "scheduler": "tcp://127.0.0.1:1"}, "not both"),
+        ({"scheduler": 42}, "scheduler must be an address like tcp://host:8786"),
+        ({"scheduler": "  "}, "scheduler address is empty"),
+    ],
+)
+def test_library_scheduler_checks_come_before_the_results_folder(tmp_path, kwargs, message):
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    with pytest.raises(ValueError, match=message):
+        reproduce(TINY, "1", str(out), cache_dir=str(cache), progress=False, figures=False, log=None, **kwargs)
+    assert not out.exists() and not cache.exists()

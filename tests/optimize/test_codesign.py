@@ -73,3 +73,34 @@ def test_codesign_end_to_end(tmp_path):
     assert set(out["survival"]["design"]) == {"SS"} and out["answer"].endswith(".")
     with pytest.raises(ValueError, match="baseline 'MD' must be one of the designs"):
         codesign(["SS", "Ti"], profile=tiny, trials=2, cache_dir=tmp_path)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "text"),
+    [
+        ({"batch": 0}, "batch must be an integer >= 1, got 0"),
+        ({"batch": -3}, "batch must be an integer >= 1, got -3"),
+        ({"batch": 2.5}, "batch must be an integer >= 1, got 2.5"),
+        ({"trials": True}, "trials must be an integer >= 1, got True"),
+        ({"seed": "0"}, "seed must be an integer, got '0'"),
+    ],
+)
+def test_tune_refuses_bad_counts_before_running(kwargs, text):
+    # batch <= 0 used to loop forever asking no trial; nothing runs here:
+    # the check comes before any runner is made
+    with pytest.raises(ValueError, match=text):
+        tune("SS", profile=Profile("tiny", duration_s=4.0, transient_s=1.0), **{"trials": 3, **kwargs})
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "text"),
+    [
+        ({"replicates": 2.7}, "replicates must be an integer, got 2.7"),
+        ({"replicates": 1}, "at least 2 replicates, got 1"),
+        ({"trials": 0}, "trials must be an integer >= 1, got 0"),
+    ],
+)
+def test_codesign_refuses_bad_counts_before_running(tmp_path, kwargs, text):
+    with pytest.raises(ValueError, match=text):
+        codesign(["MD", "SS"], profile=Profile("tiny", duration_s=4.0, transient_s=1.0), cache_dir=tmp_path, **kwargs)
+    assert list(tmp_path.iterdir()) == []  # no runner, no cache written

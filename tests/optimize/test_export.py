@@ -106,3 +106,11 @@ def test_export_errors(tmp_path, capsys):
     csv.write_text("design,density_1,modulus_1\na,8,193\nb,2,3\n")
     assert main(["simulate", "--design-csv", str(csv), "--duration", "1", "--transient", "0.5"]) == 2
     assert "holds 2 designs" in capsys.readouterr().err
+
+
+def test_export_of_a_study_the_storage_does_not_hold(tmp_path):
+    storage = optuna.storages.InMemoryStorage()
+    optuna.create_study(study_name="other", storage=storage)
+    with pytest.raises(ValueError, match=r"no study 'missing'.*studies present: 'other'"):
+        export_trial("missing", storage, 0, str(tmp_path / "out"))
+    assert not (tmp_path / "out").exists()

@@ -636,3 +636,24 @@ def test_stress_constraints_peak_stress_and_fatigue_life():
     assert evaluate(LegDesign.mono("SS"), strict).constraints[2] > 0
     with pytest.raises(ValueError, match="max_yield_fraction"):
         Objective(max_yield_fraction=-1.0)
+
+
+def test_report_functions_refuse_a_study_the_storage_does_not_hold(tmp_path):
+    # a name not in the storage: ValueError naming it and the studies present
+    # (not Optuna's KeyError), before anything is written
+    from mat_hopper.optimize.report import load, trial_design
+
+    storage = optuna.storages.InMemoryStorage()
+    optuna.create_study(study_name="other", storage=storage)
+    msg = r"no study 'missing'.*studies present: 'other'"
+    with pytest.raises(ValueError, match=msg):
+        load("missing", storage)
+    with pytest.raises(ValueError, match=msg):
+        write_report("missing", storage, str(tmp_path / "report"))
+    assert not (tmp_path / "report").exists()
+    with pytest.raises(ValueError, match=msg):
+        replay("missing", storage, 0)
+    with pytest.raises(ValueError, match=msg):
+        trial_design("missing", storage, 0)
+    with pytest.raises(ValueError, match=r"no study 'missing'.*studies present: none"):
+        load("missing", optuna.storages.InMemoryStorage())

@@ -23,6 +23,7 @@ from mat_hopper.optimize.validate import (
     check_settings,
     dominated_by,
     paired_table,
+    validate_front,
     validation_tasks,
     verdicts,
 )
@@ -193,3 +194,45 @@ def test_validate_front_end_to_end(tmp_path):
     assert "heavy~rigid" in set(v["runs"]["design"])
     assert np.isnan(v["surviving_fraction"]) or v["surviving_fraction"] == 0.0
     assert "untestable" in answer(v, {"heavy": heavy}) or "0 of 1" in answer(v, {"heavy": heavy})
+
+
+def test_a_study_of_all_four_behaviours_is_stable_everywhere_without_behaviour_runs():
+    # a study that ran static, forward, ramp and circle leaves no other
+    # behaviour to run: no "behaviour" check rows. A design stable on every
+    # run of the four must be stable everywhere (and survive: nothing
+    # dominates it at 10 seeds); one fall on circle must still fail it.
+    rows = []
+    for beh in ("static", "forward", "ramp", "circle"):
+        for r in range(10):
+            for role, name, t in (("front", "f", 0.01), ("paper", "A", 0.02)):
+                rows.append({"role": role, "design": name, "behaviour": beh, "check": REPLICATE, "replicate": r,
+                             "status": "ok", f"mean_{T}": t * (1 + 0.01 * r), f"mean_{P}": 2.0 * (1 + 0.01 * r)})  # fmt: skip
+        for c in (NOMINAL, FINE_CONTROL, FINE_PLAIN, AXIAL):
+            rows.append({"role": "front", "design": "f", "behaviour": beh, "check": c, "replicate": -1,
+                         "status": "ok"})  # fmt: skip
+    runs = pd.DataFrame(rows)
+    ob = Objective(replicates=0, profile=OB.profile, behaviours=("static", "forward", "ramp", "circle"))
+    v = verdicts(runs, paired_table(runs, ob)).set_index("design")
+    assert v.loc["f", "stable everywhere"] == True  # noqa: E712
+    assert v.loc["f", "stable: behaviour"] == True  # noqa: E712 (vacuous: no other behaviour)
+    assert v.loc["f", "survives"] == True  # noqa: E712
+    fell = runs.copy()
+    fell.loc[(fell["behaviour"] == "circle") & (fell["check"] == AXIAL), "status"] = "fell"
+    v = verdicts(fell, paired_table(fell, ob)).set_index("design")
+    assert v.loc["f", "stable everywhere"] == False  # noqa: E712
+    assert v.loc["f", "stable: axial"] == False  # noqa: E712
+    assert v.loc["f", "survives"] == False  # noqa: E712
+
+
+def test_one_study_behaviour_without_other_behaviour_runs_is_not_stable_everywhere():
+    # the ramp alone: the other three behaviours must have run
+    runs = _runs(LEGS, 10)
+    runs = runs[runs["check"] != "behaviour"]
+    v = verdicts(runs, paired_table(runs, OB)).set_index("design")
+    assert v.loc["f", "stable: behaviour"] == False  # noqa: E712
+    assert v.loc["f", "stable everywhere"] == False  # noqa: E712
+
+
+def test_validate_front_refuses_a_fractional_replicate_count(tmp_path):
+    with pytest.raises(ValueError, match="replicates must be an integer >= 2, got 2.5"):
+        validate_front({}, OB, replicates=2.5, cache_dir=tmp_path)

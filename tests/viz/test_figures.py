@@ -135,3 +135,20 @@ def test_bad_input_names_the_column():
         plots.figure4_mono(pd.DataFrame({"design": ["MD"], "behaviour": ["static"]}))
     with pytest.raises(ValueError, match="Rollout"):
         plots.figure5_timeseries([])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "text"),
+    [
+        ({"formats": ("png", "jpg")}, r"formats must be among png, svg, pdf; got 'jpg'"),
+        ({"formats": ("svg", "png", "tiff")}, r"got 'tiff'"),
+        ({"formats": ()}, "at least one"),
+        ({"formats": "png"}, "not the string 'png'"),
+        ({"dpi": 0}, "dpi must be a finite number > 0, got 0"),
+    ],
+)
+def test_save_figure_checks_every_format_before_writing(tmp_path, kwargs, text):
+    # a bad second format used to leave the first written: now nothing is
+    with pytest.raises(ValueError, match=text):
+        style.save_figure(maps.ashby_figure(), tmp_path / "sub" / "x", **kwargs)
+    assert list(tmp_path.iterdir()) == []

@@ -183,3 +183,25 @@ def test_cli_names_the_missing_gl_library(tmp_path):
     assert res.returncode == 3, res.stderr
     assert "libOSMesa" in res.stderr and "libosmesa6" in res.stderr and "libEGL" in res.stderr
     assert "Traceback" not in res.stderr and not out.exists()
+
+
+def test_an_rgb_picture_to_a_vector_file_is_refused_before_any_work(tmp_path, monkeypatch):
+    from mat_hopper.cli import main
+    from mat_hopper.viz import render
+
+    rgb = np.zeros((4, 4, 3), dtype=np.uint8)
+    for ext in (".svg", ".pdf"):
+        with pytest.raises(ValueError, match=rf"unknown file type '\{ext}'.*accepted: .png, .jpg, .jpeg$"):
+            render.save_image(rgb, str(tmp_path / f"s{ext}"))
+    assert list(tmp_path.iterdir()) == []
+    assert render.save_image(rgb, str(tmp_path / "s.png")) == str(tmp_path / "s.png")  # a raster file still works
+
+    def no_rendering(*args, **kwargs):
+        raise AssertionError("rendered before the still's file type was checked")
+
+    monkeypatch.setattr(render, "render_still", no_rendering)
+    monkeypatch.setattr(render, "record", no_rendering)
+    with pytest.raises(ValueError, match=r"unknown file type '\.svg'"):
+        render.render_files("SS", "static", still=str(tmp_path / "still.svg"), tiles=str(tmp_path / "t.png"))
+    assert main(["render", "--design", "SS", "--still", str(tmp_path / "still.pdf")]) == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.png"]
