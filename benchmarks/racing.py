@@ -38,15 +38,17 @@ objectives; Optuna's own computation is private and no hypervolume package
 is installed). A front with no survivor has hypervolume 0. Then the
 medians over seeds per study.
 
-The issue's figures (5 seeds, 4 brackets each, quick profile, ramp; about
-1.5 hours on 2 shared cores)::
+The issue's figures (5 seeds, 3 brackets each, quick profile, ramp; 177 min
+on 2 cores shared with another job, 2026-12-02; docs/optimizer.md gives
+them)::
 
-    python benchmarks/racing.py --seeds 5 --budget-s 1008 --workers 2 --csv racing.csv
+    python benchmarks/racing.py --seeds 5 --budget-s 756 --workers 2 --studies-dir studies-racing --csv racing.csv
 
-Smaller runs, as measured on 2 cores shared with another job (2026-12-02;
-docs/optimizer.md gives their figures): ``--seeds 3 --budget-s 756``
-(3 brackets) took 33.5 min; ``--seeds 2 --budget-s 252`` (one bracket:
-8 of its 9 screened trials are the paper's enqueued designs) 8.7 min.
+``--validate-only`` with the same arguments re-judges the studies stored in
+``--studies-dir`` without searching (9.7 min from the cache). Smaller runs:
+``--seeds 3 --budget-s 756`` took 33.5 min; ``--seeds 2 --budget-s 252``
+(one bracket: 8 of its 9 screened trials are the paper's enqueued
+designs) 8.7 min.
 
 All runs go through the result runner's cache (``--cache``; default
 ``$MAT_HOPPER_CACHE``, else results/cache): the paper's validation runs are
