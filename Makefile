@@ -9,8 +9,10 @@ setup:
 	@bash scripts/setup.sh
 
 # Tests run on every core (pytest-xdist, at most 4 workers); a test file stays
-# on one worker, so the quick book (one module fixture) is built once.
-PYTEST := $(PY) -m pytest -q -n auto --maxprocesses 4 --dist loadfile
+# on one worker, so the quick book (one module fixture) is built once. Files
+# are queued in the order tests/conftest.py sorts them (the book first), not
+# by their number of tests.
+PYTEST := $(PY) -m pytest -q -n auto --maxprocesses 4 --dist loadfile --no-loadscope-reorder
 
 ## Pass every test (CI runs this; the slow ones too: 60 s physics runs, the book build, PostgreSQL, SIGKILL).
 test: setup
