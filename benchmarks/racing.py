@@ -78,6 +78,7 @@ from mat_hopper.optimize import (
     StudyConfig,
     default_racing,
     hypervolume,
+    load_existing,
     open_storage,
     parse_objectives,
     run_racing,
@@ -215,10 +216,7 @@ def stored(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> t
     Raises:
         ValueError: no such study in the storage.
     """
-    try:
-        study = optuna.load_study(study_name=config.name, storage=url)
-    except KeyError as e:  # Optuna's error for a missing study
-        raise ValueError(f"--validate-only: no study {config.name!r} in {url}") from e
+    study = load_existing(config.name, url)  # ValueError naming the studies the file holds
     if config.objective.replicates:
         return study, simulated_seconds(study, default_racing(config.objective))["simulated_s"]
     finished = [t for t in study.get_trials(deepcopy=False) if t.state.is_finished()]

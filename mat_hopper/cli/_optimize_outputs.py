@@ -20,6 +20,7 @@ from ..optimize import (
     describe,
     dispose,
     front_table,
+    load_existing,
     open_storage,
     redact,
     replay,
@@ -27,7 +28,6 @@ from ..optimize import (
     study_exists,
     write_report,
 )
-from ..optimize._study import load_existing
 from ..optimize.report import BASELINES, feasible_complete
 from ..viz.render import choose_backend, render_files
 from ._checks import check_output_dir

@@ -51,6 +51,7 @@ from ._study import (
     StudyConfig,
     check_objectives_vary,
     create_or_load,
+    load_existing,
     stored_config,
     study_exists,
 )
@@ -124,6 +125,7 @@ __all__ = [
     "RunOptions",
     "RunResult",
     "StudyConfig",
+    "load_existing",
     "check_sampler",
     "check_objectives_vary",
     "create_or_load",
