@@ -132,10 +132,14 @@ def check_n_segments(n_segments) -> int:
 
     Raises:
         ValueError: a bool, a value that is not an integer (2.5, ``"3.0"``,
-            nan, inf, None) or one outside [1, :data:`MAX_SEGMENTS`] (64).
+            nan, inf, None), a string of non-ASCII digits (``"٣"``) or one
+            outside [1, :data:`MAX_SEGMENTS`] (64).
     """
+    from .parsing import is_decimal
+
     try:
         ok = (not isinstance(n_segments, bool)) and float(n_segments) == int(n_segments)
+        ok = ok and (is_decimal(n_segments) if isinstance(n_segments, str) else True)  # ASCII only: not "٣"
     except (TypeError, ValueError, OverflowError):
         ok = False
     if not ok or not 1 <= int(n_segments) <= MAX_SEGMENTS:
@@ -161,6 +165,12 @@ def check_segment_mass(segment_mass: str) -> str:
     return parse_name(segment_mass, SEGMENT_MASSES, "segment mass convention")
 
 
+# The Ashby chart's classes a material may name (damping.LOSS_FACTORS and
+# fatigue.CLASS_STRENGTH cover the physical ones), plus the paper's rigid
+# reference and "custom" (a class read off the modulus).
+MATERIAL_CLASSES = ("custom", "reference", "metal", "polymer", "ceramic", "composite", "natural")
+
+
 @dataclass(frozen=True)
 class Material:
     """A material: bulk density in g/cm^3 and elastic modulus in GPa.
@@ -170,11 +180,14 @@ class Material:
         density_g_cm3: bulk density, g/cm^3, in [0.001, 30].
         modulus_gpa: Young's modulus, GPa, in [1e-6, 2000]; None is a rigid
             material (no spring: the paper's MD).
-        material_class: e.g. ``"metal"``, ``"polymer"`` (the Ashby chart's classes).
+        material_class: one of :data:`MATERIAL_CLASSES`, any case (stored
+            as spelled there): ``"metal"``, ``"polymer"``, ... (the Ashby
+            chart's classes); ``"custom"`` (default): read off the modulus.
         source: where the numbers come from.
 
     Raises:
-        ValueError: a density or modulus that is not a finite number in its range.
+        ValueError: a density or modulus that is not a finite number in its
+            range, or an unknown material class.
     """
 
     name: str
@@ -184,6 +197,9 @@ class Material:
     source: str = ""
 
     def __post_init__(self):
+        from .parsing import parse_name
+
+        object.__setattr__(self, "material_class", parse_name(self.material_class, MATERIAL_CLASSES, "material class"))
         lo, hi = DENSITY_RANGE_G_CM3
         d = _check_number(
             self.density_g_cm3, f"density of {self.name}", f"in [{lo:g}, {hi:g}] g/cm^3", bounds=DENSITY_RANGE_G_CM3
@@ -194,7 +210,7 @@ class Material:
             e = _check_number(
                 self.modulus_gpa,
                 f"modulus of {self.name}",
-                f"in [{lo:g}, {hi:g}] GPa, or rigid",
+                f"in [{lo:g}, {hi:g}] GPa, or None (rigid)",
                 bounds=MODULUS_RANGE_GPA,
             )
             object.__setattr__(self, "modulus_gpa", e)
@@ -650,7 +666,11 @@ class LegDesign:
         """A leg from per-segment densities (g/cm^3) and moduli (GPa; None
         or the word ``"rigid"`` = rigid, as on the command line; inf is
         refused in both). Raises ValueError for lists of different lengths
-        (one value is used for every segment) or values out of range."""
+        (one value is used for every segment), values out of range, or a
+        string or None in place of a sequence."""
+        for arg, what in ((densities_g_cm3, "densities_g_cm3"), (moduli_gpa, "moduli_gpa")):
+            if arg is None or isinstance(arg, (str, bytes)):  # a string would be read a character at a time
+                raise ValueError(f"{what} must be a sequence of numbers, one per segment; got {arg!r}")
         dens = list(densities_g_cm3)
         mods = [None if isinstance(e, str) and e.strip().lower() == "rigid" else e for e in moduli_gpa]
         if len(mods) == 1 and len(dens) > 1:

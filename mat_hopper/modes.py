@@ -51,6 +51,7 @@ from .materials import (
     BENDING_CONVENTIONS,
     DEFAULT_CONVENTION,
     DEFAULT_SEGMENT_MASS,
+    MAX_SEGMENTS,
     LegDesign,
     check_convention,
     second_moment_m4,
@@ -435,6 +436,16 @@ def auto_substeps(
     return k, control_period_s / k, bound
 
 
+def _check_mode_args(design, n_modes) -> int:
+    """`n_modes` as an int in [1, MAX_SEGMENTS] (a chain of N <= 64 springs
+    has at most N modes), after checking `design` is a LegDesign; ValueError else."""
+    if not isinstance(design, LegDesign):
+        raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
+    if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) or not 1 <= n_modes <= MAX_SEGMENTS:
+        raise ValueError(f"n_modes must be an integer in [1, {MAX_SEGMENTS}], got {n_modes!r}")
+    return int(n_modes)
+
+
 def _rod_roots(a1: float, a2: float, n_modes: int) -> np.ndarray:
     """The first n_modes positive roots z of (a1 a2 z^2 - 1) sin z =
     (a1 + a2) z cos z (module doc), bracketed on a fine grid then refined
@@ -481,9 +492,11 @@ def axial_modes(
     Raises:
         ValueError: an unknown convention, the ``bending`` convention (its
             model has no axial slides ``mat_spring_i`` to read), a graded or
-            rigid design, or an argument
+            rigid design (or not a LegDesign), `n_modes` not an integer in
+            [1, 64], or an argument
             :func:`mat_hopper.model.build_model` refuses.
     """
+    n_modes = _check_mode_args(design, n_modes)
     convention = check_convention(convention)
     if convention not in AXIAL_CONVENTIONS:
         raise ValueError(
@@ -572,9 +585,11 @@ def bending_modes(
     Raises:
         ValueError: an unknown convention or one not in
             :data:`~mat_hopper.materials.BENDING_CONVENTIONS`, a graded or
-            rigid design, or an argument :func:`mat_hopper.model.build_spec`
+            rigid design (or not a LegDesign), `n_modes` not an integer in
+            [1, 64], or an argument :func:`mat_hopper.model.build_spec`
             refuses.
     """
+    n_modes = _check_mode_args(design, n_modes)
     convention = check_convention(convention)
     if convention not in BENDING_CONVENTIONS:
         raise ValueError(

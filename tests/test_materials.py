@@ -224,3 +224,29 @@ def test_section_geometry_refuses_bad_radii():
             capsule_volume_m3(bad, 0.1)
     with pytest.raises(ValueError, match="capsule length"):
         capsule_volume_m3(0.025, -0.1)
+
+
+def test_material_class_any_case_and_unknown_refused():
+    from mat_hopper.materials import Material
+
+    assert Material("x", 3.9, 380.0, " Ceramic ").material_class == "ceramic"
+    for bad in ("nonsense", 5, ""):
+        with pytest.raises(ValueError, match="material class"):
+            Material("x", 3.9, 380.0, bad)
+
+
+def test_from_properties_refuses_a_string_for_a_sequence():
+    # "8" was read a character at a time: a 1-segment density against moduli 1, 9, 3 GPa
+    from mat_hopper.materials import LegDesign
+
+    for dens, mods in (("8", "193"), ([8.0], "193"), (None, None)):
+        with pytest.raises(ValueError, match="must be a sequence of numbers"):
+            LegDesign.from_properties(dens, mods)
+
+
+def test_n_segments_refuses_non_ascii_digits():
+    from mat_hopper.materials import check_n_segments
+
+    assert check_n_segments("3") == 3
+    with pytest.raises(ValueError, match="n_segments"):
+        check_n_segments("\u0663")  # ARABIC-INDIC DIGIT THREE: float() reads it as 3

@@ -127,3 +127,21 @@ def test_modes_tables_read_the_convention_any_case():
         axial_modes(ss, convention="Bending")  # no mat_spring_i: a clear ValueError, not a KeyError
     with pytest.raises(ValueError, match="unknown stiffness convention"):
         axial_modes(ss, convention="radial")
+
+
+@pytest.mark.parametrize("n_modes", [float("nan"), 2.5, "2", 10**9, -1, 0, True])
+def test_mode_tables_refuse_a_bad_mode_count(n_modes):
+    from mat_hopper.materials import parse_design
+    from mat_hopper.modes import axial_modes, bending_modes
+
+    for table, convention in ((axial_modes, "axial"), (bending_modes, "bending")):
+        with pytest.raises(ValueError, match="n_modes"):
+            table(parse_design("SS"), convention=convention, n_modes=n_modes)
+
+
+def test_mode_tables_refuse_a_design_name():
+    from mat_hopper.modes import axial_modes, bending_modes
+
+    for table in (axial_modes, bending_modes):
+        with pytest.raises(ValueError, match="must be a LegDesign"):
+            table("SS")

@@ -295,8 +295,13 @@ def load_existing(name: str, storage, **kwargs) -> optuna.Study:
 
     Raises:
         ValueError: no study named `name` in `storage` (the message names it
-            and lists the studies the storage holds).
+            and lists the studies the storage holds), or a SQLite URL whose
+            file does not exist (checked first: opening it would create it).
     """
+    if isinstance(storage, str) and storage.lower().startswith("sqlite:///"):
+        path = storage[len("sqlite:///") :]
+        if path != ":memory:" and not os.path.isfile(path):  # opening it would create an empty database
+            raise ValueError(f"no study {name!r}: no SQLite file {path}")
     try:
         return optuna.load_study(study_name=name, storage=storage, **kwargs)
     except KeyError:

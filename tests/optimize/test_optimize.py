@@ -657,3 +657,8 @@ def test_report_functions_refuse_a_study_the_storage_does_not_hold(tmp_path):
         trial_design("missing", storage, 0)
     with pytest.raises(ValueError, match=r"no study 'missing'.*studies present: none"):
         load("missing", optuna.storages.InMemoryStorage())
+    # a SQLite URL of a file that does not exist: refused, and no empty database left behind
+    url = f"sqlite:///{tmp_path / 'nosuch.db'}"
+    with pytest.raises(ValueError, match="no SQLite file"):
+        load("missing", url)
+    assert not (tmp_path / "nosuch.db").exists()
