@@ -517,7 +517,7 @@ def simulate(
     """Run a design on a behaviour for ``duration_s`` simulated seconds.
 
     Every setting left at None takes :class:`SimSettings`' default (the
-    paper's protocol: 60 s, 1e-4 s step, 10 s transient, the authors'
+    paper's protocol: 60 s, 1e-4 s step, 20 s transient, the authors'
     sensor timing and stiffness convention).
 
     Args:
