@@ -214,13 +214,12 @@ def stored(config: StudyConfig, url: str, seed: int, budget_s: float, args) -> t
         (study, simulated s it spent, counted as :func:`race` or :func:`single` counts).
 
     Raises:
-        SystemExit: no such file (a one-line message).
-        ValueError: no such study in the storage.
+        SystemExit: no such file or study (a one-line message).
     """
-    path = url.removeprefix("sqlite:///")
-    if not os.path.isfile(path):  # opening it would create an empty database
-        raise SystemExit(f"racing.py: --validate-only: no stored study {config.name!r} (no file {path})")
-    study = load_existing(config.name, url)  # ValueError naming the studies the file holds
+    try:  # load_existing refuses a missing file (opening it would create one) and a missing study
+        study = load_existing(config.name, url)
+    except ValueError as e:
+        raise SystemExit(f"racing.py: --validate-only: {e}") from None
     if config.objective.replicates:
         return study, simulated_seconds(study, default_racing(config.objective))["simulated_s"]
     finished = [t for t in study.get_trials(deepcopy=False) if t.state.is_finished()]
