@@ -23,12 +23,12 @@ space (continuous density and modulus, 3 segments), the paper's designs
 enqueued first, TPE seeded with the same seed. Each study's front
 (Optuna's ``best_trials``: feasible and non-dominated; for racing only
 complete, i.e. full-fidelity, trials) is then validated on fresh seeds
-(:func:`mat_hopper.optimize.validate.validate_front`, seeds 0..9, never the
+(:func:`mat_hopper.optimize.validate.validate_front`, seeds 0..9 by default, ``--validation-seeds``; never the
 search's: 10 replicates, the fewest at which survival is testable; every
 check, the paper's nine and each design's mass-matched leg and rigid twin,
 Holm). Per study and seed the table gives the front's size, its surviving
 fraction and the hypervolume of the validated front: the survivors'
-replicate means (over the 10 fresh seeds, each a mean over the behaviours),
+replicate means (over the fresh seeds, each a mean over the behaviours),
 against one reference point for every study and seed (the worst of those
 means over every survivor of every study and seed, on each objective, times
 1.1: a front design that failed validation, with a mean of thousands of W,
@@ -88,7 +88,9 @@ from mat_hopper.optimize import (
 from mat_hopper.optimize._robust import DEFAULT_REPLICATES
 from mat_hopper.optimize.validate import replicate_means, validate_front
 
-VALIDATION_SEEDS = 10  # fewer and survival is 'untestable' (validate.py's module doc)
+VALIDATION_SEEDS = (
+    10  # the default of --validation-seeds; fewer and survival is 'untestable' (validate.py's module doc)
+)
 HV_FACTOR = 1.1  # the reference point: the worst validated value of each objective times this
 COLUMNS = [
     "study",
@@ -284,12 +286,12 @@ def one_seed(seed: int, args, folder: str) -> list[dict]:
 
 
 def validated(front: dict, objective: Objective, args) -> dict:
-    """Validate a front on VALIDATION_SEEDS fresh seeds.
+    """Validate a front on ``args.validation_seeds`` fresh seeds.
 
     Args:
         front: {name: LegDesign}.
         objective: the studies' objective (profile, behaviours, objectives).
-        args: the command line (workers, cache).
+        args: the command line (workers, cache, validation_seeds).
 
     Returns:
         dict: survivors (count), surviving_fraction (NaN: untestable or no
@@ -298,7 +300,7 @@ def validated(front: dict, objective: Objective, args) -> dict:
     """
     if not front:
         return {"survivors": 0, "surviving_fraction": math.nan, "points": np.empty((0, 2)), "survived": []}
-    res = validate_front(front, objective, replicates=VALIDATION_SEEDS, cache_dir=args.cache, workers=args.workers)
+    res = validate_front(front, objective, replicates=args.validation_seeds, cache_dir=args.cache, workers=args.workers)
     means = replicate_means(res["runs"], objective)
     names = [n for n in front if ("front", n) in means.index.droplevel("replicate")]
     points = np.array([means.loc[("front", n)].mean().to_numpy(float) for n in names]).reshape(len(names), -1)
@@ -351,6 +353,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     ap.add_argument("--behaviour", default="ramp", help="behaviour(s), comma-separated (ramp)")
     ap.add_argument("--objectives", default="tracking_error_m,power_w", help="two or three metrics (the default's)")
     ap.add_argument("--replicates", type=int, default=DEFAULT_REPLICATES, help="K of the racing study's full fidelity")
+    ap.add_argument("--validation-seeds", type=int, default=VALIDATION_SEEDS,
+                    help=f"fresh seeds of the validation ({VALIDATION_SEEDS}; at 9 or fewer the 18 comparisons "
+                    "with the paper's designs cannot reach Holm's 0.05 / 18, and survival is untestable)")  # fmt: skip
     ap.add_argument("--workers", type=int, default=2, help="processes that simulate (2)")
     ap.add_argument("--cache", help="result cache (default $MAT_HOPPER_CACHE, else results/cache)")
     ap.add_argument("--studies-dir", help="where the studies' SQLite files go (default a temporary folder)")
@@ -362,6 +367,8 @@ def parse_args(argv=None) -> argparse.Namespace:
     args.seed_list = list(range(int(text))) if text.isdigit() else [int(s) for s in text.split(",") if s.strip()]
     if not args.seed_list or args.budget_s <= 0:
         ap.error("give --seeds >= 1 and --budget-s > 0")
+    if not 2 <= args.validation_seeds <= 1000:
+        ap.error(f"--validation-seeds must be in [2, 1000] (paired comparisons), got {args.validation_seeds}")
     if args.validate_only and not (args.studies_dir and os.path.isdir(args.studies_dir)):
         ap.error("--validate-only needs --studies-dir, an existing folder of an earlier run's studies")
     objective_of(args, args.replicates)  # bad settings fail here, before any run
@@ -387,7 +394,7 @@ def main(argv=None) -> pd.DataFrame:
     ob = objective_of(args, args.replicates)
     print(
         f"\n{','.join(ob.behaviours)}, {ob.profile.name} profile ({ob.profile.duration_s:g} s runs), budget "
-        f"{args.budget_s:g} simulated s, racing K = {args.replicates}, validation on {VALIDATION_SEEDS} fresh seeds; "
+        f"{args.budget_s:g} simulated s, racing K = {args.replicates}, validation on {args.validation_seeds} fresh seeds; "
         f"hypervolume reference ({', '.join(f'{v:.4g}' for v in reference)}) in {', '.join(ob.objectives)}"
     )
     print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))

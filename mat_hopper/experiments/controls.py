@@ -137,7 +137,9 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
     (``rigid, axial step``): so the axial springs are compared with a rigid
     leg at the same time step, not confounded with it. A design rigid
     throughout (MD) gives only its ``rigid`` cell: its "springs" levels
-    would be rigid legs labelled as springs.
+    would be rigid legs labelled as springs. A profile without
+    ``substep_studies`` (the quick profile) runs no axial arms: rigid and
+    ``paper`` only.
 
     Args:
         profile: a Profile or its name.
@@ -160,8 +162,10 @@ def attribution_tasks(profile=None, designs=CLAIM_DESIGNS + ("MD",), behaviours=
         rigid_only = all(e is None for e in d.moduli_gpa)
         cells = [("rigid", twin, profile.for_convention("paper"), twin)]
         if not rigid_only:
+            cells.append(("paper", d, profile.for_convention("paper"), d))
+        if not rigid_only and profile.substep_studies:  # the axial arms run at 3-8 substeps
             axial = profile.for_convention("axial")
-            cells += [("paper", d, profile.for_convention("paper"), d), ("axial", d, axial, d)]
+            cells.append(("axial", d, axial, d))
             cells.append((RIGID_AT_AXIAL_STEP, twin, axial, d))  # settings (substeps) of the elastic design
         for springs, design, prof, step_of in cells:
             for bname in behaviours:

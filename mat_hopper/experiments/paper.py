@@ -263,7 +263,9 @@ class RobustnessStudy:
     def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list:
         profile = get_profile(profile)
         n = min(check_replicates(replicates), self.max_replicates)
-        return robustness.tasks(profile, robustness.variants(replicates=n))
+        substeps = profile.substep_studies  # the axial and 2e-5 s variants (the quick profile leaves them out)
+        conventions = ("paper", "axial") if substeps else ("paper",)
+        return robustness.tasks(profile, robustness.variants(conventions=conventions, replicates=n, timesteps=substeps))
 
 
 @dataclass(frozen=True)

@@ -67,9 +67,16 @@ class Profile:
     and Holm's first threshold in a family of m comparisons is 0.05 / m:
     n = 10 (the paper profile's) reaches 0.002 and so serves families of
     up to 25 (the largest claim's is 16: 4 materials x 4 behaviours); the
-    quick profile's 3 (p >= 0.25) can test nothing;
+    quick profile's 2 (p >= 0.5) can test nothing;
     push_scale: the replicates' push, times 5 N for 0.1 s (0: no push;
-    :meth:`mat_hopper.perturbations.Perturbation.replicate`)."""
+    :meth:`mat_hopper.perturbations.Perturbation.replicate`);
+    substep_studies: whether to run the checks whose runs need physics
+    substeps, each 5-8 times a run's cost: the robustness study's ``axial``
+    and 2e-5 s time-step variants, and the material-or-mass factorial's
+    axial arms (:func:`mat_hopper.experiments.controls.attribution_tasks`).
+    The paper profile runs them; the quick profile (CI's book, a smoke
+    build whose 2 seeds test nothing) leaves them out, and the chapters
+    say so."""
 
     name: str
     duration_s: float
@@ -87,6 +94,7 @@ class Profile:
     sensor_timing: SensorTiming = SensorTiming()
     segment_mass: str = DEFAULT_SEGMENT_MASS
     push_scale: float = 1.0
+    substep_studies: bool = True
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -109,6 +117,8 @@ class Profile:
         if not self.stability_tolerance > 1:
             raise ValueError(f"stability_tolerance must be a factor > 1, got {self.stability_tolerance!r}")
         check_replicates(self.replicates)
+        if not isinstance(self.substep_studies, bool):  # "False" (a string) would read as True
+            raise ValueError(f"substep_studies must be True or False, got {self.substep_studies!r}")
         Perturbation.replicate(0, self.scored_window_s, push_scale=self.push_scale)  # checks push_scale
         if int(self.stability_max_iter) < 0:
             raise ValueError(f"stability_max_iter must be >= 0, got {self.stability_max_iter!r}")
@@ -189,7 +199,10 @@ PROFILES = {
     "paper": Profile(
         "paper", ref.DURATION_S, ref.TRANSIENT_S, ref.TIMESTEP_S, ref.STABILITY_GRID_SIZE, ref.STABILITY_TEST_DURATION_S
     ),
-    "quick": Profile("quick", 12.0, 4.0, ref.TIMESTEP_S, 4, 1.0, stability_tolerance=1.5, replicates=3),
+    # CI's smoke build: short runs, 2 seeds (the fewest paired comparisons take), no substep studies
+    "quick": Profile(
+        "quick", 12.0, 4.0, ref.TIMESTEP_S, 4, 1.0, stability_tolerance=1.5, replicates=2, substep_studies=False
+    ),
 }
 
 
@@ -236,6 +249,7 @@ _PROFILE_FIELDS = (
     ("stability_duration_s", "stable-time-step map: static hopping per try (s)"),
     ("replicates", "perturbed replicates per design and behaviour (claims, chapter 6)"),
     ("push_scale", "replicates' push, x 5 N for 0.1 s"),
+    ("substep_studies", "robustness's axial and 2e-5 s variants, the factorial's axial arms"),
 )
 
 

@@ -84,9 +84,12 @@ book.show(book.environment_table())
 #   run at a 1e-4 s time step, hop cycles after the first 20 s scored, and
 #   a 20 x 20 stable-time-step map;
 # - `quick`: the same model, controller and designs with 12 s runs (cycles
-#   after 4 s scored) and a 4 x 4 map. CI builds this one. Its numbers are
-#   noisier and closer to the start-up transient; they are not the paper's
-#   protocol, and the claims table says which profile it was computed on.
+#   after 4 s scored), a 4 x 4 map, 2 replicate seeds, and none of the
+#   checks that need physics substeps (the axial and 2e-5 s robustness
+#   settings, the factorial's axial arms). CI builds this one. Its numbers
+#   are noisier and closer to the start-up transient; they are not the
+#   paper's protocol, and the claims table says which profile it was
+#   computed on.
 #
 # This build's profile beside the paper's protocol:
 

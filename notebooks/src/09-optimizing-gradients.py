@@ -329,7 +329,7 @@ print(validate.answer(checked, legs))
 # mass-matched leg (better on one objective, worse on none; "equivalent"
 # when every interval lies inside ±10 %, "no evidence" when nothing is
 # significant) with no homogeneous leg of its mass dominating it. Under
-# the quick profile (3 seeds) nothing can be significant, so survival is
+# the quick profile (2 seeds) nothing can be significant, so survival is
 # reported as untestable rather than granted.
 
 # %% [markdown]

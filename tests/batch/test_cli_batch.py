@@ -16,8 +16,22 @@ from mat_hopper.sim import simulate
 
 
 def _cli(*args, env_code: str = ""):
+    """The CLI in a fresh interpreter: what a user sees, import-time output included."""
     code = f"import sys\n{env_code}\nfrom mat_hopper.cli import main\nsys.exit(main({list(args)!r}))"
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+
+
+def _main(capsys, *args) -> tuple[int, str]:
+    """The CLI in this process, (exit code, stderr): the package's import is
+    paid once per test worker, not once per case (a fresh interpreter costs
+    3-20 s under load; :func:`test_bad_input_in_a_fresh_interpreter` keeps
+    one such case)."""
+    capsys.readouterr()
+    try:
+        rc = main(list(args))
+    except SystemExit as e:  # argparse's errors
+        rc = e.code
+    return rc, capsys.readouterr().err
 
 
 def test_mujoco_backend_rows_are_cpu_rollouts(tmp_path, capsys):
@@ -106,12 +120,22 @@ def test_designs_csv_round_trip_and_parallel_cpu(tmp_path):
         (["--map", "2", "--stability", "--stability-duration", "-1e-3"], "--stability-duration must be > 0"),
     ],
 )
-def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
+def test_bad_input_one_line_exit_2_no_file(tmp_path, capsys, args, message):
     out = tmp_path / "out.csv"
-    p = _cli("batch", *args, "--csv", str(out))
-    assert p.returncode == 2, p.stderr
+    rc, err = _main(capsys, "batch", *args, "--csv", str(out))
+    assert rc == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], err
+    assert not out.exists()
+
+
+def test_bad_input_in_a_fresh_interpreter(tmp_path):
+    """The same, as a user runs it: nothing else printed at import."""
+    out = tmp_path / "out.csv"
+    p = _cli("batch", "--designs", "SS", "--duration", "-1e3", "--csv", str(out))
+    assert p.returncode == 2 and p.stdout == "", p.stderr
     lines = p.stderr.strip().splitlines()
-    assert len(lines) == 1 and message in lines[0], p.stderr
+    assert len(lines) == 1 and "duration must be" in lines[0], p.stderr
     assert not out.exists()
 
 
@@ -126,11 +150,11 @@ def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
         ("density_0,modulus_0\n1,2\n", "density_1..density_N without gaps"),
     ],
 )
-def test_bad_designs_csv(tmp_path, content, message):
+def test_bad_designs_csv(tmp_path, capsys, content, message):
     path = tmp_path / "d.csv"
     path.write_text(content)
-    p = _cli("batch", "--designs-csv", str(path))
-    assert p.returncode == 2 and message in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
+    rc, err = _main(capsys, "batch", "--designs-csv", str(path))
+    assert rc == 2 and message in err and len(err.strip().splitlines()) == 1, err
 
 
 def test_missing_mujoco_warp_is_a_one_line_error(tmp_path):

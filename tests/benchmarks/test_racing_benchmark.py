@@ -1,6 +1,7 @@
 """benchmarks/racing.py runs end to end at a CI size: 2 sampler seeds, a
-tiny budget of 2 s runs, both studies per seed validated on 10 fresh
-seeds, and a table with its columns in the CSV."""
+tiny budget of 2 s runs, both studies per seed validated on 3 fresh
+seeds (the plumbing; tests/optimize/test_validate.py checks that 10 make
+survival testable), and a table with its columns in the CSV."""
 
 from __future__ import annotations
 
@@ -33,6 +34,7 @@ def test_racing_benchmark_two_seeds_tiny_budget(tmp_path):
     out = tmp_path / "racing.csv"
     env = {**os.environ, "MAT_HOPPER_CACHE": str(tmp_path / "cache"), "PYTHONPATH": str(REPO)}
     argv = ["--seeds", "2", "--budget-s", "20", "--duration-s", "2", "--transient-s", "0.5", "--replicates", "2"]
+    argv += ["--validation-seeds", "3"]
     argv += ["--workers", "1", "--studies-dir", str(tmp_path / "studies"), "--csv", str(out)]
     r = subprocess.run(
         [sys.executable, str(REPO / "benchmarks" / "racing.py"), *argv],
@@ -49,8 +51,8 @@ def test_racing_benchmark_two_seeds_tiny_budget(tmp_path):
     for seed in (0, 1):  # the same budget: single draws stop within one trial (2 s) of racing's spend
         spent = table[table["seed"] == seed].set_index("study")["simulated_s"]
         assert spent["single"] <= spent["racing"] + 1e-9 and spent["racing"] - spent["single"] < 2.0 + 1e-9
-    # NaN allowed here: in 2 s runs with a 0.5 s transient most paper designs score no hop, so the
-    # survival family has no pairs (tests/optimize/test_validate.py checks the 10-seed family is testable)
+    # NaN allowed here: at 3 validation seeds (and in 2 s runs where most paper designs score no hop)
+    # survival is untestable (tests/optimize/test_validate.py checks the 10-seed family is testable)
     fr = table["surviving_fraction"].to_numpy(float)
     assert np.all(np.isnan(fr) | ((fr >= 0) & (fr <= 1)))
     assert (table["hv_validated"] >= 0).all() and (table["survivors"] <= table["front"]).all()

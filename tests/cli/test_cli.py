@@ -45,12 +45,32 @@ def test_simulate_every_design_form(tmp_path, args, name, capsys):
         (["--segments", "0"], "--segments must be"),
     ],
 )
-def test_bad_input_one_line_exit_2_no_file(tmp_path, args, message):
+def test_bad_input_one_line_exit_2_no_file(tmp_path, capsys, args, message):
+    """In this process (the package's import paid once per worker, not 3-20 s
+    per case under load); :func:`test_bad_input_in_a_fresh_interpreter`
+    runs one case as a user does."""
+    out = tmp_path / "hops.csv"
+    capsys.readouterr()
+    try:
+        rc = main(["simulate", *args, "--csv", str(out)])
+    except SystemExit as e:  # argparse's errors
+        rc = e.code
+    err = capsys.readouterr().err
+    assert rc == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], err
+    assert not out.exists() and os.listdir(tmp_path) == []
+
+
+def test_bad_input_in_a_fresh_interpreter(tmp_path):
+    """``python -m mat_hopper`` with a bad option: one line, exit 2, nothing
+    else printed at import, no file."""
     out = tmp_path / "hops.csv"
     p = subprocess.run(
-        [sys.executable, "-m", "mat_hopper", "simulate", *args, "--csv", str(out)], capture_output=True, text=True
+        [sys.executable, "-m", "mat_hopper", "simulate", "--design", "SS", "--duration", "-5", "--csv", str(out)],
+        capture_output=True,
+        text=True,
     )
-    assert p.returncode == 2
-    lines = p.stderr.strip().splitlines()
-    assert len(lines) == 1 and message in lines[0]
-    assert not out.exists() and os.listdir(tmp_path) == []
+    assert p.returncode == 2 and p.stdout == "", p.stderr
+    assert len(p.stderr.strip().splitlines()) == 1 and "--duration" in p.stderr, p.stderr
+    assert os.listdir(tmp_path) == []

@@ -6,12 +6,40 @@ from mat_hopper.experiments import controls as ce
 
 
 def test_attribution_tasks_drop_mds_springs_and_match_the_axial_step():
-    tasks = ce.attribution_tasks("quick", designs=("MD", "SS"), behaviours=("forward",), replicates=2)
+    tasks = ce.attribution_tasks("paper", designs=("MD", "SS"), behaviours=("forward",), replicates=2)
     cells = {(t.labels["mass_of"], t.labels["springs"]) for t in tasks}
     assert cells == {("MD", "rigid"), ("SS", "rigid"), ("SS", "paper"), ("SS", "axial"), ("SS", ce.RIGID_AT_AXIAL_STEP)}
     by = {(t.labels["mass_of"], t.labels["springs"], t.labels["replicate"]): t for t in tasks}
     axial, rigid = by[("SS", "axial", 0)], by[("SS", ce.RIGID_AT_AXIAL_STEP, 0)]
     assert rigid.settings == axial.settings and all(e is None for e in rigid.design.moduli_gpa)
+
+
+def test_a_profile_without_substep_studies_runs_no_axial_arms():
+    """The quick profile (CI's book): rigid and paper springs only; the
+    robustness study drops its axial and 2e-5 s variants the same way."""
+    from mat_hopper.experiments.paper import get_experiment
+    from mat_hopper.experiments.profiles import PROFILES
+
+    assert PROFILES["paper"].substep_studies and not PROFILES["quick"].substep_studies
+    tasks = ce.attribution_tasks("quick", designs=("MD", "SS"), behaviours=("forward",), replicates=2)
+    assert {(t.labels["mass_of"], t.labels["springs"]) for t in tasks} == {
+        ("MD", "rigid"),
+        ("SS", "rigid"),
+        ("SS", "paper"),
+    }
+    assert all(t.settings.substeps == 1 for t in tasks)
+    study = get_experiment("robustness")
+    quick = {t.labels["variant"] for t in study.tasks("quick", 2)}
+    paper = {t.labels["variant"] for t in study.tasks("paper", 2)}
+    assert paper - quick == {"axial", "2e-5 s physics", "2e-5 s step"}
+    assert {t.labels["substeps"] for t in study.tasks("quick", 2)} == {1}
+
+
+def test_substep_studies_must_be_a_bool():
+    from mat_hopper.experiments.profiles import Profile
+
+    with pytest.raises(ValueError, match="substep_studies must be True or False"):
+        Profile("p", 12.0, 4.0, substep_studies="False")
 
 
 def test_push_scale_is_a_profile_setting_that_reaches_every_replicate():
