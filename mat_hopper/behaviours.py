@@ -30,10 +30,21 @@ import numba
 import numpy as np
 
 from . import reference as ref
+from .limits import MAX_PATH_SAMPLES
 
 PATH_LINE, PATH_CIRCLE, PATH_TABLE = 0, 1, 2
 _PATH_CODES = {"line": PATH_LINE, "circle": PATH_CIRCLE, "table": PATH_TABLE}
 BEHAVIOUR_NAMES = ("static", "forward", "ramp", "circle")
+
+
+def _positive_finite(value, name: str) -> float:
+    """`value` (s) as a float, finite and > 0; ValueError naming `name` else
+    (a bool, a string, nan, inf, 0 or a negative value)."""
+    ok = not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
+    x = float(value) if ok else math.nan
+    if not (math.isfinite(x) and x > 0):
+        raise ValueError(f"{name} must be a finite number > 0 s, got {value!r}")
+    return x
 
 
 def order_behaviours(behaviours) -> list[str]:
@@ -67,11 +78,16 @@ class Behaviour:
         ramp_grade_deg: None for flat ground, else the ramp's pitch in
             degrees (2 deg = 3.5 % grade).
         start_xy_m: where the base starts, (x, y) m.
-        table_dt_s: time between the rows of a table path, s.
-        table_xy_m: a table path's desired positions, (n, 2) m.
+        table_dt_s: time between the rows of a table path, s (finite,
+            > 0 for a table path).
+        table_xy_m: a table path's desired positions, (n, 2) m, at most
+            :data:`mat_hopper.limits.MAX_PATH_SAMPLES` rows.
 
     Raises:
-        ValueError: an unknown path or a value out of range.
+        ValueError: an unknown path or a value out of range (a speed,
+            radius, heading or start not finite; a table not finite, not
+            (n, 2) or over MAX_PATH_SAMPLES rows; a table time step not
+            finite and > 0).
     """
 
     name: str
@@ -87,7 +103,7 @@ class Behaviour:
     def __post_init__(self):
         if self.path not in _PATH_CODES:
             raise ValueError(f"path must be one of {', '.join(_PATH_CODES)}, got {self.path!r}")
-        for fname in ("speed_m_s", "radius_m", "heading_rad"):
+        for fname in ("speed_m_s", "radius_m", "heading_rad", "table_dt_s"):
             if not math.isfinite(float(getattr(self, fname))):
                 raise ValueError(f"{fname} must be finite, got {getattr(self, fname)!r}")
         if self.speed_m_s < 0:
@@ -96,10 +112,16 @@ class Behaviour:
             raise ValueError(f"radius_m must be > 0 m, got {self.radius_m!r}")
         if self.ramp_grade_deg is not None and not (0.0 <= float(self.ramp_grade_deg) < 30.0):
             raise ValueError(f"ramp_grade_deg must be in [0, 30) deg, got {self.ramp_grade_deg!r}")
+        rows = (np.shape(self.table_xy_m) or (0,))[0]  # before any copy of the table
+        if rows > MAX_PATH_SAMPLES:
+            raise ValueError(f"table_xy_m has {rows} rows, over the limit of {MAX_PATH_SAMPLES} (MAX_PATH_SAMPLES)")
         table = np.ascontiguousarray(self.table_xy_m, dtype=np.float64)
         if table.ndim != 2 or table.shape[1] != 2 or not np.all(np.isfinite(table)):
             raise ValueError("table_xy_m must be a finite (n, 2) array of x, y in m")
         object.__setattr__(self, "table_xy_m", table)
+        start = np.asarray(self.start_xy_m, dtype=np.float64)
+        if start.shape != (2,) or not np.all(np.isfinite(start)):
+            raise ValueError(f"start_xy_m must be a finite (x, y) in m, got {self.start_xy_m!r}")
         if self.path == "table" and not self.table_dt_s > 0:
             raise ValueError(f"table_dt_s must be > 0 s, got {self.table_dt_s!r}")
 
@@ -137,7 +159,24 @@ class Behaviour:
     # -- constructors --
     @classmethod
     def from_samples(cls, name: str, dt_s: float, xy_m, *, ramp_grade_deg: float | None = None) -> Behaviour:
-        """Your own path from positions (n, 2) in m sampled every dt_s seconds from t = 0."""
+        """Your own path from positions (n, 2) in m sampled every dt_s seconds from t = 0.
+
+        Args:
+            name: the behaviour's name.
+            dt_s: time between samples, s (finite, > 0).
+            xy_m: the positions, (n, 2) m, finite, n at most
+                :data:`mat_hopper.limits.MAX_PATH_SAMPLES`.
+            ramp_grade_deg: None (flat) or the ramp's pitch, deg, in [0, 30).
+
+        Returns:
+            The table :class:`Behaviour`, starting at the first sample.
+
+        Raises:
+            ValueError: `dt_s` not a finite number > 0, `xy_m` not a finite
+                (n, 2) array or over MAX_PATH_SAMPLES rows, or a grade out
+                of range.
+        """
+        dt_s = _positive_finite(dt_s, "dt_s")
         xy = np.asarray(xy_m, dtype=np.float64)
         start = (float(xy[0, 0]), float(xy[0, 1])) if xy.ndim == 2 and len(xy) else (0.0, 0.0)
         return cls(
@@ -154,10 +193,35 @@ class Behaviour:
         *,
         ramp_grade_deg: float | None = None,
     ) -> Behaviour:
-        """Your own path from a Python function t (s) -> (x, y) (m), sampled every dt_s."""
-        if not duration_s > 0:
-            raise ValueError(f"duration must be > 0 s, got {duration_s!r}")
-        ts = np.arange(int(math.ceil(duration_s / dt_s)) + 1) * dt_s
+        """Your own path from a Python function t (s) -> (x, y) (m), sampled every dt_s.
+
+        Args:
+            name: the behaviour's name.
+            fn: called once per sample with t (s, a float), returns (x, y) in m.
+            duration_s: how long the path lasts, s (finite, > 0); it holds
+                its last point after.
+            dt_s: time between samples, s (finite, > 0; default 1 ms).
+            ramp_grade_deg: None (flat) or the ramp's pitch, deg, in [0, 30).
+
+        Returns:
+            The table :class:`Behaviour` of ceil(duration_s / dt_s) + 1
+            samples from t = 0.
+
+        Raises:
+            ValueError: `duration_s` or `dt_s` not a finite number > 0, more
+                samples than :data:`mat_hopper.limits.MAX_PATH_SAMPLES`
+                (checked before `fn` is called), or what
+                :meth:`from_samples` refuses.
+        """
+        duration_s = _positive_finite(duration_s, "duration_s")
+        dt_s = _positive_finite(dt_s, "dt_s")
+        n = math.ceil(duration_s / dt_s) + 1
+        if n > MAX_PATH_SAMPLES:
+            raise ValueError(
+                f"duration_s / dt_s = {duration_s:g} s / {dt_s:g} s is {n:.3g} samples, over the limit of "
+                f"{MAX_PATH_SAMPLES} (MAX_PATH_SAMPLES); sample coarser or shorter"
+            )
+        ts = np.arange(n) * dt_s
         xy = np.array([fn(float(t)) for t in ts], dtype=np.float64).reshape(len(ts), 2)
         return cls.from_samples(name, dt_s, xy, ramp_grade_deg=ramp_grade_deg)
 

@@ -96,11 +96,18 @@ def path_length_m(rollout, t0_s: float, t1_s: float) -> float:
 
     Args:
         rollout: a Rollout.
-        t0_s, t1_s: the window (s).
+        t0_s, t1_s: the window (s), finite numbers.
 
     Returns:
-        float, m (0 for an empty window).
+        float, m (0 for an empty window, t1_s <= t0_s).
+
+    Raises:
+        ValueError: a bound that is not a finite number (nan gave an empty
+            window, 0 m, silently).
     """
+    for name, v in (("t0_s", t0_s), ("t1_s", t1_s)):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
+            raise ValueError(f"{name} must be a finite number of seconds, got {v!r}")
     t = rollout.time
     a, b = np.searchsorted(t, [t0_s, t1_s])
     b = min(b, len(t) - 1)

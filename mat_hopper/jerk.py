@@ -36,6 +36,8 @@ record rate.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 import scipy.signal
@@ -46,6 +48,22 @@ BODY_JERK_CUTOFF_HZ = 20.0  # Winter 2009, sec. 2.2.4.4-2.2.4.5 (body kinematics
 BODY_JERK_ORDER = 4  # per pass; sosfiltfilt doubles it
 SENSITIVITY_CUTOFFS_HZ = (20.0, 30.0, 50.0, 70.0, 100.0)
 SENSITIVITY_ORDERS = (2, 4)
+
+
+def _check_filter(rollout, cutoff_hz, order) -> float:
+    """The record rate fs (Hz) of `rollout`, after checking a Butterworth
+    cut-off in (0, fs / 2) Hz and an integer order >= 1 (a bool, nan or inf
+    refused as ValueError: int(inf) raised OverflowError)."""
+    t = rollout.time
+    if len(t) < 2:
+        raise ValueError("the rollout has fewer than 2 samples")
+    fs = 1.0 / float(np.median(np.diff(t)))
+    number = lambda v: not isinstance(v, bool) and isinstance(v, (int, float, np.integer, np.floating))
+    if not (number(cutoff_hz) and 0 < cutoff_hz < fs / 2):
+        raise ValueError(f"cutoff_hz must be in (0, {fs / 2:g}) Hz (the record Nyquist), got {cutoff_hz!r}")
+    if not (number(order) and math.isfinite(order) and float(order).is_integer() and order >= 1):
+        raise ValueError(f"order must be an integer >= 1, got {order!r}")
+    return fs
 
 
 def body_acceleration(rollout, cutoff_hz: float = BODY_JERK_CUTOFF_HZ, order: int = BODY_JERK_ORDER) -> np.ndarray:
@@ -63,14 +81,7 @@ def body_acceleration(rollout, cutoff_hz: float = BODY_JERK_CUTOFF_HZ, order: in
         ValueError: a cut-off at or above the record Nyquist, an order < 1,
             or too few samples for the filter.
     """
-    t = rollout.time
-    if len(t) < 2:
-        raise ValueError("the rollout has fewer than 2 samples")
-    fs = 1.0 / float(np.median(np.diff(t)))
-    if not 0 < cutoff_hz < fs / 2:
-        raise ValueError(f"cutoff_hz must be in (0, {fs / 2:g}) Hz (the record Nyquist), got {cutoff_hz!r}")
-    if isinstance(order, bool) or int(order) != order or order < 1:
-        raise ValueError(f"order must be an integer >= 1, got {order!r}")
+    fs = _check_filter(rollout, cutoff_hz, order)
     sos = scipy.signal.butter(int(order), cutoff_hz, fs=fs, output="sos")
     az = rollout["az_mean"]
     pad = 3 * (2 * len(sos) + 1)
@@ -127,12 +138,22 @@ def jerk_sensitivity(rollout, cutoffs_hz=SENSITIVITY_CUTOFFS_HZ, orders=SENSITIV
         rollout: a Rollout.
         cutoffs_hz: cut-offs (Hz).
         orders: Butterworth orders of one pass.
-        transient_s: hop cycles before it are not scored (default the run's).
+        transient_s: hop cycles before it are not scored, a finite number
+            >= 0 s (default None: the run's).
 
     Returns:
         tidy DataFrame: design, behaviour, cutoff_hz, order, jerk_body_m_s3,
         and the loop's causal ``jerk_m_s3`` for reference.
+
+    Raises:
+        ValueError: a cut-off not in (0, record Nyquist) Hz or an order that
+            is not an integer >= 1 (every one checked before any filtering,
+            with or without scored hops), or `transient_s` not None nor a
+            finite number >= 0 s.
     """
+    for order in orders:
+        for fc in cutoffs_hz:
+            _check_filter(rollout, fc, order)
     cyc = hop_cycles(rollout, transient_s)
     t = rollout.time
     i0, i1 = np.searchsorted(t, cyc[:, 0]), np.searchsorted(t, cyc[:, 1])

@@ -24,6 +24,13 @@ LIMIT_ENV = "MAT_HOPPER_MAX_STEPS"
 SECONDS_PER_STEP = 5e-6  # one core, a 3-segment leg (benchmarks/rollout.py): for the core-hours in messages
 MAX_WORKERS = 256  # processes of one command on one machine
 MAX_WORLDS = 65_536  # worlds in one MuJoCo Warp batch (--max-batch, --batch-size)
+# Rows of a table path (mat_hopper.behaviours.Behaviour.from_function,
+# from_samples): 80 MB of float64 (x, y), and as many Python calls of the
+# user's function. At the default 1 ms a path of 5e6 rows lasts 5000 s, 80 times
+# the paper's 60 s run (the path holds its last point after its end: a longer
+# run can sample coarser). Same size as one run's recorded samples
+# (mat_hopper.sim.MAX_SAMPLES).
+MAX_PATH_SAMPLES = 5_000_000
 
 
 def max_total_steps() -> float:

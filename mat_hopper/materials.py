@@ -739,7 +739,9 @@ def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesi
         The :class:`LegDesign`.
 
     Raises:
-        ValueError: an empty or unknown name.
+        ValueError: an empty or unknown name, or a gradient with an empty
+            name between its separators (``"SS--Ti"``, ``"-SS"``,
+            ``"SS-"``).
 
     >>> parse_design("PVC-Ti-SS").densities_g_cm3
     (1.39, 4.43, 8.0)
@@ -756,7 +758,12 @@ def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesi
     for name, design in NAMED_DESIGNS.items():
         if key == name:
             return design
-    parts = [p for p in re.split(r"[-_/]", text.strip()) if p]
+    parts = [p.strip() for p in re.split(r"[-_/]", text.strip())]
+    if not all(parts):  # "SS--Ti", "-SS", "SS-", "SS- -Ti": a name left out, not a shorter leg
+        raise ValueError(
+            f"design {text!r} has an empty name between separators (- _ /); write one material per segment, "
+            "e.g. PVC-Ti-SS"
+        )
     if len(parts) == 1:
         return LegDesign.mono(parts[0], n_segments)
     mats = tuple(material(p) for p in parts)

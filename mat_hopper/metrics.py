@@ -59,7 +59,7 @@ from .change import percent_change
 from .controls import MASS_PROPERTY_COLUMNS, mass_properties
 from .fatigue import fatigue_summary, hop_stress_columns
 from .model import terrain_height_m
-from .rollout import Rollout, hop_cycles
+from .rollout import Rollout, check_transient, hop_cycles
 from .sim import C
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
@@ -102,8 +102,8 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
 
     Args:
         rollout: the :class:`~mat_hopper.rollout.Rollout` of a run.
-        transient_s: hop cycles starting before it (s) are not scored; None:
-            the rollout's own ``settings.transient_s``.
+        transient_s: hop cycles starting before it (s) are not scored, a
+            finite number >= 0; None: the rollout's own ``settings.transient_s``.
 
     Returns:
         DataFrame, one row per scored hop cycle (lift-off to lift-off), columns
@@ -115,9 +115,11 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
         with fewer than 4 recorded samples.
 
     Raises:
-        ValueError: `rollout` is not a Rollout.
+        ValueError: `rollout` is not a Rollout, or `transient_s` is not None
+            nor a finite number >= 0 s (:func:`mat_hopper.rollout.check_transient`).
     """
     _check_rollout(rollout)
+    transient_s = check_transient(transient_s)
     cycles = hop_cycles(rollout, transient_s)
     d = rollout.data
     t = d[:, C["t"]]
@@ -196,8 +198,8 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
 
     Args:
         rollout: the :class:`~mat_hopper.rollout.Rollout` of a run.
-        transient_s: hop cycles starting before it (s) are not scored; None:
-            the rollout's own ``settings.transient_s``.
+        transient_s: hop cycles starting before it (s) are not scored, a
+            finite number >= 0; None: the rollout's own ``settings.transient_s``.
 
     Returns:
         dict: ``design``, ``behaviour``, ``convention``, ``sensor_timing``,
@@ -210,9 +212,11 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
         :func:`mat_hopper.energetics.run_energetics`.
 
     Raises:
-        ValueError: `rollout` is not a Rollout.
+        ValueError: `rollout` is not a Rollout, or `transient_s` is not None
+            nor a finite number >= 0 s (:func:`mat_hopper.rollout.check_transient`).
     """
     _check_rollout(rollout)
+    transient_s = check_transient(transient_s)
     hops = hop_table(rollout, transient_s)
     out = {
         "design": rollout.design.name,

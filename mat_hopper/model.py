@@ -146,6 +146,40 @@ def check_timestep(timestep_s) -> float:
     return dt
 
 
+# deg, exclusive: a grade of +-90 deg is a wall (tan is infinite), beyond it
+# the ramp is upside down. The paper's ramp is 2 deg; the Behaviour class
+# itself accepts [0, 30) deg (a ramp the hopper can climb).
+MAX_RAMP_GRADE_DEG = 90.0
+
+
+def check_ramp_grade(ramp_grade_deg) -> float | None:
+    """The ramp's pitch as a float strictly inside (-90, 90) deg, or None
+    (flat ground); ValueError naming it otherwise.
+
+    Args:
+        ramp_grade_deg: None for flat ground, else the pitch, deg: an int or
+            a float.
+
+    Returns:
+        None, or the pitch as a float, deg.
+
+    Raises:
+        ValueError: a bool, a string or other non-number, nan, inf, or a
+            pitch not strictly between -90 and 90 deg (a vertical or
+            overhanging ramp).
+    """
+    if ramp_grade_deg is None:
+        return None
+    ok = not isinstance(ramp_grade_deg, bool) and isinstance(ramp_grade_deg, (int, float, np.integer, np.floating))
+    a = float(ramp_grade_deg) if ok else math.nan
+    if not (math.isfinite(a) and -MAX_RAMP_GRADE_DEG < a < MAX_RAMP_GRADE_DEG):
+        raise ValueError(
+            f"ramp_grade_deg must be None (flat) or a finite number strictly between -{MAX_RAMP_GRADE_DEG:g} and "
+            f"{MAX_RAMP_GRADE_DEG:g} deg, got {ramp_grade_deg!r}"
+        )
+    return a
+
+
 def ramp_pose(grade_deg: float) -> tuple[np.ndarray, np.ndarray]:
     """Centre (m) and quaternion (w, x, y, z) of the ramp box pitched up by
     grade_deg (deg).
@@ -157,15 +191,22 @@ def ramp_pose(grade_deg: float) -> tuple[np.ndarray, np.ndarray]:
     (docs/reference-hopper.md).
 
     Args:
-        grade_deg: the ramp's pitch, deg (the paper's 2).
+        grade_deg: the ramp's pitch, deg (the paper's 2), strictly between
+            -90 and 90 (:func:`check_ramp_grade`).
 
     Returns:
         (centre, quat): the box's centre, (3,) array in m, always
         (RAMP_CENTER_X, 0, RAMP_CENTER_Z) = (2, 0, -0.03) m; and its
         orientation, (4,) unit quaternion (w, x, y, z), a rotation by
         -grade about the y axis.
+
+    Raises:
+        ValueError: a pitch :func:`check_ramp_grade` refuses (None included:
+            a flat ground has no ramp box).
     """
-    a = math.radians(grade_deg)
+    if grade_deg is None:
+        raise ValueError("grade_deg: a ramp needs a pitch in deg (None is flat ground, which has no ramp)")
+    a = math.radians(check_ramp_grade(grade_deg))
     quat = np.array([math.cos(-a / 2), 0.0, math.sin(-a / 2), 0.0])
     return np.array([ref.RAMP_CENTER_X, 0.0, ref.RAMP_CENTER_Z]), quat
 
@@ -182,12 +223,17 @@ def terrain_height_m(x_m, y_m, ramp_grade_deg: float | None = None):
         x_m: world x of the points, m (scalar or array).
         y_m: world y of the points, m (broadcast against `x_m`).
         ramp_grade_deg: None for flat ground (default), else the ramp's
-            pitch, deg (as :class:`mat_hopper.behaviours.Behaviour` holds it).
+            pitch, deg (as :class:`mat_hopper.behaviours.Behaviour` holds
+            it), strictly between -90 and 90.
 
     Returns:
         Float array of the broadcast shape of `x_m` and `y_m` (0-d for
         scalars), m: 0 on flat ground or off the ramp's footprint.
+
+    Raises:
+        ValueError: a pitch :func:`check_ramp_grade` refuses.
     """
+    ramp_grade_deg = check_ramp_grade(ramp_grade_deg)
     x, y = np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float)
     ground = np.zeros(np.broadcast(x, y).shape)
     if ramp_grade_deg is None:
@@ -266,7 +312,8 @@ def build_spec(
     Args:
         design: the :class:`~mat_hopper.materials.LegDesign`.
         ramp_grade_deg: None for flat ground (default), else the ramp box's
-            pitch, deg (:func:`ramp_pose`); not range-checked here.
+            pitch, deg (:func:`ramp_pose`), finite and strictly between -90
+            and 90 (:func:`check_ramp_grade`).
         timestep_s: the physics step, s, in (0, 0.1] (default 1e-4, the
             paper's).
         convention: the stiffness convention (``paper``, ``axial``,
@@ -281,8 +328,10 @@ def build_spec(
 
     Raises:
         ValueError: a design that is not a LegDesign, an unknown sensor
-            set, convention or segment-mass convention, or a time step not
-            in (0, 0.1] s (:func:`check_timestep`).
+            set, convention or segment-mass convention, a time step not
+            in (0, 0.1] s (:func:`check_timestep`), or a ramp pitch not
+            finite and strictly between -90 and 90 deg
+            (:func:`check_ramp_grade`).
     """
     if not isinstance(design, LegDesign):
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
@@ -290,6 +339,7 @@ def build_spec(
     convention = check_convention(convention)
     segment_mass = check_segment_mass(segment_mass)
     dt = check_timestep(timestep_s)
+    ramp_grade_deg = check_ramp_grade(ramp_grade_deg)
     spec = mujoco.MjSpec()
     spec.modelname = f"hopper_{design.name}"
     _set_options(spec, dt)
@@ -333,7 +383,7 @@ def _add_terrain(world, ramp_grade_deg: float | None) -> None:
         rgba=[0.85, 0.85, 0.82, 1],
     )
     if ramp_grade_deg is not None:
-        pos, quat = ramp_pose(float(ramp_grade_deg))
+        pos, quat = ramp_pose(ramp_grade_deg)
         world.add_geom(
             name=RAMP_GEOM,
             type=mujoco.mjtGeom.mjGEOM_BOX,
@@ -561,7 +611,8 @@ def build_model(
     Args:
         design: the :class:`~mat_hopper.materials.LegDesign`.
         ramp_grade_deg: None for flat ground (default), else the ramp's
-            pitch, deg.
+            pitch, deg, finite and strictly between -90 and 90
+            (:func:`check_ramp_grade`).
         timestep_s: the physics step, s, in (0, 0.1] (default 1e-4).
         convention: the stiffness convention, any case (default ``paper``).
         sensors: ``"all"`` (default) or ``"control"``, any case.
@@ -580,9 +631,11 @@ def build_model(
 
     Raises:
         ValueError: an unknown damping, or any argument :func:`build_spec`
-            refuses.
+            refuses (a time step not in (0, 0.1] s, a ramp pitch not
+            strictly between -90 and 90 deg, ...).
     """
     damping = check_damping(damping)
+    ramp_grade_deg = check_ramp_grade(ramp_grade_deg)
     convention = check_convention(convention)
     segment_mass = check_segment_mass(segment_mass)
     sensors = check_sensors(sensors)

@@ -57,12 +57,26 @@ from .materials import (
     second_moment_m4,
     segment_masses,
 )
-from .model import BEND_SPRINGS, FOOT_GEOM, FOOT_UPPER_GEOM, START_KEY, build_model, build_spec
+from .model import BEND_SPRINGS, FOOT_GEOM, FOOT_UPPER_GEOM, MAX_TIMESTEP_S, START_KEY, build_model, build_spec
 
 # --timestep auto: the physics step is at most this fraction of the spring
 # chain's explicit bound 2 / w_max (the measured stable steps lie at 0.92 of
 # the bound in the median, and within a factor 2 everywhere: docs/).
 AUTO_SAFETY = 0.5
+
+
+def _check_positive(value, name: str, unit: str = "", high: float | None = None) -> float:
+    """`value` as a float, finite and > 0 (and <= `high` where given): every
+    gain, gear, period and fraction of this module's functions. A bool, a
+    string, nan, inf, 0 or a negative value raise ValueError naming `name`
+    and the accepted range."""
+    u = f" {unit}" if unit else ""
+    rng = f"in (0, {high:g}]{u}" if high is not None else f"a finite number > 0{u}"
+    ok = not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
+    x = float(value) if ok else math.nan
+    if not (math.isfinite(x) and x > 0 and (high is None or x <= high)):
+        raise ValueError(f"{name} must be {rng}, got {value!r}")
+    return x
 
 
 def chain_frequencies(masses_kg, stiffnesses_n_m) -> np.ndarray:
@@ -81,13 +95,13 @@ def chain_frequencies(masses_kg, stiffnesses_n_m) -> np.ndarray:
 
     Raises:
         ValueError: fewer than 2 masses, masses not 1-D, a spring count other
-            than n - 1, a mass not > 0, or a stiffness not finite and > 0.
+            than n - 1, or a mass or stiffness not finite and > 0.
     """
     m = np.asarray(masses_kg, dtype=float)
     k = np.asarray(stiffnesses_n_m, dtype=float)
     if m.ndim != 1 or len(m) < 2 or len(k) != len(m) - 1:
         raise ValueError(f"a chain needs n >= 2 masses and n - 1 springs, got {len(m)} and {len(k)}")
-    if not (np.all(m > 0) and np.all(k > 0) and np.all(np.isfinite(k))):
+    if not (np.all(np.isfinite(m)) and np.all(m > 0) and np.all(np.isfinite(k)) and np.all(k > 0)):
         raise ValueError("masses (kg) and stiffnesses (N/m) must be finite and > 0")
     K = np.zeros((len(m), len(m)))
     for i, ki in enumerate(k):
@@ -171,12 +185,18 @@ def delayed_damping_factor(latency_steps: int) -> float:
     equations", Theoretical Population Biology 9 (1976) 178-187.
 
     Args:
-        latency_steps: the latency L, steps (read with ``int()``, so a float
-            is truncated; meant >= 0, not checked).
+        latency_steps: the latency L, steps: an integer >= 0 (an int, or a
+            float with a whole value).
 
     Returns:
-        c(L), dimensionless, a float in (0, 2] for L >= 0.
+        c(L), dimensionless, a float in (0, 2].
+
+    Raises:
+        ValueError: a bool, a value that is not a whole number, or one < 0.
     """
+    ok = not isinstance(latency_steps, bool) and isinstance(latency_steps, (int, float, np.integer, np.floating))
+    if not (ok and math.isfinite(latency_steps) and float(latency_steps).is_integer() and latency_steps >= 0):
+        raise ValueError(f"latency_steps must be an integer >= 0 (physics steps), got {latency_steps!r}")
     lat = int(latency_steps)
     return 2.0 * math.cos(lat * math.pi / (2 * lat + 1))
 
@@ -202,8 +222,8 @@ def controller_timestep(
             ``paper``); under ``bending`` or ``axial+bending`` the hip flight
             limit is added.
         stance_kd: the stance attitude D gain, per rad/s before the gear
-            (default the reference's, 1).
-        gear: the hip actuators' gear (default 600).
+            (default the reference's, 1); finite and > 0.
+        gear: the hip actuators' gear (default 600); finite and > 0.
         sensor_timing: the controller's sensor timing, a name or an integer
             latency L (:class:`mat_hopper.control.SensorTiming`; default
             ``"authors"``).
@@ -212,10 +232,14 @@ def controller_timestep(
         The control-period limit, s.
 
     Raises:
-        ValueError: an unknown convention or sensor timing, or an argument
+        ValueError: an unknown convention or sensor timing, `stance_kd` or
+            `gear` not a finite number > 0, or an argument
             :func:`mat_hopper.model.build_model` refuses.
     """
     convention = check_convention(convention)
+    stance_kd = _check_positive(stance_kd, "stance_kd", "per rad/s")
+    gear = _check_positive(gear, "gear")
+    timing = SensorTiming(sensor_timing)
     m = build_model(design, convention=convention).model
     b = m.body("base").id
     rot = np.zeros(9)
@@ -226,7 +250,7 @@ def controller_timestep(
     mass = m.body_mass[b]
     parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))  # to the hip (base origin)
     inertia = inertia + parallel
-    factor = delayed_damping_factor(int(SensorTiming(sensor_timing)))
+    factor = delayed_damping_factor(int(timing))
     limit = factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
     if convention in BENDING_CONVENTIONS:
         limit = min(limit, hip_flight_timestep(design, convention, gear=gear))
@@ -250,21 +274,23 @@ def hip_flight_timestep(
         convention: the stiffness convention the model is built with, any
             case (default ``"bending"``); with no bending hinges I is the
             hip_y dof's own 1 / (M^-1)_hh.
-        flight_kd: the flight PD's D gain, per rad/s before the gear; None
-            (default) takes :class:`mat_hopper.control.ControllerSettings`'s
-            ``flight_kd`` (0.1).
-        gear: the hip actuators' gear (default 600).
+        flight_kd: the flight PD's D gain, per rad/s before the gear, finite
+            and > 0; None (default) takes
+            :class:`mat_hopper.control.ControllerSettings`'s ``flight_kd``
+            (0.1).
+        gear: the hip actuators' gear (default 600); finite and > 0.
 
     Returns:
         The limit, s.
 
     Raises:
-        ValueError: an argument :func:`mat_hopper.model.build_model`
-            refuses.
+        ValueError: `flight_kd` or `gear` not a finite number > 0, or an
+            argument :func:`mat_hopper.model.build_model` refuses.
     """
     from .control import ControllerSettings
 
-    kd = ControllerSettings().flight_kd if flight_kd is None else float(flight_kd)
+    kd = ControllerSettings().flight_kd if flight_kd is None else _check_positive(flight_kd, "flight_kd", "per rad/s")
+    gear = _check_positive(gear, "gear")
     model = build_model(design, convention=convention).model
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key(START_KEY).id)
@@ -375,12 +401,20 @@ def auto_control_period(
         convention: the stiffness convention, any case.
         sensor_timing: the controller's sensor timing (its latency shrinks
             the stance limit, :func:`delayed_damping_factor`).
-        control_period_s: the authors' period, s.
-        safety: the fraction of the limit a shortened period may reach.
+        control_period_s: the authors' period, s, in (0, 0.1]
+            (:data:`mat_hopper.model.MAX_TIMESTEP_S`).
+        safety: the fraction of the limit a shortened period may reach, in
+            (0, 1].
 
     Returns:
         The control period, s.
+
+    Raises:
+        ValueError: `control_period_s` or `safety` out of its range, or as
+            :func:`controller_timestep` raises.
     """
+    control_period_s = _check_positive(control_period_s, "control_period_s", "s", MAX_TIMESTEP_S)
+    safety = _check_positive(safety, "safety", high=1.0)
     limit = controller_timestep(design, convention, sensor_timing=sensor_timing)
     if limit >= control_period_s:
         return control_period_s
@@ -407,10 +441,10 @@ def auto_substeps(
         design: the :class:`~mat_hopper.materials.LegDesign`.
         convention: the stiffness convention, any case (default ``paper``).
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
-        control_period_s: the control period, s; None (default) takes
-            :func:`auto_control_period`'s.
-        safety: the fraction of each explicit bound a step may reach
-            (default :data:`AUTO_SAFETY`, 0.5).
+        control_period_s: the control period, s, in (0, 0.1]; None
+            (default) takes :func:`auto_control_period`'s.
+        safety: the fraction of each explicit bound a step may reach, in
+            (0, 1] (default :data:`AUTO_SAFETY`, 0.5).
         sensor_timing: the controller's sensor timing (read only when
             `control_period_s` is None; default ``"authors"``).
 
@@ -420,10 +454,14 @@ def auto_substeps(
         2 / w_max, s.
 
     Raises:
-        ValueError: when more than 1000 substeps would be needed, or as
-            :func:`estimate_timestep` and :func:`controller_timestep` raise
-            (unknown convention, segment mass or sensor timing).
+        ValueError: `control_period_s` or `safety` out of its range, more
+            than 1000 substeps needed, or as :func:`estimate_timestep` and
+            :func:`controller_timestep` raise (unknown convention, segment
+            mass or sensor timing).
     """
+    safety = _check_positive(safety, "safety", high=1.0)
+    if control_period_s is not None:
+        control_period_s = _check_positive(control_period_s, "control_period_s", "s", MAX_TIMESTEP_S)
     if control_period_s is None:
         control_period_s = auto_control_period(design, convention, sensor_timing, safety=safety)
     _, bound = estimate_timestep(design, convention, segment_mass)

@@ -33,8 +33,38 @@ import numpy as np
 # from the transient's end to the run's end (quick, 4-12 s: 4.8-8 s; paper,
 # 20-60 s: 24-40 s), leaving the second half of the window to recover.
 REPLICATE_PUSH_FORCE_N = 5.0  # N, times push_scale
+# The largest push_scale accepted: 100 x 5 N = 500 N for 0.1 s, an impulse of
+# 50 N s, 2 to 3 m/s to the 17-24 kg hopper (MD to SS), 40 to 60 times its
+# 0.05 m/s commanded speed: far past any push a robustness study asks of a
+# hopping robot (mat_hopper.experiments.controls.PUSH_SCALES runs 0, 1, 2).
+MAX_PUSH_SCALE = 100.0
 REPLICATE_PUSH_DURATION_S = 0.1
 PUSH_WINDOW_FRACTION = (0.1, 0.5)
+
+
+def check_push_scale(push_scale, flag: str = "push_scale") -> float:
+    """A push scale (the factor on the replicates' 5 N push) as a float in
+    [0, :data:`MAX_PUSH_SCALE`].
+
+    Args:
+        push_scale: the factor, an int or a float (0: no push).
+        flag: the argument or option named in errors (``--push-scale``).
+
+    Returns:
+        `push_scale` as a float.
+
+    Raises:
+        ValueError: a bool, a non-number, nan, inf, or a value outside
+            [0, 100], naming `flag`.
+    """
+    ok = not isinstance(push_scale, bool) and isinstance(push_scale, (int, float, np.integer, np.floating))
+    x = float(push_scale) if ok else math.nan
+    if not (math.isfinite(x) and 0 <= x <= MAX_PUSH_SCALE):
+        raise ValueError(
+            f"{flag} must be a finite number in [0, {MAX_PUSH_SCALE:g}] (x {REPLICATE_PUSH_FORCE_N:g} N; 0: no push), "
+            f"got {push_scale!r}"
+        )
+    return x
 
 
 @dataclass(frozen=True)
@@ -77,14 +107,15 @@ class Perturbation:
                 drawn in :func:`push_window_s` of it, inside the scored hops.
                 None keeps the historical 5-15 s window (which falls in the
                 paper profile's unscored transient).
-            push_scale: factor on the push force (>= 0; 0: no push).
+            push_scale: factor on the push force, in [0, :data:`MAX_PUSH_SCALE`]
+                (0: no push).
 
         Raises:
-            ValueError: a bad seed, window or scale.
+            ValueError: a bad seed or window, or a scale that is not a
+                number in [0, 100] (:func:`check_push_scale`).
         """
         window = (5.0, 15.0) if scored_window_s is None else push_window_s(*scored_window_s)
-        if not (isinstance(push_scale, (int, float)) and math.isfinite(push_scale) and push_scale >= 0):
-            raise ValueError(f"push_scale must be a finite number >= 0, got {push_scale!r}")
+        push_scale = check_push_scale(push_scale)
         return cls(
             seed=seed,
             start_offset_m=0.005,

@@ -170,19 +170,47 @@ class Rollout:
         return pd.DataFrame(self.data, columns=list(CHANNELS))
 
 
+def check_transient(transient_s) -> float | None:
+    """A scoring transient: None (the run's own), or a finite number >= 0 s.
+
+    Args:
+        transient_s: None, or the time (s) before which hop cycles are not
+            scored: an int or a float.
+
+    Returns:
+        None, or `transient_s` as a float, s.
+
+    Raises:
+        ValueError: a bool, a string or other non-number, nan, inf or a
+            negative value (nan scored no hop at all: an empty table, silently).
+    """
+    if transient_s is None:
+        return None
+    ok = not isinstance(transient_s, bool) and isinstance(transient_s, (int, float, np.integer, np.floating))
+    x = float(transient_s) if ok else float("nan")
+    if not (np.isfinite(x) and x >= 0):
+        raise ValueError(f"transient_s must be None (the run's) or a finite number >= 0 s, got {transient_s!r}")
+    return x
+
+
 def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray:
     """The scored hop cycles of a rollout, lift-off to lift-off.
 
     Args:
         rollout: a :class:`Rollout`.
-        transient_s: cycles starting before it (s) are not scored; None:
-            the rollout's own ``settings.transient_s``.
+        transient_s: cycles starting before it (s) are not scored, a finite
+            number >= 0; None: the rollout's own ``settings.transient_s``.
 
     Returns:
         (k, 2) array of (start, end) times in s; (0, 2) with fewer than two
         lift-offs.
+
+    Raises:
+        ValueError: `transient_s` not None nor a finite number >= 0 s
+            (:func:`check_transient`).
     """
-    transient = rollout.settings.transient_s if transient_s is None else float(transient_s)
+    transient_s = check_transient(transient_s)
+    transient = rollout.settings.transient_s if transient_s is None else transient_s
     lo = rollout.liftoff_times_s
     if len(lo) < 2:
         return np.zeros((0, 2))

@@ -44,3 +44,39 @@ def test_bad_behaviours():
         behaviour("circle", radius_m=0)
     with pytest.raises(ValueError, match="table_xy_m"):
         Behaviour.from_samples("bad", 1e-3, np.array([[0.0, np.nan]]))
+
+
+@pytest.mark.parametrize("bad", [0, 0.0, -1e-3, float("nan"), float("inf"), True, "1e-3"])
+def test_from_function_refuses_a_bad_step_or_duration_before_calling_fn(bad):
+    # dt_s=0 raised ZeroDivisionError before the fix; nan or inf went on to numpy
+    calls = []
+    fn = lambda t: calls.append(t) or (0.0, 0.0)
+    with pytest.raises(ValueError, match="dt_s must be a finite number > 0 s"):
+        Behaviour.from_function("p", fn, duration_s=1.0, dt_s=bad)
+    with pytest.raises(ValueError, match="duration_s must be a finite number > 0 s"):
+        Behaviour.from_function("p", fn, duration_s=bad)
+    with pytest.raises(ValueError, match="dt_s must be a finite number > 0 s"):
+        Behaviour.from_samples("p", bad, np.zeros((3, 2)))
+    assert calls == []
+
+
+def test_table_paths_are_capped_before_any_sample_is_taken():
+    from mat_hopper.limits import MAX_PATH_SAMPLES
+
+    calls = []
+    fn = lambda t: calls.append(t) or (0.0, 0.0)
+    with pytest.raises(ValueError, match="MAX_PATH_SAMPLES"):
+        Behaviour.from_function("p", fn, duration_s=1e9)  # 1e12 samples at 1 ms: no size cap before the fix
+    with pytest.raises(ValueError, match="MAX_PATH_SAMPLES"):
+        Behaviour.from_function("p", fn, duration_s=1.0, dt_s=1e-300)
+    assert calls == []
+    with pytest.raises(ValueError, match="MAX_PATH_SAMPLES"):
+        Behaviour.from_samples("p", 1e-3, np.broadcast_to(np.zeros(2), (MAX_PATH_SAMPLES + 1, 2)))
+    assert len(Behaviour.from_function("p", fn, duration_s=1.0, dt_s=0.25).table_xy_m) == 5
+
+
+def test_table_step_and_start_must_be_finite():
+    with pytest.raises(ValueError, match="table_dt_s must be finite"):
+        Behaviour("p", "table", table_dt_s=math.inf)
+    with pytest.raises(ValueError, match="start_xy_m"):
+        Behaviour("p", start_xy_m=(math.nan, 0.0))

@@ -71,3 +71,12 @@ def test_hop_and_run_energetics_are_consistent():
 def test_path_length_of_an_empty_window_is_zero(replay):
     ro = replay[0]
     assert energetics.path_length_m(ro, 5.0, 6.0) == 0.0
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), True, "1"])
+def test_path_length_refuses_a_bound_that_is_not_a_finite_number(replay, bad):
+    ro = replay[0]
+    with pytest.raises(ValueError, match="t0_s must be a finite number"):
+        energetics.path_length_m(ro, bad, 1.0)
+    with pytest.raises(ValueError, match="t1_s must be a finite number"):
+        energetics.path_length_m(ro, 0.0, bad)

@@ -47,3 +47,19 @@ def test_body_jerk_does_not_depend_on_the_record_rate():
     assert out[0] == pytest.approx(out[1], rel=0.02)
     assert list(sens["cutoff_hz"]) == [20.0, 50.0] and (sens["jerk_body_m_s3"] > 0).all()
     assert sens["jerk_body_m_s3"].iloc[0] < sens["jerk_body_m_s3"].iloc[1]  # a higher cut-off lets more through
+
+
+@pytest.mark.parametrize("order", [float("inf"), float("nan"), 2.5, True, "4"])
+def test_a_bad_filter_order_is_a_value_error(order):
+    # order=inf raised OverflowError (int(inf)) before the fix
+    ro = _Fake(np.arange(0, 2, 1e-3), np.zeros(2000))
+    with pytest.raises(ValueError, match="order must be an integer >= 1"):
+        jerk.body_acceleration(ro, order=order)
+
+
+def test_sensitivity_checks_every_filter_even_without_scored_hops():
+    ro = simulate(parse_design("SS"), "static", duration_s=1.0, transient_s=0.5)
+    assert len(hop_cycles(ro, 0.9)) == 0
+    for kw, what in ((dict(cutoffs_hz=(20.0, float("nan"))), "cutoff_hz"), (dict(orders=(2, 0)), "order")):
+        with pytest.raises(ValueError, match=what):
+            jerk.jerk_sensitivity(ro, transient_s=0.9, **kw)

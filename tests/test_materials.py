@@ -250,3 +250,11 @@ def test_n_segments_refuses_non_ascii_digits():
     assert check_n_segments("3") == 3
     with pytest.raises(ValueError, match="n_segments"):
         check_n_segments("\u0663")  # ARABIC-INDIC DIGIT THREE: float() reads it as 3
+
+
+@pytest.mark.parametrize("text", ["SS--Ti", "-SS", "SS-", "SS- -Ti", "PVC/_SS", "Ti__SS", "-", "SS-Ti-", " -PVC-Ti"])
+def test_a_design_name_with_an_empty_component_is_refused(text):
+    # "SS--Ti" was read as SS-Ti (the empty name dropped) before the fix
+    with pytest.raises(ValueError, match="empty name between separators"):
+        parse_design(text)
+    assert parse_design(" PVC - Ti - SS ").name == "PVC-Ti-SS"  # blanks around a name are no empty name

@@ -127,3 +127,14 @@ def test_ground_relative_hop_height_on_the_ramp():
     gap = ramp["hop_height_m"] - ramp["hop_height_ground_m"]
     # the base is near x = 0.05 t; the ramp rises 3.5 % from about 0.2 mm at x = 0
     assert (gap > 0).all() and gap.max() < 0.035 * 0.5 + 0.01
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), -1.0, -float("inf"), True, "3"])
+def test_a_bad_transient_is_refused_not_an_empty_table(rollout, bad):
+    # transient_s=nan scored no hop before the fix: an empty table, silently
+    from mat_hopper.jerk import jerk_sensitivity
+
+    for call in (hop_table, run_summary, hop_cycles, jerk_sensitivity):
+        with pytest.raises(ValueError, match="transient_s must be None .* or a finite number >= 0 s"):
+            call(rollout, transient_s=bad)
+    assert len(hop_table(rollout, transient_s=0)) >= len(hop_table(rollout))

@@ -197,3 +197,28 @@ def test_build_model_segment_mass_damping_and_sensors_any_case():
     assert mixed.model.nsensor == len(CONTROL_SENSORS)
     with pytest.raises(ValueError, match="unknown sensors 'some'; accepted: all, control"):
         build_model(d, sensors="some")
+
+
+@pytest.mark.parametrize("grade", [90, -90, 90.0, 135.0, -180, float("nan"), float("inf"), -float("inf"), True, "2"])
+def test_ramp_grade_refused_unless_finite_and_strictly_between_minus_90_and_90(grade):
+    # a vertical (or overhanging) ramp, nan or inf was compiled before the fix
+    from mat_hopper.model import build_spec, check_ramp_grade, ramp_pose, terrain_height_m
+
+    for call in (
+        lambda: build_model(parse_design("SS"), ramp_grade_deg=grade),
+        lambda: build_spec(parse_design("SS"), ramp_grade_deg=grade),
+        lambda: ramp_pose(grade),
+        lambda: terrain_height_m(0.0, 0.0, grade),
+        lambda: check_ramp_grade(grade),
+    ):
+        with pytest.raises(ValueError, match=r"ramp_grade_deg must be .*strictly between -90 and 90 deg"):
+            call()
+
+
+def test_ramp_grade_accepted_inside_the_open_interval():
+    from mat_hopper.model import check_ramp_grade
+
+    assert check_ramp_grade(None) is None
+    assert check_ramp_grade(2) == 2.0 and check_ramp_grade(-89.9) == -89.9 and check_ramp_grade(np.float64(45)) == 45.0
+    hm = build_model(parse_design("SS"), ramp_grade_deg=2)
+    assert hm.ramp_grade_deg == 2.0 and hm.model.geom("ramp").id >= 0

@@ -145,3 +145,54 @@ def test_mode_tables_refuse_a_design_name():
     for table in (axial_modes, bending_modes):
         with pytest.raises(ValueError, match="must be a LegDesign"):
             table("SS")
+
+
+# A gain, gear, period or fraction that is not finite and > 0 (or beyond its
+# range) is refused by name before any model is built; before the fix
+# controller_timestep took stance_kd=nan or gear=0 (nan, inf or a ZeroDivisionError).
+_BAD_POSITIVE = [float("nan"), float("inf"), -float("inf"), 0, 0.0, -1.0, True, "1"]
+
+
+@pytest.mark.parametrize("bad", _BAD_POSITIVE)
+def test_timestep_limits_refuse_a_bad_gain_or_gear(bad):
+    from mat_hopper.modes import controller_timestep, hip_flight_timestep
+
+    ss = parse_design("SS")
+    calls = [
+        ("stance_kd", lambda: controller_timestep(ss, stance_kd=bad)),
+        ("gear", lambda: controller_timestep(ss, gear=bad)),
+        ("flight_kd", lambda: hip_flight_timestep(ss, flight_kd=bad)),
+        ("gear", lambda: hip_flight_timestep(ss, gear=bad)),
+    ]
+    for name, call in calls:
+        with pytest.raises(ValueError, match=f"{name} must be"):
+            call()
+
+
+@pytest.mark.parametrize("bad", [*_BAD_POSITIVE, 1.5])
+def test_auto_step_refuses_a_bad_period_or_safety(bad):
+    from mat_hopper.modes import auto_control_period
+
+    ss = parse_design("SS")
+    for name, call in (
+        ("safety", lambda: auto_substeps(ss, safety=bad)),
+        ("safety", lambda: auto_control_period(ss, safety=bad)),
+        ("control_period_s", lambda: auto_substeps(ss, control_period_s=bad if bad != 1.5 else 0.2)),
+        ("control_period_s", lambda: auto_control_period(ss, control_period_s=bad if bad != 1.5 else 0.2)),
+    ):
+        with pytest.raises(ValueError, match=f"{name} must be in"):
+            call()
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), -1, 1.5, True, "1"])
+def test_delayed_damping_factor_refuses_a_bad_latency(bad):
+    from mat_hopper.modes import delayed_damping_factor
+
+    with pytest.raises(ValueError, match="latency_steps must be an integer >= 0"):
+        delayed_damping_factor(bad)
+    assert delayed_damping_factor(1.0) == delayed_damping_factor(1) == pytest.approx(1.0)
+
+
+def test_chain_refuses_an_infinite_mass():
+    with pytest.raises(ValueError, match="finite and > 0"):
+        chain_frequencies([1.0, math.inf], [1e3])

@@ -88,3 +88,17 @@ def test_push_scale_and_window_errors():
         Perturbation.replicate(0, push_scale=-1.0)
     with pytest.raises(ValueError, match="scored window"):
         push_window_s(12.0, 4.0)
+
+
+@pytest.mark.parametrize("scale", [1e9, 100.5, -1.0, math.nan, math.inf, True, "2"])
+def test_a_push_scale_out_of_range_is_refused(scale):
+    # push_scale 1e9 (5e9 N) was accepted before the fix
+    from dataclasses import replace
+
+    from mat_hopper.perturbations import MAX_PUSH_SCALE, check_push_scale
+
+    with pytest.raises(ValueError, match=r"push_scale must be a finite number in \[0, 100\]"):
+        Perturbation.replicate(0, push_scale=scale)
+    with pytest.raises(ValueError, match=r"push_scale must be a finite number in \[0, 100\]"):
+        replace(PROFILES["quick"], push_scale=scale)
+    assert check_push_scale(MAX_PUSH_SCALE) == 100.0 and check_push_scale(0) == 0.0

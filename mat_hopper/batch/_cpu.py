@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from ..behaviours import behaviour as get_behaviour
+from ..experiments.runner import stop_pool
 from ._designs import as_design
 from ._settings import BatchSettings, finite_mean, result_frame
 
@@ -99,17 +100,17 @@ def evaluate_cpu(
             )
             pool = ProcessPoolExecutor(workers, mp_context=ctx)
             try:
-                for row in pool.map(_row_star, tasks):
-                    rows.append(row)
+                # submit and read in order, not pool.map: its iterator cancels the futures
+                # left (Future.cancel()) when an interrupt stops it, which then races the
+                # pool's manager thread into InvalidStateError (CPython < 3.12) as the
+                # workers are stopped (mat_hopper.experiments.runner.stop_pool)
+                futures = [pool.submit(_row_star, t) for t in tasks]
+                for fut in futures:
+                    rows.append(fut.result())
                     if bar:
                         bar.update(1)
             except BaseException:  # Ctrl-C, SIGTERM (mat_hopper.cli: KeyboardInterrupt), a failed row
-                # Stop the workers now. Futures are not cancelled: the pool's manager thread then
-                # fails them as a broken pool, where cancelling them makes it raise InvalidStateError
-                # (CPython 3.11) in a traceback on stderr.
-                for proc in list((getattr(pool, "_processes", None) or {}).values()):
-                    proc.terminate()
-                pool.shutdown(wait=True)
+                stop_pool(pool, terminate=True)  # the pool cancels the rest, the workers stop now
                 raise
             pool.shutdown(wait=True)
     finally:

@@ -53,14 +53,29 @@ def parse_design_list(text: str) -> list[LegDesign]:
         The LegDesigns, in order.
 
     Raises:
-        ValueError: an empty item (``"SS,,PVC"``, as in every comma list of the CLI) or an unknown name.
+        ValueError: an empty item (``"SS,,PVC"``, as in every comma list of
+            the CLI), an unknown name, or two items that name the same
+            design: the same name in another case or with blanks
+            (``"SS, ss"``), or another spelling of the same leg
+            (``"SS,SS-SS-SS"``, ``"rho-inc,custom(...)"`` of its
+            properties), which would be run twice.
     """
     names = [p.strip() for p in str(text).split(",")]
     if not any(names):
         raise ValueError(f"--designs needs at least one design name, got {text!r}")
     if not all(names):
         raise ValueError(f"--designs must be comma-separated design names, got {text!r} (an empty item)")
-    return [parse_design(n) for n in names]
+    designs, by_name, by_leg = [], {}, {}
+    for n in names:
+        d = parse_design(n)
+        leg = (d.densities_g_cm3, d.moduli_gpa)  # the physics (mat_hopper.keys.design_key): the name is a label
+        first = by_name.get(d.name.lower()) or by_leg.get(leg)
+        if first is not None:
+            what = f"name the same design ({d.name})" if d.name.lower() in by_name else "are the same leg"
+            raise ValueError(f"--designs: {first!r} and {n!r} {what}; give each design once")
+        by_name[d.name.lower()], by_leg[leg] = n, n
+        designs.append(d)
+    return designs
 
 
 def topology_key(design: LegDesign) -> tuple[bool, ...]:

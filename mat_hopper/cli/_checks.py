@@ -108,18 +108,27 @@ def named_by_flags(**flags):
         raise ValueError(text) from None
 
 
-def check_name_list(text, flag: str) -> None:
-    """A comma list of names (--experiments, --conventions) holds no empty
-    item ("paper,,axial", "3,") and no repeat ("1,1"); None passes (the
-    option's default). Raises ValueError naming the flag."""
+def check_name_list(text, flag: str, canonical=None) -> None:
+    """A comma list of names (--experiments, --conventions, --materials,
+    --ashby-classes) holds no empty item ("paper,,axial", "3,") and no two
+    items that name the same thing: the same text in any case and blanks
+    ("1,1", "SS, ss"), or, with `canonical`, two spellings it reads as one
+    ("4,stability"); None passes (the option's default). Raises ValueError
+    naming the flag and the repeated items (a repeat is refused, not run
+    twice nor dropped in silence). `canonical` maps an item (blanks
+    trimmed) to its canonical name, raising ValueError for an unknown one."""
     if text is None:
         return
     items = [p.strip() for p in str(text).split(",")]
     if not all(items):
         raise ValueError(f"{flag} must be comma-separated names, got {text!r} (an empty item)")
-    seen = [i.lower() for i in items]
-    if len(set(seen)) != len(seen):
-        raise ValueError(f"{flag}: {text!r} names an item twice")
+    seen: dict[str, str] = {}
+    for item in items:
+        key = item.lower() if canonical is None else canonical(item)
+        if key in seen:
+            same = "" if seen[key].lower() == item.lower() else f" ({seen[key]!r} and {item!r} are both {key})"
+            raise ValueError(f"{flag}: {text!r} names an item twice{same}; give each once")
+        seen[key] = item
 
 
 def parse_list(text, flag: str, *, rigid: bool = False, unit: str = "") -> list[float | None]:

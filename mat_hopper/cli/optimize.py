@@ -34,7 +34,9 @@ from ..optimize import (
     storage_errors,
     stored_config,
 )
-from ._checks import check_output_dir, named_by_flags, nothing_left_behind, parse_pair
+from ..optimize._objective import HOPS_TO_FAILURE_RANGE, MAX_YIELD_FRACTION
+from ..optimize._robust import MAX_LEG_MASS_KG
+from ._checks import check_name_list, check_output_dir, named_by_flags, nothing_left_behind, parse_pair
 from ._optimize_outputs import cmd_export, cmd_replay, cmd_report, open_existing, options_from_args
 
 # The search space's and objective's fields, as their options (for messages).
@@ -128,6 +130,17 @@ def check_options(args) -> None:
         args.studies_dir = DEFAULT_STUDIES_DIR
 
 
+def _check_name_lists(args) -> None:
+    """--materials and --ashby-classes name each item once: "SS,ss" or
+    "metal, Metal" is refused naming the repeat (the search space would
+    drop it in silence)."""
+    from ..materials import material
+    from ..optimize._ashby import check_classes
+
+    check_name_list(args.materials, "--materials", lambda name: material(name).name)
+    check_name_list(args.ashby_classes, "--ashby-classes", lambda name: check_classes([name])[0])
+
+
 def _check_space_options(args, space: SearchSpace) -> None:
     """Bounds are for continuous segments and --materials for catalogue
     ones: each refused, naming --space, when the space has none."""
@@ -208,6 +221,8 @@ def cmd_optimize(args) -> int:
 
 
 def _cmd_optimize(args) -> int:
+    for flag, value in (("--replay", args.replay), ("--export", args.export)):
+        check_count(value, flag, 0, what="a trial number, from 0")  # before any storage is opened
     if not args.storage or (args.report and not args.out):
         check_output_dir(args.studies_dir, "--studies-dir")
     if getattr(args, "export", None) is not None:
@@ -230,6 +245,7 @@ def _cmd_optimize(args) -> int:
     check_count(args.batch_size, "--batch-size", 1, MAX_WORLDS, "trials simulated together per round")
     options = options_from_args(args, args.trials)
     check_sampler(options.sampler)
+    _check_name_lists(args)
     with named_by_flags(**OPTION_OF_FIELD):
         fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
     _check_space_options(args, fresh.space)
@@ -385,22 +401,28 @@ def register_cli(sub) -> None:
     p.add_argument("--cvar-alpha", type=float, help=f"--risk cvar's level in [0, 1) (default {DEFAULT_CVAR_ALPHA})")
     p.add_argument(
         "--leg-mass",
-        help="constrain the leg's mass to a paper design's (e.g. SS) or to a mass in kg; none: unconstrained (default)",
+        help=f"constrain the leg's mass to a paper design's (e.g. SS) or to a mass in (0, {MAX_LEG_MASS_KG:g}] kg; "
+        "none: unconstrained (default)",
     )
-    p.add_argument("--leg-mass-tolerance", type=float, help="kg, +- around --leg-mass (default 5 %% of the target)")
+    p.add_argument(
+        "--leg-mass-tolerance",
+        type=float,
+        help=f"kg, +- around --leg-mass, in (0, {MAX_LEG_MASS_KG:g}] (default 5 %% of the target)",
+    )
     p.add_argument(
         "--max-yield-fraction",
         type=float,
         metavar="F",
         help="constraint: every segment's peak stress <= F x its yield strength, the worst behaviour "
-        "(e.g. 0.5; default off; meaningful under a bending convention)",
+        f"(F in (0, {MAX_YIELD_FRACTION:g}], e.g. 0.5; default off; meaningful under a bending convention)",
     )
     p.add_argument(
         "--min-hops-to-failure",
         type=float,
         metavar="N",
         help="constraint: fatigue life (Basquin S-N, Miner) of at least N hops, the worst behaviour "
-        "(e.g. 1e7; default off; meaningful under a bending convention)",
+        f"(N in [{HOPS_TO_FAILURE_RANGE[0]:g}, {HOPS_TO_FAILURE_RANGE[1]:g}], e.g. 1e7; default off; meaningful "
+        "under a bending convention)",
     )
     p.add_argument(
         "--objectives",

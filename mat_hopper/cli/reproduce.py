@@ -6,6 +6,7 @@ from __future__ import annotations
 import sys
 
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
+from ..experiments.paper import experiment_name, experiment_spellings
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..experiments.reproduce import default_out_dir, reproduce
 from ..limits import check_total_steps, check_workers
@@ -50,10 +51,11 @@ def cmd_reproduce(args) -> int:
     if args.push_scale is not None:
         from dataclasses import replace
 
-        if args.push_scale < 0:
-            raise ValueError(f"--push-scale must be >= 0 (0: no push), got {args.push_scale:g}")
-        profile = replace(profile, push_scale=args.push_scale)
-    check_name_list(args.experiments, "--experiments")
+        from ..perturbations import check_push_scale
+
+        profile = replace(profile, push_scale=check_push_scale(args.push_scale, "--push-scale"))
+    every = args.experiments is not None and args.experiments.strip().lower() == "all"
+    check_name_list(args.experiments, "--experiments", None if every else experiment_name)  # "4,stability": twice
     check_name_list(args.conventions, "--conventions")
     if args.workers is not None and args.scheduler:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
@@ -114,8 +116,8 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--experiments",
         default="1,2,3,stability,robustness",
-        help="comma-separated: 1, 2, 3, stability, robustness, controls, 2-gibson-ashby (experiment 2 with "
-        "porosity that softens) (default the first five)",
+        help=f"comma-separated, any case, other spellings in parentheses: {experiment_spellings()}, or all; "
+        "2-gibson-ashby is experiment 2 with porosity that softens (default 1,2,3,stability,robustness)",
     )
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
@@ -131,7 +133,7 @@ def register_cli(sub) -> None:
         "--push-scale",
         type=float,
         default=None,
-        help="the replicates' push, x 5 N for 0.1 s inside the scored window (default 1; 0: no push)",
+        help="the replicates' push, x 5 N for 0.1 s inside the scored window, in [0, 100] (default 1; 0: no push)",
     )
     p.add_argument(
         "--conventions",

@@ -52,8 +52,10 @@ def _timestep(text):
 
 def design_from_args(args) -> LegDesign:
     """--design NAME, --design-csv FILE, or --density/--modulus lists
-    (g/cm^3, GPa); never two of them, and --segments only with a named
-    design (a list or a file sets its own)."""
+    (g/cm^3, GPa); never two of them, and --segments only with a
+    single-material --design (a list, a file, a gradient such as PVC-Ti-SS,
+    a named design such as rho-inc or a custom(...) name sets its own: the
+    pair is refused, naming both, rather than --segments ignored)."""
     segments = ref.REFERENCE_SEGMENTS if args.segments is None else args.segments
     with named_by_flags():
         n = check_n_segments(segments)  # an integer in [1, 64] whatever the design form
@@ -89,7 +91,15 @@ def design_from_args(args) -> LegDesign:
             if bad:
                 raise ValueError(f"{flag} must be > 0 {unit} (accepted {lo:g} to {hi:g}), got {bad[0]:g}")
         return LegDesign.from_properties(dens, mods)
-    return parse_design(DEFAULT_DESIGN if args.design is None else args.design, n_segments=n)
+    name = DEFAULT_DESIGN if args.design is None else args.design
+    design = parse_design(name, n_segments=n)
+    if args.segments is not None and parse_design(name, n_segments=1 if n != 1 else 2).n_segments == design.n_segments:
+        # a gradient, a named design (rho-inc) or custom(...) has its own segments: --segments would be ignored
+        raise ValueError(
+            f"--segments is for a single-material --design; --design {name.strip()} has its own "
+            f"{design.n_segments} segments (leave out --segments)"
+        )
+    return design
 
 
 def _design_from_csv(path) -> LegDesign:

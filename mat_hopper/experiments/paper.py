@@ -306,40 +306,51 @@ EXPERIMENTS = {
     "exp2-gibson-ashby": experiment_2_gibson_ashby,
 }
 EXPERIMENT_NAMES = tuple(EXPERIMENTS)
+# Every spelling :func:`experiment_name` reads (any case), per experiment, the
+# first the one messages lead with: the one table of the parser, the
+# command's --help and its errors (an alias the help does not list is one a
+# user cannot know, e.g. "4" for the stability map).
+EXPERIMENT_SPELLINGS = {
+    "exp1": ("1", "exp1"),
+    "exp2": ("2", "exp2"),
+    "exp3": ("3", "exp3"),
+    "stability": ("stability", "4", "stab"),
+    "robustness": ("robustness", "robust"),
+    "controls": ("controls", "control"),
+    "exp2-gibson-ashby": ("2-gibson-ashby", "2ga", "exp2-gibson-ashby"),
+}
+_SPELLING_TO_NAME = {sp: key for key, sps in EXPERIMENT_SPELLINGS.items() for sp in sps}
+
+
+def experiment_spellings() -> str:
+    """Every accepted spelling of every experiment, for help and errors.
+
+    Returns:
+        One line: each experiment's leading spelling with its others in
+        parentheses, in :data:`EXPERIMENTS` order, e.g. ``"1 (exp1), ...,
+        stability (4, stab), ..."``.
+    """
+    return ", ".join(f"{sps[0]} ({', '.join(sps[1:])})" for sps in EXPERIMENT_SPELLINGS.values())
 
 
 def experiment_name(text: str) -> str:
     """Canonical name: '1' or 'exp1' -> 'exp1'; 'stability' (or 'stab', '4').
 
     Args:
-        text: an experiment's name or alias, any case, blanks trimmed: ``1``,
-            ``2``, ``3``, ``4``/``stab``, ``robust``, ``control``,
-            ``2-gibson-ashby``/``2ga``, or a key of :data:`EXPERIMENTS`.
+        text: an experiment's name or alias, any case, blanks trimmed: a
+            spelling of :data:`EXPERIMENT_SPELLINGS` (``1``, ``exp1``, ...,
+            ``stability``/``4``/``stab``, ``robustness``/``robust``,
+            ``controls``/``control``, ``2-gibson-ashby``/``2ga``).
 
     Returns:
         The key of :data:`EXPERIMENTS` (e.g. ``"exp1"``, ``"stability"``).
 
     Raises:
-        ValueError: an unknown name, listing the accepted ones.
+        ValueError: an unknown name, listing every accepted spelling.
     """
-    key = str(text).strip().lower()
-    alias = {
-        "1": "exp1",
-        "2": "exp2",
-        "3": "exp3",
-        "4": "stability",
-        "stab": "stability",
-        "robust": "robustness",
-        "control": "controls",
-        "2-gibson-ashby": "exp2-gibson-ashby",
-        "2ga": "exp2-gibson-ashby",
-    }
-    key = alias.get(key, key)
-    if key not in EXPERIMENTS:
-        raise ValueError(
-            f"unknown experiment {text!r}; accepted: 1, 2, 3, stability, robustness, controls, 2-gibson-ashby (or "
-            f"{', '.join(EXPERIMENTS)})"
-        )
+    key = _SPELLING_TO_NAME.get(str(text).strip().lower())
+    if key is None:
+        raise ValueError(f"unknown experiment {text!r}; accepted: {experiment_spellings()}")
     return key
 
 

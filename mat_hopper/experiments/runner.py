@@ -140,6 +140,32 @@ def _execute(task) -> tuple[str, pd.DataFrame | None, dict | None, str | None]:
         return key, None, None, tb
 
 
+def stop_pool(pool: ProcessPoolExecutor, *, terminate: bool = False) -> None:
+    """Stop a process pool after an interrupt (Ctrl-C, SIGTERM) or an error:
+    the runs not started are cancelled, the workers stopped (at once with
+    `terminate`, else when their run under way ends) and the pool joined.
+
+    The pool cancels its queued futures itself (``shutdown(cancel_futures=True)``):
+    never ``Future.cancel()`` from here. When a worker dies (killed by the
+    same SIGTERM sent to the process group, or by `terminate`), the pool's
+    manager thread sets BrokenProcessPool on every future it still holds;
+    on CPython before 3.12 a future cancelled from outside makes that
+    ``set_exception`` raise InvalidStateError in the thread, a traceback on
+    stderr (python/cpython#107219, fixed in 3.12 by ignoring it). Cancelled
+    by the manager thread, a future leaves its table first, so whichever of
+    the shutdown and the broken pool it sees first, every future it then
+    finishes is still pending or running, never already cancelled or done.
+
+    Args:
+        pool: the ProcessPoolExecutor (its futures may be pending, running or done).
+        terminate: stop the workers now (SIGTERM) rather than let each finish its run.
+    """
+    processes = list((getattr(pool, "_processes", None) or {}).values()) if terminate else []
+    for proc in processes:
+        proc.terminate()
+    pool.shutdown(wait=True, cancel_futures=True)
+
+
 def default_workers() -> int:
     """All cores this process may use.
 
@@ -341,9 +367,12 @@ class Runner:
                     )
                 except Exception as e:  # pickling and the like
                     yield k, None, None, f"{type(e).__name__}: {e}"
-        except BaseException:
-            for f in futures:
-                f.cancel()
+        except BaseException:  # an interrupt, or the grid's consumer stopped (GeneratorExit)
+            # The pool cancels what has not started (stop_pool: Future.cancel() from here races the
+            # pool's own thread into an InvalidStateError traceback when a worker dies) and finishes
+            # the runs under way; the next grid starts a fresh pool.
+            self._pool = None
+            stop_pool(pool)
             raise
 
     def _compute_dask(self, todo, unique):

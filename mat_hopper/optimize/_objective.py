@@ -93,6 +93,16 @@ RESULT_ATTR = "result"  # the trial user attr holding its Evaluation (record_eva
 HOP_HEIGHT_TOLERANCE_M = 0.05
 CHUNK_S = 0.5  # simulated s per compiled chunk (lets the heartbeat thread run)
 LEG_MATERIAL_LENGTH_M = ref.MATERIAL_LENGTH  # total length of the material segments, any N
+# The stress constraints' accepted ranges (issue 21). max_yield_fraction F in
+# (0, 10]: a peak stress over about 3 x yield already passes the ultimate
+# strength of every catalogue material (the largest ultimate / yield ratio is
+# aluminium's, 2.97; mat_hopper.fatigue), so a larger F lets broken legs
+# through and constrains nothing. min_hops_to_failure N in [1, 1e20]: a life
+# under one hop is no life, and 1e20 hops (1.6e12 years at 2 hops a second)
+# is 1e13 times past the end of the S-N data (1e7 cycles), where Basquin's
+# line is an extrapolation a larger N cannot sharpen.
+MAX_YIELD_FRACTION = 10.0
+HOPS_TO_FAILURE_RANGE = (1.0, 1e20)
 
 
 @dataclass(frozen=True)
@@ -114,7 +124,9 @@ class Objective:
         leg_mass: None (unconstrained), a paper design's name or a mass in kg.
         leg_mass_tolerance_kg: the leg mass constraint's tolerance, kg (None:
             DEFAULT_LEG_MASS_TOLERANCE of the target).
-        max_yield_fraction, min_hops_to_failure: the stress constraints (module doc; None: off).
+        max_yield_fraction, min_hops_to_failure: the stress constraints
+            (module doc; None: off): F in (0, :data:`MAX_YIELD_FRACTION`]
+            and N in :data:`HOPS_TO_FAILURE_RANGE` ([1, 1e20] hops).
         objectives: the metrics minimized, two or three names of
             :data:`~mat_hopper.optimize._metrics.METRICS` (a sequence or a
             comma-separated string, any case; default :data:`OBJECTIVES`).
@@ -164,10 +176,15 @@ class Objective:
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ValueError(f"{name} must be a finite number > 0 m, got {v!r}")
-        for name in ("max_yield_fraction", "min_hops_to_failure"):
+        for name, (lo, hi), low_open in (
+            ("max_yield_fraction", (0.0, MAX_YIELD_FRACTION), True),
+            ("min_hops_to_failure", HOPS_TO_FAILURE_RANGE, False),
+        ):
             v = getattr(self, name)
-            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < math.inf):
-                raise ValueError(f"{name} must be a finite number > 0 or None, got {v!r}")
+            ok = v is None or (not isinstance(v, bool) and isinstance(v, (int, float)) and math.isfinite(v))
+            if not ok or (v is not None and not ((lo < v if low_open else lo <= v) and v <= hi)):
+                rng = f"{'(' if low_open else '['}{lo:g}, {hi:g}]"
+                raise ValueError(f"{name} must be a finite number in {rng} or None, got {v!r}")
         object.__setattr__(self, "risk", parse_name(self.risk, _robust.RISKS, "risk"))
         _robust.check_objective(self)
         object.__setattr__(self, "leg_mass", _robust.check_leg_mass(self.leg_mass))

@@ -63,6 +63,14 @@ LEG_MASS_CONSTRAINT = "leg_mass"
 SEARCH_SEED_START = 1000  # the search's replicate seeds: SEARCH_SEED_START + 0 .. K - 1
 DEFAULT_CVAR_ALPHA = 0.75  # with K = 4: the worst replicate
 DEFAULT_LEG_MASS_TOLERANCE = 0.05  # of the target mass
+# kg, the largest leg_mass target (and tolerance) accepted: just above the
+# heaviest leg any accepted design can have, 269 kg (the densest accepted
+# material, 30 g/cm^3 = DENSITY_RANGE_G_CM3's top, in MAX_SEGMENTS = 64
+# segments under the capsule convention; 29 kg under the leg convention; SS,
+# the paper's heaviest, 7.9 kg). A target above it no design can reach, and a
+# tolerance above it constrains nothing (tests/optimize/test_robust.py checks
+# the heaviest leg stays below it).
+MAX_LEG_MASS_KG = 300.0
 N_BOOT = 2000  # bootstrap resamples of a CVaR's standard error
 SE_ATTR = "standard_error"  # trial user attr: {objective: standard error}
 
@@ -186,8 +194,8 @@ def leg_mass_kg(design: LegDesign, segment_mass: str) -> float:
 
 def check_leg_mass(value):
     """`leg_mass` as the objective stores it: None, a paper design's name
-    (case as the paper writes it), or a mass in kg (float > 0).
-    ValueError otherwise."""
+    (case as the paper writes it), or a mass in kg, a float in
+    (0, :data:`MAX_LEG_MASS_KG`]. ValueError otherwise."""
     if value is None:
         return None
     if isinstance(value, str):
@@ -200,6 +208,11 @@ def check_leg_mass(value):
         value = parse_number(text, "leg_mass", unit="kg")
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
         raise ValueError(f"leg_mass must be a paper design's name or a finite mass > 0 kg, got {value!r}")
+    if value > MAX_LEG_MASS_KG:
+        raise ValueError(
+            f"leg_mass must be a paper design's name or a mass in (0, {MAX_LEG_MASS_KG:g}] kg (above the heaviest "
+            f"leg any design can have), got {value!r}"
+        )
     return float(value)
 
 
@@ -272,6 +285,11 @@ def check_objective(objective) -> None:
     if tol is not None:
         if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not math.isfinite(tol) or tol <= 0:
             raise ValueError(f"leg_mass_tolerance_kg must be a finite number > 0 kg, got {tol!r}")
+        if tol > MAX_LEG_MASS_KG:
+            raise ValueError(
+                f"leg_mass_tolerance_kg must be in (0, {MAX_LEG_MASS_KG:g}] kg (a wider tolerance constrains "
+                f"nothing), got {tol!r}"
+            )
         if objective.leg_mass is None:
             raise ValueError("leg_mass_tolerance_kg needs leg_mass (a target)")
 

@@ -272,3 +272,25 @@ def test_a_csv_where_nothing_can_be_written_is_refused_before_work(capsys):
     rc = main(["batch", "--designs", "SS", "--duration", "600", "--csv", "/proc/out.csv"])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and "nothing can be written in folder /proc" in err[0]
+
+
+@pytest.mark.parametrize(
+    "designs, message",
+    [
+        ("SS, ss", "'SS' and 'ss' name the same design (SS)"),  # ran SS twice before the fix
+        ("rho-inc,RHO-INC ", "'rho-inc' and 'RHO-INC' name the same design (rho-inc)"),
+        ("SS,Ti,SS-SS-SS", "'SS' and 'SS-SS-SS' are the same leg"),
+        ("PVC-Ti-SS,pvc_ti/ss", "name the same design (PVC-Ti-SS)"),
+    ],
+)
+def test_designs_naming_one_design_twice_are_refused(tmp_path, monkeypatch, capsys, designs, message):
+    from mat_hopper.batch import parse_design_list
+
+    with pytest.raises(ValueError, match="give each design once"):
+        parse_design_list(designs)
+    monkeypatch.chdir(tmp_path)
+    assert main(["batch", "--designs", designs, "--duration", "3000", "--transient", "1", "--csv", "o.csv"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err and "--designs" in err, err
+    assert not (tmp_path / "o.csv").exists()
+    assert [d.name for d in parse_design_list("SS,SS-Ti,Ti")] == ["SS", "SS-Ti", "Ti"]

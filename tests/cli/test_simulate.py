@@ -1,5 +1,7 @@
 """``mat-hopper simulate --control``: the controls of any design, from the CLI."""
 
+import os
+
 import pandas as pd
 import pytest
 
@@ -50,3 +52,36 @@ def test_a_fall_is_told_apart_from_a_numerical_divergence(capsys):
     main(["simulate", "--design", "SS", "--convention", "axial", "--duration", "2", "--transient", "1"])
     out = capsys.readouterr().out
     assert "UNSTABLE: diverged at t = 0.0009 s (numerical divergence" in out and "try --timestep auto" in out
+
+
+@pytest.mark.parametrize(
+    "command, design",
+    [
+        ("simulate", "rho-inc"),
+        ("simulate", "PVC-Ti-SS"),
+        ("simulate", "custom(1.39/70,8/rigid)"),
+        ("render", "rho-dec"),
+        ("modes", "SS-Ti-PVC"),
+    ],
+)
+def test_segments_with_a_design_that_sets_its_own_is_refused(tmp_path, monkeypatch, capsys, command, design):
+    # `simulate --design rho-inc --segments 4` ran rho-inc's 3 segments, --segments ignored, before the fix
+    monkeypatch.chdir(tmp_path)
+    extra = ["--still", "s.png"] if command == "render" else []
+    assert main([command, "--design", design, "--segments", "4", *extra]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--segments is for a single-material --design" in err, err
+    assert f"--design {design} has its own" in err and "Traceback" not in err
+    assert os.listdir(tmp_path) == []
+
+
+def test_segments_still_set_a_single_material_design():
+    import argparse
+
+    from mat_hopper.cli.simulate import add_sim_arguments, design_from_args
+
+    p = argparse.ArgumentParser()
+    add_sim_arguments(p)
+    assert design_from_args(p.parse_args(["--design", "ss", "--segments", "5"])).n_segments == 5
+    assert design_from_args(p.parse_args(["--design", "rho=8 E=193", "--segments", "2"])).n_segments == 2
+    assert design_from_args(p.parse_args(["--design", "rho-inc"])).n_segments == 3

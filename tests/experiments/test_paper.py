@@ -178,3 +178,14 @@ def test_names_any_case_are_stored_canonical():
     p = Profile("x", 12.0, 4.0, convention="Axial", axial_timestep_s="AUTO")
     assert (p.convention, p.axial_timestep_s) == ("axial", "auto")
     assert p.for_convention("AXIAL") is p
+
+
+def test_every_experiment_has_its_spellings_and_errors_list_them_all():
+    from mat_hopper.experiments.paper import EXPERIMENT_SPELLINGS, EXPERIMENTS, experiment_spellings
+
+    assert list(EXPERIMENT_SPELLINGS) == list(EXPERIMENTS)
+    for key, spellings in EXPERIMENT_SPELLINGS.items():
+        assert key in spellings  # the canonical key is a spelling too
+    with pytest.raises(ValueError) as e:
+        parse_experiments("5")
+    assert experiment_spellings() in str(e.value) and "stability (4, stab)" in str(e.value)

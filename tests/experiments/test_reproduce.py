@@ -21,6 +21,14 @@ TINY = Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5, stability_tolerance=1.5, stabilit
         (["--profile", "fast"], "unknown profile"),
         (["--replicates", "-3"], "replicates"),
         (["--conventions", "paper,beam"], "convention"),
+        # a push no study asks (1e9 was accepted before the fix), and its other spellings
+        (["--push-scale", "1e9"], "--push-scale must be a finite number in [0, 100]"),
+        (["--push-scale", "100.5"], "--push-scale must be a finite number in [0, 100]"),
+        (["--push-scale", "-1"], "--push-scale must be a finite number in [0, 100]"),
+        # two spellings of one experiment: refused naming both, not run once in silence
+        (["--experiments", "4,stability"], "'4' and 'stability' are both stability"),
+        (["--experiments", "1,EXP1"], "'1' and 'EXP1' are both exp1"),
+        (["--experiments", "robust, robustness"], "names an item twice"),
     ],
 )
 def test_bad_input_is_a_one_line_error_before_any_work(tmp_path, capsys, args, message):
@@ -142,3 +150,17 @@ def test_library_scheduler_checks_come_before_the_results_folder(tmp_path, kwarg
     with pytest.raises(ValueError, match=message):
         reproduce(TINY, "1", str(out), cache_dir=str(cache), progress=False, figures=False, log=None, **kwargs)
     assert not out.exists() and not cache.exists()
+
+
+def test_help_lists_every_accepted_experiment_spelling(capsys):
+    # "--experiments 4" (the stability map) was accepted but not in --help before the fix
+    from mat_hopper.experiments.paper import EXPERIMENT_SPELLINGS, experiment_name
+
+    with pytest.raises(SystemExit):
+        main(["reproduce", "--help"])
+    text = " ".join(capsys.readouterr().out.split())  # argparse wraps lines
+    for key, spellings in EXPERIMENT_SPELLINGS.items():
+        for sp in spellings:
+            assert experiment_name(sp.upper()) == key
+            assert sp in text, sp
+    assert "stability (4, stab)" in text and ", or all;" in text

@@ -243,3 +243,79 @@ def test_replicates_run_with_their_seeded_perturbation(tmp_path):
     assert set(h["replicate"]) == {-1, 0, 1}
     errs = h.groupby("replicate")["tracking_error_m"].mean()
     assert errs[-1] != errs[0] and errs[0] != errs[1]  # perturbed runs differ, seed by seed
+
+
+# --- stopping a pool: no InvalidStateError traceback -------------------------------
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class NapTask:
+    """A grid task that sleeps (no physics): a pool's futures are pending,
+    running and done at once, at almost no CPU."""
+
+    i: int
+    seconds: float = 0.3
+    labels: dict = dataclasses.field(default_factory=dict)
+
+    def key_dict(self) -> dict:
+        return {"kind": "nap", "i": self.i}
+
+    def key(self) -> str:
+        return f"nap-{self.i}"
+
+    def default_labels(self) -> dict:
+        return {"nap": self.i}
+
+    def compute(self):
+        time.sleep(self.seconds)
+        return pd.DataFrame({"i": [self.i]}), {"status": "ok"}
+
+
+def test_an_interrupt_as_the_workers_die_leaves_no_invalid_state_traceback(tmp_path, monkeypatch):
+    """SIGTERM sent to the process group: the grid stops (KeyboardInterrupt,
+    as mat_hopper.cli raises it) and the pool's workers die. Before the fix
+    the grid cancelled its pending futures itself (Future.cancel()); the
+    pool's manager thread then failed them as a broken pool and raised
+    InvalidStateError (CPython < 3.12): a traceback on stderr."""
+    import threading
+
+    import mat_hopper.progress
+
+    thread_errors = []
+    monkeypatch.setattr(threading, "excepthook", lambda args: thread_errors.append(repr(args.exc_value)))
+    runner = Runner(tmp_path, workers=2, progress=True)
+    workers = []
+
+    class Bar:  # the grid's progress bar: the interrupt lands at the first result
+        def update(self, n):
+            workers.extend(runner._pool._processes.values())
+            raise KeyboardInterrupt
+
+        def close(self):  # the same SIGTERM reaches the workers
+            for p in workers:
+                p.terminate()
+            for p in workers:
+                p.join(30)
+            time.sleep(1.0)  # the pool's manager thread sees them die
+
+    monkeypatch.setattr(mat_hopper.progress, "progress_bar", lambda **kw: Bar())
+    with pytest.raises(KeyboardInterrupt):
+        runner.run([NapTask(i) for i in range(12)])
+    runner.close()
+    assert thread_errors == []
+
+
+def test_stop_pool_cancels_through_the_pool_and_can_stop_its_workers():
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from mat_hopper.experiments.runner import stop_pool
+
+    ctx = multiprocessing.get_context("forkserver")
+    for terminate in (False, True):
+        pool = ProcessPoolExecutor(1, mp_context=ctx)
+        futures = [pool.submit(time.sleep, 0.2) for _ in range(6)]
+        futures[0].result()
+        stop_pool(pool, terminate=terminate)
+        assert all(f.done() for f in futures)
+        assert any(f.cancelled() for f in futures)  # the queued ones never ran

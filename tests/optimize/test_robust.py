@@ -270,3 +270,80 @@ def test_risk_name_any_case_is_stored_canonical():
     assert Objective(profile=TINY, replicates=3, risk="CVAR", cvar_alpha=0.5).risk == "cvar"
     with pytest.raises(ValueError, match="unknown risk 'max'"):
         _robust.score(v, "max")
+
+
+# --- ranges of the mass and stress settings (a newcomer's attack) ------------------
+
+
+def test_no_accepted_design_is_heavier_than_the_leg_mass_cap():
+    from mat_hopper.materials import DENSITY_RANGE_G_CM3, MAX_SEGMENTS
+
+    heaviest = LegDesign.from_properties([DENSITY_RANGE_G_CM3[1]] * MAX_SEGMENTS, [100.0] * MAX_SEGMENTS)
+    assert _robust.leg_mass_kg(heaviest, "capsule") < _robust.MAX_LEG_MASS_KG
+    assert _robust.leg_mass_kg(heaviest, "leg") < _robust.MAX_LEG_MASS_KG
+
+
+@pytest.mark.parametrize("mass", [1e9, 300.5, "1e9", 1e300])
+def test_a_leg_mass_no_design_can_reach_is_refused(mass):
+    # leg_mass 1e9 kg was accepted before the fix
+    with pytest.raises(ValueError, match=r"leg_mass must be a paper design's name or a mass in \(0, 300\] kg"):
+        _robust.check_leg_mass(mass)
+    assert _robust.check_leg_mass(300) == 300.0 and _robust.check_leg_mass(" 7.5 ") == 7.5
+    with pytest.raises(ValueError, match=r"leg_mass_tolerance_kg must be in \(0, 300\] kg"):
+        Objective(profile=TINY, leg_mass="SS", leg_mass_tolerance_kg=1e9)
+
+
+@pytest.mark.parametrize(
+    "field, value",
+    [
+        ("max_yield_fraction", 1e9),
+        ("max_yield_fraction", 10.5),
+        ("min_hops_to_failure", 0.5),
+        ("min_hops_to_failure", 1e300),
+        ("min_hops_to_failure", True),
+    ],
+)
+def test_stress_constraints_out_of_their_physical_range_are_refused(field, value):
+    with pytest.raises(ValueError, match=f"{field} must be a finite number in"):
+        Objective(profile=TINY, **{field: value})
+    ob = Objective(profile=TINY, max_yield_fraction=10, min_hops_to_failure=1)
+    assert (ob.max_yield_fraction, ob.min_hops_to_failure) == (10, 1)
+
+
+@pytest.mark.parametrize(
+    "argv, text",
+    [
+        (["--leg-mass", "1e9"], "--leg-mass must be a paper design's name or a mass in (0, 300] kg"),
+        (["--leg-mass", "SS", "--leg-mass-tolerance", "1e9"], "--leg-mass-tolerance must be in (0, 300] kg"),
+        (["--max-yield-fraction", "1e9"], "--max-yield-fraction must be a finite number in (0, 10]"),
+        (["--min-hops-to-failure", "1e300"], "--min-hops-to-failure must be a finite number in [1, 1e+20]"),
+        (["--min-hops-to-failure", "0.5"], "--min-hops-to-failure must be a finite number in [1, 1e+20]"),
+        # lists naming one item twice: refused, not dropped in silence
+        (["--space", "catalogue", "--materials", "SS,Ti,ss"], "--materials: 'SS,Ti,ss' names an item twice"),
+        (["--ashby-classes", "metal, Metal"], "--ashby-classes: 'metal, Metal' names an item twice"),
+        (["--behaviour", "ramp,RAMP"], "--behaviour"),
+    ],
+)
+def test_cli_refuses_settings_out_of_range_before_any_file(tmp_path, monkeypatch, capsys, argv, text):
+    import os
+
+    from mat_hopper.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["optimize", "--study", "bad", "--trials", "1", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert text in err and len(err.splitlines()) == 1, err
+    assert os.listdir(tmp_path) == []
+
+
+@pytest.mark.parametrize("flag", ["--replay", "--export"])
+def test_cli_refuses_a_negative_trial_number_before_opening_the_study(tmp_path, monkeypatch, capsys, flag):
+    import os
+
+    from mat_hopper.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["optimize", "--study", "nosuch", flag, "-1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"{flag} must be an integer >= 0" in err and len(err.splitlines()) == 1, err
+    assert os.listdir(tmp_path) == []
