@@ -31,20 +31,11 @@ import numpy as np
 
 from . import reference as ref
 from .limits import MAX_PATH_SAMPLES
+from .parsing import check_positive
 
 PATH_LINE, PATH_CIRCLE, PATH_TABLE = 0, 1, 2
 _PATH_CODES = {"line": PATH_LINE, "circle": PATH_CIRCLE, "table": PATH_TABLE}
 BEHAVIOUR_NAMES = ("static", "forward", "ramp", "circle")
-
-
-def _positive_finite(value, name: str) -> float:
-    """`value` (s) as a float, finite and > 0; ValueError naming `name` else
-    (a bool, a string, nan, inf, 0 or a negative value)."""
-    ok = not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
-    x = float(value) if ok else math.nan
-    if not (math.isfinite(x) and x > 0):
-        raise ValueError(f"{name} must be a finite number > 0 s, got {value!r}")
-    return x
 
 
 def order_behaviours(behaviours) -> list[str]:
@@ -176,7 +167,7 @@ class Behaviour:
                 (n, 2) array or over MAX_PATH_SAMPLES rows, or a grade out
                 of range.
         """
-        dt_s = _positive_finite(dt_s, "dt_s")
+        dt_s = check_positive(dt_s, "dt_s", unit="s")
         xy = np.asarray(xy_m, dtype=np.float64)
         start = (float(xy[0, 0]), float(xy[0, 1])) if xy.ndim == 2 and len(xy) else (0.0, 0.0)
         return cls(
@@ -213,8 +204,8 @@ class Behaviour:
                 (checked before `fn` is called), or what
                 :meth:`from_samples` refuses.
         """
-        duration_s = _positive_finite(duration_s, "duration_s")
-        dt_s = _positive_finite(dt_s, "dt_s")
+        duration_s = check_positive(duration_s, "duration_s", unit="s")
+        dt_s = check_positive(dt_s, "dt_s", unit="s")
         n = math.ceil(duration_s / dt_s) + 1
         if n > MAX_PATH_SAMPLES:
             raise ValueError(

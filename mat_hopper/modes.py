@@ -58,25 +58,12 @@ from .materials import (
     segment_masses,
 )
 from .model import BEND_SPRINGS, FOOT_GEOM, FOOT_UPPER_GEOM, MAX_TIMESTEP_S, START_KEY, build_model, build_spec
+from .parsing import check_positive
 
 # --timestep auto: the physics step is at most this fraction of the spring
 # chain's explicit bound 2 / w_max (the measured stable steps lie at 0.92 of
 # the bound in the median, and within a factor 2 everywhere: docs/).
 AUTO_SAFETY = 0.5
-
-
-def _check_positive(value, name: str, unit: str = "", high: float | None = None) -> float:
-    """`value` as a float, finite and > 0 (and <= `high` where given): every
-    gain, gear, period and fraction of this module's functions. A bool, a
-    string, nan, inf, 0 or a negative value raise ValueError naming `name`
-    and the accepted range."""
-    u = f" {unit}" if unit else ""
-    rng = f"in (0, {high:g}]{u}" if high is not None else f"a finite number > 0{u}"
-    ok = not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
-    x = float(value) if ok else math.nan
-    if not (math.isfinite(x) and x > 0 and (high is None or x <= high)):
-        raise ValueError(f"{name} must be {rng}, got {value!r}")
-    return x
 
 
 def chain_frequencies(masses_kg, stiffnesses_n_m) -> np.ndarray:
@@ -237,8 +224,8 @@ def controller_timestep(
             :func:`mat_hopper.model.build_model` refuses.
     """
     convention = check_convention(convention)
-    stance_kd = _check_positive(stance_kd, "stance_kd", "per rad/s")
-    gear = _check_positive(gear, "gear")
+    stance_kd = check_positive(stance_kd, "stance_kd", "per rad/s")
+    gear = check_positive(gear, "gear")
     timing = SensorTiming(sensor_timing)
     m = build_model(design, convention=convention).model
     b = m.body("base").id
@@ -289,8 +276,8 @@ def hip_flight_timestep(
     """
     from .control import ControllerSettings
 
-    kd = ControllerSettings().flight_kd if flight_kd is None else _check_positive(flight_kd, "flight_kd", "per rad/s")
-    gear = _check_positive(gear, "gear")
+    kd = ControllerSettings().flight_kd if flight_kd is None else check_positive(flight_kd, "flight_kd", "per rad/s")
+    gear = check_positive(gear, "gear")
     model = build_model(design, convention=convention).model
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key(START_KEY).id)
@@ -413,8 +400,8 @@ def auto_control_period(
         ValueError: `control_period_s` or `safety` out of its range, or as
             :func:`controller_timestep` raises.
     """
-    control_period_s = _check_positive(control_period_s, "control_period_s", "s", MAX_TIMESTEP_S)
-    safety = _check_positive(safety, "safety", high=1.0)
+    control_period_s = check_positive(control_period_s, "control_period_s", "s", MAX_TIMESTEP_S)
+    safety = check_positive(safety, "safety", high=1.0)
     limit = controller_timestep(design, convention, sensor_timing=sensor_timing)
     if limit >= control_period_s:
         return control_period_s
@@ -459,9 +446,9 @@ def auto_substeps(
             :func:`controller_timestep` raise (unknown convention, segment
             mass or sensor timing).
     """
-    safety = _check_positive(safety, "safety", high=1.0)
+    safety = check_positive(safety, "safety", high=1.0)
     if control_period_s is not None:
-        control_period_s = _check_positive(control_period_s, "control_period_s", "s", MAX_TIMESTEP_S)
+        control_period_s = check_positive(control_period_s, "control_period_s", "s", MAX_TIMESTEP_S)
     if control_period_s is None:
         control_period_s = auto_control_period(design, convention, sensor_timing, safety=safety)
     _, bound = estimate_timestep(design, convention, segment_mass)

@@ -185,3 +185,33 @@ def normalize_url(url: str) -> str:
     url = str(url).strip()
     scheme = url_scheme(url)
     return scheme + url[len(scheme) :] if scheme else url
+
+
+def check_positive(value, name: str, unit: str = "", high: float | None = None) -> float:
+    """A setting that must be a finite number > 0 (and <= `high` where
+    given): the one check of the package's gains, periods, durations and
+    physical sizes.
+
+    Args:
+        value: the value (an int or float, NumPy scalars included; a bool or
+            a string is refused).
+        name: the argument's name, for the message.
+        unit: its unit, for the message ("" for none).
+        high: the largest accepted value, or None (default): no upper bound.
+
+    Returns:
+        The value as a float.
+
+    Raises:
+        ValueError: a bool, a non-number, nan, inf, 0, a negative value or
+            one above `high`, naming `name` and the accepted range.
+    """
+    import numbers
+
+    u = f" {unit}" if unit else ""
+    rng = f"in (0, {high:g}]{u}" if high is not None else f"a finite number > 0{u}"
+    ok = not isinstance(value, bool) and isinstance(value, numbers.Real)
+    x = float(value) if ok else math.nan
+    if not (math.isfinite(x) and x > 0 and (high is None or x <= high)):
+        raise ValueError(f"{name} must be {rng}, got {value!r}")
+    return x

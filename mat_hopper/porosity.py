@@ -10,18 +10,8 @@ changes its modulus, one named setting (``porosity_model``).
 
 from __future__ import annotations
 
-import math
-
 from .materials import Material
-from .parsing import parse_name
-
-
-def _positive(value, field: str) -> float:
-    """A finite number > 0 (no bools)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
-        raise ValueError(f"{field} must be a finite number > 0, got {value!r}")
-    return float(value)
-
+from .parsing import check_positive, parse_name
 
 # How a porous (less dense) version of a solid changes its modulus:
 # "independent": the paper's, only the density changes; "gibson-ashby":
@@ -70,7 +60,7 @@ def gibson_ashby_modulus(solid_modulus_gpa: float, relative_density: float, n: f
         ValueError: a modulus or relative density that is not a finite int
             or float > 0 (a bool included), or a relative density above 1.
     """
-    es, rel = _positive(solid_modulus_gpa, "solid modulus"), _positive(relative_density, "relative density")
+    es, rel = check_positive(solid_modulus_gpa, "solid modulus"), check_positive(relative_density, "relative density")
     if rel > 1.0:
         raise ValueError(f"relative density must be in (0, 1], got {relative_density!r}")
     return es * rel**n
