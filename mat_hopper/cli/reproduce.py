@@ -10,6 +10,7 @@ from ..experiments.paper import experiment_name, experiment_spellings
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..experiments.reproduce import default_out_dir, reproduce
 from ..limits import check_total_steps, check_workers
+from ..materials import CONVENTIONS
 from ..parsing import env_value
 from ._checks import check_distinct_paths, check_name_list, check_output_dir, is_inside, nothing_left_behind
 
@@ -46,8 +47,52 @@ def _check_size(profile, args) -> None:
     check_total_steps(steps, what, "lower --replicates, or run fewer --experiments or --conventions")
 
 
+# The experiments each option acts on (experiments/reproduce.py's _tasks and
+# experiments/paper.py): the stability map takes no replicates, no push and
+# no conventions; robustness takes replicates (and their push) but runs its
+# own conventions; the controls run at least 2 replicates (so a push) always.
+_TAKE_CONVENTIONS = ("exp1", "exp2", "exp3", "exp2-gibson-ashby", "controls")
+_TAKE_REPLICATES = ("exp1", "exp2", "exp3", "exp2-gibson-ashby", "robustness", "controls")
+_ALWAYS_REPLICATED = ("controls",)
+
+
+def _check_all_alone(text) -> None:
+    """--experiments "all" names every experiment: with others it is a mistake."""
+    items = [p.strip().lower() for p in str(text).split(",")] if text is not None else []
+    if "all" in items and len(items) > 1:
+        raise ValueError(
+            f"--experiments: 'all' cannot be combined with other experiments, got {text!r}; "
+            "give all alone or list the experiments"
+        )
+
+
+def _check_used(profile, args) -> None:
+    """--conventions, --replicates and --push-scale only where a selected
+    experiment uses them (ValueError naming both options)."""
+    from ..experiments.paper import parse_experiments
+
+    names = parse_experiments(args.experiments)
+    chosen = f"--experiments {args.experiments}"
+    if args.conventions is not None and not set(names) & set(_TAKE_CONVENTIONS):
+        raise ValueError(
+            f"--conventions has no effect on {chosen}: it sets experiments 1, 2, 3, 2-gibson-ashby and controls"
+        )
+    if args.replicates is not None and not set(names) & set(_TAKE_REPLICATES):
+        raise ValueError(f"--replicates has no effect on {chosen}: the stability map runs no replicates")
+    if args.push_scale is None:
+        return
+    replicates = profile.replicates if args.replicates is None else args.replicates
+    if not set(names) & set(_TAKE_REPLICATES):
+        raise ValueError(f"--push-scale has no effect on {chosen}: the push acts on replicates only")
+    if replicates == 0 and not set(names) & set(_ALWAYS_REPLICATED):
+        raise ValueError(
+            f"--push-scale has no effect with --replicates 0 on {chosen}: the push acts on replicates only"
+        )
+
+
 def cmd_reproduce(args) -> int:
     profile = get_profile(args.profile)
+    _check_all_alone(args.experiments)
     if args.push_scale is not None:
         from dataclasses import replace
 
@@ -57,6 +102,9 @@ def cmd_reproduce(args) -> int:
     every = args.experiments is not None and args.experiments.strip().lower() == "all"
     check_name_list(args.experiments, "--experiments", None if every else experiment_name)  # "4,stability": twice
     check_name_list(args.conventions, "--conventions")
+    _check_used(profile, args)
+    if args.conventions is None:
+        args.conventions = "paper"
     if args.workers is not None and args.scheduler:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
     check_workers(args.workers)
@@ -137,9 +185,10 @@ def register_cli(sub) -> None:
     )
     p.add_argument(
         "--conventions",
-        default="paper",
-        help="stiffness conventions of experiments 1-3: paper, axial or paper,axial "
-        "(axial runs with auto physics substeps under the 1e-4 s controller; default paper)",
+        default=None,
+        help=f"stiffness conventions of experiments 1-3 (and controls), comma-separated: {', '.join(CONVENTIONS)}, "
+        "e.g. paper,axial (axial runs with auto physics substeps under the 1e-4 s controller; the bending "
+        "conventions, issue 21's, with auto substeps set by the hinges' modes; default paper)",
     )
     p.add_argument(
         "--cache", default=None, help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})"

@@ -367,10 +367,13 @@ def parse_experiments(text: str | None) -> list[str]:
         list of canonical names (keys of :data:`EXPERIMENTS`).
 
     Raises:
-        ValueError: an unknown name, or no name at all (e.g. ``""`` or ``","``).
+        ValueError: an unknown name, no name at all (e.g. ``""`` or ``","``),
+            or ``all`` combined with other names (``"all,1"``).
     """
     if text is None or str(text).strip().lower() == "all":
         return list(EXPERIMENT_NAMES)
+    if "all" in (p.strip().lower() for p in str(text).split(",")):
+        raise ValueError(f"experiments: 'all' cannot be combined with other experiments, got {text!r}")
     names = [experiment_name(p) for p in str(text).split(",") if p.strip()]
     if not names:
         raise ValueError("experiments: give at least one of 1, 2, 3, stability")

@@ -1,0 +1,47 @@
+"""``mat-hopper reproduce``: its options refused before any work."""
+
+import pytest
+
+from mat_hopper.cli import build_parser, main
+from mat_hopper.experiments.paper import parse_experiments
+from mat_hopper.materials import CONVENTIONS
+
+
+def _refused(argv, capsys) -> str:
+    try:
+        rc = main(argv)
+    except SystemExit as e:
+        rc = e.code
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    return err
+
+
+def test_all_cannot_be_combined_with_other_experiments(tmp_path, capsys):
+    err = _refused(["reproduce", "--experiments", "all,1", "--out", str(tmp_path / "o")], capsys)
+    assert "'all' cannot be combined" in err and "--experiments" in err
+    with pytest.raises(ValueError, match="cannot be combined"):
+        parse_experiments("1,ALL")
+
+
+def test_help_lists_every_convention_the_command_runs():
+    sub = build_parser("reproduce")._subparsers._group_actions[0].choices["reproduce"]
+    text = next(a.help for a in sub._actions if "--conventions" in a.option_strings)
+    assert all(c in text for c in CONVENTIONS)
+
+
+@pytest.mark.parametrize(
+    "extra, words",
+    [
+        (["--experiments", "stability", "--push-scale", "2"], "--push-scale"),
+        (["--replicates", "0", "--push-scale", "2"], "--replicates 0"),
+        (["--experiments", "stability", "--conventions", "axial"], "--conventions"),
+        (["--experiments", "stability", "--replicates", "5"], "--replicates"),
+        (["--experiments", "robustness", "--conventions", "axial"], "--conventions"),
+    ],
+)
+def test_an_option_without_effect_on_the_experiments_is_refused(tmp_path, capsys, extra, words):
+    err = _refused(["reproduce", *extra, "--out", str(tmp_path / "o")], capsys)
+    assert words in err and "no effect" in err and "--experiments" in err
+    assert not (tmp_path / "o").exists()
