@@ -55,12 +55,26 @@ def _text_type(flag: str):
     return read
 
 
+class _StoreOnce(argparse._StoreAction):
+    """An option of one value given twice ("--designs SS --designs Ti") is
+    refused: argparse would keep the last in silence. A repeat is told by
+    the value in the namespace no longer being the option's default object
+    (argparse puts the default there before it reads the command line)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if getattr(namespace, self.dest, self.default) is not self.default:
+            flag = max(self.option_strings, key=len)
+            parser.error(f"argument {flag}: given twice; give it once")
+        super().__call__(parser, namespace, values, option_string)
+
+
 def harden_parser(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """One reading of every option of every subcommand: numbers (type=float
     or int) through :func:`mat_hopper.parsing.parse_number` (ASCII decimal,
     finite), names with choices through :func:`~mat_hopper.parsing.parse_name`
-    (case-insensitive), and no empty value for any option that takes one.
-    Errors name the flag as typed. Returns `parser`."""
+    (case-insensitive), no empty value for any option that takes one, and
+    no option of one value given twice. Errors name the flag as typed.
+    Returns `parser`."""
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
             for sub in dict.fromkeys(action.choices.values()):
@@ -68,6 +82,8 @@ def harden_parser(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
             continue
         if not action.option_strings or action.nargs == 0:
             continue
+        if type(action) is argparse._StoreAction and action.nargs is None:
+            action.__class__ = _StoreOnce
         flag = max(action.option_strings, key=len)
         if action.type in (float, int):
             action.type = _number_type(flag, action.type is int)
