@@ -337,6 +337,25 @@ def is_inside(inner, outer) -> bool:
     return a != b and a.startswith(b.rstrip(os.sep) + os.sep)
 
 
+def check_input_file(path, flag: str) -> str | None:
+    """A file the command reads: it exists, is a regular file and can be
+    read (None passes). Raises ValueError naming `flag` and the path."""
+    if path is None:
+        return None
+    path = os.fspath(path)
+    if not path.strip():
+        raise ValueError(f"{flag}: empty file name")
+    if not os.path.exists(path):
+        raise ValueError(f"{flag} {path}: no such file")
+    if os.path.isdir(path):
+        raise ValueError(f"{flag} {path}: is a folder; give a CSV file")
+    if not os.path.isfile(path):
+        raise ValueError(f"{flag} {path}: not a regular file")
+    if not os.access(path, os.R_OK):
+        raise ValueError(f"{flag} {path}: file is not readable")
+    return path
+
+
 def check_output_dir(path, flag: str) -> str | None:
     """A folder the command will write into: an existing writable folder,
     or one that can be made (nothing is created here)."""

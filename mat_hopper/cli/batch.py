@@ -116,10 +116,17 @@ def run_batch(args) -> int:
     from ..batch import RESULT_COLUMNS, designs_from_csv, evaluate, parse_design_list
     from ..behaviours import behaviour
     from ..experiments.profiles import get_profile
-    from ._checks import check_distinct_paths, check_output_file, named_by_flags, sensor_timing_arg
+    from ._checks import (
+        check_distinct_paths,
+        check_input_file,
+        check_output_file,
+        named_by_flags,
+        sensor_timing_arg,
+    )
 
     check_output_file(args.csv, "--csv", stdout=True)  # before any work
     check_distinct_paths({"--csv": args.csv}, {"--designs-csv": args.designs_csv})  # never over the input table
+    check_input_file(args.designs_csv, "--designs-csv")
     profile = get_profile(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
     timing = sensor_timing_arg(args.sensor_timing)
     _check_applicable(args)

@@ -26,6 +26,7 @@ from ..timestep import AUTO, is_auto
 from ._checks import (
     SENSOR_TIMING_HELP,
     check_distinct_paths,
+    check_input_file,
     check_output_file,
     named_by_flags,
     parse_list,
@@ -263,6 +264,7 @@ def cmd_simulate(args) -> int:
         raise ValueError("--profile sets the defaults of --duration, --transient and --timestep: all three are given")
     check_output_file(args.csv, "--csv", stdout=True)
     check_distinct_paths({"--csv": args.csv}, {"--design-csv": args.design_csv})  # never over the input table
+    check_input_file(args.design_csv, "--design-csv")
     design = design_from_args(args)
     if args.control is not None:
         design = control(design, args.control, args.segment_mass)

@@ -294,3 +294,11 @@ def test_designs_naming_one_design_twice_are_refused(tmp_path, monkeypatch, caps
     assert len(err.splitlines()) == 1 and message in err and "--designs" in err, err
     assert not (tmp_path / "o.csv").exists()
     assert [d.name for d in parse_design_list("SS,SS-Ti,Ti")] == ["SS", "SS-Ti", "Ti"]
+
+
+@pytest.mark.parametrize("command, flag", [("batch", "--designs-csv"), ("simulate", "--design-csv")])
+@pytest.mark.parametrize("what", ["folder", "missing"])
+def test_a_designs_csv_that_is_no_file_names_the_option(tmp_path, capsys, command, flag, what):
+    path = tmp_path if what == "folder" else tmp_path / "missing.csv"
+    rc, err = _main(capsys, command, flag, str(path))
+    assert rc == 2 and flag in err and str(path) in err and len(err.strip().splitlines()) == 1, err
