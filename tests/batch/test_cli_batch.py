@@ -302,3 +302,10 @@ def test_a_designs_csv_that_is_no_file_names_the_option(tmp_path, capsys, comman
     path = tmp_path if what == "folder" else tmp_path / "missing.csv"
     rc, err = _main(capsys, command, flag, str(path))
     assert rc == 2 and flag in err and str(path) in err and len(err.strip().splitlines()) == 1, err
+
+
+@pytest.mark.parametrize("device", ["tpu", "cuda:x", "gpu"])
+def test_an_unknown_warp_device_is_one_line_before_any_work(capsys, device):
+    rc, err = _main(capsys, "batch", "--designs", "SS", "--backend", "warp", "--device", device)
+    assert rc == 2 and len(err.strip().splitlines()) == 1, err
+    assert "--device" in err and "cpu, cuda or cuda:N" in err and "building" not in err
