@@ -101,7 +101,7 @@ def test_designs_csv_round_trip_and_parallel_cpu(tmp_path):
         (["--designs", "SS", "--duration", "10"], "duration"),
         (["--designs", "SS", "--device", "cuda"], "--device is for --backend warp"),
         (["--designs", "SS", "--workers", "0"], "--workers"),
-        (["--designs-csv", "no/such/file.csv"], "No such file"),
+        (["--designs-csv", "no/such/file.csv"], "--designs-csv no/such/file.csv: no such file"),
         (["--designs", "SS", "--sensor-timing", "late"], "unknown sensor timing"),
         (["--map", "0", "--stability"], "--map must be in [1, 100]"),
         (["--map", "2", "--stability", "--duration", "3"], "--duration: not used by --stability"),
