@@ -199,11 +199,17 @@ class Behaviour:
             samples from t = 0.
 
         Raises:
-            ValueError: `duration_s` or `dt_s` not a finite number > 0, more
+            ValueError: an empty or blank `name`, `fn` not callable,
+                `duration_s` or `dt_s` not a finite number > 0, more
                 samples than :data:`mat_hopper.limits.MAX_PATH_SAMPLES`
-                (checked before `fn` is called), or what
-                :meth:`from_samples` refuses.
+                (checked before `fn` is called), `fn` returning anything
+                but two finite numbers (naming `fn`, the time and what it
+                returned), or what :meth:`from_samples` refuses.
         """
+        if not isinstance(name, str) or not name.strip():
+            raise ValueError(f"name must be a non-empty string, got {name!r}")
+        if not callable(fn):
+            raise ValueError(f"fn must be callable t (s) -> (x, y) (m), got {type(fn).__name__} {fn!r:.60}")
         duration_s = check_positive(duration_s, "duration_s", unit="s")
         dt_s = check_positive(dt_s, "dt_s", unit="s")
         n = math.ceil(duration_s / dt_s) + 1
@@ -213,8 +219,20 @@ class Behaviour:
                 f"{MAX_PATH_SAMPLES} (MAX_PATH_SAMPLES); sample coarser or shorter"
             )
         ts = np.arange(n) * dt_s
-        xy = np.array([fn(float(t)) for t in ts], dtype=np.float64).reshape(len(ts), 2)
+        xy = np.array([_point(fn, float(t)) for t in ts], dtype=np.float64).reshape(len(ts), 2)
         return cls.from_samples(name, dt_s, xy, ramp_grade_deg=ramp_grade_deg)
+
+
+def _point(fn, t: float) -> tuple[float, float]:
+    """fn(t) as two finite floats (x, y); ValueError naming `fn` and what it returned."""
+    got = fn(t)
+    try:
+        xy = np.asarray(got, dtype=np.float64)
+    except (TypeError, ValueError):
+        xy = None
+    if xy is None or xy.shape != (2,) or not np.isfinite(xy).all():
+        raise ValueError(f"fn must return two finite numbers (x, y) in m; fn({t:g}) returned {got!r:.80}")
+    return float(xy[0]), float(xy[1])
 
 
 def behaviour(

@@ -80,3 +80,24 @@ def test_table_step_and_start_must_be_finite():
         Behaviour("p", "table", table_dt_s=math.inf)
     with pytest.raises(ValueError, match="start_xy_m"):
         Behaviour("p", start_xy_m=(math.nan, 0.0))
+
+
+@pytest.mark.parametrize("name", ["", "   "])
+def test_from_function_refuses_an_empty_name(name):
+    with pytest.raises(ValueError, match="name"):
+        Behaviour.from_function(name, lambda t: (t, 0.0), 1.0)
+
+
+def test_from_function_refuses_a_fn_that_is_not_callable():
+    with pytest.raises(ValueError, match="fn must be callable"):
+        Behaviour.from_function("x", (0.0, 0.0), 1.0)
+
+
+@pytest.mark.parametrize(
+    "fn, shown",
+    [(lambda t: (t, 0.0, 1.0), "(0.0, 0.0, 1.0)"), (lambda t: (float("nan"), 0.0), "nan"), (lambda t: "ab", "'ab'")],
+)
+def test_from_function_names_fn_and_what_it_returned(fn, shown):
+    with pytest.raises(ValueError, match="fn") as e:
+        Behaviour.from_function("x", fn, 1.0)
+    assert shown in str(e.value) and "fn(0)" in str(e.value)
