@@ -119,6 +119,9 @@ class HopperModel:
 
 
 MAX_TIMESTEP_S = 0.1  # s, the largest physics step accepted anywhere
+# s, the smallest physics step the package plans (the stable-step search's floor,
+# mat_hopper.stability.DT_MIN_S; the shortest control period auto substeps take)
+MIN_TIMESTEP_S = 1e-6
 
 
 def check_timestep(timestep_s) -> float:

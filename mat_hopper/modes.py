@@ -57,7 +57,16 @@ from .materials import (
     second_moment_m4,
     segment_masses,
 )
-from .model import BEND_SPRINGS, FOOT_GEOM, FOOT_UPPER_GEOM, MAX_TIMESTEP_S, START_KEY, build_model, build_spec
+from .model import (
+    BEND_SPRINGS,
+    FOOT_GEOM,
+    FOOT_UPPER_GEOM,
+    MAX_TIMESTEP_S,
+    MIN_TIMESTEP_S,
+    START_KEY,
+    build_model,
+    build_spec,
+)
 from .parsing import check_positive
 
 # --timestep auto: the physics step is at most this fraction of the spring
@@ -172,18 +181,31 @@ def delayed_damping_factor(latency_steps: int) -> float:
     equations", Theoretical Population Biology 9 (1976) 178-187.
 
     Args:
-        latency_steps: the latency L, steps: an integer >= 0 (an int, or a
-            float with a whole value).
+        latency_steps: the latency L, steps: an integer in [0,
+            :data:`mat_hopper.control.MAX_SENSOR_LATENCY_STEPS`] (an int, or
+            a float with a whole value).
 
     Returns:
         c(L), dimensionless, a float in (0, 2].
 
     Raises:
-        ValueError: a bool, a value that is not a whole number, or one < 0.
+        ValueError: a bool, a value that is not a whole number, or one
+            outside [0, MAX_SENSOR_LATENCY_STEPS] (1000, as
+            :class:`mat_hopper.control.SensorTiming`).
     """
+    from .control import MAX_SENSOR_LATENCY_STEPS
+
     ok = not isinstance(latency_steps, bool) and isinstance(latency_steps, (int, float, np.integer, np.floating))
-    if not (ok and math.isfinite(latency_steps) and float(latency_steps).is_integer() and latency_steps >= 0):
-        raise ValueError(f"latency_steps must be an integer >= 0 (physics steps), got {latency_steps!r}")
+    if not (
+        ok
+        and math.isfinite(latency_steps)
+        and float(latency_steps).is_integer()
+        and 0 <= latency_steps <= MAX_SENSOR_LATENCY_STEPS
+    ):
+        raise ValueError(
+            f"latency_steps must be an integer in [0, {MAX_SENSOR_LATENCY_STEPS}] (physics steps), "
+            f"got {latency_steps!r}"
+        )
     lat = int(latency_steps)
     return 2.0 * math.cos(lat * math.pi / (2 * lat + 1))
 
@@ -428,8 +450,10 @@ def auto_substeps(
         design: the :class:`~mat_hopper.materials.LegDesign`.
         convention: the stiffness convention, any case (default ``paper``).
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
-        control_period_s: the control period, s, in (0, 0.1]; None
-            (default) takes :func:`auto_control_period`'s.
+        control_period_s: the control period, s, in [1e-6, 0.1]
+            (:data:`mat_hopper.model.MIN_TIMESTEP_S`, the smallest physics
+            step the package plans, to ``MAX_TIMESTEP_S``); None (default)
+            takes :func:`auto_control_period`'s.
         safety: the fraction of each explicit bound a step may reach, in
             (0, 1] (default :data:`AUTO_SAFETY`, 0.5).
         sensor_timing: the controller's sensor timing (read only when
@@ -449,6 +473,11 @@ def auto_substeps(
     safety = check_positive(safety, "safety", high=1.0)
     if control_period_s is not None:
         control_period_s = check_positive(control_period_s, "control_period_s", "s", MAX_TIMESTEP_S)
+        if control_period_s < MIN_TIMESTEP_S:
+            raise ValueError(
+                f"control_period_s must be in [{MIN_TIMESTEP_S:g}, {MAX_TIMESTEP_S:g}] s (MIN_TIMESTEP_S, the "
+                f"smallest physics step the package plans), got {control_period_s!r}"
+            )
     if control_period_s is None:
         control_period_s = auto_control_period(design, convention, sensor_timing, safety=safety)
     _, bound = estimate_timestep(design, convention, segment_mass)

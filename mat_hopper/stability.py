@@ -64,6 +64,7 @@ import pandas as pd
 from . import reference as ref
 from .keys import design_key, hash_key, versions
 from .materials import DEFAULT_CONVENTION, LegDesign, check_convention
+from .model import MIN_TIMESTEP_S
 from .modes import controller_timestep, delayed_damping_factor, estimate_timestep, leg_chain, spring_chain_wmax
 from .parsing import parse_name
 
@@ -85,7 +86,7 @@ __all__ = [
 ]
 
 DT_MAX_S = 1e-2
-DT_MIN_S = 1e-6
+DT_MIN_S = MIN_TIMESTEP_S
 BRACKET_FACTOR = math.sqrt(10.0)  # the "ladder" bracket's step
 ANALYTIC_FACTOR = 1.5  # the "analytic" bracket's step (the estimate is within a factor 2)
 BRACKETS = ("analytic", "ladder")

@@ -188,7 +188,7 @@ def test_auto_step_refuses_a_bad_period_or_safety(bad):
 def test_delayed_damping_factor_refuses_a_bad_latency(bad):
     from mat_hopper.modes import delayed_damping_factor
 
-    with pytest.raises(ValueError, match="latency_steps must be an integer >= 0"):
+    with pytest.raises(ValueError, match=r"latency_steps must be an integer in \[0, 1000\]"):
         delayed_damping_factor(bad)
     assert delayed_damping_factor(1.0) == delayed_damping_factor(1) == pytest.approx(1.0)
 
@@ -196,3 +196,26 @@ def test_delayed_damping_factor_refuses_a_bad_latency(bad):
 def test_chain_refuses_an_infinite_mass():
     with pytest.raises(ValueError, match="finite and > 0"):
         chain_frequencies([1.0, math.inf], [1e3])
+
+
+def test_delayed_damping_factor_caps_latency_as_sensor_timing_does():
+    from mat_hopper.control import MAX_SENSOR_LATENCY_STEPS, SensorTiming
+    from mat_hopper.modes import delayed_damping_factor
+
+    assert delayed_damping_factor(MAX_SENSOR_LATENCY_STEPS) > 0
+    SensorTiming(MAX_SENSOR_LATENCY_STEPS)
+    for bad in (MAX_SENSOR_LATENCY_STEPS + 1, 10**9):
+        with pytest.raises(ValueError, match=r"latency_steps must be an integer in \[0, 1000\]"):
+            delayed_damping_factor(bad)
+
+
+def test_auto_substeps_refuses_a_control_period_below_the_smallest_step():
+    from mat_hopper.materials import parse_design
+    from mat_hopper.model import MIN_TIMESTEP_S
+    from mat_hopper.modes import auto_substeps
+
+    d = parse_design("SS")
+    with pytest.raises(ValueError, match="control_period_s must be in"):
+        auto_substeps(d, control_period_s=1e-12)
+    k, dt, _ = auto_substeps(d, control_period_s=MIN_TIMESTEP_S)
+    assert k >= 1 and dt <= MIN_TIMESTEP_S
