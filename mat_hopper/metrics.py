@@ -59,7 +59,7 @@ from .change import percent_change
 from .controls import MASS_PROPERTY_COLUMNS, mass_properties
 from .fatigue import fatigue_summary, hop_stress_columns
 from .model import terrain_height_m
-from .rollout import Rollout, check_transient, hop_cycles
+from .rollout import Rollout, check_transient_within, hop_cycles
 from .sim import C
 
 METRICS = ("hop_height_m", "tracking_error_m", "jerk_m_s3", "power_w")
@@ -116,10 +116,12 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
 
     Raises:
         ValueError: `rollout` is not a Rollout, or `transient_s` is not None
-            nor a finite number >= 0 s (:func:`mat_hopper.rollout.check_transient`).
+            nor a finite number >= 0 s (:func:`mat_hopper.rollout.check_transient`),
+            or at or beyond the run's duration
+            (:func:`mat_hopper.rollout.check_transient_within`).
     """
     _check_rollout(rollout)
-    transient_s = check_transient(transient_s)
+    transient_s = check_transient_within(rollout, transient_s)
     cycles = hop_cycles(rollout, transient_s)
     d = rollout.data
     t = d[:, C["t"]]
@@ -213,10 +215,12 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
 
     Raises:
         ValueError: `rollout` is not a Rollout, or `transient_s` is not None
-            nor a finite number >= 0 s (:func:`mat_hopper.rollout.check_transient`).
+            nor a finite number >= 0 s (:func:`mat_hopper.rollout.check_transient`),
+            or at or beyond the run's duration
+            (:func:`mat_hopper.rollout.check_transient_within`).
     """
     _check_rollout(rollout)
-    transient_s = check_transient(transient_s)
+    transient_s = check_transient_within(rollout, transient_s)
     hops = hop_table(rollout, transient_s)
     out = {
         "design": rollout.design.name,

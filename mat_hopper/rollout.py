@@ -193,6 +193,33 @@ def check_transient(transient_s) -> float | None:
     return x
 
 
+def check_transient_within(rollout: Rollout, transient_s) -> float | None:
+    """A scoring transient (:func:`check_transient`) that leaves part of
+    the run to score: before the run's planned end, ``settings.duration_s``
+    (a transient at or past it scored nothing: an empty table, silently).
+
+    Args:
+        rollout: a :class:`Rollout`.
+        transient_s: None (the run's own), or the time (s) before which hop
+            cycles are not scored.
+
+    Returns:
+        None, or `transient_s` as a float, s.
+
+    Raises:
+        ValueError: what :func:`check_transient` refuses, or a transient
+            at or beyond the run's duration (naming both).
+    """
+    x = check_transient(transient_s)
+    duration = float(rollout.settings.duration_s)
+    if x is not None and x >= duration:
+        raise ValueError(
+            f"transient_s {x:g} s is at or beyond the run's end (duration {duration:g} s): nothing would be scored; "
+            "give a transient below the duration"
+        )
+    return x
+
+
 def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray:
     """The scored hop cycles of a rollout, lift-off to lift-off.
 
@@ -207,9 +234,10 @@ def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray
 
     Raises:
         ValueError: `transient_s` not None nor a finite number >= 0 s
-            (:func:`check_transient`).
+            (:func:`check_transient`), or at or beyond the run's end
+            (:func:`check_transient_within`).
     """
-    transient_s = check_transient(transient_s)
+    transient_s = check_transient_within(rollout, transient_s)
     transient = rollout.settings.transient_s if transient_s is None else transient_s
     lo = rollout.liftoff_times_s
     if len(lo) < 2:

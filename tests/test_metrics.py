@@ -138,3 +138,12 @@ def test_a_bad_transient_is_refused_not_an_empty_table(rollout, bad):
         with pytest.raises(ValueError, match="transient_s must be None .* or a finite number >= 0 s"):
             call(rollout, transient_s=bad)
     assert len(hop_table(rollout, transient_s=0)) >= len(hop_table(rollout))
+
+
+@pytest.mark.parametrize("transient", [0.3, 0.5])
+def test_a_transient_at_or_beyond_the_run_end_is_refused(transient):
+    r = simulate("SS", "forward", duration_s=0.3, transient_s=0.0)
+    for call in (hop_table, run_summary, hop_cycles):
+        with pytest.raises(ValueError, match=r"transient_s .* at or beyond the run's end \(duration 0.3 s\)"):
+            call(r, transient_s=transient)
+    assert hop_cycles(r, transient_s=0.29).shape[1] == 2
