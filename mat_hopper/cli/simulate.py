@@ -267,6 +267,11 @@ def cmd_simulate(args) -> int:
     check_input_file(args.design_csv, "--design-csv")
     design = design_from_args(args)
     if args.control is not None:
+        if str(args.control).lower() == "rigid" and all(seg.rigid for seg in design.segments):
+            raise ValueError(
+                f"--control rigid: design {design.name} has no springs (every segment is rigid), so it is its "
+                "own rigid twin; leave out --control rigid or give a design with springs"
+            )
         design = control(design, args.control, args.segment_mass)
     beh = behaviour(args.behaviour)
     duration = profile.duration_s if args.duration is None else args.duration

@@ -85,3 +85,9 @@ def test_segments_still_set_a_single_material_design():
     assert design_from_args(p.parse_args(["--design", "ss", "--segments", "5"])).n_segments == 5
     assert design_from_args(p.parse_args(["--design", "rho=8 E=193", "--segments", "2"])).n_segments == 2
     assert design_from_args(p.parse_args(["--design", "rho-inc"])).n_segments == 3
+
+
+def test_control_rigid_of_a_rigid_leg_is_refused_naming_the_design(capsys):
+    assert main(["simulate", "--design", "MD", "--control", "rigid", "--duration", "1", "--transient", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--control rigid" in err and "MD" in err and "no springs" in err
