@@ -205,7 +205,7 @@ def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: boo
     with progress on stderr (:mod:`mat_hopper.progress`: a bar on a
     terminal, a line per stage otherwise; none when progress is false).
     Chunked and single-call rollouts are bit-identical."""
-    from ..progress import progress_bar
+    from ..progress import StageLines, progress_bar
     from ..sim import RolloutRunner
 
     runner = RolloutRunner(design, beh, settings, record_qpos=record_qpos)
@@ -223,6 +223,8 @@ def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: boo
         while not runner.done:
             runner.advance(chunk)
             bar.update(runner.step * settings.timestep_s - bar.n)
+        if isinstance(bar, StageLines) and runner.step * settings.timestep_s < settings.duration_s - 1e-9:
+            bar.close(stopped=True)  # cut short by a divergence: "stopped", not "done"
     return runner.result()
 
 

@@ -91,3 +91,10 @@ def test_control_rigid_of_a_rigid_leg_is_refused_naming_the_design(capsys):
     assert main(["simulate", "--design", "MD", "--control", "rigid", "--duration", "1", "--transient", "0"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--control rigid" in err and "MD" in err and "no springs" in err
+
+
+def test_a_run_cut_short_by_divergence_says_stopped_not_done(capsys):
+    # an axial leg at the authors' 1e-4 s step diverges numerically in 0.9 ms
+    main(["simulate", "--design", "SS", "--convention", "axial", "--duration", "2", "--transient", "1"])
+    err = capsys.readouterr().err
+    assert "SS: stopped" in err and "SS: done" not in err, err
