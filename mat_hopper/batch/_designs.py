@@ -176,10 +176,11 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
 
     Raises:
         ValueError: naming the row and column of the first bad cell, a
-            repeated or unknown column, or a repeated design name.
+            repeated or unknown column, a repeated design name, or two rows
+            of the same leg (the same densities and moduli) under two names.
     """
     n_max, dens_cols, mod_cols = _columns(frame.columns, source)
-    designs, names = [], {}
+    designs, names, legs = [], {}, {}
     for row_no, (_, row) in enumerate(frame.iterrows(), start=1):
         where = f"{source}, row {row_no}"
         cells = [(_cell(row[dens_cols[i]]), _cell(row[mod_cols[i]])) for i in range(1, n_max + 1)]
@@ -204,7 +205,15 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
         key = design.name.lower()
         if key in names:
             raise ValueError(f"{where}: design name {design.name!r} is also row {names[key]}'s; names must be unique")
+        leg = (design.densities_g_cm3, design.moduli_gpa)  # the physics (mat_hopper.keys.design_key)
+        if leg in legs:
+            other, other_name = legs[leg]
+            raise ValueError(
+                f"{where}: design {design.name!r} is the same leg as row {other} ({other_name!r}): the same "
+                "densities and moduli; give each design once"
+            )
         names[key] = row_no
+        legs[leg] = (row_no, design.name)
         designs.append(design)
     if not designs:
         raise ValueError(f"{source}: no designs (the table has no rows)")

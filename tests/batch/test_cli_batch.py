@@ -148,6 +148,7 @@ def test_bad_input_in_a_fresh_interpreter(tmp_path):
         ("design,density_1,modulus_1\nx,1.4,70,99\n", "a row has more fields than the header"),
         ("", "not a CSV table of designs (empty file)"),
         ("density_0,modulus_0\n1,2\n", "density_1..density_N without gaps"),
+        ("design,density_1,modulus_1\na,8,200\nb,8.0,200\n", "design 'b' is the same leg as row 1 ('a')"),
     ],
 )
 def test_bad_designs_csv(tmp_path, capsys, content, message):
