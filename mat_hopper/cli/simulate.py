@@ -73,7 +73,7 @@ def design_from_args(args) -> LegDesign:
         ]
         if given:
             raise ValueError(f"--design-csv gives the design: leave out {', '.join(given)}")
-        return _design_from_csv(args.design_csv)
+        return _design_from_csv(check_input_file(args.design_csv, "--design-csv"))
     if args.density is not None or args.modulus is not None:
         given = "--density" if args.density is not None else "--modulus"
         if args.design is not None:
@@ -266,7 +266,6 @@ def cmd_simulate(args) -> int:
         raise ValueError("--profile sets the defaults of --duration, --transient and --timestep: all three are given")
     check_output_file(args.csv, "--csv", stdout=True)
     check_distinct_paths({"--csv": args.csv}, {"--design-csv": args.design_csv})  # never over the input table
-    check_input_file(args.design_csv, "--design-csv")
     design = design_from_args(args)
     if args.control is not None:
         if str(args.control).lower() == "rigid" and all(seg.rigid for seg in design.segments):

@@ -297,11 +297,14 @@ def test_designs_naming_one_design_twice_are_refused(tmp_path, monkeypatch, caps
     assert [d.name for d in parse_design_list("SS,SS-Ti,Ti")] == ["SS", "SS-Ti", "Ti"]
 
 
-@pytest.mark.parametrize("command, flag", [("batch", "--designs-csv"), ("simulate", "--design-csv")])
+@pytest.mark.parametrize(
+    "command, flag", [("batch", "--designs-csv"), ("simulate", "--design-csv"), ("render", "--design-csv")]
+)
 @pytest.mark.parametrize("what", ["folder", "missing"])
 def test_a_designs_csv_that_is_no_file_names_the_option(tmp_path, capsys, command, flag, what):
     path = tmp_path if what == "folder" else tmp_path / "missing.csv"
-    rc, err = _main(capsys, command, flag, str(path))
+    still = ["--still", str(tmp_path / "s.png")] if command == "render" else []
+    rc, err = _main(capsys, command, flag, str(path), *still)
     assert rc == 2 and flag in err and str(path) in err and len(err.strip().splitlines()) == 1, err
 
 
