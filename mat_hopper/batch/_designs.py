@@ -22,6 +22,36 @@ from ..materials import LegDesign, parse_design
 _DENSITY_COL = re.compile(r"^density_(\d+)$")
 _MODULUS_COL = re.compile(r"^modulus_(\d+)$")
 _LOOKS_LIKE_PROPERTY = re.compile(r"^(dens|mod|rho\b|e_)", re.IGNORECASE)
+# The record columns the tool writes beside a design, which a design table
+# may carry and which are not read: batch's rows (mat_hopper.batch RESULT_COLUMNS,
+# EXTRA_COLUMNS and the settings of mat_hopper.cli.batch), the leg's mass
+# properties, and optimize --export's record (mat_hopper.optimize._export), whose
+# objectives and their standard errors (<objective>_se) are the optimizer's
+# metrics (mat_hopper.optimize._metrics.METRICS). Any other column is refused.
+RECORD_COLUMNS = (
+    *("n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable"),
+    *("behaviour", "sensor_timing", "diverged_at_s", "total_mass_kg", "backend", "upright"),
+    *("run_tracking_error_m", "run_power_w", "convention", "duration_s", "transient_s", "timestep_s"),
+    *("leg_mass_kg", "leg_com_m", "hip_inertia_kg_m2"),
+    *("study", "trial", "state", "profile", "segment_mass", "replicates", "risk", "behaviours", "objectives"),
+    "feasible",
+)
+
+
+def _unknown_columns(names) -> list[str]:
+    """Of a design table's column names, those neither a design column nor
+    a record column (:data:`RECORD_COLUMNS`, the optimizer's metrics and
+    their ``_se``)."""
+    left = [
+        n
+        for n in names
+        if n != "design" and n not in RECORD_COLUMNS and not (_DENSITY_COL.match(n) or _MODULUS_COL.match(n))
+    ]
+    if left:  # the optimizer's metrics, loaded only for a table that has more columns
+        from ..optimize._metrics import METRICS
+
+        left = [n for n in left if n not in METRICS and n.removesuffix("_se") not in METRICS]
+    return left
 
 
 def as_design(design) -> LegDesign:
@@ -132,7 +162,8 @@ def _columns(columns, source: str) -> tuple[int, dict, dict]:
     mods = {int(m.group(1)): c for c, n in zip(columns, names, strict=True) if (m := _MODULUS_COL.match(n))}
     # Other columns (a record the tool wrote beside the design: optimize --export's
     # study, trial, leg_mass_kg, ...) are not read; one that looks like a design
-    # property but is not one ("modulas_2", "Density_1", "density 3") is a typo.
+    # property but is not one ("modulas_2", "Density_1", "density 3") is a typo,
+    # and any other is refused too (RECORD_COLUMNS).
     unknown = [
         n for n in names if _LOOKS_LIKE_PROPERTY.match(n) and not (_DENSITY_COL.match(n) or _MODULUS_COL.match(n))
     ]
@@ -140,6 +171,12 @@ def _columns(columns, source: str) -> tuple[int, dict, dict]:
         raise ValueError(
             f"{source}: unknown column {', '.join(map(repr, unknown))}; design columns are density_1..density_N "
             "and modulus_1..modulus_N"
+        )
+    unknown = _unknown_columns(names)
+    if unknown:
+        raise ValueError(
+            f"{source}: unknown column {', '.join(map(repr, unknown))}; a design table has density_1..density_N, "
+            "modulus_1..modulus_N, optionally design, and the record columns the tool writes (RECORD_COLUMNS)"
         )
     if not dens:
         raise ValueError(f"{source}: needs columns density_1..density_N (g/cm^3) and modulus_1..modulus_N (GPa)")
@@ -163,8 +200,10 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
     Args:
         frame: columns density_1..density_N (g/cm^3), modulus_1..modulus_N
             (GPa, or ``rigid``), and optionally ``design`` (names); none
-            twice; other columns are not read, except that one named like
-            a property (``modulas_2``, ``Density_1``) is refused as a typo. Every cell of a row's segments holds an ASCII
+            twice; the record columns the tool writes beside a design
+            (:data:`RECORD_COLUMNS`, the optimizer's objectives and their
+            ``_se``) are not read, any other column is refused (one named
+            like a property, ``modulas_2``, ``Density_1``, as a typo). Every cell of a row's segments holds an ASCII
             decimal number in the material ranges (or ``rigid`` for a
             modulus); a row with fewer segments leaves both cells of each
             segment past its last one empty (as :func:`designs_to_frame`

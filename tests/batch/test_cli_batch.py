@@ -148,6 +148,7 @@ def test_bad_input_in_a_fresh_interpreter(tmp_path):
         ("design,density_1,modulus_1\nx,1.4,70,99\n", "a row has more fields than the header"),
         ("", "not a CSV table of designs (empty file)"),
         ("density_0,modulus_0\n1,2\n", "density_1..density_N without gaps"),
+        ("design,density_1,modulus_1,colour,notes\na,8,200,red,x\n", "unknown column 'colour', 'notes'"),
         ("design,density_1,modulus_1\na,8,200\nb,8.0,200\n", "design 'b' is the same leg as row 1 ('a')"),
     ],
 )
@@ -220,7 +221,9 @@ def test_warp_backend_cli_on_cpu_device(tmp_path):
         "--transient",
         "0.1",
     )
-    assert p.returncode == 2 and "not available" in p.stderr.strip().splitlines()[-1]
+    assert p.returncode == 2 and p.stderr.strip().splitlines() == [
+        "mat-hopper batch: error: --device 'nosuch': unknown device; accepted: cpu, cuda or cuda:N"
+    ]
 
 
 def test_stability_scan_of_the_map_designs(tmp_path):
