@@ -1,7 +1,15 @@
 import os
+import signal
 import sys
 
 import pytest
+
+# A shell starts a background job (`make test &`, `nohup`) with SIGINT
+# ignored, and Python then leaves it ignored: the tests of Ctrl-C handling
+# (a KeyboardInterrupt expected) failed in such a run. Each test process
+# takes Python's own handler back, as in a foreground run.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 # the throw-away PostgreSQL server's fixtures (pg_server, pg_url, fresh_pg_url)
 pytest_plugins = ["pg_server"]

@@ -236,7 +236,7 @@ book.show(growth, pattern="{:.3g}")
 # %%
 GRADIENTS = ("rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC")
 ti = parse_design("Ti")
-seeds = range(max(b.profile.replicates, 3))
+seeds = range(b.profile.replicates)  # paired by seed: the profile's replicates (quick 2, paper 10)
 tasks = []
 for conv in CONVENTIONS:
     prof = b.profile.for_convention(conv)

@@ -48,7 +48,7 @@ def test_warp_backend_runs_the_study():
     is tests/batch/test_batch_agreement.py's): one batch per variant and
     behaviour, statuses as the CPU rollouts'."""
     pytest.importorskip("mujoco_warp")
-    tiny = Profile("tiny", duration_s=0.5, transient_s=0.1, timestep_s=2e-4)
+    tiny = Profile("tiny", duration_s=0.2, transient_s=0.05, timestep_s=2e-4)  # plumbing: 1000 steps a batch
     warp = study.batch_runs(tiny, [R.DEFAULT], backend="warp", device="cpu")
     cpu = study.batch_runs(tiny, [R.DEFAULT], backend="mujoco", workers=1)
     assert (warp["backend"] == "warp").all() and len(warp) == len(cpu)
