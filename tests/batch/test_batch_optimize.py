@@ -1,10 +1,14 @@
 """The optimizer on the warp backend (Warp's CPU device): one batch of four
 trials asked from Optuna, simulated together, told back.
 
-Two independent sources: mat_hopper.batch.evaluate on the very same designs
-(the told values must be its per-design summaries, exactly), and the CPU
-path's objective, mat_hopper.optimize.evaluate (within the batch agreement
-tests' tolerance: tracking error and power 10 %, hop height 0.01 m).
+Two sources: the table mat_hopper.batch.evaluate returned to the study (the
+told values must be its per-design summaries, exactly; recorded as the
+study ran, not run again: Warp's CPU device costs about 10 ms a step, and a
+second batch cost 4-5 min of CI; tests/batch/test_batch_warp.py checks that
+a short batch run twice is bit-identical), and the CPU path's objective,
+mat_hopper.optimize.evaluate, independent of the batch (within the batch
+agreement tests' tolerance: tracking error and power 10 %, hop height
+0.01 m).
 2.5 s of forward hopping (transient 0.2 s) at 2e-4 s (the step MD and PVC hold under the
 authors' timing), PVC-like bounds so that every design is stable. A design
 that scores no hop cycle in so short a run is scored by its whole-run means,
@@ -23,6 +27,7 @@ pytest.importorskip("mujoco_warp")
 
 from _authors_loop import rel  # noqa: E402
 
+import mat_hopper.batch  # noqa: E402
 from mat_hopper.batch import BatchSettings  # noqa: E402
 from mat_hopper.batch import evaluate as batch_evaluate
 from mat_hopper.experiments.profiles import Profile  # noqa: E402
@@ -55,27 +60,40 @@ def _constraints(trial) -> tuple:
 def study(tmp_path_factory):
     folder = tmp_path_factory.mktemp("studies")
     assert SPACE.seeds() == []  # no paper design in these bounds: four sampled designs
+    tables = []
+
+    def recording(designs, behaviour, settings, **kw):  # the batch's own tables, as the study got them
+        table = batch_evaluate(designs, behaviour, settings, **kw)
+        tables.append((designs, behaviour, settings, kw, table))
+        return table
+
     t0 = time.perf_counter()
-    res = run_batch_study(
-        StudyConfig("warp-tiny", SPACE, OBJ),
-        RunOptions(trials=4, studies_dir=str(folder), progress=False),
-        device="cpu",
-        batch_size=4,
-    )
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(mat_hopper.batch, "evaluate", recording)
+        res = run_batch_study(
+            StudyConfig("warp-tiny", SPACE, OBJ),
+            RunOptions(trials=4, studies_dir=str(folder), progress=False),
+            device="cpu",
+            batch_size=4,
+        )
     print(f"4 trials, one batch: {time.perf_counter() - t0:.1f} s")
     assert res.done == 4 and res.finished and res.evaluator == "warp:cpu"
     url = f"sqlite:///{folder / 'warp-tiny.db'}"
-    return optuna.load_study(study_name="warp-tiny", storage=open_storage(url))
+    return optuna.load_study(study_name="warp-tiny", storage=open_storage(url)), tables
 
 
 @pytest.mark.slow
 def test_warp_study_tells_the_batch_summaries(study):
+    study, tables = study
     trials = study.get_trials()
     assert study.user_attrs[BACKEND_ATTR] == "warp"
     assert [t.state.name for t in trials] == ["COMPLETE"] * 4
     assert all(t.user_attrs["backend"] == "warp" for t in trials)
-    designs = [SPACE.design(t.params) for t in trials]
-    table = batch_evaluate(designs, "forward", SETTINGS, backend="warp", device="cpu")
+    assert len(tables) == 1  # four trials, one behaviour: one batch
+    designs, behaviour, settings, kw, table = tables[0]
+    assert [d.name for d in designs] == [SPACE.design(t.params).name for t in trials]
+    assert (behaviour, settings, kw["backend"], kw["device"]) == ("forward", SETTINGS, "warp", "cpu")
+    assert list(table["design"]) == [d.name for d in designs]
     scored = 0
     for t, (_, row) in zip(trials, table.iterrows()):
         assert row["stable"] and row["upright"], row.to_dict()
@@ -92,6 +110,7 @@ def test_warp_study_tells_the_batch_summaries(study):
 
 @pytest.mark.slow
 def test_warp_study_agrees_with_the_cpu_objective(study):
+    study, _ = study
     for t in study.get_trials():
         cpu = evaluate(SPACE.design(t.params), OBJ)
         label = f"trial {t.number}: warp {t.values} vs cpu {cpu.values}"
