@@ -241,7 +241,8 @@ def test_hypervolume():
 )
 def test_bad_input_is_one_line_exit_2(argv, text, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
-    code = main(["optimize", "--study", "bad", "--trials", "5", *argv])
+    trials = [] if "--trials" in argv else ["--trials", "5"]  # an option given twice is refused on its own
+    code = main(["optimize", "--study", "bad", *trials, *argv])
     err = capsys.readouterr().err.strip()
     assert code == 2
     assert text in err and len(err.splitlines()) == 1
