@@ -1,21 +1,15 @@
 """``mat-hopper reproduce``: its options refused before any work."""
 
 import pytest
+from _refusal import refused
 
-from mat_hopper.cli import build_parser, main
+from mat_hopper.cli import build_parser
 from mat_hopper.experiments.paper import parse_experiments
 from mat_hopper.materials import CONVENTIONS
 
 
 def _refused(argv, capsys) -> str:
-    try:
-        rc = main(argv)
-    except SystemExit as e:
-        rc = e.code
-    assert rc == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1
-    return err
+    return refused(argv, capsys).err
 
 
 def test_all_cannot_be_combined_with_other_experiments(tmp_path, capsys):

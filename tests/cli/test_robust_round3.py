@@ -15,6 +15,7 @@ import time
 
 import pandas as pd
 import pytest
+from _refusal import refused as _refused
 
 from mat_hopper.cli import COMMAND_HELP, build_parser, main
 from mat_hopper.sim import RolloutRunner, SimSettings, loop_chunk_steps
@@ -23,25 +24,6 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 ENV = {**os.environ, "PYTHONPATH": REPO + os.pathsep + os.environ.get("PYTHONPATH", "")}
 ENV.pop("MAT_HOPPER_PROFILE", None)
 LONG = ["--duration", "3000", "--transient", "1"]  # a run of many minutes: a check that fails fast came first
-
-
-def _refused(argv, capsys, *texts, max_wall_s=10.0):
-    """main(argv) answers one line, exit code 2, containing every text, fast."""
-    t0 = time.perf_counter()
-    try:
-        code = main(argv)
-    except SystemExit as e:  # argparse's own errors (one line too)
-        code = e.code
-    wall = time.perf_counter() - t0
-    cap = capsys.readouterr()
-    err = cap.err.strip()
-    assert code == 2, (cap.out, err)
-    assert len(err.splitlines()) == 1, err
-    for t in texts:
-        assert t in err, err
-    assert "Traceback" not in err
-    assert wall < max_wall_s, f"{wall:.1f} s: work started before the check"
-    return cap
 
 
 @pytest.fixture

@@ -14,6 +14,7 @@ import sys
 import time
 
 import pytest
+from _refusal import refused as _refused
 
 from mat_hopper.cli import main
 
@@ -23,25 +24,6 @@ ENV.pop("MAT_HOPPER_PROFILE", None)
 LONG = ["--duration", "3000", "--transient", "1"]  # minutes of work: a refusal that is fast came first
 SHORT = ["--duration", "2", "--transient", "1"]  # where the fault ran the command: it ends (and the test fails)
 DESIGN_TABLE = "density_1,density_2,density_3,modulus_1,modulus_2,modulus_3\n8,8,8,193,193,193\n"
-
-
-def _refused(argv, capsys, *texts, max_wall_s=10.0):
-    """main(argv) answers one line on stderr, exit code 2, containing every text, fast."""
-    t0 = time.perf_counter()
-    try:
-        code = main(argv)
-    except SystemExit as e:  # argparse's own errors (one line too)
-        code = e.code
-    wall = time.perf_counter() - t0
-    cap = capsys.readouterr()
-    err = cap.err.strip()
-    assert code == 2, (cap.out, err)
-    assert len(err.splitlines()) == 1, err
-    for t in texts:
-        assert t in err, err
-    assert "Traceback" not in err and "invalid literal" not in err
-    assert wall < max_wall_s, f"{wall:.1f} s: work started before the check"
-    return cap
 
 
 @pytest.fixture
