@@ -174,8 +174,9 @@ def register_cli(sub) -> None:
         "--replicates",
         type=int,
         default=None,
-        help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default: the profile's, 10 paper, "
-        "3 quick; the claims' inferential basis)",
+        help="perturbed replicate runs per design and behaviour, seeds 0..N-1 (default: the profile's, "
+        + ", ".join(f"{p.replicates} {name}" for name, p in PROFILES.items())
+        + "; the claims' inferential basis)",
     )
     p.add_argument(
         "--push-scale",

@@ -31,10 +31,9 @@ DESIGNS = [
     LegDesign.from_properties([1.1], [4.0] * 3),
     LegDesign.from_properties([2.5], [4.0] * 3),
     LegDesign.from_properties([1.39], [0.45] * 3),
-    "SS",  # one sprung batch
-    "MD",
-    LegDesign.from_properties([2.0], [None] * 3),
-]  # one rigid batch
+    "SS",
+]  # one sprung batch (a rigid batch, MD's, cost about 110 s of CI: its trajectory
+# is compared step by step over 0.45 s in tests/batch/test_batch_warp.py instead)
 
 
 @pytest.fixture(scope="module")

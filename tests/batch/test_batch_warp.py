@@ -13,7 +13,7 @@ from _authors_loop import authors_rollout  # noqa: E402
 
 from mat_hopper.batch import BatchSettings, WarpBatch, as_design, evaluate  # noqa: E402
 from mat_hopper.batch._warp import DERIVED_FIELDS, DESIGN_FIELDS  # noqa: E402
-from mat_hopper.materials import LegDesign  # noqa: E402
+from mat_hopper.materials import LegDesign, parse_design  # noqa: E402
 from mat_hopper.model import build_model  # noqa: E402
 from mat_hopper.sim import simulate  # noqa: E402
 
@@ -143,6 +143,30 @@ def test_trajectories_follow_mujoco_cpu_and_divergence_stays_in_its_world():
         else:
             assert div[w] >= 0 and abs(div[w] - ro.diverged_step) <= 5, (design, div[w], ro.diverged_step)
     assert div[1] >= 0 and (div[[0, 2]] == -1).all()
+
+
+def test_rigid_legs_follow_mujoco_cpu():
+    """0.45 s of a rigid batch (no springs: its own topology, the second batch
+    of any mixed design list): MD and a heavier rigid leg, every world's
+    joint positions within 1e-3 of MuJoCo's CPU engine (float64, the
+    authors' loop) step by step, through touchdown and stance. (The summary
+    agreement over 2.2 s, tests/batch/test_batch_agreement.py, holds sprung
+    designs only: a rigid batch there cost about 110 s of CI.)"""
+    designs = ["MD", LegDesign.from_properties([2.5], [None] * 3, name="rigid-heavy")]
+    b = WarpBatch(designs, "forward", SHORT, device="cpu")
+    rigid_nq, sprung_nq = (build_model(parse_design(d)).model.nq for d in ("MD", "PVC"))
+    assert b.mjm.nq == rigid_nq < sprung_nq  # the rigid topology: no spring joints
+    n = SHORT.n_steps
+    trace = np.zeros((n, b.nworld, b.mjm.nq))
+    for i in range(n):
+        b.advance(1)
+        trace[i] = b.d.qpos.numpy()
+    assert (b.diverged_steps() == -1).all()
+    for w, design in enumerate(designs):
+        ro, ref = authors_rollout(design, "forward", SHORT, trace_qpos=n)
+        assert ro.stable and len(ro.touchdown_times_s) >= 1, design  # stance physics compared too
+        err = np.abs(trace[:, w] - ref).max()
+        assert err < 1e-3, (design, err)
 
 
 def test_groups_and_slices_come_back_in_input_order():

@@ -5,6 +5,7 @@ from _refusal import refused
 
 from mat_hopper.cli import build_parser
 from mat_hopper.experiments.paper import parse_experiments
+from mat_hopper.experiments.profiles import PROFILES
 from mat_hopper.materials import CONVENTIONS
 
 
@@ -23,6 +24,13 @@ def test_help_lists_every_convention_the_command_runs():
     sub = build_parser("reproduce")._subparsers._group_actions[0].choices["reproduce"]
     text = next(a.help for a in sub._actions if "--conventions" in a.option_strings)
     assert all(c in text for c in CONVENTIONS)
+
+
+def test_help_gives_each_profiles_replicates():
+    """The --replicates help gave "3 quick" after the quick profile went to 2."""
+    sub = build_parser("reproduce")._subparsers._group_actions[0].choices["reproduce"]
+    text = next(a.help for a in sub._actions if "--replicates" in a.option_strings)
+    assert "10 paper" in text and f"{PROFILES['quick'].replicates} quick" in text and "3 quick" not in text
 
 
 @pytest.mark.parametrize(
