@@ -29,7 +29,8 @@ formula, hip, total; jerk: the body's zero-phase jerk and the causal one):
 - ``yes``: every counted comparison yes; ``partly``: at least half;
   ``no``: fewer, with a no among them; ``untestable``: otherwise, or where
   the family cannot reach Holm p < alpha with an exact sign-flip test at
-  this n (n = 3: p >= 0.25 each), or the claim's own effect is not there;
+  this n (n = 3: p >= 0.25 each), or the claim's own effect holds in
+  fewer than half of its comparisons (nothing much to attribute);
   ``not run``: the controls or the design's runs are missing.
 
 The regressions (what leg mass and hip inertia explain, the sweeps at
@@ -46,7 +47,7 @@ from ..keys import design_key
 from ..materials import parse_design
 from ..metrics import holm
 from .attribution import modulus_at_equal_mass
-from .paired import DIFFERENCE, NO_DIFFERENCE, conclusion, paired_effect, reachable, share_left
+from .paired import DIFFERENCE, EQUIVALENCE_MARGIN, NO_DIFFERENCE, conclusion, paired_effect, reachable, share_left
 
 YES, PARTLY, NO, UNTESTABLE = "yes", "partly", "no", "untestable"
 NOT_RUN = "not run"
@@ -281,24 +282,36 @@ def _tally(votes: list[str]) -> str:
 
 def _verdict(e: pd.DataFrame, sign: int, alpha: float) -> str:
     """The fraction rule of the main verdicts over the comparisons where the
-    claim's own effect holds, with every vote counted by kind. Where n seeds
-    cannot reach Holm's threshold, no comparison can be significant, but an
-    interval inside the ±10 % margin still says the control reproduces the
-    design: every comparison so gives ``no``, otherwise ``untestable``."""
+    claim's own effect holds, with every vote counted by kind; where that
+    effect holds in fewer than half of the claim's comparisons, the claim
+    itself mostly fails and there is too little effect to attribute:
+    ``untestable``, however those few vote (one yes among sixteen is not
+    a claim surviving its controls). Where n seeds cannot reach Holm's
+    threshold, no comparison can be significant, but an interval inside
+    the ±10 % margin still says the control reproduces the design: where
+    every comparison is so and the claim's own effect is larger than the
+    margin in each (so that the control reproducing the design says
+    something), ``no``, otherwise ``untestable``."""
     family = len(e)
     n = int(e["n_pairs"].min())
     if not reachable(n, family, alpha):
         floor = min(1.0, family * float(e["p_min"].max()))
-        if (e["conclusion"] == NO_DIFFERENCE).all():
+        claim_large = bool((np.abs(e["claim_pct"].to_numpy(float)) > 100 * EQUIVALENCE_MARGIN).all())
+        if (e["conclusion"] == NO_DIFFERENCE).all() and claim_large:
             return (
-                f"{NO} (every one of {family} comparisons within the ±10 % margin: the controls reproduce the "
-                f"design; n = {n} seeds cannot test a difference, Holm p >= {floor:.2g})"
+                f"{NO} (every one of {family} comparisons within the ±10 % margin of a claimed effect larger than it: "
+                f"the controls reproduce the design; n = {n} seeds cannot test a difference, Holm p >= {floor:.2g})"
             )
         return f"{UNTESTABLE} (n = {n} seeds can reach Holm p >= {floor:.2g} with an exact sign-flip test, family {family})"
     votes = _votes(e, sign, alpha)
     live = [v for v in votes if v != NO_OWN]
     if not live:
         return f"{UNTESTABLE} (the claim's own effect is not significant in any of its {family} comparisons)"
+    if len(live) < family / 2:
+        return (
+            f"{UNTESTABLE} (the claim's own effect holds in only {len(live)} of its {family} comparisons, "
+            f"too few to attribute: {_tally(votes)})"
+        )
     k = live.count(YES)
     if k == len(live):
         verdict = YES

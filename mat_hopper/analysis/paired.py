@@ -16,8 +16,11 @@ baseline's mean (``method`` says which).
   default: exact under normal log ratios, defined at any n >= 2), or BCa
   (``interval="bca"``, :func:`scipy.stats.bootstrap` on the pairs;
   unreliable below about 10 pairs, and degenerate when the pairs tie);
-- test: the paired t test on the log ratios (:func:`scipy.stats.ttest_1samp`),
-  two-sided, ``p``; the Wilcoxon signed-rank test
+- test: ``p`` is the larger of two two-sided p-values, so a comparison
+  is significant only where both tests reject: the paired t test on the
+  log ratios (:func:`scipy.stats.ttest_1samp`, ``p_t``; it rests on the
+  normality of a handful of log ratios) and the exact sign-flip test
+  below (``p_perm``, distribution-free); the Wilcoxon signed-rank test
   (:func:`scipy.stats.wilcoxon`, exact) as a check, ``p_wilcoxon``, whose
   smallest reachable two-sided p with n pairs is 2 / 2^n
   (:func:`wilcoxon_smallest_p`: n = 3: 0.25, n = 6: 0.031, n = 10: 0.002);
@@ -119,21 +122,30 @@ def paired_effect(
     """Paired effect of `values` against `baseline_values` (module doc).
 
     Args:
-        values, baseline_values: (n,) run means, pair k in position k.
+        values, baseline_values: (n,) run means. Two pandas Series are
+            paired on their index (the replicate seed; only seeds in both
+            count, so a run dropped from one side cannot shift the pairs);
+            anything else pairs position k with position k.
         confidence: of the interval, in (0, 1).
         interval: ``t`` or ``bca``, any case.
         seed: of the BCa resampling (deterministic).
 
     Returns:
         dict: n_pairs, method (``log-ratio`` or ``difference``), pct_change,
-        ci_low, ci_high (%), p (paired t; the sign-flip p where the pairs
-        do not spread), p_wilcoxon, p_min_wilcoxon, p_perm (exact
+        ci_low, ci_high (%), p (the larger of p_t and p_perm: significant
+        only where both tests reject), p_t (paired t; the sign-flip p where
+        the pairs do not spread), p_wilcoxon, p_min_wilcoxon, p_perm (exact
         sign-flip), p_min (its smallest reachable p, 2 / 2^n).
         NaNs where fewer than 2 finite pairs.
 
     Raises:
-        ValueError: unequal lengths, a confidence outside (0, 1), an unknown interval.
+        ValueError: unequal lengths, a confidence outside (0, 1), an unknown
+        interval, or two Series with a repeated index value (a seed twice).
     """
+    if isinstance(values, pd.Series) and isinstance(baseline_values, pd.Series):
+        if not (values.index.is_unique and baseline_values.index.is_unique):
+            raise ValueError("paired Series must have one value per index value (seed); an index value repeats")
+        values, baseline_values = values.align(baseline_values, join="inner")
     a, b = np.asarray(values, dtype=float), np.asarray(baseline_values, dtype=float)
     if a.shape != b.shape or a.ndim != 1:
         raise ValueError(f"values and baseline_values must be 1-D and paired, got shapes {a.shape} and {b.shape}")
@@ -144,7 +156,7 @@ def paired_effect(
     a, b = a[ok], b[ok]
     n = len(a)
     out = {"n_pairs": n, "p_min_wilcoxon": wilcoxon_smallest_p(n), "p_min": wilcoxon_smallest_p(n)}
-    nan = dict.fromkeys(("pct_change", "ci_low", "ci_high", "p", "p_wilcoxon", "p_perm"), math.nan)
+    nan = dict.fromkeys(("pct_change", "ci_low", "ci_high", "p", "p_t", "p_wilcoxon", "p_perm"), math.nan)
     if n < 2:
         return {**out, "method": "", **nan}
     log = bool((a > 0).all() and (b > 0).all())
@@ -184,7 +196,8 @@ def paired_effect(
         "pct_change": float(to_pct(m)),
         "ci_low": float(to_pct(lo)),
         "ci_high": float(to_pct(hi)),
-        "p": p,
+        "p": max(p, p_perm),
+        "p_t": p,
         "p_wilcoxon": p_w,
         "p_perm": p_perm,
     }
@@ -269,8 +282,9 @@ def compare_paired(
 
     Returns:
         DataFrame: group columns, `by`, design, baseline, metric, n, n_baseline,
-        n_pairs, mean, mean_baseline, pct_change, ci_low, ci_high, method, p,
-        p_wilcoxon, p_min_wilcoxon, p_holm, significant, conclusion, paired.
+        n_pairs, mean, mean_baseline, pct_change, ci_low, ci_high, method, p
+        (:func:`paired_effect`'s: both tests must reject), p_t, p_wilcoxon,
+        p_min_wilcoxon, p_perm, p_min, p_holm, significant, conclusion, paired.
 
     Raises:
         ValueError: no ``replicate`` column, or the baseline is absent.
@@ -311,9 +325,8 @@ def compare_paired(
     out["p_holm"] = math.nan
     for _, fam_rows in out.groupby([*keys, "metric"], sort=False):
         out.loc[fam_rows.index, "p_holm"] = holm(fam_rows["p"].to_numpy())
-    # significant only where the family could reach Holm's threshold by the
-    # distribution-free sign-flip test too (m * p_min < alpha): at small n the
-    # t test's p rests on the normality of a handful of log ratios
+    # p already needs the sign-flip test to reject (paired_effect); the
+    # reachability guard (m * p_min < alpha) says so for the family at once
     reachable = out.groupby([*keys, "metric"], sort=False)["p_min"].transform(lambda v: len(v) * v.max() < alpha)
     out["significant"] = (out["p_holm"] < alpha) & reachable.astype(bool)
     out["conclusion"] = [

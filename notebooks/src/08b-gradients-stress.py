@@ -111,9 +111,11 @@ glue("fig-stress-trace", fig, display=False)
 #
 # ## Every paper design under two conventions
 #
-# Each design hops forward once, unperturbed, per convention. `fell_s` is
-# when the run ended early (empty when it lasted); the stress columns read
-# only the hops before.
+# Each design hops forward once, unperturbed, per convention. `upright`
+# says whether the run ended on its foot (the paper's criterion: no
+# numerical divergence, base above 0.1 m); `fell_s` is when a run that
+# diverged ended (empty when it lasted); the stress columns read only the
+# hops before.
 
 # %%
 rows, per_segment, rollouts = [], [], {}
@@ -129,6 +131,7 @@ for name in PAPER_DESIGN_ORDER:
             {
                 "design": name,
                 "convention": conv,
+                "upright": r.upright,
                 "fell_s": r.diverged_at_s,
                 "hops": len(hops),
                 "tracking_mm": 1e3 * hops["tracking_error_m"].mean(),
@@ -190,7 +193,7 @@ ax.set_ylabel("|roll| (rad)")
 plt.close(fig)
 glue("fig-lateral-growth", fig, display=False)
 fell = table[(table["convention"] == "bending") & (table["design"] != "MD")]
-print(f"under bending {int(fell['fell_s'].notna().sum())} of {len(fell)} elastic designs fell within "
+print(f"under bending {int((~fell['upright']).sum())} of {len(fell)} elastic designs fell within "
       f"{b.profile.duration_s:g} s unperturbed")  # fmt: skip
 book.show(growth, pattern="{:.3g}")
 
@@ -260,7 +263,7 @@ print(
     f"({sum(segment_masses(ti)) / masses['rho-inc'] - 1:+.1%}; mean density of the gradients "
     f"{np.mean(designs['rho-inc'].densities_g_cm3):.3f} g/cm³ against titanium's {ti.densities_g_cm3[0]:g})"
 )
-up = runs.assign(stayed_up=runs["diverged_at_s"].isna()).groupby(["convention", "leg"])["stayed_up"].mean().unstack()
+up = runs.assign(stayed_up=runs["status"] == "ok").groupby(["convention", "leg"])["stayed_up"].mean().unstack()
 book.show(up, index=True, pattern="{:.0%}")
 
 # %% [markdown]
@@ -268,7 +271,9 @@ book.show(up, index=True, pattern="{:.0%}")
 # `paper`, each gradient against its controls, paired by seed:
 
 # %%
-paper_runs = runs[(runs["convention"] == "paper") & runs["diverged_at_s"].isna() & (runs["n_hops"] >= 2)]
+# usable runs only: a run that diverged or fell (status "diverged" or "fallen") keeps the hops it
+# scored before, which are not results; a pair lacking either run is dropped, and counted
+paper_runs = runs[(runs["convention"] == "paper") & (runs["status"] == "ok") & (runs["n_hops"] >= 2)]
 wide = paper_runs.pivot_table(
     index=["gradient", "replicate"], columns="leg", values=["peak_stress_pa", "fatigue_safety_factor"]
 )
@@ -276,9 +281,11 @@ rows = []
 for metric, control in (("peak_stress_pa", "mass-matched"), ("peak_stress_pa", "titanium"),
                         ("fatigue_safety_factor", "titanium")):  # fmt: skip
     for name, grp in wide.groupby(level="gradient", sort=False):
-        both = grp[[(metric, "gradient"), (metric, control)]].dropna()
-        e = paired.paired_effect(both.iloc[:, 0], both.iloc[:, 1])
-        rows.append({"gradient": name, "metric": metric, "against": control, **e})
+        both = grp[[(metric, "gradient"), (metric, control)]]
+        e = paired.paired_effect(both.iloc[:, 0].dropna(), both.iloc[:, 1].dropna())  # paired on the seed
+        rows.append(
+            {"gradient": name, "metric": metric, "against": control, "pairs_dropped": len(seeds) - e["n_pairs"], **e}
+        )
 verdicts = pd.DataFrame(rows)
 # Holm over the four gradients of each comparison; the sign-flip floor decides what n can show
 for _, g in verdicts.groupby(["metric", "against"], sort=False):

@@ -97,6 +97,28 @@ def test_too_few_seeds_cannot_reach_a_verdict():
     )
 
 
+def test_a_small_claimed_effect_reproduced_by_its_controls_is_not_a_no():
+    # at n = 3 with the controls inside the margin, "no" needs a claimed effect
+    # larger than the margin (here rho-inc is 5 % better than SS: nothing to attribute)
+    out = bm.claim_controls("headline_tracking", _hops(rho_vs_ss=0.95, n=3), None)
+    assert out["beyond_mass"].startswith("untestable (n = 3")
+
+
+def test_one_yes_where_the_claim_mostly_fails_is_not_yes():
+    """A referee's case: the claim's own effect holds in one behaviour of
+    four, and there beyond mass. The comparisons where it holds all say yes,
+    but they are 2 of 8: too little effect to attribute, not a survivor."""
+    parts = []
+    for beh in ("static", "forward", "ramp", "circle"):
+        h = _hops(rho_springs=0.8, rho_vs_mass=0.8, n=10, rho_vs_ss=0.7 if beh == "ramp" else 1.0)
+        parts.append(h.assign(behaviour=beh))
+    hops = pd.concat(parts, ignore_index=True).rename(columns={"tracking_error_m": "jerk_body_m_s3"})
+    verdict = bm.claim_controls("jerk_gradient", hops, None)["beyond_mass"]
+    body = verdict.split(" | ")[0]
+    assert body.startswith("body, zero-phase: untestable (the claim's own effect holds in only 2 of its 8"), body
+    assert "2 yes" in body and "6 no own effect" in body
+
+
 def test_power_claims_get_one_verdict_per_formula():
     h = _hops()
     h["power_w"] = h["power_total_w"] = h["tracking_error_m"]

@@ -6,6 +6,7 @@ import pytest
 from scipy import stats as sps
 
 from mat_hopper.analysis import paired, stats
+from mat_hopper.metrics import holm
 
 
 def _runs(effect=1.05, n=6, seed_spread=0.3, noise=0.005):
@@ -33,7 +34,8 @@ def test_paired_effect_is_the_t_interval_of_log_ratios():
     assert e["ci_low"] == pytest.approx(100 * np.expm1(ci.low)) and e["ci_high"] == pytest.approx(
         100 * np.expm1(ci.high)
     )
-    assert e["p"] == pytest.approx(sps.ttest_rel(np.log(a), np.log(b)).pvalue)
+    assert e["p_t"] == pytest.approx(sps.ttest_rel(np.log(a), np.log(b)).pvalue)
+    assert e["p"] == max(e["p_t"], e["p_perm"])  # both tests must reject
     assert e["p_min_wilcoxon"] == pytest.approx(sps.wilcoxon(np.arange(1.0, 7.0)).pvalue)
 
 
@@ -43,7 +45,9 @@ def test_pairing_finds_what_the_unpaired_test_cannot():
     b = t[t.design == "base"].tracking_error_m
     assert sps.mannwhitneyu(a, b).pvalue > 0.3  # the seeds' spread hides a 5 % effect
     e = paired.paired_effect(a.to_numpy(), b.to_numpy())
-    assert e["p"] < 0.001 and 3 < e["pct_change"] < 7
+    assert e["p_t"] < 0.001 and 3 < e["pct_change"] < 7
+    # every one of the 6 pairs goes the same way: the sign-flip test's floor, 2 / 2^6
+    assert e["p"] == e["p_perm"] and e["p"] == pytest.approx(2 / 2**6)
 
 
 def test_conclusions_separate_no_difference_from_no_evidence():
@@ -96,7 +100,8 @@ def test_significance_needs_a_reachable_sign_flip_threshold():
     patterns, the two extreme ones), so nothing can be called significant;
     on 6 seeds 2 / 64 = 0.031 < 0.05 is reachable for a family of one."""
     small = paired.compare_paired(_runs(effect=1.3, n=3), "base").iloc[0]
-    assert small["p_holm"] < 0.01 and small["p_min"] == pytest.approx(0.25)
+    assert small["p_t"] < 0.01 and small["p_min"] == pytest.approx(0.25)
+    assert small["p_holm"] == pytest.approx(0.25)  # p needs the sign-flip test too: its floor
     assert not small["significant"] and small["conclusion"] == paired.NOT_ENOUGH
     six = paired.compare_paired(_runs(effect=1.3, n=6), "base").iloc[0]
     assert six["p_min"] == pytest.approx(2 / 64) and six["significant"] and six["conclusion"] == paired.DIFFERENCE
@@ -107,3 +112,30 @@ def test_interval_name_any_case():
     assert paired.paired_effect(a, b, interval="T") == paired.paired_effect(a, b, interval="t")
     with pytest.raises(ValueError, match="unknown interval 'z'; accepted: t, bca"):
         paired.paired_effect(a, b, interval="z")
+
+
+def test_p_needs_both_the_t_test_and_the_sign_flip_test():
+    """A referee's case: nine log ratios near -0.15 and one at +0.006, n = 10.
+    The t test gives p = 3e-5; the exact sign-flip test counts the sign
+    patterns whose mean is at least as far from 0: all ten signs as they are
+    and flipped (2), and the one pattern with only the +0.006 flipped, whose
+    mean is larger (2 more): 4 / 2^10 = 0.0039. In a Holm family of 16 the t
+    test alone would give 16 x 3e-5 < 0.05; the sign-flip test 16 x 0.0039 =
+    0.0625 does not reject, and neither does p."""
+    x = np.array([-0.15, -0.16, -0.14, -0.15, -0.155, -0.145, -0.15, -0.152, -0.148, 0.006])
+    e = paired.paired_effect(np.exp(x), np.ones(10))
+    assert e["p_t"] < 1e-4
+    assert e["p_perm"] == pytest.approx(4 / 2**10)
+    assert e["p"] == e["p_perm"]
+    assert holm([e["p"]] + [1.0] * 15)[0] > 0.05
+
+
+def test_series_pair_on_their_seeds_not_their_positions():
+    """Seed 1 dropped from the design's runs: position pairing would set its
+    seed 2 against the baseline's seed 1."""
+    design = pd.Series([1.1, 2.2], index=[0, 2])
+    base = pd.Series([1.0, 5.0, 2.0], index=[0, 1, 2])
+    e = paired.paired_effect(design, base)
+    assert e["n_pairs"] == 2 and e["pct_change"] == pytest.approx(10.0)
+    with pytest.raises(ValueError, match="repeats"):
+        paired.paired_effect(pd.Series([1.0, 2.0], index=[0, 0]), pd.Series([1.0, 2.0], index=[0, 1]))
