@@ -51,8 +51,8 @@ def design_frame(trial, design, config) -> pd.DataFrame:
         columns (design, density_i g/cm^3, modulus_i GPa, as ``repr``
         strings), then study, trial, state (the trial state's name),
         profile, convention, segment_mass, replicates, risk, behaviours and
-        objectives (comma-separated), leg_mass_kg (the material segments,
-        kg), feasible (bool, False without a stored result), and per
+        objectives (comma-separated), leg_mass_kg (the leg's, stub to
+        foot, kg), feasible (bool, False without a stored result), and per
         objective its value and ``<objective>_se`` (None when the trial is
         not COMPLETE, or has no standard error).
     """

@@ -18,7 +18,7 @@ name                 unit   per run
 ``energy_per_hop_j`` J      mean over hops of the absolute actuator work (all three)
 ``peak_stress_pa``   Pa     the leg's largest section stress over the hops
 ``damage_per_hop``   1      Miner damage per hop of the most damaged segment
-``leg_mass_kg``      kg     the material segments' mass (no run needed)
+``leg_mass_kg``      kg     the leg's mass, stub to foot (no run needed)
 ==================== ====== ======================================================
 
 (:mod:`mat_hopper.metrics`, :mod:`mat_hopper.energetics`,
@@ -215,7 +215,7 @@ def run_values(rollout, hops, life: dict, leg_mass_kg: float, scored: bool) -> d
         rollout: the run's Rollout.
         hops: its :func:`mat_hopper.metrics.hop_table`.
         life: its :func:`mat_hopper.fatigue.fatigue_summary` over the scored hops.
-        leg_mass_kg: the material segments' mass, kg.
+        leg_mass_kg: the leg's mass, kg (:func:`mat_hopper.optimize.leg_mass_kg`).
         scored: whether the run is scored by its hops
             (:func:`~mat_hopper.optimize._objective.scored_by_hops`); else
             the whole-run values.

@@ -255,7 +255,7 @@ class Evaluation:
         simulated_s: simulated time of all its runs, s.
         standard_errors: per objective, over replicates (nan: one run).
         replicate_values: per replicate, per objective.
-        leg_mass_kg: the material segments' mass, kg.
+        leg_mass_kg: the leg's mass, kg (:func:`~mat_hopper.optimize._robust.leg_mass_kg`).
         constraint_names, objective_names: what ``constraints`` and ``values`` hold.
     """
 

@@ -35,8 +35,10 @@ Leg mass. Mass alone explains most of tracking error, so a search over
 density is mostly a search over mass. With ``leg_mass`` set (a paper
 design's name, whose leg mass becomes the target, or a mass in kg) each
 trial gets the constraint ``leg_mass``: ``|m - target| - tolerance`` (kg,
-<= 0 feasible), m the sum of the material segments' masses
-(:func:`mat_hopper.materials.segment_masses`, the model's own rule). The
+<= 0 feasible), m the leg's mass: the leg body's subtree of MuJoCo's
+compiled model (hip stub, material segments, foot), the leg mass that
+``simulate``, ``batch`` and the controls report
+(:func:`mat_hopper.controls.mass_properties`: one definition). The
 tolerance defaults to :data:`DEFAULT_LEG_MASS_TOLERANCE` of the target.
 Every trial records its leg mass, constrained or not.
 """
@@ -47,7 +49,7 @@ import math
 
 import numpy as np
 
-from ..materials import LegDesign, paper_designs, segment_masses
+from ..materials import LegDesign, paper_designs
 from ..parsing import is_decimal, parse_name, parse_number
 from ..perturbations import Perturbation
 
@@ -175,7 +177,8 @@ def score(values, risk: str = "mean", alpha: float = DEFAULT_CVAR_ALPHA) -> tupl
 
 
 def leg_mass_kg(design: LegDesign, segment_mass: str) -> float:
-    """kg, the material segments' mass (:func:`mat_hopper.materials.segment_masses`).
+    """kg, the leg's mass, as every other table of the package counts it
+    (:func:`mat_hopper.controls.mass_properties`).
 
     Args:
         design: the LegDesign.
@@ -183,13 +186,19 @@ def leg_mass_kg(design: LegDesign, segment_mass: str) -> float:
             any case).
 
     Returns:
-        The sum of the design's material segment masses, kg (float); the
-        rest of the robot (base, hip stub, foot) is not included.
+        The mass of the leg body's subtree in MuJoCo's compiled model, kg
+        (float): the hip stub, the material segments and the foot (SS:
+        0.254 + 7.854 + 0.164 + 0.5 = 8.772 kg); the base is not included.
+        Until this session the optimizer counted the material segments
+        only (SS 7.854 kg) under the same name.
 
     Raises:
-        ValueError: an unknown segment-mass convention.
+        ValueError: a design that is not a LegDesign, or an unknown
+            segment-mass convention.
     """
-    return float(sum(segment_masses(design, segment_mass)))
+    from ..controls import mass_properties  # controls imports the model builder: import when used
+
+    return float(mass_properties(design, segment_mass).leg_mass_kg)
 
 
 def check_leg_mass(value):

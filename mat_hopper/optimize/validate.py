@@ -43,8 +43,7 @@ seed (:func:`mat_hopper.analysis.paired.paired_effect`: the log ratio of
 the replicate means, each a mean over the study's behaviours, with its t
 interval and paired t p), on each of the study's own objectives
 (``objective.objectives``: each metric's run-summary column,
-:class:`~mat_hopper.optimize._metrics.Metric`; leg mass as the objective
-counts it, the material segments'). A stress objective has no value for a
+:class:`~mat_hopper.optimize._metrics.Metric`). A stress objective has no value for a
 leg without modelled stress (a rigid twin, MD): those comparisons are left
 out. Multiplicity: one Holm family per question asked of a front design,
 i.e. per comparator kind (the paper's designs x objectives decide survival;
@@ -91,7 +90,6 @@ from ..metrics import holm
 from ..timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S, resolve_timestep
 from ._metrics import METRICS
 from ._objective import Objective
-from ._robust import leg_mass_kg
 
 NOMINAL, REPLICATE, BEHAVIOUR = "nominal", "replicate", "behaviour"
 FINE_CONTROL, FINE_PLAIN, AXIAL = "step 2e-5 s, control 1e-4 s", "step 2e-5 s", "axial"
@@ -230,15 +228,11 @@ def validation_tasks(front: dict, objective: Objective, replicates: int, paper: 
     return tasks
 
 
-MATERIAL_LEG_MASS = "material_leg_mass_kg"  # runs column: the material segments' mass (the objective's)
-
-
 def _summary_column(name: str) -> str:
     """The runs column of objective `name`: the run summary's
-    (:attr:`~mat_hopper.optimize._metrics.Metric.summary_column`), except
-    leg mass, whose summary column is the whole leg's (MuJoCo's model, foot
-    included): the objective's is the material segments' (MATERIAL_LEG_MASS)."""
-    return MATERIAL_LEG_MASS if name == "leg_mass_kg" else METRICS[name].summary_column
+    (:attr:`~mat_hopper.optimize._metrics.Metric.summary_column`; leg mass
+    is the whole leg's there and in the objective alike)."""
+    return METRICS[name].summary_column
 
 
 def replicate_means(runs: pd.DataFrame, objective: Objective) -> pd.DataFrame:
@@ -251,8 +245,7 @@ def replicate_means(runs: pd.DataFrame, objective: Objective) -> pd.DataFrame:
 
     Args:
         runs: a validation's run table (columns role, design, replicate,
-            behaviour, check, status and the objectives' summary columns,
-            :data:`MATERIAL_LEG_MASS` for leg mass).
+            behaviour, check, status and the objectives' summary columns).
         objective: the study's objective (its objectives and behaviours).
 
     Returns:
@@ -581,7 +574,6 @@ def validate_front(
     tasks = validation_tasks(front, objective, n)
     res = run_grid(tasks, cache_dir, workers=workers, progress=progress, desc="front validation")
     runs = res.summary
-    runs[MATERIAL_LEG_MASS] = [leg_mass_kg(t.design, objective.segment_mass) for t in tasks]
     if res.n_failed:
         bad = runs[runs["status"] == FAILED]
         raise RuntimeError(f"{len(bad)} validation run(s) failed: {'; '.join(bad['error'].astype(str).unique()[:3])}")

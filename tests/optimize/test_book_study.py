@@ -21,7 +21,7 @@ def test_front_table_and_designs():
             "hop_height_m": [0.96, 0.98],
             "tracking_error_vs_SS_pct": [0.0, 100.0],
             "power_vs_SS_pct": [0.0, -37.5],
-            "leg_mass_kg": [7.854, 8.2],
+            "leg_mass_kg": [8.772, 8.2],
             "seg1_rho_g_cm3": [8.0, 13.4],
             "seg1_e_gpa": [193.0, 4.4],
             "seg2_rho_g_cm3": [8.0, 2.0],

@@ -205,7 +205,7 @@ def test_validation_reads_each_objective_from_its_run_summary_column():
             "status": ["ok"] * 4,
             "mean_power_total_w": [40.0, 42.0, 41.0, 43.0],
             "peak_stress_pa": [2e6, 3e6, np.nan, np.nan],  # a rigid twin has no modelled stress
-            "material_leg_mass_kg": [3.0, 3.0, 3.0, 3.0],
+            "leg_mass_kg": [3.0, 3.0, 3.0, 3.0],
         }
     )
     ob = Objective(objectives="power_total_w,peak_stress_pa,leg_mass_kg")
