@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
-import re
 import sys
 
 from .. import reference as ref
@@ -102,33 +101,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 register_cli = add_parser  # the name mat_hopper.cli looks for
 
 
-def _default_device() -> str:
-    from ..batch import require_warp
-
-    wp, _ = require_warp()
-    return "cuda" if wp.get_cuda_device_count() > 0 else "cpu"
-
-
-_DEVICE = re.compile(r"^(cpu|cuda(:\d+)?)$")
-DEVICES_ACCEPTED = "cpu, cuda or cuda:N"
-
-
-def _check_device_name(device) -> None:
-    """--device is a Warp device name (cpu, cuda, cuda:N); ValueError naming it."""
-    if device is not None and not _DEVICE.match(str(device).strip()):
-        raise ValueError(f"--device {device!r}: unknown device; accepted: {DEVICES_ACCEPTED}")
-
-
-def _check_device_seen(wp, device: str) -> None:
-    """A cuda device Warp sees, before any model is built (one line, no Warp warning)."""
-    if not str(device).startswith("cuda"):
-        return
-    n = wp.get_cuda_device_count()
-    index = int(device.split(":")[1]) if ":" in device else 0
-    if index >= n:
-        raise ValueError(f"--device {device}: Warp sees {n} CUDA device(s); accepted: cpu{', cuda' if n else ''}")
-
-
 # Settings the CSV carries beside each row (every table says what made it).
 SETTING_COLUMNS = ("behaviour", "convention", "sensor_timing", "duration_s", "transient_s", "timestep_s", "backend")
 
@@ -143,6 +115,7 @@ def run_batch(args) -> int:
         check_output_file,
         named_by_flags,
         sensor_timing_arg,
+        warp_device,
     )
 
     check_output_file(args.csv, "--csv", stdout=True)  # before any work
@@ -160,18 +133,7 @@ def run_batch(args) -> int:
     beh = behaviour("forward" if args.behaviour is None else args.behaviour)
     with named_by_flags():
         settings = _batch_settings(args, profile, timing)
-    if args.backend == "warp":
-        from ..batch import WarpUnavailable, require_warp
-
-        _check_device_name(args.device)  # before Warp is imported (it warns about unknown devices)
-        try:
-            wp, _ = require_warp()  # before any work: a missing gpu extra is one line
-            device = args.device or _default_device()
-        except WarpUnavailable as e:
-            raise ValueError(str(e)) from None
-        _check_device_seen(wp, device)
-    else:
-        device = None
+    device = warp_device(args.device) if args.backend == "warp" else None  # name, gpu extra, CUDA seen
     _check_size(args, designs, settings)
     run = dict(backend=args.backend, device=device, workers=args.workers, max_batch=args.max_batch)
     progress = not args.quiet  # a bar on a terminal, a line per stage in logs and pipes (mat_hopper.progress)
