@@ -244,7 +244,11 @@ def _cmd_optimize(args) -> int:
         if args.replay is not None:
             if args.render:
                 check_output_dir(args.out or args.studies_dir, "--out")
-            return cmd_replay(name, open_existing(name, args), args)
+            storage = open_existing(name, args, read_only=True)  # replay reads the study, never writes it
+            try:
+                return cmd_replay(name, storage, args)
+            finally:
+                dispose(storage)  # no -wal/-shm files left beside the study
         out = check_output_dir(args.out or os.path.join(args.studies_dir, f"{name}-report"), "--out")
         with nothing_left_behind(out):
             return cmd_report(name, args, out)

@@ -52,3 +52,25 @@ def test_a_bad_cache_from_the_environment_is_named_as_such(command, tmp_path, mo
     _, err = refused(argv, capsys, "$MAT_HOPPER_CACHE", "is a file, not a folder")
     assert "--cache" not in err
     assert _left(tmp_path) == ["file"]
+
+
+# --- 4: --export / --replay of a queued trial name its state ----------------------------------------------------
+
+
+@pytest.mark.parametrize("flag", ["--export", "--replay"])
+def test_a_trial_that_has_not_run_is_named_by_its_state(flag, tmp_path, capsys):
+    from mat_hopper.optimize import RunOptions, StudyConfig, dispose
+    from mat_hopper.optimize._study import create_or_load
+
+    options = RunOptions(studies_dir=str(tmp_path))
+    storage = options.open("base")
+    create_or_load(StudyConfig("base"), storage)  # the paper's designs queued, none run
+    dispose(storage)
+    _, err = refused(
+        ["optimize", "--study", "base", flag, "5", "--studies-dir", str(tmp_path)],
+        capsys,
+        "trial 5 has not run yet",
+        "WAITING",
+    )
+    assert "parameters lack" not in err
+    assert _left(tmp_path) == ["base.db"]
