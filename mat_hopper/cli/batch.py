@@ -220,6 +220,7 @@ def _check_applicable(args) -> None:
         raise ValueError(f"{', '.join(given)}: not used by --stability (static hopping at its ladder of time steps)")
     if not args.stability and args.stability_duration is not None:
         raise ValueError("--stability-duration is for --stability")
+    _check_stability_duration(args.stability_duration)
     if args.backend != "warp":
         for flag, value in (("--device", args.device), ("--max-batch", args.max_batch)):
             if value is not None:
@@ -230,6 +231,22 @@ def _check_applicable(args) -> None:
 
     check_workers(args.workers)
     check_count(args.max_batch, "--max-batch", 1, MAX_WORLDS, "worlds")
+
+
+def _check_stability_duration(duration) -> None:
+    """--stability-duration (None: the reference's) is > 0 and at least the
+    ladder's largest time step: a shorter try takes no step at that rung and
+    would read as a design that never ends upright."""
+    if duration is None:
+        return
+    if not (math.isfinite(duration) and duration > 0):
+        raise ValueError(f"--stability-duration must be > 0 s, got {duration:g}")
+    first = ref.STABILITY_TIMESTEP_RANGE[0]  # the ladder's largest step (mat_hopper.stability.spec_ladder)
+    if duration < first:
+        raise ValueError(
+            f"--stability-duration must be at least the scan's largest time step, {first:g} s (a shorter try "
+            f"takes no step), got {duration:g} s"
+        )
 
 
 def _check_size(args, designs, settings) -> None:
@@ -265,8 +282,6 @@ def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
     from ..batch import spec_scan_batch
 
     duration = ref.STABILITY_TEST_DURATION_S if args.stability_duration is None else args.stability_duration
-    if not (math.isfinite(duration) and duration > 0):
-        raise ValueError(f"--stability-duration must be > 0 s, got {duration:g}")
     summary, tries = spec_scan_batch(
         designs,
         duration_s=duration,

@@ -90,6 +90,10 @@ def cmd_render(args) -> int:
     seconds = max(args.seconds, args.tile_start + 1.0)
     length = "--start + --seconds" if args.seconds >= args.tile_start + 1.0 else "--start + --tile-start + 1 s"
     settings = sim_settings_from_args(args, design, args.start + seconds, 0.0, duration_flag=length)
+    if args.seconds < settings.control_period_s:  # a video of no step
+        raise ValueError(
+            f"--seconds must be at least one control period, {settings.control_period_s:g} s, got {args.seconds:g} s"
+        )
     try:  # a named error before any work
         backend = choose_backend({"MUJOCO_GL": args.backend} if args.backend else None)
     except RenderBackendError as e:

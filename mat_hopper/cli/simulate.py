@@ -168,9 +168,36 @@ def sim_settings_from_args(
 ):
     """SimSettings of the run options, checked (run-size limits included)
     before any work; --timestep auto resolved for this design. Errors name
-    the options (duration_flag: what sets the run's length)."""
+    the options (duration_flag: what sets the run's length).
+
+    Args:
+        args: the parsed command line (--timestep, --convention,
+            --sensor-timing, --segment-mass, --damping, --profile).
+        design: the leg (for --timestep auto).
+        duration_s: the run's length, s.
+        transient_s: hop cycles starting before it are not scored, s.
+        duration_flag: the option(s) named for the run's length in errors.
+        **extra: further :class:`~mat_hopper.sim.SimSettings` fields.
+
+    Returns:
+        The :class:`~mat_hopper.sim.SimSettings`.
+
+    Raises:
+        ValueError: a bad setting (a run shorter than one control period
+            included), or a run above the limit of physics steps
+            (:func:`mat_hopper.limits.check_total_steps`, $MAT_HOPPER_MAX_STEPS),
+            naming the options.
+    """
+    from ..limits import check_total_steps
+
     with named_by_flags(duration_s=duration_flag, duration=duration_flag):
-        return _sim_settings(args, design, duration_s, transient_s, **extra)
+        settings = _sim_settings(args, design, duration_s, transient_s, **extra)
+    check_total_steps(  # the one limit of every command's work, as batch, optimize and reproduce
+        settings.n_steps,
+        f"{duration_flag} {settings.duration_s:g} s at {settings.timestep_s:g} s a physics step",
+        f"a shorter {duration_flag} or a larger --timestep",
+    )
+    return settings
 
 
 def _sim_settings(args, design: LegDesign, duration_s: float, transient_s: float, **extra):

@@ -74,3 +74,63 @@ def test_a_trial_that_has_not_run_is_named_by_its_state(flag, tmp_path, capsys):
     )
     assert "parameters lack" not in err
     assert _left(tmp_path) == ["base.db"]
+
+
+# --- 5: a run shorter than one control period is refused, with the numbers --------------------------------------
+
+
+@pytest.mark.parametrize(
+    "argv, texts",
+    [
+        (["simulate", "--design", "SS", "--behaviour", "static", "--duration", "1e-300", "--transient", "0"],
+         ("--duration must be at least one control period", "0.0001 s", "1e-300 s")),
+        (["simulate", "--design", "SS", "--behaviour", "static", "--duration", "1e-5", "--transient", "0"],
+         ("--duration must be at least one control period", "1e-05 s")),
+        (["simulate", "--design", "SS", "--convention", "axial", "--timestep", "auto", "--duration", "5e-5",
+          "--transient", "0"], ("--duration", "one control period", "8 x --timestep")),
+        (["batch", "--designs", "SS", "--duration", "1e-9", "--transient", "0", "--workers", "1"],
+         ("--duration must be at least one control period", "1e-09 s")),
+        (["batch", "--designs", "SS", "--stability", "--stability-duration", "1e-9", "--workers", "1"],
+         ("--stability-duration must be at least", "0.001 s", "1e-09 s")),
+        (["render", "--design", "SS", "--video", "v.gif", "--seconds", "1e-9"],
+         ("--seconds must be at least one control period", "1e-09 s")),
+    ],
+)  # fmt: skip
+def test_a_run_shorter_than_one_step_is_refused(argv, texts, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    refused([*argv, "--csv", "tiny.csv"] if argv[0] != "render" else argv, capsys, *texts)
+    assert _left(tmp_path) == []
+
+
+def test_the_library_refuses_a_run_of_no_step():
+    from mat_hopper.sim import SimSettings
+
+    with pytest.raises(ValueError, match="duration must be at least one control period, 0.0001 s"):
+        SimSettings(duration_s=1e-5, transient_s=0.0)
+    with pytest.raises(ValueError, match=r"4 x timestep 2\.5e-05 s"):
+        SimSettings(duration_s=5e-5, transient_s=0.0, timestep_s=2.5e-5, substeps=4)
+    assert SimSettings(duration_s=1e-4, transient_s=0.0).n_steps == 1
+
+
+# --- 6: simulate and render keep the run-size limit ($MAT_HOPPER_MAX_STEPS) ------------------------------------
+
+
+@pytest.mark.parametrize(
+    "value, texts",
+    [
+        ("", ("$MAT_HOPPER_MAX_STEPS is set but empty",)),
+        ("abc", ("$MAT_HOPPER_MAX_STEPS", "decimal")),
+        ("-1", ("$MAT_HOPPER_MAX_STEPS must be >= 1",)),
+        ("0", ("$MAT_HOPPER_MAX_STEPS must be >= 1",)),
+        ("1e3", ("physics steps in all", "above the limit of 1e+03 ($MAT_HOPPER_MAX_STEPS)")),
+    ],
+)
+@pytest.mark.parametrize("command", ["simulate", "render"])
+def test_simulate_and_render_keep_the_step_limit(command, value, texts, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("MAT_HOPPER_MAX_STEPS", value)
+    argv = ["simulate", "--duration", "1", "--transient", "0", "--csv", "h.csv"]
+    if command == "render":
+        argv = ["render", "--video", "v.gif", "--seconds", "1"]
+    refused(argv, capsys, *texts)
+    assert _left(tmp_path) == []
