@@ -16,14 +16,15 @@ import math
 import sys
 
 from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES
+from ..behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR
 from ..experiments.profiles import PROFILE_ENV, PROFILES
 from ..materials import CONVENTIONS
 from ._checks import SENSOR_TIMING_HELP, sensor_timing_type
 
 CSV_HELP = (
     "CSV of designs: columns density_1..density_N (g/cm^3) and modulus_1..modulus_N "
-    "(GPa, empty or 'rigid' for a rigid segment), optional 'design' column of names"
+    "(GPa, or 'rigid' for a rigid segment; a leg shorter than the table leaves both cells of each segment past its "
+    "last empty), optional 'design' column of names"
 )
 
 
@@ -45,7 +46,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "docs/reference-hopper.md; the paper's N is 20)",
     )
     # None: the default below, and a way to tell that --stability was given run settings it has no use for
-    p.add_argument("--behaviour", "--behavior", dest="behaviour", help=f"one of {', '.join(BEHAVIOUR_NAMES)} (forward)")
+    p.add_argument(
+        "--behaviour", "--behavior", dest="behaviour", help=f"one of {', '.join(BEHAVIOUR_NAMES)} ({DEFAULT_BEHAVIOUR})"
+    )
     p.add_argument("--duration", type=float, help=f"simulated seconds (the profile's, {ref.DURATION_S:g})")
     p.add_argument(
         "--transient",
@@ -130,7 +133,7 @@ def run_batch(args) -> int:
         designs = designs_from_csv(args.designs_csv)
     else:
         designs = parse_design_list(args.designs)
-    beh = behaviour("forward" if args.behaviour is None else args.behaviour)
+    beh = behaviour(DEFAULT_BEHAVIOUR if args.behaviour is None else args.behaviour)
     with named_by_flags():
         settings = _batch_settings(args, profile, timing)
     device = warp_device(args.device) if args.backend == "warp" else None  # name, gpu extra, CUDA seen

@@ -36,6 +36,7 @@ from ..optimize import (
 )
 from ..optimize._objective import HOPS_TO_FAILURE_RANGE, MAX_YIELD_FRACTION
 from ..optimize._robust import MAX_LEG_MASS_KG
+from ..optimize._space import MAX_SEGMENTS
 from ._checks import (
     cache_folder,
     check_name_list,
@@ -151,6 +152,27 @@ def _check_name_lists(args) -> None:
     check_name_list(args.ashby_classes, "--ashby-classes", lambda name: check_classes([name])[0])
 
 
+def _check_stress_options(args) -> None:
+    """--max-yield-fraction in (0, MAX_YIELD_FRACTION] and
+    --min-hops-to-failure in HOPS_TO_FAILURE_RANGE, in the command line's
+    words: the option left out is the constraint off (the library says
+    None)."""
+    from ..parsing import check_positive, parse_number
+
+    off = "; leave the option out for no constraint (off)"
+    if args.max_yield_fraction is not None:
+        try:
+            check_positive(args.max_yield_fraction, "--max-yield-fraction", high=MAX_YIELD_FRACTION)
+        except ValueError as e:
+            raise ValueError(f"{e}{off}") from None
+    if args.min_hops_to_failure is not None:
+        lo, hi = HOPS_TO_FAILURE_RANGE
+        try:
+            parse_number(args.min_hops_to_failure, "--min-hops-to-failure", low=lo, high=hi, unit="hops")
+        except ValueError as e:
+            raise ValueError(f"{e}{off}") from None
+
+
 def _check_space_options(args, space: SearchSpace) -> None:
     """Bounds are for continuous segments and --materials for catalogue
     ones: each refused, naming --space, when the space has none."""
@@ -260,6 +282,7 @@ def _cmd_optimize(args) -> int:
     options = options_from_args(args, args.trials)
     check_sampler(options.sampler)
     _check_name_lists(args)
+    _check_stress_options(args)
     with named_by_flags(**OPTION_OF_FIELD):
         fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
     _check_space_options(args, fresh.space)
@@ -382,7 +405,11 @@ def register_cli(sub) -> None:
         dest="behaviour",
         help="behaviour, or comma-separated behaviours (objectives averaged), default ramp",
     )
-    p.add_argument("--segments", type=int, help="segments per leg (default 3)")
+    p.add_argument(
+        "--segments",
+        type=int,
+        help=f"segments per leg, 1 to {MAX_SEGMENTS} (default {SearchSpace().n_segments})",
+    )
     p.add_argument(
         "--space", help="continuous (default), catalogue, or one kind per segment, e.g. catalogue,continuous,continuous"
     )

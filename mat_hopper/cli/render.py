@@ -8,6 +8,7 @@ import sys
 
 from ..behaviours import behaviour
 from ..damping import DEFAULT_DAMPING
+from ..materials import DEFAULT_CONVENTION
 from ..timestep import is_auto
 from ..viz.render import (
     _LIBS,
@@ -34,7 +35,12 @@ PICTURE_OPTIONS = {
     "tile_start": (("tiles",), 5.0),
 }
 # A still pictures the leg at rest: nothing is simulated, so run settings have no use.
-RUN_DEFAULTS = {"convention": "paper", "sensor_timing": "authors", "segment_mass": "leg", "damping": DEFAULT_DAMPING}
+RUN_DEFAULTS = {
+    "convention": DEFAULT_CONVENTION,
+    "sensor_timing": "authors",
+    "segment_mass": "leg",
+    "damping": DEFAULT_DAMPING,
+}
 
 
 def _flag(dest: str) -> str:

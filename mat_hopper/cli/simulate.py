@@ -7,12 +7,13 @@ import math
 import sys
 
 from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES, behaviour
+from ..behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR, behaviour
 from ..controls import CONTROLS, control, mass_properties
 from ..damping import DAMPINGS, DEFAULT_DAMPING
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
     CONVENTIONS,
+    DEFAULT_CONVENTION,
     DENSITY_RANGE_G_CM3,
     MODULUS_RANGE_GPA,
     SEGMENT_MASSES,
@@ -77,13 +78,15 @@ def design_from_args(args) -> LegDesign:
     if args.density is not None or args.modulus is not None:
         given = "--density" if args.density is not None else "--modulus"
         if args.design is not None:
-            raise ValueError(f"give either --design or {given} (with --modulus/--density), not both")
+            raise ValueError("give either --design or --density with --modulus, not both")
         if args.segments is not None:
             raise ValueError(f"--segments is for --design; {given} sets one value per segment")
         if args.density is None or args.modulus is None:
             raise ValueError("--density and --modulus go together (one value per segment)")
         dens = parse_list(args.density, "--density", unit="g/cm^3")
         mods = parse_list(args.modulus, "--modulus", rigid=True, unit="GPa")
+        if len(dens) != len(mods):  # no lone value spread over the segments (the help says one per segment)
+            raise ValueError(f"--density and --modulus need one value per segment (got {len(dens)} and {len(mods)})")
         for flag, vals, (lo, hi), unit in (
             ("--density", dens, DENSITY_RANGE_G_CM3, "g/cm^3"),
             ("--modulus", mods, MODULUS_RANGE_GPA, "GPa"),
@@ -138,7 +141,11 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         help=f"segments for a single-material --design (default {ref.REFERENCE_SEGMENTS}, at most 64)",
     )
     p.add_argument(
-        "--behaviour", "--behavior", dest="behaviour", default="forward", help=f"one of {', '.join(BEHAVIOUR_NAMES)}"
+        "--behaviour",
+        "--behavior",
+        dest="behaviour",
+        default=DEFAULT_BEHAVIOUR,
+        help=f"one of {', '.join(BEHAVIOUR_NAMES)} (default {DEFAULT_BEHAVIOUR})",
     )
     p.add_argument(
         "--timestep",
@@ -146,7 +153,11 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         help="physics time step, s, or 'auto' (substeps of the 1e-4 s control period chosen from the "
         f"design's spring bound); default: the profile's (1e-4; ${PROFILE_ENV})",
     )
-    p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
+    p.add_argument(
+        "--convention",
+        default=DEFAULT_CONVENTION,
+        help=f"stiffness convention: {', '.join(CONVENTIONS)} (default {DEFAULT_CONVENTION})",
+    )
     p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
     p.add_argument(
         "--segment-mass",

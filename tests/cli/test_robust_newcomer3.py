@@ -134,3 +134,64 @@ def test_simulate_and_render_keep_the_step_limit(command, value, texts, tmp_path
         argv = ["render", "--video", "v.gif", "--seconds", "1"]
     refused(argv, capsys, *texts)
     assert _left(tmp_path) == []
+
+
+# --- 7, 8, 9: one value per segment; messages in the command line's words, with the right counts ---------------
+
+
+@pytest.mark.parametrize(
+    "argv, texts",
+    [
+        (["modes", "--density", "1,1", "--modulus", "70"], ("one value per segment (got 2 and 1)",)),
+        (["modes", "--density", "1", "--modulus", "70,70,70,70,70"], ("one value per segment (got 1 and 5)",)),
+        (["simulate", "--density", "1,1", "--modulus", "70"], ("one value per segment (got 2 and 1)",)),
+        (["render", "--density", "1", "--modulus", "70,70", "--still", "s.png"], ("one value per segment",)),
+        (["simulate", "--density", "1,2,3", "--modulus", "1e-7,70,70"], ("or rigid",)),
+        (["simulate", "--design", "SS", "--density", "1", "--modulus", "2"],
+         ("give either --design or --density with --modulus, not both",)),
+        (["optimize", "--study", "s", *QUICK_STUDY, "--max-yield-fraction", "0"], ("(0, 10]", "leave the option out")),
+        (["optimize", "--study", "s", *QUICK_STUDY, "--min-hops-to-failure", "0"], ("[1, 1e+20]", "leave the option out")),
+    ],
+)  # fmt: skip
+def test_design_lists_and_messages_in_the_command_lines_words(argv, texts, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    _, err = refused(argv, capsys, *texts)
+    assert "or None" not in err and "(with --modulus/--density)" not in err
+    assert _left(tmp_path) == []
+
+
+def test_design_table_messages_list_the_names_and_count_the_tables_segments(tmp_path, capsys):
+    from mat_hopper.batch._designs import RECORD_COLUMNS
+
+    extra = tmp_path / "extra.csv"
+    extra.write_text("density_1,modulus_1,colour\n1,70,red\n")
+    _, err = refused(["simulate", "--design-csv", str(extra)], capsys, "'colour'", *RECORD_COLUMNS, "power_total_w")
+    assert "RECORD_COLUMNS" not in err
+    short = tmp_path / "shortrow.csv"
+    short.write_text("design,density_1,density_2,density_3,modulus_1,modulus_2,modulus_3\nA,1.39,4.43\n")
+    _, err = refused(["simulate", "--design-csv", str(short)], capsys, "modulus_1 is empty", "of the table's 3")
+    assert "a row's 2 segments" not in err
+
+
+# --- 10: help says what the code does, its defaults and ranges from the constants -------------------------------
+
+
+def _help(capsys, *argv) -> str:
+    from mat_hopper.cli import main
+
+    with pytest.raises(SystemExit):
+        main([*argv, "--help"])
+    return " ".join(capsys.readouterr().out.split())
+
+
+def test_help_states_defaults_and_ranges(capsys):
+    from mat_hopper.behaviours import DEFAULT_BEHAVIOUR
+    from mat_hopper.materials import DEFAULT_CONVENTION, MAX_SEGMENTS
+    from mat_hopper.optimize._space import MAX_SEGMENTS as MAX_OPT_SEGMENTS
+
+    assert "empty or 'rigid'" not in _help(capsys, "batch")
+    for command in ("simulate", "render"):
+        text = _help(capsys, command)
+        assert f"(default {DEFAULT_BEHAVIOUR})" in text and f"(default {DEFAULT_CONVENTION})" in text
+    assert f"segments per leg, 1 to {MAX_OPT_SEGMENTS}" in _help(capsys, "optimize")
+    assert f"1 to {MAX_SEGMENTS}" in _help(capsys, "modes")
