@@ -36,6 +36,7 @@ from .parsing import check_positive
 PATH_LINE, PATH_CIRCLE, PATH_TABLE = 0, 1, 2
 _PATH_CODES = {"line": PATH_LINE, "circle": PATH_CIRCLE, "table": PATH_TABLE}
 BEHAVIOUR_NAMES = ("static", "forward", "ramp", "circle")
+DEFAULT_BEHAVIOUR = "forward"  # the CLI's simulate, render and batch
 
 
 def order_behaviours(behaviours) -> list[str]:

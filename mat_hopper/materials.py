@@ -210,7 +210,7 @@ class Material:
             e = _check_number(
                 self.modulus_gpa,
                 f"modulus of {self.name}",
-                f"in [{lo:g}, {hi:g}] GPa, or None (rigid)",
+                f"in [{lo:g}, {hi:g}] GPa, or rigid (None in Python)",
                 bounds=MODULUS_RANGE_GPA,
             )
             object.__setattr__(self, "modulus_gpa", e)

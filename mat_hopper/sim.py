@@ -174,7 +174,8 @@ class SimSettings:
     :func:`sim_settings`; copies are ``dataclasses.replace``).
 
     Args:
-        duration_s: simulated run length, s (> transient_s).
+        duration_s: simulated run length, s (> transient_s, and at least
+            one control period, :attr:`control_period_s`).
         timestep_s: physics step, s, in (0, 0.1]; ``"auto"`` is resolved
             by :func:`sim_settings` (:func:`resolve_timestep`), not here.
         transient_s: hop cycles starting before it are not scored, s.
@@ -242,6 +243,12 @@ class SimSettings:
     def _check_run_size(self) -> None:
         if not self.duration_s > self.transient_s:
             raise ValueError(f"duration must be > transient ({self.transient_s:g} s), got {self.duration_s!r} s")
+        if self.duration_s < self.control_period_s:  # no step, or a part of one: an empty run
+            of = f"{self.substeps} x timestep {self.timestep_s:g} s" if self.substeps > 1 else "the timestep"
+            raise ValueError(
+                f"duration must be at least one control period, {self.control_period_s:g} s ({of}), "
+                f"got {self.duration_s:g} s"
+            )
         if self.duration_s / self.timestep_s > MAX_STEPS:
             raise ValueError(
                 f"duration / timestep = {self.duration_s / self.timestep_s:.3g} physics steps: over the "

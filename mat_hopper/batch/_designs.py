@@ -38,6 +38,14 @@ RECORD_COLUMNS = (
 )
 
 
+def _record_names() -> str:
+    """The record columns a design table may carry, as a message lists them."""
+    from ..optimize._metrics import METRICS
+
+    metrics = [m for m in METRICS if m not in RECORD_COLUMNS]
+    return ", ".join(RECORD_COLUMNS) + f", the optimizer's metrics ({', '.join(metrics)}) and their <metric>_se"
+
+
 def _unknown_columns(names) -> list[str]:
     """Of a design table's column names, those neither a design column nor
     a record column (:data:`RECORD_COLUMNS`, the optimizer's metrics and
@@ -176,7 +184,7 @@ def _columns(columns, source: str) -> tuple[int, dict, dict]:
     if unknown:
         raise ValueError(
             f"{source}: unknown column {', '.join(map(repr, unknown))}; a design table has density_1..density_N, "
-            "modulus_1..modulus_N, optionally design, and the record columns the tool writes (RECORD_COLUMNS)"
+            f"modulus_1..modulus_N, optionally design, and the record columns the tool writes: {_record_names()}"
         )
     if not dens:
         raise ValueError(f"{source}: needs columns density_1..density_N (g/cm^3) and modulus_1..modulus_N (GPa)")
@@ -231,7 +239,11 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
             if not d or not e:
                 empty = f"density_{i}" if not d else f"modulus_{i}"
                 hint = " (write rigid for a rigid segment)" if d else ""
-                raise ValueError(f"{where}: {empty} is empty{hint}; every cell of a row's {n} segments is needed")
+                raise ValueError(
+                    f"{where}: {empty} is empty{hint}; the row reaches segment {n} of the table's {n_max}, so "
+                    f"density_1..density_{n} and modulus_1..modulus_{n} are needed (only the cells past a row's "
+                    "last segment may be empty)"
+                )
             dens.append(_number(d, where, f"density_{i}", rigid=False))
             mods.append(_number(e, where, f"modulus_{i}", rigid=True))
         name = _cell(row["design"]) if "design" in frame.columns else ""

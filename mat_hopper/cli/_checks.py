@@ -408,6 +408,84 @@ def nothing_left_behind(*folders):
         raise
 
 
+def cache_folder(cache) -> tuple[str, str]:
+    """The result cache folder a command will write into, checked before
+    any work: ``--cache`` if given, else ``$MAT_HOPPER_CACHE``, else the
+    default folder. An empty ``$MAT_HOPPER_CACHE`` is an error naming it,
+    and a bad folder is named by where it came from (``$MAT_HOPPER_CACHE``,
+    never a ``--cache`` the user did not type).
+
+    Args:
+        cache: the ``--cache`` option's value, or None when it was left out.
+
+    Returns:
+        (the folder, the name to give it in messages: ``--cache`` or
+        ``$MAT_HOPPER_CACHE``).
+
+    Raises:
+        ValueError: ``$MAT_HOPPER_CACHE`` set but empty, or a folder that
+            cannot be written or made (:func:`check_output_dir`).
+    """
+    from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
+    from ..parsing import env_value
+
+    env_cache = None if cache else env_value(CACHE_ENV, "a folder")
+    flag = f"${CACHE_ENV}" if env_cache else "--cache"
+    return check_output_dir(cache or env_cache or DEFAULT_CACHE_DIR, flag), flag
+
+
+_WARP_DEVICE = re.compile(r"^(cpu|cuda(:\d+)?)$")
+WARP_DEVICES_ACCEPTED = "cpu, cuda or cuda:N"
+
+
+def check_warp_device_name(device, flag: str = "--device") -> None:
+    """A Warp device name (cpu, cuda, cuda:N) or None, checked before Warp
+    is imported (Warp warns about an unknown device).
+
+    Args:
+        device: the option's value, or None when it was left out.
+        flag: the option named in the error.
+
+    Raises:
+        ValueError: any other name, naming `flag` and the accepted names.
+    """
+    if device is not None and not _WARP_DEVICE.match(str(device).strip()):
+        raise ValueError(f"{flag} {device!r}: unknown device; accepted: {WARP_DEVICES_ACCEPTED}")
+
+
+def warp_device(device, flag: str = "--device") -> str:
+    """The Warp device a ``--backend warp`` command will run on, checked
+    before any work or file: the name, mujoco-warp installed, and a CUDA
+    device that Warp sees (one line, no Warp warning).
+
+    Args:
+        device: the option's value (cpu, cuda, cuda:N), or None: cuda
+            where Warp sees a GPU, else cpu.
+        flag: the option named in errors.
+
+    Returns:
+        The device's name (``"cpu"``, ``"cuda"``, ``"cuda:1"``).
+
+    Raises:
+        ValueError: an unknown name, no mujoco-warp (the ``gpu`` extra), or
+            a CUDA device Warp does not see.
+    """
+    from ..batch import WarpUnavailable, require_warp
+
+    check_warp_device_name(device, flag)
+    try:
+        wp, _ = require_warp()
+    except WarpUnavailable as e:  # one line, exit 2
+        raise ValueError(str(e)) from None
+    n = wp.get_cuda_device_count()
+    name = str(device).strip() if device is not None else ("cuda" if n > 0 else "cpu")
+    if name.startswith("cuda"):
+        index = int(name.split(":")[1]) if ":" in name else 0
+        if index >= n:
+            raise ValueError(f"{flag} {name}: Warp sees {n} CUDA device(s); accepted: cpu{', cuda' if n else ''}")
+    return name
+
+
 SENSOR_TIMING_HELP = (
     "when the controller reads the base sensors: authors (default: one physics step old, "
     "as the authors' loop), fresh, latency-L, or an integer latency L in physics steps"

@@ -13,18 +13,18 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
-import re
 import sys
 
 from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES
+from ..behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR
 from ..experiments.profiles import PROFILE_ENV, PROFILES
 from ..materials import CONVENTIONS
 from ._checks import SENSOR_TIMING_HELP, sensor_timing_type
 
 CSV_HELP = (
     "CSV of designs: columns density_1..density_N (g/cm^3) and modulus_1..modulus_N "
-    "(GPa, empty or 'rigid' for a rigid segment), optional 'design' column of names"
+    "(GPa, or 'rigid' for a rigid segment; a leg shorter than the table leaves both cells of each segment past its "
+    "last empty), optional 'design' column of names"
 )
 
 
@@ -46,7 +46,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "docs/reference-hopper.md; the paper's N is 20)",
     )
     # None: the default below, and a way to tell that --stability was given run settings it has no use for
-    p.add_argument("--behaviour", "--behavior", dest="behaviour", help=f"one of {', '.join(BEHAVIOUR_NAMES)} (forward)")
+    p.add_argument(
+        "--behaviour", "--behavior", dest="behaviour", help=f"one of {', '.join(BEHAVIOUR_NAMES)} ({DEFAULT_BEHAVIOUR})"
+    )
     p.add_argument("--duration", type=float, help=f"simulated seconds (the profile's, {ref.DURATION_S:g})")
     p.add_argument(
         "--transient",
@@ -102,33 +104,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 register_cli = add_parser  # the name mat_hopper.cli looks for
 
 
-def _default_device() -> str:
-    from ..batch import require_warp
-
-    wp, _ = require_warp()
-    return "cuda" if wp.get_cuda_device_count() > 0 else "cpu"
-
-
-_DEVICE = re.compile(r"^(cpu|cuda(:\d+)?)$")
-DEVICES_ACCEPTED = "cpu, cuda or cuda:N"
-
-
-def _check_device_name(device) -> None:
-    """--device is a Warp device name (cpu, cuda, cuda:N); ValueError naming it."""
-    if device is not None and not _DEVICE.match(str(device).strip()):
-        raise ValueError(f"--device {device!r}: unknown device; accepted: {DEVICES_ACCEPTED}")
-
-
-def _check_device_seen(wp, device: str) -> None:
-    """A cuda device Warp sees, before any model is built (one line, no Warp warning)."""
-    if not str(device).startswith("cuda"):
-        return
-    n = wp.get_cuda_device_count()
-    index = int(device.split(":")[1]) if ":" in device else 0
-    if index >= n:
-        raise ValueError(f"--device {device}: Warp sees {n} CUDA device(s); accepted: cpu{', cuda' if n else ''}")
-
-
 # Settings the CSV carries beside each row (every table says what made it).
 SETTING_COLUMNS = ("behaviour", "convention", "sensor_timing", "duration_s", "transient_s", "timestep_s", "backend")
 
@@ -143,6 +118,7 @@ def run_batch(args) -> int:
         check_output_file,
         named_by_flags,
         sensor_timing_arg,
+        warp_device,
     )
 
     check_output_file(args.csv, "--csv", stdout=True)  # before any work
@@ -157,21 +133,10 @@ def run_batch(args) -> int:
         designs = designs_from_csv(args.designs_csv)
     else:
         designs = parse_design_list(args.designs)
-    beh = behaviour("forward" if args.behaviour is None else args.behaviour)
+    beh = behaviour(DEFAULT_BEHAVIOUR if args.behaviour is None else args.behaviour)
     with named_by_flags():
         settings = _batch_settings(args, profile, timing)
-    if args.backend == "warp":
-        from ..batch import WarpUnavailable, require_warp
-
-        _check_device_name(args.device)  # before Warp is imported (it warns about unknown devices)
-        try:
-            wp, _ = require_warp()  # before any work: a missing gpu extra is one line
-            device = args.device or _default_device()
-        except WarpUnavailable as e:
-            raise ValueError(str(e)) from None
-        _check_device_seen(wp, device)
-    else:
-        device = None
+    device = warp_device(args.device) if args.backend == "warp" else None  # name, gpu extra, CUDA seen
     _check_size(args, designs, settings)
     run = dict(backend=args.backend, device=device, workers=args.workers, max_batch=args.max_batch)
     progress = not args.quiet  # a bar on a terminal, a line per stage in logs and pipes (mat_hopper.progress)
@@ -258,6 +223,7 @@ def _check_applicable(args) -> None:
         raise ValueError(f"{', '.join(given)}: not used by --stability (static hopping at its ladder of time steps)")
     if not args.stability and args.stability_duration is not None:
         raise ValueError("--stability-duration is for --stability")
+    _check_stability_duration(args.stability_duration)
     if args.backend != "warp":
         for flag, value in (("--device", args.device), ("--max-batch", args.max_batch)):
             if value is not None:
@@ -268,6 +234,22 @@ def _check_applicable(args) -> None:
 
     check_workers(args.workers)
     check_count(args.max_batch, "--max-batch", 1, MAX_WORLDS, "worlds")
+
+
+def _check_stability_duration(duration) -> None:
+    """--stability-duration (None: the reference's) is > 0 and at least the
+    ladder's largest time step: a shorter try takes no step at that rung and
+    would read as a design that never ends upright."""
+    if duration is None:
+        return
+    if not (math.isfinite(duration) and duration > 0):
+        raise ValueError(f"--stability-duration must be > 0 s, got {duration:g}")
+    first = ref.STABILITY_TIMESTEP_RANGE[0]  # the ladder's largest step (mat_hopper.stability.spec_ladder)
+    if duration < first:
+        raise ValueError(
+            f"--stability-duration must be at least the scan's largest time step, {first:g} s (a shorter try "
+            f"takes no step), got {duration:g} s"
+        )
 
 
 def _check_size(args, designs, settings) -> None:
@@ -303,8 +285,6 @@ def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
     from ..batch import spec_scan_batch
 
     duration = ref.STABILITY_TEST_DURATION_S if args.stability_duration is None else args.stability_duration
-    if not (math.isfinite(duration) and duration > 0):
-        raise ValueError(f"--stability-duration must be > 0 s, got {duration:g}")
     summary, tries = spec_scan_batch(
         designs,
         duration_s=duration,

@@ -8,7 +8,14 @@ import pandas as pd
 from .. import reference as ref
 from ..control import DEFAULT_SENSOR_TIMING
 from ..limits import check_count
-from ..materials import AXIAL_CONVENTIONS, BENDING_CONVENTIONS, CONVENTIONS, DEFAULT_SEGMENT_MASS, SEGMENT_MASSES
+from ..materials import (
+    AXIAL_CONVENTIONS,
+    BENDING_CONVENTIONS,
+    CONVENTIONS,
+    DEFAULT_SEGMENT_MASS,
+    MAX_SEGMENTS,
+    SEGMENT_MASSES,
+)
 from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, bending_modes, controller_timestep, estimate_timestep
 from ._checks import check_output_file, sensor_timing_type, write_table
 from .simulate import design_from_args
@@ -60,7 +67,7 @@ def _tables(args, design, n_modes: int) -> dict:
 
 def cmd_modes(args) -> int:
     check_output_file(args.csv, "--csv", stdout=True)  # before any work
-    check_count(args.modes, "--modes", 1, 64, "modes to list")
+    check_count(args.modes, "--modes", 1, MAX_SEGMENTS, "modes to list")
     design = design_from_args(args)
     n_modes = DEFAULT_MODES if args.modes is None else args.modes
     head = (
@@ -135,7 +142,7 @@ def register_cli(sub) -> None:
         "--modes",
         type=int,
         default=None,
-        help=f"how many modes of each kind (default {DEFAULT_MODES}, or as many as the leg has)",
+        help=f"how many modes of each kind, 1 to {MAX_SEGMENTS} (default {DEFAULT_MODES}, or as many as the leg has)",
     )
     p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here (- for standard output)")
     p.set_defaults(func=cmd_modes)

@@ -36,7 +36,16 @@ from ..optimize import (
 )
 from ..optimize._objective import HOPS_TO_FAILURE_RANGE, MAX_YIELD_FRACTION
 from ..optimize._robust import MAX_LEG_MASS_KG
-from ._checks import check_name_list, check_output_dir, named_by_flags, nothing_left_behind, parse_pair
+from ..optimize._space import MAX_SEGMENTS
+from ._checks import (
+    cache_folder,
+    check_name_list,
+    check_output_dir,
+    named_by_flags,
+    nothing_left_behind,
+    parse_pair,
+    warp_device,
+)
 from ._optimize_outputs import cmd_export, cmd_replay, cmd_report, open_existing, options_from_args
 
 # The search space's and objective's fields, as their options (for messages).
@@ -116,6 +125,8 @@ def check_options(args) -> None:
     if args.out is not None and (mode is None or (mode == "--replay" and not args.render)):
         what = "a study run writes only its storage" if mode is None else "--replay alone writes nothing"
         raise ValueError(f"--out is for --report, --export or --replay --render ({what})")
+    if mode is None and args.backend == "warp" and args.workers is not None:  # as mat-hopper batch
+        raise ValueError("--workers is for --backend mujoco (a warp batch is one process; see --batch-size)")
     if args.storage and args.studies_dir is not None:
         writes_there = args.out is None and (mode in ("--report", "--export") or (mode == "--replay" and args.render))
         if not writes_there:
@@ -139,6 +150,27 @@ def _check_name_lists(args) -> None:
 
     check_name_list(args.materials, "--materials", lambda name: material(name).name)
     check_name_list(args.ashby_classes, "--ashby-classes", lambda name: check_classes([name])[0])
+
+
+def _check_stress_options(args) -> None:
+    """--max-yield-fraction in (0, MAX_YIELD_FRACTION] and
+    --min-hops-to-failure in HOPS_TO_FAILURE_RANGE, in the command line's
+    words: the option left out is the constraint off (the library says
+    None)."""
+    from ..parsing import check_positive, parse_number
+
+    off = "; leave the option out for no constraint (off)"
+    if args.max_yield_fraction is not None:
+        try:
+            check_positive(args.max_yield_fraction, "--max-yield-fraction", high=MAX_YIELD_FRACTION)
+        except ValueError as e:
+            raise ValueError(f"{e}{off}") from None
+    if args.min_hops_to_failure is not None:
+        lo, hi = HOPS_TO_FAILURE_RANGE
+        try:
+            parse_number(args.min_hops_to_failure, "--min-hops-to-failure", low=lo, high=hi, unit="hops")
+        except ValueError as e:
+            raise ValueError(f"{e}{off}") from None
 
 
 def _check_space_options(args, space: SearchSpace) -> None:
@@ -234,7 +266,11 @@ def _cmd_optimize(args) -> int:
         if args.replay is not None:
             if args.render:
                 check_output_dir(args.out or args.studies_dir, "--out")
-            return cmd_replay(name, open_existing(name, args), args)
+            storage = open_existing(name, args, read_only=True)  # replay reads the study, never writes it
+            try:
+                return cmd_replay(name, storage, args)
+            finally:
+                dispose(storage)  # no -wal/-shm files left beside the study
         out = check_output_dir(args.out or os.path.join(args.studies_dir, f"{name}-report"), "--out")
         with nothing_left_behind(out):
             return cmd_report(name, args, out)
@@ -246,6 +282,7 @@ def _cmd_optimize(args) -> int:
     options = options_from_args(args, args.trials)
     check_sampler(options.sampler)
     _check_name_lists(args)
+    _check_stress_options(args)
     with named_by_flags(**OPTION_OF_FIELD):
         fresh = config_from_args(args, None)  # bad settings fail here, before any file is made
     _check_space_options(args, fresh.space)
@@ -306,31 +343,30 @@ def _check_size(args, config: StudyConfig) -> None:
 
 
 def _check_backend(args) -> str | None:
-    """--backend's options, and mujoco-warp for warp: one-line errors before
-    any file is made. Returns the CPU path's cache folder (None on warp)."""
-    if getattr(args, "race", False) and args.batch_size is not None:
+    """--backend's options, the cache folder ($MAT_HOPPER_CACHE named as
+    such) and, for warp, the device and mujoco-warp: one-line errors before
+    any file is made (the study's storage included). Returns the CPU
+    path's cache folder (None on warp, where args.device is set to the
+    device Warp will run on)."""
+    race = getattr(args, "race", False)
+    if race and args.batch_size is not None:
         raise ValueError("--batch-size is not for --race: racing asks brackets of 9 trials")
     if args.backend != "warp":
         if args.device is not None:
             raise ValueError("--device is for --backend warp")
-        return check_output_dir(args.cache or os.environ.get(CACHE_ENV) or DEFAULT_CACHE_DIR, "--cache")
+        return cache_folder(args.cache)[0]
+    if race:
+        raise ValueError("--race runs on --backend mujoco (the warp backend has no perturbations yet)")
     if args.cache is not None:
         raise ValueError("--cache is for --backend mujoco (the warp backend caches nothing)")
-    from ..batch import WarpUnavailable, require_warp
-
-    try:
-        require_warp()
-    except WarpUnavailable as e:  # one line, exit 2, as mat-hopper batch
-        raise ValueError(str(e)) from None
+    args.device = warp_device(args.device)  # as mat-hopper batch: the name, the gpu extra, a CUDA device seen
     return None
 
 
 def _run_backend(config: StudyConfig, options: RunOptions, args):
     """The study on --backend mujoco (CPU processes, the reference) or warp
     (MuJoCo Warp batches), rounds of --batch-size trials either way."""
-    if getattr(args, "race", False):
-        if args.backend == "warp":
-            raise ValueError("--race runs on --backend mujoco (the warp backend has no perturbations yet)")
+    if getattr(args, "race", False):  # on mujoco (_check_backend)
         from ..optimize import race_study
 
         return race_study(config, options)
@@ -369,7 +405,11 @@ def register_cli(sub) -> None:
         dest="behaviour",
         help="behaviour, or comma-separated behaviours (objectives averaged), default ramp",
     )
-    p.add_argument("--segments", type=int, help="segments per leg (default 3)")
+    p.add_argument(
+        "--segments",
+        type=int,
+        help=f"segments per leg, 1 to {MAX_SEGMENTS} (default {SearchSpace().n_segments})",
+    )
     p.add_argument(
         "--space", help="continuous (default), catalogue, or one kind per segment, e.g. catalogue,continuous,continuous"
     )

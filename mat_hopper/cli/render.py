@@ -8,6 +8,7 @@ import sys
 
 from ..behaviours import behaviour
 from ..damping import DEFAULT_DAMPING
+from ..materials import DEFAULT_CONVENTION
 from ..timestep import is_auto
 from ..viz.render import (
     _LIBS,
@@ -34,7 +35,12 @@ PICTURE_OPTIONS = {
     "tile_start": (("tiles",), 5.0),
 }
 # A still pictures the leg at rest: nothing is simulated, so run settings have no use.
-RUN_DEFAULTS = {"convention": "paper", "sensor_timing": "authors", "segment_mass": "leg", "damping": DEFAULT_DAMPING}
+RUN_DEFAULTS = {
+    "convention": DEFAULT_CONVENTION,
+    "sensor_timing": "authors",
+    "segment_mass": "leg",
+    "damping": DEFAULT_DAMPING,
+}
 
 
 def _flag(dest: str) -> str:
@@ -90,6 +96,10 @@ def cmd_render(args) -> int:
     seconds = max(args.seconds, args.tile_start + 1.0)
     length = "--start + --seconds" if args.seconds >= args.tile_start + 1.0 else "--start + --tile-start + 1 s"
     settings = sim_settings_from_args(args, design, args.start + seconds, 0.0, duration_flag=length)
+    if args.seconds < settings.control_period_s:  # a video of no step
+        raise ValueError(
+            f"--seconds must be at least one control period, {settings.control_period_s:g} s, got {args.seconds:g} s"
+        )
     try:  # a named error before any work
         backend = choose_backend({"MUJOCO_GL": args.backend} if args.backend else None)
     except RenderBackendError as e:

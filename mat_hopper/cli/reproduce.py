@@ -11,8 +11,14 @@ from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..experiments.reproduce import default_out_dir, reproduce
 from ..limits import check_total_steps, check_workers
 from ..materials import CONVENTIONS
-from ..parsing import env_value
-from ._checks import check_distinct_paths, check_name_list, check_output_dir, is_inside, nothing_left_behind
+from ._checks import (
+    cache_folder,
+    check_distinct_paths,
+    check_name_list,
+    check_output_dir,
+    is_inside,
+    nothing_left_behind,
+)
 
 
 def _connect(address: str):
@@ -109,10 +115,7 @@ def cmd_reproduce(args) -> int:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
     check_workers(args.workers)
     out = check_output_dir(args.out or default_out_dir(profile.name), "--out")
-    # an empty $MAT_HOPPER_CACHE is an error naming it, not --cache (a flag never typed)
-    env_cache = None if args.cache else env_value(CACHE_ENV, "a folder")
-    cache_flag = f"${CACHE_ENV}" if env_cache else "--cache"
-    cache = check_output_dir(args.cache or env_cache or DEFAULT_CACHE_DIR, cache_flag)
+    cache, cache_flag = cache_folder(args.cache)  # an empty or bad $MAT_HOPPER_CACHE is named, not --cache
     # tables and cached runs in one folder cannot be told apart; results inside the
     # cache folder go when the cache is cleared
     check_distinct_paths({"--out": out, cache_flag: cache})

@@ -7,12 +7,13 @@ import math
 import sys
 
 from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES, behaviour
+from ..behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR, behaviour
 from ..controls import CONTROLS, control, mass_properties
 from ..damping import DAMPINGS, DEFAULT_DAMPING
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..materials import (
     CONVENTIONS,
+    DEFAULT_CONVENTION,
     DENSITY_RANGE_G_CM3,
     MODULUS_RANGE_GPA,
     SEGMENT_MASSES,
@@ -77,13 +78,15 @@ def design_from_args(args) -> LegDesign:
     if args.density is not None or args.modulus is not None:
         given = "--density" if args.density is not None else "--modulus"
         if args.design is not None:
-            raise ValueError(f"give either --design or {given} (with --modulus/--density), not both")
+            raise ValueError("give either --design or --density with --modulus, not both")
         if args.segments is not None:
             raise ValueError(f"--segments is for --design; {given} sets one value per segment")
         if args.density is None or args.modulus is None:
             raise ValueError("--density and --modulus go together (one value per segment)")
         dens = parse_list(args.density, "--density", unit="g/cm^3")
         mods = parse_list(args.modulus, "--modulus", rigid=True, unit="GPa")
+        if len(dens) != len(mods):  # no lone value spread over the segments (the help says one per segment)
+            raise ValueError(f"--density and --modulus need one value per segment (got {len(dens)} and {len(mods)})")
         for flag, vals, (lo, hi), unit in (
             ("--density", dens, DENSITY_RANGE_G_CM3, "g/cm^3"),
             ("--modulus", mods, MODULUS_RANGE_GPA, "GPa"),
@@ -138,7 +141,11 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         help=f"segments for a single-material --design (default {ref.REFERENCE_SEGMENTS}, at most 64)",
     )
     p.add_argument(
-        "--behaviour", "--behavior", dest="behaviour", default="forward", help=f"one of {', '.join(BEHAVIOUR_NAMES)}"
+        "--behaviour",
+        "--behavior",
+        dest="behaviour",
+        default=DEFAULT_BEHAVIOUR,
+        help=f"one of {', '.join(BEHAVIOUR_NAMES)} (default {DEFAULT_BEHAVIOUR})",
     )
     p.add_argument(
         "--timestep",
@@ -146,7 +153,11 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         help="physics time step, s, or 'auto' (substeps of the 1e-4 s control period chosen from the "
         f"design's spring bound); default: the profile's (1e-4; ${PROFILE_ENV})",
     )
-    p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
+    p.add_argument(
+        "--convention",
+        default=DEFAULT_CONVENTION,
+        help=f"stiffness convention: {', '.join(CONVENTIONS)} (default {DEFAULT_CONVENTION})",
+    )
     p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
     p.add_argument(
         "--segment-mass",
@@ -168,9 +179,36 @@ def sim_settings_from_args(
 ):
     """SimSettings of the run options, checked (run-size limits included)
     before any work; --timestep auto resolved for this design. Errors name
-    the options (duration_flag: what sets the run's length)."""
+    the options (duration_flag: what sets the run's length).
+
+    Args:
+        args: the parsed command line (--timestep, --convention,
+            --sensor-timing, --segment-mass, --damping, --profile).
+        design: the leg (for --timestep auto).
+        duration_s: the run's length, s.
+        transient_s: hop cycles starting before it are not scored, s.
+        duration_flag: the option(s) named for the run's length in errors.
+        **extra: further :class:`~mat_hopper.sim.SimSettings` fields.
+
+    Returns:
+        The :class:`~mat_hopper.sim.SimSettings`.
+
+    Raises:
+        ValueError: a bad setting (a run shorter than one control period
+            included), or a run above the limit of physics steps
+            (:func:`mat_hopper.limits.check_total_steps`, $MAT_HOPPER_MAX_STEPS),
+            naming the options.
+    """
+    from ..limits import check_total_steps
+
     with named_by_flags(duration_s=duration_flag, duration=duration_flag):
-        return _sim_settings(args, design, duration_s, transient_s, **extra)
+        settings = _sim_settings(args, design, duration_s, transient_s, **extra)
+    check_total_steps(  # the one limit of every command's work, as batch, optimize and reproduce
+        settings.n_steps,
+        f"{duration_flag} {settings.duration_s:g} s at {settings.timestep_s:g} s a physics step",
+        f"a shorter {duration_flag} or a larger --timestep",
+    )
+    return settings
 
 
 def _sim_settings(args, design: LegDesign, duration_s: float, transient_s: float, **extra):

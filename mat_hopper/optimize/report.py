@@ -475,14 +475,21 @@ def trial_design(name: str, storage, number: int):
 
     Raises:
         ValueError: no such study (the message lists the studies present),
-            not ours, no such trial, or a trial without the space's
-            parameters.
+            not ours, no such trial, a trial that has not run yet (queued,
+            or running before its design is drawn: its state named), or a
+            trial without the space's parameters.
     """
     study, config = load(name, storage)
     trials = [t for t in study.get_trials(deepcopy=False) if t.number == number]
     if not trials:
         raise ValueError(f"study {name!r} has no trial {number} (trials 0..{len(study.trials) - 1})")
     t = trials[0]
+    if not t.params and t.state in (TrialState.WAITING, TrialState.RUNNING):  # queued, or not yet suggested
+        what = "queued" if t.state == TrialState.WAITING else "started but its design not yet drawn"
+        raise ValueError(
+            f"study {name!r}: trial {number} has not run yet (state {t.state.name}: {what}); it has no design "
+            "to replay or export"
+        )
     return t, config.space.design(t.params, name=f"{name}#{number}"), config
 
 
