@@ -16,6 +16,7 @@ from ..viz.render import (
     RASTER_EXTENSIONS,
     VIDEO_EXTENSIONS,
     RenderBackendError,
+    check_mp4_size,
     choose_backend,
     parse_size,
     render_files,
@@ -81,6 +82,8 @@ def cmd_render(args) -> int:
     with named_by_flags(size="--size", fps="--fps"):  # the library's words, the options' names
         size = parse_size(args.size)
         check_fps(args.fps)
+        if args.video and args.video.lower().endswith(".mp4"):
+            check_mp4_size(size)
     design = design_from_args(args)
     beh = behaviour(args.behaviour)
     # every run setting (time step or auto, sensor timing, segment mass) and the

@@ -443,6 +443,34 @@ def video_frames(
     )
 
 
+MP4_BLOCK_PX = 8  # H.264's macro block as write_video asks imageio-ffmpeg for it: sizes are padded up to it
+
+
+def check_mp4_size(size) -> tuple[int, int]:
+    """An MP4's frame size: its width and height must be multiples of
+    :data:`MP4_BLOCK_PX`, else the encoder pads the frames (641x480 came out
+    648x480 while the command said 641x480).
+
+    Args:
+        size: (width, height) in pixels.
+
+    Returns:
+        (width, height) as ints.
+
+    Raises:
+        ValueError: a width or height that is not a multiple of MP4_BLOCK_PX,
+            naming the padded size and a .gif for any size.
+    """
+    w, h = (int(v) for v in size)
+    if w % MP4_BLOCK_PX or h % MP4_BLOCK_PX:
+        pad = tuple(-(-v // MP4_BLOCK_PX) * MP4_BLOCK_PX for v in (w, h))
+        raise ValueError(
+            f"size {w}x{h}: an MP4's width and height must be multiples of {MP4_BLOCK_PX} pixels (the H.264 "
+            f"encoder would pad it to {pad[0]}x{pad[1]}); give e.g. {pad[0]}x{pad[1]}, or write a .gif for any size"
+        )
+    return w, h
+
+
 def write_video(frames, path: str, fps: float) -> str:
     """Write frames (an array or any iterable of (h, w, 3) uint8 images) as
     MP4 (H.264, imageio-ffmpeg; streamed) or GIF, atomically.
@@ -516,12 +544,15 @@ def save_video(
 
     Raises:
         ValueError: a file extension other than .mp4 or .gif, `fps` outside
-            (0, 240], a rollout without joint positions, or an error of
+            (0, 240], an MP4 size that is not a multiple of 8 pixels
+            (:func:`check_mp4_size`), a rollout without joint positions, or an error of
             :func:`record` or :func:`video_times`.
         RenderBackendError: no usable off-screen OpenGL library or context.
     """
-    _check_extension(path, VIDEO_EXTENSIONS)
+    ext = _check_extension(path, VIDEO_EXTENSIONS)
     _check_fps(fps)
+    if ext == ".mp4":
+        check_mp4_size(size)
     if rollout is None:
         rollout = record(design, behaviour, seconds, start_s=start_s)
     times = video_times(rollout, start_s=start_s, seconds=seconds, fps=fps)

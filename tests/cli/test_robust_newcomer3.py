@@ -195,3 +195,17 @@ def test_help_states_defaults_and_ranges(capsys):
         assert f"(default {DEFAULT_BEHAVIOUR})" in text and f"(default {DEFAULT_CONVENTION})" in text
     assert f"segments per leg, 1 to {MAX_OPT_SEGMENTS}" in _help(capsys, "optimize")
     assert f"1 to {MAX_SEGMENTS}" in _help(capsys, "modes")
+
+
+# --- B3: an MP4 size the encoder would pad is refused before any rendering -----------------------------------
+
+
+@pytest.mark.parametrize("size, padded", [("641x480", "648x480"), ("100x100", "104x104")])
+def test_an_mp4_size_the_encoder_would_pad_is_refused(size, padded, tmp_path, monkeypatch, capsys):
+    """641x480 came out 648x480 while render printed 641x480 (H.264's 8-pixel
+    blocks, imageio-ffmpeg's macro_block_size); a .gif keeps any size."""
+    monkeypatch.chdir(tmp_path)
+    refused(
+        ["render", "--design", "SS", "--video", "v.mp4", "--size", size, "--seconds", "0.1"], capsys, padded, ".gif"
+    )
+    assert _left(tmp_path) == []
