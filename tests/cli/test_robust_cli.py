@@ -148,11 +148,11 @@ def test_chunked_rollout_with_progress_is_bit_identical():
 @pytest.mark.parametrize(
     "argv, text",
     [
-        (["--density", "1e30,1,1", "--modulus", "70"], "density of seg1 must be in [0.001, 30] g/cm^3"),
-        (["--density", "1e-30,1,1", "--modulus", "70"], "density of seg1 must be in [0.001, 30] g/cm^3"),
+        (["--density", "1e30,1,1", "--modulus", "70,70,70"], "density of seg1 must be in [0.001, 30] g/cm^3"),
+        (["--density", "1e-30,1,1", "--modulus", "70,70,70"], "density of seg1 must be in [0.001, 30] g/cm^3"),
         (["--density", "8", "--modulus", "1e-30"], "modulus of seg1 must be in [1e-06, 2000] GPa"),
         (["--density", "8", "--modulus", "1e30"], "modulus of seg1 must be in [1e-06, 2000] GPa"),
-        (["--density", "0,1,2", "--modulus", "70"], "--density must be > 0 g/cm^3"),
+        (["--density", "0,1,2", "--modulus", "70,70,70"], "--density must be > 0 g/cm^3"),
     ],
 )
 def test_physical_ranges_named(here, capsys, argv, text):
@@ -166,10 +166,10 @@ def test_physical_ranges_named(here, capsys, argv, text):
 @pytest.mark.parametrize(
     "argv, text",
     [
-        (["--density", "1,,2", "--modulus", "70"], "(an empty item)"),
-        (["--density", "1,2,", "--modulus", "70"], "(an empty item)"),
+        (["--density", "1,,2", "--modulus", "70,70,70"], "(an empty item)"),
+        (["--density", "1,2,", "--modulus", "70,70,70"], "(an empty item)"),
         (["--density", "1,2,3", "--modulus", "70,,70,70"], "(an empty item)"),
-        (["--density", "1,x,3", "--modulus", "70"], "--density must be comma-separated numbers"),
+        (["--density", "1,x,3", "--modulus", "70,70,70"], "--density must be comma-separated numbers"),
         (["--density", "1,2,3", "--modulus", "70,nan,70"], "not finite"),
         # argparse would answer "expected one argument": the value is a negative number list
         (["--density", "-1,2,3", "--modulus", "1,1,1"], "--density must be > 0 g/cm^3"),
