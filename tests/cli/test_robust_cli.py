@@ -174,7 +174,7 @@ def test_physical_ranges_named(here, capsys, argv, text):
         # argparse would answer "expected one argument": the value is a negative number list
         (["--density", "-1,2,3", "--modulus", "1,1,1"], "--density must be > 0 g/cm^3"),
         (["--density=-1,2,3", "--modulus", "1,1,1"], "--density must be > 0 g/cm^3"),
-        (["--density", "1,2,3", "--modulus", "-70"], "--modulus must be > 0 GPa"),
+        (["--density", "1,2,3", "--modulus", "-70,70,70"], "--modulus must be > 0 GPa"),
         (["--sensor-timing", "soon"], "unknown sensor timing 'soon'"),
         (["--sensor-timing", "-3"], "--sensor-timing: must be in [0, 1000] physics steps, got '-3'"),
         (["--segment-mass", "blob"], "invalid choice: 'blob'"),
