@@ -20,6 +20,15 @@ from mat_hopper.sim import simulate  # noqa: E402
 SHORT = BatchSettings(duration_s=0.45, timestep_s=2e-4, transient_s=0.1)
 
 
+def _qpos_trace(b: WarpBatch, n: int) -> np.ndarray:
+    """(n, nworld, nq): every world's joint positions after each of n steps."""
+    trace = np.zeros((n, b.nworld, b.mjm.nq))
+    for i in range(n):
+        b.advance(1)
+        trace[i] = b.d.qpos.numpy()
+    return trace
+
+
 @pytest.fixture(scope="module")
 def sprung_batch():
     # Four sprung designs, one topology: different densities per segment, moduli, a gradient.
@@ -88,10 +97,7 @@ def test_other_sensor_latencies_follow_the_cpu_path(latency, timestep_s):
     designs = ["PVC", LegDesign.from_properties([1.1, 2.5, 1.9], [0.45, 4.0, 9.0])]  # stable at 2e-4 s
     b = WarpBatch(designs, "forward", s, device="cpu")
     n = s.n_steps
-    trace = np.zeros((n, b.nworld, b.mjm.nq))
-    for i in range(n):
-        b.advance(1)
-        trace[i] = b.d.qpos.numpy()
+    trace = _qpos_trace(b, n)
     assert (b.diverged_steps() == -1).all()
     every_step = replace(s, record_rate_hz=1.0 / timestep_s)
     errors = []
@@ -127,10 +133,7 @@ def test_trajectories_follow_mujoco_cpu_and_divergence_stays_in_its_world():
     designs = ["PVC", "SS", LegDesign.from_properties([2.5], [0.45] * 3)]
     b = WarpBatch(designs, "forward", SHORT, device="cpu")
     n = SHORT.n_steps
-    trace = np.zeros((n, b.nworld, b.mjm.nq))
-    for i in range(n):
-        b.advance(1)
-        trace[i] = b.d.qpos.numpy()
+    trace = _qpos_trace(b, n)
     div = b.diverged_steps()
     for w, design in enumerate(designs):
         ro, ref = authors_rollout(design, "forward", SHORT, trace_qpos=n)
@@ -157,10 +160,7 @@ def test_rigid_legs_follow_mujoco_cpu():
     rigid_nq, sprung_nq = (build_model(parse_design(d)).model.nq for d in ("MD", "PVC"))
     assert b.mjm.nq == rigid_nq < sprung_nq  # the rigid topology: no spring joints
     n = SHORT.n_steps
-    trace = np.zeros((n, b.nworld, b.mjm.nq))
-    for i in range(n):
-        b.advance(1)
-        trace[i] = b.d.qpos.numpy()
+    trace = _qpos_trace(b, n)
     assert (b.diverged_steps() == -1).all()
     for w, design in enumerate(designs):
         ro, ref = authors_rollout(design, "forward", SHORT, trace_qpos=n)
