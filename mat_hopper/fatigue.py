@@ -344,7 +344,10 @@ def fatigue_summary(rollout, cycles: np.ndarray) -> dict:
         cycles: (k, 2) scored hop cycles, s.
 
     Returns:
-        ``peak_stress_pa`` (the leg's largest over the hops), ``yield_ratio``
+        ``peak_stress_pa`` (the leg's largest over the hops: an extreme
+        of the run, which grows with its length), ``hop_peak_stress_median_pa``
+        (the median over hops of each hop's leg peak: the typical hop,
+        robust to one hard landing), ``yield_ratio``
         (the largest peak over yield), ``damage_per_hop`` (the mean Miner
         damage per hop of its most damaged segment), ``hops_to_failure``
         (1 / that; inf without damage: Basquin's line extrapolated, often
@@ -356,13 +359,14 @@ def fatigue_summary(rollout, cycles: np.ndarray) -> dict:
     """
     per = hop_stress(rollout, cycles)
     if per.empty or per["peak_stress_pa"].isna().all():
-        return {"peak_stress_pa": math.nan, "yield_ratio": math.nan, "damage_per_hop": math.nan,
+        return {"peak_stress_pa": math.nan, "hop_peak_stress_median_pa": math.nan, "yield_ratio": math.nan, "damage_per_hop": math.nan,
                 "hops_to_failure": math.nan, "fatigue_safety_factor": math.nan,
                 "yield_exceeded": False}  # fmt: skip
     mean_damage = per.groupby("segment")["damage"].mean()
     d = float(mean_damage.max())
     return {
         "peak_stress_pa": float(per["peak_stress_pa"].max()),
+        "hop_peak_stress_median_pa": float(per.groupby("hop")["peak_stress_pa"].max().median()),
         "yield_ratio": float(per["yield_ratio"].max()),
         "damage_per_hop": d,
         "hops_to_failure": math.inf if d == 0 else 1.0 / d,

@@ -280,9 +280,14 @@ def summarize(hops: pd.DataFrame, by=("design", "behaviour"), metrics=METRICS) -
 def holm(pvalues) -> np.ndarray:
     """Holm-Bonferroni adjusted p-values (same order as given).
 
+    A non-finite p (nan: a comparison that could not be tested, e.g. no
+    usable pairs) stays a member of the family: it counts in the family's
+    size m as a hypothesis that can never be rejected (as p = 1, so it
+    ranks last), and comes back nan. Leaving it out would shrink m and
+    make every other adjustment less strict.
+
     Args:
-        pvalues: raw p-values, array-like; non-finite ones (nan) are left out
-            of the family.
+        pvalues: raw p-values, array-like (nan where untested).
 
     Returns:
         float array of the input's shape: the adjusted p-values, capped at 1
@@ -290,14 +295,15 @@ def holm(pvalues) -> np.ndarray:
         not finite.
     """
     p = np.asarray(pvalues, dtype=float)
-    out = np.full_like(p, np.nan)
     ok = np.isfinite(p)
-    idx = np.argsort(p[ok])
-    m = ok.sum()
-    adj = np.maximum.accumulate((m - np.arange(m)) * p[ok][idx])
-    vals = np.empty(m)
-    vals[idx] = np.minimum(adj, 1.0)
-    out[ok] = vals
+    filled = np.where(ok, p, 1.0).ravel()  # untested: in the family, never rejected
+    m = filled.size
+    idx = np.argsort(filled, kind="stable")
+    adj = np.maximum.accumulate((m - np.arange(m)) * filled[idx])
+    out = np.empty(m)
+    out[idx] = np.minimum(adj, 1.0)
+    out = out.reshape(p.shape)
+    out[~ok] = np.nan
     return out
 
 

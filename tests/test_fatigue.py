@@ -118,6 +118,13 @@ def test_hop_table_has_stress_columns():
     assert r.stress.shape == (len(r.time), 3, 4)
     assert np.all(r.stress[:, :, 0] == 0.0)  # bending: axially rigid
     assert math.isfinite(hops["damage"].iloc[0])
+    # the run's summary: its extreme is the largest hop peak; the typical hop is their median
+    from mat_hopper.fatigue import fatigue_summary
+    from mat_hopper.rollout import hop_cycles
+
+    life = fatigue_summary(r, hop_cycles(r, 1.0))
+    assert life["peak_stress_pa"] == hops["peak_stress_pa"].max()
+    assert life["hop_peak_stress_median_pa"] == float(np.median(hops["peak_stress_pa"]))
 
 
 def test_loop_stress_is_the_springs_force_over_section():

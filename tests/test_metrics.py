@@ -64,6 +64,14 @@ def test_holm_against_hand_computation():
     assert np.isnan(holm([np.nan, 0.1])[0])
 
 
+def test_holm_counts_untested_comparisons_in_the_family():
+    # an untested comparison (nan) is one of the family's m hypotheses, never rejected:
+    # m = 3, sorted 0.01*3 = 0.03, 0.04*2 = 0.08; leaving it out would give 0.02 and 0.04
+    out = holm([0.01, 0.04, np.nan])
+    assert out[:2] == pytest.approx([0.03, 0.08]) and np.isnan(out[2])
+    assert holm([np.nan, 0.1])[1] == pytest.approx(0.2)
+
+
 def test_compare_percent_change_and_effect():
     rng = np.random.default_rng(0)
     rows = []
