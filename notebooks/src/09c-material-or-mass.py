@@ -529,6 +529,13 @@ book.show(effect[["order", "cutoff_hz", "n_pairs", "pct_change", "ci_low", "ci_h
 # such mode, so a design-against-twin contrast is where a time-step
 # effect would show most; chapter 11's robustness study reruns the main
 # claims at 2e-5 s and with fresh sensing, not these contrasts.
+#
+# A second limit is in the pairing. A seed's push comes at the same time
+# for every leg, not at the same phase of the hop, and legs whose hops
+# differ in period take it at different phases (in stance, or in flight).
+# The push's time is drawn uniformly over a scored window of many hops,
+# so each leg meets every phase equally often across seeds: this widens
+# the paired intervals, and does not bias the effects.
 
 # %%
 n_seeds = b.profile.replicates
