@@ -122,11 +122,21 @@ def run_variant(args) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--design", default="SS")
-    ap.add_argument("--seconds", type=float, default=12.0)
-    ap.add_argument("--workers", type=int, default=os.cpu_count())
-    ap.add_argument("--csv")
+    ap.add_argument("--design", default="SS", help="a design name or list (SS)")
+    ap.add_argument("--seconds", type=float, default=12.0, help=f"run length, s, > {KICK_S + 1 + 4 * WINDOW_S:g} (12)")
+    ap.add_argument("--workers", type=int, default=os.cpu_count(), help="processes (every core)")
+    ap.add_argument("--csv", help="write the table here")
     args = ap.parse_args()
+    try:
+        parse_design(args.design)
+    except ValueError as e:
+        ap.error(f"--design: {e}")
+    if not args.seconds > KICK_S + 1 + 4 * WINDOW_S:  # the kick, 1 s of settling, four windows to fit
+        ap.error(f"--seconds must be > {KICK_S + 1 + 4 * WINDOW_S:g} s, got {args.seconds:g}")
+    if args.workers < 1:
+        ap.error(f"--workers must be >= 1, got {args.workers}")
+    if args.csv and not os.path.isdir(os.path.dirname(os.path.abspath(args.csv))):  # checked before the runs
+        ap.error(f"--csv: no folder {os.path.dirname(os.path.abspath(args.csv))}")
     tasks = [(args.design, label, args.seconds) for label in VARIANTS]
     with ProcessPoolExecutor(args.workers) as ex:
         table = pd.DataFrame(list(ex.map(run_variant, tasks)))
