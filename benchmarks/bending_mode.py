@@ -19,7 +19,8 @@ one suspect, seeds the mode with a kick and measures its growth:
 Variants (forward hopping unless said):
 
 - ``authors``: the authors' controller, ``--timestep auto``, whose sensor
-  delay is one physics step;
+  delay is one physics step; ``authors, no kick`` the same without the
+  kick (the mode seeded by round-off alone: the kick's control);
 - ``in place``: the static behaviour;
 - ``30 substeps, delay 33 us``: 3.3e-6 s physics steps with the sensor
   delay held at ``auto``'s one step of 3.3e-5 s (``latency-10``): the
@@ -58,9 +59,11 @@ STIFFEN = 100.0
 KICK_S = 3.0  # the gait has settled (hop cycles score after 1 s)
 KICK_RAD_S = 1e-8  # added to the base's roll rate
 WINDOW_S = 0.31  # half a hop
+NO_KICK = {"authors, no kick"}
 # label: (behaviour, settings overrides, hinge name prefix to stiffen or None)
 VARIANTS = {
     "authors": ("forward", {}, None),
+    "authors, no kick": ("forward", {}, None),
     "in place": ("static", {}, None),
     "30 substeps, delay 33 us": ("forward", FINE, None),
     "30 substeps, delay 3.3 us": ("forward", {"substeps": 30}, None),
@@ -102,9 +105,10 @@ def run_variant(args) -> dict:
             if (mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or "").startswith(stiffen):
                 m.jnt_stiffness[j] *= STIFFEN
     runner.advance(round(KICK_S / settings.timestep_s))
-    m = runner.hopper.model
-    roll_dof = m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, BASE_JOINTS[3])]  # base_roll
-    runner.data.qvel[roll_dof] += KICK_RAD_S
+    if label not in NO_KICK:
+        m = runner.hopper.model
+        roll_dof = m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, BASE_JOINTS[3])]  # base_roll
+        runner.data.qvel[roll_dof] += KICK_RAD_S
     r = runner.advance().result()
     rate, decades, passed = envelope_growth(r.time, r.data[:, C["roll"]], KICK_S + 1.0)
     return {
