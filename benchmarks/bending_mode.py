@@ -45,9 +45,9 @@ import os
 from concurrent.futures import ProcessPoolExecutor
 
 import mujoco
-import numpy as np
 import pandas as pd
 
+from mat_hopper.analysis.growth import envelope_growth
 from mat_hopper.control import ControllerSettings
 from mat_hopper.materials import parse_design
 from mat_hopper.model import BASE_JOINTS, BEND_SPRINGS
@@ -76,21 +76,6 @@ VARIANTS = {
 }
 
 
-def envelope_growth(time_s: np.ndarray, roll_rad: np.ndarray, after_s: float) -> tuple[float, float, float]:
-    """(slope of log envelope, 1/s; decades moved; when it first passed 1e-2 rad, s) of |roll| from
-    after_s. The slope and decades stop where the envelope first passes 1e-2 rad; both are nan when
-    fewer than 4 windows come before that (a jump, not a growth a line describes)."""
-    edges = np.arange(after_s, time_s[-1] - WINDOW_S / 2, WINDOW_S)
-    env = np.array([np.abs(roll_rad[(time_s >= e) & (time_s < e + WINDOW_S)]).max() for e in edges])
-    big = np.flatnonzero(env > 1e-2)
-    stop = big[0] if big.size else len(env)
-    passed = float(edges[stop]) if big.size else float("nan")
-    if stop < 4:
-        return float("nan"), float("nan"), passed
-    t, log_env = edges[:stop] + WINDOW_S / 2, np.log(env[:stop])
-    return float(np.polyfit(t, log_env, 1)[0]), float((log_env[-1] - log_env[0]) / np.log(10)), passed
-
-
 def run_variant(args) -> dict:
     design_name, label, seconds = args
     behaviour, overrides, stiffen = VARIANTS[label]
@@ -110,7 +95,8 @@ def run_variant(args) -> dict:
         roll_dof = m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, BASE_JOINTS[3])]  # base_roll
         runner.data.qvel[roll_dof] += KICK_RAD_S
     r = runner.advance().result()
-    rate, decades, passed = envelope_growth(r.time, r.data[:, C["roll"]], KICK_S + 1.0)
+    fit = envelope_growth(r.time, r.data[:, C["roll"]], WINDOW_S, start_s=KICK_S + 1.0)
+    rate, decades, passed = fit.rate_per_s, fit.decades, fit.passed_s
     return {
         "design": design_name,
         "variant": label,

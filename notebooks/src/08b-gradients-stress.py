@@ -61,6 +61,7 @@ from myst_nb import glue
 
 from mat_hopper import mass_matched
 from mat_hopper.analysis import paired
+from mat_hopper.analysis.growth import envelope_growth
 from mat_hopper.behaviours import behaviour
 from mat_hopper.experiments.runner import RunSpec, run_grid
 from mat_hopper.fatigue import DESIGN_LIFE_CYCLES, fatigue_summary, hop_stress, strength
@@ -169,16 +170,10 @@ book.show(table)
 
 # %%
 def growth_rate(rollout, window_s=0.31):
-    """e-folding rate (1/s) of the envelope of the base's |roll| (its largest value in each
-    half-hop window) from the first window above 1e-12 rad to the first above 1e-2 rad;
-    nan with fewer than 4 windows between."""
-    edges = np.arange(rollout.time[0], rollout.time[-1] - window_s / 2, window_s)
-    tilt = np.abs(rollout.data[:, C["roll"]])
-    env = np.array([tilt[(rollout.time >= e) & (rollout.time < e + window_s)].max() for e in edges])
-    start = np.argmax(env > 1e-12) if (env > 1e-12).any() else len(env)
-    stop = np.argmax(env > 1e-2) if (env > 1e-2).any() else len(env)
-    grow = slice(start, stop)
-    return np.polyfit(edges[grow], np.log(env[grow]), 1)[0] if stop - start >= 4 else np.nan
+    """e-folding rate (1/s) of the envelope of the base's |roll|, from the first half-hop window above
+    1e-12 rad to the first above 1e-2 rad (mat_hopper.analysis.growth); nan with fewer than 4 windows."""
+    roll = rollout.data[:, C["roll"]]
+    return envelope_growth(rollout.time, roll, window_s, floor=1e-12, ceiling=1e-2).rate_per_s
 
 
 bending = b.profile.for_convention("bending")
