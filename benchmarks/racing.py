@@ -38,6 +38,22 @@ objectives; Optuna's own computation is private and no hypervolume package
 is installed). A front with no survivor has hypervolume 0. Then the
 medians over seeds per study.
 
+Survival is judged under validation's default domination rule, ``margin``
+(a paper design dominates a front design when it is significantly better on
+one objective, worse on none, and non-inferior within ±10 % on the other),
+and, beside it on the same runs, under the ``significance`` rule used
+before (``surviving_fraction_significance``: the margin's non-inferiority
+dropped, so that a trade-off short of Holm's threshold counted as
+domination), and the fraction of the front that survives *shown* not
+dominated (``shown_not_dominated_fraction``: no paper design better on an
+objective at all, or the design's own advantage elsewhere shown by its
+interval; :func:`mat_hopper.optimize.validate.survival_state`), the rest of
+the survivors being unresolved. ``--confirm-seeds 10`` also confirms each front on seeds of
+its own (:func:`mat_hopper.optimize.confirm.confirm_front`, seeds 2000..)
+and reports how many designs it confirms, what that costs in simulated
+seconds, and the confirmed designs' surviving fraction and hypervolume on
+validation's seeds.
+
 The issue's figures (5 seeds, 3 brackets each, quick profile, ramp; 177 min
 on 2 cores shared with another job, 2026-12-02; docs/optimizer.md gives
 them)::
@@ -86,7 +102,8 @@ from mat_hopper.optimize import (
     simulated_seconds,
 )
 from mat_hopper.optimize._robust import DEFAULT_REPLICATES
-from mat_hopper.optimize.validate import replicate_means, validate_front
+from mat_hopper.optimize.confirm import confirm_front
+from mat_hopper.optimize.validate import replicate_means, validate_front, verdicts
 
 VALIDATION_SEEDS = (
     10  # the default of --validation-seeds; fewer and survival is 'untestable' (validate.py's module doc)
@@ -100,7 +117,16 @@ COLUMNS = [
     "front",
     "survivors",
     "surviving_fraction",
+    "surviving_fraction_significance",
+    "shown_not_dominated_fraction",
     "hv_validated",
+    "hv_significance",
+    "confirmed",
+    "confirmation_s",
+    "confirmation_front_s",
+    "confirmed_survivors",
+    "confirmed_surviving_fraction",
+    "hv_confirmed",
     "search_wall_s",
     "validation_wall_s",
 ]
@@ -277,10 +303,14 @@ def one_seed(seed: int, args, folder: str) -> list[dict]:
         row = {"study": study_kind, "seed": seed, "simulated_s": spent, "front": len(front)}
         row["complete_trials"] = len(study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,)))
         row.update(validated(front, objective_of(args, reps), args))
+        row.update(confirmed_of(front, row, objective_of(args, reps), args))
         row.update(search_wall_s=t1 - t0, validation_wall_s=time.perf_counter() - t1)
         rows.append(row)
         print(f"seed {seed} {study_kind}: {row['complete_trials']} complete trials, {spent:.0f} simulated s, "
-              f"front {len(front)}, survivors {row['survivors']} ({row['surviving_fraction']:.2f}); "
+              f"front {len(front)}, survivors {row['survivors']} ({row['surviving_fraction']:.2f}; "
+              f"{row['surviving_fraction_significance']:.2f} under the significance rule); "
+              f"confirmed {row['confirmed']}, of them surviving {row['confirmed_survivors']} "
+              f"({row['confirmed_surviving_fraction']:.2f}); "
               f"{row['search_wall_s']:.0f} + {row['validation_wall_s']:.0f} s", flush=True)  # fmt: skip
     return rows
 
@@ -299,16 +329,72 @@ def validated(front: dict, objective: Objective, args) -> dict:
         the seeds, in the objective's order) and survived (booleans).
     """
     if not front:
-        return {"survivors": 0, "surviving_fraction": math.nan, "points": np.empty((0, 2)), "survived": []}
+        return {"survivors": 0, "surviving_fraction": math.nan, "points": np.empty((0, 2)), "names": [], "survived": [],
+                "survived_significance": []}  # fmt: skip
     res = validate_front(front, objective, replicates=args.validation_seeds, cache_dir=args.cache, workers=args.workers)
+    # the rule before the margin rule, judged on the same runs and table: its fraction beside the new one
+    before = verdicts(res["runs"], res["paired"], rule="significance")
+    kept_before = (before["survives"].astype(str) == "True").sum()
+    ver = res["verdicts"]  # survivors shown not dominated, not merely not shown dominated (validate.survival_state)
+    shown = (ver["survives"].astype(str) == "True") & (ver["against the paper's designs"] == "not dominated")
     means = replicate_means(res["runs"], objective)
     names = [n for n in front if ("front", n) in means.index.droplevel("replicate")]
     points = np.array([means.loc[("front", n)].mean().to_numpy(float) for n in names]).reshape(len(names), -1)
     return {
         "survivors": len(res["survivors"]),
         "surviving_fraction": res["surviving_fraction"],
+        "shown_not_dominated_fraction": shown.sum() / len(ver)
+        if res["surviving_fraction"] == res["surviving_fraction"]
+        else math.nan,
+        "surviving_fraction_significance": kept_before / len(before)
+        if res["surviving_fraction"] == res["surviving_fraction"]
+        else math.nan,
         "points": points,
+        "names": names,
         "survived": [n in res["survivors"] for n in names],
+        "survived_significance": [
+            n in set(before.loc[before["survives"].astype(str) == "True", "design"]) for n in names
+        ],
+    }
+
+
+def confirmed_of(front: dict, row: dict, objective: Objective, args) -> dict:
+    """Confirm a front on ``args.confirm_seeds`` seeds of its own
+    (:func:`mat_hopper.optimize.confirm.confirm_front`, seeds 2000..), and
+    read the confirmed designs' survival from the validation already made
+    (on seeds 0..: a design's survival there depends on its own runs and
+    the paper designs' only, not on which other designs are in the front).
+
+    Args:
+        front: {name: LegDesign}.
+        row: :func:`validated`'s result for that front (names, survived).
+        objective: the studies' objective.
+        args: the command line (confirm_seeds: 0 confirms nothing).
+
+    Returns:
+        dict: confirmed (count; NaN when off), confirmation_s (simulated
+        seconds of every confirmation run, the paper designs' included),
+        confirmation_front_s (the front designs' share), confirmed_survivors,
+        confirmed_surviving_fraction (NaN when off or none confirmed) and
+        ``confirmed_mask`` (over ``row["names"]``).
+    """
+    names = row.get("names", [])
+    off = {"confirmed": math.nan, "confirmation_s": 0.0, "confirmation_front_s": 0.0,
+           "confirmed_survivors": math.nan, "confirmed_surviving_fraction": math.nan,
+           "confirmed_mask": [False] * len(names)}  # fmt: skip
+    if not args.confirm_seeds or not front:
+        return off
+    res = confirm_front(front, objective, replicates=args.confirm_seeds, cache_dir=args.cache, workers=args.workers)
+    mask = [n in res["confirmed"] for n in names]
+    both = sum(c and s for c, s in zip(mask, row["survived"]))
+    n = len(res["confirmed"])
+    return {
+        "confirmed": n,
+        "confirmation_s": res["simulated_s"],
+        "confirmation_front_s": res["front_simulated_s"],
+        "confirmed_survivors": both,
+        "confirmed_surviving_fraction": both / n if n and not math.isnan(row["surviving_fraction"]) else math.nan,
+        "confirmed_mask": mask,
     }
 
 
@@ -324,11 +410,20 @@ def with_hypervolumes(rows: list[dict]) -> tuple[pd.DataFrame, np.ndarray]:
         times HV_FACTOR, the objectives being positive).
     """
     for r in rows:
-        r["kept"] = r["points"][np.asarray(r["survived"], bool)] if len(r["points"]) else r["points"]
+        survived = np.asarray(r["survived"], bool)
+        r["kept"] = r["points"][survived] if len(r["points"]) else r["points"]
+        both = survived & np.asarray(r["confirmed_mask"], bool)
+        r["kept_confirmed"] = r["points"][both] if len(r["points"]) else r["points"]
     pts = [r["kept"] for r in rows if len(r["kept"])]
     reference = HV_FACTOR * np.nanmax(np.vstack(pts), axis=0) if pts else np.array([])
     for r in rows:
         r["hv_validated"] = hypervolume(r["kept"], reference) if len(r["kept"]) else 0.0
+        old = np.asarray(r.get("survived_significance", []), bool)  # the rule before, same reference point
+        r["hv_significance"] = hypervolume(r["points"][old], reference) if old.any() else 0.0
+        if r["confirmed"] != r["confirmed"]:  # NaN: confirmation off
+            r["hv_confirmed"] = math.nan
+        else:
+            r["hv_confirmed"] = hypervolume(r["kept_confirmed"], reference) if len(r["kept_confirmed"]) else 0.0
     return pd.DataFrame(rows)[COLUMNS], reference
 
 
@@ -356,6 +451,10 @@ def parse_args(argv=None) -> argparse.Namespace:
     ap.add_argument("--validation-seeds", type=int, default=VALIDATION_SEEDS,
                     help=f"fresh seeds of the validation ({VALIDATION_SEEDS}; at 9 or fewer the 18 comparisons "
                     "with the paper's designs cannot reach Holm's 0.05 / 18, and survival is untestable)")  # fmt: skip
+    ap.add_argument("--confirm-seeds", type=int, default=0,
+                    help="confirm each front on this many seeds of its own (2000..) before validation, and report "
+                    "the confirmed designs' survival beside the whole front's (0: off; 10: the fewest that can "
+                    "test 18 comparisons)")  # fmt: skip
     ap.add_argument("--workers", type=int, default=2, help="processes that simulate (2)")
     ap.add_argument("--cache", help="result cache (default $MAT_HOPPER_CACHE, else results/cache)")
     ap.add_argument("--studies-dir", help="where the studies' SQLite files go (default a temporary folder)")
@@ -369,6 +468,8 @@ def parse_args(argv=None) -> argparse.Namespace:
         ap.error("give --seeds >= 1 and --budget-s > 0")
     if not 2 <= args.validation_seeds <= 1000:
         ap.error(f"--validation-seeds must be in [2, 1000] (paired comparisons), got {args.validation_seeds}")
+    if args.confirm_seeds and not 2 <= args.confirm_seeds <= 1000:
+        ap.error(f"--confirm-seeds must be 0 (off) or in [2, 1000], got {args.confirm_seeds}")
     if args.validate_only and not (args.studies_dir and os.path.isdir(args.studies_dir)):
         ap.error("--validate-only needs --studies-dir, an existing folder of an earlier run's studies")
     objective_of(args, args.replicates)  # bad settings fail here, before any run
@@ -398,7 +499,11 @@ def main(argv=None) -> pd.DataFrame:
         f"hypervolume reference ({', '.join(f'{v:.4g}' for v in reference)}) in {', '.join(ob.objectives)}"
     )
     print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-    medians = table.groupby("study", sort=False)[["front", "surviving_fraction", "hv_validated"]].median()
+    cols = ["front", "surviving_fraction", "shown_not_dominated_fraction", "surviving_fraction_significance"]
+    cols += ["hv_validated", "hv_significance"]
+    if args.confirm_seeds:
+        cols += ["confirmed", "confirmed_surviving_fraction", "hv_confirmed", "confirmation_s"]
+    medians = table.groupby("study", sort=False)[cols].median()
     print("\nmedians over seeds:")
     print(medians.to_string(float_format=lambda v: f"{v:.4g}"))
     print(f"wall {time.perf_counter() - t0:.0f} s")

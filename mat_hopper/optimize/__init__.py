@@ -19,7 +19,10 @@ random numbers, mean or CVaR, the leg-mass constraint); ``_export`` writes a
 trial's design as CSV and MJCF; ``_metrics`` is the named table of what an
 objective may minimize (:data:`METRICS`, with units); ``_racing`` runs multi-fidelity racing
 (successive halving on ask-and-tell, through the same evaluators). The
-command line is :mod:`mat_hopper.cli.optimize`.
+public modules :mod:`~mat_hopper.optimize.validate` (a front judged on
+fresh seeds against the paper's designs and its controls) and
+:mod:`~mat_hopper.optimize.confirm` (the same judgement on seeds of its
+own) are imported by name. The command line is :mod:`mat_hopper.cli.optimize`.
 """
 
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch
@@ -34,6 +37,7 @@ from ._robust import (
     DEFAULT_CVAR_ALPHA,
     DEFAULT_LEG_MASS_TOLERANCE,
     DEFAULT_REPLICATES,
+    MAX_REPLICATES,
     RISKS,
     SEARCH_SEED_START,
     cvar,
@@ -99,6 +103,7 @@ __all__ = [
     "DEFAULT_CVAR_ALPHA",
     "DEFAULT_LEG_MASS_TOLERANCE",
     "DEFAULT_REPLICATES",
+    "MAX_REPLICATES",
     "RISKS",
     "SEARCH_SEED_START",
     "cvar",

@@ -232,8 +232,16 @@ glue("fig-hypervolume", ax.figure, display=False)
 # also runs on the other behaviours, at a finer time step (with and
 # without the controller's own 1e-4 s period) and under the axial
 # convention. It **survives** when every run stays up and no paper design
-# dominates it, the comparisons paired by seed with Holm's correction over
-# all of the design's comparisons.
+# dominates it, the comparisons paired by seed with Holm's correction
+# within each question's family: the design's comparisons with the paper's
+# nine decide survival; those with each kind of control decide that
+# control's verdict. A paper design *dominates* a front design when it is
+# significantly better on one objective, significantly worse on none, and
+# non-inferior on the other: the front design's advantage there beyond
+# ±10 % is ruled out by its interval (`validate.DEFAULT_DOMINANCE`, the
+# `margin` rule). A front design trades one objective for another by
+# construction, so the burden of proof lies on domination: an advantage
+# that merely falls short of Holm's threshold is not counted as none.
 
 # %%
 searched = optimize.front_designs(front)  # the front's new legs (the paper's own are comparators)
@@ -294,7 +302,7 @@ glue(
 #
 # Each validated design against its own mass-matched leg, paired by seed
 # (percent change, below zero is better, with its unadjusted 95 % t
-# interval; the verdicts use Holm over all of a design's comparisons, so
+# interval; the verdicts use Holm over the design's comparisons of that kind, so
 # an interval clear of zero here can still fall short there):
 
 # %%
