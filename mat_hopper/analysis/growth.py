@@ -52,7 +52,8 @@ def envelope_growth(
 
     Args:
         time_s: (T,) sample times, s, increasing.
-        signal: (T,) the oscillating quantity (e.g. the base's roll, rad).
+        signal: (T,) the oscillating quantity (e.g. the base's roll, rad);
+            non-finite samples are skipped.
         window_s: the envelope's window, s (> 0; e.g. half a hop, 0.31 s).
         start_s: where the windows begin, s (default: the first sample).
         floor: the fit starts at the first window whose envelope exceeds
@@ -67,16 +68,20 @@ def envelope_growth(
         window; each is fitted at its centre.
 
     Raises:
-        ValueError: `time_s` and `signal` of different lengths, or
+        ValueError: `time_s` and `signal` not 1-D of one length of at
+            least 2 samples, `time_s` not finite and increasing, or
             `window_s` not positive.
     """
     t, x = np.asarray(time_s, float), np.asarray(signal, float)
-    if t.shape != x.shape or t.ndim != 1:
-        raise ValueError(f"time_s and signal must be 1-D of one length, got {t.shape} and {x.shape}")
+    if t.shape != x.shape or t.ndim != 1 or t.size < 2:
+        raise ValueError(f"time_s and signal must be 1-D of one length >= 2, got {t.shape} and {x.shape}")
+    if not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
+        raise ValueError("time_s must be finite and increasing")
     if not window_s > 0:
         raise ValueError(f"window_s must be > 0, got {window_s!r}")
     edges = np.arange(t[0] if start_s is None else start_s, t[-1] - window_s / 2, window_s)
-    env = np.array([np.abs(x[(t >= e) & (t < e + window_s)]).max(initial=0.0) for e in edges])
+    ax, ok = np.abs(x), np.isfinite(x)  # a NaN sample (none in a rollout's record) is skipped, not propagated
+    env = np.array([ax.max(initial=0.0, where=ok & (t >= e) & (t < e + window_s)) for e in edges])
     big = np.flatnonzero(env > ceiling)
     stop = int(big[0]) if big.size else len(env)
     passed = float(edges[stop]) if big.size else float("nan")

@@ -56,3 +56,14 @@ def test_bad_input_is_refused(kwargs):
         envelope_growth(T, T, **kwargs)
     with pytest.raises(ValueError, match="one length"):
         envelope_growth(T, T[:-1], 0.3)
+    for bad in (np.array([]), np.zeros((3, 2))):
+        with pytest.raises(ValueError, match="one length >= 2"):
+            envelope_growth(bad, bad, 0.3)
+    with pytest.raises(ValueError, match="increasing"):
+        envelope_growth(T[::-1], T, 0.3)
+
+
+def test_a_nan_sample_is_skipped():
+    x = 1e-6 * np.exp(2 * T)
+    x[1234] = np.nan
+    assert envelope_growth(T, x, 0.25).rate_per_s == pytest.approx(2.0, rel=1e-9)
