@@ -45,10 +45,11 @@ and, beside it on the same runs, under the ``significance`` rule used
 before (``surviving_fraction_significance``: the margin's non-inferiority
 dropped, so that a trade-off short of Holm's threshold counted as
 domination), and the fraction of the front that survives *shown* not
-dominated (``shown_not_dominated_fraction``: no paper design better on an
-objective at all, or the design's own advantage elsewhere shown by its
-interval; :func:`mat_hopper.optimize.validate.survival_state`), the rest of
-the survivors being unresolved. ``--confirm-seeds 10`` also confirms each front on seeds of
+dominated (``shown_not_dominated_fraction``: against every paper design,
+the design's own advantage on some objective shown by its interval, or
+every interval inside ±10 %;
+:func:`mat_hopper.optimize.validate.survival_state`), the rest of the
+survivors being unresolved. ``--confirm-seeds 10`` also confirms each front on seeds of
 its own (:func:`mat_hopper.optimize.confirm.confirm_front`, seeds 2000..)
 and reports how many designs it confirms, what that costs in simulated
 seconds, and the confirmed designs' surviving fraction and hypervolume on
@@ -77,6 +78,7 @@ import argparse
 import dataclasses
 import math
 import os
+import sys
 import tempfile
 import time
 
@@ -84,8 +86,10 @@ import numpy as np
 import optuna
 import pandas as pd
 
+from mat_hopper.analysis.paired import reachable
 from mat_hopper.atomic import write_csv
 from mat_hopper.experiments.profiles import get_profile
+from mat_hopper.materials import paper_designs
 from mat_hopper.optimize import (
     Objective,
     PoolEvaluator,
@@ -449,12 +453,12 @@ def parse_args(argv=None) -> argparse.Namespace:
     ap.add_argument("--objectives", default="tracking_error_m,power_w", help="two or three metrics (the default's)")
     ap.add_argument("--replicates", type=int, default=DEFAULT_REPLICATES, help="K of the racing study's full fidelity")
     ap.add_argument("--validation-seeds", type=int, default=VALIDATION_SEEDS,
-                    help=f"fresh seeds of the validation ({VALIDATION_SEEDS}; at 9 or fewer the 18 comparisons "
-                    "with the paper's designs cannot reach Holm's 0.05 / 18, and survival is untestable)")  # fmt: skip
+                    help=f"fresh seeds of the validation ({VALIDATION_SEEDS}; survival is testable from 10 for 2 "
+                    "objectives (18 comparisons with the paper's designs), from 11 for 3: fewer warn at once)")  # fmt: skip
     ap.add_argument("--confirm-seeds", type=int, default=0,
-                    help="confirm each front on this many seeds of its own (2000..) before validation, and report "
-                    "the confirmed designs' survival beside the whole front's (0: off; 10: the fewest that can "
-                    "test 18 comparisons)")  # fmt: skip
+                    help="also judge each front on this many seeds of its own (2000..), and report the confirmed "
+                    "designs' survival on validation's seeds beside the whole front's (0: off; 10: the fewest "
+                    "that can test 18 comparisons)")  # fmt: skip
     ap.add_argument("--workers", type=int, default=2, help="processes that simulate (2)")
     ap.add_argument("--cache", help="result cache (default $MAT_HOPPER_CACHE, else results/cache)")
     ap.add_argument("--studies-dir", help="where the studies' SQLite files go (default a temporary folder)")
@@ -463,16 +467,30 @@ def parse_args(argv=None) -> argparse.Namespace:
                     help="re-validate the studies stored in --studies-dir by an earlier run; search nothing")  # fmt: skip
     args = ap.parse_args(argv)
     text = args.seeds.strip()
-    args.seed_list = list(range(int(text))) if text.isdigit() else [int(s) for s in text.split(",") if s.strip()]
-    if not args.seed_list or args.budget_s <= 0:
-        ap.error("give --seeds >= 1 and --budget-s > 0")
+    try:
+        args.seed_list = list(range(int(text))) if text.isdigit() else [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        ap.error(f"--seeds must be a count N or a comma list of seeds >= 0, got {args.seeds!r}")
+    if not args.seed_list or min(args.seed_list) < 0 or not (math.isfinite(args.budget_s) and args.budget_s > 0):
+        ap.error("give --seeds >= 1 (seeds >= 0) and a finite --budget-s > 0")
+    if args.workers < 1 or args.replicates < 1:
+        ap.error(f"--workers and --replicates must be >= 1, got {args.workers} and {args.replicates}")
     if not 2 <= args.validation_seeds <= 1000:
         ap.error(f"--validation-seeds must be in [2, 1000] (paired comparisons), got {args.validation_seeds}")
     if args.confirm_seeds and not 2 <= args.confirm_seeds <= 1000:
         ap.error(f"--confirm-seeds must be 0 (off) or in [2, 1000], got {args.confirm_seeds}")
     if args.validate_only and not (args.studies_dir and os.path.isdir(args.studies_dir)):
         ap.error("--validate-only needs --studies-dir, an existing folder of an earlier run's studies")
-    objective_of(args, args.replicates)  # bad settings fail here, before any run
+    try:  # bad settings fail here, before any run
+        objective = objective_of(args, args.replicates)
+    except ValueError as e:
+        ap.error(str(e))
+    family = len(paper_designs()) * len(objective.objectives)  # survival's Holm family
+    for flag, n in (("--validation-seeds", args.validation_seeds), ("--confirm-seeds", args.confirm_seeds)):
+        if n and not reachable(n, family):  # said now, not after the search (a CI-sized run does this on purpose)
+            print(f"racing.py: warning: {flag} {n} cannot make survival testable for {family} comparisons with the "
+                  "paper's designs (an exact sign-flip test's smallest p is 2 / 2^n): every fraction will be NaN",
+                  file=sys.stderr, flush=True)  # fmt: skip
     return args
 
 

@@ -54,8 +54,10 @@ def envelope_growth(
         time_s: (T,) sample times, s, increasing.
         signal: (T,) the oscillating quantity (e.g. the base's roll, rad);
             non-finite samples are skipped.
-        window_s: the envelope's window, s (> 0; e.g. half a hop, 0.31 s).
-        start_s: where the windows begin, s (default: the first sample).
+        window_s: the envelope's window, s (finite, at least the largest
+            sample spacing so that every window holds a sample; e.g. half
+            a hop, 0.31 s).
+        start_s: where the windows begin, s (finite; default: the first sample).
         floor: the fit starts at the first window whose envelope exceeds
             this (default 0: the first window; 1e-12 rad skips the exact
             zeros and round-off before a mode is seeded).
@@ -69,16 +71,21 @@ def envelope_growth(
 
     Raises:
         ValueError: `time_s` and `signal` not 1-D of one length of at
-            least 2 samples, `time_s` not finite and increasing, or
-            `window_s` not positive.
+            least 2 samples, `time_s` not finite and increasing, `window_s`
+            not finite or shorter than a sample spacing, `start_s` not
+            finite, or not 0 <= `floor` < `ceiling` (both finite).
     """
     t, x = np.asarray(time_s, float), np.asarray(signal, float)
     if t.shape != x.shape or t.ndim != 1 or t.size < 2:
         raise ValueError(f"time_s and signal must be 1-D of one length >= 2, got {t.shape} and {x.shape}")
     if not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
         raise ValueError("time_s must be finite and increasing")
-    if not window_s > 0:
-        raise ValueError(f"window_s must be > 0, got {window_s!r}")
+    if not (np.isfinite(window_s) and window_s >= np.max(np.diff(t))):
+        raise ValueError(f"window_s must be finite and at least the largest sample spacing, got {window_s!r}")
+    if start_s is not None and not np.isfinite(start_s):
+        raise ValueError(f"start_s must be finite, got {start_s!r}")
+    if not (np.isfinite(floor) and np.isfinite(ceiling) and 0 <= floor < ceiling):
+        raise ValueError(f"need finite 0 <= floor < ceiling, got floor {floor!r}, ceiling {ceiling!r}")
     edges = np.arange(t[0] if start_s is None else start_s, t[-1] - window_s / 2, window_s)
     ax, ok = np.abs(x), np.isfinite(x)  # a NaN sample (none in a rollout's record) is skipped, not propagated
     env = np.array([ax.max(initial=0.0, where=ok & (t >= e) & (t < e + window_s)) for e in edges])

@@ -13,8 +13,8 @@ benchmark (19 designs, quick profile, ramp, 10 seeds each way;
 - under the ``significance`` rule (the one before ``margin``), the two
   disjoint seed sets agreed on 11 of the 19 verdicts, about what chance
   gives (Cohen's kappa 0.11): that rule's "dominated" did not replicate;
-- under the ``margin`` rule, confirmation kept 18 of the 19, and all 18
-  survived validation (so did the 19th).
+- under the ``margin`` rule, confirmation confirmed 18 of the 19, and all
+  18 survived validation (so did the 19th).
 
 So under the default rule confirmation buys little and costs much (below);
 it is kept as the check that replicates a verdict, and for rules or

@@ -66,9 +66,11 @@ against rho-dec. That rule was replaced after its results were seen (the
 racing benchmark, 2026-12-03): both are reported there side by side.
 Either way the rule is asymmetric: under ``margin`` the burden of proof is
 on domination, and with few seeds and noisy objectives it can rarely be
-met, so each design also gets a three-way :func:`survival_state`
-(``dominated``, ``unresolved``, ``not dominated`` shown), which keeps "not
-shown dominated" apart from "shown not dominated".
+met, so each design also gets a :func:`survival_state` (``dominated``,
+``unresolved``, or ``not dominated`` shown: against every paper design
+its own advantage shown by an interval, or every interval inside the
+margin), which keeps "not shown dominated" apart from "shown not
+dominated".
 
 Survival. A design survives when
 
@@ -431,8 +433,9 @@ def _dominates(rows: pd.DataFrame, rule: str, sign: int) -> bool:
     return bool((worse | (loser_low > -100 * EQUIVALENCE_MARGIN)).all())
 
 
-# how a comparator stands against a design (dominance_state), from shown to not shown
+# how a comparator stands against a design (dominance_state, survival_state)
 DOMINATED, UNRESOLVED, NOT_DOMINATED = "dominated", "unresolved", "not dominated"
+UNTESTABLE, NOT_COMPARED = "untestable", "not compared"
 
 
 def dominance_state(rows: pd.DataFrame) -> str:
@@ -441,45 +444,52 @@ def dominance_state(rows: pd.DataFrame) -> str:
 
     Args:
         rows: one comparison's rows of :func:`paired_table` (the design
-            against one comparator, one row per objective).
+            against one comparator, one row per objective; rows without an
+            interval are left out).
 
     Returns:
-        ``not dominated`` where that is shown: the comparator is
-        significantly better on no objective, or the design is
-        significantly better on one, or the design's advantage on some
+        ``dominated`` under the ``margin`` rule (module doc); else ``not
+        dominated`` where that is shown: the design's advantage on some
         objective is shown by its unadjusted 95 % interval (entirely below
-        zero) and the ``margin`` rule does not find it dominated;
-        ``dominated`` under the ``margin`` rule (module doc); else
-        ``unresolved``: the comparator is significantly better on one
-        objective and the design's advantage on the other is neither
-        shown nor ruled out beyond ±10 %.
+        zero), or every interval lies inside the ±10 % margin (neither leg
+        is better beyond it); else ``unresolved`` (nothing shown either
+        way, e.g. wide intervals across zero, or the design worse on every
+        objective short of Holm's threshold).
     """
     rows = _judged(rows)
-    sig = rows["significant"].fillna(False).to_numpy(bool)
-    change = rows["pct_change"].to_numpy(float)
-    if not (sig & (change > 0)).any() or (sig & (change < 0)).any():
-        return NOT_DOMINATED
     if _dominates(rows, "margin", +1):
         return DOMINATED
-    return NOT_DOMINATED if (rows["ci_high"].to_numpy(float) < 0).any() else UNRESOLVED
+    low, high = rows["ci_low"].to_numpy(float), rows["ci_high"].to_numpy(float)
+    m = 100 * EQUIVALENCE_MARGIN
+    if len(rows) and ((high < 0).any() or ((low > -m) & (high < m)).all()):
+        return NOT_DOMINATED
+    return UNRESOLVED
 
 
 def survival_state(table: pd.DataFrame, design: str) -> str:
-    """A design's standing against the paper's designs: ``dominated`` if
-    one of them is, else ``unresolved`` if one is, else ``not dominated``
-    (:func:`dominance_state`).
+    """A design's standing against the paper's designs
+    (:func:`dominance_state` of each).
 
     Args:
         table: :func:`paired_table`'s table.
         design: the front design's name.
 
     Returns:
-        One of ``dominated``, ``unresolved``, ``not dominated``; ``not
-        dominated`` where the design has no comparison with a paper design.
+        ``not compared`` (no comparison with a paper design: an unknown
+        name, or every paper design fell), else ``dominated`` if one paper
+        design dominates it, else ``untestable`` if a comparison could not
+        reach Holm's threshold, else ``unresolved`` if one paper design is,
+        else ``not dominated`` (shown against every paper design).
     """
-    rows = table[(table["design"] == design) & (table["kind"] == "paper")]
+    rows = table[(table["design"] == design) & (table["kind"] == "paper")] if len(table) else table
+    if rows.empty:
+        return NOT_COMPARED
     states = {dominance_state(r) for _, r in rows.groupby("against", sort=False)}
-    return DOMINATED if DOMINATED in states else UNRESOLVED if UNRESOLVED in states else NOT_DOMINATED
+    if DOMINATED in states:
+        return DOMINATED
+    if not rows["testable"].fillna(False).astype(bool).all():
+        return UNTESTABLE
+    return UNRESOLVED if UNRESOLVED in states else NOT_DOMINATED
 
 
 def dominated_by(table: pd.DataFrame, design: str, kinds=("paper",), rule: str = DEFAULT_DOMINANCE) -> list[str]:
@@ -642,9 +652,10 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame, rule: str = DEFAULT_DOMINA
         (True, False, or ``"untestable"`` where a stable design's
         comparisons with the paper's designs, survival's Holm family, are
         not all testable or there are none), ``against the paper's designs``
-        (:func:`survival_state`: ``dominated``, ``unresolved`` or ``not
-        dominated``, so that a survivor nothing was shown against is told
-        apart from one shown not dominated; ``untestable`` as survival),
+        (:func:`survival_state`: ``dominated``, ``unresolved``, ``not
+        dominated`` shown, ``untestable`` or ``not compared``, so that a
+        survivor nothing was shown against is told apart from one shown
+        not dominated),
         ``beats its mass-matched leg`` and ``beats its rigid twin`` (:func:`beats`), and
         ``homogeneous legs of its mass dominating it`` (comma-separated
         ``E=<GPa>`` labels).
@@ -670,7 +681,7 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame, rule: str = DEFAULT_DOMINA
         dom = dominated_by(table, design, rule=rule)
         row["dominated by"] = ", ".join(dom)
         row["survives"] = (row["stable everywhere"] and not dom) if testable else "untestable"
-        row["against the paper's designs"] = survival_state(table, design) if testable else "untestable"
+        row["against the paper's designs"] = survival_state(table, design)
         if not row["stable everywhere"]:
             row["survives"] = False
         row["beats its mass-matched leg"] = beats(table, design, "mass-matched", rule)

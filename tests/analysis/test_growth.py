@@ -50,7 +50,7 @@ def test_too_few_windows_below_the_ceiling_give_nan():
     assert math.isnan(envelope_growth(T, np.zeros_like(T), 0.5, floor=1e-12).rate_per_s)
 
 
-@pytest.mark.parametrize("kwargs", [{"window_s": 0.0}, {"window_s": -1.0}])
+@pytest.mark.parametrize("kwargs", [{"window_s": 0.0}, {"window_s": -1.0}, {"window_s": 1e-4}, {"window_s": np.inf}])
 def test_bad_input_is_refused(kwargs):
     with pytest.raises(ValueError, match="window_s"):
         envelope_growth(T, T, **kwargs)
@@ -61,6 +61,11 @@ def test_bad_input_is_refused(kwargs):
             envelope_growth(bad, bad, 0.3)
     with pytest.raises(ValueError, match="increasing"):
         envelope_growth(T[::-1], T, 0.3)
+    with pytest.raises(ValueError, match="start_s"):
+        envelope_growth(T, T, 0.3, start_s=np.nan)
+    for floor, ceiling in ((1e-2, 1e-2), (0.0, np.nan), (-1.0, 1.0)):
+        with pytest.raises(ValueError, match="floor < ceiling"):
+            envelope_growth(T, T, 0.3, floor=floor, ceiling=ceiling)
 
 
 def test_a_nan_sample_is_skipped():

@@ -291,13 +291,18 @@ def test_three_states_keep_not_shown_dominated_apart_from_shown_not_dominated():
         ("g", "A", "paper", T, -3.0, -8.0, 2.0, False), ("g", "A", "paper", P, 20.0, 15.0, 25.0, True),
         # more power, tracking anywhere from 30 % better to 5 % worse: neither shown
         ("h", "A", "paper", T, -12.0, -30.0, 5.0, False), ("h", "A", "paper", P, 20.0, 15.0, 25.0, True),
-        # B better on nothing significantly: it cannot dominate h
+        # nothing significant, wide intervals: B cannot be shown to dominate, nor shown not to
         ("h", "B", "paper", T, 5.0, -20.0, 30.0, False), ("h", "B", "paper", P, 2.0, -1.0, 5.0, False),
+        # every interval inside the margin: neither is better beyond it
+        ("f", "B", "paper", T, 1.0, -6.0, 8.0, False), ("f", "B", "paper", P, -2.0, -4.0, 0.5, False),
     ])  # fmt: skip
     state = {(d, a): dominance_state(r) for (d, a), r in t.groupby(["design", "against"])}
-    assert state == {("f", "A"): "not dominated", ("g", "A"): "dominated",
-                     ("h", "A"): "unresolved", ("h", "B"): "not dominated"}  # fmt: skip
+    assert state == {("f", "A"): "not dominated", ("g", "A"): "dominated", ("h", "A"): "unresolved",
+                     ("h", "B"): "unresolved", ("f", "B"): "not dominated"}  # fmt: skip
     assert [survival_state(t, d) for d in "fgh"] == ["not dominated", "dominated", "unresolved"]
+    assert survival_state(t, "no such design") == "not compared" == survival_state(t.iloc[:0], "f")
+    untestable = t.assign(testable=False)
+    assert survival_state(untestable, "f") == "untestable" and survival_state(untestable, "g") == "dominated"
     # an objective without an interval is left out, not read as an advantage
     t.loc[(t["design"] == "g") & (t["objective"] == T), ["ci_low", "ci_high"]] = np.nan
     assert dominated_by(t, "g") == ["A"] and survival_state(t, "g") == "dominated"
