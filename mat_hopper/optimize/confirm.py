@@ -51,10 +51,10 @@ import numpy as np
 import pandas as pd
 
 from ..behaviours import behaviour as get_behaviour
-from ..experiments.runner import FAILED, OK, RunSpec, run_grid
+from ..experiments.runner import OK, RunSpec
 from ..materials import paper_designs
 from ._objective import Objective
-from .validate import ALPHA, DEFAULT_DOMINANCE, REPLICATE, check_dominance, dominated_by, paired_table
+from .validate import ALPHA, DEFAULT_DOMINANCE, REPLICATE, check_dominance, dominated_by, run_paired
 
 __all__ = [
     "CONFIRMATION_SEED_START",
@@ -180,12 +180,8 @@ def confirm_front(
         raise ValueError(f"replicates must be an integer >= 2 and <= {MAX_CONFIRMATION_SEEDS}, got {replicates!r}")
     check_dominance(dominance)
     tasks = confirmation_tasks(front, objective, int(replicates))
-    res = run_grid(tasks, cache_dir, workers=workers, progress=progress, desc="front confirmation")
-    runs = res.summary
-    if res.n_failed:
-        bad = runs[runs["status"] == FAILED]
-        raise RuntimeError(f"{len(bad)} confirmation run(s) failed: {'; '.join(bad['error'].astype(str).unique()[:3])}")
-    table = paired_table(runs, objective, alpha, front)
+    runs, table = run_paired(tasks, objective, front, "confirmation",
+                             cache_dir=cache_dir, workers=workers, progress=progress, alpha=alpha)  # fmt: skip
     ver = confirmation_verdicts(runs, table, dominance)
     keep = set(ver.loc[ver["confirmed"].astype(str) == "True", "design"])
     durations = np.array([t.settings.duration_s for t in tasks], float)

@@ -692,6 +692,35 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame, rule: str = DEFAULT_DOMINA
     return pd.DataFrame(rows)
 
 
+def run_paired(tasks: list, objective: Objective, front: dict, what: str, **options) -> tuple:
+    """Run `tasks` through the runner's cache and pool and pair the front
+    designs' replicates with their comparators (:func:`paired_table`):
+    what validation and confirmation (:mod:`mat_hopper.optimize.confirm`)
+    both do with their runs.
+
+    Args:
+        tasks: RunSpecs labelled as :func:`validation_tasks` labels them.
+        objective: the study's objective.
+        front: {name: LegDesign} of the front designs.
+        what: ``validation`` or ``confirmation`` (the progress bar and errors say it).
+        **options: ``cache_dir``, ``workers``, ``progress`` (the runner's)
+            and ``alpha`` (the paired comparisons' level).
+
+    Returns:
+        (the runner's summary, one row per run; :func:`paired_table` of it).
+
+    Raises:
+        RuntimeError: a run raised (not a fall: that is a result).
+    """
+    res = run_grid(tasks, options.get("cache_dir"), workers=options.get("workers"),
+                   progress=options.get("progress", False), desc=f"front {what}")  # fmt: skip
+    runs = res.summary
+    if res.n_failed:
+        bad = runs[runs["status"] == FAILED]
+        raise RuntimeError(f"{len(bad)} {what} run(s) failed: {'; '.join(bad['error'].astype(str).unique()[:3])}")
+    return runs, paired_table(runs, objective, options.get("alpha", ALPHA), front)
+
+
 def validate_front(
     front: dict,
     objective: Objective,
@@ -734,13 +763,8 @@ def validate_front(
     if n < 2:
         raise ValueError(f"validating a front needs at least 2 replicates per design, got {n}")
     check_dominance(dominance)
-    tasks = validation_tasks(front, objective, n)
-    res = run_grid(tasks, cache_dir, workers=workers, progress=progress, desc="front validation")
-    runs = res.summary
-    if res.n_failed:
-        bad = runs[runs["status"] == FAILED]
-        raise RuntimeError(f"{len(bad)} validation run(s) failed: {'; '.join(bad['error'].astype(str).unique()[:3])}")
-    table = paired_table(runs, objective, alpha, front)
+    runs, table = run_paired(validation_tasks(front, objective, n), objective, front, "validation",
+                             cache_dir=cache_dir, workers=workers, progress=progress, alpha=alpha)  # fmt: skip
     ver = verdicts(runs, table, dominance)
     keep = set(ver.loc[ver["survives"].astype(str) == "True", "design"]) if len(ver) else set()
     testable = len(ver) and not (ver["survives"].astype(str) == "untestable").any()
