@@ -242,6 +242,11 @@ glue("fig-hypervolume", ax.figure, display=False)
 # `margin` rule). A front design trades one objective for another by
 # construction, so the burden of proof lies on domination: an advantage
 # that merely falls short of Holm's threshold is not counted as none.
+# With few seeds that burden is rarely met, so the column *against the
+# paper's designs* (`validate.survival_state`) keeps "not shown dominated"
+# (`unresolved`) apart from "shown not dominated" (`not dominated`: against
+# every paper design, the design's advantage shown by an interval, or every
+# interval inside ±10 %).
 
 # %%
 searched = optimize.front_designs(front)  # the front's new legs (the paper's own are comparators)
