@@ -333,32 +333,29 @@ def validated(front: dict, objective: Objective, args) -> dict:
         the seeds, in the objective's order) and survived (booleans).
     """
     if not front:
-        return {"survivors": 0, "surviving_fraction": math.nan, "points": np.empty((0, 2)), "names": [], "survived": [],
-                "survived_significance": []}  # fmt: skip
+        return {"survivors": 0, "surviving_fraction": math.nan, "shown_not_dominated_fraction": math.nan,
+                "surviving_fraction_significance": math.nan, "points": np.empty((0, 2)), "names": [],
+                "survived": [], "survived_significance": []}  # fmt: skip
     res = validate_front(front, objective, replicates=args.validation_seeds, cache_dir=args.cache, workers=args.workers)
+    ver = res["verdicts"]
     # the rule before the margin rule, judged on the same runs and table: its fraction beside the new one
     before = verdicts(res["runs"], res["paired"], rule="significance")
-    kept_before = (before["survives"].astype(str) == "True").sum()
-    ver = res["verdicts"]  # survivors shown not dominated, not merely not shown dominated (validate.survival_state)
+    kept_before = set(before.loc[before["survives"].astype(str) == "True", "design"])
+    # survivors shown not dominated, not merely not shown dominated (validate.survival_state)
     shown = (ver["survives"].astype(str) == "True") & (ver["against the paper's designs"] == "not dominated")
+    testable = not math.isnan(res["surviving_fraction"])
     means = replicate_means(res["runs"], objective)
     names = [n for n in front if ("front", n) in means.index.droplevel("replicate")]
     points = np.array([means.loc[("front", n)].mean().to_numpy(float) for n in names]).reshape(len(names), -1)
     return {
         "survivors": len(res["survivors"]),
         "surviving_fraction": res["surviving_fraction"],
-        "shown_not_dominated_fraction": shown.sum() / len(ver)
-        if res["surviving_fraction"] == res["surviving_fraction"]
-        else math.nan,
-        "surviving_fraction_significance": kept_before / len(before)
-        if res["surviving_fraction"] == res["surviving_fraction"]
-        else math.nan,
+        "shown_not_dominated_fraction": shown.sum() / len(ver) if testable else math.nan,
+        "surviving_fraction_significance": len(kept_before) / len(before) if testable else math.nan,
         "points": points,
         "names": names,
         "survived": [n in res["survivors"] for n in names],
-        "survived_significance": [
-            n in set(before.loc[before["survives"].astype(str) == "True", "design"]) for n in names
-        ],
+        "survived_significance": [n in kept_before for n in names],
     }
 
 
