@@ -78,6 +78,14 @@ Survival. A design survives when
    numerical divergence (runner status ``ok``); and
 2. no paper design dominates it.
 
+A paper design that fell (or diverged) on a seed where the front design
+stayed up is not a comparator for survival: it cannot dominate a design
+that stayed up where it fell, and its fewer pairs would otherwise leave
+the whole family untestable (at the paper profile's 10 seeds, rho-dec's
+one fall on the ramp, seed 7, made every front design's survival
+untestable: 9 pairs cannot reach Holm's threshold for 18 comparisons).
+:func:`fallen_comparators` names them, for each design.
+
 Where n seeds cannot reach Holm's threshold at all, survival is
 ``untestable`` rather than granted (three seeds, the quick profile's,
 test nothing: every design would survive).
@@ -331,7 +339,9 @@ def paired_table(
             them is not compared with itself).
 
     Returns:
-        One row per front design, comparator and objective: design,
+        One row per front design, comparator and objective (a paper
+        design that fell on one of the front design's seeds is left out:
+        :func:`fallen_comparators`): design,
         against, kind (``paper``, ``mass-matched``, ``rigid twin``,
         ``homogeneous``),
         objective, n_pairs, pct_change, ci_low, ci_high (%: the design
@@ -349,11 +359,13 @@ def paired_table(
         if ("front", name) not in have:
             continue
         own = design_key(front_design[name]) if name in front_design else None
-        # the paper's designs, not the design itself (a paper gradient validated as a front design)
+        fell = set(fallen_comparators(means, name))
+        # the paper's designs, not the design itself (a paper gradient validated as a front design),
+        # nor one that fell where this design stayed up (module doc: it cannot dominate it)
         comparators = [
             (("paper", p), p, "paper")
             for r, p in sorted(have)
-            if r == "paper" and (own is None or paper_key.get(p) != own)
+            if r == "paper" and (own is None or paper_key.get(p) != own) and p not in fell
         ]
         comparators += [(("control", f"{name}~{k}"), f"{name}~{k}", v) for k, v in CONTROL_KINDS.items()]
         comparators += [
@@ -374,6 +386,28 @@ def paired_table(
     if not rows:
         return pd.DataFrame(columns=[*cols, "p_holm", "testable", "significant"])
     return pd.concat(rows, ignore_index=True)[[*cols, "p_holm", "testable", "significant"]]
+
+
+def fallen_comparators(means: pd.DataFrame, design: str) -> list[str]:
+    """The paper designs that lack a replicate the front `design` has: they
+    fell or diverged on a seed where it stayed up (module doc).
+
+    Args:
+        means: :func:`replicate_means`'s table (a row per complete replicate).
+        design: the front design's name.
+
+    Returns:
+        Sorted names of the paper designs with a replicate row missing on
+        one of `design`'s seeds (empty where `design` has no row).
+    """
+    if ("front", design) not in means.index.droplevel("replicate"):
+        return []
+    own = set(means.loc[("front", design)].index)
+    paper = means.loc["paper"] if "paper" in means.index.get_level_values("role") else None
+    if paper is None:
+        return []
+    seeds = paper.reset_index().groupby("design")["replicate"].agg(set)
+    return sorted(p for p, s in seeds.items() if not own <= s)
 
 
 def _holm_by_kind(t: pd.DataFrame, alpha: float) -> list[pd.DataFrame]:

@@ -22,7 +22,9 @@ from mat_hopper.optimize.validate import (
     beats,
     check_settings,
     dominated_by,
+    fallen_comparators,
     paired_table,
+    replicate_means,
     validate_front,
     validation_tasks,
     verdicts,
@@ -126,6 +128,27 @@ def test_survival_is_judged_on_the_paper_family_alone():
     v = verdicts(runs, t).set_index("design")
     assert v.loc["f", "survives"] == False  # noqa: E712 (A dominates it), not "untestable"
     assert beats(t, "f", "homogeneous") == "untestable"
+
+
+def test_a_paper_design_that_fell_where_the_design_stood_is_no_comparator():
+    """The paper-profile study (2026-12-03): rho-dec fell on the ramp at
+    seed 7 of 10, leaving 9 pairs, and 2 / 2^9 x 18 = 0.070 > 0.05 (by hand)
+    made every front design's survival untestable. A design that fell where
+    f stood up cannot dominate f: it leaves survival's family, and the 16
+    comparisons left reach 2 / 2^10 x 16 = 0.031 < 0.05."""
+    legs = {("front", "f"): (1.0, 1.0)}
+    legs.update({("paper", f"P{k}"): (2.0, 1.0) for k in range(9)})  # none dominates f
+    runs = _runs(legs, 10)
+    runs.loc[(runs["design"] == "P3") & (runs["replicate"] == 7), "status"] = "fell"
+    assert fallen_comparators(replicate_means(runs, OB), "f") == ["P3"]
+    t = paired_table(runs, OB)
+    assert "P3" not in set(t["against"]) and len(t) == 16 and t["testable"].all()
+    v = verdicts(runs, t).set_index("design")
+    assert v.loc["f", "survives"] == True  # noqa: E712 (before: "untestable")
+    # where f fell on the same seed, P3 stands on every seed f has: it stays a comparator
+    runs.loc[(runs["design"] == "f") & (runs["replicate"] == 7), "status"] = "fell"
+    assert fallen_comparators(replicate_means(runs, OB), "f") == []
+    assert fallen_comparators(replicate_means(runs, OB), "nobody") == []
 
 
 def test_three_seeds_test_nothing():
