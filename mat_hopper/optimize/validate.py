@@ -79,12 +79,18 @@ Survival. A design survives when
 2. no paper design dominates it.
 
 A paper design that fell (or diverged) on a seed where the front design
-stayed up is not a comparator for survival: it cannot dominate a design
-that stayed up where it fell, and its fewer pairs would otherwise leave
-the whole family untestable (at the paper profile's 10 seeds, rho-dec's
-one fall on the ramp, seed 7, made every front design's survival
-untestable: 9 pairs cannot reach Holm's threshold for 18 comparisons).
-:func:`fallen_comparators` names them, for each design.
+stood up is left out of that design's survival family. This is a rule of
+its own, robustness first, not a consequence of domination: such a paper
+design is not counted as dominating, however much better it is on the
+seeds where it stood (one fall in 10 seeds is no statistical evidence
+that the front design is the more robust). Without it, its fewer pairs
+left the whole family untestable: at the paper profile's 10 seeds,
+rho-dec's one fall on the ramp (seed 7) made every front design's
+survival untestable (9 pairs cannot reach Holm's threshold for 18
+comparisons). :func:`fallen_comparators` names them, and the verdicts'
+column ``paper designs left out (fell)`` shows them, so that "not
+dominated" reads "by every paper design that stood where it stood".
+A run that failed (raised) is missing data: its comparator stays in.
 
 Where n seeds cannot reach Holm's threshold at all, survival is
 ``untestable`` rather than granted (three seeds, the quick profile's,
@@ -111,7 +117,7 @@ from ..analysis import paired
 from ..behaviours import BEHAVIOUR_NAMES
 from ..behaviours import behaviour as get_behaviour
 from ..controls import mass_matched, rigid_twin
-from ..experiments.runner import FAILED, OK, RunSpec, run_grid
+from ..experiments.runner import DIVERGED, FAILED, FALLEN, OK, RunSpec, run_grid
 from ..keys import design_key
 from ..materials import LegDesign, paper_designs
 from ..metrics import holm
@@ -359,7 +365,7 @@ def paired_table(
         if ("front", name) not in have:
             continue
         own = design_key(front_design[name]) if name in front_design else None
-        fell = set(fallen_comparators(means, name))
+        fell = set(fallen_comparators(runs, name))
         # the paper's designs, not the design itself (a paper gradient validated as a front design),
         # nor one that fell where this design stayed up (module doc: it cannot dominate it)
         comparators = [
@@ -388,26 +394,26 @@ def paired_table(
     return pd.concat(rows, ignore_index=True)[[*cols, "p_holm", "testable", "significant"]]
 
 
-def fallen_comparators(means: pd.DataFrame, design: str) -> list[str]:
-    """The paper designs that lack a replicate the front `design` has: they
-    fell or diverged on a seed where it stayed up (module doc).
+def fallen_comparators(runs: pd.DataFrame, design: str) -> list[str]:
+    """The paper designs that fell or diverged (runner status ``fallen`` or
+    ``diverged``) in a replicate run on a seed where the front `design`
+    stood up on every behaviour (module doc). A run that failed (raised) is
+    missing data, not a fall: it leaves its comparator in, with fewer pairs.
 
     Args:
-        means: :func:`replicate_means`'s table (a row per complete replicate).
+        runs: a validation's run table (role, design, check, replicate, status).
         design: the front design's name.
 
     Returns:
-        Sorted names of the paper designs with a replicate row missing on
-        one of `design`'s seeds (empty where `design` has no row).
+        Sorted names of those paper designs (empty where `design` has no
+        replicate run, or none fell where it stood up).
     """
-    if ("front", design) not in means.index.droplevel("replicate"):
-        return []
-    own = set(means.loc[("front", design)].index)
-    paper = means.loc["paper"] if "paper" in means.index.get_level_values("role") else None
-    if paper is None:
-        return []
-    seeds = paper.reset_index().groupby("design")["replicate"].agg(set)
-    return sorted(p for p, s in seeds.items() if not own <= s)
+    reps = runs[runs["check"] == REPLICATE]
+    mine = reps[(reps["role"] == "front") & (reps["design"] == design)]
+    stood = mine.groupby("replicate")["status"].agg(lambda s: bool((s == OK).all()))
+    seeds = set(stood[stood].index)
+    fell = reps[(reps["role"] == "paper") & reps["status"].isin([FALLEN, DIVERGED])]
+    return sorted(p for p, g in fell.groupby("design") if seeds & set(g["replicate"]))
 
 
 def _holm_by_kind(t: pd.DataFrame, alpha: float) -> list[pd.DataFrame]:
@@ -513,7 +519,9 @@ def survival_state(table: pd.DataFrame, design: str) -> str:
         name, or every paper design fell), else ``dominated`` if one paper
         design dominates it, else ``untestable`` if a comparison could not
         reach Holm's threshold, else ``unresolved`` if one paper design is,
-        else ``not dominated`` (shown against every paper design).
+        else ``not dominated`` (shown against every paper design in the
+        table: one that fell where the design stood up is not in it,
+        :func:`fallen_comparators`).
     """
     rows = table[(table["design"] == design) & (table["kind"] == "paper")] if len(table) else table
     if rows.empty:
@@ -682,7 +690,8 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame, rule: str = DEFAULT_DOMINA
         :data:`~mat_hopper.behaviours.BEHAVIOUR_NAMES`, so that no other
         is left), ``stable everywhere`` (stable under every check that
         applies: over the behaviours the study ran, and the others),
-        ``dominated by`` (comma-separated paper designs), ``survives``
+        ``dominated by`` (comma-separated paper designs), ``paper designs
+        left out (fell)`` (:func:`fallen_comparators`), ``survives``
         (True, False, or ``"untestable"`` where a stable design's
         comparisons with the paper's designs, survival's Holm family, are
         not all testable or there are none), ``against the paper's designs``
@@ -714,6 +723,7 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame, rule: str = DEFAULT_DOMINA
         testable = bool(len(mine)) and bool(mine["testable"].all())
         dom = dominated_by(table, design, rule=rule)
         row["dominated by"] = ", ".join(dom)
+        row["paper designs left out (fell)"] = ", ".join(fallen_comparators(runs, design))
         row["survives"] = (row["stable everywhere"] and not dom) if testable else "untestable"
         row["against the paper's designs"] = survival_state(table, design)
         if not row["stable everywhere"]:

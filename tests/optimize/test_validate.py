@@ -24,7 +24,6 @@ from mat_hopper.optimize.validate import (
     dominated_by,
     fallen_comparators,
     paired_table,
-    replicate_means,
     validate_front,
     validation_tasks,
     verdicts,
@@ -139,16 +138,36 @@ def test_a_paper_design_that_fell_where_the_design_stood_is_no_comparator():
     legs = {("front", "f"): (1.0, 1.0)}
     legs.update({("paper", f"P{k}"): (2.0, 1.0) for k in range(9)})  # none dominates f
     runs = _runs(legs, 10)
-    runs.loc[(runs["design"] == "P3") & (runs["replicate"] == 7), "status"] = "fell"
-    assert fallen_comparators(replicate_means(runs, OB), "f") == ["P3"]
-    t = paired_table(runs, OB)
+    fell = runs.copy()
+    fell.loc[(fell["design"] == "P3") & (fell["replicate"] == 7), "status"] = "fallen"
+    assert fallen_comparators(fell, "f") == ["P3"]
+    t = paired_table(fell, OB)
     assert "P3" not in set(t["against"]) and len(t) == 16 and t["testable"].all()
-    v = verdicts(runs, t).set_index("design")
+    v = verdicts(fell, t).set_index("design")
     assert v.loc["f", "survives"] == True  # noqa: E712 (before: "untestable")
-    # where f fell on the same seed, P3 stands on every seed f has: it stays a comparator
-    runs.loc[(runs["design"] == "f") & (runs["replicate"] == 7), "status"] = "fell"
-    assert fallen_comparators(replicate_means(runs, OB), "f") == []
-    assert fallen_comparators(replicate_means(runs, OB), "nobody") == []
+    assert v.loc["f", "paper designs left out (fell)"] == "P3"
+    # where f fell on the same seed too, P3 stood on every seed f stood on: it stays a comparator
+    both = fell.copy()
+    both.loc[(both["design"] == "f") & (both["replicate"] == 7), "status"] = "fallen"
+    assert fallen_comparators(both, "f") == [] and fallen_comparators(both, "nobody") == []
+    # a run that failed (raised) is missing data, not a fall: P3 stays in, with 9 pairs, untestable
+    failed = runs.copy()
+    failed.loc[(failed["design"] == "P3") & (failed["replicate"] == 7), "status"] = "failed"
+    assert fallen_comparators(failed, "f") == []
+    assert verdicts(failed, paired_table(failed, OB)).set_index("design").loc["f", "survives"] == "untestable"
+    assert fallen_comparators(runs[runs["role"] != "paper"], "f") == []  # no paper rows at all
+
+
+def test_a_fallen_comparator_is_left_out_however_much_better_it_is():
+    """The rule is robustness first (module doc): a paper design twice as
+    good on both objectives dominates f, until it falls on one seed where f
+    stood up; then it is left out, and the verdict names it."""
+    legs = {("front", "f"): (1.0, 1.0), ("paper", "A"): (0.5, 0.5), ("paper", "B"): (2.0, 1.0)}
+    runs = _runs(legs, 10)
+    assert dominated_by(paired_table(runs, OB), "f") == ["A"]
+    runs.loc[(runs["design"] == "A") & (runs["replicate"] == 7), "status"] = "fallen"
+    v = verdicts(runs, paired_table(runs, OB)).set_index("design")
+    assert v.loc["f", "dominated by"] == "" and v.loc["f", "paper designs left out (fell)"] == "A"
 
 
 def test_three_seeds_test_nothing():
