@@ -18,7 +18,7 @@ PYTEST := $(PY) -m pytest -q -n auto --maxprocesses 4 --dist loadfile --no-loads
 test: setup
 	$(PYTEST)
 
-## The developer's loop: every test not marked slow (about 9 min on 2 cores).
+## The developer's loop: every test not marked slow (about 6-9 min on 2 cores).
 test-fast: setup
 	$(PYTEST) -m "not slow"
 
