@@ -407,7 +407,14 @@ def fallen_comparators(runs: pd.DataFrame, design: str) -> list[str]:
     Returns:
         Sorted names of those paper designs (empty where `design` has no
         replicate run, or none fell where it stood up).
+
+    Raises:
+        ValueError: `runs` not a pandas DataFrame, or lacking one of the
+            columns named above.
     """
+    need = ("role", "design", "check", "replicate", "status")
+    if not isinstance(runs, pd.DataFrame) or not set(need) <= set(runs.columns):
+        raise ValueError(f"runs must be a validation's run table, a DataFrame with columns {', '.join(need)}")
     reps = runs[runs["check"] == REPLICATE]
     mine = reps[(reps["role"] == "front") & (reps["design"] == design)]
     stood = mine.groupby("replicate")["status"].agg(lambda s: bool((s == OK).all()))

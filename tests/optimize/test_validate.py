@@ -156,6 +156,9 @@ def test_a_paper_design_that_fell_where_the_design_stood_is_no_comparator():
     assert fallen_comparators(failed, "f") == []
     assert verdicts(failed, paired_table(failed, OB)).set_index("design").loc["f", "survives"] == "untestable"
     assert fallen_comparators(runs[runs["role"] != "paper"], "f") == []  # no paper rows at all
+    for bad in (pd.DataFrame(), runs.drop(columns="status"), {"role": []}, None):
+        with pytest.raises(ValueError, match="run table"):
+            fallen_comparators(bad, "f")
 
 
 def test_a_fallen_comparator_is_left_out_however_much_better_it_is():
