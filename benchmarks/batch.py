@@ -5,7 +5,7 @@ designs (densities and moduli log-uniform over the stability map's ranges,
 reference.STABILITY_*_RANGE) hops forward at --timestep; after a warm-up
 (kernel compilation, CUDA graph capture) --steps physics steps are timed.
 Designs that diverge are parked and keep costing a world, as in real use.
-One CPU rollout (mat_hopper.sim, one core) of the reference SS design is
+One CPU rollout (mat_hopper.core.sim, one core) of the reference SS design is
 timed alongside for comparison.
 
     python benchmarks/batch.py                       # every size, on cuda if Warp sees a GPU
@@ -26,10 +26,10 @@ import time
 
 import numpy as np
 
-from mat_hopper import reference as ref
 from mat_hopper.batch import BatchSettings, WarpBatch, require_warp
-from mat_hopper.materials import LegDesign
-from mat_hopper.sim import SimSettings, simulate
+from mat_hopper.core import reference as ref
+from mat_hopper.core.materials import LegDesign
+from mat_hopper.core.sim import SimSettings, simulate
 
 SIZES = (1, 4, 16, 64, 256, 1024, 4096, 16384)
 
@@ -75,7 +75,7 @@ def main(argv=None):
     print(f"device {wp.get_device(device)} ({device}), dt = {a.timestep:g} s, {a.steps} timed steps per size")
     if not a.no_cpu:
         r = cpu_rate(a.timestep, min(2.0, 2000 * a.timestep))
-        print(f"CPU reference (mat_hopper.sim, one core): {r:.3g} designs x sim s / wall s")
+        print(f"CPU reference (mat_hopper.core.sim, one core): {r:.3g} designs x sim s / wall s")
     print(
         f"{'designs':>8} {'setup s':>8} {'warm-up s':>9} {'ms/step':>8} {'designs x sim s / wall s':>25} "
         f"{'diverged':>9}"

@@ -3,7 +3,7 @@
 catalogue material, forward hopping, through the same calls as the CLI
 (timestep.auto_timestep, sim.simulate). One row per material and convention:
 substeps, wall time, whether the run stayed stable (and when it diverged
-if not), and the stress / fatigue summary of :mod:`mat_hopper.fatigue`.
+if not), and the stress / fatigue summary of :mod:`mat_hopper.physics.fatigue`.
 
     python benchmarks/bending_catalogue.py [--seconds 60] [--csv out.csv]
 """
@@ -15,10 +15,10 @@ import time
 
 import pandas as pd
 
-from mat_hopper.materials import CATALOGUE, LegDesign
-from mat_hopper.metrics import run_summary
-from mat_hopper.sim import simulate
-from mat_hopper.timestep import auto_timestep
+from mat_hopper.core.materials import CATALOGUE, LegDesign
+from mat_hopper.core.sim import simulate
+from mat_hopper.core.timestep import auto_timestep
+from mat_hopper.physics.metrics import run_summary
 
 CONVENTIONS = ("bending", "axial+bending")
 

@@ -48,11 +48,11 @@ import mujoco
 import pandas as pd
 
 from mat_hopper.analysis.growth import envelope_growth
-from mat_hopper.control import ControllerSettings
-from mat_hopper.materials import parse_design
-from mat_hopper.model import BASE_JOINTS, BEND_SPRINGS
-from mat_hopper.rollout import C
-from mat_hopper.sim import RolloutRunner, sim_settings
+from mat_hopper.core.controller import ControllerSettings
+from mat_hopper.core.materials import parse_design
+from mat_hopper.core.model import BASE_JOINTS, BEND_SPRINGS
+from mat_hopper.core.rollout import C
+from mat_hopper.core.sim import RolloutRunner, sim_settings
 
 FINE = {"substeps": 30, "sensor_timing": "latency-10"}  # 3.3e-6 s steps, the sensor delay of auto's 3 (33 us)
 STIFFEN = 100.0

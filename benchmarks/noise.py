@@ -2,7 +2,7 @@
 
 Six of the paper's designs (SS, rho-inc, PVC-Ti-SS, PVC, Al, Ti) run on
 each behaviour, once unperturbed and under --replicates seeded
-perturbations (the search's seeds, ``mat_hopper.optimize._robust``:
+perturbations (the search's seeds, ``mat_hopper.optimize._scoring``:
 common random numbers), on a profile (default quick). For each behaviour
 and objective it prints
 
@@ -32,10 +32,10 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
+from mat_hopper.core.materials import paper_designs
 from mat_hopper.experiments.profiles import get_profile
-from mat_hopper.materials import paper_designs
 from mat_hopper.optimize._objective import OBJECTIVES, Objective, mujoco_warnings_to, run_behaviour
-from mat_hopper.optimize._robust import perturbations
+from mat_hopper.optimize._scoring import perturbations
 
 DESIGNS = ("SS", "rho-inc", "PVC-Ti-SS", "PVC", "Al", "Ti")
 

@@ -41,6 +41,7 @@ import optuna
 from optuna.trial import TrialState
 
 import mat_hopper.optimize._evaluators as evaluators_module
+from mat_hopper.core.sim import simulate
 from mat_hopper.experiments.profiles import PROFILES
 from mat_hopper.optimize._driver import run_loop, run_study
 from mat_hopper.optimize._evaluators import PoolEvaluator
@@ -48,7 +49,6 @@ from mat_hopper.optimize._objective import Objective
 from mat_hopper.optimize._samplers import make_sampler
 from mat_hopper.optimize._space import SearchSpace
 from mat_hopper.optimize._study import RunOptions, StudyConfig, create_or_load
-from mat_hopper.sim import simulate
 
 
 def main(argv=None):

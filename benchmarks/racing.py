@@ -87,9 +87,8 @@ import optuna
 import pandas as pd
 
 from mat_hopper.analysis.paired import reachable
-from mat_hopper.atomic import write_csv
+from mat_hopper.core.materials import paper_designs
 from mat_hopper.experiments.profiles import get_profile
-from mat_hopper.materials import paper_designs
 from mat_hopper.optimize import (
     Objective,
     PoolEvaluator,
@@ -105,9 +104,10 @@ from mat_hopper.optimize import (
     run_study,
     simulated_seconds,
 )
-from mat_hopper.optimize._robust import DEFAULT_REPLICATES
+from mat_hopper.optimize._scoring import DEFAULT_REPLICATES
 from mat_hopper.optimize.confirm import confirm_front
 from mat_hopper.optimize.validate import replicate_means, validate_front, verdicts
+from mat_hopper.util.atomic import write_csv
 
 VALIDATION_SEEDS = (
     10  # the default of --validation-seeds; fewer and survival is 'untestable' (validate.py's module doc)

@@ -24,9 +24,9 @@ import mujoco
 import numba
 import numpy as np
 
-from mat_hopper._loop import MJ_STEP
-from mat_hopper.model import build_model
-from mat_hopper.sim import RolloutRunner, SimSettings, simulate
+from mat_hopper.core._loop import MJ_STEP
+from mat_hopper.core.model import build_model
+from mat_hopper.core.sim import RolloutRunner, SimSettings, simulate
 
 SPEC = mujoco.mjtState.mjSTATE_INTEGRATION
 

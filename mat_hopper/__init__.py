@@ -5,27 +5,27 @@ Investigating Functional Advantages of Bio-Inspired Materials via Simulated
 Robotic Hopping" (ICRA 2025).
 """
 
-__version__ = "0.1.0"
+from .util.version import __version__
 
 # The public names load on first use (PEP 562): `import mat_hopper` and
 # `mat-hopper --help` stay fast; MuJoCo and numba load with the first
 # name that needs them.
 _LAZY = {
-    "Behaviour": "behaviours",
-    "behaviour": "behaviours",
-    "ControllerSettings": "control",
-    "inertia_matched": "controls",
-    "mass_matched": "controls",
-    "mass_properties": "controls",
-    "rigid_twin": "controls",
-    "CATALOGUE": "materials",
-    "LegDesign": "materials",
-    "Material": "materials",
-    "material": "materials",
-    "parse_design": "materials",
-    "Rollout": "rollout",
-    "SimSettings": "sim",
-    "simulate": "sim",
+    "Behaviour": "core.behaviours",
+    "behaviour": "core.behaviours",
+    "ControllerSettings": "core.controller",
+    "inertia_matched": "core.control_legs",
+    "mass_matched": "core.control_legs",
+    "mass_properties": "core.control_legs",
+    "rigid_twin": "core.control_legs",
+    "CATALOGUE": "core.materials",
+    "LegDesign": "core.materials",
+    "Material": "core.materials",
+    "material": "core.materials",
+    "parse_design": "core.materials",
+    "Rollout": "core.rollout",
+    "SimSettings": "core.sim",
+    "simulate": "core.sim",
 }
 
 

@@ -1,7 +1,7 @@
 """The executable book's plumbing (``notebooks/``), and nothing else.
 
 The chapters are notebooks of narrative over the library's public calls
-(the science lives in its modules: masses in :mod:`mat_hopper.materials`,
+(the science lives in its modules: masses in :mod:`mat_hopper.core.materials`,
 tables in :mod:`mat_hopper.analysis.tables`, figures in
 :mod:`mat_hopper.viz`, runs in :mod:`mat_hopper.experiments`). Here:
 
@@ -103,7 +103,7 @@ class Book:
 
     def downloads(self, tables: dict[str, pd.DataFrame], *, subdir: str | None = None):
         """Write each table as ``<out_dir>[/subdir]/<name>.csv`` (atomically,
-        :func:`mat_hopper.atomic.write_csv`) and return an IPython Markdown
+        :func:`mat_hopper.util.atomic.write_csv`) and return an IPython Markdown
         object with a download link to each: MyST ``{download}`` roles, which
         the book renders (``nb_render_markdown_format: myst``) by copying
         the file into the built HTML. Names: letters, digits, ``-``, ``_``."""
@@ -111,7 +111,7 @@ class Book:
 
         from IPython.display import Markdown
 
-        from .atomic import write_csv
+        from .util.atomic import write_csv
 
         if not tables:
             raise ValueError("downloads: no tables given")
@@ -164,7 +164,7 @@ def setup(profile: str | Profile | None = None, *, chdir: bool = True, figure_fo
             profile, $MAT_HOPPER_PROFILE or $MAT_HOPPER_CACHE set but empty,
             or a `figure_format` other than png, retina or svg.
     """
-    from .parsing import env_value
+    from .util.parsing import env_value
 
     root = repo_root()
     prof = get_profile(profile)
@@ -174,7 +174,7 @@ def setup(profile: str | Profile | None = None, *, chdir: bool = True, figure_fo
     os.environ[CACHE_ENV] = str(cache)
     if chdir:
         os.chdir(root)
-    from .sim import route_mujoco_warnings
+    from .core.sim import route_mujoco_warnings
 
     route_mujoco_warnings()
     _inline_figures(figure_format)
@@ -310,7 +310,7 @@ def environment_table() -> pd.DataFrame:
     """
     import sys
 
-    from .keys import versions
+    from .util.keys import versions
 
     v = versions()
     exe = Path(sys.executable)

@@ -148,7 +148,7 @@ def _titles(env) -> dict[str, str]:
 
 def _record(app, env):
     """env-updated: write this build's runtimes (when any notebook ran)."""
-    from .atomic import write_csv
+    from .util.atomic import write_csv
 
     rec = runtime_record(_exec_data(env), _titles(env))
     if len(rec):

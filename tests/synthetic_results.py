@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from mat_hopper import reference as ref
+from mat_hopper.core import reference as ref
 
 BEHAVIOURS = ("static", "forward", "ramp", "circle")
 

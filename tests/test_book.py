@@ -17,7 +17,7 @@ import pytest
 import yaml
 
 from mat_hopper import book
-from mat_hopper import reference as ref
+from mat_hopper.core import reference as ref
 from mat_hopper.experiments import profiles
 from mat_hopper.experiments.profiles import PROFILES
 
@@ -156,7 +156,7 @@ def test_every_table_a_cell_makes_is_shown():
 def test_no_python_cross_references():
     """The book has no API pages, so a Sphinx Python role ({mod}`...`,
     {class}`...`) has no target and fails the nitpicky (-n) build: name
-    modules as code (`mat_hopper.fatigue`) instead. CI stop 24 failed on
+    modules as code (`mat_hopper.physics.fatigue`) instead. CI stop 24 failed on
     seven such roles in chapters 08b and 09c."""
     role = re.compile(r"\{(?:py:)?(?:mod|class|func|meth|attr|data|obj|exc)\}`")
     found = []

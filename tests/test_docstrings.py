@@ -80,7 +80,7 @@ def test_the_check_finds_a_missing_section():
 
 def test_public_functions_are_found():
     names = public_functions()
-    assert "mat_hopper.sim.simulate" in names and "mat_hopper.materials.paper_designs" in names
+    assert "mat_hopper.core.sim.simulate" in names and "mat_hopper.core.materials.paper_designs" in names
     assert not any(n.startswith("mat_hopper.cli") for n in names)
 
 

@@ -7,7 +7,7 @@
 - :mod:`~mat_hopper.analysis.growth`: the growth rate of an oscillation's envelope.
 
 The one percent change against a baseline is the core's
-:func:`mat_hopper.change.percent_change`.
+:func:`mat_hopper.util.change.percent_change`.
 
 This package's ``__init__`` imports nothing, so importing one module never
 drags in the others.

@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES
-from ..materials import CATALOGUE
+from ..core import reference as ref
+from ..core.behaviours import BEHAVIOUR_NAMES
+from ..core.materials import CATALOGUE
 from . import stats as _stats
 from .stats import seconds
 
@@ -247,7 +247,7 @@ def _comparison_rows(ctx, exps, designs, behaviours, metric, baseline="MD"):
     comparisons whose family an exact sign-flip test cannot bring under
     Holm's threshold at their n (:func:`mat_hopper.analysis.paired.reachable`)
     are never significant: a "difference" there is "not enough evidence"."""
-    from ..metrics import holm
+    from ..physics.metrics import holm
     from .paired import DIFFERENCE, NOT_ENOUGH, conclusion, reachable
 
     c, basis = ctx.compare(exps, metric, baseline)

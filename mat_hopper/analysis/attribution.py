@@ -142,7 +142,7 @@ def modulus_at_equal_mass(hops: pd.DataFrame, metric: str = "tracking_error_m", 
     """
     import statsmodels.formula.api as smf
 
-    from .. import reference as ref
+    from ..core import reference as ref
 
     low_gpa = ref.CLAIM_LOW_MODULUS_GPA if low_gpa is None else low_gpa
     high_gpa = ref.CLAIM_HIGH_MODULUS_GPA if high_gpa is None else high_gpa

@@ -1,7 +1,7 @@
 """Material or mass? Each design against its controls, and the attribution.
 
 :func:`control_effects` compares every design with each of its controls
-(:mod:`mat_hopper.controls`; runs of
+(:mod:`mat_hopper.core.control_legs`; runs of
 :func:`mat_hopper.experiments.controls.control_tasks`) on shared seeds,
 paired (:func:`mat_hopper.analysis.paired.paired_effect`): the design
 against its rigid twin is what its moduli add at the same mass
@@ -42,10 +42,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..controls import CONTROLS, MASS_PROPERTY_COLUMNS, mass_matched
-from ..keys import design_key
-from ..materials import parse_design
-from ..metrics import holm
+from ..core.control_legs import CONTROLS, MASS_PROPERTY_COLUMNS, mass_matched
+from ..core.materials import parse_design
+from ..physics.metrics import holm
+from ..util.keys import design_key
 from .attribution import modulus_at_equal_mass
 from .paired import DIFFERENCE, EQUIVALENCE_MARGIN, NO_DIFFERENCE, conclusion, paired_effect, reachable, share_left
 
@@ -424,9 +424,9 @@ def mass_property_text(claim_id: str, segment_mass: str = "leg") -> str:
     Returns:
         ``"<design> <leg mass> kg, <centre of mass below the hip> m, <hip
         inertia> kg m^2; ..."`` for each design and the baseline, from
-        MuJoCo's compiled models (:func:`mat_hopper.controls.mass_properties`).
+        MuJoCo's compiled models (:func:`mat_hopper.core.control_legs.mass_properties`).
     """
-    from ..controls import mass_properties
+    from ..core.control_legs import mass_properties
 
     if claim_id not in MATERIAL_CLAIMS:
         return ""

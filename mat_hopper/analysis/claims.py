@@ -56,13 +56,13 @@ import os
 
 import pandas as pd
 
-from .. import reference as ref
-from ..atomic import write_text
-from ..behaviours import BEHAVIOUR_NAMES
-from ..change import percent_change
-from ..control import DEFAULT_SENSOR_TIMING
-from ..materials import REPRODUCTION_CONVENTIONS, check_convention
-from ..parsing import parse_name
+from ..core import reference as ref
+from ..core.behaviours import BEHAVIOUR_NAMES
+from ..core.controller import DEFAULT_SENSOR_TIMING
+from ..core.materials import REPRODUCTION_CONVENTIONS, check_convention
+from ..util.atomic import write_text
+from ..util.change import percent_change
+from ..util.parsing import parse_name
 from . import beyond_mass as _beyond
 from . import stats as _stats
 from ._claim_checks import (  # noqa: F401 (public names of this module)
@@ -242,7 +242,7 @@ POWER_VARIANTS = {
 }
 
 
-# The jerk claim under the loop's causal jerk and the body's zero-phase jerk (mat_hopper.jerk).
+# The jerk claim under the loop's causal jerk and the body's zero-phase jerk (mat_hopper.physics.jerk).
 JERK_FORMULAS = (("causal 50 Hz", "jerk_m_s3"), ("body, zero-phase 20 Hz", "jerk_body_m_s3"))
 JERK_VARIANTS = {
     "jerk_gradient": lambda m: _claim_count_significant(
@@ -375,14 +375,14 @@ def claims_table(
 
     Args:
         hops: the per-hop table of experiments 1-3 (all conventions; columns of
-            :func:`mat_hopper.metrics.hop_table` plus experiment, convention,
+            :func:`mat_hopper.physics.metrics.hop_table` plus experiment, convention,
             replicate and the sweep columns); None: no hopping results.
         runs: the run summaries (status, stable, upright, diverged_at_s, ...;
             optional, tells unstable runs apart from missing ones).
         stability: the stable-time-step map (one row per grid point; a
             ``convention`` column, else taken as ``paper``).
         conventions: the stiffness conventions to judge the claims under (names of
-            :data:`mat_hopper.materials.CONVENTIONS`, any case; default ``paper`` and ``axial``).
+            :data:`mat_hopper.core.materials.CONVENTIONS`, any case; default ``paper`` and ``axial``).
         basis: ``hops``, ``replicates`` or ``auto``, any case (module doc).
         alpha: significance level of the Holm-adjusted comparisons (and of the beyond-mass columns).
         timestep_s: the runs' time step (s), named in "unstable at dt=..." when runs has no timestep_s

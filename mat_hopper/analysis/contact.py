@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..control import TOUCHDOWN
+from ..core.controller import TOUCHDOWN
 
 
 def contact_toggles(rollout, transient_s: float | None = None) -> float:
@@ -29,7 +29,7 @@ def contact_toggles(rollout, transient_s: float | None = None) -> float:
     in the window.
 
     Args:
-        rollout: a :class:`mat_hopper.rollout.Rollout` (from :func:`mat_hopper.sim.simulate`); its touch
+        rollout: a :class:`mat_hopper.core.rollout.Rollout` (from :func:`mat_hopper.core.sim.simulate`); its touch
             channel (N), time (s) and the state machine's events are read.
         transient_s: start of the window, s (simulated time); None: ``rollout.settings.transient_s``.
 
@@ -60,7 +60,7 @@ def contact_table(rollouts) -> pd.DataFrame:
     behaviour, timestep_s, record_rate_hz, toggles_per_touchdown.
 
     Args:
-        rollouts: an iterable of :class:`mat_hopper.rollout.Rollout`, each counted over its scored window
+        rollouts: an iterable of :class:`mat_hopper.core.rollout.Rollout`, each counted over its scored window
             (``settings.transient_s`` on).
 
     Returns:

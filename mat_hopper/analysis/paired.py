@@ -1,7 +1,7 @@
 """Paired inference on replicates that share their seeds.
 
 Every design of an experiment runs the same replicate seeds
-(:meth:`mat_hopper.perturbations.Perturbation.replicate`): replicate k of
+(:meth:`mat_hopper.core.perturbations.Perturbation.replicate`): replicate k of
 design A and replicate k of its baseline saw the same start offset, tilt,
 push and sensor noise. The runs are paired by construction, and a paired
 comparison removes the seed's share of the spread. Per pair k, the log
@@ -52,8 +52,8 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from ..metrics import holm
-from ..parsing import parse_name
+from ..physics.metrics import holm
+from ..util.parsing import parse_name
 
 EQUIVALENCE_MARGIN = 0.10  # +-10 %: inside it a difference counts as none (the issue's margin)
 CONFIDENCE = 0.95

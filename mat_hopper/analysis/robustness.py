@@ -16,7 +16,7 @@ does not report and that a reader cannot check from its text:
   controller then also runs five times faster and reads the base 20 us
   late; what a user of their code gets by refining the step);
 - seeded perturbed replicates of the default (start offset, tilt, a push,
-  sensor noise: :meth:`mat_hopper.perturbations.Perturbation.replicate`).
+  sensor noise: :meth:`mat_hopper.core.perturbations.Perturbation.replicate`).
 
 and classifies each (quantity, variant) against the default's value:
 ``keeps`` (same sign, within a factor 2), ``moves > 2x`` (same sign, more
@@ -40,12 +40,12 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES
-from ..change import percent_change
-from ..control import SensorTiming
-from ..materials import MONO_NAMES, check_convention
-from ..timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S
+from ..core import reference as ref
+from ..core.behaviours import BEHAVIOUR_NAMES
+from ..core.controller import SensorTiming
+from ..core.materials import MONO_NAMES, check_convention
+from ..core.timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S
+from ..util.change import percent_change
 
 DEFAULT_LATENCIES = (0, 1, 2, 5, 10)
 FACTOR = 2.0  # "moves more than 2x"
@@ -144,9 +144,9 @@ class Variant:
     and perturbed replicate seed (None: unperturbed).
 
     The convention (any case) is stored as spelled in
-    :data:`mat_hopper.materials.CONVENTIONS` and the sensor timing (a name,
+    :data:`mat_hopper.core.materials.CONVENTIONS` and the sensor timing (a name,
     any case, or an integer latency) by its canonical name
-    (:class:`mat_hopper.control.SensorTiming`); ValueError for unknown ones.
+    (:class:`mat_hopper.core.controller.SensorTiming`); ValueError for unknown ones.
     """
 
     label: str
@@ -181,7 +181,7 @@ def variants(
     per replicate seed 0 .. replicates - 1 (default settings, perturbed).
 
     Args:
-        latencies: sensor latencies in physics steps (each passed to :class:`mat_hopper.control.SensorTiming`
+        latencies: sensor latencies in physics steps (each passed to :class:`mat_hopper.core.controller.SensorTiming`
             as an int); the default's (1, ``authors``) is not repeated.
         conventions: stiffness conventions, any case (each variant labelled
             and run by its canonical name); ``paper`` (the default's) is not
@@ -194,7 +194,7 @@ def variants(
         variants in that order.
 
     Raises:
-        ValueError: a latency outside [0, 1000] physics steps (:class:`mat_hopper.control.SensorTiming`),
+        ValueError: a latency outside [0, 1000] physics steps (:class:`mat_hopper.core.controller.SensorTiming`),
             or an unknown convention.
     """
     out = [DEFAULT]
@@ -226,8 +226,8 @@ def designs_and_behaviours() -> list[tuple[str, str]]:
 
     Returns:
         list[tuple[str, str]]: (design, behaviour) pairs of every quantity's design and baseline,
-        designs in the order of :data:`mat_hopper.materials.MONO_NAMES` (others after), then behaviours
-        in the order of :data:`mat_hopper.behaviours.BEHAVIOUR_NAMES`.
+        designs in the order of :data:`mat_hopper.core.materials.MONO_NAMES` (others after), then behaviours
+        in the order of :data:`mat_hopper.core.behaviours.BEHAVIOUR_NAMES`.
     """
     pairs = []
     for q in QUANTITIES:
@@ -253,7 +253,7 @@ def quantity_values(hops: pd.DataFrame, runs: pd.DataFrame | None = None) -> pd.
         (those of `hops`, then those only in `runs`) and quantity of :data:`QUANTITIES`. value_pct is
         the percent change (%) of the design's mean over its hop rows against the baseline's; nan where
         either run has no hop rows or is not usable, or the baseline's mean is round-off
-        (:func:`mat_hopper.change.percent_change`). Empty (those columns) when neither table has a
+        (:func:`mat_hopper.util.change.percent_change`). Empty (those columns) when neither table has a
         ``variant`` column.
     """
     columns = ["variant", "quantity_id", "claim", "paper_pct", "value_pct"]

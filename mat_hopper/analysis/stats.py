@@ -6,14 +6,14 @@ Two bases for a comparison of designs:
 ``hops`` (the paper's)
     every scored hop cycle of one run is a sample; the design's cycles are
     compared with the baseline's by a two-sided Mann-Whitney U test
-    (:func:`mat_hopper.metrics.compare`), Holm-corrected over one family:
+    (:func:`mat_hopper.physics.metrics.compare`), Holm-corrected over one family:
     one metric within one experiment, profile and stiffness convention
     (every design against the baseline on every behaviour: 16 comparisons
     for experiment 1), the family of one figure panel and of one claim.
 ``replicates``
     every replicate run is a sample: N runs per design and behaviour, each
     with its own seeded small perturbation
-    (:meth:`mat_hopper.perturbations.Perturbation.replicate`), are reduced
+    (:meth:`mat_hopper.core.perturbations.Perturbation.replicate`), are reduced
     to one mean per run, and the designs are compared on these means: a
     Mann-Whitney U test across replicates (Holm-corrected over the family)
     and a percentile bootstrap confidence interval of the percent change.
@@ -57,10 +57,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .. import metrics as _metrics
-from ..change import ROUNDOFF, percent_change
-from ..metrics import ALL_METRICS, METRICS
-from ..parsing import parse_name
+from ..physics import metrics as _metrics
+from ..physics.metrics import ALL_METRICS, METRICS
+from ..util.change import ROUNDOFF, percent_change
+from ..util.parsing import parse_name
 
 
 def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alpha: float):
@@ -284,7 +284,7 @@ def summary_table(
     family), tidy, with the percent change of mean and median against the
     baseline design in the same family and behaviour (nan without one).
 
-    Built on :func:`mat_hopper.metrics.summarize`.
+    Built on :func:`mat_hopper.physics.metrics.summarize`.
 
     Args:
         hops: a per-hop table.
@@ -333,7 +333,7 @@ def compare_hops(
     replicate: int | None = UNPERTURBED,
 ) -> pd.DataFrame:
     """The paper's comparison on hop cycles: every design against `baseline`
-    per `by` group and metric (:func:`mat_hopper.metrics.compare`), one Holm
+    per `by` group and metric (:func:`mat_hopper.physics.metrics.compare`), one Holm
     family per metric, experiment, profile and convention. By default only
     the unperturbed run (replicate -1) is used; ``replicate=None`` pools all.
 
@@ -351,13 +351,13 @@ def compare_hops(
         replicate: the replicate id compared (:func:`select_replicates`); None pools all.
 
     Returns:
-        DataFrame: family columns, then the columns of :func:`mat_hopper.metrics.compare` (`by`,
+        DataFrame: family columns, then the columns of :func:`mat_hopper.physics.metrics.compare` (`by`,
         design, baseline, metric, n, n_baseline, mean, mean_baseline, pct_change, u, p, effect_size,
         p_holm, significant), then basis.
 
     Raises:
         ValueError: a metric that is not a column of `hops`; the baseline in no family; or from
-            :func:`mat_hopper.metrics.compare` (no `by` column, alpha not in (0, 1)).
+            :func:`mat_hopper.physics.metrics.compare` (no `by` column, alpha not in (0, 1)).
     """
     metrics = _check_metrics(hops, metrics)
     hops = select_replicates(hops, replicate)
@@ -424,7 +424,7 @@ def bootstrap_pct_change(
 
     Returns:
         tuple[float, float, float]: (pct_change, low, high), %. "0" is a baseline mean below
-        ``ROUNDOFF`` in magnitude (:func:`mat_hopper.change.percent_change`); low and high are nan
+        ``ROUNDOFF`` in magnitude (:func:`mat_hopper.util.change.percent_change`); low and high are nan
         where every resample is dropped.
 
     Raises:
@@ -511,7 +511,7 @@ def compare_replicates(
     Returns:
         DataFrame, one row per family, `by` group, design and metric. Paired: the columns of
         :func:`mat_hopper.analysis.paired.compare_paired` and basis. Unpaired: family columns and the
-        columns of :func:`mat_hopper.metrics.compare`, then ci_low, ci_high, basis, paired (False).
+        columns of :func:`mat_hopper.physics.metrics.compare`, then ci_low, ci_high, basis, paired (False).
 
     Raises:
         ValueError: a metric that is not a column of `hops`; no ``replicate`` column; no replicate run

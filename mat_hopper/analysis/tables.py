@@ -1,7 +1,7 @@
 """Small tables of results, for reading: one call per question a chapter
 asks (how did each run end, percent change against a baseline, what
 claims hold), from the tidy tables of :mod:`mat_hopper.experiments`.
-Every percent change is :func:`mat_hopper.change.percent_change`.
+Every percent change is :func:`mat_hopper.util.change.percent_change`.
 
 Units: SI in the column names (``_m``, ``_w``, ``_s``); densities g/cm^3,
 moduli GPa.
@@ -12,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..behaviours import order_behaviours
-from ..change import percent_change
-from ..materials import CONVENTIONS, LegDesign, order_designs, paper_designs
+from ..core.behaviours import order_behaviours
+from ..core.materials import CONVENTIONS, LegDesign, order_designs, paper_designs
+from ..util.change import percent_change
 
 
 def _need(table: pd.DataFrame, columns, what: str) -> None:
@@ -29,7 +29,7 @@ def design_table(designs: dict[str, LegDesign] | None = None) -> pd.DataFrame:
     segment, material, density_g_cm3, modulus_gpa (nan: rigid).
 
     Args:
-        designs: designs by name; None: :func:`mat_hopper.materials.paper_designs`.
+        designs: designs by name; None: :func:`mat_hopper.core.materials.paper_designs`.
 
     Returns:
         DataFrame with columns design, segment (1, 2, ...), material (name), density_g_cm3 (g/cm^3),
@@ -60,8 +60,8 @@ def joint_table(design: LegDesign | str = "SS", convention: str = "paper") -> pd
     unlimited), the body it moves.
 
     Args:
-        design: the leg, or its name (:func:`mat_hopper.materials.parse_design`).
-        convention: the stiffness convention the model is built with (:func:`mat_hopper.model.build_model`).
+        design: the leg, or its name (:func:`mat_hopper.core.materials.parse_design`).
+        convention: the stiffness convention the model is built with (:func:`mat_hopper.core.model.build_model`).
 
     Returns:
         DataFrame, one row per joint in MuJoCo's order. Columns: joint (name), type (free, ball, slide
@@ -69,11 +69,11 @@ def joint_table(design: LegDesign | str = "SS", convention: str = "paper") -> pd
         degree of freedom), range_low, range_high (m or rad; nan: unlimited).
 
     Raises:
-        ValueError: an unknown design name, or invalid arguments to :func:`mat_hopper.model.build_model`
+        ValueError: an unknown design name, or invalid arguments to :func:`mat_hopper.core.model.build_model`
             (e.g. an unknown convention).
     """
-    from ..materials import parse_design
-    from ..model import build_model
+    from ..core.materials import parse_design
+    from ..core.model import build_model
 
     d = parse_design(design) if isinstance(design, str) else design
     m = build_model(d, convention=convention).model
@@ -137,7 +137,7 @@ def pct_change_table(
     """Percent change of the mean of `metric` against `baseline` (same
     behaviour, unperturbed runs), designs as rows and behaviours as
     columns (from :func:`mat_hopper.analysis.stats.summary_table`). Where the
-    baseline's mean is round-off (:func:`~mat_hopper.change.percent_change`;
+    baseline's mean is round-off (:func:`~mat_hopper.util.change.percent_change`;
     e.g. the tracking error of hopping in place) the change is nan: a
     percentage of nothing means nothing.
 
@@ -523,7 +523,7 @@ def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
       time). The leg's axial modes (kHz, barely damped) lie above the
       Nyquist frequency of any record rate, so this number measures the
       sampling (aliased ringing), not the hop: kept as an illustration.
-    - ``metric_jerk_m_s3``: the book's metric, :mod:`mat_hopper.metrics`'
+    - ``metric_jerk_m_s3``: the book's metric, :mod:`mat_hopper.physics.metrics`'
       ``jerk_z`` channel (computed at the physics rate from the
       acceleration low-passed at 50 Hz) averaged over the samples at that
       rate: what ``hop_table`` reports for a run recorded at that rate.
@@ -533,7 +533,7 @@ def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
     mean_jerk_m_s3.
 
     Args:
-        rollout: a :class:`mat_hopper.rollout.Rollout`; averaged from ``rollout.settings.transient_s`` on.
+        rollout: a :class:`mat_hopper.core.rollout.Rollout`; averaged from ``rollout.settings.transient_s`` on.
         rates_hz: the record rates to emulate, Hz (one or more, each finite and > 0). Subsampling can
             only emulate the record rate R divided by a whole number k (R, R/2, R/3, ...): a rate at or
             below R is rounded to the nearest of these (the ``rate_hz`` column says which); a rate above
@@ -548,7 +548,7 @@ def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
             message gives the record rate and the possible rates); fewer than 4 recorded samples; a
             rate that leaves fewer than 3 samples. Every rate is checked before any is computed.
     """
-    from ..sim import C
+    from ..core.sim import C
 
     d = rollout.data
     t, az, jz = d[:, C["t"]], d[:, C["az"]], d[:, C["jerk_z"]]
@@ -582,7 +582,7 @@ def setting_comparison(
     baseline) pair, per ``setting`` of the table (e.g. from
     :func:`axial_check`): rows setting, columns "<metric>: <design> vs
     <baseline>"; nan where either is missing or the baseline's mean is
-    round-off (:func:`~mat_hopper.change.percent_change`).
+    round-off (:func:`~mat_hopper.util.change.percent_change`).
 
     Args:
         hops: a per-hop table with columns setting, design and the metrics.
@@ -646,7 +646,7 @@ def power_formula_table(hops: pd.DataFrame, design: str = "SS", baseline: str = 
 
 def leg_mass_table(runs: pd.DataFrame) -> pd.DataFrame:
     """The runs of a sweep with the mass of the leg's material (the sum of
-    :func:`mat_hopper.materials.segment_masses`, kg, from the runs'
+    :func:`mat_hopper.core.materials.segment_masses`, kg, from the runs'
     per-segment ``densities_g_cm3`` "a/b/c" and ``segment_mass``
     convention) as ``leg_mass_kg``; unperturbed runs only. Columns: those of
     `runs` plus leg_mass_kg.
@@ -660,10 +660,10 @@ def leg_mass_table(runs: pd.DataFrame) -> pd.DataFrame:
 
     Raises:
         ValueError: no ``densities_g_cm3`` column; a density out of range
-            (:meth:`mat_hopper.materials.LegDesign.from_properties`); an unknown segment-mass convention
-            (:func:`mat_hopper.materials.segment_masses`).
+            (:meth:`mat_hopper.core.materials.LegDesign.from_properties`); an unknown segment-mass convention
+            (:func:`mat_hopper.core.materials.segment_masses`).
     """
-    from ..materials import LegDesign, segment_masses
+    from ..core.materials import LegDesign, segment_masses
 
     _need(runs, ("densities_g_cm3",), "leg_mass_table")
     r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs
@@ -693,14 +693,14 @@ def failure_table(runs: pd.DataFrame) -> pd.DataFrame:
     Returns:
         DataFrame, one row per unperturbed run whose status is not "ok" or that is not upright, with
         the columns above (at_s and final_base_z_m in s and m; n_hops 0 where missing). "Below 0.1 m"
-        is not at or above :data:`mat_hopper.reference.STABLE_MIN_BASE_Z` (a nan height counts as
+        is not at or above :data:`mat_hopper.core.reference.STABLE_MIN_BASE_Z` (a nan height counts as
         below).
 
     Raises:
         ValueError: `runs` lacks a column design, behaviour, status or final_base_z_m, or lacks
             diverged_at_s while one of its unperturbed runs diverged (the message names the columns).
     """
-    from .. import reference as ref
+    from ..core import reference as ref
 
     _need(runs, ("design", "behaviour", "status", "final_base_z_m"), "failure_table")
     r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs

@@ -2,9 +2,9 @@
 
 :func:`evaluate` runs designs of one behaviour and gives one row per design
 (:data:`RESULT_COLUMNS`: n_hops, hop_height_m, tracking_error_m, power_w,
-stable, the definitions of :mod:`mat_hopper.metrics`):
+stable, the definitions of :mod:`mat_hopper.physics.metrics`):
 
-- ``backend="mujoco"``: one CPU rollout per design (:mod:`mat_hopper.sim`),
+- ``backend="mujoco"``: one CPU rollout per design (:mod:`mat_hopper.core.sim`),
   in parallel over processes. The reference.
 - ``backend="warp"``: designs grouped by topology, each group one batched
   MuJoCo Warp simulation (per-world masses, inertias and spring
@@ -24,10 +24,10 @@ Example::
 
 from __future__ import annotations
 
+from ..core.materials import as_design
 from ._agreement import AGREEMENT_COLUMNS, RELATIVE_TOLERANCE, agreement
 from ._cpu import evaluate_cpu
 from ._designs import (
-    as_design,
     design_columns,
     designs_from_csv,
     designs_from_frame,

@@ -1,7 +1,7 @@
-"""The CPU reference backend: one ``mat_hopper.sim`` rollout per design.
+"""The CPU reference backend: one ``mat_hopper.core.sim`` rollout per design.
 
-Each design runs through :func:`mat_hopper.sim.simulate` and is summarised
-by :func:`mat_hopper.metrics.run_summary`, the package's own definitions;
+Each design runs through :func:`mat_hopper.core.sim.simulate` and is summarised
+by :func:`mat_hopper.physics.metrics.run_summary`, the package's own definitions;
 designs run in parallel over processes.
 """
 
@@ -15,15 +15,15 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 
-from ..behaviours import behaviour as get_behaviour
-from ..experiments.runner import stop_pool
-from ._designs import as_design
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.materials import as_design
+from ..util.pool import stop_pool
 from ._settings import BatchSettings, finite_mean, result_frame
 
 
 def _row(design, beh, settings: BatchSettings) -> dict:
-    from ..metrics import run_summary
-    from ..sim import C, simulate
+    from ..core.sim import C, simulate
+    from ..physics.metrics import run_summary
 
     r = simulate(design, beh, settings=settings)
     s = run_summary(r)
@@ -59,7 +59,7 @@ def evaluate_cpu(
     workers: int | None = None,
     progress: bool = False,
 ) -> pd.DataFrame:
-    """The mujoco backend: one CPU rollout (:func:`mat_hopper.sim.simulate`) per design.
+    """The mujoco backend: one CPU rollout (:func:`mat_hopper.core.sim.simulate`) per design.
 
     Args:
         designs: LegDesigns or names.
@@ -82,7 +82,7 @@ def evaluate_cpu(
     workers = min(len(designs), workers or os.cpu_count() or 1)
     tasks = [(d, beh, settings) for d in designs]
     if progress:
-        from ..progress import progress_bar
+        from ..util.progress import progress_bar
 
         bar = progress_bar(total=len(tasks), unit="design", desc="mujoco")
     else:

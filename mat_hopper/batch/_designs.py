@@ -17,7 +17,7 @@ from collections.abc import Iterable, Sequence
 
 import pandas as pd
 
-from ..materials import LegDesign, parse_design
+from ..core.materials import LegDesign, parse_design
 
 _DENSITY_COL = re.compile(r"^density_(\d+)$")
 _MODULUS_COL = re.compile(r"^modulus_(\d+)$")
@@ -27,7 +27,7 @@ _LOOKS_LIKE_PROPERTY = re.compile(r"^(dens|mod|rho\b|e_)", re.IGNORECASE)
 # EXTRA_COLUMNS and the settings of mat_hopper.cli.batch), the leg's mass
 # properties, and optimize --export's record (mat_hopper.optimize._export), whose
 # objectives and their standard errors (<objective>_se) are the optimizer's
-# metrics (mat_hopper.optimize._metrics.METRICS). Any other column is refused.
+# metrics (mat_hopper.physics.run_metrics.METRICS). Any other column is refused.
 RECORD_COLUMNS = (
     *("n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable"),
     *("behaviour", "sensor_timing", "diverged_at_s", "total_mass_kg", "backend", "upright"),
@@ -40,7 +40,7 @@ RECORD_COLUMNS = (
 
 def _record_names() -> str:
     """The record columns a design table may carry, as a message lists them."""
-    from ..optimize._metrics import METRICS
+    from ..physics.run_metrics import METRICS
 
     metrics = [m for m in METRICS if m not in RECORD_COLUMNS]
     return ", ".join(RECORD_COLUMNS) + f", the optimizer's metrics ({', '.join(metrics)}) and their <metric>_se"
@@ -56,29 +56,10 @@ def _unknown_columns(names) -> list[str]:
         if n != "design" and n not in RECORD_COLUMNS and not (_DENSITY_COL.match(n) or _MODULUS_COL.match(n))
     ]
     if left:  # the optimizer's metrics, loaded only for a table that has more columns
-        from ..optimize._metrics import METRICS
+        from ..physics.run_metrics import METRICS
 
         left = [n for n in left if n not in METRICS and n.removesuffix("_se") not in METRICS]
     return left
-
-
-def as_design(design) -> LegDesign:
-    """A design as a LegDesign.
-
-    Args:
-        design: a LegDesign (returned as is) or a name (``"SS"``, ``"PVC-Ti-SS"``, ``"rho-inc"``).
-
-    Returns:
-        The LegDesign.
-
-    Raises:
-        ValueError: anything else, or an unknown name.
-    """
-    if isinstance(design, LegDesign):
-        return design
-    if isinstance(design, str):
-        return parse_design(design)
-    raise ValueError(f"design must be a LegDesign or a design name, got {design!r}")
 
 
 def parse_design_list(text: str) -> list[LegDesign]:
@@ -106,7 +87,7 @@ def parse_design_list(text: str) -> list[LegDesign]:
     designs, by_name, by_leg = [], {}, {}
     for n in names:
         d = parse_design(n)
-        leg = (d.densities_g_cm3, d.moduli_gpa)  # the physics (mat_hopper.keys.design_key): the name is a label
+        leg = (d.densities_g_cm3, d.moduli_gpa)  # the physics (mat_hopper.util.keys.design_key): the name is a label
         first = by_name.get(d.name.lower()) or by_leg.get(leg)
         if first is not None:
             what = f"name the same design ({d.name})" if d.name.lower() in by_name else "are the same leg"
@@ -150,7 +131,7 @@ def _cell(value) -> str:
 
 
 def _number(cell: str, where: str, column: str, rigid: bool) -> float | None:
-    from ..parsing import parse_number
+    from ..util.parsing import parse_number
 
     try:
         return parse_number(cell, column, rigid=rigid, unit="GPa" if rigid else "g/cm^3")
@@ -256,7 +237,7 @@ def designs_from_frame(frame: pd.DataFrame, source: str = "table") -> list[LegDe
         key = design.name.lower()
         if key in names:
             raise ValueError(f"{where}: design name {design.name!r} is also row {names[key]}'s; names must be unique")
-        leg = (design.densities_g_cm3, design.moduli_gpa)  # the physics (mat_hopper.keys.design_key)
+        leg = (design.densities_g_cm3, design.moduli_gpa)  # the physics (mat_hopper.util.keys.design_key)
         if leg in legs:
             other, other_name = legs[leg]
             raise ValueError(
@@ -305,7 +286,7 @@ def designs_from_csv(path) -> list[LegDesign]:
 def design_columns(design: LegDesign, n_max: int | None = None, segment_mass: str = "leg") -> dict:
     """A design's properties as output columns: density_1..N (g/cm^3),
     modulus_1..N (GPa, ``rigid`` where rigid), leg_mass_kg (everything
-    below the hip, :func:`mat_hopper.controls.mass_properties`, as the hop
+    below the hip, :func:`mat_hopper.core.control_legs.mass_properties`, as the hop
     table's column); NaN past its last segment up to n_max. Every table of
     designs carries them, so that its rows can be told apart and read back.
 
@@ -316,7 +297,7 @@ def design_columns(design: LegDesign, n_max: int | None = None, segment_mass: st
             segment hold NaN; a smaller n_max than the design's segments
             leaves out the segments past it.
         segment_mass: the segment-mass convention of leg_mass_kg (``leg``,
-            the default, or ``capsule``; :mod:`mat_hopper.materials`).
+            the default, or ``capsule``; :mod:`mat_hopper.core.materials`).
 
     Returns:
         A dict {column: value}: ``density_1``..``density_<n_max>`` (float,
@@ -325,9 +306,9 @@ def design_columns(design: LegDesign, n_max: int | None = None, segment_mass: st
 
     Raises:
         ValueError: an unknown segment-mass convention (from
-            :func:`mat_hopper.controls.mass_properties`).
+            :func:`mat_hopper.core.control_legs.mass_properties`).
     """
-    from ..controls import mass_properties
+    from ..core.control_legs import mass_properties
 
     n_max = design.n_segments if n_max is None else n_max
     row: dict = {}

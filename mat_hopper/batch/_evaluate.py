@@ -6,7 +6,7 @@ from collections.abc import Sequence
 
 import pandas as pd
 
-from ..parsing import parse_name
+from ..util.parsing import parse_name
 from ._cpu import evaluate_cpu
 from ._settings import BACKENDS, BatchSettings
 
@@ -30,7 +30,7 @@ def evaluate(
         settings: the run's :class:`BatchSettings` (None: the paper's 60 s at
             1e-4 s, 20 s transient).
         backend: ``"mujoco"`` (CPU rollouts, the reference) or ``"warp"`` (MuJoCo Warp),
-            any case (:func:`mat_hopper.parsing.parse_name`).
+            any case (:func:`mat_hopper.util.parsing.parse_name`).
         device: the Warp device for the warp backend (``"cpu"``, ``"cuda"``).
         workers: processes for the mujoco backend (default: every core).
         max_batch: most worlds in one warp batch.

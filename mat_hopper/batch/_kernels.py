@@ -1,11 +1,11 @@
 """Warp kernels of the batch: controller, per-hop metrics, divergence.
 
-The controller is :mod:`mat_hopper.control` line for line (``euler_zyx``,
+The controller is :mod:`mat_hopper.core.controller` line for line (``euler_zyx``,
 ``update_phase``, ``controller_step``), in float64 like the CPU code, one
 thread per world; its gains arrive as a struct filled from
-:class:`~mat_hopper.control.ControllerSettings` field by field, and the
+:class:`~mat_hopper.core.controller.ControllerSettings` field by field, and the
 controller state uses control.py's own layout (``S_*`` indices) and
-initial values. The desired path is :func:`mat_hopper.behaviours.desired_state`.
+initial values. The desired path is :func:`mat_hopper.core.behaviours.desired_state`.
 
 Per physics step i (time t_i = i dt) the host launches
 
@@ -16,14 +16,14 @@ Per physics step i (time t_i = i dt) the host launches
 3. :func:`push_base_kernel`: those readings into the world's ring of past
    base readings (slot i mod ring);
 4. :func:`control_kernel`: the controller at t_i on the readings of the
-   sensor timing (:mod:`mat_hopper.control`): with a latency of L physics
+   sensor timing (:mod:`mat_hopper.core.controller`): with a latency of L physics
    steps the base readings of s_(i-L) and the touch force of
    s_(i-max(L,1)) (a ground force cannot be fresher than the previous
    control), the hips from the current ``qpos``/``qvel`` (s_i); before the
    first step every lagged reading is the start state's. L = 1 is the
    authors' read-control-``mj_step`` loop, L = 0 the fresh
    ``mj_step1``-read-control-``mj_step2`` loop, as in
-   :mod:`mat_hopper._loop`. Writes ``ctrl``, the state machine's event and
+   :mod:`mat_hopper.core._loop`. Writes ``ctrl``, the state machine's event and
    the hip rates it saw;
 5. ``mujoco_warp.step2``: actuation, acceleration (the touch sensor of
    s_i), integration to t_(i+1);
@@ -39,7 +39,7 @@ Per physics step i (time t_i = i dt) the host launches
 8. :func:`tick_kernel`: the step counter, kept on the device so that a
    CUDA graph of many steps can be replayed.
 
-Per-hop metrics follow :mod:`mat_hopper.metrics`: a hop cycle runs from a
+Per-hop metrics follow :mod:`mat_hopper.physics.metrics`: a hop cycle runs from a
 lift-off to the next; a cycle counts when it starts at or after the
 transient and holds at least one sample; per cycle the mean planar tracking
 error, the max base z and the mean hip power norm over its samples (taken
@@ -58,9 +58,9 @@ from __future__ import annotations
 import numpy as np
 import warp as wp
 
-from .. import behaviours as _beh
-from .. import control as _ctl
-from ..model import Layout
+from ..core import behaviours as _beh
+from ..core import controller as _ctl
+from ..core.model import Layout
 
 F64 = wp.float64
 

@@ -8,7 +8,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 import pandas as pd
 
-from ..sim import SimSettings
+from ..core.sim import SimSettings
 
 # One row per design, in this column order (the CLI writes exactly these).
 RESULT_COLUMNS = ("design", "n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable")
@@ -32,14 +32,14 @@ BACKENDS = ("mujoco", "warp")
 
 @dataclass(frozen=True)
 class BatchSettings(SimSettings):
-    """Run settings of a batch: a :class:`~mat_hopper.sim.SimSettings` (the
+    """Run settings of a batch: a :class:`~mat_hopper.core.sim.SimSettings` (the
     one declaration of every field, its defaults and checks) restricted to
     what every backend runs, the same for every design in it.
 
     Args:
         **fields: any SimSettings field. ``record_rate_hz`` is the rate (Hz)
             at which per-hop metrics sample the run (1 kHz);
-            ``sensor_timing`` (a :class:`~mat_hopper.control.SensorTiming`)
+            ``sensor_timing`` (a :class:`~mat_hopper.core.controller.SensorTiming`)
             how many physics steps old the base sensors are when the
             controller reads them: 1 (``"authors"``) is the authors' loop,
             ``d.sensordata`` as the previous physics step left it (touch,

@@ -4,7 +4,7 @@ docs/reference-hopper.md (experiment 4): for each design, try time steps
 log-spaced from 1e-3 down to 1e-5 s (20 values) on static hopping until a
 run ends upright (no NaN or inf, every |qacc| <= 1e6, the base above
 0.1 m); that step is the design's stable time step (nan if none is).
-:func:`mat_hopper.stability.spec_scan` does this one design at a time.
+:func:`mat_hopper.physics.stability.spec_scan` does this one design at a time.
 
 :func:`spec_scan_batch` turns the loops inside out: each rung of the
 ladder is one call of :func:`mat_hopper.batch.evaluate` (static hopping,
@@ -14,7 +14,7 @@ batch. The answer per design is the same rule as ``spec_scan``'s; with
 ``backend="mujoco"`` it is the CPU rollouts themselves (the reference).
 
 Only the scan is batched. The map's bisection
-(:func:`mat_hopper.stability.largest_stable_timestep`) adapts each design's
+(:func:`mat_hopper.physics.stability.largest_stable_timestep`) adapts each design's
 next step to its last outcome, so it stays one design at a time on the CPU
 (``mat-hopper reproduce``).
 """
@@ -27,12 +27,11 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
-from .. import reference as ref
-from ..control import SensorTiming
-from ..materials import DEFAULT_CONVENTION
-from ..model import MAX_TIMESTEP_S
-from ..stability import SPEC_SCAN_N, spec_ladder
-from ._designs import as_design
+from ..core import reference as ref
+from ..core.controller import SensorTiming
+from ..core.materials import DEFAULT_CONVENTION, as_design
+from ..core.model import MAX_TIMESTEP_S
+from ..physics.stability import SPEC_SCAN_N, spec_ladder
 from ._evaluate import evaluate
 from ._settings import BatchSettings
 
@@ -61,9 +60,9 @@ def spec_scan_batch(
         designs: LegDesigns or names.
         duration_s: static hopping per try, s.
         convention: the stiffness convention.
-        sensor_timing: the controller's (:class:`~mat_hopper.control.SensorTiming`;
+        sensor_timing: the controller's (:class:`~mat_hopper.core.controller.SensorTiming`;
             a name or a latency in physics steps).
-        first_s, last_s, n: the ladder of :func:`mat_hopper.stability.spec_ladder`
+        first_s, last_s, n: the ladder of :func:`mat_hopper.physics.stability.spec_ladder`
             (s, from first_s down to last_s, n rungs).
         backend, device, workers, max_batch, progress: as :func:`mat_hopper.batch.evaluate`.
 

@@ -1,6 +1,6 @@
 """The warp backend: many designs of one topology in one MuJoCo Warp batch.
 
-One compiled hopper (:func:`mat_hopper.model.build_model`) goes to the
+One compiled hopper (:func:`mat_hopper.core.model.build_model`) goes to the
 device once (``mujoco_warp.put_model``) with a world axis on the fields a
 design changes:
 
@@ -35,13 +35,13 @@ import mujoco
 import numpy as np
 import pandas as pd
 
-from .. import reference as ref
-from ..behaviours import behaviour as get_behaviour
-from ..control import initial_state
-from ..materials import BENDING_CONVENTIONS, LegDesign, spring_stiffness
-from ..model import build_model
-from ..sim import prepare
-from ._designs import as_design, group_by_topology
+from ..core import reference as ref
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.controller import initial_state
+from ..core.materials import BENDING_CONVENTIONS, LegDesign, as_design, spring_stiffness
+from ..core.model import build_model
+from ..core.sim import prepare
+from ._designs import group_by_topology
 from ._settings import BatchSettings, mean_or_nan, result_frame
 
 # Model fields set per world from the designs, and those set_const derives from them.
@@ -379,7 +379,7 @@ class WarpBatch:
         chunk = int(chunk_steps or (self.graph_steps if self.device.is_cuda else 200))
         bar = None
         if progress:
-            from ..progress import progress_bar
+            from ..util.progress import progress_bar
 
             # counts steps, shows simulated seconds (unit_scale multiplies both by dt)
             bar = progress_bar(

@@ -115,11 +115,11 @@ def main(argv=None) -> int:
     command = command_of(argv)
     parser = build_parser(command if command in COMMAND_HELP else "")
     args = parser.parse_args(argv)
-    from ..sim import route_mujoco_warnings
+    from ..core.sim import route_mujoco_warnings
 
     route_mujoco_warnings()
-    from ..atomic import remove_stale_mp_dirs
     from ..optimize import stop_signals
+    from ..util.atomic import remove_stale_mp_dirs
     from ._checks import table_on_stdout
 
     remove_stale_mp_dirs()  # what killed runs left in the temp folder

@@ -14,8 +14,8 @@ import shutil
 import tempfile
 from contextlib import contextmanager
 
-from ..atomic import TEMP_PREFIX
-from ..parsing import RIGID, is_decimal, parse_name, parse_number
+from ..util.atomic import TEMP_PREFIX
+from ..util.parsing import RIGID, is_decimal, parse_name, parse_number
 
 # A value argparse would take for an option: "-1", "-1.5e3", "-1,2,3".
 NEGATIVE_LIST = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
@@ -70,8 +70,8 @@ class _StoreOnce(argparse._StoreAction):
 
 def harden_parser(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """One reading of every option of every subcommand: numbers (type=float
-    or int) through :func:`mat_hopper.parsing.parse_number` (ASCII decimal,
-    finite), names with choices through :func:`~mat_hopper.parsing.parse_name`
+    or int) through :func:`mat_hopper.util.parsing.parse_number` (ASCII decimal,
+    finite), names with choices through :func:`~mat_hopper.util.parsing.parse_name`
     (case-insensitive), no empty value for any option that takes one, and
     no option of one value given twice. Errors name the flag as typed.
     Returns `parser`."""
@@ -150,7 +150,7 @@ def check_name_list(text, flag: str, canonical=None) -> None:
 def parse_list(text, flag: str, *, rigid: bool = False, unit: str = "") -> list[float | None]:
     """A comma-separated list of finite numbers, the one parser of every
     comma list on the command line (--density, --modulus, --density-bounds,
-    --modulus-bounds); each item through :func:`mat_hopper.parsing.parse_number`
+    --modulus-bounds); each item through :func:`mat_hopper.util.parsing.parse_number`
     (ASCII decimal). Empty items ("1,,2", "1,2,") are refused; with
     `rigid`, the word "rigid" stands for a rigid segment (None). Ranges
     are checked by the library (materials, search space), not here."""
@@ -243,7 +243,7 @@ def write_table(table, path: str) -> str:
     "-" (:data:`STDOUT`); returns what to name in "wrote ... to" lines."""
     import sys
 
-    from ..atomic import write_csv
+    from ..util.atomic import write_csv
 
     if path == STDOUT:
         table.to_csv(sys.__stdout__ if _TABLE_STREAM[0] is None else _TABLE_STREAM[0], index=False)
@@ -427,7 +427,7 @@ def cache_folder(cache) -> tuple[str, str]:
             cannot be written or made (:func:`check_output_dir`).
     """
     from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
-    from ..parsing import env_value
+    from ..util.parsing import env_value
 
     env_cache = None if cache else env_value(CACHE_ENV, "a folder")
     flag = f"${CACHE_ENV}" if env_cache else "--cache"
@@ -495,23 +495,23 @@ SENSOR_TIMING_HELP = (
 def sensor_timing_arg(text, flag: str = "--sensor-timing"):
     """--sensor-timing: a name (authors, fresh; any case), ``latency-L`` or
     an integer L, the latency in physics steps; L through
-    :func:`mat_hopper.parsing.parse_number` (ASCII digits only: "٣" and "²"
+    :func:`mat_hopper.util.parsing.parse_number` (ASCII digits only: "٣" and "²"
     are refused). A SensorTiming is returned as is. Raises ValueError
     naming `flag`."""
-    from ..control import _LATENCY_PREFIX, MAX_SENSOR_LATENCY_STEPS, SENSOR_TIMINGS, SensorTiming
+    from ..core.controller import LATENCY_PREFIX, MAX_SENSOR_LATENCY_STEPS, SENSOR_TIMINGS, SensorTiming
 
     if isinstance(text, SensorTiming):
         return text
     s = "" if text is None else str(text).strip()
     accepted = (
-        f"accepted: {', '.join(SENSOR_TIMINGS)}, {_LATENCY_PREFIX}L or an integer L of physics steps "
+        f"accepted: {', '.join(SENSOR_TIMINGS)}, {LATENCY_PREFIX}L or an integer L of physics steps "
         f"in [0, {MAX_SENSOR_LATENCY_STEPS}]"
     )
     if not s:
         raise ValueError(f"{flag} is empty; {accepted}")
     if s.lower() in SENSOR_TIMINGS:
         return SensorTiming(s.lower())
-    steps = s[len(_LATENCY_PREFIX) :] if s.lower().startswith(_LATENCY_PREFIX) else s
+    steps = s[len(LATENCY_PREFIX) :] if s.lower().startswith(LATENCY_PREFIX) else s
     if not is_decimal(steps):
         raise ValueError(f"{flag}: unknown sensor timing {s!r}; {accepted}")
     latency = parse_number(steps, flag, integer=True, low=0, high=MAX_SENSOR_LATENCY_STEPS, unit="physics steps")

@@ -8,7 +8,7 @@ import os
 
 from optuna.trial import TrialState
 
-from ..materials import LegDesign
+from ..core.materials import LegDesign
 from ..optimize import (
     CONFIG_ATTR,
     METRICS,

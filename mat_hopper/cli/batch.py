@@ -15,10 +15,10 @@ import dataclasses
 import math
 import sys
 
-from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR
+from ..core import reference as ref
+from ..core.behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR
+from ..core.materials import CONVENTIONS
 from ..experiments.profiles import PROFILE_ENV, PROFILES
-from ..materials import CONVENTIONS
 from ._checks import SENSOR_TIMING_HELP, sensor_timing_type
 
 CSV_HELP = (
@@ -110,7 +110,7 @@ SETTING_COLUMNS = ("behaviour", "convention", "sensor_timing", "duration_s", "tr
 
 def run_batch(args) -> int:
     from ..batch import RESULT_COLUMNS, designs_from_csv, evaluate, parse_design_list
-    from ..behaviours import behaviour
+    from ..core.behaviours import behaviour
     from ..experiments.profiles import get_profile
     from ._checks import (
         check_distinct_paths,
@@ -139,7 +139,7 @@ def run_batch(args) -> int:
     device = warp_device(args.device) if args.backend == "warp" else None  # name, gpu extra, CUDA seen
     _check_size(args, designs, settings)
     run = dict(backend=args.backend, device=device, workers=args.workers, max_batch=args.max_batch)
-    progress = not args.quiet  # a bar on a terminal, a line per stage in logs and pipes (mat_hopper.progress)
+    progress = not args.quiet  # a bar on a terminal, a line per stage in logs and pipes (mat_hopper.util.progress)
     if progress and args.backend == "warp":  # model building and kernel compilation come before any bar
         print(
             f"warp: building {_count(len(designs), 'world')} on {device} and compiling its kernels "
@@ -230,7 +230,7 @@ def _check_applicable(args) -> None:
                 raise ValueError(f"{flag} is for --backend warp")
     elif args.workers is not None:
         raise ValueError("--workers is for --backend mujoco (a warp batch is one process)")
-    from ..limits import MAX_WORLDS, check_count, check_workers
+    from ..util.limits import MAX_WORLDS, check_count, check_workers
 
     check_workers(args.workers)
     check_count(args.max_batch, "--max-batch", 1, MAX_WORLDS, "worlds")
@@ -244,7 +244,7 @@ def _check_stability_duration(duration) -> None:
         return
     if not (math.isfinite(duration) and duration > 0):
         raise ValueError(f"--stability-duration must be > 0 s, got {duration:g}")
-    first = ref.STABILITY_TIMESTEP_RANGE[0]  # the ladder's largest step (mat_hopper.stability.spec_ladder)
+    first = ref.STABILITY_TIMESTEP_RANGE[0]  # the ladder's largest step (mat_hopper.physics.stability.spec_ladder)
     if duration < first:
         raise ValueError(
             f"--stability-duration must be at least the scan's largest time step, {first:g} s (a shorter try "
@@ -253,9 +253,9 @@ def _check_stability_duration(duration) -> None:
 
 
 def _check_size(args, designs, settings) -> None:
-    """designs x physics steps, before any work (mat_hopper.limits)."""
-    from ..limits import check_total_steps
-    from ..stability import spec_ladder
+    """designs x physics steps, before any work (mat_hopper.util.limits)."""
+    from ..physics.stability import spec_ladder
+    from ..util.limits import check_total_steps
 
     source = "--map" if args.map is not None else "--designs-csv" if args.designs_csv is not None else "--designs"
     if args.stability:

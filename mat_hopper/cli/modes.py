@@ -5,10 +5,9 @@ from __future__ import annotations
 
 import pandas as pd
 
-from .. import reference as ref
-from ..control import DEFAULT_SENSOR_TIMING
-from ..limits import check_count
-from ..materials import (
+from ..core import reference as ref
+from ..core.controller import DEFAULT_SENSOR_TIMING
+from ..core.materials import (
     AXIAL_CONVENTIONS,
     BENDING_CONVENTIONS,
     CONVENTIONS,
@@ -16,7 +15,9 @@ from ..materials import (
     MAX_SEGMENTS,
     SEGMENT_MASSES,
 )
-from ..modes import AUTO_SAFETY, auto_substeps, axial_modes, bending_modes, controller_timestep, estimate_timestep
+from ..core.stable_step import AUTO_SAFETY, auto_substeps, controller_timestep, estimate_timestep
+from ..physics.modes import axial_modes, bending_modes
+from ..util.limits import check_count
 from ._checks import check_output_file, sensor_timing_type, write_table
 from .simulate import design_from_args
 

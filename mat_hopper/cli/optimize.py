@@ -9,14 +9,17 @@ import sys
 
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..experiments.profiles import PROFILES, get_profile
-from ..limits import MAX_WORLDS, check_count, check_workers
 from ..optimize import (
     DEFAULT_BATCH,
     DEFAULT_BATCH_SIZE,
     DEFAULT_CVAR_ALPHA,
     DEFAULT_REPLICATES,
     DEFAULT_WORKERS,
+    HOPS_TO_FAILURE_RANGE,
     KINDS,
+    MAX_LEG_MASS_KG,
+    MAX_SEGMENTS,
+    MAX_YIELD_FRACTION,
     METRICS,
     PAPER_SEEDS,
     SAMPLERS,
@@ -34,9 +37,7 @@ from ..optimize import (
     storage_errors,
     stored_config,
 )
-from ..optimize._objective import HOPS_TO_FAILURE_RANGE, MAX_YIELD_FRACTION
-from ..optimize._robust import MAX_LEG_MASS_KG
-from ..optimize._space import MAX_SEGMENTS
+from ..util.limits import MAX_WORLDS, check_count, check_workers
 from ._checks import (
     cache_folder,
     check_name_list,
@@ -145,8 +146,8 @@ def _check_name_lists(args) -> None:
     """--materials and --ashby-classes name each item once: "SS,ss" or
     "metal, Metal" is refused naming the repeat (the search space would
     drop it in silence)."""
-    from ..materials import material
-    from ..optimize._ashby import check_classes
+    from ..core.materials import material
+    from ..optimize import check_classes
 
     check_name_list(args.materials, "--materials", lambda name: material(name).name)
     check_name_list(args.ashby_classes, "--ashby-classes", lambda name: check_classes([name])[0])
@@ -157,7 +158,7 @@ def _check_stress_options(args) -> None:
     --min-hops-to-failure in HOPS_TO_FAILURE_RANGE, in the command line's
     words: the option left out is the constraint off (the library says
     None)."""
-    from ..parsing import check_positive, parse_number
+    from ..util.parsing import check_positive, parse_number
 
     off = "; leave the option out for no constraint (off)"
     if args.max_yield_fraction is not None:
@@ -224,7 +225,7 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
 
 def _noise_and_mass_from_args(args, ob: Objective) -> dict:
     """--replicates, --risk, --cvar-alpha, --leg-mass, --leg-mass-tolerance
-    (mat_hopper.optimize._robust) and the stress constraints
+    (mat_hopper.optimize._scoring) and the stress constraints
     --max-yield-fraction, --min-hops-to-failure (issue 21), each the stored
     (or default) value when left out; ``--leg-mass none`` lifts the
     constraint."""
@@ -327,10 +328,10 @@ def _cmd_optimize(args) -> int:
 
 def _check_size(args, config: StudyConfig) -> None:
     """--trials x behaviours x replicates x physics steps per run, before
-    any work (mat_hopper.limits; under auto time steps, at SS's step: the
+    any work (mat_hopper.util.limits; under auto time steps, at SS's step: the
     stiffest paper material)."""
-    from ..limits import check_total_steps
-    from ..materials import parse_design
+    from ..core.materials import parse_design
+    from ..util.limits import check_total_steps
 
     ob = config.objective
     steps = ob.sim_settings(design=parse_design("SS", n_segments=config.space.n_segments)).n_steps

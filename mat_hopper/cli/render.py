@@ -6,23 +6,23 @@ from __future__ import annotations
 import math
 import sys
 
-from ..behaviours import behaviour
-from ..damping import DEFAULT_DAMPING
-from ..materials import DEFAULT_CONVENTION
-from ..timestep import is_auto
+from ..core.behaviours import behaviour
+from ..core.damping import DEFAULT_DAMPING
+from ..core.materials import DEFAULT_CONVENTION
+from ..core.timestep import is_auto
 from ..viz.render import (
-    _LIBS,
+    GL_LIBS,
     IMAGE_EXTENSIONS,
     RASTER_EXTENSIONS,
     VIDEO_EXTENSIONS,
     RenderBackendError,
+    check_extension,
+    check_fps,
     check_mp4_size,
     choose_backend,
     parse_size,
     render_files,
 )
-from ..viz.render import _check_extension as check_extension
-from ..viz.render import _check_fps as check_fps
 from ._checks import check_distinct_paths, check_output_file, named_by_flags
 from .simulate import add_sim_arguments, describe_settings, design_from_args, sim_settings_from_args
 
@@ -147,7 +147,7 @@ def register_cli(sub) -> None:
     p.add_argument("--size", default=None, help="video and still size WIDTHxHEIGHT in pixels (640x480)")
     p.add_argument(
         "--backend",
-        choices=tuple(_LIBS),
+        choices=tuple(GL_LIBS),
         default=None,
         help="OpenGL backend (default: $MUJOCO_GL if osmesa or egl, else osmesa, else egl)",
     )

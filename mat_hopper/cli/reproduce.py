@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import sys
 
+from ..core.materials import CONVENTIONS
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..experiments.paper import experiment_name, experiment_spellings
 from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
 from ..experiments.reproduce import default_out_dir, reproduce
-from ..limits import check_total_steps, check_workers
-from ..materials import CONVENTIONS
+from ..util.limits import check_total_steps, check_workers
 from ._checks import (
     cache_folder,
     check_distinct_paths,
@@ -38,17 +38,17 @@ def _connect(address: str):
 
 
 def _check_size(profile, args) -> None:
-    """The whole reproduction's physics steps, before any work (mat_hopper.limits)."""
+    """The whole reproduction's physics steps, before any work (mat_hopper.util.limits)."""
     from ..experiments.paper import parse_experiments
     from ..experiments.profiles import check_replicates
-    from ..experiments.reproduce import _check_conventions, planned_steps
+    from ..experiments.reproduce import check_conventions, planned_steps
 
     try:
         replicates = profile.replicates if args.replicates is None else check_replicates(args.replicates)
     except ValueError:
         raise ValueError(f"--replicates must be an integer >= 0, got {args.replicates!r}") from None
     names = parse_experiments(args.experiments)
-    steps = planned_steps(profile, names, _check_conventions(args.conventions), replicates)
+    steps = planned_steps(profile, names, check_conventions(args.conventions), replicates)
     what = f"--replicates {replicates}" if args.replicates is not None else f"--experiments {args.experiments}"
     check_total_steps(steps, what, "lower --replicates, or run fewer --experiments or --conventions")
 
@@ -102,7 +102,7 @@ def cmd_reproduce(args) -> int:
     if args.push_scale is not None:
         from dataclasses import replace
 
-        from ..perturbations import check_push_scale
+        from ..core.perturbations import check_push_scale
 
         profile = replace(profile, push_scale=check_push_scale(args.push_scale, "--push-scale"))
     every = args.experiments is not None and args.experiments.strip().lower() == "all"

@@ -6,12 +6,11 @@ import argparse
 import math
 import sys
 
-from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR, behaviour
-from ..controls import CONTROLS, control, mass_properties
-from ..damping import DAMPINGS, DEFAULT_DAMPING
-from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
-from ..materials import (
+from ..core import reference as ref
+from ..core.behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR, behaviour
+from ..core.control_legs import CONTROLS, control, mass_properties
+from ..core.damping import DAMPINGS, DEFAULT_DAMPING
+from ..core.materials import (
     CONVENTIONS,
     DEFAULT_CONVENTION,
     DENSITY_RANGE_G_CM3,
@@ -21,9 +20,10 @@ from ..materials import (
     check_n_segments,
     parse_design,
 )
-from ..metrics import METRICS, hop_table, run_summary
-from ..parsing import is_decimal, parse_number
-from ..timestep import AUTO, is_auto
+from ..core.timestep import AUTO, is_auto
+from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
+from ..physics.metrics import METRICS, hop_table, run_summary
+from ..util.parsing import is_decimal, parse_number
 from ._checks import (
     SENSOR_TIMING_HELP,
     check_distinct_paths,
@@ -188,18 +188,18 @@ def sim_settings_from_args(
         duration_s: the run's length, s.
         transient_s: hop cycles starting before it are not scored, s.
         duration_flag: the option(s) named for the run's length in errors.
-        **extra: further :class:`~mat_hopper.sim.SimSettings` fields.
+        **extra: further :class:`~mat_hopper.core.sim.SimSettings` fields.
 
     Returns:
-        The :class:`~mat_hopper.sim.SimSettings`.
+        The :class:`~mat_hopper.core.sim.SimSettings`.
 
     Raises:
         ValueError: a bad setting (a run shorter than one control period
             included), or a run above the limit of physics steps
-            (:func:`mat_hopper.limits.check_total_steps`, $MAT_HOPPER_MAX_STEPS),
+            (:func:`mat_hopper.util.limits.check_total_steps`, $MAT_HOPPER_MAX_STEPS),
             naming the options.
     """
-    from ..limits import check_total_steps
+    from ..util.limits import check_total_steps
 
     with named_by_flags(duration_s=duration_flag, duration=duration_flag):
         settings = _sim_settings(args, design, duration_s, transient_s, **extra)
@@ -212,7 +212,7 @@ def sim_settings_from_args(
 
 
 def _sim_settings(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
-    from ..sim import sim_settings
+    from ..core.sim import sim_settings
 
     dt = _timestep(args.timestep)
     return sim_settings(
@@ -240,11 +240,11 @@ def describe_settings(settings, auto: bool = False) -> str:
 
 def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: bool = False):
     """The rollout, advanced in chunks of PROGRESS_CHUNK_S simulated seconds
-    with progress on stderr (:mod:`mat_hopper.progress`: a bar on a
+    with progress on stderr (:mod:`mat_hopper.util.progress`: a bar on a
     terminal, a line per stage otherwise; none when progress is false).
     Chunked and single-call rollouts are bit-identical."""
-    from ..progress import StageLines, progress_bar
-    from ..sim import RolloutRunner
+    from ..core.sim import RolloutRunner
+    from ..util.progress import StageLines, progress_bar
 
     runner = RolloutRunner(design, beh, settings, record_qpos=record_qpos)
     chunk = max(1, int(round(PROGRESS_CHUNK_S / settings.timestep_s)))
@@ -278,7 +278,7 @@ def _unstable_line(rollout, auto: bool) -> str:
     controller on a leg that bends)."""
     import numpy as np
 
-    from ..rollout import C
+    from ..core.rollout import C
 
     conv = rollout.settings.convention
     tilt = np.degrees(np.hypot(rollout.data[:, C["roll"]], rollout.data[:, C["pitch"]]))
@@ -374,7 +374,7 @@ def register_cli(sub) -> None:
         choices=CONTROLS,
         default=None,
         help="simulate a control of the design instead: rigid (same densities, no springs), mass (homogeneous "
-        "leg of the same leg mass), inertia (same leg mass and hip inertia; mat_hopper.controls)",
+        "leg of the same leg mass), inertia (same leg mass and hip inertia; mat_hopper.core.control_legs)",
     )
     p.add_argument(
         "--profile",

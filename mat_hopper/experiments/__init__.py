@@ -9,5 +9,5 @@
   (tables, figures, claims).
 
 This package's ``__init__`` imports nothing. The cache keys are the core's
-:mod:`mat_hopper.keys` (the core module :mod:`mat_hopper.stability` uses them too).
+:mod:`mat_hopper.util.keys` (the core module :mod:`mat_hopper.physics.stability` uses them too).
 """

@@ -49,8 +49,10 @@ except Exception:  # pragma: no cover
 try:
     import pyarrow.parquet  # noqa: F401
 
-    from .. import metrics, stability  # noqa: F401
-    from ..sim import SimSettings, simulate
+    from ..core.sim import SimSettings, simulate
+    from ..physics import (
+        stability,  # noqa: F401
+    )
 
     simulate("MD", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
 except Exception:  # pragma: no cover

@@ -1,7 +1,7 @@
 """The result cache: one parquet file per key (:class:`Cache`), written
 atomically, with a content checksum verified on every load (a mismatch is
 recomputed, never loaded). The keys themselves are the core's
-:mod:`mat_hopper.keys`.
+:mod:`mat_hopper.util.keys`.
 """
 
 from __future__ import annotations
@@ -15,9 +15,9 @@ import time
 import numpy as np
 import pandas as pd
 
-from ..atomic import TEMP_PREFIX, atomic_path
-from ..keys import json_default
-from ..parsing import env_value
+from ..util.atomic import TEMP_PREFIX, atomic_path
+from ..util.keys import json_default
+from ..util.parsing import env_value
 
 DEFAULT_CACHE_DIR = os.path.join("results", "cache")
 CACHE_ENV = "MAT_HOPPER_CACHE"

@@ -3,7 +3,7 @@
 For the designs the paper's material claims name, each behaviour and
 replicate seeds 0..n-1 (the profile's ``replicates``; the same seeds for
 every design, so comparisons are paired), one run of the design and one of
-each control (:mod:`mat_hopper.controls`): its rigid twin, its mass-matched
+each control (:mod:`mat_hopper.core.control_legs`): its rigid twin, its mass-matched
 leg and its inertia-matched leg. The baselines of the claims (MD, SS) run
 on the same seeds. Runs go through the one cache and pool
 (:mod:`mat_hopper.experiments.runner`): a control whose physics is the
@@ -19,9 +19,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from ..behaviours import behaviour as get_behaviour
-from ..controls import CONTROLS, check_control, control
-from ..materials import parse_design
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.control_legs import CONTROLS, check_control, control
+from ..core.materials import parse_design
 from .profiles import get_profile
 from .runner import RunSpec, run_grid
 
@@ -46,7 +46,7 @@ def control_tasks(
 
     Args:
         profile: a Profile or its name (default: $MAT_HOPPER_PROFILE).
-        designs: design names (:func:`mat_hopper.materials.parse_design`).
+        designs: design names (:func:`mat_hopper.core.materials.parse_design`).
         behaviours: behaviour names.
         kinds: control kinds (``rigid``, ``mass``, ``inertia``; any case).
         replicates: seeds per run (default: the profile's; >= 2).
@@ -57,7 +57,7 @@ def control_tasks(
         convention, sensor_timing (its name, e.g. ``"authors"``), design
         (the control's name for a control), behaviour, replicate,
         control_of (the design), control (kind as spelled in
-        :data:`~mat_hopper.controls.CONTROLS`, or "none"). Names are
+        :data:`~mat_hopper.core.control_legs.CONTROLS`, or "none"). Names are
         recorded in their canonical spelling.
 
     Raises:

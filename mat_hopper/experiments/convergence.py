@@ -7,7 +7,7 @@ conserving segment geometry (``segment_mass="leg"``), the physical
 substeps (``timestep_s="auto"``: the controller keeps its 1e-4 s period,
 the physics takes the substeps each leg's analytic bound needs). Graded
 legs with N != 3 are the 3-segment gradient resampled by cell averages
-(:meth:`mat_hopper.materials.LegDesign.resample`: density by the
+(:meth:`mat_hopper.core.materials.LegDesign.resample`: density by the
 length-weighted mean, so the mass is conserved; modulus by the harmonic
 mean, so the series compliance is conserved).
 
@@ -24,9 +24,9 @@ from dataclasses import dataclass, replace
 
 import pandas as pd
 
-from ..behaviours import behaviour as get_behaviour
-from ..materials import parse_design
-from ..modes import axial_modes
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.materials import parse_design
+from ..physics.modes import axial_modes
 from .profiles import Profile, get_profile
 from .runner import RunSpec, run_grid
 
@@ -79,7 +79,7 @@ def tasks(profile=None, designs=DESIGNS, behaviours=BEHAVIOURS, plan: Convergenc
     Args:
         profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``);
             its ``axial`` form (:meth:`Profile.for_convention`) gives the settings.
-        designs: design names (:func:`mat_hopper.materials.parse_design`), each
+        designs: design names (:func:`mat_hopper.core.materials.parse_design`), each
             resampled to every N (:meth:`LegDesign.resample`).
         behaviours: behaviour names.
         plan: segment counts, run length and transient (s); None: :func:`plan_for`
@@ -204,7 +204,7 @@ def step_cost(design: str = "SS", segments=(1, 3, 6, 12, 24), seconds: float = 0
     machine, which drifts: read it as ratios between N.
 
     Args:
-        design: a design name (:func:`mat_hopper.materials.parse_design`),
+        design: a design name (:func:`mat_hopper.core.materials.parse_design`),
             resampled to each N.
         segments: the segment counts N to time.
         seconds: simulated seconds of each timed run (s).
@@ -218,9 +218,9 @@ def step_cost(design: str = "SS", segments=(1, 3, 6, 12, 24), seconds: float = 0
     Raises:
         ValueError: an unknown design, a segment count outside [1, 64], or
             invalid settings (e.g. `seconds` <= 0) from
-            :func:`mat_hopper.sim.simulate`.
+            :func:`mat_hopper.core.sim.simulate`.
     """
-    from ..sim import simulate
+    from ..core.sim import simulate
 
     rows = []
     simulate(design, "forward", duration_s=0.01, transient_s=0.0)  # compile the loop
@@ -245,11 +245,11 @@ def step_cost(design: str = "SS", segments=(1, 3, 6, 12, 24), seconds: float = 0
 def modes_table(designs=("SS", "PVC"), segments=(1, 2, 3, 4, 6, 8, 12, 16, 24, 32)) -> pd.DataFrame:
     """Mode 1 of the lumped chain against the continuum rod per N (axial
     convention, mass-conserving segments): design, n_segments, chain_hz,
-    rod_hz, error_pct (:func:`mat_hopper.modes.axial_modes`).
+    rod_hz, error_pct (:func:`mat_hopper.physics.modes.axial_modes`).
 
     Args:
         designs: names of single-material elastic designs
-            (:func:`mat_hopper.materials.parse_design`).
+            (:func:`mat_hopper.core.materials.parse_design`).
         segments: the segment counts N.
 
     Returns:
@@ -259,7 +259,7 @@ def modes_table(designs=("SS", "PVC"), segments=(1, 2, 3, 4, 6, 8, 12, 16, 24, 3
 
     Raises:
         ValueError: an unknown design, a graded or rigid one
-            (:func:`mat_hopper.modes.axial_modes` needs a uniform elastic rod),
+            (:func:`mat_hopper.physics.modes.axial_modes` needs a uniform elastic rod),
             or a segment count outside [1, 64].
     """
     rows = []

@@ -3,7 +3,7 @@
 
 An experiment is designs x behaviours x settings, nothing more; the runner
 (:mod:`mat_hopper.experiments.runner`) turns it into cached, parallel runs. Every
-number comes from :mod:`mat_hopper.reference`.
+number comes from :mod:`mat_hopper.core.reference`.
 
 - ``exp1``: mono-materials MD, PVC, Al, Ti, SS x the four behaviours (20 runs).
 - ``exp2``: one property at a time around PVC, Al, Ti and SS (the sweeps
@@ -13,7 +13,7 @@ number comes from :mod:`mat_hopper.reference`.
   behaviours (16 runs), beside the baselines MD and SS (8 runs, the very
   runs of exp1: the cache holds them once).
 - ``stability``: the stable time step over the density x modulus
-  grid (20 x 20 in the paper profile), see :mod:`mat_hopper.stability`.
+  grid (20 x 20 in the paper profile), see :mod:`mat_hopper.physics.stability`.
 
 The book's extra checks run through the same runner: the stable time step
 under both stiffness conventions (:func:`convention_stability`), perturbed
@@ -29,12 +29,12 @@ from dataclasses import dataclass, replace
 
 import pandas as pd
 
-from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES
-from ..behaviours import behaviour as get_behaviour
-from ..materials import REPRODUCTION_CONVENTIONS, LegDesign, Material, paper_designs, parse_design
-from ..porosity import DEFAULT_POROSITY_MODEL, check_porosity_model, porous_modulus
-from ..timestep import AUTO, is_auto
+from ..core import reference as ref
+from ..core.behaviours import BEHAVIOUR_NAMES
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.materials import REPRODUCTION_CONVENTIONS, LegDesign, Material, paper_designs, parse_design
+from ..core.timestep import AUTO, is_auto
+from ..physics.porosity import DEFAULT_POROSITY_MODEL, check_porosity_model, porous_modulus
 from . import robustness
 from .profiles import Profile, check_replicates, get_profile
 from .runner import FAILED, RunSpec, run_grid
@@ -125,7 +125,7 @@ class StabilityMap:
     n_segments: int = ref.REFERENCE_SEGMENTS
 
     def axes(self, profile: Profile | str | None = None):
-        from ..stability import stability_grid
+        from ..physics.stability import stability_grid
 
         return stability_grid(get_profile(profile).stability_grid_size)
 
@@ -156,7 +156,7 @@ def experiment_1() -> Experiment:
 
     Returns:
         The :class:`Experiment` ``exp1``: the five mono-material legs of
-        :data:`mat_hopper.reference.MONO_MATERIALS` (MD, PVC, Al, Ti, SS; label
+        :data:`mat_hopper.core.reference.MONO_MATERIALS` (MD, PVC, Al, Ti, SS; label
         column ``group`` = ``mono``) x static, forward, ramp and circle, with
         MD as its baseline.
     """
@@ -175,14 +175,14 @@ def experiment_2(porosity_model: str = DEFAULT_POROSITY_MODEL) -> Experiment:
         porosity_model: ``independent`` (the paper's: a density point changes
             the density only) or ``gibson-ashby`` (a density point below the base
             material's is that solid made porous, E = E_s (rho / rho_s)^2,
-            :func:`mat_hopper.porosity.porous_modulus`; points above keep E_s);
-            any case (:func:`mat_hopper.porosity.check_porosity_model`): the
+            :func:`mat_hopper.physics.porosity.porous_modulus`; points above keep E_s);
+            any case (:func:`mat_hopper.physics.porosity.check_porosity_model`): the
             name and labels carry its canonical spelling.
 
     Returns:
         The :class:`Experiment` ``exp2`` (``exp2-<porosity_model>`` for a model
         other than the default) on the ``forward`` behaviour: every point of
-        :data:`mat_hopper.reference.SWEEPS`, plus the base material's own value
+        :data:`mat_hopper.core.reference.SWEEPS`, plus the base material's own value
         where a sweep lacks it, as a 3-segment mono-material leg.
 
         Labels: sweep_base (the material), sweep_property (density|modulus),
@@ -405,7 +405,7 @@ def convention_tasks(
     names=("MD", "PVC", "Al", "Ti", "SS"), profile: str | Profile | None = None, conventions=REPRODUCTION_CONVENTIONS
 ) -> list:
     """Stable-time-step measurements (runner tasks, cached) of designs
-    (names as :func:`~mat_hopper.materials.parse_design` reads them, or
+    (names as :func:`~mat_hopper.core.materials.parse_design` reads them, or
     LegDesigns; default the mono-materials) under each convention, with
     the profile's try
     length, tolerance and tries (no 20-step reference scan).
@@ -413,10 +413,10 @@ def convention_tasks(
     Args:
         names: design names or LegDesigns.
         profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
-        conventions: stiffness conventions (:data:`mat_hopper.materials.CONVENTIONS`).
+        conventions: stiffness conventions (:data:`mat_hopper.core.materials.CONVENTIONS`).
 
     Returns:
-        list of :class:`~mat_hopper.stability.StabilitySpec`, convention-major;
+        list of :class:`~mat_hopper.physics.stability.StabilitySpec`, convention-major;
         labels: experiment (``"conventions"``), profile, convention, design.
 
     Raises:
@@ -443,7 +443,7 @@ def convention_stability(
 ) -> pd.DataFrame:
     """Largest stable time step per design (see :func:`convention_tasks`)
     and convention: measured (the bracket [max_stable_timestep_s,
-    unstable_timestep_s] of :mod:`mat_hopper.stability`) and estimated
+    unstable_timestep_s] of :mod:`mat_hopper.physics.stability`) and estimated
     (analytic_timestep_s, 2 / w_max of the leg's spring chain;
     controller_timestep_s, the limit 2 I / c of the controller's explicit
     stance attitude damping, the same for every leg), one row each, with
@@ -503,7 +503,7 @@ def in_place_replicates(
 ) -> pd.DataFrame:
     """Experiment 1's five legs hopping in place (or on `behaviour`), the
     unperturbed run and n perturbed replicates each (seeds 0..n-1,
-    :meth:`~mat_hopper.perturbations.Perturbation.replicate`; n from the
+    :meth:`~mat_hopper.core.perturbations.Perturbation.replicate`; n from the
     profile's ``replicates`` by default), run or loaded through the
     result cache. Returns the per-hop table (column ``replicate``, -1 for
     the unperturbed run), for :func:`mat_hopper.analysis.stats.compare_replicates`.
@@ -634,7 +634,7 @@ def axial_check(
 
     Args:
         profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
-        designs: design names (:func:`mat_hopper.materials.parse_design`).
+        designs: design names (:func:`mat_hopper.core.materials.parse_design`).
         behaviour: the behaviour name.
         timestep_s: the axial runs' physics step (s), or ``"auto"`` (any
             case); None: the profile's ``axial_timestep_s``.

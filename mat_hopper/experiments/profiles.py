@@ -11,12 +11,12 @@ from dataclasses import dataclass, fields, replace
 
 import pandas as pd
 
-from .. import reference as ref
-from ..control import SensorTiming
-from ..materials import BENDING_CONVENTIONS, DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
-from ..perturbations import Perturbation
-from ..sim import SimSettings, sim_settings
-from ..timestep import AUTO, is_auto
+from ..core import reference as ref
+from ..core.controller import SensorTiming
+from ..core.materials import BENDING_CONVENTIONS, DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
+from ..core.perturbations import Perturbation
+from ..core.sim import SimSettings, sim_settings
+from ..core.timestep import AUTO, is_auto
 
 PROFILE_ENV = "MAT_HOPPER_PROFILE"
 
@@ -50,15 +50,15 @@ class Profile:
     factor; stability_max_iter: bisection tries at most; stability_scan:
     also run the 20-step protocol of docs/reference-hopper.md; record_rate_hz: samples per
     simulated second; convention: modulus-to-stiffness convention (any
-    case, stored as spelled in :data:`mat_hopper.materials.CONVENTIONS`);
+    case, stored as spelled in :data:`mat_hopper.core.materials.CONVENTIONS`);
     axial_timestep_s: the physics step of runs under the ``axial``
     convention, whose springs (k = E A / L, SS 3.8e9 N/m) diverge at the
     paper's 1e-4 s: ``"auto"`` (default) keeps the controller at its
     1e-4 s period and gives each design the physics substeps its analytic
-    bound needs (:func:`mat_hopper.timestep.auto_timestep`; any case), or a
+    bound needs (:func:`mat_hopper.core.timestep.auto_timestep`; any case), or a
     number (s); sensor_timing: when the controller reads the base (``"authors"``,
-    ``"fresh"``, ``"latency-L"``; :mod:`mat_hopper.control`);
-    segment_mass: ``"leg"`` or ``"capsule"``, any case (:mod:`mat_hopper.materials`);
+    ``"fresh"``, ``"latency-L"``; :mod:`mat_hopper.core.controller`);
+    segment_mass: ``"leg"`` or ``"capsule"``, any case (:mod:`mat_hopper.core.materials`);
     replicates: perturbed replicate runs per design and behaviour, the
     claims' inferential basis (``reproduce`` runs them for every hopping
     experiment) and chapter 6's. The replicates share their seeds across
@@ -69,7 +69,7 @@ class Profile:
     up to 25 (the largest claim's is 16: 4 materials x 4 behaviours); the
     quick profile's 2 (p >= 0.5) can test nothing;
     push_scale: the replicates' push, times 5 N for 0.1 s (0: no push;
-    :meth:`mat_hopper.perturbations.Perturbation.replicate`);
+    :meth:`mat_hopper.core.perturbations.Perturbation.replicate`);
     substep_studies: whether to run the checks whose runs need physics
     substeps, each 5-8 times a run's cost: the robustness study's ``axial``
     and 2e-5 s time-step variants, and the material-or-mass factorial's
@@ -127,7 +127,7 @@ class Profile:
         """The stable-time-step measurement (a runner task) of one design under
         this profile: its try length, tolerance, tries and scan; `convention`
         and `scan` override the profile's."""
-        from ..stability import StabilitySpec
+        from ..physics.stability import StabilitySpec
 
         return StabilitySpec(
             design,
@@ -153,7 +153,7 @@ class Profile:
                 comparisons on it are paired).
 
         Returns:
-            The :class:`~mat_hopper.perturbations.Perturbation`: its push
+            The :class:`~mat_hopper.core.perturbations.Perturbation`: its push
             drawn inside the scored window, push_scale x the book's 5 N.
         """
         return Perturbation.replicate(seed, self.scored_window_s, push_scale=self.push_scale)
@@ -225,7 +225,7 @@ def get_profile(name: str | Profile | None = None) -> Profile:
         return name
     src = ""
     if name is None:  # set but empty is an error naming the variable, not the paper profile
-        from ..parsing import env_value
+        from ..util.parsing import env_value
 
         name = env_value(PROFILE_ENV, f"accepted: {', '.join(PROFILES)}")
         src = f" (from ${PROFILE_ENV})" if name is not None else ""

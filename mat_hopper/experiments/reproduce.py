@@ -32,9 +32,9 @@ from dataclasses import dataclass, field
 
 import pandas as pd
 
-from ..atomic import write_csv
-from ..limits import check_total_steps, task_steps
-from ..materials import CONVENTIONS, check_convention
+from ..core.materials import CONVENTIONS, check_convention
+from ..util.atomic import write_csv
+from ..util.limits import check_total_steps, task_steps
 from .paper import get_experiment, parse_experiments
 from .profiles import check_replicates, get_profile
 from .runner import Runner, check_workers
@@ -123,13 +123,13 @@ def reproduce(
         ValueError: an unknown profile, experiment or convention, no
             convention, invalid `replicates` or `workers`, an `out_dir` that
             exists and is not a folder, a plan above the physics-step limit
-            (:func:`mat_hopper.limits.check_total_steps`), `workers` together
+            (:func:`mat_hopper.util.limits.check_total_steps`), `workers` together
             with `scheduler`, an invalid or unreachable scheduler, or
             $MAT_HOPPER_PROFILE or $MAT_HOPPER_CACHE set but empty; all
             of them before `out_dir` is made.
     """
     prof = get_profile(profile)
-    conventions = _check_conventions(conventions)
+    conventions = check_conventions(conventions)
     names = parse_experiments(
         experiments if experiments is None or isinstance(experiments, str) else ",".join(experiments)
     )
@@ -203,7 +203,7 @@ def _tasks(prof, names, conventions, replicates) -> dict:
 def _tables_of(name: str, res) -> dict:
     """{table name: table} one experiment's run makes (module doc)."""
     if name == "stability":
-        from ..stability import agreement
+        from ..physics.stability import agreement
 
         return {
             "stability": res.summary,
@@ -274,7 +274,7 @@ def planned_steps(profile, names, conventions, replicates: int) -> float:
     linearly with the replicates from 2 on (the controls run at least 2,
     and the profile's number when given 0), so the plans at 2 and 3
     replicates give the rest. Used to refuse,
-    before any work, runs beyond :data:`mat_hopper.limits.MAX_TOTAL_STEPS`.
+    before any work, runs beyond :data:`mat_hopper.util.limits.MAX_TOTAL_STEPS`.
 
     Args:
         profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
@@ -284,7 +284,7 @@ def planned_steps(profile, names, conventions, replicates: int) -> float:
         replicates: perturbed replicates per design and behaviour (>= 0).
 
     Returns:
-        The physics steps (:func:`mat_hopper.limits.task_steps` summed over
+        The physics steps (:func:`mat_hopper.util.limits.task_steps` summed over
         every task): exact for replicates <= 3, extrapolated linearly from 2
         and 3 replicates above.
 
@@ -303,7 +303,7 @@ def planned_steps(profile, names, conventions, replicates: int) -> float:
     return at[0] + (replicates - 2) * (at[1] - at[0])
 
 
-def _check_conventions(conventions) -> tuple:
+def check_conventions(conventions) -> tuple:
     if isinstance(conventions, str):
         conventions = [c.strip() for c in conventions.split(",") if c.strip()]
     out = tuple(dict.fromkeys(check_convention(c) for c in conventions))

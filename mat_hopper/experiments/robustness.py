@@ -22,9 +22,9 @@ from dataclasses import replace
 import pandas as pd
 
 from ..analysis.robustness import DEFAULT, Variant, designs_and_behaviours, variants
-from ..behaviours import BEHAVIOUR_NAMES
-from ..behaviours import behaviour as get_behaviour
-from ..materials import parse_design
+from ..core.behaviours import BEHAVIOUR_NAMES
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.materials import parse_design
 from .profiles import get_profile
 from .runner import RunSpec
 

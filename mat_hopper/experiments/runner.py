@@ -7,7 +7,7 @@ how to label it in the output (:attr:`labels`: experiment, profile, design,
 behaviour, ...; labels are *not* part of the key, so two experiments that
 need the same physics share one cached result). :class:`RunSpec` (one
 design on one behaviour, its per-hop table and run summary) is the task of
-experiments 1-3; :class:`mat_hopper.stability.StabilitySpec` is the task
+experiments 1-3; :class:`mat_hopper.physics.stability.StabilitySpec` is the task
 of the stable-time-step map.
 
 Cache. One parquet file per result, ``<cache_dir>/<key>.parquet``, named by
@@ -41,7 +41,6 @@ from __future__ import annotations
 import logging
 import math
 import multiprocessing
-import os
 import traceback
 from collections.abc import Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -52,10 +51,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..behaviours import Behaviour
-from ..keys import design_key, hash_key, settings_key, versions
-from ..materials import LegDesign
-from ..sim import SimSettings, route_mujoco_warnings
+from ..core.behaviours import Behaviour
+from ..core.materials import LegDesign
+from ..core.sim import SimSettings, route_mujoco_warnings
+from ..util.keys import design_key, hash_key, settings_key, versions
+from ..util.pool import default_workers, stop_pool
 from .cache import Cache
 
 _log = logging.getLogger("mat_hopper.cache")
@@ -101,8 +101,8 @@ class RunSpec:
     def compute(self) -> tuple[pd.DataFrame, dict]:
         """Simulate; return (per-hop table, run summary). Never raises on
         divergence: an unstable run is a summary with status 'diverged'."""
-        from ..metrics import hop_table, run_summary
-        from ..sim import C, simulate
+        from ..core.sim import C, simulate
+        from ..physics.metrics import hop_table, run_summary
 
         rollout = simulate(self.design, self.behaviour, settings=self.settings)
         hops = hop_table(rollout).drop(columns=["design", "behaviour"])
@@ -138,45 +138,6 @@ def _execute(task) -> tuple[str, pd.DataFrame | None, dict | None, str | None]:
     except Exception as e:  # a failed row, not a crashed grid
         tb = traceback.format_exception_only(type(e), e)[-1].strip()
         return key, None, None, tb
-
-
-def stop_pool(pool: ProcessPoolExecutor, *, terminate: bool = False) -> None:
-    """Stop a process pool after an interrupt (Ctrl-C, SIGTERM) or an error:
-    the runs not started are cancelled, the workers stopped (at once with
-    `terminate`, else when their run under way ends) and the pool joined.
-
-    The pool cancels its queued futures itself (``shutdown(cancel_futures=True)``):
-    never ``Future.cancel()`` from here. When a worker dies (killed by the
-    same SIGTERM sent to the process group, or by `terminate`), the pool's
-    manager thread sets BrokenProcessPool on every future it still holds;
-    on CPython before 3.12 a future cancelled from outside makes that
-    ``set_exception`` raise InvalidStateError in the thread, a traceback on
-    stderr (python/cpython#107219, fixed in 3.12 by ignoring it). Cancelled
-    by the manager thread, a future leaves its table first, so whichever of
-    the shutdown and the broken pool it sees first, every future it then
-    finishes is still pending or running, never already cancelled or done.
-
-    Args:
-        pool: the ProcessPoolExecutor (its futures may be pending, running or done).
-        terminate: stop the workers now (SIGTERM) rather than let each finish its run.
-    """
-    processes = list((getattr(pool, "_processes", None) or {}).values()) if terminate else []
-    for proc in processes:
-        proc.terminate()
-    pool.shutdown(wait=True, cancel_futures=True)
-
-
-def default_workers() -> int:
-    """All cores this process may use.
-
-    Returns:
-        The size of this process's CPU affinity set (``os.cpu_count()`` where
-        affinity is not available), at least 1.
-    """
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # pragma: no cover (not Linux)
-        return max(1, os.cpu_count() or 1)
 
 
 def check_workers(workers) -> int | None:
@@ -310,7 +271,7 @@ class Runner:
         n_cached = len(results)
         todo = [k for k in unique if k not in results]
 
-        from ..progress import progress_bar
+        from ..util.progress import progress_bar
 
         bar = progress_bar(
             total=len(unique),
@@ -449,7 +410,7 @@ def run_grid(
 
     Args:
         tasks: the grid: runner tasks (:class:`RunSpec`,
-            :class:`~mat_hopper.stability.StabilitySpec`, ...), each with
+            :class:`~mat_hopper.physics.stability.StabilitySpec`, ...), each with
             ``key``, ``compute`` and ``labels``.
         cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
             ``results/cache``).
@@ -497,7 +458,7 @@ class RolloutSpec(RunSpec):
         return {**super().key_dict(), "record_qpos": bool(self.record_qpos)}
 
     def compute(self) -> tuple[pd.DataFrame, dict]:
-        from ..sim import CHANNELS, simulate
+        from ..core.sim import CHANNELS, simulate
 
         r = simulate(self.design, self.behaviour, settings=self.settings, record_qpos=self.record_qpos)
         table = pd.DataFrame(np.asarray(r.data, dtype=float), columns=list(CHANNELS))
@@ -522,9 +483,9 @@ class RolloutSpec(RunSpec):
         return table, summary
 
     def rollout(self, table: pd.DataFrame, summary: dict):
-        """The :class:`~mat_hopper.rollout.Rollout` from this task's stored result."""
-        from ..rollout import Rollout
-        from ..sim import CHANNELS
+        """The :class:`~mat_hopper.core.rollout.Rollout` from this task's stored result."""
+        from ..core.rollout import Rollout
+        from ..core.sim import CHANNELS
 
         data = table[list(CHANNELS)].to_numpy(float)
         qcols = [c for c in table.columns if c.startswith("qpos_")]
@@ -553,7 +514,7 @@ def rollouts(
     cache_dir=None,
     workers: int | None = None,
 ) -> list:
-    """Whole rollouts (:class:`~mat_hopper.rollout.Rollout`) of every design
+    """Whole rollouts (:class:`~mat_hopper.core.rollout.Rollout`) of every design
     (names or LegDesigns) on every behaviour (names or Behaviours) under
     `settings` (e.g. ``profile.sim_settings()``), for time series and gait
     tiles, in design-major order. record_rate_hz: samples per simulated
@@ -565,7 +526,7 @@ def rollouts(
     Args:
         designs: design names or LegDesigns.
         behaviours: behaviour names or Behaviours.
-        settings: the :class:`~mat_hopper.sim.SimSettings` of every rollout.
+        settings: the :class:`~mat_hopper.core.sim.SimSettings` of every rollout.
         record_rate_hz: samples per simulated second, Hz (None: the settings').
         record_qpos: keep every joint position (``Rollout.qpos``).
         cache_dir: the result cache folder (default: $MAT_HOPPER_CACHE, else
@@ -573,7 +534,7 @@ def rollouts(
         workers: local worker processes (default: every core).
 
     Returns:
-        list of :class:`~mat_hopper.rollout.Rollout`, one per (design,
+        list of :class:`~mat_hopper.core.rollout.Rollout`, one per (design,
         behaviour), design-major.
 
     Raises:
@@ -582,8 +543,8 @@ def rollouts(
             but empty.
         RuntimeError: a rollout raised (the errors joined).
     """
-    from ..behaviours import behaviour as get_behaviour
-    from ..materials import parse_design
+    from ..core.behaviours import behaviour as get_behaviour
+    from ..core.materials import parse_design
 
     if record_rate_hz is not None:
         from dataclasses import replace

@@ -14,7 +14,7 @@ on the MuJoCo Warp batch backend), its storage and its report
 :class:`PoolEvaluator`; the Warp batch, :class:`WarpEvaluator`, scoring
 with ``_batch``); ``_processes`` holds the signals;
 :mod:`~mat_hopper.optimize.report` writes a study's tables and plots;
-``_robust`` holds the noise- and mass-aware scores (replicates on common
+``_scoring`` holds the noise- and mass-aware scores (replicates on common
 random numbers, mean or CVaR, the leg-mass constraint); ``_export`` writes a
 trial's design as CSV and MJCF; ``_metrics`` is the named table of what an
 objective may minimize (:data:`METRICS`, with units); ``_racing`` runs multi-fidelity racing
@@ -25,18 +25,29 @@ fresh seeds against the paper's designs and its controls) and
 own) are imported by name. The command line is :mod:`mat_hopper.cli.optimize`.
 """
 
+from ..physics.run_metrics import METRICS, Metric, check_warp, parse_objectives
+from ._ashby import check_classes
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch
 from ._driver import RunResult, run_batch_study, run_loop, run_study
 from ._evaluators import DEFAULT_BATCH, Evaluator, Lost, PoolEvaluator, WarpEvaluator
 from ._export import design_frame, design_mjcf, export_trial
-from ._metrics import METRICS, Metric, check_warp, parse_objectives
-from ._objective import CONSTRAINTS, OBJECTIVES, Evaluation, Objective, evaluate
+from ._objective import (
+    CONSTRAINTS,
+    HOPS_TO_FAILURE_RANGE,
+    MAX_YIELD_FRACTION,
+    OBJECTIVES,
+    Evaluation,
+    Objective,
+    evaluate,
+)
 from ._processes import stop_signals
 from ._racing import Racing, Rung, default_racing, promote, race_study, run_racing, simulated_seconds
-from ._robust import (
+from ._samplers import SAMPLERS, check_sampler
+from ._scoring import (
     DEFAULT_CVAR_ALPHA,
     DEFAULT_LEG_MASS_TOLERANCE,
     DEFAULT_REPLICATES,
+    MAX_LEG_MASS_KG,
     MAX_REPLICATES,
     RISKS,
     SEARCH_SEED_START,
@@ -45,8 +56,16 @@ from ._robust import (
     replicate_seeds,
     score,
 )
-from ._samplers import SAMPLERS, check_sampler
-from ._space import DENSITY_BOUNDS_G_CM3, KINDS, MODULUS_BOUNDS_GPA, PAPER_SEEDS, SearchSpace, describe, resample
+from ._space import (
+    DENSITY_BOUNDS_G_CM3,
+    KINDS,
+    MAX_SEGMENTS,
+    MODULUS_BOUNDS_GPA,
+    PAPER_SEEDS,
+    SearchSpace,
+    describe,
+    resample,
+)
 from ._storage import check_study_name, default_url, dispose, open_storage, redact, storage_errors, storage_file
 from ._study import (
     CONFIG_ATTR,
@@ -71,6 +90,11 @@ from .report import (
 )
 
 __all__ = [
+    "HOPS_TO_FAILURE_RANGE",
+    "MAX_LEG_MASS_KG",
+    "MAX_SEGMENTS",
+    "MAX_YIELD_FRACTION",
+    "check_classes",
     "DEFAULT_BATCH_SIZE",
     "evaluate_batch",
     "run_batch_study",

@@ -1,14 +1,14 @@
 """Ashby classes as regions of the design space: the catalogue's class hulls.
 
 A material class (``metal``, ``polymer``, ``natural``, ``ceramic``,
-``composite``: :attr:`mat_hopper.materials.Material.material_class`) is the
+``composite``: :attr:`mat_hopper.core.materials.Material.material_class`) is the
 convex hull of its catalogue members in log10 density - log10 modulus space
 (the space of Ashby's charts, where classes form the familiar bubbles). A
 design lies in a set of classes when every segment lies inside the hull of
 at least one of them (:func:`in_classes`).
 
 The hulls are as wide as the catalogue says, no wider: with the catalogue
-of :mod:`mat_hopper.materials` the metals (Mg, Al, Ti, SS) span a thin
+of :mod:`mat_hopper.core.materials` the metals (Mg, Al, Ti, SS) span a thin
 sliver along a specific modulus E/rho of 24-27 GPa cm^3/g, the polymers
 (PVC, Nylon) and the ceramics (Alumina, WC) are line segments, the one
 composite (CFRP) a point, and only the natural materials (three bones and
@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..materials import CATALOGUE, LegDesign, Material, material
+from ..core.materials import CATALOGUE, LegDesign, Material, material
 
 TOLERANCE = 1e-9  # log10 units: on the boundary counts as inside
 

@@ -39,10 +39,10 @@ import math
 from collections import OrderedDict
 from collections.abc import Sequence
 
-from ..materials import LegDesign
-from ._metrics import check_warp
+from ..core.materials import LegDesign
+from ..physics.run_metrics import check_warp
 from ._objective import Evaluation, Objective, aggregate, scored_by_hops, whole_run_value
-from ._robust import leg_mass_kg
+from ._scoring import leg_mass_kg
 
 BACKEND = "warp"
 DEFAULT_BATCH_SIZE = 64  # trials asked per round (a GPU takes thousands: raise it there)
@@ -51,9 +51,9 @@ DEFAULT_BATCH_SIZE = 64  # trials asked per round (a GPU takes thousands: raise 
 def check_unperturbed(objective: Objective) -> None:
     """ValueError unless the batch can score `objective`: unperturbed runs
     (replicates 0: the batch kernels have no perturbations,
-    :mod:`mat_hopper.perturbations`) and objectives it computes (tracking
+    :mod:`mat_hopper.core.perturbations`) and objectives it computes (tracking
     error, hip power, leg mass: no energetics, no stress, so no stress
-    constraint; :func:`~mat_hopper.optimize._metrics.check_warp`), each
+    constraint; :func:`~mat_hopper.physics.run_metrics.check_warp`), each
     refused in one line."""
     check_warp(objective.objectives)
     stress = [f for f in ("max_yield_fraction", "min_hops_to_failure") if getattr(objective, f) is not None]

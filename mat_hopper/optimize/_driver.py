@@ -68,7 +68,7 @@ from dataclasses import dataclass, field
 import optuna
 from optuna.trial import TrialState
 
-from ..progress import progress_bar
+from ..util.progress import progress_bar
 from ._batch import check_unperturbed
 from ._evaluators import Evaluator, Lost, PoolEvaluator, WarpEvaluator
 from ._objective import RESULT_ATTR, Evaluation, record_evaluation, result_attr

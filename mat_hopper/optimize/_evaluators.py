@@ -41,14 +41,14 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from ..behaviours import behaviour as get_behaviour
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.materials import LegDesign
+from ..core.perturbations import Perturbation
 from ..experiments.runner import FAILED, Runner, check_workers, default_workers
-from ..keys import design_key, hash_key, settings_key, versions
-from ..materials import LegDesign
-from ..perturbations import Perturbation
+from ..util.keys import design_key, hash_key, settings_key, versions
 from ._batch import DEFAULT_BATCH_SIZE, default_device, evaluate_batch
 from ._objective import Objective, aggregate, mujoco_warnings_to, run_behaviour
-from ._robust import perturbations
+from ._scoring import perturbations
 
 DEFAULT_BATCH = 8  # trials asked per round on the CPU path
 # The runner's error text for a task whose pool process died (runner.Runner._compute_pool).
@@ -88,7 +88,7 @@ class TrialRun:
     behaviour: str
     objective: Objective
     labels: dict = field(default_factory=dict)
-    perturbation: Perturbation | None = None  # a replicate's (mat_hopper.optimize._robust)
+    perturbation: Perturbation | None = None  # a replicate's (mat_hopper.optimize._scoring)
 
     kind = "trial-run"
 

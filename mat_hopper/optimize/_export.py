@@ -14,7 +14,7 @@ DIR (default the studies folder):
     simulating it with the study's settings reproduces the trial's metrics
     exactly (the simulator is deterministic).
 ``NAME-trialN-BEHAVIOUR.xml``
-    the hopper with this leg (:func:`mat_hopper.model.build_spec`, the
+    the hopper with this leg (:func:`mat_hopper.core.model.build_spec`, the
     study's time step, stiffness and segment-mass conventions, the
     behaviour's terrain) written by MuJoCo's own XML writer
     (``mujoco.MjSpec.to_xml``), one file per behaviour of the study. The
@@ -30,12 +30,12 @@ import os
 import optuna
 import pandas as pd
 
-from ..atomic import write_csv, write_text
 from ..batch import designs_to_frame
-from ..behaviours import behaviour as get_behaviour
-from ..model import build_spec
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.model import build_spec
+from ..util.atomic import write_csv, write_text
 from ._objective import RESULT_ATTR
-from ._robust import SE_ATTR, leg_mass_kg
+from ._scoring import SE_ATTR, leg_mass_kg
 
 
 def design_frame(trial, design, config) -> pd.DataFrame:

@@ -1,8 +1,8 @@
 """What the optimizer minimizes, and the run profiles it simulates with.
 
 Objectives (all minimized): two or three metrics of the named table
-:data:`mat_hopper.optimize._metrics.METRICS` (``Objective.objectives``),
-from the per-hop metrics of :mod:`mat_hopper.metrics` over the hop cycles
+:data:`mat_hopper.physics.run_metrics.METRICS` (``Objective.objectives``),
+from the per-hop metrics of :mod:`mat_hopper.physics.metrics` over the hop cycles
 after the transient. The default, :data:`OBJECTIVES`:
 
 1. ``tracking_error_m``: mean planar distance base - desired path (m);
@@ -19,7 +19,7 @@ behaviours of each behaviour's mean (every behaviour weighs the same,
 whatever its number of hops). With ``replicates = K > 0`` (default 4) that
 mean is taken per seeded replicate, on the same seeds for every trial, and
 the objective is the mean or the CVaR over the replicates
-(:mod:`mat_hopper.optimize._robust`, which also adds the ``leg_mass``
+(:mod:`mat_hopper.optimize._scoring`, which also adds the ``leg_mass``
 constraint). Constraints (Optuna convention: <= 0 is
 feasible):
 
@@ -31,7 +31,7 @@ feasible):
   ``max_yield_fraction`` f, the worst behaviour's largest segment peak
   stress over its yield strength minus f (f = 0.5: peak stress <= yield / 2);
   ``fatigue_life`` with ``min_hops_to_failure`` N, log10 N - log10(hops to
-  failure), the worst behaviour's (:mod:`mat_hopper.fatigue`; a run with no
+  failure), the worst behaviour's (:mod:`mat_hopper.physics.fatigue`; a run with no
   modelled stress, e.g. a rigid leg, is feasible; a run that fell is not).
   Stress is the ``bending`` conventions' business: under ``paper`` and
   ``axial`` only axial stress is modelled.
@@ -49,7 +49,7 @@ designs roughly, not finally. Under the ``axial`` convention trials run at
 the profile's axial time step.
 
 Equal legs only: an objective records the segment-mass convention
-(``segment_mass``, :data:`mat_hopper.materials.SEGMENT_MASSES`; default
+(``segment_mass``, :data:`mat_hopper.core.materials.SEGMENT_MASSES`; default
 ``leg``: a leg's mass does not depend on its number of segments) and the
 leg's total material length (:data:`LEG_MATERIAL_LENGTH_M`, 0.3 m at any
 N) in its key, so a study never mixes trials of legs of different length
@@ -67,24 +67,24 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from .. import reference as ref
-from ..behaviours import BEHAVIOUR_NAMES
-from ..behaviours import behaviour as get_behaviour
-from ..experiments.profiles import Profile, get_profile
-from ..fatigue import fatigue_summary
-from ..materials import (
+from ..core import reference as ref
+from ..core.behaviours import BEHAVIOUR_NAMES
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.materials import (
     DEFAULT_CONVENTION,
     DEFAULT_SEGMENT_MASS,
     LegDesign,
     check_convention,
     check_segment_mass,
 )
-from ..metrics import hop_table
-from ..parsing import parse_name
-from ..rollout import hop_cycles
-from ..sim import RolloutRunner
-from . import _robust
-from ._metrics import DEFAULT_OBJECTIVES, NO_DATA_VALUE, parse_objectives, run_values
+from ..core.rollout import hop_cycles
+from ..core.sim import RolloutRunner
+from ..experiments.profiles import Profile, get_profile
+from ..physics.fatigue import fatigue_summary
+from ..physics.metrics import hop_table
+from ..physics.run_metrics import DEFAULT_OBJECTIVES, NO_DATA_VALUE, parse_objectives, run_values
+from ..util.parsing import parse_name
+from . import _scoring
 
 OBJECTIVES = DEFAULT_OBJECTIVES  # the default objectives (tracking error m, hip power W)
 CONSTRAINTS = ("hop_height", "unstable")
@@ -96,7 +96,7 @@ LEG_MATERIAL_LENGTH_M = ref.MATERIAL_LENGTH  # total length of the material segm
 # The stress constraints' accepted ranges (issue 21). max_yield_fraction F in
 # (0, 10]: a peak stress over about 3 x yield already passes the ultimate
 # strength of every catalogue material (the largest ultimate / yield ratio is
-# aluminium's, 2.97; mat_hopper.fatigue), so a larger F lets broken legs
+# aluminium's, 2.97; mat_hopper.physics.fatigue), so a larger F lets broken legs
 # through and constrains nothing. min_hops_to_failure N in [1, 1e20]: a life
 # under one hop is no life, and 1e20 hops (1.6e12 years at 2 hops a second)
 # is 1e13 times past the end of the S-N data (1e7 cycles), where Basquin's
@@ -117,9 +117,9 @@ class Objective:
         hop_height_target_m, hop_height_tolerance_m: the hop height constraint, m.
         segment_mass: the segment mass convention (None: the profile's).
         replicates: perturbed replicates per behaviour on common random
-            numbers (0: one unperturbed run; :mod:`mat_hopper.optimize._robust`).
+            numbers (0: one unperturbed run; :mod:`mat_hopper.optimize._scoring`).
         risk: how replicates are scored, ``"mean"`` or ``"cvar"``, any case
-            (stored as spelled in :data:`mat_hopper.optimize._robust.RISKS`).
+            (stored as spelled in :data:`mat_hopper.optimize._scoring.RISKS`).
         cvar_alpha: the CVaR's tail fraction.
         leg_mass: None (unconstrained), a paper design's name or a mass in kg.
         leg_mass_tolerance_kg: the leg mass constraint's tolerance, kg (None:
@@ -128,7 +128,7 @@ class Objective:
             (module doc; None: off): F in (0, :data:`MAX_YIELD_FRACTION`]
             and N in :data:`HOPS_TO_FAILURE_RANGE` ([1, 1e20] hops).
         objectives: the metrics minimized, two or three names of
-            :data:`~mat_hopper.optimize._metrics.METRICS` (a sequence or a
+            :data:`~mat_hopper.physics.run_metrics.METRICS` (a sequence or a
             comma-separated string, any case; default :data:`OBJECTIVES`).
 
     Raises:
@@ -144,13 +144,13 @@ class Objective:
     segment_mass: str | None = None  # None: the profile's
     max_yield_fraction: float | None = None  # issue 21: peak stress <= this x yield (e.g. 0.5)
     min_hops_to_failure: float | None = None  # issue 21: fatigue life of at least this many hops
-    # noise- and mass-aware scores (mat_hopper.optimize._robust)
-    replicates: int = _robust.DEFAULT_REPLICATES  # 0: one unperturbed run per behaviour
+    # noise- and mass-aware scores (mat_hopper.optimize._scoring)
+    replicates: int = _scoring.DEFAULT_REPLICATES  # 0: one unperturbed run per behaviour
     risk: str = "mean"
-    cvar_alpha: float = _robust.DEFAULT_CVAR_ALPHA
+    cvar_alpha: float = _scoring.DEFAULT_CVAR_ALPHA
     leg_mass: str | float | None = None  # None: unconstrained; a paper design's name or kg
     leg_mass_tolerance_kg: float | None = None  # None: DEFAULT_LEG_MASS_TOLERANCE of the target
-    objectives: tuple[str, ...] = OBJECTIVES  # minimized metrics (mat_hopper.optimize._metrics)
+    objectives: tuple[str, ...] = OBJECTIVES  # minimized metrics (mat_hopper.physics.run_metrics)
 
     def __post_init__(self):
         behs = self.behaviours
@@ -185,16 +185,16 @@ class Objective:
             if not ok or (v is not None and not ((lo < v if low_open else lo <= v) and v <= hi)):
                 rng = f"{'(' if low_open else '['}{lo:g}, {hi:g}]"
                 raise ValueError(f"{name} must be a finite number in {rng} or None, got {v!r}")
-        object.__setattr__(self, "risk", parse_name(self.risk, _robust.RISKS, "risk"))
-        _robust.check_objective(self)
-        object.__setattr__(self, "leg_mass", _robust.check_leg_mass(self.leg_mass))
+        object.__setattr__(self, "risk", parse_name(self.risk, _scoring.RISKS, "risk"))
+        _scoring.check_objective(self)
+        object.__setattr__(self, "leg_mass", _scoring.check_leg_mass(self.leg_mass))
 
     @property
     def constraint_names(self) -> tuple[str, ...]:
         """The constraints of this objective's trials: CONSTRAINTS, plus ``leg_mass`` when set, then the stress constraints asked for."""
         extra = (self.max_yield_fraction, self.min_hops_to_failure)  # issue 21
         stress = tuple(n for n, v in zip(STRESS_CONSTRAINTS, extra) if v is not None)
-        return CONSTRAINTS + ((_robust.LEG_MASS_CONSTRAINT,) if self.leg_mass is not None else ()) + stress
+        return CONSTRAINTS + ((_scoring.LEG_MASS_CONSTRAINT,) if self.leg_mass is not None else ()) + stress
 
     def key(self) -> dict:
         return {
@@ -210,7 +210,7 @@ class Objective:
                 for k in ("max_yield_fraction", "min_hops_to_failure")
                 if getattr(self, k) is not None
             },
-            **_robust.key_fields(self),
+            **_scoring.key_fields(self),
             # only when not the default: a default objective keeps the key it had before the setting
             **({"objectives": list(self.objectives)} if self.objectives != OBJECTIVES else {}),
         }
@@ -229,7 +229,7 @@ class Objective:
             segment_mass=key.get("segment_mass", DEFAULT_SEGMENT_MASS),
             max_yield_fraction=key.get("max_yield_fraction"),
             min_hops_to_failure=key.get("min_hops_to_failure"),
-            **_robust.from_key_fields(key),
+            **_scoring.from_key_fields(key),
             objectives=tuple(key.get("objectives", OBJECTIVES)),
         )
 
@@ -255,7 +255,7 @@ class Evaluation:
         simulated_s: simulated time of all its runs, s.
         standard_errors: per objective, over replicates (nan: one run).
         replicate_values: per replicate, per objective.
-        leg_mass_kg: the leg's mass, kg (:func:`~mat_hopper.optimize._robust.leg_mass_kg`).
+        leg_mass_kg: the leg's mass, kg (:func:`~mat_hopper.optimize._scoring.leg_mass_kg`).
         constraint_names, objective_names: what ``constraints`` and ``values`` hold.
     """
 
@@ -308,7 +308,7 @@ def run_behaviour(
     ok = bool(rollout.upright)
     height = float(hops["hop_height_m"].mean()) if len(hops) else float("nan")
     life = fatigue_summary(rollout, hop_cycles(rollout))
-    mass = _robust.leg_mass_kg(design, objective.segment_mass)
+    mass = _scoring.leg_mass_kg(design, objective.segment_mass)
     return {
         "behaviour": behaviour_name,
         **run_values(rollout, hops, life, mass, scored_by_hops(len(hops), ok)),
@@ -342,7 +342,7 @@ def mujoco_warnings_to(sink: list):
 
 def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluation:
     """Run `design` on every behaviour of `objective`, under each of its
-    replicates' perturbations (:func:`mat_hopper.optimize._robust.perturbations`),
+    replicates' perturbations (:func:`mat_hopper.optimize._scoring.perturbations`),
     and aggregate (module doc).
 
     Args:
@@ -356,7 +356,7 @@ def evaluate(design: LegDesign, objective: Objective, *, tick=None) -> Evaluatio
         (MuJoCo warnings counted in ``mujoco_warnings``, not printed).
     """
     rows = []
-    for pert in _robust.perturbations(objective.replicates, objective.profile.scored_window_s):
+    for pert in _scoring.perturbations(objective.replicates, objective.profile.scored_window_s):
         for b in objective.behaviours:
             with mujoco_warnings_to([]) as sink:
                 row = run_behaviour(design, b, objective, tick=tick, perturbation=pert)
@@ -369,24 +369,24 @@ def aggregate(rows: list[dict], objective: Objective, design: LegDesign | None =
     """One design's Evaluation from its per-run rows (keys behaviour, each
     of the objective's metrics, hop_height_m, n_hops, upright, simulated_s,
     total_mass_kg, and replicate: the seed, -1 or absent for an unperturbed
-    run), as the module doc and :mod:`~mat_hopper.optimize._robust` define
+    run), as the module doc and :mod:`~mat_hopper.optimize._scoring` define
     it: each replicate's value is the mean over behaviours, the objective
     the objective's risk measure over replicates; the hop height constraint
     takes each behaviour's mean height over replicates. `design` gives the
     leg mass (needed when the objective constrains it). Used by the CPU path
     (:func:`evaluate`) and the batch paths alike."""
     names = objective.objectives
-    per_rep = _robust.replicate_values(rows, names)
-    scored = [_robust.score([v[i] for v in per_rep], objective.risk, objective.cvar_alpha) for i in range(len(names))]
+    per_rep = _scoring.replicate_values(rows, names)
+    scored = [_scoring.score([v[i] for v in per_rep], objective.risk, objective.cvar_alpha) for i in range(len(names))]
     values = tuple(v for v, _ in scored)
     target, tol = objective.hop_height_target_m, objective.hop_height_tolerance_m
     height_violation = max(
-        (abs(h - target) - tol) if math.isfinite(h) else target - tol for h in _robust.behaviour_heights(rows)
+        (abs(h - target) - tol) if math.isfinite(h) else target - tol for h in _scoring.behaviour_heights(rows)
     )
     unstable = 0.0 if all(r["upright"] for r in rows) else 1.0
     heights = [r["hop_height_m"] for r in rows if r["n_hops"]]
-    mass = _robust.leg_mass_kg(design, objective.segment_mass) if design is not None else float("nan")
-    constraints = (float(height_violation), unstable) + _robust.mass_constraints(objective, design, mass)
+    mass = _scoring.leg_mass_kg(design, objective.segment_mass) if design is not None else float("nan")
+    constraints = (float(height_violation), unstable) + _scoring.mass_constraints(objective, design, mass)
     return Evaluation(
         values=values,
         constraints=(*constraints, *_stress_constraints(rows, objective)),
@@ -448,4 +448,4 @@ def record_evaluation(trial, design, ev) -> None:
     for name, value in zip(ev.constraint_names, ev.constraints):
         trial.set_constraint(name, value)
     trial.set_user_attr(RESULT_ATTR, result_attr(design, ev))
-    trial.set_user_attr(_robust.SE_ATTR, {k: _finite(v) for k, v in zip(ev.objective_names, ev.standard_errors)})
+    trial.set_user_attr(_scoring.SE_ATTR, {k: _finite(v) for k, v in zip(ev.objective_names, ev.standard_errors)})

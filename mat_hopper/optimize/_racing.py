@@ -52,8 +52,8 @@ import numpy as np
 import optuna
 from optuna.trial import TrialState
 
+from ..core.materials import LegDesign
 from ..experiments.profiles import get_profile
-from ..materials import LegDesign
 from ._driver import RunResult
 from ._evaluators import Evaluator, Lost, PoolEvaluator
 from ._objective import OBJECTIVES, Evaluation, Objective, record_evaluation

@@ -7,7 +7,7 @@ A leg of N segments (segment 1 nearest the base). Each segment is either
     within :data:`DENSITY_BOUNDS_G_CM3` and :data:`MODULUS_BOUNDS_GPA`;
 ``catalogue``
     a categorical choice among catalogue materials (default: every
-    :data:`~mat_hopper.materials.CATALOGUE` material with a finite modulus,
+    :data:`~mat_hopper.core.materials.CATALOGUE` material with a finite modulus,
     i.e. all but the rigid MD).
 
 ``kinds`` is one word for every segment, or one word per segment (a mix,
@@ -54,8 +54,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .. import reference as ref
-from ..materials import (  # noqa: F401  (the bounds re-exported: the search box)
+from ..core import reference as ref
+from ..core.materials import (  # noqa: F401  (the bounds re-exported: the search box)
     CATALOGUE,
     DENSITY_BOUNDS_G_CM3,
     MODULUS_BOUNDS_GPA,

@@ -64,7 +64,7 @@ from urllib.parse import quote
 import optuna
 from optuna.trial import TrialState
 
-from ..parsing import normalize_url
+from ..util.parsing import normalize_url
 
 STUDY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,99}$")
 SQLITE_LOCK_TIMEOUT_S = 60

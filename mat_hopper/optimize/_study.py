@@ -3,7 +3,7 @@
 Searches leg designs (per-segment density and modulus, or catalogue
 materials: :mod:`mat_hopper.optimize._space`) for low tracking error and
 low hip power (or two or three other metrics: ``--objectives``,
-:mod:`mat_hopper.optimize._metrics`) under a hop-height and a stability
+:mod:`mat_hopper.physics.run_metrics`) under a hop-height and a stability
 constraint (:mod:`mat_hopper.optimize._objective`). Every study starts from the
 paper's designs SS, rho-inc and PVC-Ti-SS (enqueued first). This module
 holds what a study is (:class:`StudyConfig`, stored in the study), how to
@@ -63,8 +63,8 @@ from dataclasses import dataclass, field
 import optuna
 from optuna.trial import TrialState
 
-from ..materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
-from ._metrics import METRICS
+from ..core.materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
+from ..physics.run_metrics import METRICS
 from ._objective import Objective
 from ._samplers import SAMPLERS
 from ._space import SearchSpace
@@ -92,8 +92,8 @@ DEGENERATE_BEHAVIOURS = ("static",)
 
 def check_physical_bounds(space: SearchSpace) -> None:
     """The search box inside the physical ranges every design must keep
-    (:data:`mat_hopper.materials.DENSITY_RANGE_G_CM3`,
-    :data:`~mat_hopper.materials.MODULUS_RANGE_GPA`): the same ranges
+    (:data:`mat_hopper.core.materials.DENSITY_RANGE_G_CM3`,
+    :data:`~mat_hopper.core.materials.MODULUS_RANGE_GPA`): the same ranges
     the simulator checks, named in one line, before any trial."""
     for field_name, bounds, (lo, hi), unit in (
         ("density_g_cm3", space.density_g_cm3, DENSITY_RANGE_G_CM3, "g/cm^3"),
@@ -231,7 +231,7 @@ class RunOptions:
             file's URL in ``studies_dir`` (made if missing).
         """
         if self.storage:
-            from ..parsing import normalize_url
+            from ..util.parsing import normalize_url
 
             return normalize_url(self.storage)  # RFC 3986: schemes are case-insensitive
         os.makedirs(self.studies_dir, exist_ok=True)

@@ -41,20 +41,20 @@ import numpy as np
 import optuna
 import pandas as pd
 
-from .. import reference as ref
 from ..analysis.stats import compare_replicates
-from ..behaviours import behaviour as get_behaviour
-from ..control import ControllerSettings
+from ..core import reference as ref
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.controller import ControllerSettings
+from ..core.materials import MONO_NAMES, LegDesign, parse_design
+from ..core.perturbations import Perturbation
 from ..experiments.profiles import Profile, get_profile
 from ..experiments.runner import FAILED, OK, Runner, RunSpec
-from ..materials import MONO_NAMES, LegDesign, parse_design
-from ..perturbations import Perturbation
 from ._objective import HOP_HEIGHT_TOLERANCE_M
 from ._study import _quiet
 
 # Searched gains, log scale: about a decade around the authors' values
 # (foot placement 0.05 s, stance kp 4, kd 1). Stance kd above about 2
-# breaks the delayed-damping bound at the 1e-4 s step (mat_hopper.modes):
+# breaks the delayed-damping bound at the 1e-4 s step (mat_hopper.physics.modes):
 # those trials diverge and come out infeasible.
 GAIN_BOUNDS = {
     "foot_placement_gain": (0.01, 0.25),
@@ -229,7 +229,7 @@ def codesign(
 
     Args:
         designs: design names or LegDesigns (default the paper's mono-material
-            designs, :data:`mat_hopper.materials.MONO_NAMES`); keyed by the
+            designs, :data:`mat_hopper.core.materials.MONO_NAMES`); keyed by the
             name given or the LegDesign's name.
         profile: a Profile or its name; None (the default) for
             $MAT_HOPPER_PROFILE, else ``paper``.

@@ -49,9 +49,9 @@ import numbers
 import numpy as np
 import pandas as pd
 
-from ..behaviours import behaviour as get_behaviour
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.materials import paper_designs
 from ..experiments.runner import OK, RunSpec
-from ..materials import paper_designs
 from ._objective import Objective
 from .validate import ALPHA, DEFAULT_DOMINANCE, REPLICATE, check_dominance, dominated_by, run_paired
 
@@ -79,7 +79,7 @@ def confirmation_tasks(front: dict, objective: Objective, replicates: int, paper
         objective: the study's objective (profile, behaviours, settings).
         replicates: seeds per design and behaviour (not checked here).
         paper: {name: LegDesign} of the designs compared against; None (the
-            default) for :func:`mat_hopper.materials.paper_designs`.
+            default) for :func:`mat_hopper.core.materials.paper_designs`.
 
     Returns:
         A list of RunSpec labelled role (``front`` or ``paper``), design,

@@ -26,7 +26,7 @@ values, by the determinism of the simulator); with ``--render`` it also
 renders it (:func:`mat_hopper.viz.render.render_files`).
 
 The objectives are the study's (``Objective.objectives``, default tracking
-error and hip power; :mod:`mat_hopper.optimize._metrics`). The Pareto
+error and hip power; :mod:`mat_hopper.physics.run_metrics`). The Pareto
 front is Optuna's ``study.best_trials``; the hypervolume and importance
 plots are ``optuna.visualization.matplotlib``'s (n objectives). The Pareto
 plot is ours: Optuna's cannot mark the paper's designs and baselines.
@@ -43,14 +43,14 @@ import optuna
 import pandas as pd
 from optuna.trial import TrialState
 
-from ..atomic import write_csv
-from ..change import percent_change
-from ..materials import LegDesign, paper_designs
+from ..core.materials import LegDesign, paper_designs
+from ..physics.run_metrics import METRICS
+from ..util.atomic import write_csv
+from ..util.change import percent_change
 from ..viz import study as study_plots
 from ..viz.style import save_figure
-from ._metrics import METRICS
 from ._objective import OBJECTIVES, RESULT_ATTR, Objective, evaluate
-from ._robust import SE_ATTR, leg_mass_kg
+from ._scoring import SE_ATTR, leg_mass_kg
 from ._space import resample
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
 from ._study import CONFIG_ATTR, RunOptions, StudyConfig, _quiet, load_existing

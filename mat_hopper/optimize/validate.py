@@ -13,7 +13,7 @@ artefact. Each front design is therefore simulated again (every run is a
     the mean of its replicates on seeds 1000.., apart from the seeds here);
 ``replicate``
     seeded perturbed replicates
-    (:meth:`~mat_hopper.perturbations.Perturbation.replicate`, seeds 0..n-1,
+    (:meth:`~mat_hopper.core.perturbations.Perturbation.replicate`, seeds 0..n-1,
     n = the profile's ``replicates`` by default) on the study's
     behaviours; the paper's nine designs get the same replicates, for the
     comparison below;
@@ -32,7 +32,7 @@ artefact. Each front design is therefore simulated again (every run is a
     ``simulate(timestep_s="auto", convention="axial")`` runs them.
 
 Controls. Each front design also runs, on the same replicate seeds, with
-its two controls (:mod:`mat_hopper.controls`): its **mass-matched** leg (a
+its two controls (:mod:`mat_hopper.core.control_legs`): its **mass-matched** leg (a
 homogeneous leg of the same leg mass) and its **rigid twin** (the same
 segment masses, no springs).
 
@@ -43,7 +43,7 @@ seed (:func:`mat_hopper.analysis.paired.paired_effect`: the log ratio of
 the replicate means, each a mean over the study's behaviours, with its t
 interval and paired t p), on each of the study's own objectives
 (``objective.objectives``: each metric's run-summary column,
-:class:`~mat_hopper.optimize._metrics.Metric`). A stress objective has no value for a
+:class:`~mat_hopper.physics.run_metrics.Metric`). A stress objective has no value for a
 leg without modelled stress (a rigid twin, MD): those comparisons are left
 out. Multiplicity: one Holm family per question asked of a front design,
 i.e. per comparator kind (the paper's designs x objectives decide survival;
@@ -114,15 +114,15 @@ import numpy as np
 import pandas as pd
 
 from ..analysis import paired
-from ..behaviours import BEHAVIOUR_NAMES
-from ..behaviours import behaviour as get_behaviour
-from ..controls import mass_matched, rigid_twin
+from ..core.behaviours import BEHAVIOUR_NAMES
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.control_legs import mass_matched, rigid_twin
+from ..core.materials import LegDesign, paper_designs
+from ..core.timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S, resolve_timestep
 from ..experiments.runner import DIVERGED, FAILED, FALLEN, OK, RunSpec, run_grid
-from ..keys import design_key
-from ..materials import LegDesign, paper_designs
-from ..metrics import holm
-from ..timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S, resolve_timestep
-from ._metrics import METRICS
+from ..physics.metrics import holm
+from ..physics.run_metrics import METRICS
+from ..util.keys import design_key
 from ._objective import Objective
 
 NOMINAL, REPLICATE, BEHAVIOUR = "nominal", "replicate", "behaviour"
@@ -172,7 +172,7 @@ def check_settings(design: LegDesign, objective: Objective) -> dict:
         s`` (2e-5 s step, 5 substeps, sensor latency of 5 steps), ``step
         2e-5 s`` (2e-5 s step) and ``axial`` (the ``axial`` convention at
         its automatic time step and substeps,
-        :func:`mat_hopper.timestep.resolve_timestep`).
+        :func:`mat_hopper.core.timestep.resolve_timestep`).
     """
     base = objective.sim_settings(design=design)
     dt, k = resolve_timestep("auto", design, "axial", objective.segment_mass)
@@ -236,7 +236,7 @@ def validation_tasks(front: dict, objective: Objective, replicates: int, paper: 
         replicates: perturbed replicates per design and behaviour (seeds
             0 .. replicates - 1); not checked here.
         paper: {name: LegDesign} of the paper designs compared against;
-            None (the default) for :func:`mat_hopper.materials.paper_designs`.
+            None (the default) for :func:`mat_hopper.core.materials.paper_designs`.
 
     Returns:
         A list of RunSpec, labels role (``front``, ``paper`` or ``control``),
@@ -246,8 +246,8 @@ def validation_tasks(front: dict, objective: Objective, replicates: int, paper: 
         designs: the replicates and every :func:`check_settings` check on the
         study's behaviours, and the nominal run on each other behaviour;
         their controls (named ``<name>~<kind>``;
-        :func:`mat_hopper.controls.mass_matched` and
-        :func:`mat_hopper.controls.rigid_twin` where they differ in physics,
+        :func:`mat_hopper.core.control_legs.mass_matched` and
+        :func:`mat_hopper.core.control_legs.rigid_twin` where they differ in physics,
         and the homogeneous legs of a gradient): the replicates; paper
         designs: the replicates and the nominal run.
     """
@@ -285,7 +285,7 @@ def validation_tasks(front: dict, objective: Objective, replicates: int, paper: 
 
 def _summary_column(name: str) -> str:
     """The runs column of objective `name`: the run summary's
-    (:attr:`~mat_hopper.optimize._metrics.Metric.summary_column`; leg mass
+    (:attr:`~mat_hopper.physics.run_metrics.Metric.summary_column`; leg mass
     is the whole leg's there and in the objective alike)."""
     return METRICS[name].summary_column
 
@@ -669,7 +669,7 @@ def _applicable_checks(g: pd.DataFrame) -> tuple:
     """The checks of :data:`CHECKS` that apply to one front design's runs
     `g`: all of them, less ``behaviour`` where the study's own behaviours
     (those of its runs under the other checks) already cover every one of
-    :data:`~mat_hopper.behaviours.BEHAVIOUR_NAMES`: then no other behaviour
+    :data:`~mat_hopper.core.behaviours.BEHAVIOUR_NAMES`: then no other behaviour
     is left to run, and the check is vacuous."""
     own = set(g.loc[g["check"] != BEHAVIOUR, "behaviour"])
     if set(BEHAVIOUR_NAMES) <= own:
@@ -694,7 +694,7 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame, rule: str = DEFAULT_DOMINA
         appearance: design, ``stable: <check>`` for each of :data:`CHECKS`
         (False where the check has no run; ``stable: behaviour`` True,
         vacuously, where the study itself ran every behaviour of
-        :data:`~mat_hopper.behaviours.BEHAVIOUR_NAMES`, so that no other
+        :data:`~mat_hopper.core.behaviours.BEHAVIOUR_NAMES`, so that no other
         is left), ``stable everywhere`` (stable under every check that
         applies: over the behaviours the study ran, and the others),
         ``dominated by`` (comma-separated paper designs), ``paper designs

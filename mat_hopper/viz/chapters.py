@@ -18,9 +18,9 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from .. import reference as ref
-from ..behaviours import order_behaviours
-from ..materials import CONVENTIONS
+from ..core import reference as ref
+from ..core.behaviours import order_behaviours
+from ..core.materials import CONVENTIONS
 from .style import STYLE, design_colour
 
 
@@ -144,7 +144,7 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
     desired x. Times are simulated seconds.
 
     Args:
-        rollout: the :class:`~mat_hopper.rollout.Rollout` to show.
+        rollout: the :class:`~mat_hopper.core.rollout.Rollout` to show.
         window_s: (start, end) of the close-up, simulated s; None: 1.5 s
             starting at the transient (or 1.5 s before the run's end, if
             earlier, but not before 0).
@@ -156,7 +156,7 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
         ValueError: a rollout with fewer than 2 recorded samples, or a window
             whose end is not after its start.
     """
-    from ..sim import C
+    from ..core.sim import C
 
     d = rollout.data
     if len(d) < 2:
@@ -170,7 +170,7 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
         raise ValueError(f"window_s must be (start, end) with end > start s, got {window_s!r}")
     sel = (t >= w0) & (t <= w1)
     err = np.hypot(d[:, C["x"]] - d[:, C["x_des"]], d[:, C["y"]] - d[:, C["y_des"]])
-    from ..control import TOUCHDOWN
+    from ..core.controller import TOUCHDOWN
 
     ev = rollout.events[rollout.events[:, 1] == TOUCHDOWN]
     apex_t, apex_h = ev[:, 0], ev[:, 2]  # the controller's hop height, logged at each touchdown

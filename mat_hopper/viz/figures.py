@@ -1,7 +1,7 @@
 """The book's figures, from tidy result tables.
 
 Every ``figure_*`` / ``*_figure`` function takes tables (or, for the time
-series, :class:`~mat_hopper.rollout.Rollout` objects), returns a
+series, :class:`~mat_hopper.core.rollout.Rollout` objects), returns a
 :class:`matplotlib.figure.Figure` and reads no file; :func:`save_figure`
 writes one as PNG and SVG, atomically. Figures are built on
 ``matplotlib.figure.Figure`` directly (no pyplot state), so making many of
@@ -38,8 +38,8 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from ..analysis import stats as _stats
-from ..behaviours import order_behaviours
-from ..materials import CONVENTIONS, order_designs
+from ..core.behaviours import order_behaviours
+from ..core.materials import CONVENTIONS, order_designs
 from .maps import ashby_figure, stability_figure
 from .style import (
     BEHAVIOUR_LABELS,
@@ -400,20 +400,20 @@ def figure5_gradients(
 
 def rollout_series(rollout) -> pd.DataFrame:
     """Per hop cycle of one rollout, from its start (no transient cut):
-    mid-time (s) and the metrics of :func:`mat_hopper.metrics.hop_table`
+    mid-time (s) and the metrics of :func:`mat_hopper.physics.metrics.hop_table`
     (hop height m, tracking error m, hip power W, ...), one row per cycle.
 
     Args:
-        rollout: the :class:`~mat_hopper.rollout.Rollout`.
+        rollout: the :class:`~mat_hopper.core.rollout.Rollout`.
 
     Returns:
-        DataFrame: :func:`mat_hopper.metrics.hop_table` at ``transient_s=0``
+        DataFrame: :func:`mat_hopper.physics.metrics.hop_table` at ``transient_s=0``
         plus ``t_mid_s``, the cycle's mid-time (s).
 
     Raises:
         ValueError: `rollout` is not a Rollout.
     """
-    from ..metrics import hop_table
+    from ..physics.metrics import hop_table
 
     t = hop_table(rollout, transient_s=0.0)
     return t.assign(t_mid_s=(t["t_start_s"].astype(float) + t["t_end_s"].astype(float)) / 2)
@@ -430,13 +430,13 @@ def figure5_timeseries(
     own cycles) at its mid-time, one column per behaviour (forward, then
     ramp), one line per design. The transient (cycles not scored) is shaded.
 
-    rollouts: iterable of :class:`~mat_hopper.rollout.Rollout`.
+    rollouts: iterable of :class:`~mat_hopper.core.rollout.Rollout`.
 
     Args:
         rollouts: the Rollouts, any designs and behaviours.
         behaviours: the behaviour columns, in the paper's order; None: those
             of the rollouts.
-        metrics: :func:`mat_hopper.metrics.hop_table` columns, one row of
+        metrics: :func:`mat_hopper.physics.metrics.hop_table` columns, one row of
             panels each (default :data:`TIMESERIES_METRICS`).
         transient_s: the shaded transient, s; None: the first rollout's
             ``settings.transient_s``. It only changes the shading.

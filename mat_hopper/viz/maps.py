@@ -17,7 +17,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Polygon, Rectangle
 from matplotlib.ticker import FuncFormatter
 
-from ..materials import CATALOGUE, DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, LegDesign, Material
+from ..core.materials import CATALOGUE, DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, LegDesign, Material
 from .style import (
     CLASS_COLOURS,
     STYLE,
@@ -92,7 +92,7 @@ def stability_figure(
     stab: one row per grid point: density_g_cm3, modulus_gpa, a measured
     step (`measured`, default the first present of
     :data:`MEASURED_COLUMNS`: max_stable_timestep_s, the bisection of
-    :mod:`mat_hopper.stability`; pass ``measured="spec_timestep_s"`` for
+    :mod:`mat_hopper.physics.stability`; pass ``measured="spec_timestep_s"`` for
     the 20-step scan of docs/reference-hopper.md) and the estimate (`analytic`, default
     analytic_timestep_s; ``analytic="combined_timestep_s"`` adds the
     controller limit); materials: catalogue names
@@ -278,8 +278,8 @@ def catalogue_table(catalogue=None) -> pd.DataFrame:
 
     Args:
         catalogue: {name: Material} or an iterable of
-            :class:`~mat_hopper.materials.Material`; None (the default):
-            :data:`mat_hopper.materials.CATALOGUE`. An empty selection (an
+            :class:`~mat_hopper.core.materials.Material`; None (the default):
+            :data:`mat_hopper.core.materials.CATALOGUE`. An empty selection (an
             empty dict, list, ...) is a selection of no material: an empty
             table, not the whole catalogue.
 
@@ -290,7 +290,7 @@ def catalogue_table(catalogue=None) -> pd.DataFrame:
 
     Raises:
         ValueError: a string, or an entry that is not a
-            :class:`~mat_hopper.materials.Material` (checked before the
+            :class:`~mat_hopper.core.materials.Material` (checked before the
             table is made).
     """
     if catalogue is None:
@@ -460,8 +460,8 @@ def designs_figure(designs: dict[str, LegDesign] | None = None):
     modulus (right panel, grey: rigid), both on log colour scales.
 
     Args:
-        designs: {name: :class:`~mat_hopper.materials.LegDesign`}, in column
-            order; None: :func:`mat_hopper.materials.paper_designs`.
+        designs: {name: :class:`~mat_hopper.core.materials.LegDesign`}, in column
+            order; None: :func:`mat_hopper.core.materials.paper_designs`.
 
     Returns:
         The ``matplotlib.figure.Figure``; each cell is labelled with its

@@ -23,16 +23,16 @@ import os
 import mujoco
 import numpy as np
 
-from ..atomic import atomic_path
-from ..behaviours import Behaviour
-from ..behaviours import behaviour as get_behaviour
-from ..materials import LegDesign
-from ..model import reset_to_start
-from ..rollout import Rollout
-from ..sim import SimSettings, _as_design, simulate
+from ..core.behaviours import Behaviour
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.materials import LegDesign, as_design
+from ..core.model import reset_to_start
+from ..core.rollout import Rollout
+from ..core.sim import SimSettings, simulate
+from ..util.atomic import atomic_path
 from .scene import (  # noqa: F401 (the scene's names are re-exported)
-    _LIBS,
     DENSITY_RANGE_G_CM3,
+    GL_LIBS,
     Camera,
     OffscreenRenderer,
     RenderBackendError,
@@ -48,7 +48,7 @@ RASTER_EXTENSIONS = (".png", ".jpg", ".jpeg")  # an RGB array (imageio): no vect
 
 def parse_size(text: str) -> tuple[int, int]:
     """'640x480' -> (640, 480) pixels; each side a whole ASCII decimal
-    (:func:`mat_hopper.parsing.parse_number`: not "٦٤٠" or "6_40").
+    (:func:`mat_hopper.util.parsing.parse_number`: not "٦٤٠" or "6_40").
 
     Args:
         text: ``"WIDTHxHEIGHT"`` (the ``x`` in any case, blanks around the
@@ -61,7 +61,7 @@ def parse_size(text: str) -> tuple[int, int]:
         ValueError: not two whole ASCII decimals joined by ``x``, or a side
             outside 16 to 4096 pixels.
     """
-    from ..parsing import is_decimal, parse_number
+    from ..util.parsing import is_decimal, parse_number
 
     parts = str(text).strip().lower().split("x")
     if len(parts) != 2 or not all(is_decimal(p) and "." not in p and "e" not in p for p in parts):
@@ -72,13 +72,13 @@ def parse_size(text: str) -> tuple[int, int]:
     return w, h
 
 
-def _check_fps(fps) -> float:
+def check_fps(fps) -> float:
     if not (isinstance(fps, (int, float)) and math.isfinite(fps) and 0 < fps <= 240):
         raise ValueError(f"fps must be in (0, 240] frames per second, got {fps!r}")
     return float(fps)
 
 
-def _check_extension(path: str, allowed: tuple) -> str:
+def check_extension(path: str, allowed: tuple) -> str:
     ext = os.path.splitext(str(path))[1].lower()
     if ext not in allowed:
         raise ValueError(f"unknown file type {ext or '(none)'!r} for {path!r}; accepted: {', '.join(allowed)}")
@@ -101,24 +101,24 @@ def record(
     replaced). Raises ValueError for a convention other than the settings'.
 
     Args:
-        design: a :class:`~mat_hopper.materials.LegDesign` or a design name.
-        behaviour: a behaviour name or :class:`~mat_hopper.behaviours.Behaviour`.
+        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name.
+        behaviour: a behaviour name or :class:`~mat_hopper.core.behaviours.Behaviour`.
         seconds: simulated time recorded after `start_s`, s (finite, > 0).
         start_s: start of the window of interest, s (finite, >= 0); the run
             lasts start_s + seconds with no transient.
         convention: the stiffness convention; None: the settings' (or, without
             settings, the default).
-        settings: the run's :class:`~mat_hopper.sim.SimSettings`; None: the
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings`; None: the
             defaults.
 
     Returns:
-        The :class:`~mat_hopper.rollout.Rollout`, with ``qpos`` (every joint
+        The :class:`~mat_hopper.core.rollout.Rollout`, with ``qpos`` (every joint
         position at the record rate).
 
     Raises:
         ValueError: `seconds` not finite and positive, `start_s` not finite and
             >= 0, a `convention` other than the settings', or any error of
-            :func:`mat_hopper.sim.simulate` (unknown design, behaviour or
+            :func:`mat_hopper.core.sim.simulate` (unknown design, behaviour or
             setting).
     """
     if not (math.isfinite(seconds) and seconds > 0):
@@ -148,14 +148,14 @@ def iter_frames(
     (s), one at a time (a long video never sits in memory).
 
     Args:
-        rollout: a :class:`~mat_hopper.rollout.Rollout` recorded with
+        rollout: a :class:`~mat_hopper.core.rollout.Rollout` recorded with
             ``record_qpos=True``.
         times_s: the frames' simulated times, s; each shows the first record
             at or after its time (the last record for later times).
         size: (width, height) of the frames, pixels.
         camera: the :class:`Camera`; None: ``Camera()``.
         backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
-        progress: show a progress bar (``mat_hopper.progress``).
+        progress: show a progress bar (``mat_hopper.util.progress``).
 
     Yields:
         (height, width, 3) uint8 RGB arrays, one per time, in order.
@@ -179,7 +179,7 @@ def iter_frames(
     model = spec.compile()
     idx = np.clip(np.searchsorted(rollout.time, np.asarray(times_s, float)), 0, len(rollout.time) - 1)
     camera = camera or Camera()
-    from ..progress import progress_bar
+    from ..util.progress import progress_bar
 
     with OffscreenRenderer(model, w, h, backend) as r:
         for i in progress_bar(idx, desc="render", unit="frame", enabled=progress):
@@ -192,7 +192,7 @@ def render_frames(
     """RGB frames (n, height, width, 3) of a rollout at the given times (s).
 
     Args:
-        rollout: a :class:`~mat_hopper.rollout.Rollout` recorded with
+        rollout: a :class:`~mat_hopper.core.rollout.Rollout` recorded with
             ``record_qpos=True``.
         times_s: the n frames' simulated times, s (as for :func:`iter_frames`).
         size: (width, height) of the frames, pixels.
@@ -222,7 +222,7 @@ def standing_qpos(model: mujoco.MjModel, behaviour: Behaviour) -> np.ndarray:
         model: a compiled hopper model (e.g. of :func:`render_spec`), with
             the joint ``base_x`` and the geoms ``foot`` and ``ground`` (and
             ``ramp``).
-        behaviour: the :class:`~mat_hopper.behaviours.Behaviour` whose
+        behaviour: the :class:`~mat_hopper.core.behaviours.Behaviour` whose
             start_xy_m places the base.
 
     Returns:
@@ -259,8 +259,8 @@ def render_still(
     0.56 m up), segments coloured by density, the behaviour's path marked.
 
     Args:
-        design: a :class:`~mat_hopper.materials.LegDesign` or a design name.
-        behaviour: a behaviour name or :class:`~mat_hopper.behaviours.Behaviour`
+        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name.
+        behaviour: a behaviour name or :class:`~mat_hopper.core.behaviours.Behaviour`
             (its start, terrain and 20 s of its path are drawn).
         size: (width, height) of the picture, pixels.
         camera: the :class:`Camera`; None: a close view for ``standing``, a
@@ -276,7 +276,7 @@ def render_still(
         ValueError: an unknown design or behaviour.
         RenderBackendError: no usable off-screen OpenGL library or context.
     """
-    design = _as_design(design)
+    design = as_design(design)
     beh = get_behaviour(behaviour)
     w, h = size
     model = render_spec(design, beh, width=w, height=h, path_until_s=20.0).compile()
@@ -329,7 +329,7 @@ def gait_tiles(
     matplotlib Figure (frames also in ``fig.frames``).
 
     Args:
-        design: a :class:`~mat_hopper.materials.LegDesign` or a design name,
+        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name,
             simulated when no `rollout` is given.
         behaviour: a behaviour name or Behaviour, likewise.
         rollout: a Rollout with ``qpos`` to show instead (its own design and
@@ -384,7 +384,7 @@ def video_times(
     the window (start_s + seconds) or of the rollout, both ends included.
 
     Args:
-        rollout: the :class:`~mat_hopper.rollout.Rollout`.
+        rollout: the :class:`~mat_hopper.core.rollout.Rollout`.
         start_s: the first frame's time, s.
         seconds: the window's length, s; None: to the rollout's end.
         fps: frames per simulated second, in (0, 240].
@@ -396,7 +396,7 @@ def video_times(
         ValueError: `fps` outside (0, 240], or a window that starts after the
             rollout ends.
     """
-    fps = _check_fps(fps)
+    fps = check_fps(fps)
     t_end = float(rollout.time[-1]) if seconds is None else start_s + seconds
     n = int(math.floor((min(t_end, float(rollout.time[-1])) - start_s) * fps + 1e-9)) + 1
     if n < 1:
@@ -417,7 +417,7 @@ def video_frames(
     """Frames (n, height, width, 3) of a rollout at fps frames per simulated second.
 
     Args:
-        rollout: a :class:`~mat_hopper.rollout.Rollout` recorded with
+        rollout: a :class:`~mat_hopper.core.rollout.Rollout` recorded with
             ``record_qpos=True``.
         start_s: the first frame's time, s.
         seconds: the window's length, s; None: to the rollout's end.
@@ -489,8 +489,8 @@ def write_video(frames, path: str, fps: float) -> str:
     """
     import imageio.v2 as imageio
 
-    ext = _check_extension(path, VIDEO_EXTENSIONS)
-    fps = _check_fps(fps)
+    ext = check_extension(path, VIDEO_EXTENSIONS)
+    fps = check_fps(fps)
     with atomic_path(path) as tmp:
         if ext == ".mp4":
             with imageio.get_writer(
@@ -526,7 +526,7 @@ def save_video(
     frames streamed to the file as they are rendered.
 
     Args:
-        design: a :class:`~mat_hopper.materials.LegDesign` or a design name,
+        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name,
             simulated when no `rollout` is given.
         behaviour: a behaviour name or Behaviour, likewise.
         path: the video file, ``.mp4`` or ``.gif``.
@@ -549,8 +549,8 @@ def save_video(
             :func:`record` or :func:`video_times`.
         RenderBackendError: no usable off-screen OpenGL library or context.
     """
-    ext = _check_extension(path, VIDEO_EXTENSIONS)
-    _check_fps(fps)
+    ext = check_extension(path, VIDEO_EXTENSIONS)
+    check_fps(fps)
     if ext == ".mp4":
         check_mp4_size(size)
     if rollout is None:
@@ -578,7 +578,7 @@ def save_image(fig_or_rgb, path: str) -> str:
             before anything is written).
     """
     rgb = isinstance(fig_or_rgb, np.ndarray)
-    ext = _check_extension(path, RASTER_EXTENSIONS if rgb else IMAGE_EXTENSIONS)
+    ext = check_extension(path, RASTER_EXTENSIONS if rgb else IMAGE_EXTENSIONS)
     with atomic_path(path) as tmp:
         if rgb:
             import imageio.v2 as imageio
@@ -614,8 +614,8 @@ def render_files(
     Returns the paths written.
 
     Args:
-        design: a :class:`~mat_hopper.materials.LegDesign` or a design name.
-        behaviour: a behaviour name or :class:`~mat_hopper.behaviours.Behaviour`.
+        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name.
+        behaviour: a behaviour name or :class:`~mat_hopper.core.behaviours.Behaviour`.
         tiles: the gait-tile file (:func:`gait_tiles`, 8 frames from
             start_s + tile_start_s; .png, .jpg, .jpeg, .svg or .pdf); None:
             none.
@@ -633,7 +633,7 @@ def render_files(
             :func:`choose_backend` from the environment.
         log: called with one line of text: a note when the run diverged, and
             the video's frame count.
-        settings: the run's :class:`~mat_hopper.sim.SimSettings`; None: the
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings`; None: the
             defaults.
 
     Returns:
@@ -647,15 +647,15 @@ def render_files(
     """
     if not tiles and not video and not still:
         raise ValueError("nothing to render: give tiles, video and/or still")
-    fps = _check_fps(fps)
+    fps = check_fps(fps)
     for path, allowed in ((tiles, IMAGE_EXTENSIONS), (still, RASTER_EXTENSIONS), (video, VIDEO_EXTENSIONS)):
         if path:
-            _check_extension(path, allowed)
+            check_extension(path, allowed)
     if not (math.isfinite(seconds) and seconds > 0):
         raise ValueError(f"seconds must be > 0, got {seconds!r}")
     if not (math.isfinite(tile_start_s) and tile_start_s >= 0):
         raise ValueError(f"tile start must be >= 0 s, got {tile_start_s!r}")
-    design = _as_design(design)
+    design = as_design(design)
     beh = get_behaviour(behaviour) if isinstance(behaviour, str) else behaviour
     backend = choose_backend({"MUJOCO_GL": backend} if backend else None)
     rollout = (

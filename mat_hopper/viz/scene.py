@@ -23,10 +23,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from .. import reference as ref
-from ..behaviours import Behaviour
-from ..materials import DEFAULT_CONVENTION, LegDesign
-from ..model import build_spec
+from ..core import reference as ref
+from ..core.behaviours import Behaviour
+from ..core.materials import DEFAULT_CONVENTION, LegDesign
+from ..core.model import build_spec
 
 DENSITY_RANGE_G_CM3 = (0.9, 20.0)  # colour scale: the optimizer's density bounds
 
@@ -35,7 +35,7 @@ class RenderBackendError(RuntimeError):
     """No usable off-screen OpenGL library (OSMesa or EGL)."""
 
 
-_LIBS = {"osmesa": ("OSMesa", "libosmesa6"), "egl": ("EGL", "libegl1")}
+GL_LIBS = {"osmesa": ("OSMesa", "libosmesa6"), "egl": ("EGL", "libegl1")}
 
 
 def choose_backend(env=None, find_library=ctypes.util.find_library) -> str:
@@ -63,10 +63,10 @@ def choose_backend(env=None, find_library=ctypes.util.find_library) -> str:
     """
     env = os.environ if env is None else env
     asked = env.get("MUJOCO_GL", "").strip().lower()
-    if asked not in _LIBS:
+    if asked not in GL_LIBS:
         asked = env.get("PYOPENGL_PLATFORM", "").strip().lower()
-    if asked in _LIBS:
-        lib, pkg = _LIBS[asked]
+    if asked in GL_LIBS:
+        lib, pkg = GL_LIBS[asked]
         if find_library(lib) is None:
             raise RenderBackendError(
                 f"MUJOCO_GL={asked} but lib{lib} was not found "
@@ -74,7 +74,7 @@ def choose_backend(env=None, find_library=ctypes.util.find_library) -> str:
             )
         return asked
     for name in ("osmesa", "egl"):
-        if find_library(_LIBS[name][0]) is not None:
+        if find_library(GL_LIBS[name][0]) is not None:
             return name
     raise RenderBackendError(
         "no off-screen OpenGL library: neither libOSMesa (Debian package libosmesa6) "
@@ -148,8 +148,8 @@ def render_spec(
     Joints are unchanged, so recorded qpos replays on it.
 
     Args:
-        design: the :class:`~mat_hopper.materials.LegDesign` (not a name).
-        behaviour: the :class:`~mat_hopper.behaviours.Behaviour`: its ramp
+        design: the :class:`~mat_hopper.core.materials.LegDesign` (not a name).
+        behaviour: the :class:`~mat_hopper.core.behaviours.Behaviour`: its ramp
             grade (None: flat) and its desired path.
         convention: the stiffness convention of the model (as the rollout's,
             so its qpos fits).
@@ -164,7 +164,7 @@ def render_spec(
 
     Raises:
         ValueError: a design that is not a LegDesign or an unknown convention
-            (:func:`mat_hopper.model.build_spec`).
+            (:func:`mat_hopper.core.model.build_spec`).
     """
     spec = build_spec(design, ramp_grade_deg=behaviour.ramp_grade_deg, convention=convention)
     # Segment colours glow a little (emission) so they read on a thin leg in shade.
@@ -278,7 +278,7 @@ class OffscreenRenderer:
         except RenderBackendError:
             raise
         except Exception as e:  # e.g. PyOpenGL already bound to another platform in this process
-            lib, pkg = _LIBS[self.backend]
+            lib, pkg = GL_LIBS[self.backend]
             raise RenderBackendError(
                 f"could not create a {self.backend} OpenGL context ({e}); it needs lib{lib} "
                 f"(Debian package {pkg}) and PyOpenGL, and MUJOCO_GL={self.backend} set "

@@ -1,6 +1,6 @@
 """The figures' common style: colours and labels of designs and behaviours
-(their order is the paper's: :func:`mat_hopper.materials.order_designs`,
-:func:`mat_hopper.behaviours.order_behaviours`), metric units, log-axis ticks, and :func:`save_figure` (atomic,
+(their order is the paper's: :func:`mat_hopper.core.materials.order_designs`,
+:func:`mat_hopper.core.behaviours.order_behaviours`), metric units, log-axis ticks, and :func:`save_figure` (atomic,
 dated-metadata-free PNG/SVG/PDF). Nothing here switches the matplotlib
 backend: figures are ``matplotlib.figure.Figure`` objects.
 """
@@ -17,7 +17,7 @@ from matplotlib import rc_context
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-from ..atomic import atomic_path
+from ..util.atomic import atomic_path
 
 # --- style -------------------------------------------------------------------
 

@@ -13,8 +13,8 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from .. import reference as ref
 from ..analysis import stats as _stats
+from ..core import reference as ref
 from .style import (
     STYLE,
     _new_figure,
@@ -69,7 +69,7 @@ def figure4_sweeps(
 
     Raises:
         ValueError: `hops` lacks a required column, or (with baseline hops)
-            `alpha` not in (0, 1) (:func:`mat_hopper.metrics.compare`).
+            `alpha` not in (0, 1) (:func:`mat_hopper.physics.metrics.compare`).
     """
     _require(hops, ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa", metric), "figure4_sweeps")
     table, bad, baseline_hops = _sweep_table(hops, baseline_hops, runs, metric)
@@ -143,7 +143,7 @@ def _against_baseline(table, baseline_hops, baseline, metric, alpha):
                 ],
                 ignore_index=True,
             )
-            from ..metrics import compare
+            from ..physics.metrics import compare
 
             cmp = compare(joint, "__baseline__", by="behaviour", metrics=(metric,), alpha=alpha)
             significant = set(cmp.loc[cmp["significant"].astype(bool), "design"])

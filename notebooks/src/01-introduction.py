@@ -37,7 +37,7 @@
 # headline: hopping up a ramp, a leg whose density increases from hip to
 # foot tracks its path better, and with less hip power, than a leg of
 # stainless steel (the numbers are printed below, from
-# `mat_hopper/reference.py`).
+# `mat_hopper/core/reference.py`).
 #
 # This book rebuilds the study from the authors' published numbers, runs
 # it, and sets our results beside the paper's claims. Where the authors'
@@ -53,7 +53,7 @@
 # typed-in data: tables and figures are computed when the book is built,
 # from simulations run for the build or loaded from the cache of an earlier
 # one. The paper's numbers (its model, controller, protocol and claims)
-# live in one module, `mat_hopper/reference.py`, and the chapters read
+# live in one module, `mat_hopper/core/reference.py`, and the chapters read
 # them from there.
 #
 # Each chapter starts by calling `book.setup()`: it finds the repository
@@ -62,7 +62,7 @@
 
 # %%
 from mat_hopper import book
-from mat_hopper import reference as ref
+from mat_hopper.core import reference as ref
 from mat_hopper.experiments import profiles
 from mat_hopper.viz import maps
 

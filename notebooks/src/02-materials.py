@@ -23,7 +23,8 @@
 import pandas as pd
 from myst_nb import glue
 
-from mat_hopper import book, materials
+from mat_hopper import book
+from mat_hopper.core import materials
 from mat_hopper.viz import maps
 
 b = book.setup()
@@ -88,7 +89,7 @@ print(f"titanium at 50 % porosity: {materials.bulk_density(0.5, materials.materi
 # the same stiffness, not for a porous one.
 
 # %%
-from mat_hopper import reference as ref
+from mat_hopper.core import reference as ref
 
 rows = []
 for base, sweeps in ref.SWEEPS.items():

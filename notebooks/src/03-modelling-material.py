@@ -22,10 +22,11 @@ import math
 
 import pandas as pd
 
-from mat_hopper import book, materials
-from mat_hopper import reference as ref
-from mat_hopper.materials import parse_design
-from mat_hopper.model import build_model, build_spec
+from mat_hopper import book
+from mat_hopper.core import materials
+from mat_hopper.core import reference as ref
+from mat_hopper.core.materials import parse_design
+from mat_hopper.core.model import build_model, build_spec
 
 b = book.setup()
 
@@ -98,7 +99,7 @@ print(
 # the code's constant.
 
 # %%
-from mat_hopper.materials import segment_length
+from mat_hopper.core.materials import segment_length
 
 r_m, length_m = ref.MATERIAL_RADIUS, segment_length(ref.REFERENCE_SEGMENTS)
 i_m4 = math.pi * r_m**4 / 4  # second moment of area of the round section
@@ -169,7 +170,7 @@ book.show(springs, {"axial_over_paper": "{:.1f}"}, precision=3)
 # step old (their {term}`sensor timing`), and a rate feedback read L steps
 # late is stable only for Δt < c(L) I / c with c(L) = 2 cos(Lπ / (2L + 1))
 # {cite:p}`levin1976note`: c(1) = 1, half the undelayed limit, the same for
-# every leg (`mat_hopper/modes.py`, `mat_hopper/stability.py`).
+# every leg (`mat_hopper/physics/modes.py`, `mat_hopper/physics/stability.py`).
 #
 # We also measure the largest stable step: static hopping at a given step
 # counts as stable when it ends without NaN, without any acceleration

@@ -14,7 +14,7 @@
 # a 15 kg body free to move and turn in space, a leg on a two-axis hip,
 # and a sprung foot whose spring a linear actuator can push. Between hip
 # and foot sit the three material segments of chapter 3. The numbers are
-# those of the authors' published code (`mat_hopper/reference.py`); the
+# those of the authors' published code (`mat_hopper/core/reference.py`); the
 # model is built in memory from them.
 
 # %%
@@ -22,7 +22,7 @@ import pandas as pd
 
 from mat_hopper import book, simulate
 from mat_hopper.analysis import tables
-from mat_hopper.metrics import hop_table, run_summary
+from mat_hopper.physics.metrics import hop_table, run_summary
 from mat_hopper.viz import chapters
 
 b = book.setup()

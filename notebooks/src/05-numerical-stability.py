@@ -48,7 +48,7 @@
 from mat_hopper import book
 from mat_hopper.analysis import tables as tab
 from mat_hopper.experiments import reproduce
-from mat_hopper.stability import agreement
+from mat_hopper.physics.stability import agreement
 from mat_hopper.viz import maps
 
 b = book.setup()

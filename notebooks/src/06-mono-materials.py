@@ -201,7 +201,7 @@ book.show(tab.claims_for(tables, "mono"))
 # %% [markdown]
 # The verdicts are computed from the tables above by the rules of
 # `mat_hopper/analysis/claims.py`; the paper's numbers come from
-# `mat_hopper/reference.py`. Beyond the exact percentages, the questions
+# `mat_hopper/core/reference.py`. Beyond the exact percentages, the questions
 # that matter are the directions: do the legs with springs track their
 # path better than the rigid MD leg on the moving behaviours, and do they
 # pay for it in hip power? Chapter 10 collects every claim, with the rule

@@ -27,8 +27,8 @@
 
 # %%
 from mat_hopper import book
-from mat_hopper import reference as ref
 from mat_hopper.analysis import tables as tab
+from mat_hopper.core import reference as ref
 from mat_hopper.experiments import reproduce, runner
 from mat_hopper.viz import figures as plots
 
@@ -100,7 +100,7 @@ book.show(tab.pct_change_table(hops, "power_w", baseline="SS"), index=True, patt
 # hop cycles; negative: lower than ρ-inc):
 
 # %%
-from mat_hopper.change import percent_change
+from mat_hopper.util.change import percent_change
 
 ramp = hops[(hops["behaviour"] == "ramp") & (hops["replicate"] == -1)]
 means = ramp.groupby("design")[["tracking_error_m", "power_w"]].mean()

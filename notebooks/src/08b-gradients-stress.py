@@ -12,12 +12,12 @@
 # The paper motivates functional gradients by the stress concentrations
 # and fatigue at biological interfaces (bone, tendon, muscle), but its
 # model never computes a stress. This chapter does, in the terms a 1-D leg
-# of springs allows (issue 21, `mat_hopper.fatigue`):
+# of springs allows (issue 21, `mat_hopper.physics.fatigue`):
 #
 # - **bending**: under the `bending` convention each segment carries two
 #   hinge springs of the pseudo-rigid-body model, K = γ K_Θ E I / l
 #   (Howell, *Compliant Mechanisms*, 2001; the values and their stated
-#   error are in `mat_hopper.materials`); `paper` keeps the authors' axial
+#   error are in `mat_hopper.core.materials`); `paper` keeps the authors' axial
 #   slide springs;
 # - **stress**: per segment and physics step the axial stress F / A and the
 #   bending stress M c / I from the springs' forces and moments; per hop the
@@ -62,13 +62,13 @@ from myst_nb import glue
 from mat_hopper import mass_matched
 from mat_hopper.analysis import paired
 from mat_hopper.analysis.growth import envelope_growth
-from mat_hopper.behaviours import behaviour
+from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.materials import PAPER_DESIGN_ORDER, paper_designs, parse_design, segment_masses
+from mat_hopper.core.rollout import C, hop_cycles
+from mat_hopper.core.sim import RolloutRunner
 from mat_hopper.experiments.runner import RunSpec, run_grid
-from mat_hopper.fatigue import DESIGN_LIFE_CYCLES, fatigue_summary, hop_stress, strength
-from mat_hopper.materials import PAPER_DESIGN_ORDER, paper_designs, parse_design, segment_masses
-from mat_hopper.metrics import holm, hop_table
-from mat_hopper.rollout import C, hop_cycles
-from mat_hopper.sim import RolloutRunner
+from mat_hopper.physics.fatigue import DESIGN_LIFE_CYCLES, fatigue_summary, hop_stress, strength
+from mat_hopper.physics.metrics import holm, hop_table
 
 print(b.describe())
 designs = paper_designs()
@@ -256,7 +256,7 @@ book.show(growth, pattern="{:.3g}")
 # the four gradients, an exact sign-flip test's floor, the ±10 %
 # equivalence margin):
 #
-# - the **mass-matched** leg (`mat_hopper.controls.mass_matched`): every
+# - the **mass-matched** leg (`mat_hopper.core.control_legs.mass_matched`): every
 #   segment at the gradient's mean density (the same leg mass) and at the
 #   series-equivalent modulus: a fiction of a material, so it answers only
 #   the *loads*: does the gradient change the peak stress at equal mass?
@@ -411,7 +411,7 @@ book.show(summary.agg(["min", "max"]).round(1), index=True)
 # %% [markdown]
 # ## Per design: strength data and margins
 #
-# The strength each segment is judged by (`mat_hopper.fatigue.STRENGTH`:
+# The strength each segment is judged by (`mat_hopper.physics.fatigue.STRENGTH`:
 # the catalogue's materials with their sources; a segment whose density
 # and modulus are not a catalogue entry's, such as ρ-inc's 70 GPa
 # segments, takes its class's curve, here the aluminium alloy's):

@@ -77,8 +77,8 @@ from IPython.display import display
 from myst_nb import glue
 
 from mat_hopper import optimize
-from mat_hopper.controls import mass_matched
-from mat_hopper.materials import LegDesign, paper_designs
+from mat_hopper.core.control_legs import mass_matched
+from mat_hopper.core.materials import LegDesign, paper_designs
 from mat_hopper.optimize import validate
 from mat_hopper.viz import maps
 

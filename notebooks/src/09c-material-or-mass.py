@@ -15,7 +15,7 @@
 # A claim about a *material* holds only against a control that differs
 # from the design in that material alone. This chapter builds three
 # controls for every design of the paper's claims
-# (`mat_hopper.controls`):
+# (`mat_hopper.core.control_legs`):
 #
 # - the **rigid twin**: the same segment densities, no springs (same mass,
 #   centre of mass and hip inertia): what the moduli add;
@@ -48,18 +48,18 @@ from myst_nb import glue
 from mat_hopper import mass_matched, mass_properties, parse_design, rigid_twin
 from mat_hopper.analysis import attribution, beyond_mass, claims, paired
 from mat_hopper.analysis.stats import drop_unusable, unusable_runs
-from mat_hopper.behaviours import behaviour
-from mat_hopper.controls import inertia_matched
+from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.control_legs import inertia_matched
+from mat_hopper.core.materials import LegDesign
+from mat_hopper.core.model import build_model
+from mat_hopper.core.sim import RolloutRunner
+from mat_hopper.core.timestep import auto_timestep
 from mat_hopper.experiments import controls as control_runs
 from mat_hopper.experiments import reproduce
 from mat_hopper.experiments.runner import RunSpec, run_grid
-from mat_hopper.jerk import jerk_sensitivity
-from mat_hopper.keys import design_key
-from mat_hopper.materials import LegDesign
-from mat_hopper.metrics import holm
-from mat_hopper.model import build_model
-from mat_hopper.sim import RolloutRunner
-from mat_hopper.timestep import auto_timestep
+from mat_hopper.physics.jerk import jerk_sensitivity
+from mat_hopper.physics.metrics import holm
+from mat_hopper.util.keys import design_key
 
 print(
     "total robot mass: "
@@ -69,7 +69,7 @@ print(
 # %% [markdown]
 # ## The controls, built
 #
-# Each control is an ordinary `mat_hopper.materials.LegDesign`. Its
+# Each control is an ordinary `mat_hopper.core.materials.LegDesign`. Its
 # leg mass, centre of mass (below the hip) and hip inertia come from the
 # compiled MuJoCo model (tested against a hand calculation of capsule
 # volumes and the parallel-axis theorem):
@@ -251,7 +251,7 @@ crossed = {
 }
 # ρ-inc's light segments on SS's stiff springs diverge at the paper's 1e-4 s step within
 # milliseconds: all four legs take the physics substeps the stiffest needs
-# (mat_hopper.timestep.auto_timestep), the controller keeping its 1e-4 s period
+# (mat_hopper.core.timestep.auto_timestep), the controller keeping its 1e-4 s period
 substeps = max(auto_timestep(leg)[0] for leg in crossed.values())
 tasks = []
 for name, leg in crossed.items():
@@ -447,7 +447,7 @@ book.show(equal_mass, pattern="{:.3g}")
 #
 # The package's jerk (chapter 6) low-passes the base acceleration with a
 # causal 2nd-order 50 Hz filter, which passes some of the leg's kHz
-# ringing. The body jerk (`mat_hopper.jerk`) uses a zero-phase
+# ringing. The body jerk (`mat_hopper.physics.jerk`) uses a zero-phase
 # 4th-order Butterworth (Winter 2009) after an anti-aliasing mean. How the
 # jerk claim's own effect (ρ-inc lower than SS), paired on the replicate
 # seeds, moves with the cut-off and the order:

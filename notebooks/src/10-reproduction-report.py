@@ -12,7 +12,7 @@
 # This chapter collects the paper's quantitative claims, sets our numbers
 # beside them with a verdict computed by a stated rule, and then asks
 # where and why our numbers differ. The paper's numbers come from
-# `mat_hopper/reference.py`; ours from the runs of chapters 5 to 8 and the
+# `mat_hopper/core/reference.py`; ours from the runs of chapters 5 to 8 and the
 # robustness study of chapter 11 (all in the result cache by now).
 #
 # Each row says under which conventions it was computed: the stiffness
@@ -31,7 +31,7 @@ from IPython.display import display
 from mat_hopper import book
 from mat_hopper.analysis import tables as tab
 from mat_hopper.experiments import paper, reproduce, runner
-from mat_hopper.metrics import hop_table
+from mat_hopper.physics.metrics import hop_table
 from mat_hopper.viz import chapters
 
 b = book.setup()

@@ -115,8 +115,8 @@ book.show(moved[["quantity_id", "flipped_by", "moved_by"]])
 # %%
 import pandas as pd
 
-from mat_hopper.materials import parse_design
-from mat_hopper.modes import controller_timestep
+from mat_hopper.core.materials import parse_design
+from mat_hopper.core.stable_step import controller_timestep
 
 limits = pd.DataFrame(
     {

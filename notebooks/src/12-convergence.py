@@ -34,9 +34,9 @@ import pandas as pd
 from IPython.display import display
 
 from mat_hopper import book
+from mat_hopper.core.materials import LegDesign, segment_masses
+from mat_hopper.core.model import build_model
 from mat_hopper.experiments import convergence
-from mat_hopper.materials import LegDesign, segment_masses
-from mat_hopper.model import build_model
 
 b = book.setup()
 mass = pd.DataFrame(
@@ -63,7 +63,7 @@ book.show(mass, precision=3)
 # m (longitudinal vibration of a bar with end masses). The model's lumped
 # chain is that rod's lumped-mass discretisation, N springs between N + 1
 # nodes; its frequencies are the eigenvalues of K v = ω² M v
-# (`mat_hopper.modes.axial_modes`; `mat-hopper modes` prints them).
+# (`mat_hopper.physics.modes.axial_modes`; `mat-hopper modes` prints them).
 
 # %%
 modes = convergence.modes_table()

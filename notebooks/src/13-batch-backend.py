@@ -21,11 +21,11 @@
 #   `materials.spring_stiffness` its springs; they go to the device as
 #   per-world model fields, and MJWarp's `set_const` derives the rest, as
 #   its domain randomisation does;
-# - **the same controller** (`mat_hopper.control`) as a Warp kernel, with
+# - **the same controller** (`mat_hopper.core.controller`) as a Warp kernel, with
 #   the same gains and the same {term}`sensor timing`: a ring of past
 #   readings per world gives the base readings L physics steps old (the
 #   authors' L = 1 by default, any L as on the CPU);
-# - **the same metrics** (`mat_hopper.metrics`) accumulated per hop cycle
+# - **the same metrics** (`mat_hopper.physics.metrics`) accumulated per hop cycle
 #   on the device, and divergence detected per world: a diverged world is
 #   parked and stops counting without stopping the batch.
 #
@@ -44,7 +44,7 @@ from myst_nb import glue
 
 from mat_hopper import book
 from mat_hopper.batch import BatchSettings, agreement, evaluate, require_warp, spec_scan_batch
-from mat_hopper.materials import LegDesign, paper_designs
+from mat_hopper.core.materials import LegDesign, paper_designs
 
 b = book.setup()
 wp, _ = require_warp()

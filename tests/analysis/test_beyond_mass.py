@@ -183,7 +183,7 @@ def test_the_low_modulus_claim_is_read_at_equal_mass():
 
 
 def test_claims_rows_carry_their_designs_mass_properties():
-    # SS's leg: 8.77 kg by tests/test_controls.py's hand calculation (stub, six
+    # SS's leg: 8.77 kg by tests/core/test_control_legs.py's hand calculation (stub, six
     # half-segment capsules of radius 0.025 m at 8 g/cm^3, the foot's two capsules)
     text = bm.mass_property_text("headline_tracking")
     assert text.startswith("rho-inc ") and "; SS 8.77 kg" in text

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from mat_hopper.analysis.contact import contact_table, contact_toggles
-from mat_hopper.behaviours import behaviour
-from mat_hopper.control import LIFTOFF, TOUCHDOWN
-from mat_hopper.materials import parse_design
-from mat_hopper.rollout import Rollout
-from mat_hopper.sim import CHANNELS, C, SimSettings
+from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.controller import LIFTOFF, TOUCHDOWN
+from mat_hopper.core.materials import parse_design
+from mat_hopper.core.rollout import Rollout
+from mat_hopper.core.sim import CHANNELS, C, SimSettings
 
 
 def _rollout(touch, events, transient_s=0.0):

@@ -6,7 +6,7 @@ import pytest
 from scipy import stats as sps
 
 from mat_hopper.analysis import paired, stats
-from mat_hopper.metrics import holm
+from mat_hopper.physics.metrics import holm
 
 
 def _runs(effect=1.05, n=6, seed_spread=0.3, noise=0.005):

@@ -2,10 +2,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mat_hopper import metrics
 from mat_hopper.analysis import stats
-from mat_hopper.perturbations import Perturbation
-from mat_hopper.sim import simulate
+from mat_hopper.core.perturbations import Perturbation
+from mat_hopper.core.sim import simulate
+from mat_hopper.physics import metrics
 
 
 def _table(values: dict, behaviour="forward", **labels):

@@ -10,9 +10,9 @@ import pandas as pd
 import pytest
 from synthetic_results import results
 
-from mat_hopper import reference as ref
 from mat_hopper.analysis import tables as tab
-from mat_hopper.materials import spring_stiffness
+from mat_hopper.core import reference as ref
+from mat_hopper.core.materials import spring_stiffness
 from mat_hopper.viz import chapters
 
 
@@ -132,10 +132,10 @@ def test_jerk_by_rate_raw_and_metric_by_hand():
     """A hand-made record at 1 kHz: vertical acceleration a = 2 t (m/s^2),
     so every finite difference is exactly 2 m/s^3; the metric's channel
     jerk_z holds -3 m/s^3, so its mean |jerk| is 3 at every rate."""
-    from mat_hopper.behaviours import behaviour
-    from mat_hopper.materials import parse_design
-    from mat_hopper.rollout import Rollout
-    from mat_hopper.sim import CHANNELS, C, SimSettings
+    from mat_hopper.core.behaviours import behaviour
+    from mat_hopper.core.materials import parse_design
+    from mat_hopper.core.rollout import Rollout
+    from mat_hopper.core.sim import CHANNELS, C, SimSettings
 
     t = np.arange(2001) * 1e-3
     data = np.zeros((len(t), len(CHANNELS)))
@@ -210,10 +210,10 @@ def test_tables_name_missing_columns():
 
 def _linear_record(rate_hz=1000.0, n=2001):
     """A hand-made record at `rate_hz` (as in the test above)."""
-    from mat_hopper.behaviours import behaviour
-    from mat_hopper.materials import parse_design
-    from mat_hopper.rollout import Rollout
-    from mat_hopper.sim import CHANNELS, C, SimSettings
+    from mat_hopper.core.behaviours import behaviour
+    from mat_hopper.core.materials import parse_design
+    from mat_hopper.core.rollout import Rollout
+    from mat_hopper.core.sim import CHANNELS, C, SimSettings
 
     t = np.arange(n) / rate_hz
     data = np.zeros((len(t), len(CHANNELS)))

@@ -3,9 +3,9 @@
 MuJoCo's own CPU bindings, step by step: ``mj_forward`` once, then per
 step read ``d.sensordata`` (as the previous ``mj_step`` left it) and the
 hips from ``d.qpos``/``d.qvel``, run ``control.controller_step.py_func``,
-``mj_step``. Samples are recorded as :mod:`mat_hopper.sim` records them
+``mj_step``. Samples are recorded as :mod:`mat_hopper.core.sim` records them
 (the state at t_i, hip power from ``d.qfrc_actuator``, joint space), so
-:func:`mat_hopper.metrics.run_summary` scores them: metrics by the package's
+:func:`mat_hopper.physics.metrics.run_summary` scores them: metrics by the package's
 own definitions, physics by MuJoCo's CPU engine in float64.
 """
 
@@ -16,12 +16,20 @@ import math
 import mujoco
 import numpy as np
 
-from mat_hopper import reference as ref
-from mat_hopper.behaviours import behaviour as get_behaviour
-from mat_hopper.control import OUT_SIZE, S_LAST_HEIGHT, S_PHASE, S_THRUST, controller_step, euler_zyx, initial_state
-from mat_hopper.materials import parse_design
-from mat_hopper.rollout import Rollout
-from mat_hopper.sim import CHANNELS, prepare
+from mat_hopper.core import reference as ref
+from mat_hopper.core.behaviours import behaviour as get_behaviour
+from mat_hopper.core.controller import (
+    OUT_SIZE,
+    S_LAST_HEIGHT,
+    S_PHASE,
+    S_THRUST,
+    controller_step,
+    euler_zyx,
+    initial_state,
+)
+from mat_hopper.core.materials import parse_design
+from mat_hopper.core.rollout import Rollout
+from mat_hopper.core.sim import CHANNELS, prepare
 
 _C = {n: i for i, n in enumerate(CHANNELS)}
 
@@ -92,8 +100,8 @@ def authors_rollout(design, behaviour, settings, *, trace_qpos: int = 0):
 
 
 def summary_row(rollout) -> dict:
-    """The batch row of a rollout, by mat_hopper.metrics.run_summary."""
-    from mat_hopper.metrics import run_summary
+    """The batch row of a rollout, by mat_hopper.physics.metrics.run_summary."""
+    from mat_hopper.physics.metrics import run_summary
 
     s = run_summary(rollout)
     return {

@@ -6,7 +6,7 @@ length this test ran until stop 28; Warp's CPU device costs about 10 ms a
 step, so each 0.1 s cut saves about 5 s a batch).
 
 Two references, both MuJoCo's own CPU engine in float64:
-- ``--backend mujoco``: mat_hopper.sim rollouts scored by mat_hopper.metrics;
+- ``--backend mujoco``: mat_hopper.core.sim rollouts scored by mat_hopper.physics.metrics;
 - a plain-Python authors' loop on the bindings (tests/batch/_authors_loop.py).
 
 The step is 2e-4 s: under the authors' sensor timing (base readings one
@@ -23,7 +23,7 @@ pytest.importorskip("mujoco_warp")
 from _authors_loop import authors_rollout, rel, summary_row  # noqa: E402
 
 from mat_hopper.batch import BatchSettings, evaluate  # noqa: E402
-from mat_hopper.materials import LegDesign  # noqa: E402
+from mat_hopper.core.materials import LegDesign  # noqa: E402
 
 SETTINGS = BatchSettings(duration_s=2.2, timestep_s=2e-4, transient_s=0.3)
 DESIGNS = [

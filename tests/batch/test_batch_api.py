@@ -42,8 +42,8 @@ def test_settings_none_are_the_papers_protocol():
 def test_batch_settings_are_a_view_of_sim_settings():
     from dataclasses import fields
 
-    from mat_hopper.perturbations import Perturbation
-    from mat_hopper.sim import SimSettings
+    from mat_hopper.core.perturbations import Perturbation
+    from mat_hopper.core.sim import SimSettings
 
     # no second declaration: exactly SimSettings' fields, defaults and checks
     assert [f.name for f in fields(BatchSettings)] == [f.name for f in fields(SimSettings)]

@@ -1,8 +1,8 @@
 """The Warp kernels against the package's own Python: controller, paths, metrics.
 
 Each kernel runs on Warp's CPU device on synthetic inputs that reach every
-branch, and is compared with mat_hopper.control (plain Python original),
-mat_hopper.behaviours and mat_hopper.metrics on the very same inputs.
+branch, and is compared with mat_hopper.core.controller (plain Python original),
+mat_hopper.core.behaviours and mat_hopper.physics.metrics on the very same inputs.
 """
 
 import numpy as np
@@ -10,16 +10,16 @@ import pytest
 
 pytest.importorskip("mujoco_warp")
 
-from mat_hopper import control as ctl  # noqa: E402
 from mat_hopper.batch import BatchSettings  # noqa: E402
 from mat_hopper.batch._warp import require_warp  # noqa: E402
-from mat_hopper.behaviours import Behaviour, behaviour, desired_state  # noqa: E402
-from mat_hopper.materials import parse_design  # noqa: E402
-from mat_hopper.metrics import run_summary  # noqa: E402
-from mat_hopper.model import build_model  # noqa: E402
-from mat_hopper.optimize._metrics import _whole_run  # noqa: E402
-from mat_hopper.rollout import Rollout  # noqa: E402
-from mat_hopper.sim import CHANNELS  # noqa: E402
+from mat_hopper.core import controller as ctl  # noqa: E402
+from mat_hopper.core.behaviours import Behaviour, behaviour, desired_state  # noqa: E402
+from mat_hopper.core.materials import parse_design  # noqa: E402
+from mat_hopper.core.model import build_model  # noqa: E402
+from mat_hopper.core.rollout import Rollout  # noqa: E402
+from mat_hopper.core.sim import CHANNELS  # noqa: E402
+from mat_hopper.physics.metrics import run_summary  # noqa: E402
+from mat_hopper.physics.run_metrics import _whole_run  # noqa: E402
 
 wp, _ = require_warp()
 from mat_hopper.batch import _kernels as K  # noqa: E402
@@ -323,7 +323,7 @@ def test_metrics_kernel_is_metrics_py(layout):
             )
             wp.launch(K.tick_kernel, dim=1, inputs=[clock])
         got, got_div = acc.numpy(), div.numpy()
-    # The same samples as a recorded rollout, scored by mat_hopper.metrics.
+    # The same samples as a recorded rollout, scored by mat_hopper.physics.metrics.
     design = parse_design("PVC")
     sim = settings
     f32 = lambda v: np.float64(np.float32(v))  # noqa: E731  what the float32 device arrays hold

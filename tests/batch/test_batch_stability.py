@@ -1,13 +1,13 @@
 """The batched stable-time-step scan (the reference protocol, experiment 4)
-against mat_hopper.stability.spec_scan, one design at a time on the CPU."""
+against mat_hopper.physics.stability.spec_scan, one design at a time on the CPU."""
 
 import math
 
 import pytest
 
 from mat_hopper.batch import SCAN_COLUMNS, spec_scan_batch
-from mat_hopper.materials import LegDesign, parse_design
-from mat_hopper.stability import spec_scan
+from mat_hopper.core.materials import LegDesign, parse_design
+from mat_hopper.physics.stability import spec_scan
 
 # A short ladder (factor 2 per rung) and 0.6 s of static hopping: the first
 # stance (touchdown near 0.34 s) is inside every try. Outcomes on MuJoCo's

@@ -13,9 +13,9 @@ from _authors_loop import authors_rollout  # noqa: E402
 
 from mat_hopper.batch import BatchSettings, WarpBatch, as_design, evaluate  # noqa: E402
 from mat_hopper.batch._warp import DERIVED_FIELDS, DESIGN_FIELDS  # noqa: E402
-from mat_hopper.materials import LegDesign, parse_design  # noqa: E402
-from mat_hopper.model import build_model  # noqa: E402
-from mat_hopper.sim import simulate  # noqa: E402
+from mat_hopper.core.materials import LegDesign, parse_design  # noqa: E402
+from mat_hopper.core.model import build_model  # noqa: E402
+from mat_hopper.core.sim import simulate  # noqa: E402
 
 SHORT = BatchSettings(duration_s=0.45, timestep_s=2e-4, transient_s=0.1)
 
@@ -85,13 +85,13 @@ def test_the_device_model_resets_nothing_itself(sprung_batch):
 @pytest.mark.parametrize(
     "latency, timestep_s",
     # fresh readings (L = 0) are stable at 2e-4 s; L = 2 needs 1e-4 s (its
-    # stance-damping limit, mat_hopper.stability, is 1.3e-4 s)
+    # stance-damping limit, mat_hopper.physics.stability, is 1.3e-4 s)
     [(0, 2e-4), (2, 1e-4)],
 )
 def test_other_sensor_latencies_follow_the_cpu_path(latency, timestep_s):
     """0.45 s (falling, touchdown, stance) under sensor latencies other than
     the authors': every world's joint positions follow the CPU rollout of
-    the same latency (mat_hopper.sim, MuJoCo's CPU engine in float64, itself
+    the same latency (mat_hopper.core.sim, MuJoCo's CPU engine in float64, itself
     tested against plain mj_step1/mj_step2 and mj_step loops) step by step."""
     s = BatchSettings(duration_s=0.45, timestep_s=timestep_s, transient_s=0.1, sensor_timing=latency)
     designs = ["PVC", LegDesign.from_properties([1.1, 2.5, 1.9], [0.45, 4.0, 9.0])]  # stable at 2e-4 s

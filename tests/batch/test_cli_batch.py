@@ -10,9 +10,9 @@ import pytest
 from mat_hopper.batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, designs_to_frame, evaluate_cpu
 from mat_hopper.cli import main
 from mat_hopper.cli.batch import SETTING_COLUMNS
-from mat_hopper.materials import LegDesign, parse_design
-from mat_hopper.metrics import run_summary
-from mat_hopper.sim import simulate
+from mat_hopper.core.materials import LegDesign, parse_design
+from mat_hopper.core.sim import simulate
+from mat_hopper.physics.metrics import run_summary
 
 
 def _cli(*args, env_code: str = ""):
@@ -231,7 +231,7 @@ def test_stability_scan_of_the_map_designs(tmp_path):
     densities 1.39-8 g/cm^3 and moduli 4-340 GPa, log-spaced, rounded to 0.1);
     --stability writes each design's first upright step of the ladder, the
     value stability.spec_scan gives for the same design."""
-    from mat_hopper.stability import spec_scan
+    from mat_hopper.physics.stability import spec_scan
 
     out = tmp_path / "map.csv"
     rc = main(["batch", "--map", "2", "--stability", "--stability-duration", "0.5", "--quiet", "--csv", str(out)])
@@ -246,7 +246,7 @@ def test_sensor_timing_reaches_the_runs(tmp_path):
     """At 2e-4 s the authors' timing (latency 1) is stable for PVC and a
     latency of 2 steps is not: the stance damping's delayed-feedback limit
     c(L) I / (K_d gear) is 2.1e-4 s at L = 1 and 1.3e-4 s at L = 2
-    (mat_hopper.stability)."""
+    (mat_hopper.physics.stability)."""
     args = ["batch", "--designs", "PVC", "--duration", "0.6", "--transient", "0.1", "--timestep", "2e-4", "--quiet"]
     stable = {}
     for timing in ("authors", "2"):

@@ -4,9 +4,9 @@ import pytest
 from _refusal import refused
 
 from mat_hopper.cli import build_parser
+from mat_hopper.core.materials import CONVENTIONS
 from mat_hopper.experiments.paper import parse_experiments
 from mat_hopper.experiments.profiles import PROFILES
-from mat_hopper.materials import CONVENTIONS
 
 
 def _refused(argv, capsys) -> str:

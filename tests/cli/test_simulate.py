@@ -6,8 +6,8 @@ import pandas as pd
 import pytest
 
 from mat_hopper.cli import main
-from mat_hopper.controls import CONTROLS, control, mass_properties
-from mat_hopper.materials import CATALOGUE, LegDesign, paper_designs, parse_design
+from mat_hopper.core.control_legs import CONTROLS, control, mass_properties
+from mat_hopper.core.materials import CATALOGUE, LegDesign, paper_designs, parse_design
 
 
 @pytest.mark.parametrize("kind", CONTROLS)

@@ -9,10 +9,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mat_hopper import reference as ref
 from mat_hopper import simulate
 from mat_hopper.analysis import stats
 from mat_hopper.analysis import tables as tab
+from mat_hopper.core import reference as ref
 from mat_hopper.experiments import paper, runner
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.viz import chapters

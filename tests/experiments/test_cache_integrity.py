@@ -12,11 +12,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mat_hopper.behaviours import behaviour
+from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.materials import parse_design
+from mat_hopper.core.sim import SimSettings
 from mat_hopper.experiments.cache import Cache, content_checksum
 from mat_hopper.experiments.runner import RunSpec, run_grid
-from mat_hopper.materials import parse_design
-from mat_hopper.sim import SimSettings
 
 SHORT = SimSettings(duration_s=2.5, timestep_s=1e-4, transient_s=0.5)
 

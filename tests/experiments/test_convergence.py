@@ -1,8 +1,8 @@
 import pandas as pd
 import pytest
 
+from mat_hopper.core.model import build_model
 from mat_hopper.experiments import convergence
-from mat_hopper.model import build_model
 
 
 def test_tasks_are_the_same_leg_cut_finer():

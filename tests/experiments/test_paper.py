@@ -4,7 +4,8 @@ import math
 
 import pytest
 
-from mat_hopper import reference as ref
+from mat_hopper.core import reference as ref
+from mat_hopper.core.perturbations import Perturbation
 from mat_hopper.experiments.paper import (
     EXPERIMENT_NAMES,
     experiment_1,
@@ -14,8 +15,7 @@ from mat_hopper.experiments.paper import (
     parse_experiments,
 )
 from mat_hopper.experiments.profiles import PROFILE_ENV, Profile, get_profile
-from mat_hopper.perturbations import Perturbation
-from mat_hopper.stability import stability_grid
+from mat_hopper.physics.stability import stability_grid
 
 
 def test_experiment_1_is_five_materials_by_four_behaviours():

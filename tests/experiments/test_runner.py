@@ -13,17 +13,17 @@ import pandas as pd
 import pytest
 
 import mat_hopper
-from mat_hopper import keys as cache_keys
-from mat_hopper.atomic import TEMP_PREFIX
-from mat_hopper.behaviours import behaviour
-from mat_hopper.control import ControllerSettings
+from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.controller import ControllerSettings
+from mat_hopper.core.materials import LegDesign, parse_design
+from mat_hopper.core.perturbations import Perturbation
+from mat_hopper.core.sim import SimSettings
 from mat_hopper.experiments.cache import Cache
 from mat_hopper.experiments.paper import experiment_1
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.experiments.runner import Runner, RunSpec, run_grid
-from mat_hopper.materials import LegDesign, parse_design
-from mat_hopper.perturbations import Perturbation
-from mat_hopper.sim import SimSettings
+from mat_hopper.util import keys as cache_keys
+from mat_hopper.util.atomic import TEMP_PREFIX
 
 SHORT = SimSettings(duration_s=2.5, timestep_s=1e-4, transient_s=0.5)
 TINY = Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5)
@@ -279,7 +279,7 @@ def test_an_interrupt_as_the_workers_die_leaves_no_invalid_state_traceback(tmp_p
     InvalidStateError (CPython < 3.12): a traceback on stderr."""
     import threading
 
-    import mat_hopper.progress
+    import mat_hopper.util.progress
 
     thread_errors = []
     monkeypatch.setattr(threading, "excepthook", lambda args: thread_errors.append(repr(args.exc_value)))
@@ -298,7 +298,7 @@ def test_an_interrupt_as_the_workers_die_leaves_no_invalid_state_traceback(tmp_p
                 p.join(30)
             time.sleep(1.0)  # the pool's manager thread sees them die
 
-    monkeypatch.setattr(mat_hopper.progress, "progress_bar", lambda **kw: Bar())
+    monkeypatch.setattr(mat_hopper.util.progress, "progress_bar", lambda **kw: Bar())
     with pytest.raises(KeyboardInterrupt):
         runner.run([NapTask(i) for i in range(12)])
     runner.close()
@@ -309,7 +309,7 @@ def test_stop_pool_cancels_through_the_pool_and_can_stop_its_workers():
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    from mat_hopper.experiments.runner import stop_pool
+    from mat_hopper.util.pool import stop_pool
 
     ctx = multiprocessing.get_context("forkserver")
     for terminate in (False, True):

@@ -11,8 +11,8 @@ import numpy as np
 import optuna
 import pytest
 
+from mat_hopper.core.materials import LegDesign, Material, paper_designs
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.materials import LegDesign, Material, paper_designs
 from mat_hopper.optimize import Objective, SearchSpace, StudyConfig, create_or_load
 from mat_hopper.optimize._ashby import (
     ASHBY_CLASSES,

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 
-from mat_hopper import reference as ref
+from mat_hopper.core import reference as ref
 from mat_hopper.experiments.profiles import Profile
 from mat_hopper.optimize.codesign import DEFAULT, TUNED, answer, codesign, survival, tune
 

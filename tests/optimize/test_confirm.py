@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from mat_hopper.core.materials import LegDesign, paper_designs
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.materials import LegDesign, paper_designs
 from mat_hopper.optimize import MAX_REPLICATES, Objective, replicate_seeds
 from mat_hopper.optimize.confirm import (
     CONFIRMATION_SEED_START,

@@ -11,10 +11,10 @@ import pandas as pd
 import pytest
 
 from mat_hopper.batch import designs_from_csv
-from mat_hopper.behaviours import behaviour
 from mat_hopper.cli import main
+from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.model import build_model
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.model import build_model
 from mat_hopper.optimize import export_trial, leg_mass_kg
 from mat_hopper.optimize._driver import run_loop
 from mat_hopper.optimize._evaluators import PoolEvaluator

@@ -13,8 +13,8 @@ import pytest
 from optuna.trial import TrialState
 
 from mat_hopper.cli import main
+from mat_hopper.core.materials import paper_designs
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.materials import paper_designs
 from mat_hopper.optimize import (
     METRICS,
     OBJECTIVES,
@@ -33,7 +33,7 @@ from mat_hopper.optimize import (
     write_report,
 )
 from mat_hopper.optimize._batch import check_unperturbed
-from mat_hopper.optimize._robust import leg_mass_kg
+from mat_hopper.optimize._scoring import leg_mass_kg
 from mat_hopper.optimize.report import hypervolume_2d
 from mat_hopper.optimize.validate import replicate_means
 

@@ -27,8 +27,8 @@ from running_trials import (
 )
 
 from mat_hopper.cli import main
+from mat_hopper.core.materials import LegDesign, paper_designs
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.materials import LegDesign, paper_designs
 from mat_hopper.optimize._driver import run_loop, run_study
 from mat_hopper.optimize._evaluators import Evaluator, Lost
 from mat_hopper.optimize._objective import Objective, evaluate

@@ -8,8 +8,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from mat_hopper.core.materials import paper_designs
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.materials import paper_designs
 from mat_hopper.optimize import Objective
 from mat_hopper.optimize.validate import (
     AXIAL,
@@ -78,7 +78,7 @@ def test_paired_dominance_by_hand():
 
 
 def test_a_gradient_against_the_homogeneous_legs_of_its_mass():
-    from mat_hopper.materials import parse_design
+    from mat_hopper.core.materials import parse_design
     from mat_hopper.optimize.validate import homogeneous_legs
 
     legs = homogeneous_legs(parse_design("rho-inc"))
@@ -185,7 +185,7 @@ def test_three_seeds_test_nothing():
 
 
 def test_controls_run_beside_every_front_design():
-    from mat_hopper.materials import parse_design
+    from mat_hopper.core.materials import parse_design
 
     tasks = validation_tasks({"g": parse_design("PVC-Ti-SS"), "t": parse_design("Ti")}, OB, replicates=2)
     labels = pd.DataFrame([t.labels for t in tasks])
@@ -227,7 +227,7 @@ def test_validate_front_end_to_end(tmp_path):
     """A tiny front: a design far off the front (heavy and stiff), with
     its rigid twin, three seeds: survival untestable or failed, and the
     answer says so."""
-    from mat_hopper.materials import LegDesign
+    from mat_hopper.core.materials import LegDesign
     from mat_hopper.optimize.validate import validate_front
 
     ob = Objective(replicates=0, profile=Profile("tiny", duration_s=4.0, transient_s=1.0))

@@ -6,8 +6,8 @@ from matplotlib.patches import Polygon
 from synthetic_results import results, stability_table
 
 from mat_hopper.analysis import stats
-from mat_hopper.materials import CATALOGUE
-from mat_hopper.sim import simulate
+from mat_hopper.core.materials import CATALOGUE
+from mat_hopper.core.sim import simulate
 from mat_hopper.viz import figures as plots
 from mat_hopper.viz import maps, style
 

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from mat_hopper import reference as ref
 from mat_hopper.analysis import tables as tab
+from mat_hopper.core import reference as ref
 from mat_hopper.viz import maps
 
 
@@ -20,7 +20,7 @@ def test_design_table_and_figure():
 def test_catalogue_table_of_a_selection():
     import pytest
 
-    from mat_hopper.materials import material
+    from mat_hopper.core.materials import material
 
     whole = maps.catalogue_table()
     assert len(whole) == 13  # the catalogue: 12 elastic materials and MD

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from conftest import run_python
 
-from mat_hopper.behaviours import behaviour
-from mat_hopper.materials import parse_design
-from mat_hopper.sim import simulate
+from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.materials import parse_design
+from mat_hopper.core.sim import simulate
 from mat_hopper.viz.render import (
     Camera,
     OffscreenRenderer,

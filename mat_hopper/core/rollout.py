@@ -1,0 +1,246 @@
+"""What one rollout recorded: :class:`Rollout` (made by
+:func:`mat_hopper.core.sim.simulate`), its channels as named views in SI units."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import reference as ref
+from ._loop import CHANNELS, C
+from .behaviours import Behaviour
+from .controller import LIFTOFF, TOUCHDOWN
+from .materials import LegDesign
+
+__all__ = ["Rollout", "hop_cycles"]
+
+
+@dataclass(eq=False)
+class Rollout:
+    """What one rollout recorded (made by :func:`mat_hopper.core.sim.simulate`).
+
+    ``data`` holds every channel of :data:`mat_hopper.core.sim.CHANNELS` as
+    columns; the properties below are named views in SI units. Events are
+    the state machine's switches: ``touchdown_times_s``, ``liftoff_times_s``
+    and the controller's own ``hop_heights_m`` (one per touchdown after the
+    first lift-off).
+
+    Args:
+        design: the leg.
+        behaviour: the desired path and terrain.
+        settings: the run's SimSettings.
+        data: (n, len(CHANNELS)) samples at ``settings.record_rate_hz``.
+        events: (m, 3) switches: time s, kind (touchdown or lift-off), hop height m.
+        diverged_step: the physics step of numerical divergence, -1 if none.
+        total_mass_kg: the robot's mass as MuJoCo computes it, kg.
+        spring_stiffness_n_m: the material springs' stiffnesses, N/m, hip to foot.
+        qpos: (n, nq) joint positions, if recorded (``record_qpos=True``).
+        stress: (n, N, 4) per-segment stress, Pa (issue 21; columns
+            :data:`mat_hopper.core._loop.STRESS_COLUMNS`), or None.
+    """
+
+    design: LegDesign
+    behaviour: Behaviour
+    settings: object  # the run's mat_hopper.core.sim.SimSettings (sim imports this module, not the reverse)
+    data: np.ndarray
+    events: np.ndarray
+    diverged_step: int
+    total_mass_kg: float
+    spring_stiffness_n_m: tuple
+    qpos: np.ndarray | None = None  # (n, nq) joint positions, if recorded
+    # issue 21: (n, N, 4) per-segment stress, Pa (mat_hopper.core._loop.STRESS_COLUMNS)
+    stress: np.ndarray | None = None
+
+    def __getitem__(self, channel: str) -> np.ndarray:
+        return self.data[:, C[channel]]
+
+    # --- named views ---
+    @property
+    def time(self) -> np.ndarray:
+        """s"""
+        return self.data[:, C["t"]]
+
+    @property
+    def base_pos(self) -> np.ndarray:
+        """m, world frame (n, 3)"""
+        return self.data[:, C["x"] : C["z"] + 1]
+
+    @property
+    def base_vel(self) -> np.ndarray:
+        """m/s, world frame (n, 3)"""
+        return self.data[:, C["vx"] : C["vz"] + 1]
+
+    @property
+    def base_acc(self) -> np.ndarray:
+        """m/s^2, world frame (n, 3)"""
+        return self.data[:, C["ax"] : C["az"] + 1]
+
+    @property
+    def desired_pos(self) -> np.ndarray:
+        """m (n, 2)"""
+        return self.data[:, C["x_des"] : C["y_des"] + 1]
+
+    @property
+    def desired_vel(self) -> np.ndarray:
+        """m/s (n, 2)"""
+        return self.data[:, C["vx_des"] : C["vy_des"] + 1]
+
+    @property
+    def hip_angle(self) -> np.ndarray:
+        """rad, (hip_y, hip_x) (n, 2)"""
+        return self.data[:, C["hip_y"] : C["hip_x"] + 1]
+
+    @property
+    def hip_rate(self) -> np.ndarray:
+        """rad/s, (hip_y, hip_x) (n, 2)"""
+        return self.data[:, C["hip_y_rate"] : C["hip_x_rate"] + 1]
+
+    @property
+    def ctrl(self) -> np.ndarray:
+        """Controls in actuator space, (hip_y, hip_x, thrust) (n, 3): the
+        hips' before their gear of 600, the thrust in N (gear 1)."""
+        return self.data[:, C["ctrl_hip_y"] : C["ctrl_thrust"] + 1]
+
+    @property
+    def hip_torque(self) -> np.ndarray:
+        """N m, joint space (hip_y, hip_x) (n, 2): MuJoCo's qfrc_actuator at
+        the hip joints, i.e. gear x control."""
+        return self.data[:, C["torque_hip_y"] : C["torque_hip_x"] + 1]
+
+    @property
+    def thrust_force(self) -> np.ndarray:
+        """N, joint space: the thrust actuator's force on the foot spring (n,)."""
+        return self.data[:, C["force_thrust"]]
+
+    @property
+    def hip_power(self) -> np.ndarray:
+        """W, mechanical power of each hip actuator, joint torque x joint
+        rate (hip_y, hip_x) (n, 2)."""
+        return self.hip_torque * self.hip_rate
+
+    @property
+    def touch(self) -> np.ndarray:
+        """N"""
+        return self.data[:, C["touch"]]
+
+    @property
+    def phase(self) -> np.ndarray:
+        """0 flight, 1 stance"""
+        return self.data[:, C["phase"]]
+
+    @property
+    def thrust(self) -> np.ndarray:
+        """N, the adaptive thrust setting F"""
+        return self.data[:, C["thrust_setting"]]
+
+    @property
+    def touchdown_times_s(self) -> np.ndarray:
+        return self.events[self.events[:, 1] == TOUCHDOWN, 0]
+
+    @property
+    def liftoff_times_s(self) -> np.ndarray:
+        return self.events[self.events[:, 1] == LIFTOFF, 0]
+
+    @property
+    def hop_heights_m(self) -> np.ndarray:
+        h = self.events[self.events[:, 1] == TOUCHDOWN, 2]
+        return h[np.isfinite(h)]
+
+    # --- outcome ---
+    @property
+    def stable(self) -> bool:
+        """True when the run reached its end without numerical divergence."""
+        return self.diverged_step < 0
+
+    @property
+    def diverged_at_s(self) -> float | None:
+        """Simulated time (s) of divergence, or None."""
+        return None if self.stable else self.diverged_step * self.settings.timestep_s
+
+    @property
+    def upright(self) -> bool:
+        """Stable and the base ended above 0.1 m (the paper's criterion)."""
+        return self.stable and len(self.data) > 0 and self.data[-1, C["z"]] > ref.STABLE_MIN_BASE_Z
+
+    def to_frame(self):
+        """All channels as a pandas DataFrame, one row per sample."""
+        import pandas as pd
+
+        return pd.DataFrame(self.data, columns=list(CHANNELS))
+
+
+def check_transient(transient_s) -> float | None:
+    """A scoring transient: None (the run's own), or a finite number >= 0 s.
+
+    Args:
+        transient_s: None, or the time (s) before which hop cycles are not
+            scored: an int or a float.
+
+    Returns:
+        None, or `transient_s` as a float, s.
+
+    Raises:
+        ValueError: a bool, a string or other non-number, nan, inf or a
+            negative value (nan scored no hop at all: an empty table, silently).
+    """
+    if transient_s is None:
+        return None
+    ok = not isinstance(transient_s, bool) and isinstance(transient_s, (int, float, np.integer, np.floating))
+    x = float(transient_s) if ok else float("nan")
+    if not (np.isfinite(x) and x >= 0):
+        raise ValueError(f"transient_s must be None (the run's) or a finite number >= 0 s, got {transient_s!r}")
+    return x
+
+
+def check_transient_within(rollout: Rollout, transient_s) -> float | None:
+    """A scoring transient (:func:`check_transient`) that leaves part of
+    the run to score: before the run's planned end, ``settings.duration_s``
+    (a transient at or past it scored nothing: an empty table, silently).
+
+    Args:
+        rollout: a :class:`Rollout`.
+        transient_s: None (the run's own), or the time (s) before which hop
+            cycles are not scored.
+
+    Returns:
+        None, or `transient_s` as a float, s.
+
+    Raises:
+        ValueError: what :func:`check_transient` refuses, or a transient
+            at or beyond the run's duration (naming both).
+    """
+    x = check_transient(transient_s)
+    duration = float(rollout.settings.duration_s)
+    if x is not None and x >= duration:
+        raise ValueError(
+            f"transient_s {x:g} s is at or beyond the run's end (duration {duration:g} s): nothing would be scored; "
+            "give a transient below the duration"
+        )
+    return x
+
+
+def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray:
+    """The scored hop cycles of a rollout, lift-off to lift-off.
+
+    Args:
+        rollout: a :class:`Rollout`.
+        transient_s: cycles starting before it (s) are not scored, a finite
+            number >= 0; None: the rollout's own ``settings.transient_s``.
+
+    Returns:
+        (k, 2) array of (start, end) times in s; (0, 2) with fewer than two
+        lift-offs.
+
+    Raises:
+        ValueError: `transient_s` not None nor a finite number >= 0 s
+            (:func:`check_transient`), or at or beyond the run's end
+            (:func:`check_transient_within`).
+    """
+    transient_s = check_transient_within(rollout, transient_s)
+    transient = rollout.settings.transient_s if transient_s is None else transient_s
+    lo = rollout.liftoff_times_s
+    if len(lo) < 2:
+        return np.zeros((0, 2))
+    cyc = np.column_stack([lo[:-1], lo[1:]])
+    return cyc[cyc[:, 0] >= transient]

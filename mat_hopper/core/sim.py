@@ -1,0 +1,580 @@
+"""Fast headless rollouts in simulated time.
+
+:func:`simulate` runs one design on one behaviour and returns a
+:class:`Rollout` of arrays recorded at ``record_rate_hz`` (default 1 kHz).
+The whole loop (MuJoCo step, controller, desired path, divergence check,
+recording) is one numba-compiled function (:mod:`mat_hopper.core._loop`) that
+calls libmujoco's ``mj_step1``/``mj_step2`` through ctypes on the Python
+bindings' own buffers, so the rollout costs little more than the bare
+physics.
+
+Sensor timing (``SimSettings.sensor_timing``, recorded in every result):
+by default ``"authors"``, the authors' loop, in which the controller sees
+the base sensors one physics step old and the hips current; ``"fresh"``
+reads the base from the current state; an integer latency L (physics
+steps) generalises both. See :mod:`mat_hopper.core.controller` for exactly when
+each reading is taken.
+
+Numerical divergence (a NaN or inf, or |qacc| > 1e6) ends the run early and
+marks it unstable with the simulated time it happened; MuJoCo's automatic
+reset is disabled so divergence can never pass unseen.
+
+Set ``NUMBA_DISABLE_JIT=1`` to run the very same loop as plain Python.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field, fields
+
+import mujoco
+import numpy as np
+
+from . import reference as ref
+from ._loop import (
+    CHANNELS,
+    HISTORY_WIDTH,
+    MJ_STEP1,
+    MJ_STEP2,
+    N_CHANNELS,
+    RECORD_DTYPE,
+    Buffers,
+    C,
+    Disturbance,
+    JerkFilter,
+    Path,
+    Steps,
+    StressProbe,
+    read_sensors,
+    rollout_loop,
+)
+from .behaviours import behaviour as get_behaviour
+from .controller import (
+    DEFAULT_SENSOR_TIMING,
+    ControllerSettings,
+    SensorTiming,
+    initial_state,
+)
+from .damping import DEFAULT_DAMPING, check_damping
+from .materials import (
+    DEFAULT_CONVENTION,
+    DEFAULT_SEGMENT_MASS,
+    as_design,
+    check_convention,
+    check_segment_mass,
+)
+from .model import HopperModel, build_model, check_timestep, reset_to_start, stress_gains
+from .perturbations import NO_PUSH, Perturbation
+from .rollout import Rollout
+from .timestep import is_auto, resolve_timestep
+
+__all__ = [
+    "CHANNELS",
+    "C",
+    "N_CHANNELS",
+    "DEFAULT_RECORD_RATE_HZ",
+    "SimSettings",
+    "sim_settings",
+    "RolloutRunner",
+    "prepare",
+    "simulate",
+    "route_mujoco_warnings",
+]
+
+DEFAULT_RECORD_RATE_HZ = 1000.0
+MAX_SUBSTEPS = 1000
+# Run-size limits, checked before anything is allocated: 2e9 physics steps
+# (about 3 h of one core), 5e6 recorded samples (1.5 GB of records).
+MAX_STEPS = 2_000_000_000
+MAX_SAMPLES = 5_000_000
+# Physics steps per call of the compiled loop. Python runs signal handlers
+# (Ctrl-C, SIGTERM) only between calls, so every call must end within a
+# fraction of a second of wall time at any time step: sized in steps, not
+# simulated seconds, and scaled down for longer chains (a 3-segment leg
+# takes about 5 us a step: 20000 steps, 0.1 s; 64 segments 75 us a step:
+# 1000 steps, 0.08 s). A call costs microseconds more than its steps
+# (benchmarks/rollout.py's ratio is unchanged).
+LOOP_CHUNK_STEPS = 20_000  # for legs of up to 3 segments
+
+
+def loop_chunk_steps(n_segments: int) -> int:
+    """Physics steps per compiled-loop call for a leg of n_segments.
+
+    Args:
+        n_segments: segments of the leg (values below 3 count as 3).
+
+    Returns:
+        :data:`LOOP_CHUNK_STEPS` x 3 // n_segments (integer division), at
+        least 1000: 20000 for up to 3 segments, 1000 from 60 segments on.
+    """
+    return max(1000, LOOP_CHUNK_STEPS * 3 // max(3, int(n_segments)))
+
+
+# Jerk is computed at the physics rate: the base's z acceleration through a
+# causal Butterworth low-pass, then differentiated step by step. The cut-off
+# lies far below the leg's axial modes (2.5-4 kHz, barely damped) and the
+# record rates' Nyquist frequencies, and above the hop's body dynamics
+# (stance about 0.1 s): the number no longer depends on the record rate.
+# Butterworth filtering before differentiating is the standard treatment of
+# noisy kinematic derivatives (D. A. Winter, Biomechanics and Motor Control
+# of Human Movement, 4th ed., Wiley 2009, sec. 2.2); the coefficients come
+# from scipy.signal.butter.
+JERK_CUTOFF_HZ = 50.0
+JERK_FILTER_ORDER = 2
+
+
+def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkFilter:
+    """The jerk low-pass for this physics step, at rest on input az0 (its
+    steady state, scipy.signal.sosfilt_zi) so a run starts without a
+    filter transient. Steps coarser than 4 ms (where jerk means little)
+    lower the cut-off to 0.2 / timestep_s, below their Nyquist frequency.
+
+    Args:
+        timestep_s: the physics time step, s (> 0).
+        az0_m_s2: the filter's steady-state input, m/s^2 (default -g, the
+            base's free fall at the start).
+
+    Returns:
+        :class:`~mat_hopper.core._loop.JerkFilter`: coef (b0, b1, b2, a1, a2) of
+        the order-:data:`JERK_FILTER_ORDER` Butterworth at
+        min(:data:`JERK_CUTOFF_HZ`, 0.2 / timestep_s) Hz, and state (z1, z2,
+        az0_m_s2 as the previous output, 0, 0).
+    """
+    import scipy.signal
+
+    cutoff = min(JERK_CUTOFF_HZ, 0.2 / timestep_s)
+    sos = scipy.signal.butter(JERK_FILTER_ORDER, cutoff, fs=1.0 / timestep_s, output="sos")
+    ((b0, b1, b2, _, a1, a2),) = sos
+    zi = scipy.signal.sosfilt_zi(sos)[0] * az0_m_s2
+    return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2, 0.0, 0.0]))
+
+
+_log = logging.getLogger("mat_hopper.mujoco")
+
+
+def route_mujoco_warnings() -> None:
+    """Send MuJoCo's warnings to logging (logger ``mat_hopper.mujoco``,
+    level DEBUG) instead of stderr and a MUJOCO_LOG.TXT in the working
+    folder. Divergence is detected and reported by the rollout itself. Not
+    done on import (it is process-wide): the CLI calls it; a handler the
+    user installed is left alone."""
+    if mujoco.get_mju_user_warning() is None:
+        mujoco.set_mju_user_warning(lambda msg: _log.debug("MuJoCo: %s", msg))
+
+
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SimSettings:
+    """Everything besides design and behaviour that changes a rollout: the
+    one settings object (a batch, a profile and the CLI all build it with
+    :func:`sim_settings`; copies are ``dataclasses.replace``).
+
+    Args:
+        duration_s: simulated run length, s (> transient_s, and at least
+            one control period, :attr:`control_period_s`).
+        timestep_s: physics step, s, in (0, 0.1]; ``"auto"`` is resolved
+            by :func:`sim_settings` (:func:`resolve_timestep`), not here.
+        transient_s: hop cycles starting before it are not scored, s.
+        convention: modulus-to-stiffness convention, one of ``materials.CONVENTIONS``:
+            ``"paper"``, ``"axial"``, ``"bending"``, ``"axial+bending"``;
+            any case, stored as spelled there.
+        record_rate_hz: recorded samples per simulated second, Hz.
+        controller: the controller's gains.
+        perturbation: seeded disturbances, or None.
+        sensor_timing: when the controller's base readings are taken, stored
+            as a :class:`~mat_hopper.core.controller.SensorTiming` (an integer latency
+            in physics steps carrying its name): ``"authors"`` (default: one
+            physics step old), ``"fresh"``, ``"latency-L"`` or an integer L.
+        segment_mass: ``"leg"`` (default: mass independent of the number
+            of segments, the authors' model at N = 3) or ``"capsule"`` (the
+            authors' per-capsule density at any N; :mod:`mat_hopper.core.materials`);
+            any case, stored as spelled there.
+        substeps: physics steps per control period, an integer in [1, 1000];
+            the controller runs every ``substeps`` steps, i.e. with period
+            :attr:`control_period_s` (1 by default: every step, as the
+            authors' loop).
+        damping: how the material springs dissipate, ``"authors"``
+            (default: 1 N s/m, the authors' file) or ``"loss-factor"`` (each
+            material's loss factor, :data:`mat_hopper.core.damping.LOSS_FACTORS`);
+            any case, stored as spelled in :data:`mat_hopper.core.damping.DAMPINGS`.
+
+    Raises:
+        ValueError: on any invalid value, naming the field.
+    """
+
+    duration_s: float = ref.DURATION_S
+    timestep_s: float = ref.TIMESTEP_S
+    transient_s: float = ref.TRANSIENT_S
+    convention: str = DEFAULT_CONVENTION
+    record_rate_hz: float = DEFAULT_RECORD_RATE_HZ
+    controller: ControllerSettings = field(default_factory=ControllerSettings)
+    perturbation: Perturbation | None = None
+    sensor_timing: SensorTiming = SensorTiming()
+    segment_mass: str = DEFAULT_SEGMENT_MASS
+    substeps: int = 1
+    damping: str = DEFAULT_DAMPING  # issue 21: "authors" (1 N s/m) or "loss-factor" (damping.LOSS_FACTORS)
+
+    def __post_init__(self):
+        # One check per field (a new field adds its own line); then the checks across fields.
+        _check_substeps(self.substeps)
+        object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
+        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
+        object.__setattr__(self, "damping", check_damping(self.damping))
+        for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ValueError(f"{name} must be a finite number, got {v!r}")
+        check_timestep(self.timestep_s)
+        if self.transient_s < 0:
+            raise ValueError(f"transient must be >= 0 s, got {self.transient_s!r}")
+        if not self.record_rate_hz > 0:
+            raise ValueError(f"record_rate_hz must be > 0 Hz, got {self.record_rate_hz!r}")
+        object.__setattr__(self, "convention", check_convention(self.convention))
+        if not isinstance(self.controller, ControllerSettings):
+            raise ValueError("controller must be a ControllerSettings")
+        if self.perturbation is not None and not isinstance(self.perturbation, Perturbation):
+            raise ValueError("perturbation must be a Perturbation or None")
+        self._check_run_size()
+
+    def _check_run_size(self) -> None:
+        if not self.duration_s > self.transient_s:
+            raise ValueError(f"duration must be > transient ({self.transient_s:g} s), got {self.duration_s!r} s")
+        if self.duration_s < self.control_period_s:  # no step, or a part of one: an empty run
+            of = f"{self.substeps} x timestep {self.timestep_s:g} s" if self.substeps > 1 else "the timestep"
+            raise ValueError(
+                f"duration must be at least one control period, {self.control_period_s:g} s ({of}), "
+                f"got {self.duration_s:g} s"
+            )
+        if self.duration_s / self.timestep_s > MAX_STEPS:
+            raise ValueError(
+                f"duration / timestep = {self.duration_s / self.timestep_s:.3g} physics steps: over the "
+                f"limit of {MAX_STEPS:.0e} (a longer duration_s or smaller timestep_s than supported)"
+            )
+        if self.n_steps / self.record_every > MAX_SAMPLES:
+            raise ValueError(
+                f"{self.n_steps / self.record_every:.3g} recorded samples: over the limit of "
+                f"{MAX_SAMPLES:.0e}; lower record_rate_hz or duration_s"
+            )
+
+    @property
+    def record_every(self) -> int:
+        """Physics steps between recorded samples (>= 1)."""
+        return max(1, int(round(1.0 / (self.record_rate_hz * self.timestep_s))))
+
+    @property
+    def n_steps(self) -> int:
+        return int(round(self.duration_s / self.timestep_s))
+
+    @property
+    def control_period_s(self) -> float:
+        """s, the controller's period: substeps x timestep_s."""
+        return self.substeps * self.timestep_s
+
+    def columns(self, *names: str) -> dict:
+        """The named fields as result tables record them (a sensor timing by
+        its name), for a table's setting columns; ValueError for an unknown name."""
+        unknown = [n for n in names if n not in SETTING_NAMES]
+        if unknown:
+            raise ValueError(f"unknown setting(s) {', '.join(unknown)}; accepted: {', '.join(SETTING_NAMES)}")
+        return {n: (self.sensor_timing.name if n == "sensor_timing" else getattr(self, n)) for n in names}
+
+    @property
+    def sensor_latency_steps(self) -> int:
+        """Physics steps by which the controller's base readings lag (``int(sensor_timing)``)."""
+        return int(self.sensor_timing)
+
+
+SETTING_NAMES = tuple(f.name for f in fields(SimSettings))
+
+
+def _check_substeps(substeps) -> None:
+    if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or not 1 <= substeps <= MAX_SUBSTEPS:
+        raise ValueError(
+            f"substeps must be an integer in [1, {MAX_SUBSTEPS}] (physics steps per control period), got {substeps!r}"
+        )
+
+
+def sim_settings(design=None, **settings) -> SimSettings:
+    """The one builder of :class:`SimSettings`: every entry point (the CLI,
+    :func:`simulate`, batches, profiles, the optimizer) calls it.
+
+    Args:
+        design: the leg, needed only when ``timestep_s="auto"``.
+        **settings: any :class:`SimSettings` field; ``timestep_s`` may be
+            ``"auto"`` (then ``substeps`` may not be given: it is chosen).
+
+    Returns:
+        The checked SimSettings.
+
+    Raises:
+        ValueError: an unknown field (named), ``substeps`` beside
+            ``"auto"``, or any invalid value.
+
+    >>> sim_settings(duration_s=2.0, transient_s=0.5, sensor_timing="fresh").sensor_timing.name
+    'fresh'
+    """
+    unknown = sorted(set(settings) - set(SETTING_NAMES))
+    if unknown:
+        raise ValueError(f"unknown setting(s) {', '.join(unknown)}; accepted: {', '.join(SETTING_NAMES)}")
+    if is_auto(settings.get("timestep_s")):
+        if "substeps" in settings:
+            raise ValueError("substeps cannot be given with timestep_s='auto' (auto chooses them)")
+        settings["timestep_s"], settings["substeps"] = resolve_timestep(
+            settings["timestep_s"],
+            design,
+            settings.get("convention", DEFAULT_CONVENTION),
+            settings.get("segment_mass", DEFAULT_SEGMENT_MASS),
+            settings.get("sensor_timing", DEFAULT_SENSOR_TIMING),
+        )
+    if settings.get("controller") is None:
+        settings.pop("controller", None)
+    return SimSettings(**settings)
+
+
+def prepare(
+    design, behaviour, settings: SimSettings, start_xy_offset=(0.0, 0.0), start_tilt=(0.0, 0.0)
+) -> tuple[HopperModel, mujoco.MjData]:
+    """Model and initial data for a rollout: start pose per the behaviour,
+    plus an optional offset (m) and roll/pitch tilt (rad).
+
+    Args:
+        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name
+            (:func:`mat_hopper.core.materials.parse_design`).
+        behaviour: a behaviour name or :class:`~mat_hopper.core.behaviours.Behaviour`;
+            its ramp grade shapes the terrain and its start_xy_m the start.
+        settings: the :class:`SimSettings`; its timestep_s, convention,
+            segment_mass and damping build the model.
+        start_xy_offset: (dx, dy), m, added to the behaviour's start position.
+        start_tilt: (roll, pitch) of the base at the start, rad.
+
+    Returns:
+        (hopper, data): the compiled :class:`~mat_hopper.core.model.HopperModel`
+        (control sensors) and its ``mujoco.MjData`` at the start keyframe
+        (base z 1.2 m) with the position and tilt set, after ``mj_forward``.
+
+    Raises:
+        ValueError: a design that is neither a LegDesign nor a known name, an
+            unknown behaviour, or a setting the model builder rejects.
+    """
+    design = as_design(design)
+    beh = get_behaviour(behaviour)
+    hm = build_model(
+        design,
+        ramp_grade_deg=beh.ramp_grade_deg,
+        timestep_s=settings.timestep_s,
+        convention=settings.convention,
+        sensors="control",
+        segment_mass=settings.segment_mass,
+        damping=settings.damping,
+    )
+    data = mujoco.MjData(hm.model)
+    reset_to_start(hm.model, data)  # base z slide at 1.2 m, all else 0
+    b = hm.layout.base_qpos  # base joints: x, y, z, roll, pitch, yaw
+    data.qpos[b + 0] = beh.start_xy_m[0] + start_xy_offset[0]
+    data.qpos[b + 1] = beh.start_xy_m[1] + start_xy_offset[1]
+    data.qpos[b + 3] = start_tilt[0]
+    data.qpos[b + 4] = start_tilt[1]
+    mujoco.mj_forward(hm.model, data)
+    return hm, data
+
+
+class RolloutRunner:
+    """A rollout that advances in chunks of physics steps (see :func:`simulate`).
+
+    Useful to inspect or snapshot the MuJoCo state part-way; ``simulate``
+    runs it in one chunk. record_qpos keeps every joint position at the
+    record rate, which rendering needs."""
+
+    def __init__(self, design, behaviour, settings: SimSettings, *, record_qpos: bool = False):
+        if not isinstance(settings, SimSettings):
+            raise ValueError(f"settings must be a SimSettings, got {type(settings).__name__}")
+        self.design = as_design(design)
+        self.behaviour = get_behaviour(behaviour)
+        self.settings = settings
+        p = settings.perturbation
+        if p is None:
+            offset, tilt, self._push, self._noise, self._noise_every = (
+                (0.0, 0.0),
+                (0.0, 0.0),
+                NO_PUSH,
+                np.zeros((1, 6)),
+                1 << 60,
+            )
+        else:
+            offset, tilt, self._push, self._noise, self._noise_every = p.draw(settings.duration_s, settings.timestep_s)
+        self.hopper, self.data = prepare(self.design, self.behaviour, settings, offset, tilt)
+        n_rec = settings.n_steps // settings.record_every + 2
+        self._rec = np.zeros(n_rec, RECORD_DTYPE)
+        self._qpos = np.zeros((n_rec if record_qpos else 0, self.hopper.model.nq))
+        lock = settings.controller.phase_lock_s
+        n_ev = int(settings.duration_s / lock) + 16 if lock > 0 else settings.n_steps + 1
+        self._events = np.zeros((n_ev, 3))
+        adr, gain = stress_gains(self.hopper)
+        self._probe = StressProbe(adr, gain, np.zeros(len(adr)))
+        self._stress = np.zeros((n_rec, len(adr), 4))
+        self._state = initial_state(settings.controller)
+        self._gains = settings.controller.gains()
+        # Reading history: every lagged reading starts as the start state's.
+        self._history = np.zeros((settings.sensor_latency_steps + 1, HISTORY_WIDTH))
+        read_sensors(self.data.sensordata, self.hopper.layout, self._history[0])
+        self._history[1:] = self._history[0]
+        d = self.data
+        self._buffers = Buffers(d.qpos, d.qvel, d.qacc, d.ctrl, d.sensordata, d.qfrc_actuator, d.xfrc_applied)
+        beh = self.behaviour
+        self._path = Path(beh.path_code, beh.path_params, beh.table_xy_m)
+        self._disturbance = Disturbance(self._push, self._noise, self._noise_every)
+        self._jerk = jerk_filter(settings.timestep_s)
+        self.step = 0
+        self._n_rec = 0
+        self._n_ev = 0
+        self.diverged_step = -1
+
+    @property
+    def done(self) -> bool:
+        return self.step >= self.settings.n_steps or self.diverged_step >= 0
+
+    def advance(self, n_steps: int | None = None) -> RolloutRunner:
+        """Run up to n_steps more physics steps (all that remain by default)."""
+        if self.done:
+            return self
+        remaining = self.settings.n_steps - self.step
+        n = remaining if n_steps is None else min(int(n_steps), remaining)
+        end = self.step + n
+        while self.step < end and self.diverged_step < 0:  # signals are handled between chunks
+            self._advance_chunk(min(end - self.step, loop_chunk_steps(self.design.n_segments)))
+        return self
+
+    def _advance_chunk(self, n: int) -> None:
+        hm, st = self.hopper, self.settings
+        steps = Steps(self.step, n, st.timestep_s, st.record_every, ref.DIVERGENCE_QACC, st.substeps)
+        n_rec, n_ev, bad = rollout_loop(
+            MJ_STEP1,
+            MJ_STEP2,
+            hm.model._address,
+            self.data._address,
+            self._buffers,
+            hm.layout,
+            self._gains,
+            self._path,
+            self._disturbance,
+            steps,
+            self._history,
+            self._state,
+            self._jerk,
+            self._rec[self._n_rec :],
+            self._qpos[self._n_rec :],
+            self._events[self._n_ev :],
+            self._probe,
+            self._stress[self._n_rec :],
+        )
+        self._n_rec += n_rec
+        self._n_ev += n_ev
+        if bad >= 0:
+            self.diverged_step = int(bad)
+        self.step += n
+
+    def result(self) -> Rollout:
+        data = self._rec[: self._n_rec].view(np.float64).reshape(self._n_rec, N_CHANNELS).copy()
+        r = Rollout(
+            self.design,
+            self.behaviour,
+            self.settings,
+            data,
+            self._events[: self._n_ev].copy(),
+            self.diverged_step,
+            self.hopper.total_mass_kg,
+            self.hopper.spring_stiffness_n_m,
+        )
+        if len(self._qpos):
+            r.qpos = self._qpos[: self._n_rec].copy()
+        r.stress = self._stress[: self._n_rec].copy()
+        return r
+
+
+def simulate(
+    design,
+    behaviour,
+    duration_s: float | None = None,
+    timestep_s: float | str | None = None,
+    *,
+    transient_s: float | None = None,
+    convention: str | None = None,
+    sensor_timing: str | int | None = None,
+    controller: ControllerSettings | None = None,
+    record_rate_hz: float | None = None,
+    perturbation: Perturbation | None = None,
+    segment_mass: str | None = None,
+    substeps: int | None = None,
+    damping: str | None = None,
+    record_qpos: bool = False,
+    settings: SimSettings | None = None,
+) -> Rollout:
+    """Run a design on a behaviour for ``duration_s`` simulated seconds.
+
+    Every setting left at None takes :class:`SimSettings`' default (the
+    paper's protocol: 60 s, 1e-4 s step, 20 s transient, the authors'
+    sensor timing and stiffness convention).
+
+    Args:
+        design: a LegDesign or a name (``"SS"``, ``"PVC-Ti-SS"``, ``"rho-inc"``).
+        behaviour: a Behaviour or ``"static"``, ``"forward"``, ``"ramp"``, ``"circle"``.
+        duration_s: simulated run length, s.
+        timestep_s: physics step, s, or ``"auto"``: physics substeps of the
+            1e-4 s control period, chosen from the analytic bound
+            (:func:`resolve_timestep`).
+        transient_s: hop cycles starting before it are not scored, s (the
+            run must outlast it).
+        convention: ``"paper"``, ``"axial"``, ``"bending"`` or
+            ``"axial+bending"``, any case (:data:`mat_hopper.core.materials.CONVENTIONS`).
+        sensor_timing: ``"authors"``, ``"fresh"``, ``"latency-L"`` (any
+            case) or an integer latency in physics steps.
+        controller: the controller's gains (ControllerSettings).
+        record_rate_hz: samples per simulated second, Hz (1 kHz).
+        perturbation: seeded disturbances for replicates.
+        segment_mass: ``"leg"`` or ``"capsule"``, any case.
+        substeps: physics steps per control period (not with ``"auto"``).
+        damping: ``"authors"`` (1 N s/m) or ``"loss-factor"``, any case
+            (:mod:`mat_hopper.core.damping`).
+        record_qpos: also keep all joint positions (``Rollout.qpos``, (n, nq)) for rendering.
+        settings: a SimSettings giving all of the settings at once; then no
+            other setting may be given.
+
+    Returns:
+        The :class:`Rollout`. Divergence never raises: see :attr:`Rollout.stable`.
+
+    Raises:
+        ValueError: settings given beside ``settings=`` (named), invalid
+            settings, designs or behaviours.
+
+    >>> r = simulate("SS", "forward", duration_s=0.5, transient_s=0.0)
+    >>> r.settings.sensor_timing.name, r.data.shape[1] == len(CHANNELS)
+    ('authors', True)
+    """
+    given = {
+        name: value
+        for name, value in (
+            ("duration_s", duration_s),
+            ("timestep_s", timestep_s),
+            ("transient_s", transient_s),
+            ("convention", convention),
+            ("sensor_timing", sensor_timing),
+            ("controller", controller),
+            ("record_rate_hz", record_rate_hz),
+            ("perturbation", perturbation),
+            ("segment_mass", segment_mass),
+            ("substeps", substeps),
+            ("damping", damping),
+        )
+        if value is not None
+    }
+    if settings is not None:
+        if given:
+            raise ValueError(f"simulate: {', '.join(given)} given beside settings=; put them in the SimSettings")
+        if not isinstance(settings, SimSettings):
+            raise ValueError(f"settings must be a SimSettings, got {type(settings).__name__}")
+    else:
+        settings = sim_settings(as_design(design), **given)
+    return RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()
