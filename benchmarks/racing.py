@@ -1,4 +1,4 @@
-"""Does a noise-aware racing study find a front that holds up? Side by side with single draws (issue 22, item 5).
+"""Does a noise-aware racing study find a front that holds up? Side by side with single draws.
 
 Two studies per sampler seed, on the same budget of simulated seconds:
 
@@ -12,7 +12,7 @@ Two studies per sampler seed, on the same budget of simulated seconds:
     3 x 4 x 12 s = 252 s); its spend is its rung records' simulated seconds
     (:func:`mat_hopper.optimize.simulated_seconds`);
 ``single``
-    today's single-draw study (``replicates=0``: one unperturbed run per
+    the single-draw study (``replicates=0``: one unperturbed run per
     trial, :func:`mat_hopper.optimize.run_study`), given as many trials as
     the racing study's actual spend buys (it stops within one trial's
     simulated seconds of it).
@@ -41,31 +41,25 @@ medians over seeds per study.
 Survival is judged under validation's default domination rule, ``margin``
 (a paper design dominates a front design when it is significantly better on
 one objective, worse on none, and non-inferior within ±10 % on the other),
-and, beside it on the same runs, under the ``significance`` rule used
-before (``surviving_fraction_significance``: the margin's non-inferiority
+and, beside it on the same runs, under the ``significance`` rule
+(``surviving_fraction_significance``: the margin's non-inferiority
 dropped, so that a trade-off short of Holm's threshold counted as
 domination), and the fraction of the front that survives *shown* not
 dominated (``shown_not_dominated_fraction``: against every paper design,
 the design's own advantage on some objective shown by its interval, or
 every interval inside ±10 %;
 :func:`mat_hopper.optimize.validate.survival_state`), the rest of the
-survivors being unresolved. ``--confirm-seeds 10`` also confirms each front on seeds of
-its own (:func:`mat_hopper.optimize.confirm.confirm_front`, seeds 2000..)
-and reports how many designs it confirms, what that costs in simulated
-seconds, and the confirmed designs' surviving fraction and hypervolume on
-validation's seeds.
+survivors being unresolved.
 
-The issue's figures (5 seeds, 3 brackets each, quick profile, ramp; 177 min
-on 2 cores shared with another job, 2026-12-02; docs/optimizer.md gives
-them)::
+The full run (5 seeds, 3 brackets each, quick profile, ramp; its results
+and run times are in docs/optimizer.md)::
 
     python benchmarks/racing.py --seeds 5 --budget-s 756 --workers 2 --studies-dir studies-racing --csv racing.csv
 
 ``--validate-only`` with the same arguments re-judges the studies stored in
-``--studies-dir`` without searching (9.7 min from the cache). Smaller runs:
-``--seeds 3 --budget-s 756`` took 33.5 min; ``--seeds 2 --budget-s 252``
-(one bracket: 8 of its 9 screened trials are the paper's enqueued
-designs) 8.7 min.
+``--studies-dir`` without searching (from the cache). Smaller runs:
+``--seeds 3 --budget-s 756``; ``--seeds 2 --budget-s 252`` (one bracket:
+8 of its 9 screened trials are the paper's enqueued designs).
 
 All runs go through the result runner's cache (``--cache``; default
 ``$MAT_HOPPER_CACHE``, else results/cache): the paper's validation runs are
@@ -105,7 +99,6 @@ from mat_hopper.optimize import (
     simulated_seconds,
 )
 from mat_hopper.optimize._scoring import DEFAULT_REPLICATES
-from mat_hopper.optimize.confirm import confirm_front
 from mat_hopper.optimize.validate import replicate_means, validate_front, verdicts
 from mat_hopper.util.atomic import write_csv
 
@@ -125,12 +118,6 @@ COLUMNS = [
     "shown_not_dominated_fraction",
     "hv_validated",
     "hv_significance",
-    "confirmed",
-    "confirmation_s",
-    "confirmation_front_s",
-    "confirmed_survivors",
-    "confirmed_surviving_fraction",
-    "hv_confirmed",
     "search_wall_s",
     "validation_wall_s",
 ]
@@ -307,14 +294,11 @@ def one_seed(seed: int, args, folder: str) -> list[dict]:
         row = {"study": study_kind, "seed": seed, "simulated_s": spent, "front": len(front)}
         row["complete_trials"] = len(study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.COMPLETE,)))
         row.update(validated(front, objective_of(args, reps), args))
-        row.update(confirmed_of(front, row, objective_of(args, reps), args))
         row.update(search_wall_s=t1 - t0, validation_wall_s=time.perf_counter() - t1)
         rows.append(row)
         print(f"seed {seed} {study_kind}: {row['complete_trials']} complete trials, {spent:.0f} simulated s, "
               f"front {len(front)}, survivors {row['survivors']} ({row['surviving_fraction']:.2f}; "
               f"{row['surviving_fraction_significance']:.2f} under the significance rule); "
-              f"confirmed {row['confirmed']}, of them surviving {row['confirmed_survivors']} "
-              f"({row['confirmed_surviving_fraction']:.2f}); "
               f"{row['search_wall_s']:.0f} + {row['validation_wall_s']:.0f} s", flush=True)  # fmt: skip
     return rows
 
@@ -338,7 +322,7 @@ def validated(front: dict, objective: Objective, args) -> dict:
                 "survived": [], "survived_significance": []}  # fmt: skip
     res = validate_front(front, objective, replicates=args.validation_seeds, cache_dir=args.cache, workers=args.workers)
     ver = res["verdicts"]
-    # the rule before the margin rule, judged on the same runs and table: its fraction beside the new one
+    # the significance rule, judged on the same runs and table: its fraction beside the margin rule's
     before = verdicts(res["runs"], res["paired"], rule="significance")
     kept_before = set(before.loc[before["survives"].astype(str) == "True", "design"])
     # survivors shown not dominated, not merely not shown dominated (validate.survival_state)
@@ -359,46 +343,6 @@ def validated(front: dict, objective: Objective, args) -> dict:
     }
 
 
-def confirmed_of(front: dict, row: dict, objective: Objective, args) -> dict:
-    """Confirm a front on ``args.confirm_seeds`` seeds of its own
-    (:func:`mat_hopper.optimize.confirm.confirm_front`, seeds 2000..), and
-    read the confirmed designs' survival from the validation already made
-    (on seeds 0..: a design's survival there depends on its own runs and
-    the paper designs' only, not on which other designs are in the front).
-
-    Args:
-        front: {name: LegDesign}.
-        row: :func:`validated`'s result for that front (names, survived).
-        objective: the studies' objective.
-        args: the command line (confirm_seeds: 0 confirms nothing).
-
-    Returns:
-        dict: confirmed (count; NaN when off), confirmation_s (simulated
-        seconds of every confirmation run, the paper designs' included),
-        confirmation_front_s (the front designs' share), confirmed_survivors,
-        confirmed_surviving_fraction (NaN when off or none confirmed) and
-        ``confirmed_mask`` (over ``row["names"]``).
-    """
-    names = row.get("names", [])
-    off = {"confirmed": math.nan, "confirmation_s": 0.0, "confirmation_front_s": 0.0,
-           "confirmed_survivors": math.nan, "confirmed_surviving_fraction": math.nan,
-           "confirmed_mask": [False] * len(names)}  # fmt: skip
-    if not args.confirm_seeds or not front:
-        return off
-    res = confirm_front(front, objective, replicates=args.confirm_seeds, cache_dir=args.cache, workers=args.workers)
-    mask = [n in res["confirmed"] for n in names]
-    both = sum(c and s for c, s in zip(mask, row["survived"]))
-    n = len(res["confirmed"])
-    return {
-        "confirmed": n,
-        "confirmation_s": res["simulated_s"],
-        "confirmation_front_s": res["front_simulated_s"],
-        "confirmed_survivors": both,
-        "confirmed_surviving_fraction": both / n if n and not math.isnan(row["surviving_fraction"]) else math.nan,
-        "confirmed_mask": mask,
-    }
-
-
 def with_hypervolumes(rows: list[dict]) -> tuple[pd.DataFrame, np.ndarray]:
     """Each study's validated hypervolume, against one reference point.
 
@@ -413,18 +357,12 @@ def with_hypervolumes(rows: list[dict]) -> tuple[pd.DataFrame, np.ndarray]:
     for r in rows:
         survived = np.asarray(r["survived"], bool)
         r["kept"] = r["points"][survived] if len(r["points"]) else r["points"]
-        both = survived & np.asarray(r["confirmed_mask"], bool)
-        r["kept_confirmed"] = r["points"][both] if len(r["points"]) else r["points"]
     pts = [r["kept"] for r in rows if len(r["kept"])]
     reference = HV_FACTOR * np.nanmax(np.vstack(pts), axis=0) if pts else np.array([])
     for r in rows:
         r["hv_validated"] = hypervolume(r["kept"], reference) if len(r["kept"]) else 0.0
-        old = np.asarray(r.get("survived_significance", []), bool)  # the rule before, same reference point
-        r["hv_significance"] = hypervolume(r["points"][old], reference) if old.any() else 0.0
-        if r["confirmed"] != r["confirmed"]:  # NaN: confirmation off
-            r["hv_confirmed"] = math.nan
-        else:
-            r["hv_confirmed"] = hypervolume(r["kept_confirmed"], reference) if len(r["kept_confirmed"]) else 0.0
+        sig = np.asarray(r.get("survived_significance", []), bool)  # the significance rule, same reference point
+        r["hv_significance"] = hypervolume(r["points"][sig], reference) if sig.any() else 0.0
     return pd.DataFrame(rows)[COLUMNS], reference
 
 
@@ -452,10 +390,6 @@ def parse_args(argv=None) -> argparse.Namespace:
     ap.add_argument("--validation-seeds", type=int, default=VALIDATION_SEEDS,
                     help=f"fresh seeds of the validation ({VALIDATION_SEEDS}; survival is testable from 10 for 2 "
                     "objectives (18 comparisons with the paper's designs), from 11 for 3: fewer warn at once)")  # fmt: skip
-    ap.add_argument("--confirm-seeds", type=int, default=0,
-                    help="also judge each front on this many seeds of its own (2000..), and report the confirmed "
-                    "designs' survival on validation's seeds beside the whole front's (0: off; 10: the fewest "
-                    "that can test 18 comparisons)")  # fmt: skip
     ap.add_argument("--workers", type=int, default=2, help="processes that simulate (2)")
     ap.add_argument("--cache", help="result cache (default $MAT_HOPPER_CACHE, else results/cache)")
     ap.add_argument("--studies-dir", help="where the studies' SQLite files go (default a temporary folder)")
@@ -474,8 +408,6 @@ def parse_args(argv=None) -> argparse.Namespace:
         ap.error(f"--workers and --replicates must be >= 1, got {args.workers} and {args.replicates}")
     if not 2 <= args.validation_seeds <= 1000:
         ap.error(f"--validation-seeds must be in [2, 1000] (paired comparisons), got {args.validation_seeds}")
-    if args.confirm_seeds and not 2 <= args.confirm_seeds <= 1000:
-        ap.error(f"--confirm-seeds must be 0 (off) or in [2, 1000], got {args.confirm_seeds}")
     if args.validate_only and not (args.studies_dir and os.path.isdir(args.studies_dir)):
         ap.error("--validate-only needs --studies-dir, an existing folder of an earlier run's studies")
     try:  # bad settings fail here, before any run
@@ -483,11 +415,11 @@ def parse_args(argv=None) -> argparse.Namespace:
     except ValueError as e:
         ap.error(str(e))
     family = len(paper_designs()) * len(objective.objectives)  # survival's Holm family
-    for flag, n in (("--validation-seeds", args.validation_seeds), ("--confirm-seeds", args.confirm_seeds)):
-        if n and not reachable(n, family):  # said now, not after the search (a CI-sized run does this on purpose)
-            print(f"racing.py: warning: {flag} {n} cannot make survival testable for {family} comparisons with the "
-                  "paper's designs (an exact sign-flip test's smallest p is 2 / 2^n): every fraction will be NaN",
-                  file=sys.stderr, flush=True)  # fmt: skip
+    n = args.validation_seeds
+    if not reachable(n, family):  # said now, not after the search (a CI-sized run does this on purpose)
+        print(f"racing.py: warning: --validation-seeds {n} cannot make survival testable for {family} comparisons "
+              "with the paper's designs (an exact sign-flip test's smallest p is 2 / 2^n): every fraction will be NaN",
+              file=sys.stderr, flush=True)  # fmt: skip
     return args
 
 
@@ -516,8 +448,6 @@ def main(argv=None) -> pd.DataFrame:
     print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     cols = ["front", "surviving_fraction", "shown_not_dominated_fraction", "surviving_fraction_significance"]
     cols += ["hv_validated", "hv_significance"]
-    if args.confirm_seeds:
-        cols += ["confirmed", "confirmed_surviving_fraction", "hv_confirmed", "confirmation_s"]
     medians = table.groupby("study", sort=False)[cols].median()
     print("\nmedians over seeds:")
     print(medians.to_string(float_format=lambda v: f"{v:.4g}"))

@@ -352,7 +352,7 @@ def claim_controls(claim_id: str, hops: pd.DataFrame | None, effects=None, alpha
     Args:
         claim_id: a claim of :data:`mat_hopper.analysis.claims.CLAIMS`.
         hops: the control runs' per-hop rows, unusable runs dropped (or None: not run).
-        effects: unused (kept for callers of the earlier signature).
+        effects: unused; accepted and ignored.
         alpha: significance level.
         sweep_hops: experiment 2's per-hop rows, for the sweep claims
             (:func:`sweep_controls`).

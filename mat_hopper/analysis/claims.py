@@ -230,7 +230,7 @@ CLAIMS: tuple[Claim, ...] = (
 )
 
 
-# Claims that quote power, re-judged under each power (issue 20): the paper's
+# Claims that quote power, re-judged under each power: the paper's
 # formula, the hips' mechanical power, and all actuators' (thrust included).
 POWER_FORMULAS = (("paper formula", "power_paper_w"), ("hip", "power_w"), ("total", "power_total_w"))
 POWER_VARIANTS = {

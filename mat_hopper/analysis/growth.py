@@ -1,6 +1,6 @@
 """The growth rate of an oscillation's envelope: how fast a mode grows.
 
-A leg that bends (issue 21) can carry a lateral mode that grows from
+A leg that bends can carry a lateral mode that grows from
 round-off until the body rolls over. Its rate is the slope of the log of
 the signal's envelope: the largest |value| in each window (half a hop),
 fitted by a straight line from where the envelope first rises above a

@@ -55,7 +55,7 @@ from scipy import stats
 from ..physics.metrics import holm
 from ..util.parsing import parse_name
 
-EQUIVALENCE_MARGIN = 0.10  # +-10 %: inside it a difference counts as none (the margin)
+EQUIVALENCE_MARGIN = 0.10  # +-10 %: inside it a difference counts as none
 CONFIDENCE = 0.95
 INTERVALS = ("t", "bca")
 DIFFERENCE, NO_DIFFERENCE, NOT_ENOUGH = "difference", "no difference", "not enough evidence"

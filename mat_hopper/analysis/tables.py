@@ -5,6 +5,11 @@ Every percent change is :func:`mat_hopper.util.change.percent_change`.
 
 Units: SI in the column names (``_m``, ``_w``, ``_s``); densities g/cm^3,
 moduli GPa.
+
+Every table is importable from here; some live in package-private modules,
+one concept each: the model's designs and joints (``_model_tables``), how
+the runs ended (``_outcomes``), the claims per chapter (``_claim_tables``)
+and jerk by record rate (``_jerk_rates``).
 """
 
 from __future__ import annotations
@@ -13,87 +18,35 @@ import numpy as np
 import pandas as pd
 
 from ..core.behaviours import order_behaviours
-from ..core.materials import CONVENTIONS, LegDesign, order_designs, paper_designs
+from ..core.materials import order_designs
 from ..util.change import percent_change
+from ._claim_tables import CHAPTER_CLAIMS, claim_rules, claims_for
+from ._columns import need_columns as _need
+from ._jerk_rates import jerk_by_rate
+from ._model_tables import design_table, joint_table
+from ._outcomes import failure_table, outcome_summary, outcome_table
 
-
-def _need(table: pd.DataFrame, columns, what: str) -> None:
-    """ValueError naming the `columns` `table` lacks (the caller `what`)."""
-    missing = [c for c in dict.fromkeys(columns) if c not in table.columns]
-    if missing:
-        raise ValueError(f"{what} needs columns {missing}")
-
-
-def design_table(designs: dict[str, LegDesign] | None = None) -> pd.DataFrame:
-    """One row per design and segment (1 nearest the base): design,
-    segment, material, density_g_cm3, modulus_gpa (nan: rigid).
-
-    Args:
-        designs: designs by name; None: :func:`mat_hopper.core.materials.paper_designs`.
-
-    Returns:
-        DataFrame with columns design, segment (1, 2, ...), material (name), density_g_cm3 (g/cm^3),
-        modulus_gpa (GPa, nan: rigid).
-    """
-    designs = paper_designs() if designs is None else designs
-    rows = []
-    for name, d in designs.items():
-        for i, m in enumerate(d.segments, start=1):
-            rows.append(
-                {
-                    "design": name,
-                    "segment": i,
-                    "material": m.name,
-                    "density_g_cm3": m.density_g_cm3,
-                    "modulus_gpa": np.nan if m.modulus_gpa is None else m.modulus_gpa,
-                }
-            )
-    return pd.DataFrame(rows)
-
-
-_JOINT_TYPES = {0: "free", 1: "ball", 2: "slide", 3: "hinge"}
-
-
-def joint_table(design: LegDesign | str = "SS", convention: str = "paper") -> pd.DataFrame:
-    """Every joint of the compiled hopper, from the base down: name, type
-    (slide m, hinge rad), stiffness (N/m or N m/rad), damping, range (nan:
-    unlimited), the body it moves.
-
-    Args:
-        design: the leg, or its name (:func:`mat_hopper.core.materials.parse_design`).
-        convention: the stiffness convention the model is built with (:func:`mat_hopper.core.model.build_model`).
-
-    Returns:
-        DataFrame, one row per joint in MuJoCo's order. Columns: joint (name), type (free, ball, slide
-        or hinge), body, stiffness (N/m or N m/rad), damping (N s/m or N m s/rad, of the joint's first
-        degree of freedom), range_low, range_high (m or rad; nan: unlimited).
-
-    Raises:
-        ValueError: an unknown design name, or invalid arguments to :func:`mat_hopper.core.model.build_model`
-            (e.g. an unknown convention).
-    """
-    from ..core.materials import parse_design
-    from ..core.model import build_model
-
-    d = parse_design(design) if isinstance(design, str) else design
-    m = build_model(d, convention=convention).model
-    rows = []
-    for j in range(m.njnt):
-        jt = m.joint(j)
-        limited = bool(m.jnt_limited[j])
-        lo, hi = (float(m.jnt_range[j, 0]), float(m.jnt_range[j, 1])) if limited else (np.nan, np.nan)
-        rows.append(
-            {
-                "joint": jt.name,
-                "type": _JOINT_TYPES.get(int(m.jnt_type[j]), str(m.jnt_type[j])),
-                "body": m.body(int(m.jnt_bodyid[j])).name,
-                "stiffness": float(m.jnt_stiffness[j]),
-                "damping": float(m.dof_damping[m.jnt_dofadr[j]]),
-                "range_low": lo,
-                "range_high": hi,
-            }
-        )
-    return pd.DataFrame(rows)
+__all__ = [
+    "CHAPTER_CLAIMS",
+    "ORDER_PAIRS",
+    "claim_rules",
+    "claims_for",
+    "design_table",
+    "failure_table",
+    "jerk_by_rate",
+    "joint_table",
+    "leg_mass_table",
+    "metric_table",
+    "order_effect",
+    "outcome_summary",
+    "outcome_table",
+    "pct_change_table",
+    "power_formula_table",
+    "replicate_table",
+    "setting_comparison",
+    "starred",
+    "sweep_spans",
+]
 
 
 def replicate_table(comparison: pd.DataFrame, metrics=("tracking_error_m", "power_w")) -> pd.DataFrame:
@@ -167,73 +120,6 @@ def pct_change_table(
     t = t.reindex(index=order_designs(designs or t.index), columns=order_behaviours(behaviours or t.columns))
     t.columns.name = f"{metric}: % vs {baseline}"
     return t
-
-
-def outcome_table(runs: pd.DataFrame) -> pd.DataFrame:
-    """How each run ended, designs as rows and behaviours as columns: "ok,
-    N hops" (N scored hop cycles), "fell" (the body ended below 0.1 m),
-    "diverged at T s" (numerical blow-up, simulated time) or "failed"
-    (an error; see the runs table). Unperturbed runs only.
-
-    Args:
-        runs: a run-summary table (design, behaviour, status; n_hops, diverged_at_s and replicate where
-            present).
-
-    Returns:
-        DataFrame of str, designs as index and behaviours as columns, each in the paper's order: "ok, N
-        hops" ("ok" without an n_hops value), "diverged at T s" (T to two significant digits) or the
-        run's status as written (e.g. "fallen", "failed", "diverged" without a time); nan where no run.
-
-    Raises:
-        ValueError: `runs` lacks a column design, behaviour or status.
-    """
-    need = ("design", "behaviour", "status")
-    missing = [c for c in need if c not in runs.columns]
-    if missing:
-        raise ValueError(f"outcome_table needs columns {missing}")
-    r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs
-
-    def cell(row) -> str:
-        st = row["status"]
-        if st == "ok":
-            return f"ok, {int(row['n_hops'])} hops" if "n_hops" in row and pd.notna(row["n_hops"]) else "ok"
-        if st == "diverged" and pd.notna(row.get("diverged_at_s", np.nan)):
-            return f"diverged at {row['diverged_at_s']:.2g} s"
-        return str(st)
-
-    t = r.assign(outcome=r.apply(cell, axis=1)).pivot_table(
-        index="design", columns="behaviour", values="outcome", aggfunc="first"
-    )
-    t = t.reindex(index=order_designs(t.index), columns=order_behaviours(t.columns))
-    t.columns.name = None
-    return t
-
-
-def outcome_summary(runs: pd.DataFrame) -> str:
-    """One paragraph on how the (unperturbed) runs ended: how many ended
-    upright, then each design and behaviour that did not, with how
-    (diverged at T s, fell, failed).
-
-    Args:
-        runs: a run-summary table, as for :func:`outcome_table`.
-
-    Returns:
-        str: "K of N runs ended upright." or "K of N runs ended upright; not: <design> <behaviour>:
-        <outcome>; ...." (the behaviour left out where the table has only one), outcomes as in
-        :func:`outcome_table`; N counts the design-behaviour cells that have a run.
-
-    Raises:
-        ValueError: `runs` lacks a column design, behaviour or status.
-    """
-    t = outcome_table(runs)
-    cells = [(d, b, v) for d in t.index for b in t.columns if isinstance(v := t.loc[d, b], str)]
-    bad = [(d, b, v) for d, b, v in cells if not v.startswith("ok")]
-    one_behaviour = len(t.columns) == 1
-    text = f"{len(cells) - len(bad)} of {len(cells)} runs ended upright"
-    if not bad:
-        return text + "."
-    items = [f"{d}{'' if one_behaviour else ' ' + b}: {v}" for d, b, v in bad]
-    return text + "; not: " + "; ".join(items) + "."
 
 
 def metric_table(hops: pd.DataFrame, metric: str, stat: str = "mean", *, scale: float = 1.0) -> pd.DataFrame:
@@ -391,188 +277,6 @@ def starred(
     return out
 
 
-CHAPTER_CLAIMS = {
-    "mono": ("hop_height", "tracking_all_beat_md", "tracking_ss_55", "power_higher_dynamic", "power_ss_max"),
-    "one_property": ("density_over_modulus", "low_modulus_tracks_worse"),
-    "gradients": (
-        "ramp_rho_inc_tracking",
-        "ramp_rho_inc_power",
-        "ramp_ss_tracking",
-        "ramp_ss_power",
-        "headline_tracking",
-        "headline_power",
-    ),
-    "stability": ("timestep_materials", "timestep_trend"),
-}
-
-
-def _concat(tables: dict, suffix: str) -> pd.DataFrame | None:
-    frames = [
-        t
-        for name, t in sorted(tables.items())
-        if name.startswith("exp") and name.endswith(suffix) and t is not None and len(t)
-    ]
-    return pd.concat(frames, ignore_index=True) if frames else None
-
-
-def claims_for(
-    tables: dict, chapter: str | None = None, *, conventions=None, columns=("claim", "paper", "ours", "verdict")
-) -> pd.DataFrame:
-    """The paper's claims beside ours (:func:`mat_hopper.analysis.claims.claims_table`)
-    from a reproduction's tables (``exp*_hops``, ``exp*_runs``,
-    ``stability``, ``controls_hops`` where present), for one chapter (a key of :data:`CHAPTER_CLAIMS`) or all
-    (None). conventions: default those present in the tables. columns:
-    which to keep (None: all).
-
-    Args:
-        tables: result tables by name (``exp1_hops``, ``exp1_runs``, ..., ``stability``,
-            ``robustness_hops`` for the time-step check, ``controls_hops``, ``controls_runs``); the
-            ``exp*_hops`` and ``exp*_runs`` tables are concatenated.
-        chapter: a key of :data:`CHAPTER_CLAIMS`, or None: every claim.
-        conventions: the stiffness conventions; None: those present in the tables (``paper`` where
-            none is).
-        columns: the columns kept; None: all.
-
-    Returns:
-        DataFrame, one row per claim and convention (a chapter's claims in :data:`CHAPTER_CLAIMS`'s
-        order), index reset.
-
-    Raises:
-        ValueError: an unknown chapter; or from :func:`mat_hopper.analysis.claims.claims_table`.
-    """
-    from . import claims
-
-    if chapter is not None and chapter not in CHAPTER_CLAIMS:
-        raise ValueError(f"chapter must be one of {', '.join(CHAPTER_CLAIMS)} or None, got {chapter!r}")
-    hops, runs, stab = _concat(tables, "_hops"), _concat(tables, "_runs"), tables.get("stability")
-    if conventions is None:
-        present = set()
-        for t in (hops, runs, stab):
-            if t is not None and "convention" in t.columns:
-                present |= set(t["convention"].dropna().astype(str))
-        conventions = [c for c in CONVENTIONS if c in present] or ["paper"]
-    from .robustness import FINE_LABEL, fine_step_hops
-
-    fine = fine_step_hops(tables.get("robustness_hops"))
-    table = claims.claims_table(
-        hops,
-        runs,
-        stab,
-        conventions=tuple(conventions),
-        fine_hops=fine,
-        fine_label=FINE_LABEL,
-        controls=tables.get("controls_hops"),  # the beyond-mass columns, where the controls ran
-        control_runs=tables.get("controls_runs"),  # their unusable runs dropped
-    )
-    if chapter is not None:
-        ids = CHAPTER_CLAIMS[chapter]
-        table = table[table["claim_id"].isin(ids)]
-        table = (
-            table.assign(_o=table["claim_id"].map({c: i for i, c in enumerate(ids)}))
-            .sort_values(["_o", "convention"], kind="stable")
-            .drop(columns="_o")
-        )
-    table = table.reset_index(drop=True)
-    return table if columns is None else table[[c for c in columns if c in table.columns]]
-
-
-def claim_rules() -> pd.DataFrame:
-    """The rule behind each claim's verdict (:data:`mat_hopper.analysis.claims.CLAIMS`):
-    columns claim, rule.
-
-    Returns:
-        DataFrame, one row per claim in :data:`mat_hopper.analysis.claims.CLAIMS`'s order.
-    """
-    from . import claims
-
-    return pd.DataFrame([{"claim": c.claim, "rule": c.rule} for c in claims.CLAIMS])
-
-
-def _subsampling_steps(rates_hz, record_hz: float, n_samples: int) -> list[int]:
-    """Every-k-th-sample steps k that emulate `rates_hz` from a record at
-    `record_hz` (:func:`jerk_by_rate`), all checked before any is used."""
-    try:
-        rates = [float(r) for r in rates_hz]
-    except (TypeError, ValueError):
-        raise ValueError(f"rates_hz must be numbers (Hz), got {rates_hz!r}") from None
-    if not rates:
-        raise ValueError("jerk_by_rate needs at least one rate")
-    possible = f"possible rates: {record_hz:g} Hz divided by a whole number ({record_hz:g}, {record_hz / 2:g}, ...)"
-    steps = []
-    for rate in rates:
-        if not (np.isfinite(rate) and rate > 0):
-            raise ValueError(f"rate {rate} Hz must be a finite number > 0; {possible}")
-        if rate > record_hz * (1 + 1e-6):  # 1e-6: the record rate is read off the samples' times
-            raise ValueError(f"rate {rate:g} Hz exceeds the record rate {record_hz:g} Hz; {possible}")
-        ratio = record_hz / rate
-        k = max(1, int(round(ratio))) if ratio < n_samples else n_samples
-        if (n_samples - 1) // k + 1 < 3:
-            raise ValueError(f"rate {rate:g} Hz leaves fewer than 3 samples")
-        steps.append(k)
-    return steps
-
-
-def jerk_by_rate(rollout, rates_hz=(1000.0, 100.0, 10.0)) -> pd.DataFrame:
-    """Mean |jerk| (m/s^3) of the body's vertical motion after the
-    transient, as it would be recorded at each rate (every k-th recorded
-    sample), two ways:
-
-    - ``raw_jerk_m_s3``: the vertical acceleration at that rate
-      differentiated by finite differences (``np.gradient``), the old
-      metric and the authors' way (they logged at about 10 Hz of wall
-      time). The leg's axial modes (kHz, barely damped) lie above the
-      Nyquist frequency of any record rate, so this number measures the
-      sampling (aliased ringing), not the hop: kept as an illustration.
-    - ``metric_jerk_m_s3``: the book's metric, :mod:`mat_hopper.physics.metrics`'
-      ``jerk_z`` channel (computed at the physics rate from the
-      acceleration low-passed at 50 Hz) averaged over the samples at that
-      rate: what ``hop_table`` reports for a run recorded at that rate.
-
-    ``mean_jerk_m_s3`` repeats ``raw_jerk_m_s3`` (the column's name before
-    the metric changed). Columns rate_hz, raw_jerk_m_s3, metric_jerk_m_s3,
-    mean_jerk_m_s3.
-
-    Args:
-        rollout: a :class:`mat_hopper.core.rollout.Rollout`; averaged from ``rollout.settings.transient_s`` on.
-        rates_hz: the record rates to emulate, Hz (one or more, each finite and > 0). Subsampling can
-            only emulate the record rate R divided by a whole number k (R, R/2, R/3, ...): a rate at or
-            below R is rounded to the nearest of these (the ``rate_hz`` column says which); a rate above
-            R cannot be honoured and is refused, never lowered to R.
-
-    Returns:
-        DataFrame, one row per rate: rate_hz (the emulated rate, Hz), raw_jerk_m_s3, metric_jerk_m_s3,
-        mean_jerk_m_s3 (m/s^3).
-
-    Raises:
-        ValueError: no rate; a rate that is not a finite number > 0; a rate above the record rate (the
-            message gives the record rate and the possible rates); fewer than 4 recorded samples; a
-            rate that leaves fewer than 3 samples. Every rate is checked before any is computed.
-    """
-    from ..core.sim import C
-
-    d = rollout.data
-    t, az, jz = d[:, C["t"]], d[:, C["az"]], d[:, C["jerk_z"]]
-    if len(t) < 4:
-        raise ValueError("jerk_by_rate: the rollout recorded fewer than 4 samples")
-    dt = float(np.median(np.diff(t)))
-    steps = _subsampling_steps(rates_hz, 1.0 / dt, len(t))
-    rows = []
-    for k in steps:
-        ts, a, j = t[::k], az[::k], jz[::k]
-        raw = np.abs(np.gradient(a, ts))
-        keep = ts >= rollout.settings.transient_s
-        rows.append(
-            {
-                "rate_hz": 1.0 / (k * dt),
-                "raw_jerk_m_s3": float(raw[keep].mean()),
-                "metric_jerk_m_s3": float(np.abs(j[keep]).mean()),
-            }
-        )
-    out = pd.DataFrame(rows)
-    out["mean_jerk_m_s3"] = out["raw_jerk_m_s3"]
-    return out
-
-
 def setting_comparison(
     hops: pd.DataFrame,
     pairs=(("rho-inc", "MD"), ("SS", "MD"), ("rho-inc", "SS")),
@@ -673,60 +377,3 @@ def leg_mass_table(runs: pd.DataFrame) -> pd.DataFrame:
         d = LegDesign.from_properties(rho, [None] * len(rho))
         masses.append(sum(segment_masses(d, conv)))
     return r.assign(leg_mass_kg=masses).reset_index(drop=True)
-
-
-def failure_table(runs: pd.DataFrame) -> pd.DataFrame:
-    """Every unperturbed run that did not end upright, told apart:
-    ``numerical`` (the numbers blew up while the body was still up: a time
-    step above the design's stable step, chapter 5), ``fell, then
-    diverged`` (the body was already below 0.1 m, the paper's criterion,
-    when the numbers blew up: the hopper failed first), ``fell`` (ended
-    below 0.1 m without blowing up) or ``failed`` (an error). Columns:
-    design, behaviour, kind, at_s (time of the blow-up, s; nan for a plain
-    fall), final_base_z_m (the last recorded body height), n_hops.
-
-    Args:
-        runs: a run-summary table (design, behaviour, status, final_base_z_m; upright, diverged_at_s,
-            n_hops and replicate where present; without ``upright`` a run is upright when its status is
-            "ok").
-
-    Returns:
-        DataFrame, one row per unperturbed run whose status is not "ok" or that is not upright, with
-        the columns above (at_s and final_base_z_m in s and m; n_hops 0 where missing). "Below 0.1 m"
-        is not at or above :data:`mat_hopper.core.reference.STABLE_MIN_BASE_Z` (a nan height counts as
-        below).
-
-    Raises:
-        ValueError: `runs` lacks a column design, behaviour, status or final_base_z_m, or lacks
-            diverged_at_s while one of its unperturbed runs diverged (the message names the columns).
-    """
-    from ..core import reference as ref
-
-    _need(runs, ("design", "behaviour", "status", "final_base_z_m"), "failure_table")
-    r = runs[runs["replicate"] == -1] if "replicate" in runs.columns else runs
-    upright = r["upright"].astype(bool) if "upright" in r.columns else r["status"] == "ok"
-    bad = r[(r["status"] != "ok") | ~upright]
-    if (bad["status"] == "diverged").any():  # the time of a blow-up: checked before any row is made
-        _need(runs, ("diverged_at_s",), "failure_table (a run diverged)")
-    rows = []
-    for row in bad.itertuples(index=False):
-        z = float(row.final_base_z_m)
-        low = not (z >= ref.STABLE_MIN_BASE_Z)
-        if row.status == "diverged":
-            kind = "fell, then diverged" if low else "numerical"
-            at = float(row.diverged_at_s)
-        elif row.status == "failed":
-            kind, at = "failed", np.nan
-        else:
-            kind, at = "fell", np.nan
-        rows.append(
-            {
-                "design": row.design,
-                "behaviour": row.behaviour,
-                "kind": kind,
-                "at_s": at,
-                "final_base_z_m": z,
-                "n_hops": int(row.n_hops) if pd.notna(getattr(row, "n_hops", np.nan)) else 0,
-            }
-        )
-    return pd.DataFrame(rows, columns=["design", "behaviour", "kind", "at_s", "final_base_z_m", "n_hops"])

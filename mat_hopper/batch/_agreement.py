@@ -1,12 +1,12 @@
 """How closely one backend's batch table follows the reference's.
 
-The tolerances are issue 14's acceptance figures for the warp backend
-against the CPU rollouts (float32 MuJoCo Warp against float64 MuJoCo):
-hop count within 1, mean hop height within 0.01 m, tracking error and hip
-power within 10 %; two runs that both diverge agree when they diverge
-within 1 ms of each other. Runs too short to score a hop cycle in both
-backends are compared on their whole-run means instead (tracking error
-and hip power over every recorded sample, ``run_tracking_error_m``,
+The tolerances are the acceptance figures of the warp backend against
+the CPU rollouts (float32 MuJoCo Warp against float64 MuJoCo): hop count
+within 1, mean hop height within 0.01 m, tracking error and hip power
+within 10 %; two runs that both diverge agree when they diverge within
+1 ms of each other. Runs too short to score a hop cycle in both backends
+are compared on their whole-run means instead (tracking error and hip
+power over every recorded sample, ``run_tracking_error_m``,
 ``run_power_w``), with the same 10 %.
 """
 

@@ -154,7 +154,7 @@ def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettin
         the topology's model and its total masses (kg).
     """
     beh = get_behaviour(behaviour)
-    if settings.convention in BENDING_CONVENTIONS:  # issue 21: per-world stiffness of the slides only
+    if settings.convention in BENDING_CONVENTIONS:  # per-world stiffness of the slides only
         raise ValueError(
             f"convention {settings.convention!r}: the Warp batch sets only the axial springs' stiffness per "
             "world; run bending conventions with --backend mujoco (and a --timestep small enough for the hinges)"

@@ -325,12 +325,6 @@ def check_distinct_paths(outputs: dict, inputs: dict | None = None) -> None:
         seen[key] = flag
 
 
-def check_distinct_outputs(**paths) -> None:
-    """:func:`check_distinct_paths` of keyword FLAG=PATH pairs (underscores
-    for dashes, e.g. tiles="a.png")."""
-    check_distinct_paths({"--" + name.replace("_", "-"): path for name, path in paths.items()})
-
-
 def is_inside(inner, outer) -> bool:
     """Whether folder `inner` lies inside folder `outer` (symlinks and ``..`` resolved)."""
     a, b = path_key(inner), path_key(outer)

@@ -226,7 +226,7 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
 def _noise_and_mass_from_args(args, ob: Objective) -> dict:
     """--replicates, --risk, --cvar-alpha, --leg-mass, --leg-mass-tolerance
     (mat_hopper.optimize._scoring) and the stress constraints
-    --max-yield-fraction, --min-hops-to-failure (issue 21), each the stored
+    --max-yield-fraction, --min-hops-to-failure, each the stored
     (or default) value when left out; ``--leg-mass none`` lifts the
     constraint."""
     given = lambda name: getattr(args, name, None) is not None  # noqa: E731

@@ -192,7 +192,7 @@ def register_cli(sub) -> None:
         default=None,
         help=f"stiffness conventions of experiments 1-3 (and controls), comma-separated: {', '.join(CONVENTIONS)}, "
         "e.g. paper,axial (axial runs with auto physics substeps under the 1e-4 s controller; the bending "
-        "conventions, issue 21's, with auto substeps set by the hinges' modes; default paper)",
+        "conventions with auto substeps set by the hinges' modes; default paper)",
     )
     p.add_argument(
         "--cache", default=None, help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})"

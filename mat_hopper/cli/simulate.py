@@ -341,7 +341,7 @@ def cmd_simulate(args) -> int:
             f"slide) {s['work_abs_j']:.1f} J ({s['thrust_work_fraction']:.0%} by the thrust), "
             f"{s['energy_per_hop_j']:.2f} J per hop, path {s['path_length_m']:.2f} m, cost of transport {cot}"
         )
-        if s["peak_stress_pa"] == s["peak_stress_pa"]:  # issue 21: a leg with modelled stress
+        if s["peak_stress_pa"] == s["peak_stress_pa"]:  # a leg with modelled stress
             flag = "  ** PEAK STRESS OVER YIELD **" if s["yield_exceeded"] else ""
             print(
                 f"peak stress {s['peak_stress_pa'] / 1e6:.3g} MPa ({s['yield_ratio']:.2g} x yield), damage per hop "

@@ -87,7 +87,7 @@ CHANNELS = (
     "foot_spring_rate",
     "az_filtered",
     "jerk_z",  # low-passed base z acceleration, its derivative
-    # issue 20: the base's z acceleration averaged over each record interval
+    # the base's z acceleration averaged over each record interval
     # (every physics step since the previous record): an anti-aliasing box
     # filter, so the record-rate signal can be low-passed with zero phase
     # afterwards (mat_hopper.physics.jerk).
@@ -143,7 +143,7 @@ class JerkFilter(NamedTuple):
 
 
 class StressProbe(NamedTuple):
-    """Issue 21: the material springs the loop turns into stress at every
+    """The material springs the loop turns into stress at every
     physics step. adr: (N, 3) qpos addresses of segment s's axial slide and
     its hinges about x and y (-1 where the convention has none); gain:
     (N, 3) Pa per unit of joint position, k / A for the slide (F / A) and
@@ -303,7 +303,7 @@ def rollout_loop(
             buf.xfrc_applied[base, 0] = dist.push[2] if pushing else 0.0
             buf.xfrc_applied[base, 1] = dist.push[3] if pushing else 0.0
         foot, foot_rate = buf.qpos[lay.spring_qpos], buf.qvel[lay.spring_dof]
-        for s in range(n_seg):  # issue 21: section stress of s_i, peak at the physics rate
+        for s in range(n_seg):  # section stress of s_i, peak at the physics rate
             sa = probe.gain[s, 0] * buf.qpos[probe.adr[s, 0]] if probe.adr[s, 0] >= 0 else 0.0
             sx = probe.gain[s, 1] * buf.qpos[probe.adr[s, 1]] if probe.adr[s, 1] >= 0 else 0.0
             sy = probe.gain[s, 2] * buf.qpos[probe.adr[s, 2]] if probe.adr[s, 2] >= 0 else 0.0

@@ -89,7 +89,7 @@ def _check_design(design) -> LegDesign:
     return design
 
 
-@lru_cache(maxsize=256)  # designs are frozen (hashable); a compile costs about 2 ms
+@lru_cache(maxsize=256)  # designs are frozen (hashable); each miss compiles a MuJoCo model
 def mass_properties(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS) -> MassProperties:
     """Leg mass (kg), centre of mass below the hip (m) and hip inertia
     (kg m^2) of a design, from MuJoCo's compiled model.
@@ -97,7 +97,7 @@ def mass_properties(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS)
     Args:
         design: the leg.
         segment_mass: the segment-mass convention (``leg`` or ``capsule``,
-            :mod:`mat_hopper.core.materials`).
+            :mod:`mat_hopper.core.conventions`).
 
     Returns:
         MassProperties, from the bodies of the leg's subtree: MuJoCo's

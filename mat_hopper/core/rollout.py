@@ -36,7 +36,7 @@ class Rollout:
         total_mass_kg: the robot's mass as MuJoCo computes it, kg.
         spring_stiffness_n_m: the material springs' stiffnesses, N/m, hip to foot.
         qpos: (n, nq) joint positions, if recorded (``record_qpos=True``).
-        stress: (n, N, 4) per-segment stress, Pa (issue 21; columns
+        stress: (n, N, 4) per-segment stress, Pa (columns
             :data:`mat_hopper.core._loop.STRESS_COLUMNS`), or None.
     """
 
@@ -49,7 +49,7 @@ class Rollout:
     total_mass_kg: float
     spring_stiffness_n_m: tuple
     qpos: np.ndarray | None = None  # (n, nq) joint positions, if recorded
-    # issue 21: (n, N, 4) per-segment stress, Pa (mat_hopper.core._loop.STRESS_COLUMNS)
+    # (n, N, 4) per-segment stress, Pa (mat_hopper.core._loop.STRESS_COLUMNS)
     stress: np.ndarray | None = None
 
     def __getitem__(self, channel: str) -> np.ndarray:

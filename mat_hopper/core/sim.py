@@ -84,17 +84,15 @@ __all__ = [
 
 DEFAULT_RECORD_RATE_HZ = 1000.0
 MAX_SUBSTEPS = 1000
-# Run-size limits, checked before anything is allocated: 2e9 physics steps
-# (about 3 h of one core), 5e6 recorded samples (1.5 GB of records).
+# Run-size limits, checked before anything is allocated: 2e9 physics steps,
+# 5e6 recorded samples (1.5 GB of records).
 MAX_STEPS = 2_000_000_000
 MAX_SAMPLES = 5_000_000
 # Physics steps per call of the compiled loop. Python runs signal handlers
 # (Ctrl-C, SIGTERM) only between calls, so every call must end within a
 # fraction of a second of wall time at any time step: sized in steps, not
-# simulated seconds, and scaled down for longer chains (a 3-segment leg
-# takes about 5 us a step: 20000 steps, 0.1 s; 64 segments 75 us a step:
-# 1000 steps, 0.08 s). A call costs microseconds more than its steps
-# (benchmarks/rollout.py's ratio is unchanged).
+# simulated seconds, and scaled down for longer chains (a step's cost
+# grows with the number of segments).
 LOOP_CHUNK_STEPS = 20_000  # for legs of up to 3 segments
 
 
@@ -115,7 +113,7 @@ def loop_chunk_steps(n_segments: int) -> int:
 # causal Butterworth low-pass, then differentiated step by step. The cut-off
 # lies far below the leg's axial modes (2.5-4 kHz, barely damped) and the
 # record rates' Nyquist frequencies, and above the hop's body dynamics
-# (stance about 0.1 s): the number no longer depends on the record rate.
+# (stance about 0.1 s): the number does not depend on the record rate.
 # Butterworth filtering before differentiating is the standard treatment of
 # noisy kinematic derivatives (D. A. Winter, Biomechanics and Motor Control
 # of Human Movement, 4th ed., Wiley 2009, sec. 2.2); the coefficients come
@@ -190,7 +188,7 @@ class SimSettings:
             physics step old), ``"fresh"``, ``"latency-L"`` or an integer L.
         segment_mass: ``"leg"`` (default: mass independent of the number
             of segments, the authors' model at N = 3) or ``"capsule"`` (the
-            authors' per-capsule density at any N; :mod:`mat_hopper.core.materials`);
+            authors' per-capsule density at any N; :mod:`mat_hopper.core.conventions`);
             any case, stored as spelled there.
         substeps: physics steps per control period, an integer in [1, 1000];
             the controller runs every ``substeps`` steps, i.e. with period
@@ -215,7 +213,7 @@ class SimSettings:
     sensor_timing: SensorTiming = SensorTiming()
     segment_mass: str = DEFAULT_SEGMENT_MASS
     substeps: int = 1
-    damping: str = DEFAULT_DAMPING  # issue 21: "authors" (1 N s/m) or "loss-factor" (damping.LOSS_FACTORS)
+    damping: str = DEFAULT_DAMPING  # "authors" (1 N s/m) or "loss-factor" (damping.LOSS_FACTORS)
 
     def __post_init__(self):
         # One check per field (a new field adds its own line); then the checks across fields.

@@ -243,7 +243,7 @@ def controller_timestep(
 def hip_flight_timestep(
     design: LegDesign, convention: str = "bending", flight_kd: float | None = None, gear: float = ref.HIP_GEAR
 ) -> float:
-    """2 I / (flight_kd gear) in s (issue 21): the explicit limit of the
+    """2 I / (flight_kd gear) in s: the explicit limit of the
     hips' flight PD damping on a leg that bends. The hips are read fresh
     (c(0) = 2); I (kg m^2) is the hip_y dof's inertia with the bending
     hinges free, 1 / (M^-1)_hh over the hip and hinge dofs of MuJoCo's
@@ -292,7 +292,17 @@ def sprung_eig(model: mujoco.MjModel, dofs=None) -> np.ndarray:
     """Natural frequencies (rad/s, ascending) of the linearised model at its
     start pose: eigh(K, M) with M MuJoCo's joint-space inertia (mj_fullM)
     and K the diagonal of joint stiffnesses; restricted to ``dofs`` (all
-    others held) if given."""
+    others held) if given.
+
+    Args:
+        model: a compiled hopper ``MjModel`` with the ``start`` keyframe.
+        dofs: indices into the model's dofs (qvel) to keep, or None
+            (default) for all of them.
+
+    Returns:
+        A float array of the natural frequencies, rad/s, ascending, one per
+        kept dof (0 for a free or unsprung mode).
+    """
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key(START_KEY).id)
     mujoco.mj_forward(model, data)

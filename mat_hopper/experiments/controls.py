@@ -10,9 +10,9 @@ on the same seeds. Runs go through the one cache and pool
 design's own (the mass-matched leg of a homogeneous design is the design)
 is computed once.
 
-:func:`attribution_tasks` is the factorial of experiment 5 of issue 20:
-mass distribution (the designs' densities) x springs (rigid, ``paper``,
-``axial``), see :func:`mat_hopper.analysis.attribution.attribution`.
+:func:`attribution_tasks` is the attribution factorial: mass distribution
+(the designs' densities) x springs (rigid, ``paper``, ``axial``), see
+:func:`mat_hopper.analysis.attribution.attribution`.
 """
 
 from __future__ import annotations

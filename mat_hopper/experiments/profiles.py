@@ -167,7 +167,7 @@ class Profile:
         convention = check_convention(convention)
         if convention == self.convention:
             return self
-        if convention in BENDING_CONVENTIONS:  # issue 21: the hinges' modes set the step
+        if convention in BENDING_CONVENTIONS:  # the hinges' modes set the step
             dt = AUTO
         else:
             dt = self.axial_timestep_s if convention == "axial" else ref.TIMESTEP_S

@@ -16,13 +16,16 @@ with ``_batch``); ``_processes`` holds the signals;
 :mod:`~mat_hopper.optimize.report` writes a study's tables and plots;
 ``_scoring`` holds the noise- and mass-aware scores (replicates on common
 random numbers, mean or CVaR, the leg-mass constraint); ``_export`` writes a
-trial's design as CSV and MJCF; ``_metrics`` is the named table of what an
-objective may minimize (:data:`METRICS`, with units); ``_racing`` runs multi-fidelity racing
+trial's design as CSV and MJCF; ``_racing`` runs multi-fidelity racing
 (successive halving on ask-and-tell, through the same evaluators). The
-public modules :mod:`~mat_hopper.optimize.validate` (a front judged on
-fresh seeds against the paper's designs and its controls) and
-:mod:`~mat_hopper.optimize.confirm` (the same judgement on seeds of its
-own) are imported by name. The command line is :mod:`mat_hopper.cli.optimize`.
+named table of what an objective may minimize (:data:`METRICS`, with
+units) is :mod:`mat_hopper.physics.run_metrics`'s, re-exported here. The
+public module :mod:`~mat_hopper.optimize.validate` (a front judged on
+fresh seeds against the paper's designs and its controls; its work in
+``_validate_checks``, ``_validate_pairs`` and ``_validate_rules``) is
+imported by name; the report's tables and hypervolume live in
+``_report_tables`` and ``_hypervolume``. The command line is
+:mod:`mat_hopper.cli.optimize`.
 """
 
 from ..physics.run_metrics import METRICS, Metric, check_warp, parse_objectives
@@ -79,7 +82,6 @@ from ._study import (
     study_exists,
 )
 from .report import (
-    book_study,
     front_designs,
     front_table,
     hypervolume,
@@ -161,7 +163,6 @@ __all__ = [
     "run_study",
     "stored_config",
     "study_exists",
-    "book_study",
     "front_designs",
     "front_table",
     "hypervolume",

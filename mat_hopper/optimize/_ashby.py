@@ -145,7 +145,17 @@ ASHBY_CLASSES = tuple(class_hulls())  # metal, polymer, natural, ceramic, compos
 
 def check_classes(classes) -> tuple[str, ...]:
     """Class names (comma-separated text or a sequence) as a tuple, each
-    one of :data:`ASHBY_CLASSES`, in the order given, without repeats."""
+    one of :data:`ASHBY_CLASSES`, in the order given, without repeats.
+
+    Args:
+        classes: ``"metal,polymer"``, a sequence of names, or None (no class).
+
+    Returns:
+        The names, lower case, stripped, empty ones dropped; () for None.
+
+    Raises:
+        ValueError: an unknown class (the message lists the accepted ones).
+    """
     if classes is None:
         return ()
     if isinstance(classes, str):

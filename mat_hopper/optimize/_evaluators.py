@@ -66,14 +66,16 @@ class Lost:
     reason: str
 
 
-SCORE_SOURCES = ("_objective.py", "_metrics.py")  # the modules that score a run (run_behaviour, run_values)
+# the modules that score a run (run_behaviour, run_values), relative to the mat_hopper package
+SCORE_SOURCES = ("optimize/_objective.py", "physics/run_metrics.py")
 
 
 def _objective_source() -> str:
     """Digest of the score's source (:data:`SCORE_SOURCES`): an edited score never reuses old trial runs."""
     h = hashlib.sha256()
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     for name in SCORE_SOURCES:
-        with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), name), "rb") as f:
+        with open(os.path.join(package, *name.split("/")), "rb") as f:
             h.update(f.read())
     return h.hexdigest()[:16]
 

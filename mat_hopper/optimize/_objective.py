@@ -10,9 +10,9 @@ after the transient. The default, :data:`OBJECTIVES`:
 
 Others: ``power_total_w`` (all three actuators, thrust included, W),
 ``energy_per_hop_j`` (J), ``peak_stress_pa`` (Pa), ``damage_per_hop``
-(Miner damage) and ``leg_mass_kg`` (kg; issue 22's third objective). A
-default objective's key has no ``objectives`` entry, so studies made
-before the setting keep their keys.
+(Miner damage) and ``leg_mass_kg`` (kg). A default objective's key has
+no ``objectives`` entry, so a study keyed without the setting keeps its
+key.
 
 With several behaviours, each objective is the plain mean over the
 behaviours of each behaviour's mean (every behaviour weighs the same,
@@ -26,8 +26,8 @@ feasible):
 - ``hop_height``: |mean hop height - 1 m| - 0.05 m, the worst behaviour;
 - ``unstable``: 1 when any run diverged or ended with the base below
   0.1 m (:attr:`Rollout.upright` false), else 0;
-- issue 21, only when the objective asks for them (so studies without them
-  keep their two constraints): ``peak_stress`` with
+- only when the objective asks for them (so studies without them keep
+  their two constraints): ``peak_stress`` with
   ``max_yield_fraction`` f, the worst behaviour's largest segment peak
   stress over its yield strength minus f (f = 0.5: peak stress <= yield / 2);
   ``fatigue_life`` with ``min_hops_to_failure`` N, log10 N - log10(hops to
@@ -38,7 +38,8 @@ feasible):
 
 A run that diverged, fell (base below 0.1 m at the end) or scored no hop
 cycle still gets finite objective values, the same quantities over every
-finite recorded sample of the run (:func:`~._metrics.run_values`), so the
+finite recorded sample of the run
+(:func:`~mat_hopper.physics.run_metrics.run_values`), so the
 samplers can model it; the constraints make it infeasible.
 
 Profiles are :mod:`mat_hopper.experiments.paper`' (one setting for the whole
@@ -88,12 +89,12 @@ from . import _scoring
 
 OBJECTIVES = DEFAULT_OBJECTIVES  # the default objectives (tracking error m, hip power W)
 CONSTRAINTS = ("hop_height", "unstable")
-STRESS_CONSTRAINTS = ("peak_stress", "fatigue_life")  # issue 21, each only when asked (module doc)
+STRESS_CONSTRAINTS = ("peak_stress", "fatigue_life")  # each only when asked (module doc)
 RESULT_ATTR = "result"  # the trial user attr holding its Evaluation (record_evaluation)
 HOP_HEIGHT_TOLERANCE_M = 0.05
 CHUNK_S = 0.5  # simulated s per compiled chunk (lets the heartbeat thread run)
 LEG_MATERIAL_LENGTH_M = ref.MATERIAL_LENGTH  # total length of the material segments, any N
-# The stress constraints' accepted ranges (issue 21). max_yield_fraction F in
+# The stress constraints' accepted ranges. max_yield_fraction F in
 # (0, 10]: a peak stress over about 3 x yield already passes the ultimate
 # strength of every catalogue material (the largest ultimate / yield ratio is
 # aluminium's, 2.97; mat_hopper.physics.fatigue), so a larger F lets broken legs
@@ -142,8 +143,8 @@ class Objective:
     hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
     hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
     segment_mass: str | None = None  # None: the profile's
-    max_yield_fraction: float | None = None  # issue 21: peak stress <= this x yield (e.g. 0.5)
-    min_hops_to_failure: float | None = None  # issue 21: fatigue life of at least this many hops
+    max_yield_fraction: float | None = None  # peak stress <= this x yield (e.g. 0.5)
+    min_hops_to_failure: float | None = None  # fatigue life of at least this many hops
     # noise- and mass-aware scores (mat_hopper.optimize._scoring)
     replicates: int = _scoring.DEFAULT_REPLICATES  # 0: one unperturbed run per behaviour
     risk: str = "mean"
@@ -192,7 +193,7 @@ class Objective:
     @property
     def constraint_names(self) -> tuple[str, ...]:
         """The constraints of this objective's trials: CONSTRAINTS, plus ``leg_mass`` when set, then the stress constraints asked for."""
-        extra = (self.max_yield_fraction, self.min_hops_to_failure)  # issue 21
+        extra = (self.max_yield_fraction, self.min_hops_to_failure)
         stress = tuple(n for n, v in zip(STRESS_CONSTRAINTS, extra) if v is not None)
         return CONSTRAINTS + ((_scoring.LEG_MASS_CONSTRAINT,) if self.leg_mass is not None else ()) + stress
 
@@ -211,15 +212,15 @@ class Objective:
                 if getattr(self, k) is not None
             },
             **_scoring.key_fields(self),
-            # only when not the default: a default objective keeps the key it had before the setting
+            # only when not the default: a default objective's key has no "objectives" entry
             **({"objectives": list(self.objectives)} if self.objectives != OBJECTIVES else {}),
         }
 
     @classmethod
     def from_key(cls, key: dict) -> Objective:
-        """The objective of a stored key. A key from before the segment-mass
-        convention was recorded reads as the default; its stored key still
-        lacks the field, so resuming that study is refused (module doc)."""
+        """The objective of a stored key. A key without ``segment_mass``
+        reads as the default; the stored key still lacks the field, so
+        resuming that study is refused (module doc)."""
         return cls(
             behaviours=tuple(key["behaviours"]),
             profile=Profile(**key["profile"]),

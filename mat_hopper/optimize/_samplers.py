@@ -31,8 +31,8 @@ def check_sampler(name: str) -> str:
         raise ValueError(f"unknown sampler {name!r}; accepted: {', '.join(SAMPLERS)}")
     if name == "gp" and importlib.util.find_spec("torch") is None:
         raise ValueError(
-            "--sampler gp needs PyTorch, which is not installed "
-            "(pip install torch, the CPU build is enough); use tpe or nsga2"
+            "--sampler gp needs PyTorch, which is not installed: "
+            "pip install mat-hopper[gp] (the CPU build of torch is enough), or use tpe or nsga2"
         )
     return name
 

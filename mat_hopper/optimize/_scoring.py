@@ -13,7 +13,7 @@ their scores are paired, replicate by replicate. The search's seeds lie
 apart from the seeds 0, 1, ... that the book's robustness study and the
 front's validation (:mod:`mat_hopper.optimize.validate`) draw, so a front
 is validated on seeds the search never saw. ``replicates = 0`` is one
-unperturbed run per behaviour (the optimizer before noise-aware scores).
+unperturbed run per behaviour (a single draw).
 
 Each replicate's value of an objective is the mean over the trial's
 behaviours (each behaviour weighs the same) of that replicate's run. The
@@ -54,11 +54,10 @@ from ..core.perturbations import Perturbation
 from ..util.parsing import is_decimal, parse_name, parse_number
 
 RISKS = ("mean", "cvar")
-# From the noise study (benchmarks/noise.py, docs/optimizer.md): on ramp, the
-# quick profile, one replicate's spread is 25-30 % of tracking error and
-# 5-6 % of hip power; a mean over 4 has a standard error of 15 % and 3 %
-# (paired on common seeds, a difference's variance is about halved), and
-# each further halving of the error costs 4 times the runs.
+# K from the noise study (benchmarks/noise.py; its figures in docs/optimizer.md,
+# "Noise-aware scores"): a mean over 4 replicates halves one replicate's
+# standard error, pairing on common seeds about halves a difference's
+# variance again, and each further halving of the error costs 4 times the runs.
 DEFAULT_REPLICATES = 4
 MAX_REPLICATES = 64
 LEG_MASS_CONSTRAINT = "leg_mass"
@@ -305,8 +304,8 @@ def check_objective(objective) -> None:
 
 def key_fields(objective) -> dict:
     """The noise- and mass-aware fields of an objective's key, each only when
-    it differs from the optimizer before them (so older studies keep their
-    keys)."""
+    it differs from a single-draw, mass-free objective (so a study keyed
+    without them keeps its key)."""
     out = {}
     if objective.replicates:
         out["replicates"] = int(objective.replicates)
@@ -321,8 +320,8 @@ def key_fields(objective) -> dict:
 
 
 def from_key_fields(key: dict) -> dict:
-    """Objective keyword arguments of :func:`key_fields`' entries (absent: the
-    optimizer before them: one unperturbed run, mean, no mass constraint)."""
+    """Objective keyword arguments of :func:`key_fields`' entries (absent:
+    one unperturbed run, mean, no mass constraint)."""
     if key.get("replicates") and key.get("replicate_seed_start", SEARCH_SEED_START) != SEARCH_SEED_START:
         raise ValueError(
             f"study draws its replicates from seed {key['replicate_seed_start']}, this version from {SEARCH_SEED_START}"

@@ -230,7 +230,7 @@ class SearchSpace:
 
     def key(self) -> dict:
         """Plain dict (JSON) that identifies the space (``ashby_classes``
-        only when set, so that older studies keep their key)."""
+        only when set, so that a study keyed without them keeps its key)."""
         out = {
             "n_segments": self.n_segments,
             "kinds": list(self.kinds),

@@ -35,10 +35,8 @@ plot is ours: Optuna's cannot mark the paper's designs and baselines.
 from __future__ import annotations
 
 import os
-import re
 import warnings
 
-import numpy as np
 import optuna
 import pandas as pd
 from optuna.trial import TrialState
@@ -46,17 +44,36 @@ from optuna.trial import TrialState
 from ..core.materials import LegDesign, paper_designs
 from ..physics.run_metrics import METRICS
 from ..util.atomic import write_csv
-from ..util.change import percent_change
 from ..viz import study as study_plots
 from ..viz.style import save_figure
-from ._objective import OBJECTIVES, RESULT_ATTR, Objective, evaluate
-from ._scoring import SE_ATTR, leg_mass_kg
+from ._hypervolume import HV_MARGIN, hypervolume, hypervolume_2d, hypervolume_history
+from ._objective import OBJECTIVES, evaluate
+from ._report_tables import feasible_complete, front_designs, front_table, pareto_frame, trials_frame
 from ._space import resample
-from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
-from ._study import CONFIG_ATTR, RunOptions, StudyConfig, _quiet, load_existing
+from ._study import CONFIG_ATTR, StudyConfig, _quiet, load_existing
+
+__all__ = [
+    "BASELINES",
+    "HV_MARGIN",
+    "MIN_SAMPLED_TRIALS",
+    "baselines",
+    "enough_for_importances",
+    "feasible_complete",
+    "front_designs",
+    "front_table",
+    "hypervolume",
+    "hypervolume_2d",
+    "hypervolume_history",
+    "importances",
+    "load",
+    "pareto_frame",
+    "replay",
+    "trial_design",
+    "trials_frame",
+    "write_report",
+]
 
 BASELINES = ("SS", "rho-inc")
-HV_MARGIN = 0.1
 
 
 def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
@@ -83,201 +100,6 @@ def load(name: str, storage) -> tuple[optuna.Study, StudyConfig]:
     if not key:
         raise ValueError(f"study {name!r} was not made by mat-hopper optimize (no {CONFIG_ATTR})")
     return study, StudyConfig.from_key(name, key)
-
-
-# --- tables -----------------------------------------------------------------
-
-
-def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
-    """One row per trial (see module doc), queued trials not yet run (WAITING)
-    left out. No wall-clock columns.
-
-    Args:
-        study: an ``optuna.Study`` of ours.
-        config: its :class:`StudyConfig`.
-
-    Returns:
-        The trials table, columns as the module doc lists them (units in the names).
-    """
-    rows = []
-    space, objectives = config.space, config.objective.objectives
-    states = tuple(s for s in TrialState if s != TrialState.WAITING)
-    for t in sorted(study.get_trials(deepcopy=False, states=states), key=lambda t: t.number):
-        ua = t.user_attrs
-        res = ua.get(RESULT_ATTR) or {}
-        row = {
-            "trial": t.number,
-            "state": t.state.name,
-            "paper_design": ua.get(PAPER_ATTR, ""),
-            "design": res.get("design", ""),
-            "feasible": bool(res.get("feasible", False)),
-            **dict.fromkeys(objectives, np.nan),
-            "hop_height_m": res.get("hop_height_m") if res.get("hop_height_m") is not None else np.nan,
-            "total_mass_kg": res.get("total_mass_kg", np.nan),
-            "leg_mass_kg": np.nan,
-        }
-        if t.state == TrialState.COMPLETE and t.values is not None:
-            row.update(dict(zip(objectives, t.values)))
-        se = ua.get(SE_ATTR) or {}
-        row.update({f"{o}_se": np.nan if se.get(o) is None else se[o] for o in objectives})
-        c = t.constraints
-        row.update({f"constraint_{n}": c.get(n, np.nan) for n in config.objective.constraint_names})
-        try:
-            design = space.design(t.params)
-            row["leg_mass_kg"] = leg_mass_kg(design, config.objective.segment_mass)  # the objective's too
-            for i, m in enumerate(design.segments, 1):
-                row[f"seg{i}_rho_g_cm3"] = m.density_g_cm3
-                row[f"seg{i}_e_gpa"] = m.modulus_gpa
-            if not row["design"]:
-                row["design"] = design.name
-        except ValueError:
-            pass  # a trial that never got its parameters
-        row.update({f"param_{k}": v for k, v in sorted(t.params.items())})
-        w = ua.get(WORKER_ATTR) or {}
-        row["worker"] = f"{w.get('host', '')}:{w.get('pid', '')}" if w else ""
-        row["error"] = ua.get(ERROR_ATTR, "") or ua.get(FAIL_REASON_ATTR, "")
-        row["retry_of"] = t.system_attrs.get("failed_trial", np.nan)
-        rows.append(row)
-    return pd.DataFrame(rows)
-
-
-def feasible_complete(frame: pd.DataFrame) -> pd.DataFrame:
-    """The rows of a trials table that are complete and feasible.
-
-    Args:
-        frame: :func:`trials_frame`'s table (columns ``state`` and
-            ``feasible`` at least, unless empty).
-
-    Returns:
-        The rows with state ``COMPLETE`` and a true ``feasible``, index
-        kept; `frame` itself when it is empty.
-    """
-    if frame.empty:
-        return frame
-    return frame[(frame["state"] == "COMPLETE") & frame["feasible"].astype(bool)]
-
-
-def pareto_frame(
-    frame: pd.DataFrame, baselines: dict | None = None, *, best=None, objectives=OBJECTIVES
-) -> pd.DataFrame:
-    """The Pareto front, by its first objective. Of trials with identical
-    objective values (a design evaluated twice, e.g. a retried trial) the
-    first is kept: Optuna lists every copy.
-
-    Args:
-        frame: :func:`trials_frame`'s table.
-        baselines: {name: objective values in `objectives` order} to compare against, or None.
-        best: the front's trial numbers, from Optuna's ``study.best_trials``
-            (complete, feasible, non-dominated).
-        objectives: the study's objectives (``Objective.objectives``).
-
-    Returns:
-        The front's rows, with percent changes against each baseline
-        (``<stem>_vs_<name>_pct``, the stem the metric's name without its
-        unit: ``tracking_error_vs_SS_pct``).
-    """
-    objectives = tuple(objectives)
-    ok = feasible_complete(frame)
-    if ok.empty or not best:
-        return ok.iloc[0:0].copy()
-    front = ok[ok["trial"].isin(set(best))].sort_values("trial")
-    front = front.drop_duplicates(subset=list(objectives), keep="first")
-    front = front.sort_values(objectives[0], kind="stable").copy()
-    for name, vals in (baselines or {}).items():
-        for obj, base in zip(objectives, vals):
-            front[f"{METRICS[obj].stem}_vs_{name}_pct"] = percent_change(front[obj].to_numpy(float), base)
-    cols = ["trial", "design", "paper_design", *objectives, *(f"{o}_se" for o in objectives), "hop_height_m"]
-    cols = list(dict.fromkeys(c for c in cols + ["leg_mass_kg"] if c in front.columns))  # an older table may lack some
-    cols += [c for c in front.columns if c.endswith("_pct")]
-    cols += [c for c in front.columns if c.startswith("seg") and c not in cols]
-    return front[cols].reset_index(drop=True)
-
-
-def hypervolume(points, reference) -> float:
-    """Volume dominated by `points` (n x d, every objective minimized) and
-    bounded by `reference` (d values), exact, for any d >= 1.
-
-    Ours because Optuna's public API only plots the hypervolume history
-    (``optuna.visualization.matplotlib.plot_hypervolume_history``, used for
-    the figure; its computation is private) and no hypervolume package is
-    installed. Slicing (Zitzler's HSO): sort by the last objective; between
-    one point's value and the next, the dominated region's cross-section is
-    the (d - 1)-dimensional hypervolume of the points seen so far. d = 2 is
-    the usual staircase sweep. Cost O(n^(d-1) log n): fronts of tens of
-    points in 2 or 3 objectives take milliseconds.
-
-    Args:
-        points: (n, d) array-like (n may be 0).
-        reference: (d,) the bounding point; points not strictly below it in
-            every objective add nothing.
-
-    Returns:
-        float, in the product of the objectives' units.
-    """
-    r = np.asarray(reference, float).ravel()
-    p = np.asarray(points, float).reshape(-1, len(r))
-    p = p[np.all(p < r, axis=1)]
-    if len(p) == 0:
-        return 0.0
-    if len(r) == 1:
-        return float(r[0] - p[:, 0].min())
-    if len(r) == 2:  # staircase: by x, add each point's strip below the best y so far
-        p = p[np.lexsort((p[:, 1], p[:, 0]))]
-        area, best_y = 0.0, r[1]
-        for x, y in p:
-            if y < best_y:
-                area += (r[0] - x) * (best_y - y)
-                best_y = y
-        return float(area)
-    p = p[np.argsort(p[:, -1], kind="stable")]
-    volume = 0.0
-    for i in range(len(p)):  # the slab from this point's last value to the next one's (or the reference)
-        top = p[i + 1, -1] if i + 1 < len(p) else r[-1]
-        if top > p[i, -1]:
-            volume += hypervolume(p[: i + 1, :-1], r[:-1]) * (top - p[i, -1])
-    return float(volume)
-
-
-def hypervolume_2d(points: np.ndarray, reference) -> float:
-    """:func:`hypervolume` in two objectives.
-
-    Args:
-        points: (n, 2) minimized objective values.
-        reference: (2,) the bounding point.
-
-    Returns:
-        The area dominated by `points` and bounded by `reference`.
-    """
-    return hypervolume(np.asarray(points, float).reshape(-1, 2), reference)
-
-
-def hypervolume_history(frame: pd.DataFrame, reference=None, objectives=OBJECTIVES) -> tuple[pd.DataFrame, tuple]:
-    """Hypervolume of the feasible complete trials up to each trial number.
-
-    Args:
-        frame: :func:`trials_frame`'s table.
-        reference: the reference point (None: the worst feasible value of
-            each objective plus HV_MARGIN of its range).
-        objectives: the study's objectives (the table's columns used).
-
-    Returns:
-        (a table of trial, hypervolume; the reference point as a tuple, ()
-        without a feasible trial).
-    """
-    ok = feasible_complete(frame)
-    if ok.empty:
-        return pd.DataFrame(columns=["trial", "hypervolume"]), ()
-    vals = ok[list(objectives)].to_numpy(float)
-    if reference is None:
-        lo, hi = vals.min(axis=0), vals.max(axis=0)
-        span = np.where(hi > lo, hi - lo, np.maximum(np.abs(hi), 1e-12))
-        reference = tuple(float(v) for v in hi + HV_MARGIN * span)
-    trials = frame.sort_values("trial")["trial"].to_numpy()
-    ok_trials = ok["trial"].to_numpy()
-    out = []
-    for n in trials:
-        out.append({"trial": int(n), "hypervolume": hypervolume(vals[ok_trials <= n], reference)})
-    return pd.DataFrame(out), tuple(reference)
 
 
 MIN_SAMPLED_TRIALS = 4  # sampled (not enqueued) finished trials before importances mean anything
@@ -491,174 +313,3 @@ def trial_design(name: str, storage, number: int):
             "to replay or export"
         )
     return t, config.space.design(t.params, name=f"{name}#{number}"), config
-
-
-# --- the book's study ----------------------------------------------------------
-
-
-STUDY_TRIALS = {"paper": 200, "quick": 32}  # trials of the book's own study, per profile
-STUDY_BATCH = 8  # trials asked before the first is told (one grid of runs)
-STUDY_SAMPLER = "tpe"  # the best of benchmarks/sampler.py's side-by-side comparison
-STUDY_BEHAVIOURS = ("ramp",)
-# Chapter 9's study keeps one unperturbed run per trial until the chapter is
-# rewritten around noise-aware scores and racing (issue #22, items 2 and 9):
-# its text, figures and runtime budget describe single draws.
-STUDY_REPLICATES = 0
-
-
-def book_study(
-    profile=None,
-    *,
-    studies_dir="studies",
-    out_dir="results/study",
-    trials: int | None = None,
-    behaviours=STUDY_BEHAVIOURS,
-    seed: int = 0,
-    ashby_classes=(),
-    sampler: str = STUDY_SAMPLER,
-    batch: int = STUDY_BATCH,
-    cache_dir=None,
-    workers: int | None = None,
-    objectives=OBJECTIVES,
-) -> dict:
-    """Run (or resume, or just load) the book's design study, then write its report.
-
-    The study (:func:`mat_hopper.optimize.run_study`): continuous
-    density and modulus per segment (3 segments; in the hulls of
-    `ashby_classes` when given), `objectives` (tracking error and hip power) on `behaviours`
-    under the profile, the paper's nine designs first (the rigid MD as a
-    baseline run), in batches through the runner's cache and pool, so the
-    study is the same on any machine. Its name carries a digest of the
-    settings, sampler, seed and batch, so changed settings start a new study
-    instead of clashing with an old one.
-
-    Args:
-        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else paper).
-        studies_dir: the folder of ``<name>.db``.
-        out_dir: where :func:`write_report` writes.
-        trials: the study's size (None: :data:`STUDY_TRIALS` of the profile).
-        behaviours: behaviour names.
-        seed: the sampler's seed.
-        ashby_classes: material classes whose hulls bound the search.
-        sampler: an Optuna sampler's name.
-        batch: trials per batch.
-        cache_dir, workers: the runner's cache folder and processes.
-        objectives: the metrics minimized (default tracking error and hip
-            power, whose study names are unchanged by the setting).
-
-    Returns:
-        The report dict (``trials``, ``pareto``, ``baselines``, ``hypervolume``,
-        ``importances``, ``paths``) plus ``name``, ``url`` and ``config``.
-
-    Raises:
-        ValueError: bad settings (naming them), before any run.
-    """
-    import hashlib
-    import json
-
-    from ..experiments.profiles import get_profile
-    from ._driver import run_study
-    from ._space import SearchSpace
-    from ._storage import default_url
-
-    profile = get_profile(profile)
-    n = STUDY_TRIALS.get(profile.name, STUDY_TRIALS["quick"]) if trials is None else int(trials)
-    objective = Objective(
-        behaviours=tuple(behaviours), profile=profile, replicates=STUDY_REPLICATES, objectives=objectives
-    )
-    space = SearchSpace(ashby_classes=ashby_classes)
-    probe = StudyConfig("probe", space, objective)
-    run_key = {"config": probe.key(), "sampler": sampler, "seed": seed, "batch": batch}
-    digest = hashlib.sha256(json.dumps(run_key, sort_keys=True).encode()).hexdigest()[:8]
-    classes = f"-{'-'.join(space.ashby_classes)}" if space.ashby_classes else ""
-    config = StudyConfig(f"book-{'-'.join(objective.behaviours)}-{profile.name}{classes}-{digest}", space, objective)
-    os.makedirs(studies_dir, exist_ok=True)
-    url = default_url(config.name, str(studies_dir))
-    options = RunOptions(
-        trials=n,
-        workers=workers,
-        sampler=sampler,
-        seed=seed,
-        storage=url,
-        progress=False,
-        batch_size=batch,
-        cache_dir=None if cache_dir is None else str(cache_dir),
-    )
-    run_study(config, options)
-    report = write_report(config.name, url, str(out_dir))
-    report.update(name=config.name, url=url, config=config)
-    return report
-
-
-def front_table(front: pd.DataFrame, objectives=None) -> pd.DataFrame:
-    """A Pareto table for the page: a design a reader can build
-    (``mat-hopper optimize --export TRIAL`` writes it).
-
-    Args:
-        front: :func:`pareto_frame`'s table.
-        objectives: the study's objectives (None: those whose standard-error
-            column the table has, else tracking error and hip power).
-
-    Returns:
-        trial, the paper's design it is (if any), each objective in its
-        display unit (tracking error mm, hip power mW, peak stress MPa, ...),
-        their standard errors (a noise-aware study's), hop height (m), the
-        percent changes against the baselines, the leg's mass (kg) and each
-        segment's density (g/cm^3) and modulus (GPa), base to foot, with
-        short column names.
-    """
-    if objectives is None:
-        objectives = tuple(m for m in METRICS if f"{m}_se" in front.columns) or OBJECTIVES
-    metrics = [METRICS[o] for o in objectives]
-    out = pd.DataFrame({"trial": front["trial"].astype(int)})
-    out["paper design"] = front.get("paper_design", pd.Series([""] * len(front))).fillna("").to_numpy()
-    for m in metrics:
-        out[f"{m.label} ({m.display_unit})"] = front[m.name] * m.display_scale
-    for m in metrics:  # a noise-aware study's standard errors
-        col = f"{m.name}_se"
-        if m.noisy and col in front.columns and front[col].notna().any():
-            out[f"{m.short} SE ({m.display_unit})"] = front[col] * m.display_scale
-    out["hop height (m)"] = front["hop_height_m"]
-    shorts = {m.stem: m.short for m in METRICS.values()}
-    for col in front.columns:
-        hit = re.fullmatch(r"(.+)_vs_(.+)_pct", col)
-        if hit and hit.group(1) in shorts:
-            out[f"{shorts[hit.group(1)]} vs {hit.group(2)} (%)"] = front[col]
-    out["leg mass (kg)"] = front["leg_mass_kg"] if "leg_mass_kg" in front.columns else np.nan
-    i = 1
-    while f"seg{i}_rho_g_cm3" in front.columns:
-        out[f"seg {i} density (g/cm^3)"] = front[f"seg{i}_rho_g_cm3"]
-        out[f"seg {i} modulus (GPa)"] = front[f"seg{i}_e_gpa"]
-        i += 1
-    return out.reset_index(drop=True)
-
-
-def front_designs(front: pd.DataFrame, k: int | None = None, *, skip_paper: bool = True) -> dict[str, LegDesign]:
-    """The designs of a Pareto table, for :func:`mat_hopper.viz.maps.designs_figure`.
-
-    Args:
-        front: a table with ``seg{i}_rho_g_cm3`` and ``seg{i}_e_gpa`` columns.
-        k: at most this many, by tracking error (None: all).
-        skip_paper: leave out the paper's own designs (a non-empty ``paper_design``).
-
-    Returns:
-        {"#<trial>": LegDesign}.
-    """
-    rows = front.sort_values("tracking_error_m") if "tracking_error_m" in front.columns else front
-    if skip_paper and "paper_design" in rows.columns:
-        rows = rows[rows["paper_design"].fillna("").astype(str) == ""]
-    if k is not None:
-        rows = rows.head(int(k))
-    out = {}
-    for r in rows.to_dict("records"):
-        i, dens, mods = 1, [], []
-        while f"seg{i}_rho_g_cm3" in r and pd.notna(r[f"seg{i}_rho_g_cm3"]):
-            dens.append(float(r[f"seg{i}_rho_g_cm3"]))
-            e = r.get(f"seg{i}_e_gpa")
-            mods.append(None if e is None or pd.isna(e) else float(e))
-            i += 1
-        if not dens:
-            raise ValueError("front_designs: the table has no seg1_rho_g_cm3 column")
-        name = f"#{int(r['trial'])}" if "trial" in r else f"design {len(out) + 1}"
-        out[name] = LegDesign.from_properties(dens, mods, name=name)
-    return out

@@ -1,4 +1,4 @@
-"""Stress along the leg, its strength and its fatigue (issue 21).
+"""Stress along the leg, its strength and its fatigue.
 
 Stress. Every physics step the rollout turns each segment's springs into
 section stress (:func:`mat_hopper.core.model.stress_gains`, recorded as

@@ -4,9 +4,8 @@ The loop's ``jerk_z`` (:data:`mat_hopper.core.sim.JERK_CUTOFF_HZ`) is the base's
 z acceleration through a *causal* 2nd-order 50 Hz Butterworth at the
 physics rate, differentiated step by step. A 2nd-order section passes the
 leg's barely damped axial modes (2.5-4 kHz) at a level that the
-differentiation then amplifies by 2 pi f: issue 20 measured rho-dec at
-616 m/s^3 with it, 428 with a 4th-order zero-phase filter, 419 for its
-rigid twin.
+differentiation then amplifies by 2 pi f, so the jerk it gives carries
+the leg's ringing as well as the body's motion.
 
 :func:`body_jerk` is the zero-phase alternative, computed after the run:
 
@@ -14,7 +13,7 @@ rigid twin.
    acceleration over each record interval (a box filter; at the default
    1 kHz record rate of a 10 kHz physics step it attenuates a 2.5 kHz mode
    to 13 % before the sample aliases it to 500 Hz). One addition per
-   physics step: the loop's cost does not change (``benchmarks/rollout.py``);
+   physics step;
 2. a 4th-order Butterworth low-pass at 20 Hz run forwards and backwards
    (:func:`scipy.signal.sosfiltfilt`: zero phase, effective order 8), at the
    record rate; the choice of Winter for body-segment kinematics (D. A.

@@ -14,9 +14,8 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
   acceleration low-passed at the physics rate (2nd-order Butterworth,
   50 Hz, :data:`mat_hopper.core.sim.JERK_CUTOFF_HZ`), differentiated step by step
   (channel ``jerk_z``), averaged over the cycle's recorded samples. It does
-  not depend on the record rate (the unfiltered derivative measured the
-  aliased ringing of the leg's kHz axial modes: 8,688 m/s^3 for SS at
-  1 kHz, 675 at 100 Hz);
+  not depend on the record rate (an unfiltered derivative of the recorded
+  acceleration measures the aliased ringing of the leg's kHz axial modes);
 - ``jerk_body_m_s3``: the same with a zero-phase 4th-order 20 Hz
   Butterworth after an anti-aliasing box mean (:mod:`mat_hopper.physics.jerk`):
   the body's jerk without the leg's ringing;
@@ -28,7 +27,7 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
 - ``energy_j``: integral of |tau qdot| of all three actuators (J), joint
   space;
 - ``peak_stress_pa``, ``peak_stress_segment``, ``damage``,
-  ``yield_exceeded`` (issue 21): the leg's peak section stress over the
+  ``yield_exceeded``: the leg's peak section stress over the
   hop (Pa, physics rate) and its segment, the worst segment's Miner damage
   of the hop, and whether any segment's peak exceeded its yield strength
   (:mod:`mat_hopper.physics.fatigue`); beside the ``damping`` setting.
@@ -71,7 +70,7 @@ ALL_METRICS = METRICS + (
     "jerk_body_m_s3",
 )
 GRAVITY = ref.GRAVITY_M_S2
-# issue 21: the damping setting, then each hop's stress and fatigue (mat_hopper.physics.fatigue)
+# the damping setting, then each hop's stress and fatigue (mat_hopper.physics.fatigue)
 STRESS_COLUMNS = ("damping", "peak_stress_pa", "peak_stress_segment", "damage", "yield_exceeded")
 ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 

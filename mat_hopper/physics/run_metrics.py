@@ -29,7 +29,7 @@ power, the whole run's work as one "hop", its largest stress, its damage as
 one block. Values are capped at :data:`NO_DATA_VALUE` times the metric's
 ``cap_scale``.
 
-Stress and fatigue (issue 21) are the leg's modelled stress: under the
+Stress and fatigue are the leg's modelled stress: under the
 ``paper`` and ``axial`` conventions only the axial springs carry it (F / A),
 so a stress objective means something only under ``bending`` or
 ``axial+bending``. A leg with no modelled stress (rigid segments) scores 0.
@@ -116,15 +116,6 @@ METRICS: dict[str, Metric] = {
     )
 }  # fmt: skip
 DEFAULT_OBJECTIVES = ("tracking_error_m", "power_w")
-
-
-def describe_metrics() -> str:
-    """The table in one line, for ``--help`` and errors.
-
-    Returns:
-        ``name (unit): label`` of each metric, separated by ``"; "``.
-    """
-    return "; ".join(f"{m.name} ({m.unit}): {m.label}" for m in METRICS.values())
 
 
 def parse_objectives(value, flag: str = "objectives") -> tuple[str, ...]:

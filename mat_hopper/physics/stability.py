@@ -8,10 +8,10 @@ every |qacc| <= 1e6 and the base above 0.1 m: :attr:`Rollout.upright`.
   Bracket (default ``"analytic"``): start at the analytic bound (below)
   and step by a factor 1.5 up while stable, down while unstable, until
   the outcome changes; the estimate lies within a factor 2 of the measured
-  step, so this takes two or three tries. (``"ladder"``, the first
-  version: try 1e-2 s, then steps a factor sqrt(10) smaller until one is
-  stable; unstable tries are cheap, most diverge within a few steps, stable
-  ones cost 2 s / dt steps.) Then bisect in log space between the last unstable
+  step, so this takes two or three tries. (``"ladder"``: try 1e-2 s,
+  then steps a factor sqrt(10) smaller until one is stable; unstable
+  tries are cheap, most diverge within a few steps, stable ones cost
+  2 s / dt steps.) Then bisect in log space between the last unstable
   and the first stable step until they are within a factor `tolerance`
   (1.25) or `max_iter` (10) bisection tries are spent. Result: the bracket
   [dt_stable_s, dt_unstable_s].

@@ -6,8 +6,8 @@ worst case) and refuses, in one line naming the size and the option, work
 above :data:`MAX_TOTAL_STEPS`; every count option (``--workers``,
 ``--replicates``, ``--trials``, ...) is an integer in its documented range.
 
-The limit, 2e10 physics steps, is about 28 core-hours at the 5 us a step a
-3-segment leg takes on one core (benchmarks/rollout.py): six times the
+The limit, 2e10 physics steps, is about 28 core-hours at
+:data:`SECONDS_PER_STEP` a step (one core, a 3-segment leg): six times the
 paper profile's full reproduction under both conventions (about 3e9 steps). Set
 ``$MAT_HOPPER_MAX_STEPS`` to raise it, e.g. on a Dask cluster. A single run
 has its own limits (:data:`mat_hopper.core.sim.MAX_STEPS`, 2e9 steps, and

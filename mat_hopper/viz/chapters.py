@@ -229,7 +229,7 @@ def controller_figure(rollout, window_s: tuple[float, float] | None = None):
 def jerk_rate_panel(ax, jerk: dict) -> None:
     """Mean |jerk| against the record rate on `ax`, per design ({design:
     table from :func:`mat_hopper.analysis.tables.jerk_by_rate`}, log-log):
-    solid, the old finite difference of the recorded acceleration (aliased
+    solid, the plain finite difference of the recorded acceleration (aliased
     leg ringing, labelled as such); dashed, the book's metric (50 Hz
     low-pass at the physics rate), flat in the rate.
 
@@ -237,7 +237,7 @@ def jerk_rate_panel(ax, jerk: dict) -> None:
         ax: the matplotlib ``Axes`` drawn on (scales, labels, title and legend
             set).
         jerk: {design name: table} with columns ``rate_hz`` and
-            ``raw_jerk_m_s3`` (or, from older tables, ``mean_jerk_m_s3``), m/s^3,
+            ``raw_jerk_m_s3`` (or ``mean_jerk_m_s3``), m/s^3,
             and optionally ``metric_jerk_m_s3`` (the dashed line).
     """
     for i, (d, t) in enumerate(jerk.items()):

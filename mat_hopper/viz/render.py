@@ -2,8 +2,12 @@
 
 No display needed: the scene, the camera and the off-screen OpenGL context
 (OSMesa by default, EGL when ``MUJOCO_GL=egl``) are in
-:mod:`mat_hopper.viz.scene`, re-exported here. Rendering replays joint positions recorded during the fast rollout
-(``simulate(..., record_qpos=True)``), so simulation never waits for it.
+:mod:`mat_hopper.viz.scene`. Rendering replays joint positions recorded
+during the fast rollout (``simulate(..., record_qpos=True)``), so
+simulation never waits for it. The recording and the frames are in
+``_frames``, the file checks and writers in ``_files``; this module
+re-exports them with the scene's names and holds the two products,
+:func:`save_video` and :func:`render_files`.
 
 Leg segments are coloured by density (viridis over log density, 0.9 to 20
 g/cm^3) so graded legs show at a glance; the desired path is drawn as a
@@ -16,21 +20,26 @@ dotted line of small markers on the ground or ramp.
 
 from __future__ import annotations
 
-import dataclasses
 import math
-import os
 
-import mujoco
-import numpy as np
-
-from ..core.behaviours import Behaviour
 from ..core.behaviours import behaviour as get_behaviour
-from ..core.materials import LegDesign, as_design
-from ..core.model import reset_to_start
+from ..core.materials import as_design
 from ..core.rollout import Rollout
-from ..core.sim import SimSettings, simulate
-from ..util.atomic import atomic_path
-from .scene import (  # noqa: F401 (the scene's names are re-exported)
+from ..core.sim import SimSettings
+from ._files import (
+    IMAGE_EXTENSIONS,
+    MP4_BLOCK_PX,
+    RASTER_EXTENSIONS,
+    VIDEO_EXTENSIONS,
+    check_extension,
+    check_fps,
+    check_mp4_size,
+    parse_size,
+    save_image,
+    write_video,
+)
+from ._frames import gait_tiles, iter_frames, record, render_frames, render_still, standing_qpos, video_times
+from .scene import (
     DENSITY_RANGE_G_CM3,
     GL_LIBS,
     Camera,
@@ -41,472 +50,35 @@ from .scene import (  # noqa: F401 (the scene's names are re-exported)
     render_spec,
 )
 
-VIDEO_EXTENSIONS = (".mp4", ".gif")
-IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".svg", ".pdf")  # a Figure (matplotlib's savefig)
-RASTER_EXTENSIONS = (".png", ".jpg", ".jpeg")  # an RGB array (imageio): no vector formats
-
-
-def parse_size(text: str) -> tuple[int, int]:
-    """'640x480' -> (640, 480) pixels; each side a whole ASCII decimal
-    (:func:`mat_hopper.util.parsing.parse_number`: not "٦٤٠" or "6_40").
-
-    Args:
-        text: ``"WIDTHxHEIGHT"`` (the ``x`` in any case, blanks around the
-            whole ignored); anything else is converted with ``str`` first.
-
-    Returns:
-        (width, height) in pixels, ints.
-
-    Raises:
-        ValueError: not two whole ASCII decimals joined by ``x``, or a side
-            outside 16 to 4096 pixels.
-    """
-    from ..util.parsing import is_decimal, parse_number
-
-    parts = str(text).strip().lower().split("x")
-    if len(parts) != 2 or not all(is_decimal(p) and "." not in p and "e" not in p for p in parts):
-        raise ValueError(f"size must be WIDTHxHEIGHT in pixels, e.g. 640x480; got {text!r}")
-    w, h = (parse_number(p, "size", integer=True) for p in parts)
-    if not (16 <= w <= 4096 and 16 <= h <= 4096):
-        raise ValueError(f"size must be between 16x16 and 4096x4096 pixels, got {text!r}")
-    return w, h
-
-
-def check_fps(fps) -> float:
-    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and 0 < fps <= 240):
-        raise ValueError(f"fps must be in (0, 240] frames per second, got {fps!r}")
-    return float(fps)
-
-
-def check_extension(path: str, allowed: tuple) -> str:
-    ext = os.path.splitext(str(path))[1].lower()
-    if ext not in allowed:
-        raise ValueError(f"unknown file type {ext or '(none)'!r} for {path!r}; accepted: {', '.join(allowed)}")
-    return ext
-
-
-def record(
-    design,
-    behaviour,
-    seconds: float,
-    *,
-    start_s: float = 0.0,
-    convention: str | None = None,
-    settings: SimSettings | None = None,
-) -> Rollout:
-    """A rollout with joint positions recorded up to start_s + seconds (s).
-    convention: the stiffness convention (None: the settings', else the
-    paper's); settings: the run's other settings (time step, substeps,
-    sensor timing, segment mass, convention; its duration and transient are
-    replaced). Raises ValueError for a convention other than the settings'.
-
-    Args:
-        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name.
-        behaviour: a behaviour name or :class:`~mat_hopper.core.behaviours.Behaviour`.
-        seconds: simulated time recorded after `start_s`, s (finite, > 0).
-        start_s: start of the window of interest, s (finite, >= 0); the run
-            lasts start_s + seconds with no transient.
-        convention: the stiffness convention; None: the settings' (or, without
-            settings, the default).
-        settings: the run's :class:`~mat_hopper.core.sim.SimSettings`; None: the
-            defaults.
-
-    Returns:
-        The :class:`~mat_hopper.core.rollout.Rollout`, with ``qpos`` (every joint
-        position at the record rate).
-
-    Raises:
-        ValueError: `seconds` not finite and positive, `start_s` not finite and
-            >= 0, a `convention` other than the settings', or any error of
-            :func:`mat_hopper.core.sim.simulate` (unknown design, behaviour or
-            setting).
-    """
-    if not (math.isfinite(seconds) and seconds > 0):
-        raise ValueError(f"seconds must be > 0, got {seconds!r}")
-    if not (math.isfinite(start_s) and start_s >= 0):
-        raise ValueError(f"start must be >= 0 s, got {start_s!r}")
-    if settings is not None:
-        if convention is not None and convention != settings.convention:
-            raise ValueError(f"convention {convention!r} given beside settings of convention {settings.convention!r}")
-        settings = dataclasses.replace(settings, duration_s=start_s + seconds, transient_s=0.0)
-        return simulate(design, behaviour, settings=settings, record_qpos=True)
-    return simulate(
-        design, behaviour, duration_s=start_s + seconds, transient_s=0.0, convention=convention, record_qpos=True
-    )
-
-
-def iter_frames(
-    rollout: Rollout,
-    times_s,
-    *,
-    size=(640, 480),
-    camera: Camera | None = None,
-    backend: str | None = None,
-    progress: bool = False,
-):
-    """Yield RGB frames (height, width, 3) of a rollout at the given times
-    (s), one at a time (a long video never sits in memory).
-
-    Args:
-        rollout: a :class:`~mat_hopper.core.rollout.Rollout` recorded with
-            ``record_qpos=True``.
-        times_s: the frames' simulated times, s; each shows the first record
-            at or after its time (the last record for later times).
-        size: (width, height) of the frames, pixels.
-        camera: the :class:`Camera`; None: ``Camera()``.
-        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
-        progress: show a progress bar (``mat_hopper.util.progress``).
-
-    Yields:
-        (height, width, 3) uint8 RGB arrays, one per time, in order.
-
-    Raises:
-        ValueError: a rollout without joint positions (raised at the first
-            frame requested, as for any generator).
-        RenderBackendError: no usable off-screen OpenGL library or context.
-    """
-    if rollout.qpos is None:
-        raise ValueError("the rollout has no joint positions: simulate(..., record_qpos=True)")
-    w, h = size
-    spec = render_spec(
-        rollout.design,
-        rollout.behaviour,
-        convention=rollout.settings.convention,
-        path_until_s=float(rollout.time[-1]) + 1.0,
-        width=w,
-        height=h,
-    )
-    model = spec.compile()
-    idx = np.clip(np.searchsorted(rollout.time, np.asarray(times_s, float)), 0, len(rollout.time) - 1)
-    camera = camera or Camera()
-    from ..util.progress import progress_bar
-
-    with OffscreenRenderer(model, w, h, backend) as r:
-        for i in progress_bar(idx, desc="render", unit="frame", enabled=progress):
-            yield r.frame(rollout.qpos[i], camera, rollout.behaviour)
-
-
-def render_frames(
-    rollout: Rollout, times_s, *, size=(640, 480), camera: Camera | None = None, backend: str | None = None
-) -> np.ndarray:
-    """RGB frames (n, height, width, 3) of a rollout at the given times (s).
-
-    Args:
-        rollout: a :class:`~mat_hopper.core.rollout.Rollout` recorded with
-            ``record_qpos=True``.
-        times_s: the n frames' simulated times, s (as for :func:`iter_frames`).
-        size: (width, height) of the frames, pixels.
-        camera: the :class:`Camera`; None: ``Camera()``.
-        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
-
-    Returns:
-        (n, height, width, 3) uint8 array.
-
-    Raises:
-        ValueError: a rollout without joint positions, or no times.
-        RenderBackendError: no usable off-screen OpenGL library or context.
-    """
-    return np.stack(list(iter_frames(rollout, times_s, size=size, camera=camera, backend=backend)))
-
-
-# ---------------------------------------------------------------------------
-# products
-
-
-def standing_qpos(model: mujoco.MjModel, behaviour: Behaviour) -> np.ndarray:
-    """The start pose (upright, at the behaviour's start) lowered until the
-    foot rests on the ground or ramp (MuJoCo's own foot-terrain distance, to
-    1 um): the pose for a picture of the model.
-
-    Args:
-        model: a compiled hopper model (e.g. of :func:`render_spec`), with
-            the joint ``base_x`` and the geoms ``foot`` and ``ground`` (and
-            ``ramp``).
-        behaviour: the :class:`~mat_hopper.core.behaviours.Behaviour` whose
-            start_xy_m places the base.
-
-    Returns:
-        (model.nq,) qpos array: the start keyframe at the behaviour's start,
-        the base z slide lowered by the foot-terrain gap (at most 8
-        corrections).
-    """
-    d = mujoco.MjData(model)
-    reset_to_start(model, d)
-    bx = int(model.joint("base_x").qposadr[0])
-    d.qpos[bx], d.qpos[bx + 1] = behaviour.start_xy_m
-    foot = model.geom("foot").id
-    terrain = [i for i in range(model.ngeom) if model.geom(i).name in ("ground", "ramp")]
-    for _ in range(8):  # a slanted surface needs a few vertical steps
-        mujoco.mj_kinematics(model, d)
-        gap = min(mujoco.mj_geomDistance(model, d, foot, g, 10.0, None) for g in terrain)
-        if abs(gap) < 1e-6:
-            break
-        d.qpos[bx + 2] -= gap
-    return d.qpos.copy()
-
-
-def render_still(
-    design,
-    behaviour="static",
-    *,
-    size=(640, 480),
-    camera: Camera | None = None,
-    standing: bool = True,
-    backend: str | None = None,
-) -> np.ndarray:
-    """One RGB picture (height, width, 3) of the hopper at its start pose,
-    standing on its foot (standing=False: at the simulation's start height,
-    0.56 m up), segments coloured by density, the behaviour's path marked.
-
-    Args:
-        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name.
-        behaviour: a behaviour name or :class:`~mat_hopper.core.behaviours.Behaviour`
-            (its start, terrain and 20 s of its path are drawn).
-        size: (width, height) of the picture, pixels.
-        camera: the :class:`Camera`; None: a close view for ``standing``, a
-            wider, higher one otherwise.
-        standing: True: the pose of :func:`standing_qpos`; False: that pose
-            with the base z slide (qpos) set to 0.
-        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
-
-    Returns:
-        (height, width, 3) uint8 RGB array.
-
-    Raises:
-        ValueError: an unknown design or behaviour.
-        RenderBackendError: no usable off-screen OpenGL library or context.
-    """
-    design = as_design(design)
-    beh = get_behaviour(behaviour)
-    w, h = size
-    model = render_spec(design, beh, width=w, height=h, path_until_s=20.0).compile()
-    qpos = standing_qpos(model, beh)
-    if not standing:
-        qpos[int(model.joint("base_z").qposadr[0])] = 0.0
-    camera = camera or (
-        Camera(distance_m=1.75, azimuth_deg=125.0, elevation_deg=-10.0, height_m=0.42)
-        if standing
-        else Camera(distance_m=2.2, azimuth_deg=125.0, elevation_deg=-12.0, height_m=0.75)
-    )
-    with OffscreenRenderer(model, w, h, backend) as r:
-        return r.frame(qpos, camera, beh)
-
-
-def _density_legend(fig, ax, design: LegDesign) -> None:
-    """A density colour bar whose labelled ticks are the design's segments
-    (``seg 1 1.39``, hip first), plus round numbers that do not crowd them."""
-    import matplotlib as mpl
-
-    norm = mpl.colors.LogNorm(*DENSITY_RANGE_G_CM3)
-    cb = fig.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, fraction=0.025, pad=0.01)
-    cb.set_label("segment density (g/cm$^3$)")
-    segs: dict[float, list[str]] = {}
-    for i, d in enumerate(design.densities_g_cm3, start=1):
-        segs.setdefault(d, []).append(str(i))
-        cb.ax.plot([0, 1], [d, d], color="white", lw=1.5)
-    lo, hi = DENSITY_RANGE_G_CM3
-    rounds = [t for t in (1, 2, 5, 10, 20) if lo <= t <= hi and all(abs(math.log(t / d)) > 0.3 for d in segs)]
-    ticks = sorted([(t, f"{t:g}") for t in rounds] + [(d, f"seg {','.join(ids)}: {d:g}") for d, ids in segs.items()])
-    cb.set_ticks([t for t, _ in ticks], labels=[lab for _, lab in ticks])
-    cb.ax.minorticks_off()
-    cb.ax.tick_params(labelsize=7)
-
-
-def gait_tiles(
-    design,
-    behaviour="forward",
-    *,
-    rollout: Rollout | None = None,
-    start_s: float = 5.0,
-    seconds: float = 0.7,
-    n_frames: int = 8,
-    size=(280, 400),
-    camera: Camera | None = None,
-    backend: str | None = None,
-):
-    """The paper's gait-tile figure: n_frames of a hop sequence (one hop
-    cycle, about 0.7 s, by default) side by side, the desired path marked, segments coloured by density. Returns a
-    matplotlib Figure (frames also in ``fig.frames``).
-
-    Args:
-        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name,
-            simulated when no `rollout` is given.
-        behaviour: a behaviour name or Behaviour, likewise.
-        rollout: a Rollout with ``qpos`` to show instead (its own design and
-            behaviour are shown); None: :func:`record` one of `seconds` from
-            `start_s`.
-        start_s: time of the first frame, simulated s.
-        seconds: span of the frames, s (cut at the rollout's end).
-        n_frames: the number of frames, evenly spaced, >= 1.
-        size: (width, height) of each frame, pixels.
-        camera: the :class:`Camera`; None: ``Camera(distance_m=2.1)``.
-        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
-
-    Returns:
-        The ``matplotlib.figure.Figure``, the frames side by side with their
-        times and a density colour bar; ``fig.frames`` holds them as an
-        (n_frames, height, width, 3) uint8 array.
-
-    Raises:
-        ValueError: `n_frames` < 1, a rollout without joint positions, or an
-            error of :func:`record` (invalid `seconds` or `start_s`, unknown
-            design or behaviour).
-        RenderBackendError: no usable off-screen OpenGL library or context.
-    """
-    from matplotlib.figure import Figure
-
-    if int(n_frames) < 1:
-        raise ValueError(f"n_frames must be >= 1, got {n_frames!r}")
-    if rollout is None:
-        rollout = record(design, behaviour, seconds, start_s=start_s)
-    times = np.linspace(start_s, min(start_s + seconds, float(rollout.time[-1])), int(n_frames))
-    frames = render_frames(rollout, times, size=size, camera=camera or Camera(distance_m=2.1), backend=backend)
-    fig = Figure(figsize=(1.6 * len(frames) + 1.2, 2.6), dpi=150, layout="constrained")
-    ax = fig.subplots()
-    ax.imshow(np.concatenate(list(frames), axis=1))
-    w = frames.shape[2]
-    for k, t in enumerate(times):
-        ax.text(k * w + 6, 14, f"t = {t:.2f} s", fontsize=7, color="black")
-    ax.set_axis_off()
-    d = rollout.design
-    beh = rollout.behaviour
-    terrain = f", {math.tan(math.radians(beh.ramp_grade_deg)) * 100:.1f} % ramp" if beh.ramp_grade_deg else ""
-    ax.set_title(f"{d.name}: {beh.name} hopping{terrain} (red: desired path)", fontsize=9)
-    _density_legend(fig, ax, d)
-    fig.frames = frames
-    return fig
-
-
-def video_times(
-    rollout: Rollout, *, start_s: float = 0.0, seconds: float | None = None, fps: float = 30.0
-) -> np.ndarray:
-    """Simulated times (s) of the frames: start_s + k / fps up to the end of
-    the window (start_s + seconds) or of the rollout, both ends included.
-
-    Args:
-        rollout: the :class:`~mat_hopper.core.rollout.Rollout`.
-        start_s: the first frame's time, s.
-        seconds: the window's length, s; None: to the rollout's end.
-        fps: frames per simulated second, in (0, 240].
-
-    Returns:
-        1-D float array of the frame times, s.
-
-    Raises:
-        ValueError: `fps` outside (0, 240], or a window that starts after the
-            rollout ends.
-    """
-    fps = check_fps(fps)
-    t_end = float(rollout.time[-1]) if seconds is None else start_s + seconds
-    n = int(math.floor((min(t_end, float(rollout.time[-1])) - start_s) * fps + 1e-9)) + 1
-    if n < 1:
-        raise ValueError("nothing to render: the window starts after the rollout ends")
-    return start_s + np.arange(n) / fps
-
-
-def video_frames(
-    rollout: Rollout,
-    *,
-    start_s: float = 0.0,
-    seconds: float | None = None,
-    fps: float = 30.0,
-    size=(640, 480),
-    camera: Camera | None = None,
-    backend: str | None = None,
-) -> np.ndarray:
-    """Frames (n, height, width, 3) of a rollout at fps frames per simulated second.
-
-    Args:
-        rollout: a :class:`~mat_hopper.core.rollout.Rollout` recorded with
-            ``record_qpos=True``.
-        start_s: the first frame's time, s.
-        seconds: the window's length, s; None: to the rollout's end.
-        fps: frames per simulated second, in (0, 240].
-        size: (width, height) of the frames, pixels.
-        camera: the :class:`Camera`; None: ``Camera()``.
-        backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
-
-    Returns:
-        (n, height, width, 3) uint8 array, the frames at :func:`video_times`.
-
-    Raises:
-        ValueError: as :func:`video_times`, or a rollout without joint
-            positions.
-        RenderBackendError: no usable off-screen OpenGL library or context.
-    """
-    return render_frames(
-        rollout,
-        video_times(rollout, start_s=start_s, seconds=seconds, fps=fps),
-        size=size,
-        camera=camera,
-        backend=backend,
-    )
-
-
-MP4_BLOCK_PX = 8  # H.264's macro block as write_video asks imageio-ffmpeg for it: sizes are padded up to it
-
-
-def check_mp4_size(size) -> tuple[int, int]:
-    """An MP4's frame size: its width and height must be multiples of
-    :data:`MP4_BLOCK_PX`, else the encoder pads the frames (641x480 came out
-    648x480 while the command said 641x480).
-
-    Args:
-        size: (width, height) in pixels.
-
-    Returns:
-        (width, height) as ints.
-
-    Raises:
-        ValueError: a width or height that is not a multiple of MP4_BLOCK_PX,
-            naming the padded size and a .gif for any size.
-    """
-    w, h = (int(v) for v in size)
-    if w % MP4_BLOCK_PX or h % MP4_BLOCK_PX:
-        pad = tuple(-(-v // MP4_BLOCK_PX) * MP4_BLOCK_PX for v in (w, h))
-        raise ValueError(
-            f"size {w}x{h}: an MP4's width and height must be multiples of {MP4_BLOCK_PX} pixels (the H.264 "
-            f"encoder would pad it to {pad[0]}x{pad[1]}); give e.g. {pad[0]}x{pad[1]}, or write a .gif for any size"
-        )
-    return w, h
-
-
-def write_video(frames, path: str, fps: float) -> str:
-    """Write frames (an array or any iterable of (h, w, 3) uint8 images) as
-    MP4 (H.264, imageio-ffmpeg; streamed) or GIF, atomically.
-
-    Args:
-        frames: (n, h, w, 3) uint8 array or iterable of (h, w, 3) uint8
-            images (a GIF collects them in memory first).
-        path: the file, ending in ``.mp4`` or ``.gif`` (any case).
-        fps: frames per second of the video, in (0, 240].
-
-    Returns:
-        `path`, as given.
-
-    Raises:
-        ValueError: another file extension, or `fps` outside (0, 240].
-    """
-    import imageio.v2 as imageio
-
-    ext = check_extension(path, VIDEO_EXTENSIONS)
-    fps = check_fps(fps)
-    with atomic_path(path) as tmp:
-        if ext == ".mp4":
-            with imageio.get_writer(
-                tmp,
-                fps=fps,
-                codec="libx264",
-                quality=7,
-                macro_block_size=8,
-                ffmpeg_log_level="error",
-                pixelformat="yuv420p",
-            ) as w:
-                for f in frames:
-                    w.append_data(f)
-        else:
-            imageio.mimsave(tmp, list(frames), duration=1000.0 / fps, loop=0)
-    return path
+__all__ = [
+    "DENSITY_RANGE_G_CM3",
+    "GL_LIBS",
+    "IMAGE_EXTENSIONS",
+    "MP4_BLOCK_PX",
+    "RASTER_EXTENSIONS",
+    "VIDEO_EXTENSIONS",
+    "Camera",
+    "OffscreenRenderer",
+    "RenderBackendError",
+    "check_extension",
+    "check_fps",
+    "check_mp4_size",
+    "choose_backend",
+    "density_color",
+    "gait_tiles",
+    "iter_frames",
+    "parse_size",
+    "record",
+    "render_files",
+    "render_frames",
+    "render_spec",
+    "render_still",
+    "save_image",
+    "save_video",
+    "standing_qpos",
+    "video_times",
+    "write_video",
+]
 
 
 def save_video(
@@ -557,35 +129,6 @@ def save_video(
         rollout = record(design, behaviour, seconds, start_s=start_s)
     times = video_times(rollout, start_s=start_s, seconds=seconds, fps=fps)
     write_video(iter_frames(rollout, times, size=size, backend=backend, progress=progress), path, fps)
-    return path
-
-
-def save_image(fig_or_rgb, path: str) -> str:
-    """Write a Figure or an RGB array as an image file, atomically.
-
-    Args:
-        fig_or_rgb: a matplotlib Figure (``savefig``; PNGs without the
-            Software tag) or an (h, w, 3) uint8 ``numpy`` array (imageio).
-        path: the file; its extension (any case) picks the format: among
-            :data:`IMAGE_EXTENSIONS` for a Figure, among
-            :data:`RASTER_EXTENSIONS` (no .svg or .pdf) for an array.
-
-    Returns:
-        `path`, as given.
-
-    Raises:
-        ValueError: an extension not among those of its input (checked
-            before anything is written).
-    """
-    rgb = isinstance(fig_or_rgb, np.ndarray)
-    ext = check_extension(path, RASTER_EXTENSIONS if rgb else IMAGE_EXTENSIONS)
-    with atomic_path(path) as tmp:
-        if rgb:
-            import imageio.v2 as imageio
-
-            imageio.imwrite(tmp, fig_or_rgb)
-        else:
-            fig_or_rgb.savefig(tmp, metadata={"Software": None} if ext == ".png" else None)
     return path
 
 

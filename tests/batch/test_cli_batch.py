@@ -281,7 +281,7 @@ def test_a_csv_where_nothing_can_be_written_is_refused_before_work(capsys):
 @pytest.mark.parametrize(
     "designs, message",
     [
-        ("SS, ss", "'SS' and 'ss' name the same design (SS)"),  # ran SS twice before the fix
+        ("SS, ss", "'SS' and 'ss' name the same design (SS)"),  # not SS run twice
         ("rho-inc,RHO-INC ", "'rho-inc' and 'RHO-INC' name the same design (rho-inc)"),
         ("SS,Ti,SS-SS-SS", "'SS' and 'SS-SS-SS' are the same leg"),
         ("PVC-Ti-SS,pvc_ti/ss", "name the same design (PVC-Ti-SS)"),

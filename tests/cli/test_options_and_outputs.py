@@ -1,8 +1,8 @@
-"""Issue 23, reliability round 3: the audit's remaining faults, each as a
-kind with its examples and other doors. Checks before any output; numbers
-through the one parser; messages that name flags; no option or environment
-variable silently ignored; no output over an input; a stage cut short says
-"stopped"; and the newcomer's fixes of round 3 that had no test."""
+"""Command-line faults, each as a kind with its examples and other doors.
+Checks before any output; numbers through the one parser; messages that
+name flags; no option or environment variable silently ignored; no output
+over an input; a stage cut short says "stopped"; and the summaries' and
+messages' wording."""
 
 from __future__ import annotations
 
@@ -40,7 +40,7 @@ def here(tmp_path, monkeypatch):
 @pytest.mark.parametrize(
     "argv, texts",
     [
-        # the audit's examples: the modes table, or render's design header, came first
+        # e.g. the modes table, or render's design header, must not come first
         (["modes", "--sensor-timing", "late"], ("--sensor-timing", "'late'")),
         (["modes", "--sensor-timing", "2000"], ("--sensor-timing", "[0, 1000]")),
         (["modes", "--sensor-timing", "99999999999"], ("--sensor-timing", "[0, 1000]")),
@@ -64,7 +64,7 @@ def test_every_option_is_checked_before_any_output(here, capsys, argv, texts):
 @pytest.mark.parametrize(
     "argv, texts",
     [
-        # the audit's examples: an Arabic-Indic 3 ran as latency 3; a superscript 2 leaked int()'s words
+        # e.g. an Arabic-Indic 3 must not run as latency 3, nor a superscript 2 leak int()'s words
         (["simulate", "--sensor-timing", "٣", *SHORT], ("--sensor-timing", "'٣'")),
         (["simulate", "--sensor-timing", "²", *SHORT], ("--sensor-timing", "'²'")),
         # other doors: latency-L, a fraction, --timestep (float()), --size (int()), --leg-mass (float())
@@ -139,7 +139,7 @@ def test_messages_name_the_flags_not_the_parameters(here, capsys, argv, text):
 @pytest.mark.parametrize(
     "argv, texts",
     [
-        # the audit's examples (each exited 0, the option unused)
+        # each would otherwise exit 0, the option unused
         (["render", "--still", "s.png", "--fps", "60", "--seconds", "3"], ("--fps", "--still")),
         (["optimize", "--study", "s", "--trials", "1", "--profile", "quick", "--cvar-alpha", "0.5"], ("--cvar-alpha",)),
         (["optimize", "--study", "s", "--trials", "1", "--profile", "quick", "--render"], ("--render", "--replay")),
@@ -204,7 +204,7 @@ def test_an_output_never_overwrites_an_input(here, capsys):
     (here / "d.csv").write_text(DESIGN_TABLE)
     os.symlink("d.csv", here / "link.csv")
     for argv in (
-        ["batch", "--designs-csv", "d.csv", "--csv", "d.csv", *SHORT],  # the audit's examples
+        ["batch", "--designs-csv", "d.csv", "--csv", "d.csv", *SHORT],
         ["simulate", "--design-csv", "d.csv", "--csv", "./d.csv", *SHORT],
         ["simulate", "--design-csv", "link.csv", "--csv", "sub/../d.csv", *SHORT],  # a symlink, a ..
         ["batch", "--designs-csv", "link.csv", "--csv", str(here / "d.csv"), *SHORT],
@@ -259,7 +259,7 @@ def test_a_stage_cut_short_says_stopped_not_done():
 
 
 def test_sigterm_in_a_pipe_says_stopped_then_interrupted(tmp_path):
-    """The audit's example: "X: done, 0/100 sim s" before "interrupted"."""
+    """Never "X: done, 0/100 sim s" before "interrupted"."""
     cmd = [sys.executable, "-m", "mat_hopper", "simulate", "--duration", "1000", "--transient", "1"]
     p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=ENV, cwd=tmp_path)
     try:
@@ -300,7 +300,7 @@ def test_export_leaves_no_wal_files_beside_the_study(here, capsys):
     assert os.listdir("studies") == ["s.db"]
 
 
-# --- 7. round 3's newcomer fixes, now tested --------------------------------------------
+# --- 7. summaries and messages that say what they mean -------------------------------
 
 
 def test_simulate_summary_labels_hip_power_and_the_work_of_all_actuators(here, capsys):

@@ -1,8 +1,7 @@
-"""Issue 12, the command line: every bad input is one line and exit code 2,
-found before any simulation, and leaves nothing behind; every option acts
-or is refused; run sizes are capped; signals and closed pipes end cleanly.
-Each example of the issue is a case here, its expected value the right
-behaviour."""
+"""The command line: every bad input is one line and exit code 2, found
+before any simulation, and leaves nothing behind; every option acts or is
+refused; run sizes are capped; signals and closed pipes end cleanly. Each
+expected value is the right behaviour."""
 
 from __future__ import annotations
 
@@ -353,7 +352,7 @@ def test_batch_csv_checked_before_work(here, capsys, csv, text):
     ],
 )
 def test_reproduce_refuses_malformed_name_lists_before_work(args, text, tmp_path, capsys):
-    """A newcomer's trial: these started a full reproduction."""
+    """Malformed name lists are refused, never read as a full reproduction."""
     code = main(["reproduce", "--profile", "quick", "--out", str(tmp_path / "out"), *args])
     err = capsys.readouterr().err.strip()
     assert code == 2 and len(err.splitlines()) == 1 and text in err, err

@@ -1,6 +1,5 @@
-"""A third newcomer's bad input (this round's sixth session): each kind of
-fault refused with one line, exit 2, before any work or file, on every
-command that takes the input."""
+"""Bad input: each kind of fault refused with one line, exit 2, before any
+work or file, on every command that takes the input."""
 
 import os
 

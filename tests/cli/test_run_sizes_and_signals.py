@@ -1,10 +1,11 @@
-"""Issue 23, reliability round 3: run sizes, prompt signals, no silent
+"""The command line's contract: run sizes, prompt signals, no silent
 ignores, one way to read names and numbers, strict design tables, checks
-before work, two outputs on one path. Each kind has the issue's example and
-at least one other door; the expected values are the right behaviour."""
+before work, two outputs on one path. Each kind has a typical case and at
+least one other door; the expected values are the right behaviour."""
 
 from __future__ import annotations
 
+import importlib
 import os
 import pty
 import select
@@ -38,7 +39,7 @@ def here(tmp_path, monkeypatch):
 
 
 def test_reproduce_replicates_100000_refused_naming_size_and_flag(here, capsys):
-    """The issue's example: it sat silent 60 s while memory grew."""
+    """Refused at once, not left to sit silent while memory grows."""
     _refused(["reproduce", "--replicates", "100000", "--out", "out"], capsys, "--replicates 100000", "physics steps")
     assert os.listdir(here) == []
 
@@ -99,12 +100,11 @@ def _read_until(fd, text: bytes, timeout_s: float) -> bytes:
 
 
 def test_sigterm_on_a_tiny_time_step_simulate_acts_within_a_second(tmp_path):
-    """The issue's example: SIGTERM on `simulate --timestep 1e-7` took
-    40.6 s. stderr is a terminal (a pty, 120 columns), so the progress bar
-    says when the loop runs; the command then answers the signal within a
-    second ("interrupted by SIGTERM", exit 143). The process's exit after
-    that is the interpreter's teardown (0.3 s idle, over 1 s on a loaded
-    machine), bounded loosely."""
+    """SIGTERM on `simulate --timestep 1e-7` is answered promptly. stderr
+    is a terminal (a pty, 120 columns), so the progress bar says when the
+    loop runs; the command then answers the signal within a second
+    ("interrupted by SIGTERM", exit 143). The process's exit after that is
+    the interpreter's teardown, bounded loosely."""
     import fcntl
     import struct
     import termios
@@ -242,7 +242,7 @@ def test_simulate_csv_carries_the_design_properties(here, capsys):
 
 
 def test_modes_csv_folder_fails_before_printing_the_table(here, capsys):
-    """The issue's example: `modes --csv .` printed the table, then failed."""
+    """`modes --csv .` is refused before the table is printed."""
     cap = _refused(["modes", "--csv", "."], capsys, "--csv")
     assert cap.out == ""
 
@@ -256,7 +256,7 @@ def test_render_unknown_file_type_names_its_flag_before_work(here, capsys):
 
 
 def test_render_start_names_the_flags_not_the_parameter(here, capsys):
-    """The issue's example: `render --start 1e6` blamed duration_s."""
+    """`render --start 1e6` names the flags, not the parameter duration_s."""
     cap = _refused(["render", "--start", "1e6", "--video", "v.mp4"], capsys, "--start + --seconds")
     assert "duration_s" not in cap.err
 
@@ -284,7 +284,7 @@ def test_numbers_are_ascii_decimals_and_errors_name_flags(here, capsys, argv, te
 
 
 def test_names_are_case_insensitive_everywhere(here, capsys):
-    """--convention PAPER was refused while --design ss was accepted."""
+    """--convention PAPER is accepted, as --design ss is."""
     assert (
         main(
             [
@@ -350,7 +350,7 @@ def test_parse_design_reads_back_the_names_the_tool_writes():
 
 
 def test_compare_refuses_alpha_outside_0_1():
-    """The issue's example: alpha=2 marked p = 0.051 significant."""
+    """alpha=2 is refused (it would mark p = 0.051 significant)."""
     from mat_hopper.physics.metrics import compare
 
     hops = pd.DataFrame(
@@ -369,10 +369,10 @@ def test_compare_refuses_alpha_outside_0_1():
 @pytest.mark.parametrize(
     "call, name",
     [
-        (lambda: __import__("mat_hopper.physics.metrics").metrics.hop_table(None), "rollout"),
-        (lambda: __import__("mat_hopper.physics.metrics").metrics.run_summary({}), "rollout"),
-        (lambda: __import__("mat_hopper.core.sim").sim.simulate("SS", "forward", settings=1), "settings"),
-        (lambda: __import__("mat_hopper.core.sim").sim.SimSettings(convention="stiff"), "convention"),
+        (lambda: importlib.import_module("mat_hopper.physics.metrics").hop_table(None), "rollout"),
+        (lambda: importlib.import_module("mat_hopper.physics.metrics").run_summary({}), "rollout"),
+        (lambda: importlib.import_module("mat_hopper.core.sim").simulate("SS", "forward", settings=1), "settings"),
+        (lambda: importlib.import_module("mat_hopper.core.sim").SimSettings(convention="stiff"), "convention"),
     ],
 )
 def test_api_misuse_is_a_value_error_naming_the_argument(call, name):
@@ -380,7 +380,7 @@ def test_api_misuse_is_a_value_error_naming_the_argument(call, name):
         call()
 
 
-# --- 8. a newcomer's stumbles -------------------------------------------------------
+# --- 8. stiff springs and other first stumbles ---------------------------------------
 
 
 def test_help_imports_nothing_heavy_and_lists_every_command():
@@ -406,7 +406,7 @@ def test_command_help_lines_are_the_modules_own():
 
 @pytest.mark.parametrize("convention", ["axial", "axial+bending"])
 def test_stiff_divergence_suggests_timestep_auto(here, capsys, convention):
-    """axial, and the bending conventions (a newcomer's trial: no hint for them)."""
+    """axial, and the bending conventions: each gets the hint."""
     code = main(["simulate", "--design", "Ti", "--convention", convention, "--duration", "0.05", "--transient", "0.01"])
     out = capsys.readouterr().out
     assert code == 1 and "UNSTABLE" in out and "--timestep auto" in out
@@ -416,7 +416,7 @@ def test_stiff_divergence_suggests_timestep_auto(here, capsys, convention):
 
 
 def test_render_refuses_two_outputs_on_one_path(here, capsys):
-    """The issue's example: tiles overwritten, "wrote same.png" twice."""
+    """Tiles and still on one path are refused (not one overwriting the other)."""
     _refused(["render", "--tiles", "same.png", "--still", "same.png"], capsys, "--tiles and --still", "same.png")
     _refused(["render", "--tiles", "a/x.png", "--still", "a/../a/x.png"], capsys, "--tiles and --still")
     assert os.listdir(here) == []
@@ -545,7 +545,7 @@ def test_claims_only_for_the_conventions_asked_for(tmp_path, monkeypatch):
 
 
 def test_batch_divergence_under_stiff_springs_names_a_way_out(here, capsys):
-    """A newcomer's trial: `batch --convention bending` diverged with no hint."""
+    """A batch diverging under stiff springs names a way out."""
     code = main(["batch", "--designs", "Ti", "--convention", "axial", "--duration", "0.05", "--transient", "0.01"])
     out = capsys.readouterr().out
     assert code == 0 and "1 of 1 design diverged" in out and "--timestep" in out and "modes" in out

@@ -43,7 +43,7 @@ def test_unknown_control_is_refused(capsys):
 
 def test_a_fall_is_told_apart_from_a_numerical_divergence(capsys):
     # SS under bending at the auto step: a sideways mode of the authors' controller
-    # grows from round-off and the hopper rolls over near 11.7 s (issue 21); an
+    # grows from round-off and the hopper rolls over near 11.7 s; an
     # axial leg at the authors' 1e-4 s step diverges numerically in 0.9 ms.
     main(["simulate", "--design", "SS", "--convention", "bending", "--timestep", "auto"]
          + ["--behaviour", "forward", "--duration", "13", "--transient", "5"])  # fmt: skip
@@ -65,7 +65,7 @@ def test_a_fall_is_told_apart_from_a_numerical_divergence(capsys):
     ],
 )
 def test_segments_with_a_design_that_sets_its_own_is_refused(tmp_path, monkeypatch, capsys, command, design):
-    # `simulate --design rho-inc --segments 4` ran rho-inc's 3 segments, --segments ignored, before the fix
+    # `simulate --design rho-inc --segments 4` must not run rho-inc's 3 segments, --segments ignored
     monkeypatch.chdir(tmp_path)
     extra = ["--still", "s.png"] if command == "render" else []
     assert main([command, "--design", design, "--segments", "4", *extra]) == 2

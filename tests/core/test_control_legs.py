@@ -110,8 +110,8 @@ def test_mass_matched_modulus_is_series_equivalent():
     assert mm.densities_g_cm3[0] == pytest.approx((1.39 + 4.43 + 8.0) / 3)
 
 
-def test_the_issues_homogeneous_leg_of_rho_inc_mass():
-    # issue 20: "a homogeneous leg with rho-inc's mass (4.607 g/cm^3, 70 GPa)"
+def test_a_homogeneous_leg_of_rho_inc_mass():
+    # a homogeneous leg with rho-inc's mass: 4.607 g/cm^3, 70 GPa
     mm = mass_matched(parse_design("rho-inc"))
     assert mm.densities_g_cm3[0] == pytest.approx(4.607, abs=5e-4) and mm.moduli_gpa[0] == 70.0
 

@@ -131,7 +131,7 @@ def test_total_mass_independent_of_segment_count(name, kg):
 
 def test_capsule_geometry_grows_with_n():
     """The authors' per-capsule geometry, kept under segment_mass='capsule':
-    the masses the issue measured (SS, kg)."""
+    the leg's mass grows with N (SS, kg)."""
     for n, kg in ((1, 21.68), (3, 23.77), (6, 26.91), (12, 33.20), (24, 45.76)):
         assert build_model(LegDesign.mono("SS", n), segment_mass="capsule").total_mass_kg == pytest.approx(kg, abs=0.01)
 

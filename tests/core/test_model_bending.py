@@ -1,5 +1,5 @@
 """The ``bending`` conventions: static tip deflection against Euler-Bernoulli
-(issue 21's done-when), bit-identical conventions unchanged, joint layout."""
+(the PRBM chain's ratio), the other conventions bit-identical, joint layout."""
 
 import math
 
@@ -20,7 +20,7 @@ I_M4 = math.pi * 0.025**4 / 4.0
 EI = 5.9212e4
 P_N = 50.0
 EULER_BERNOULLI_M = 7.600e-6
-# The PRBM's tip deflection over P L^3 / (3 E I) (materials module doc):
+# The PRBM's tip deflection over P L^3 / (3 E I) (conventions module doc):
 # N = 1, Howell's pivot: 3 gamma / K_Theta = 2.55 / 2.65; N >= 2, midpoint
 # pivots of E I / l each: sum_{j=1..N} (j - 1/2)^2 l^2 / (E I / l) over
 # N^3 l^3 / 3 = (4 N^2 - 1) / (4 N^2), i.e. the fractions below.

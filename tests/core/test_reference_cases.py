@@ -1,6 +1,6 @@
 """The paper's protocol on every mono-material and behaviour (60 s runs),
 and four reference cases measured with an independent simulated-time port
-of the authors' controller on our compiled model (issue 10).
+of the authors' controller on our compiled model.
 
 Slow (about a minute on two cores), and run by CI."""
 
@@ -81,7 +81,7 @@ def test_forward_hopping_ends_near_the_desired_x(results, design):
 @pytest.mark.slow
 @pytest.mark.parametrize("n, duration_s", [(3, 60.0), (12, 5.0)])
 def test_axial_legs_hop_with_auto_substeps(n, duration_s):
-    """Issue 13: the physical axial springs (k = E A / L) of a stainless
+    """The physical axial springs (k = E A / L) of a stainless
     leg diverge at 1e-4 s; auto substeps run them stably (60 s at N = 3; at
     N = 12, 31 substeps, a short run here: the 60 s one is in the book)."""
     from mat_hopper.core.materials import LegDesign

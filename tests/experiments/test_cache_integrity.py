@@ -1,4 +1,4 @@
-"""Issue 12, item 8: a content checksum in every cached result. A damaged
+"""A content checksum in every cached result. A damaged
 file (a flipped bit, a truncation, a foreign file) is recomputed, never
 loaded: of many random single-bit flips, every file that still loads gives
 back exactly the stored table and summary."""

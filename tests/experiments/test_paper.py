@@ -95,7 +95,7 @@ def test_replicates_add_seeded_runs_beside_the_unperturbed_one():
     prof = get_profile("quick")
     for t in tasks:
         r = t.labels["replicate"]
-        window = (prof.transient_s, prof.duration_s)  # issue 20: pushes inside the scored window
+        window = (prof.transient_s, prof.duration_s)  # pushes inside the scored window
         assert t.settings.perturbation == (None if r == -1 else Perturbation.replicate(r, window))
     assert len({t.key() for t in tasks}) == 80
 

@@ -21,7 +21,7 @@ TINY = Profile("tiny", 2.5, 0.5, 1e-4, 2, 0.5, stability_tolerance=1.5, stabilit
         (["--profile", "fast"], "unknown profile"),
         (["--replicates", "-3"], "replicates"),
         (["--conventions", "paper,beam"], "convention"),
-        # a push no study asks (1e9 was accepted before the fix), and its other spellings
+        # a push no study asks (1e9), and its other spellings
         (["--push-scale", "1e9"], "--push-scale must be a finite number in [0, 100]"),
         (["--push-scale", "100.5"], "--push-scale must be a finite number in [0, 100]"),
         (["--push-scale", "-1"], "--push-scale must be a finite number in [0, 100]"),
@@ -153,7 +153,7 @@ def test_library_scheduler_checks_come_before_the_results_folder(tmp_path, kwarg
 
 
 def test_help_lists_every_accepted_experiment_spelling(capsys):
-    # "--experiments 4" (the stability map) was accepted but not in --help before the fix
+    # every spelling accepted (e.g. "--experiments 4", the stability map) is in --help
     from mat_hopper.experiments.paper import EXPERIMENT_SPELLINGS, experiment_name
 
     with pytest.raises(SystemExit):

@@ -12,7 +12,7 @@ import time
 import pandas as pd
 import pytest
 
-import mat_hopper
+import mat_hopper.util.version
 from mat_hopper.core.behaviours import behaviour
 from mat_hopper.core.controller import ControllerSettings
 from mat_hopper.core.materials import LegDesign, parse_design
@@ -66,7 +66,7 @@ def test_cache_key_changes_with_every_setting(monkeypatch):
     before = base.key()
     monkeypatch.setattr(cache_keys, "source_digest", lambda: "edited-source")  # where versions() finds it
     edited = base.key()
-    monkeypatch.setattr(mat_hopper, "__version__", "0.0.0-test")
+    monkeypatch.setattr(mat_hopper.util.version, "__version__", "0.0.0-test")  # where versions() reads it
     assert len({before, edited, base.key()}) == 3
 
 
@@ -273,9 +273,9 @@ class NapTask:
 
 def test_an_interrupt_as_the_workers_die_leaves_no_invalid_state_traceback(tmp_path, monkeypatch):
     """SIGTERM sent to the process group: the grid stops (KeyboardInterrupt,
-    as mat_hopper.cli raises it) and the pool's workers die. Before the fix
-    the grid cancelled its pending futures itself (Future.cancel()); the
-    pool's manager thread then failed them as a broken pool and raised
+    as mat_hopper.cli raises it) and the pool's workers die. Were the grid
+    to cancel its pending futures itself (Future.cancel()), the pool's
+    manager thread would then fail them as a broken pool and raise
     InvalidStateError (CPython < 3.12): a traceback on stderr."""
     import threading
 

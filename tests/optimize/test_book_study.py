@@ -1,14 +1,12 @@
-"""The book's design study and its Pareto table (mat_hopper.optimize.report)."""
+"""A study's Pareto table for the page (mat_hopper.optimize.report), a study run in
+rounds, and a round left running by a dead run recovered."""
 
 from __future__ import annotations
-
-import os
 
 import optuna
 import pandas as pd
 
 from mat_hopper import optimize
-from mat_hopper.experiments.profiles import PROFILES
 
 
 def test_front_table_and_designs():
@@ -52,18 +50,6 @@ def test_front_table_and_designs():
     legs = optimize.front_designs(front)
     assert list(legs) == ["#7"] and legs["#7"].densities_g_cm3 == (13.4, 2.0)
     assert list(optimize.front_designs(front, skip_paper=False, k=1)) == ["#0"]
-
-
-def test_book_study_runs_and_resumes(tmp_path):
-    quick = PROFILES["quick"]
-    kw = dict(studies_dir=tmp_path / "studies", out_dir=tmp_path / "study", trials=4, cache_dir=tmp_path / "cache")
-    rep = optimize.book_study(quick, **kw)
-    assert rep["name"].startswith("book-ramp-quick-")
-    t = rep["trials"]
-    assert len(t) == 4 and list(t["paper_design"]) == ["SS", "rho-inc", "PVC-Ti-SS", "SS-Ti-PVC"]
-    assert (tmp_path / "studies").is_dir() and os.path.isfile(rep["paths"]["pareto_plot"])
-    again = optimize.book_study(quick, **kw)  # resumed: nothing new to run
-    pd.testing.assert_frame_equal(rep["trials"].drop(columns="worker"), again["trials"].drop(columns="worker"))
 
 
 def test_study_in_rounds_is_the_same_with_one_or_two_processes(tmp_path):

@@ -1,4 +1,4 @@
-"""Objectives as a setting (issue 22: "an objective may be any metric"):
+"""Objectives as a setting (an objective may be any metric of the table):
 the named table, its parsing, the default's unchanged key, a
 three-objective study and its report, validation and the warp refusal."""
 

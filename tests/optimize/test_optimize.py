@@ -236,7 +236,7 @@ def test_hypervolume():
         (["--ashby-classes", "metal,plastics"], "unknown Ashby class 'plastics'"),
         (["--ashby-classes", "metal", "--density-bounds", "1,9"], "give either bounds or --ashby-classes"),
         (["--segment-mass", "per-capsule"], "unknown segment mass convention"),
-        (["--storage", "postgresql+psycopg2://nobody@127.0.0.1:1/none"], "cannot reach storage"),
+        (["--storage", "postgresql+psycopg://nobody@127.0.0.1:1/none"], "cannot reach storage"),
     ],
 )
 def test_bad_input_is_one_line_exit_2(argv, text, tmp_path, monkeypatch, capsys):
@@ -608,7 +608,7 @@ def test_heartbeat_fails_and_retries_the_trial_of_a_dead_machine(pg_url):
 
 
 def test_stress_constraints_peak_stress_and_fatigue_life():
-    # issue 21: peak stress <= yield / 2 and a fatigue life, as constraints asked for by name
+    # peak stress <= yield / 2 and a fatigue life, as constraints asked for by name
     prof = Profile("tiny", 3.0, 1.0, 1e-4, 2, 1.0)
     plain = Objective(behaviours=("forward",), profile=prof, convention="bending", replicates=0)
     assert plain.constraint_names == ("hop_height", "unstable")

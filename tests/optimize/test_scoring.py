@@ -234,7 +234,7 @@ def test_warp_backend_needs_unperturbed_runs():
 
 
 def test_cli_stress_constraints(tmp_path, monkeypatch, capsys):
-    """--max-yield-fraction and --min-hops-to-failure (issue 21, item 7) set
+    """--max-yield-fraction and --min-hops-to-failure set
     the objective's stress constraints, are kept on resume, and are refused
     where they cannot act: out of range, or on the warp backend (no stress)."""
     import argparse

@@ -1,4 +1,4 @@
-"""Issue 12, the optimizer: bad storage and paths in one line before any
+"""The optimizer's failures: bad storage and paths in one line before any
 work, one-line database errors naming the cause, concurrent first starts,
 read-only reports that neither wait for nor disturb a writer, SIGTERM and
 SIGHUP like Ctrl-C, no database connection across a fork, degenerate

@@ -148,7 +148,7 @@ def test_bad_input_names_the_column():
     ],
 )
 def test_save_figure_checks_every_format_before_writing(tmp_path, kwargs, text):
-    # a bad second format used to leave the first written: now nothing is
+    # a bad second format leaves nothing written, not even the first
     with pytest.raises(ValueError, match=text):
         style.save_figure(maps.ashby_figure(), tmp_path / "sub" / "x", **kwargs)
     assert list(tmp_path.iterdir()) == []

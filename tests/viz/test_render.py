@@ -22,7 +22,7 @@ from mat_hopper.viz.render import (
     render_still,
     save_video,
     standing_qpos,
-    video_frames,
+    video_times,
     write_video,
 )
 
@@ -50,7 +50,7 @@ def test_same_rollout_same_pixels(rollout):
 
 
 def test_video_has_the_expected_frames(rollout, tmp_path):
-    frames = video_frames(rollout, start_s=0.0, seconds=1.0, fps=10, size=SIZE)
+    frames = render_frames(rollout, video_times(rollout, start_s=0.0, seconds=1.0, fps=10), size=SIZE)
     assert len(frames) == 11
     mp4 = write_video(frames, str(tmp_path / "hop.mp4"), fps=10)
     gif = write_video(frames, str(tmp_path / "hop.gif"), fps=10)
