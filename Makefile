@@ -44,7 +44,7 @@ book-quick:
 demo: setup
 	@mkdir -p results/demo
 	@for d in MD PVC Al Ti SS; do \
-	  .venv/bin/mat-hopper simulate --design $$d --behaviour forward --csv results/demo/$$d-forward.csv || exit 1; \
+	  .venv/bin/mat-hopper simulate --design $$d --behaviour forward --csv results/demo/$$d-forward.csv --force || exit 1; \
 	done
 
 ## Speed benchmarks (ratios measured side by side in one run).

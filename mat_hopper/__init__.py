@@ -23,7 +23,9 @@ _LAZY = {
     "Material": "core.materials",
     "material": "core.materials",
     "parse_design": "core.materials",
+    "DivergenceWarning": "core.rollout",
     "Rollout": "core.rollout",
+    "StableStepWarning": "core.timestep",
     "SimSettings": "core.sim",
     "simulate": "core.sim",
 }
@@ -57,6 +59,8 @@ __all__ = [
     "inertia_matched",
     "mass_properties",
     "Rollout",
+    "DivergenceWarning",
+    "StableStepWarning",
     "SimSettings",
     "simulate",
     "__version__",

@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from .experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
-from .experiments.profiles import PROFILE_ENV, Profile, get_profile
+from .experiments.profiles import PROFILE_ENV, Profile, resolve_profile
 
 
 def _import_tqdm_auto_quietly() -> None:
@@ -148,7 +148,7 @@ def setup(profile: str | Profile | None = None, *, chdir: bool = True, figure_fo
     Args:
         profile: a profile name (``paper`` or ``quick``) or a Profile; None
             (the default) for $MAT_HOPPER_PROFILE, else ``paper``
-            (:func:`mat_hopper.experiments.profiles.get_profile`).
+            (:func:`mat_hopper.experiments.profiles.resolve_profile`).
         chdir: whether to make the repository root the current folder
             (default True).
         figure_format: ``png``, ``retina`` (the default) or ``svg``; used
@@ -167,7 +167,7 @@ def setup(profile: str | Profile | None = None, *, chdir: bool = True, figure_fo
     from .util.parsing import env_value
 
     root = repo_root()
-    prof = get_profile(profile)
+    prof = resolve_profile(profile)
     cache = Path(env_value(CACHE_ENV, "a folder") or root / DEFAULT_CACHE_DIR)  # set but empty: an error
     if not cache.is_absolute():
         cache = root / cache
@@ -297,16 +297,24 @@ def build_command(
     return cmd
 
 
-def environment_table() -> pd.DataFrame:
+def environment_table(profile: str | Profile | None = None) -> pd.DataFrame:
     """Versions that change results (mat-hopper, MuJoCo), the interpreter
     running this (relative to the repository when inside it: the book's
-    kernel is the venv's Python) and the profile variable as set, one row
-    each (columns item, value).
+    kernel is the venv's Python) and the build's profile, one row each
+    (columns item, value).
+
+    Args:
+        profile: the build's profile or its name; None (default):
+            $MAT_HOPPER_PROFILE, else ``paper``
+            (:func:`mat_hopper.experiments.profiles.resolve_profile`).
 
     Returns:
         A pandas DataFrame of four rows (mat-hopper, MuJoCo, Python,
-        $MAT_HOPPER_PROFILE), columns ``item`` and ``value`` (str); the
-        profile variable reads ``(unset: paper)`` when unset or empty.
+        ``profile ($MAT_HOPPER_PROFILE)``), columns ``item`` and ``value``
+        (str); the profile's row holds its name.
+
+    Raises:
+        ValueError: as :func:`~mat_hopper.experiments.profiles.resolve_profile`.
     """
     import sys
 
@@ -322,6 +330,6 @@ def environment_table() -> pd.DataFrame:
         ("mat-hopper", v["mat_hopper"]),
         ("MuJoCo", v["mujoco"]),
         ("Python", f"{sys.version.split()[0]} ({exe_text})"),
-        (f"${PROFILE_ENV}", os.environ.get(PROFILE_ENV) or "(unset: paper)"),
+        (f"profile (${PROFILE_ENV})", resolve_profile(profile).name),
     ]
     return pd.DataFrame(rows, columns=["item", "value"])

@@ -34,7 +34,7 @@ from sphinx.addnodes import pending_xref
 from sphinx.transforms.post_transforms import SphinxPostTransform
 from sphinx.util.docutils import SphinxDirective
 
-from .experiments.profiles import PROFILES, get_profile
+from .experiments.profiles import PROFILES, resolve_profile
 
 RUNTIME_CSV = "runtimes.csv"
 REFERENCE_DIR = ("book", "runtimes")  # committed reference records, <profile>.csv
@@ -152,7 +152,7 @@ def _record(app, env):
 
     rec = runtime_record(_exec_data(env), _titles(env))
     if len(rec):
-        profile = get_profile(None).name
+        profile = resolve_profile(None).name
         path = _record_path(app.srcdir, profile)
         path.parent.mkdir(parents=True, exist_ok=True)
         write_csv(rec.assign(built_at=_dt.datetime.now().isoformat(timespec="minutes")), path)
@@ -184,7 +184,7 @@ class RuntimeTablePostTransform(SphinxPostTransform):
 
     def _table(self):
         env = self.env
-        this = get_profile(None).name
+        this = resolve_profile(None).name
         records, dates = {}, {}
         for p in PROFILES:
             if p == this:

@@ -335,3 +335,24 @@ def compare_paired(
     ]
     out["paired"] = True
     return out
+
+
+MAX_SEEDS_ADVISED = 64  # the largest replicate count an "untestable" verdict advises
+
+
+def min_replicates(family_size: int, alpha: float = 0.05) -> int | None:
+    """The fewest paired seeds with which a family of `family_size`
+    comparisons can reach Holm p < alpha (:func:`mat_hopper.analysis.paired.reachable`),
+    or None beyond :data:`MAX_SEEDS_ADVISED`.
+
+    Args:
+        family_size: comparisons in the Holm family (>= 1).
+        alpha: the family's significance level.
+
+    Returns:
+        The number of seeds (int), or None when more than MAX_SEEDS_ADVISED are needed.
+
+    >>> min_replicates(1), min_replicates(5)
+    (6, 8)
+    """
+    return next((n for n in range(2, MAX_SEEDS_ADVISED + 1) if reachable(n, family_size, alpha)), None)

@@ -6,7 +6,7 @@ Two bases for a comparison of designs:
 ``hops`` (the paper's)
     every scored hop cycle of one run is a sample; the design's cycles are
     compared with the baseline's by a two-sided Mann-Whitney U test
-    (:func:`mat_hopper.physics.metrics.compare`), Holm-corrected over one family:
+    (:func:`mat_hopper.physics.metrics.compare_independent`), Holm-corrected over one family:
     one metric within one experiment, profile and stiffness convention
     (every design against the baseline on every behaviour: 16 comparisons
     for experiment 1), the family of one figure panel and of one claim.
@@ -106,7 +106,7 @@ BASES = ("hops", "replicates")
 
 
 def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alpha: float):
-    """metrics.compare per family and metric (one Holm correction each),
+    """metrics.compare_independent per family and metric (one Holm correction each),
     family columns in front: a list of (family sub-table, result); families
     without the baseline are skipped."""
     frames = []
@@ -116,7 +116,7 @@ def _compare_families(table: pd.DataFrame, baseline: str, by: str, metrics, alph
         for m in metrics:
             v = pd.to_numeric(g[m], errors="coerce").astype(float)
             g = g.assign(**{m: v.where(~(v.abs() < ROUNDOFF), 0.0)})
-            res = _metrics.compare(g, baseline, by=by, metrics=(m,), alpha=alpha)
+            res = _metrics.compare_independent(g, baseline, by=by, metrics=(m,), alpha=alpha)
             for k, v in reversed(fam.items()):
                 res.insert(0, k, v)
             frames.append((g, res))
@@ -184,7 +184,7 @@ def compare_hops(
     replicate: int | None = UNPERTURBED,
 ) -> pd.DataFrame:
     """The paper's comparison on hop cycles: every design against `baseline`
-    per `by` group and metric (:func:`mat_hopper.physics.metrics.compare`), one Holm
+    per `by` group and metric (:func:`mat_hopper.physics.metrics.compare_independent`), one Holm
     family per metric, experiment, profile and convention. By default only
     the unperturbed run (replicate -1) is used; ``replicate=None`` pools all.
 
@@ -202,13 +202,13 @@ def compare_hops(
         replicate: the replicate id compared (:func:`select_replicates`); None pools all.
 
     Returns:
-        DataFrame: family columns, then the columns of :func:`mat_hopper.physics.metrics.compare` (`by`,
+        DataFrame: family columns, then the columns of :func:`mat_hopper.physics.metrics.compare_independent` (`by`,
         design, baseline, metric, n, n_baseline, mean, mean_baseline, pct_change, u, p, effect_size,
         p_holm, significant), then basis.
 
     Raises:
         ValueError: a metric that is not a column of `hops`; the baseline in no family; or from
-            :func:`mat_hopper.physics.metrics.compare` (no `by` column, alpha not in (0, 1)).
+            :func:`mat_hopper.physics.metrics.compare_independent` (no `by` column, alpha not in (0, 1)).
     """
     metrics = _check_metrics(hops, metrics)
     hops = select_replicates(hops, replicate)
@@ -330,7 +330,7 @@ def compare_replicates(
     Returns:
         DataFrame, one row per family, `by` group, design and metric. Paired: the columns of
         :func:`mat_hopper.analysis.paired.compare_paired` and basis. Unpaired: family columns and the
-        columns of :func:`mat_hopper.physics.metrics.compare`, then ci_low, ci_high, basis, paired (False).
+        columns of :func:`mat_hopper.physics.metrics.compare_independent`, then ci_low, ci_high, basis, paired (False).
 
     Raises:
         ValueError: a metric that is not a column of `hops`; no ``replicate`` column; no replicate run

@@ -37,7 +37,7 @@ from ._designs import (
     topology_key,
 )
 from ._evaluate import evaluate
-from ._settings import BACKENDS, EXTRA_COLUMNS, RESULT_COLUMNS, BatchSettings
+from ._settings import BACKENDS, EXTRA_COLUMNS, RESULT_COLUMNS, BatchSettings, design_settings
 from ._stability import SCAN_COLUMNS, TRY_COLUMNS, spec_scan_batch
 
 
@@ -65,6 +65,7 @@ __all__ = [
     "as_design",
     "design_fields",
     "design_columns",
+    "design_settings",
     "designs_from_csv",
     "designs_from_frame",
     "designs_to_frame",

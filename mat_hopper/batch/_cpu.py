@@ -18,14 +18,14 @@ import pandas as pd
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import as_design
 from ..util.pool import stop_pool
-from ._settings import BatchSettings, finite_mean, result_frame
+from ._settings import BatchSettings, design_settings, finite_mean, result_frame
 
 
-def _row(design, beh, settings: BatchSettings) -> dict:
+def _row(design, beh, settings) -> dict:
     from ..core.sim import C, simulate
     from ..physics.metrics import run_summary
 
-    r = simulate(design, beh, settings=settings)
+    r = simulate(design, beh, settings=settings, warn=False)  # the row says it: stable, diverged_at_s
     s = run_summary(r)
     err = np.hypot(*(r.base_pos[:, :2] - r.data[:, [C["x_des"], C["y_des"]]]).T)
     power = np.hypot(*r.hip_power.T)
@@ -58,6 +58,7 @@ def evaluate_cpu(
     *,
     workers: int | None = None,
     progress: bool = False,
+    auto_timestep: bool = False,
 ) -> pd.DataFrame:
     """The mujoco backend: one CPU rollout (:func:`mat_hopper.core.sim.simulate`) per design.
 
@@ -67,6 +68,9 @@ def evaluate_cpu(
         settings: the run's :class:`BatchSettings` (None: the paper's protocol).
         workers: processes (default: every core; 1 runs in this process).
         progress: show a progress bar.
+        auto_timestep: run each design at its own ``timestep_s="auto"``
+            (physics substeps of its control period, :func:`design_settings`);
+            False: every design at ``settings.timestep_s``.
 
     Returns:
         One row per design, in input order: :data:`RESULT_COLUMNS` (n_hops,
@@ -80,7 +84,7 @@ def evaluate_cpu(
     designs = [as_design(d) for d in designs]
     beh = get_behaviour(behaviour)
     workers = min(len(designs), workers or os.cpu_count() or 1)
-    tasks = [(d, beh, settings) for d in designs]
+    tasks = [(d, beh, design_settings(d, settings, auto_timestep)) for d in designs]
     if progress:
         from ..util.progress import progress_bar
 

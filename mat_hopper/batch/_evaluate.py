@@ -21,6 +21,7 @@ def evaluate(
     workers: int | None = None,
     max_batch: int | None = None,
     progress: bool = False,
+    auto_timestep: bool = False,
 ) -> pd.DataFrame:
     """Many designs on one behaviour under one settings, on a batch backend.
 
@@ -35,6 +36,10 @@ def evaluate(
         workers: processes for the mujoco backend (default: every core).
         max_batch: most worlds in one warp batch.
         progress: show a progress bar.
+        auto_timestep: backend ``"mujoco"`` only: each design at its own
+            ``timestep_s="auto"`` (physics substeps of its control period,
+            :func:`mat_hopper.batch.design_settings`), ``settings.timestep_s``
+            unused; False: every design at ``settings.timestep_s``.
 
     Returns:
         One row per design, in input order (see :mod:`mat_hopper.batch`):
@@ -44,7 +49,8 @@ def evaluate(
 
     Raises:
         ValueError: a string of designs, options of the other backend, counts
-            < 1, settings that are not BatchSettings, or an unknown backend.
+            < 1, settings that are not BatchSettings, an unknown backend, or
+            auto_timestep on the warp backend (one physics step for every world).
         WarpUnavailable: the warp backend without mujoco-warp installed.
     """
     if isinstance(designs, str):
@@ -64,8 +70,15 @@ def evaluate(
         raise ValueError("device and max_batch are for backend='warp'")
     if backend == "warp" and workers is not None:
         raise ValueError("workers is for backend='mujoco' (a warp batch is one process)")
+    if backend == "warp" and auto_timestep:
+        raise ValueError(
+            "auto_timestep is for backend='mujoco': a warp batch runs every world at one physics step, "
+            "the controller every step; give settings a timestep_s"
+        )
     if backend == "mujoco":
-        return evaluate_cpu(designs, behaviour, settings, workers=workers, progress=progress)
+        return evaluate_cpu(
+            designs, behaviour, settings, workers=workers, progress=progress, auto_timestep=auto_timestep
+        )
     if backend == "warp":
         from ._warp import evaluate_warp
 

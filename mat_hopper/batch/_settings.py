@@ -73,6 +73,34 @@ class BatchSettings(SimSettings):
         return cls(**{f.name: getattr(settings, f.name) for f in fields(SimSettings)})
 
 
+def design_settings(design, settings: BatchSettings, auto_timestep: bool = False) -> SimSettings:
+    """The settings one design of a batch runs under.
+
+    Args:
+        design: the leg (a LegDesign or a name).
+        settings: the batch's :class:`BatchSettings`.
+        auto_timestep: False: the batch's own settings, one physics step for
+            every design; True: the same with ``timestep_s="auto"`` for this
+            design (its own physics substeps of its control period,
+            :func:`mat_hopper.core.timestep.resolve_timestep`; the batch's
+            timestep_s is then unused).
+
+    Returns:
+        `settings` itself, or the design's :class:`~mat_hopper.core.sim.SimSettings`.
+
+    Raises:
+        ValueError: as :func:`mat_hopper.core.sim.sim_settings` raises for
+            ``"auto"`` (more than 1000 substeps).
+    """
+    if not auto_timestep:
+        return settings
+    from ..core.materials import as_design
+    from ..core.sim import sim_settings
+
+    given = {f.name: getattr(settings, f.name) for f in fields(SimSettings) if f.name not in ("timestep_s", "substeps")}
+    return sim_settings(as_design(design), timestep_s="auto", **given)
+
+
 def result_frame(rows: list[dict]) -> pd.DataFrame:
     """Rows (dicts) as the batch result table, columns in a fixed order."""
     cols = list(RESULT_COLUMNS) + list(EXTRA_COLUMNS)

@@ -165,6 +165,7 @@ def design_fields(designs: Sequence[LegDesign], behaviour, settings: BatchSettin
         convention=settings.convention,
         sensors="control",
         segment_mass=settings.segment_mass,
+        contact=settings.contact,
     )
     base = build_model(designs[0], **build)
     ref_arrays = _model_arrays(base.model)

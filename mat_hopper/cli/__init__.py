@@ -26,6 +26,7 @@ COMMAND_MODULES = (
     "mat_hopper.cli.render",
     "mat_hopper.cli.batch",
     "mat_hopper.cli.modes",
+    "mat_hopper.cli.compare",
 )
 # Each command's line in `mat-hopper --help` (tests/cli check it is the
 # module's own): the top-level help lists the commands without importing
@@ -38,6 +39,7 @@ COMMAND_HELP = {
     "render": "render gait tiles, a video or a still of a design, off-screen",
     "batch": "evaluate many designs on one behaviour (CPU rollouts or a MuJoCo Warp batch)",
     "modes": "a leg's axial natural frequencies (lumped chain vs continuum rod) and its stable time step",
+    "compare": "compare a design with baselines and its own controls, paired on shared seeds at one time step",
 }
 
 
@@ -110,19 +112,45 @@ def _storage_errors() -> tuple:
     return tuple(out)
 
 
+def subcommand_parser(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
+    """The parser of subcommand `command` in `parser` (:func:`build_parser`'s)."""
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return sub.choices[command]
+
+
+def _parse(parser: argparse.ArgumentParser, argv) -> argparse.Namespace:
+    """The command line read, an unknown option refused by its command's
+    parser ("mat-hopper batch: error: unrecognized arguments: --no-progres;
+    did you mean --no-progress?"), not by the top one, which would name no
+    command."""
+    from ..util.parsing import close_names
+
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        sub = subcommand_parser(parser, args.command)
+        flags = [s for a in sub._actions for s in a.option_strings]
+        near = [m for a in extra if a.startswith("--") for m in close_names(a.split("=", 1)[0], flags, n=1)]
+        hint = f"; did you mean {' or '.join(dict.fromkeys(near))}?" if near else ""
+        sub.error(f"unrecognized arguments: {' '.join(extra)}{hint}")
+    return args
+
+
 def main(argv=None) -> int:
     argv = negative_list_argv(sys.argv[1:] if argv is None else list(argv))  # every --option may take a negative
     command = command_of(argv)
     parser = build_parser(command if command in COMMAND_HELP else "")
-    args = parser.parse_args(argv)
+    args = _parse(parser, argv)
     from ..core.sim import route_mujoco_warnings
 
     route_mujoco_warnings()
     from ..optimize import stop_signals
     from ..util.atomic import remove_stale_mp_dirs
-    from ._checks import table_on_stdout
+    from ._checks import COMMAND_OPTIONS, table_on_stdout
 
     remove_stale_mp_dirs()  # what killed runs left in the temp folder
+    COMMAND_OPTIONS[0] = frozenset(
+        s for a in subcommand_parser(parser, args.command)._actions for s in a.option_strings
+    )
     try:
         with stop_signals(), table_on_stdout(args):  # SIGTERM, SIGHUP: like Ctrl-C (nothing half-written)
             code = int(args.func(args) or 0)
@@ -145,3 +173,5 @@ def main(argv=None) -> int:
     except (ValueError, OSError, *_storage_errors()) as e:
         print(f"mat-hopper {args.command}: error: {describe_error(e)}", file=sys.stderr)
         return 2
+    finally:
+        COMMAND_OPTIONS[0] = None

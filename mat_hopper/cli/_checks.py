@@ -15,7 +15,7 @@ import tempfile
 from contextlib import contextmanager
 
 from ..util.atomic import TEMP_PREFIX
-from ..util.parsing import RIGID, is_decimal, parse_name, parse_number
+from ..util.parsing import RIGID, did_you_mean, is_decimal, parse_name, parse_number
 
 # A value argparse would take for an option: "-1", "-1.5e3", "-1,2,3".
 NEGATIVE_LIST = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
@@ -36,9 +36,10 @@ def _name_type(flag: str, choices):
     def read(text):
         try:
             return parse_name(text, choices, flag)
-        except ValueError:  # argparse's own words for a choice
+        except ValueError:  # argparse's own words for a choice, and the nearest choice
+            hint = did_you_mean(text, choices)
             raise argparse.ArgumentTypeError(
-                f"invalid choice: {text!r} (choose from {', '.join(choices)}; any case)"
+                f"invalid choice: {text!r} (choose from {', '.join(choices)}; any case){f'; {hint}' if hint else ''}"
             ) from None
 
     read.__name__ = "name"
@@ -110,17 +111,36 @@ PARAM_FLAGS = {
 }
 
 
+# Settings of the library that no option sets, as the library's advice
+# names them, and the advice in the command line's terms.
+NO_OPTION_ADVICE = {
+    # the run's recorded samples (mat_hopper.core.sim.MAX_SAMPLES) at the fixed 1 kHz the command line records
+    re.compile(r"lower record_rate_hz or (?P<length>.+)$"): r"give a shorter \g<length> "
+    "(the command line records 1000 samples per simulated second)",
+}
+# The options of the command being run (set by mat_hopper.cli.main), or
+# None: then every word of PARAM_FLAGS is translated.
+COMMAND_OPTIONS: list = [None]
+
+
 @contextmanager
 def named_by_flags(**flags):
     """A ValueError raised inside names the options, not the Python
     parameters: each word of PARAM_FLAGS (or of `flags`, which override it)
-    in its message becomes the option."""
+    in its message becomes the option, where the command has that option
+    (:data:`COMMAND_OPTIONS`; a word no option of it sets stays as is),
+    and advice about a setting that no option sets (record_rate_hz) is
+    given in the options' terms (:data:`NO_OPTION_ADVICE`)."""
+    have = COMMAND_OPTIONS[0]
     mapping = {**PARAM_FLAGS, **flags}
+    mapping = {k: v for k, v in mapping.items() if have is None or k in flags or v in have}
     pattern = re.compile(r"(?<![-\w])(" + "|".join(sorted(map(re.escape, mapping), key=len, reverse=True)) + r")\b")
     try:
         yield
     except ValueError as e:
-        text = pattern.sub(lambda m: mapping[m.group(1)], str(e))
+        text = pattern.sub(lambda m: mapping[m.group(1)], str(e)) if mapping else str(e)
+        for advice, words in NO_OPTION_ADVICE.items():
+            text = advice.sub(words, text)
         raise ValueError(text) from None
 
 
@@ -274,10 +294,11 @@ def table_on_stdout(args):
         _TABLE_STREAM[0] = None
 
 
-def check_output_file(path, flag: str, *, stdout: bool = False) -> str | None:
-    """A file the command will write: not an existing folder, and its folder
-    exists and is writable or can be made (nothing is created here); with
-    `stdout`, "-" means standard output."""
+def check_output_file(path, flag: str, *, stdout: bool = False, force: bool = False) -> str | None:
+    """A file the command will write: not an existing folder, not an
+    existing file unless `force` (the command's ``--force``), and its
+    folder exists and is writable or can be made (nothing is created
+    here); with `stdout`, "-" means standard output."""
     if path is None:
         return None
     path = os.fspath(path)
@@ -291,9 +312,36 @@ def check_output_file(path, flag: str, *, stdout: bool = False) -> str | None:
         raise ValueError(f"{flag} {path}: not a regular file")
     if os.path.exists(path) and not os.access(path, os.W_OK):
         raise ValueError(f"{flag} {path}: file is not writable")
-    # an existing file is replaced (atomically, by a new file in its folder)
+    if os.path.exists(path) and not force:
+        raise ValueError(f"{flag} {path}: file exists; give --force to replace it, or another name")
+    # with --force an existing file is replaced (atomically, by a new file in its folder)
     _check_folder_can_hold(os.path.dirname(os.path.abspath(path)), flag, path)
     return path
+
+
+def check_no_outputs_in(folder, names, flag: str, *, force: bool = False) -> None:
+    """The files a command will write into `folder` (`names`: file names
+    or glob patterns, relative to it) do not exist yet, unless `force`
+    (the command's ``--force``): ValueError naming `flag`, how many there
+    are and the first. Nothing is made or removed here."""
+    import glob
+
+    if force or folder is None or not os.path.isdir(folder):
+        return
+    there = sorted(
+        {
+            p
+            for name in names
+            for p in glob.glob(os.path.join(glob.escape(os.fspath(folder)), name))
+            if os.path.isfile(p) and not os.path.basename(p).startswith(TEMP_PREFIX)
+        }
+    )
+    if there:
+        more = f" and {len(there) - 1} more" if len(there) > 1 else ""
+        raise ValueError(
+            f"{flag} {os.fspath(folder)}: {there[0]}{more} exist{'s' if not more else ''} already; give --force "
+            f"to replace {'it' if not more else 'them'}, or another {flag}"
+        )
 
 
 def path_key(path) -> str:

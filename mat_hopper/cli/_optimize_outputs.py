@@ -28,9 +28,32 @@ from ..optimize import (
     study_exists,
     write_report,
 )
-from ..optimize.report import BASELINES, feasible_complete
+from ..optimize.report import feasible_complete, missing_baselines
 from ..viz.render import choose_backend, render_files
-from ._checks import check_output_dir
+from ._checks import check_no_outputs_in, check_output_dir
+
+# The files of --report in its folder (mat_hopper.optimize.report.write_report).
+REPORT_FILES = (
+    "trials.csv",
+    "pareto.csv",
+    "pareto.png",
+    "hypervolume.csv",
+    "hypervolume.png",
+    "importances.csv",
+    "importances.png",
+)
+
+
+def export_files_of(name: str, trial: int) -> tuple[str, ...]:
+    """The files --export TRIAL writes (mat_hopper.optimize.export_trial),
+    as glob patterns in its folder: the CSV and one MJCF per behaviour."""
+    return (f"{name}-trial{trial}.csv", f"{name}-trial{trial}-*.xml")
+
+
+def render_files_of(name: str, trial: int) -> tuple[str, ...]:
+    """The files --replay TRIAL --render writes (:func:`_render`), as glob
+    patterns in its folder: gait tiles and a video per behaviour."""
+    return (f"{name}-trial{trial}-*-tiles.png", f"{name}-trial{trial}-*.mp4")
 
 
 def options_from_args(args, trials: int = 1) -> RunOptions:
@@ -75,14 +98,7 @@ def _needs_baselines(name: str, storage) -> bool:
     """Whether the report must run (and store) a paper baseline the study
     lacks: its space cannot express SS or rho-inc (the report then writes
     to the study, so it needs a writable storage)."""
-    study = load_existing(name, storage)
-    have = {
-        t.user_attrs.get("paper_design")
-        for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
-        if t.user_attrs.get("paper_design")
-    }
-    attrs = study.user_attrs
-    return any(b not in have and f"baseline:{b}" not in attrs for b in BASELINES)
+    return bool(missing_baselines(load_existing(name, storage)))
 
 
 def cmd_report(name: str, args, out: str) -> int:
@@ -116,9 +132,12 @@ def _report(name: str, storage, args, out: str) -> int:
     states = frame["state"].value_counts().to_dict() if len(frame) else {}
     n_ok = len(feasible_complete(frame))
     print(f"study {name}: {len(frame)} trials {states}, {n_ok} feasible, {len(front)} on the Pareto front")
+    print(rep["feasibility"].text())  # why the others are not
     objectives = StudyConfig.from_key(name, key).objective.objectives if key else OBJECTIVES
     for b, values in rep["baselines"].items():
         print(f"  {b}: " + ", ".join(_value_text(o, v) for o, v in zip(objectives, values)))
+    for b, why in rep.get("baselines_left_out", {}).items():  # no percent change against a run that fell
+        print(f"  {b} left out as a baseline: {why}")
     if len(front):  # the designs, not only their trial numbers: densities, moduli, leg mass
         table = front_table(front, objectives).drop(columns=["hop height (m)"])
         table.insert(1, "design", front["design"].to_numpy())
@@ -199,6 +218,7 @@ def cmd_export(args) -> int:
     if not name:
         raise ValueError("--export TRIAL needs --study NAME (or --report NAME)")
     out = check_output_dir(args.out or args.studies_dir, "--out")
+    check_no_outputs_in(out, export_files_of(name, args.export), "--out", force=args.force)
     storage = open_existing(name, args, read_only=True)
     try:
         res = export_trial(name, storage, args.export, out)

@@ -16,10 +16,21 @@ import math
 import sys
 
 from ..core import reference as ref
-from ..core.behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR
-from ..core.materials import CONVENTIONS
-from ..experiments.profiles import PROFILE_ENV, PROFILES
+from ..core.behaviours import DEFAULT_BEHAVIOUR
+from ..experiments.profiles import PROFILES
 from ._checks import SENSOR_TIMING_HELP, sensor_timing_type
+from ._options import (
+    BEHAVIOUR_HELP,
+    DURATION_HELP,
+    TRANSIENT_HELP,
+    add_behaviour,
+    add_convention,
+    add_force,
+    add_no_progress,
+    add_profile,
+    check_force_used,
+    profile_of,
+)
 
 CSV_HELP = (
     "CSV of designs: columns density_1..density_N (g/cm^3) and modulus_1..modulus_N "
@@ -33,7 +44,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "batch",
         help="evaluate many designs on one behaviour (CPU rollouts or a MuJoCo Warp batch)",
         description="Evaluate many leg designs on one behaviour; one row per design: design, n_hops, "
-        "hop_height_m, tracking_error_m, power_w, stable.",
+        "hop_height_m, tracking_error_m, power_w, stable. Designs whose time step lies above their analytic "
+        "stable step are warned of before any run (try --timestep auto). Exit status: 0 when every run ended "
+        "without numerical divergence; 1 when any diverged (the table is still printed and written); 2 for bad "
+        "input. --stability exits 0: its tries diverge by design, and a design stable at no step is a result.",
     )
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--designs", help="comma-separated designs, e.g. SS,rho-inc,PVC-Ti-SS")
@@ -46,28 +60,17 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "docs/reference-hopper.md; the paper's N is 20)",
     )
     # None: the default below, and a way to tell that --stability was given run settings it has no use for
-    p.add_argument(
-        "--behaviour", "--behavior", dest="behaviour", help=f"one of {', '.join(BEHAVIOUR_NAMES)} ({DEFAULT_BEHAVIOUR})"
-    )
-    p.add_argument("--duration", type=float, help=f"simulated seconds (the profile's, {ref.DURATION_S:g})")
-    p.add_argument(
-        "--transient",
-        type=float,
-        help=f"seconds before the first scored hop cycle (the profile's, {ref.TRANSIENT_S:g})",
-    )
+    add_behaviour(p, None, BEHAVIOUR_HELP)
+    p.add_argument("--duration", type=float, help=DURATION_HELP)
+    p.add_argument("--transient", type=float, help=TRANSIENT_HELP)
     p.add_argument(
         "--timestep",
-        type=float,
-        help=f"physics time step, s (the profile's, {ref.TIMESTEP_S:g}); a number: the batch runs the controller "
-        "every physics step (no --timestep auto substeps)",
+        help=f"physics time step, s (the profile's, {ref.TIMESTEP_S:g}): the controller runs every physics step; "
+        "or 'auto': each design its own physics substeps of the 1e-4 s control period, chosen from its spring "
+        "bound as simulate --timestep auto does (--backend mujoco)",
     )
-    p.add_argument(
-        "--profile",
-        default=None,
-        help=f"run lengths when --duration/--transient/--timestep are not given: {', '.join(PROFILES)} "
-        f"(default ${PROFILE_ENV}, else paper)",
-    )
-    p.add_argument("--convention", default="paper", help=f"stiffness convention: {', '.join(CONVENTIONS)}")
+    add_profile(p)
+    add_convention(p)
     p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
     p.add_argument(
         "--backend",
@@ -96,7 +99,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help=f"static hopping per try of --stability, s ({ref.STABILITY_TEST_DURATION_S:g})",
     )
     p.add_argument("--csv", help="write the table (one row per design) here (- for standard output)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_force(p)
+    add_no_progress(p, "--quiet")
     p.set_defaults(func=run_batch)
     return p
 
@@ -104,14 +108,36 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 register_cli = add_parser  # the name mat_hopper.cli looks for
 
 
+def _timestep(text):
+    """--timestep as simulate reads it: None, seconds or 'auto' (ValueError naming the option)."""
+    from .simulate import _timestep as parse
+
+    return parse(text)
+
+
+def _auto(args) -> bool:
+    """Whether --timestep is 'auto' (each design its own physics substeps)."""
+    from ..core.timestep import AUTO
+
+    return _timestep(args.timestep) == AUTO
+
+
 # Settings the CSV carries beside each row (every table says what made it).
-SETTING_COLUMNS = ("behaviour", "convention", "sensor_timing", "duration_s", "transient_s", "timestep_s", "backend")
+SETTING_COLUMNS = (
+    "behaviour",
+    "convention",
+    "sensor_timing",
+    "duration_s",
+    "transient_s",
+    "timestep_s",
+    "substeps",
+    "backend",
+)
 
 
 def run_batch(args) -> int:
-    from ..batch import RESULT_COLUMNS, designs_from_csv, evaluate, parse_design_list
+    from ..batch import RESULT_COLUMNS, design_settings, designs_from_csv, evaluate, parse_design_list
     from ..core.behaviours import behaviour
-    from ..experiments.profiles import get_profile
     from ._checks import (
         check_distinct_paths,
         check_input_file,
@@ -121,10 +147,11 @@ def run_batch(args) -> int:
         warp_device,
     )
 
-    check_output_file(args.csv, "--csv", stdout=True)  # before any work
+    check_force_used(args, {"--csv": args.csv})
     check_distinct_paths({"--csv": args.csv}, {"--designs-csv": args.designs_csv})  # never over the input table
+    check_output_file(args.csv, "--csv", stdout=True, force=args.force)  # before any work
     check_input_file(args.designs_csv, "--designs-csv")
-    profile = get_profile(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
+    profile = profile_of(args.profile)  # ValueError for a bad --profile or $MAT_HOPPER_PROFILE
     timing = sensor_timing_arg(args.sensor_timing)
     _check_applicable(args)
     if args.map is not None:
@@ -134,12 +161,18 @@ def run_batch(args) -> int:
     else:
         designs = parse_design_list(args.designs)
     beh = behaviour(DEFAULT_BEHAVIOUR if args.behaviour is None else args.behaviour)
+    auto = _auto(args)
     with named_by_flags():
         settings = _batch_settings(args, profile, timing)
+        per_design = [design_settings(d, settings, auto) for d in designs]  # each its own substeps under auto
     device = warp_device(args.device) if args.backend == "warp" else None  # name, gpu extra, CUDA seen
-    _check_size(args, designs, settings)
+    _check_size(args, designs, settings, per_design)
+    if not args.stability:  # the scan's ladder goes above the bounds on purpose
+        _warn_stable_step(designs, per_design)
     run = dict(backend=args.backend, device=device, workers=args.workers, max_batch=args.max_batch)
-    progress = not args.quiet  # a bar on a terminal, a line per stage in logs and pipes (mat_hopper.util.progress)
+    progress = (
+        not args.no_progress
+    )  # a bar on a terminal, a line per stage in logs and pipes (mat_hopper.util.progress)
     if progress and args.backend == "warp":  # model building and kernel compilation come before any bar
         print(
             f"warp: building {_count(len(designs), 'world')} on {device} and compiling its kernels "
@@ -149,45 +182,80 @@ def run_batch(args) -> int:
         )
     if args.stability:
         return _run_stability(args, designs, settings, run, progress)
-    table = evaluate(designs, beh, settings, progress=progress, **run)
+    table = evaluate(designs, beh, settings, progress=progress, auto_timestep=auto, **run)
     out = (
         table[list(RESULT_COLUMNS)]
-        .assign(
-            behaviour=beh.name,
-            **settings.columns("convention", "sensor_timing", "duration_s", "transient_s", "timestep_s"),
-        )
+        .assign(behaviour=beh.name, **settings.columns("convention", "sensor_timing", "duration_s", "transient_s"))
+        .assign(timestep_s=[s.timestep_s for s in per_design], substeps=[s.substeps for s in per_design])
         .assign(backend=args.backend)
     )
     out = _with_properties(out, designs, settings.segment_mass)
     where = f" on {device}" if device else ""
     print(
-        f"{_count(len(out), 'design')} on {beh.name}: {settings.duration_s:g} s at dt={settings.timestep_s:g} s, "
+        f"{_count(len(out), 'design')} on {beh.name}: {settings.duration_s:g} s at {_step_text(per_design)}, "
         f"transient {settings.transient_s:g} s, convention {settings.convention}, sensor timing "
         f"{settings.sensor_timing}, backend {args.backend}{where}"
     )
-    n_bad = int((~out["stable"]).sum())
     shown = out[list(RESULT_COLUMNS)]
-    note = f"{n_bad} of {_count(len(out), 'design')} diverged" if n_bad else ""
-    if n_bad and settings.convention != "paper":
-        note += STIFF_HINT
-    return _report(out, args.csv, note, shown=shown)
+    note = _diverged_note(table, auto)
+    _report(out, args.csv, note, shown=shown)
+    return 1 if note else 0  # any run that diverged: exit 1 (the rule of every command)
 
 
-# A batch runs every design at one physics step, without substeps: stiff
-# springs need a smaller one (simulate and optimize choose it per design).
-STIFF_HINT = (
-    " (axial and bending springs are stiff: give a smaller --timestep, e.g. the step "
-    "`mat-hopper modes --design D --convention C` prints, or run the design with "
-    "`mat-hopper simulate --timestep auto`)"
-)
+def _step_text(per_design) -> str:
+    """The batch's physics step: one, or under --timestep auto the range of the designs' own."""
+    steps = sorted({(s.timestep_s, s.substeps) for s in per_design})
+    if len(steps) == 1 and steps[0][1] == 1:
+        return f"dt={steps[0][0]:g} s"
+    (lo, _), (hi, _) = steps[0], steps[-1]
+    ks = sorted({k for _, k in steps})
+    dt = f"{lo:.3g} s" if lo == hi else f"{lo:.3g} to {hi:.3g} s"
+    k = f"{ks[0]}" if len(ks) == 1 else f"{ks[0]} to {ks[-1]}"
+    return f"--timestep auto (dt={dt}, {k} physics substeps per control period)"
+
+
+def _warn_stable_step(designs, per_design) -> None:
+    """Before any run: one line on stderr for the designs whose step lies
+    above their analytic stable step (:func:`mat_hopper.core.timestep.check_stable_step`)."""
+    from ..core.timestep import CLI_AUTO_HINT, check_stable_step
+
+    notes = [(d.name, check_stable_step(d, s, auto_hint=CLI_AUTO_HINT)) for d, s in zip(designs, per_design)]
+    over = [(name, note) for name, note in notes if note]
+    if len(over) == 1:
+        line = f"{over[0][0]}: {over[0][1]}"
+    elif over:
+        names = ", ".join(name for name, _ in over[:5]) + (f" and {len(over) - 5} more" if len(over) > 5 else "")
+        line = (
+            f"{len(over)} of {_count(len(designs), 'design')} run above their analytic stable step ({names}): "
+            f"they may diverge; try {CLI_AUTO_HINT} (each design its own physics substeps)"
+        )
+    else:
+        return
+    print(f"mat-hopper batch: warning: {line}", file=sys.stderr, flush=True)
+
+
+def _diverged_note(table, auto: bool) -> str:
+    """The line on the designs that diverged (when, and what to try), or ""."""
+    bad = table[~table["stable"]]
+    if not len(bad):
+        return ""
+    at = ", ".join(f"{r.design} at t = {r.diverged_at_s:.4f} s" for r in bad.head(5).itertuples())
+    more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
+    fix = (
+        "already at --timestep auto: `mat-hopper simulate --design D --timestep auto` says why"
+        if auto
+        else "try --timestep auto (each design its own physics substeps); `mat-hopper simulate --design D` says why"
+    )
+    return f"{len(bad)} of {_count(len(table), 'design')} diverged ({at}{more}); {fix}"
 
 
 def _batch_settings(args, profile, timing):
     from ..batch import BatchSettings
 
+    step = None if _auto(args) else _timestep(args.timestep)  # auto: each design its own (design_settings)
     return BatchSettings(
         duration_s=profile.duration_s if args.duration is None else args.duration,
-        timestep_s=profile.timestep_s if args.timestep is None else args.timestep,
+        timestep_s=profile.timestep_s if step is None else step,
         transient_s=profile.transient_s if args.transient is None else args.transient,
         convention=args.convention,
         sensor_timing=timing,
@@ -230,6 +298,11 @@ def _check_applicable(args) -> None:
                 raise ValueError(f"{flag} is for --backend warp")
     elif args.workers is not None:
         raise ValueError("--workers is for --backend mujoco (a warp batch is one process)")
+    elif _auto(args):
+        raise ValueError(
+            "--timestep auto is for --backend mujoco (a warp batch runs every world at one physics step, the "
+            "controller every step); give --timestep a number"
+        )
     from ..util.limits import MAX_WORLDS, check_count, check_workers
 
     check_workers(args.workers)
@@ -252,7 +325,7 @@ def _check_stability_duration(duration) -> None:
         )
 
 
-def _check_size(args, designs, settings) -> None:
+def _check_size(args, designs, settings, per_design) -> None:
     """designs x physics steps, before any work (mat_hopper.util.limits)."""
     from ..physics.stability import spec_ladder
     from ..util.limits import check_total_steps
@@ -262,7 +335,7 @@ def _check_size(args, designs, settings) -> None:
         duration = ref.STABILITY_TEST_DURATION_S if args.stability_duration is None else args.stability_duration
         per_design, what = sum(duration / dt for dt in spec_ladder()), "--stability-duration"
     else:
-        per_design, what = settings.duration_s / settings.timestep_s, "--duration / --timestep"
+        per_design, what = sum(s.n_steps for s in per_design) / len(designs), "--duration / --timestep"
     check_total_steps(
         len(designs) * per_design,
         f"{source}: {_count(len(designs), 'design')} x {per_design:.3g} steps",
@@ -273,7 +346,6 @@ def _check_size(args, designs, settings) -> None:
 def _map_designs(n: int) -> list:
     """The stable-time-step map's designs (experiment 4), n x n."""
     from ..experiments.paper import StabilityMap
-    from ..experiments.profiles import PROFILES
 
     if n < 1 or n > 100:
         raise ValueError(f"--map must be in [1, 100] designs per axis, got {n}")
@@ -307,7 +379,7 @@ def _run_stability(args, designs, settings, run: dict, progress: bool) -> int:
 
 def _report(table, csv: str | None, note: str, shown=None) -> int:
     """Print the table (or its columns `shown`) and a note, write the whole
-    table to `csv` if given; exit code 0."""
+    table to `csv` if given; returns 0 (the callers set the exit code)."""
     from ._checks import write_table
 
     print((table if shown is None else shown).to_string(index=False, float_format=lambda v: f"{v:.4g}"))

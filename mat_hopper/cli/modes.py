@@ -10,7 +10,6 @@ from ..core.controller import DEFAULT_SENSOR_TIMING
 from ..core.materials import (
     AXIAL_CONVENTIONS,
     BENDING_CONVENTIONS,
-    CONVENTIONS,
     DEFAULT_SEGMENT_MASS,
     MAX_SEGMENTS,
     SEGMENT_MASSES,
@@ -18,7 +17,16 @@ from ..core.materials import (
 from ..core.stable_step import AUTO_SAFETY, auto_substeps, controller_timestep, estimate_timestep
 from ..physics.modes import axial_modes, bending_modes
 from ..util.limits import check_count
-from ._checks import check_output_file, sensor_timing_type, write_table
+from ._checks import SENSOR_TIMING_HELP, check_output_file, sensor_timing_type, write_table
+from ._options import (
+    DENSITY_HELP,
+    MODULUS_HELP,
+    SEGMENT_MASS_HELP,
+    SEGMENTS_HELP,
+    add_convention,
+    add_force,
+    check_force_used,
+)
 from .simulate import design_from_args
 
 BOUNDARY_CONDITIONS = (
@@ -39,6 +47,11 @@ BENDING_FORMULA = (
     "the capsules' rotary inertia, the beam does not"
 )
 DEFAULT_MODES = 5
+PAPER_NOTE = (
+    f"convention paper: the chain's springs are the authors' ({ref.PAPER_STIFFNESS_PER_GPA:.5g} N/m per GPa, "
+    "whatever the segment's size), not E A N / L: error_pct is their distance from the rod of this modulus; "
+    "--convention axial gives the lumping's own error"
+)
 
 
 def _tables(args, design, n_modes: int) -> dict:
@@ -66,8 +79,20 @@ def _tables(args, design, n_modes: int) -> dict:
     return tables
 
 
+def _default_step_note(design, args) -> str | None:
+    """:func:`mat_hopper.core.timestep.check_stable_step`'s line for a run of
+    this leg at the authors' default step (1e-4 s, one physics step per
+    control period), or None when it lies within the bounds."""
+    from ..core.sim import SimSettings
+    from ..core.timestep import CLI_AUTO_HINT, check_stable_step
+
+    settings = SimSettings(convention=args.convention, segment_mass=args.segment_mass, sensor_timing=args.sensor_timing)
+    return check_stable_step(design, settings, auto_hint=CLI_AUTO_HINT)
+
+
 def cmd_modes(args) -> int:
-    check_output_file(args.csv, "--csv", stdout=True)  # before any work
+    check_force_used(args, {"--csv": args.csv})
+    check_output_file(args.csv, "--csv", stdout=True, force=args.force)  # before any work
     check_count(args.modes, "--modes", 1, MAX_SEGMENTS, "modes to list")
     design = design_from_args(args)
     n_modes = DEFAULT_MODES if args.modes is None else args.modes
@@ -85,6 +110,8 @@ def cmd_modes(args) -> int:
         print(tables["axial"].to_string(index=False, float_format=fmt))
         print(BOUNDARY_CONDITIONS)
         print(FORMULA)
+        if args.convention == "paper":
+            print(PAPER_NOTE)
     if "bending" in tables:
         print(f"{head}: bending modes in one plane (Hz), chain beside the continuum cantilever")
         print(tables["bending"].to_string(index=False, float_format=fmt))
@@ -100,13 +127,16 @@ def cmd_modes(args) -> int:
         f"{spring:.3g} s (w_max {w:.4g} rad/s), controller c(L) I / (Kd gear) = {control:.3g} s "
         f"(sensor timing {args.sensor_timing})"
     )
+    note = _default_step_note(design, args)
+    if note:
+        print(f"warning: at the default step, {note}")
     if control < ref.TIMESTEP_S:
         print(
             f"warning: the controller's limit {control:.3g} s is below its {ref.TIMESTEP_S:g} s control period: "
             "substeps cannot help; this leg is beyond the authors' controller at its rate"
         )
     print(
-        f"--timestep auto: {k} physics substep(s) of {dt:.3g} s per {ref.TIMESTEP_S:g} s control period "
+        f"simulate --timestep auto: {k} physics substep(s) of {dt:.3g} s per {ref.TIMESTEP_S:g} s control period "
         f"(at most {AUTO_SAFETY:g} x the spring bound)"
     )
     if args.csv:
@@ -120,25 +150,17 @@ def register_cli(sub) -> None:
         help="a leg's axial natural frequencies (lumped chain vs continuum rod) and its stable time step",
         description="Axial natural frequencies of a one-material leg: the lumped spring chain the model uses "
         "beside the continuum rod of the same mass per length and E A, under the same end masses; and the "
-        "analytic stable time step with the limit that sets it.",
+        "analytic stable time step with the limit that sets it. The convention is simulate's, paper by default "
+        "(the authors' springs, not E A N / L: the rod shows how far they are from the bar of that modulus); "
+        "--convention axial compares the lumping alone; bending and axial+bending add the bending modes.",
     )
     p.add_argument("--design", default=None, help="one elastic material (SS, Ti, Al, PVC, ...; default SS)")
-    p.add_argument("--density", help="densities, g/cm^3 (one value per segment, all equal)")
-    p.add_argument("--modulus", help="moduli, GPa (one value per segment, all equal)")
-    p.add_argument("--segments", type=int, default=None, help="number of segments of --design (default 3)")
-    p.add_argument(
-        "--convention",
-        default="axial",
-        choices=CONVENTIONS,
-        help="stiffness convention (default axial: E A N / L; bending, axial+bending add the bending modes)",
-    )
-    p.add_argument("--segment-mass", default=DEFAULT_SEGMENT_MASS, choices=SEGMENT_MASSES, help="segment mass")
-    p.add_argument(
-        "--sensor-timing",
-        default=DEFAULT_SENSOR_TIMING,
-        type=sensor_timing_type(),
-        help="for the controller's limit (authors, fresh, latency-L, or L physics steps)",
-    )
+    p.add_argument("--density", help=DENSITY_HELP)
+    p.add_argument("--modulus", help=MODULUS_HELP)
+    p.add_argument("--segments", type=int, default=None, help=SEGMENTS_HELP)
+    add_convention(p)
+    p.add_argument("--segment-mass", default=DEFAULT_SEGMENT_MASS, choices=SEGMENT_MASSES, help=SEGMENT_MASS_HELP)
+    p.add_argument("--sensor-timing", default=DEFAULT_SENSOR_TIMING, type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
     p.add_argument(
         "--modes",
         type=int,
@@ -146,4 +168,5 @@ def register_cli(sub) -> None:
         help=f"how many modes of each kind, 1 to {MAX_SEGMENTS} (default {DEFAULT_MODES}, or as many as the leg has)",
     )
     p.add_argument("--csv", help="write the table (mode, chain_hz, rod_hz, error_pct) here (- for standard output)")
+    add_force(p)
     p.set_defaults(func=cmd_modes)

@@ -8,7 +8,6 @@ import shlex
 import sys
 
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
-from ..experiments.profiles import PROFILES, get_profile
 from ..optimize import (
     DEFAULT_BATCH,
     DEFAULT_BATCH_SIZE,
@@ -32,7 +31,9 @@ from ..optimize import (
     check_study_name,
     check_warp,
     dispose,
+    left_out_text,
     parse_objectives,
+    queued_seeds,
     run_study,
     storage_errors,
     stored_config,
@@ -41,13 +42,31 @@ from ..util.limits import MAX_WORLDS, check_count, check_workers
 from ._checks import (
     cache_folder,
     check_name_list,
+    check_no_outputs_in,
     check_output_dir,
     named_by_flags,
     nothing_left_behind,
     parse_pair,
     warp_device,
 )
-from ._optimize_outputs import cmd_export, cmd_replay, cmd_report, open_existing, options_from_args
+from ._optimize_outputs import (
+    REPORT_FILES,
+    cmd_export,
+    cmd_replay,
+    cmd_report,
+    open_existing,
+    options_from_args,
+    render_files_of,
+)
+from ._options import (
+    SEGMENT_MASS_HELP,
+    add_convention,
+    add_force,
+    add_no_progress,
+    add_profile,
+    profile_of,
+    suggesting,
+)
 
 # The search space's and objective's fields, as their options (for messages).
 OPTION_OF_FIELD = {
@@ -126,6 +145,8 @@ def check_options(args) -> None:
     if args.out is not None and (mode is None or (mode == "--replay" and not args.render)):
         what = "a study run writes only its storage" if mode is None else "--replay alone writes nothing"
         raise ValueError(f"--out is for --report, --export or --replay --render ({what})")
+    if args.force and not (mode in ("--report", "--export") or (mode == "--replay" and args.render)):
+        raise ValueError("--force is for --report, --export or --replay --render (it replaces the files they write)")
     if mode is None and args.backend == "warp" and args.workers is not None:  # as mat-hopper batch
         raise ValueError("--workers is for --backend mujoco (a warp batch is one process; see --batch-size)")
     if args.storage and args.studies_dir is not None:
@@ -145,12 +166,18 @@ def check_options(args) -> None:
 def _check_name_lists(args) -> None:
     """--materials and --ashby-classes name each item once: "SS,ss" or
     "metal, Metal" is refused naming the repeat (the search space would
-    drop it in silence)."""
-    from ..core.materials import material
+    drop it in silence); an unknown material or behaviour is answered with
+    "did you mean ...?" (the objective reads --behaviour's list itself)."""
+    from ..core.behaviours import BEHAVIOUR_NAMES, behaviour
+    from ..core.materials import CATALOGUE, material
     from ..optimize import check_classes
 
-    check_name_list(args.materials, "--materials", lambda name: material(name).name)
+    known = [m.name for m in CATALOGUE.values()]
+    check_name_list(args.materials, "--materials", suggesting(lambda name: material(name).name, known))
     check_name_list(args.ashby_classes, "--ashby-classes", lambda name: check_classes([name])[0])
+    for item in str(args.behaviour or "").split(","):
+        if item.strip():
+            suggesting(lambda name: behaviour(name).name, BEHAVIOUR_NAMES)(item.strip())
 
 
 def _check_stress_options(args) -> None:
@@ -210,7 +237,7 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
     )
     objective = Objective(
         behaviours=args.behaviour if args.behaviour is not None else ob.behaviours,
-        profile=get_profile(args.profile) if args.profile is not None else ob.profile,
+        profile=profile_of(args.profile) if args.profile is not None else ob.profile,
         convention=args.convention if args.convention is not None else ob.convention,
         hop_height_target_m=ob.hop_height_target_m,
         hop_height_tolerance_m=ob.hop_height_tolerance_m,
@@ -266,13 +293,15 @@ def _cmd_optimize(args) -> int:
             raise ValueError("--replay TRIAL needs --study NAME (or --report NAME)")
         if args.replay is not None:
             if args.render:
-                check_output_dir(args.out or args.studies_dir, "--out")
+                folder = check_output_dir(args.out or args.studies_dir, "--out")
+                check_no_outputs_in(folder, render_files_of(name, args.replay), "--out", force=args.force)
             storage = open_existing(name, args, read_only=True)  # replay reads the study, never writes it
             try:
                 return cmd_replay(name, storage, args)
             finally:
                 dispose(storage)  # no -wal/-shm files left beside the study
         out = check_output_dir(args.out or os.path.join(args.studies_dir, f"{name}-report"), "--out")
+        check_no_outputs_in(out, REPORT_FILES, "--out", force=args.force)
         with nothing_left_behind(out):
             return cmd_report(name, args, out)
     if not args.study:
@@ -307,11 +336,16 @@ def _cmd_optimize(args) -> int:
         with named_by_flags(**OPTION_OF_FIELD):
             config = config_from_args(args, stored) if stored else fresh
         dispose(storage)  # this look's pooled connection: the run opens its own
+        left_out = queued_seeds(config.space, config.objective)[1]
+        if left_out and not stored:  # known before any run: not queued, not simulated
+            print(left_out_text(left_out, config.objective, config.space.n_segments), flush=True)
         res = _run_backend(config, options, args)
     print(
         f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
         + (f", {res.running} still running elsewhere" if res.running else "")
     )
+    if res.feasibility is not None:  # how many are feasible, and why the others are not
+        print(res.feasibility.text())
     if res.lost:
         print(f"an evaluation process died: trials failed and re-queued: {res.lost}")
     if res.recovered:
@@ -421,17 +455,9 @@ def register_cli(sub) -> None:
         "--ashby-classes",
         help="restrict every segment to these catalogue classes' hulls (log density-modulus), e.g. metal,polymer",
     )
-    p.add_argument("--segment-mass", help="segment-mass convention: leg (default, mass independent of N) or capsule")
-    p.add_argument(
-        "--profile",
-        help=f"run profile: {' or '.join(PROFILES)} (default $MAT_HOPPER_PROFILE, else paper: 60 s runs, "
-        "20 s transient, 1e-4 s step; quick: 12 s, 4 s)",
-    )
-    p.add_argument(
-        "--convention",
-        help="stiffness convention: paper (default), axial, bending or axial+bending (the last three "
-        "at physics substeps chosen per design)",
-    )
+    p.add_argument("--segment-mass", help=SEGMENT_MASS_HELP)  # read by the study config (the stored one's if left out)
+    add_profile(p)
+    add_convention(p, None)  # None: the stored study's when resuming, else paper
     p.add_argument(
         "--replicates",
         type=int,
@@ -448,7 +474,9 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--leg-mass-tolerance",
         type=float,
-        help=f"kg, +- around --leg-mass, in (0, {MAX_LEG_MASS_KG:g}] (default 5 %% of the target)",
+        help=f"kg, +- around --leg-mass, in (0, {MAX_LEG_MASS_KG:g}] (default 5 %% of the target); one that holds "
+        "every leg of the search space is refused (the constraint would be void). The sampler proposes legs inside "
+        "the band; paper designs outside it are not queued",
     )
     p.add_argument(
         "--max-yield-fraction",
@@ -484,6 +512,7 @@ def register_cli(sub) -> None:
         metavar="TRIAL",
         help="write trial TRIAL's design as CSV (for simulate --design-csv, batch --designs-csv) and MJCF, in --out",
     )
+    add_force(p)
     p.set_defaults(func=cmd_optimize)
 
 
@@ -507,7 +536,7 @@ def _add_run_arguments(p) -> None:
     )
     p.add_argument("--sampler", default=None, help=f"one of {', '.join(SAMPLERS)} (tpe)")
     p.add_argument("--seed", type=int, default=None, help="sampler seed (0)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_no_progress(p)
     p.add_argument(
         "--backend",
         choices=("mujoco", "warp"),

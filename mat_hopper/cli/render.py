@@ -7,6 +7,7 @@ import math
 import sys
 
 from ..core.behaviours import behaviour
+from ..core.contact import DEFAULT_CONTACT
 from ..core.damping import DEFAULT_DAMPING
 from ..core.materials import DEFAULT_CONVENTION
 from ..core.timestep import is_auto
@@ -21,10 +22,20 @@ from ..viz.render import (
     check_mp4_size,
     choose_backend,
     parse_size,
+    record,
     render_files,
 )
 from ._checks import check_distinct_paths, check_output_file, named_by_flags
-from .simulate import add_sim_arguments, describe_settings, design_from_args, sim_settings_from_args
+from ._options import add_force
+from .simulate import (
+    EXIT_STATUS,
+    add_sim_arguments,
+    describe_settings,
+    design_from_args,
+    sim_settings_from_args,
+    stable_step_warning,
+    unstable_line,
+)
 
 # Which outputs use each picture option: given without any of them, it is
 # refused (it would be silently ignored). Defaults apply when left out.
@@ -41,6 +52,7 @@ RUN_DEFAULTS = {
     "sensor_timing": "authors",
     "segment_mass": "leg",
     "damping": DEFAULT_DAMPING,
+    "contact": DEFAULT_CONTACT,
 }
 
 
@@ -69,15 +81,15 @@ def _check_options(args) -> None:
 def cmd_render(args) -> int:
     if not args.tiles and not args.video and not args.still:
         raise ValueError("nothing to render: give --tiles FILE, --video FILE and/or --still FILE")
+    check_distinct_paths(  # never over the input table, with --force or not
+        {"--tiles": args.tiles, "--video": args.video, "--still": args.still}, {"--design-csv": args.design_csv}
+    )
     for flag, allowed in (("tiles", IMAGE_EXTENSIONS), ("video", VIDEO_EXTENSIONS), ("still", RASTER_EXTENSIONS)):
-        if check_output_file(getattr(args, flag), f"--{flag}"):
+        if check_output_file(getattr(args, flag), f"--{flag}", force=args.force):
             try:
                 check_extension(getattr(args, flag), allowed)
             except ValueError as e:
                 raise ValueError(f"--{flag}: {e}") from None
-    check_distinct_paths(
-        {"--tiles": args.tiles, "--video": args.video, "--still": args.still}, {"--design-csv": args.design_csv}
-    )
     _check_options(args)
     with named_by_flags(size="--size", fps="--fps"):  # the library's words, the options' names
         size = parse_size(args.size)
@@ -109,6 +121,7 @@ def cmd_render(args) -> int:
         print(f"mat-hopper render: error: {e}", file=sys.stderr)
         return 3
     print(f"{design.name} on {beh.name}: {describe_settings(settings, is_auto(str(args.timestep)))}")
+    rollout = _run(args, design, beh, settings, seconds) if (args.tiles or args.video) else None
     for path in render_files(
         design,
         beh,
@@ -122,9 +135,21 @@ def cmd_render(args) -> int:
         size=size,
         backend=backend,
         settings=settings,
+        rollout=rollout,
     ):
         print(f"wrote {path}")
-    return 0
+    return 1 if rollout is not None and rollout.diverged else 0  # a diverged run: exit 1, as every command
+
+
+def _run(args, design, beh, settings, seconds: float):
+    """The run the tiles and the video show, its step checked against the
+    leg's analytic bound first (a warning line); a divergence is told in
+    one line (when, why, what to try), and nothing past it is drawn."""
+    stable_step_warning("render", design, settings)
+    rollout = record(design, beh, seconds, start_s=args.start, settings=settings, warn=False)  # the lines say it
+    if rollout.diverged:
+        print(unstable_line(rollout))
+    return rollout
 
 
 def register_cli(sub) -> None:
@@ -132,12 +157,15 @@ def register_cli(sub) -> None:
         "render",
         help="render gait tiles, a video or a still of a design, off-screen",
         description="Render gait tiles (PNG), a video (MP4 or GIF) or a still of one design "
-        "on one behaviour, off-screen (OSMesa by default, EGL with MUJOCO_GL=egl).",
+        "on one behaviour, off-screen (OSMesa by default, EGL with MUJOCO_GL=egl). A time step above the design's "
+        "analytic stable step is warned of (try --timestep auto); nothing past a divergence is drawn: the tiles "
+        f"and the video stop there (the tiles marked). {EXIT_STATUS} Exit status 3: no usable off-screen OpenGL.",
     )
     add_sim_arguments(p)
     p.add_argument("--tiles", help="gait-tile figure to write (.png, .svg, .pdf, .jpg)")
     p.add_argument("--video", help="video to write (.mp4 or .gif)")
     p.add_argument("--still", help="picture of the model at rest to write (.png, .jpg)")
+    add_force(p)
     p.add_argument("--seconds", type=float, default=None, help="simulated seconds of video (10)")
     p.add_argument("--start", type=float, default=None, help="video and tiles start at this simulated time, s (0)")
     p.add_argument(

@@ -3,22 +3,29 @@
 
 from __future__ import annotations
 
+import os
 import sys
 
 from ..core.materials import CONVENTIONS
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
-from ..experiments.paper import experiment_name, experiment_spellings
-from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
+from ..experiments.paper import EXPERIMENT_SPELLINGS, experiment_name, experiment_spellings
+from ..experiments.profiles import PROFILES
 from ..experiments.reproduce import default_out_dir, reproduce
 from ..util.limits import check_total_steps, check_workers
 from ._checks import (
     cache_folder,
     check_distinct_paths,
     check_name_list,
+    check_no_outputs_in,
     check_output_dir,
     is_inside,
     nothing_left_behind,
 )
+from ._options import add_force, add_no_progress, add_profile, profile_of, suggesting
+
+# What a reproduction writes into --out (experiments.reproduce): its tables,
+# the claims and the figures folder; any of them there is an earlier run's.
+REPRODUCTION_FILES = ("*.csv", "claims.md", os.path.join("figures", "*"))
 
 
 def _connect(address: str):
@@ -51,6 +58,42 @@ def _check_size(profile, args) -> None:
     steps = planned_steps(profile, names, check_conventions(args.conventions), replicates)
     what = f"--replicates {replicates}" if args.replicates is not None else f"--experiments {args.experiments}"
     check_total_steps(steps, what, "lower --replicates, or run fewer --experiments or --conventions")
+
+
+def _warn_stable_step(profile, args) -> None:
+    """Before any work: one line on stderr naming the designs whose step
+    lies above their analytic stable step
+    (:func:`mat_hopper.core.timestep.check_stable_step`); their runs may
+    diverge, and the tables record it (the protocol keeps its step). The
+    stability map is left out: its ladder goes above the bounds on purpose."""
+    from ..core.timestep import check_stable_step
+    from ..experiments.paper import get_experiment, parse_experiments
+    from ..experiments.reproduce import check_conventions
+
+    over, seen = [], set()
+    conventions = check_conventions(args.conventions)
+    for name in parse_experiments(args.experiments):
+        if name == "stability":
+            continue
+        exp = get_experiment(name)
+        profiles = [profile] if name == "robustness" else [profile.for_convention(c) for c in conventions]
+        for task in (t for p in profiles for t in exp.tasks(p, 0)):
+            design, settings = getattr(task, "design", None), getattr(task, "settings", None)
+            key = (design, settings and (settings.timestep_s, settings.substeps, settings.convention))
+            if design is None or settings is None or key in seen:
+                continue
+            seen.add(key)
+            if check_stable_step(design, settings):
+                over.append(f"{name} {design.name}")
+    if over:
+        names = ", ".join(over[:6]) + (f" and {len(over) - 6} more" if len(over) > 6 else "")
+        print(
+            f"mat-hopper reproduce: warning: {len(over)} designs run above their analytic stable step ({names}): "
+            "they may diverge, and the tables record it (the protocol keeps its step; `mat-hopper simulate "
+            "--design D --timestep auto` runs one at the automatic step)",
+            file=sys.stderr,
+            flush=True,
+        )
 
 
 # The experiments each option acts on (experiments/reproduce.py's _tasks and
@@ -97,7 +140,7 @@ def _check_used(profile, args) -> None:
 
 
 def cmd_reproduce(args) -> int:
-    profile = get_profile(args.profile)
+    profile = profile_of(args.profile)
     _check_all_alone(args.experiments)
     if args.push_scale is not None:
         from dataclasses import replace
@@ -106,7 +149,9 @@ def cmd_reproduce(args) -> int:
 
         profile = replace(profile, push_scale=check_push_scale(args.push_scale, "--push-scale"))
     every = args.experiments is not None and args.experiments.strip().lower() == "all"
-    check_name_list(args.experiments, "--experiments", None if every else experiment_name)  # "4,stability": twice
+    spellings = [sp for sps in EXPERIMENT_SPELLINGS.values() for sp in sps]
+    canonical = None if every else suggesting(experiment_name, spellings)
+    check_name_list(args.experiments, "--experiments", canonical)  # "4,stability": twice; "robustnes": did you mean
     check_name_list(args.conventions, "--conventions")
     _check_used(profile, args)
     if args.conventions is None:
@@ -115,6 +160,7 @@ def cmd_reproduce(args) -> int:
         raise ValueError("give either --workers (local processes) or --scheduler (Dask), not both")
     check_workers(args.workers)
     out = check_output_dir(args.out or default_out_dir(profile.name), "--out")
+    check_no_outputs_in(out, REPRODUCTION_FILES, "--out", force=args.force)  # an earlier run's tables and figures
     cache, cache_flag = cache_folder(args.cache)  # an empty or bad $MAT_HOPPER_CACHE is named, not --cache
     # tables and cached runs in one folder cannot be told apart; results inside the
     # cache folder go when the cache is cleared
@@ -122,6 +168,7 @@ def cmd_reproduce(args) -> int:
     if is_inside(out, cache):
         raise ValueError(f"--out {out} is inside {cache_flag} {cache}; give the results a folder of their own")
     _check_size(profile, args)
+    _warn_stable_step(profile, args)
     # a failed run leaves no empty --out or cache folder behind
     with nothing_left_behind(out, cache):
         client = _connect(args.scheduler) if args.scheduler else None
@@ -163,7 +210,7 @@ def register_cli(sub) -> None:
             "and the claims table (claims.md, claims.csv)."
         ),
     )
-    p.add_argument("--profile", default=None, help=f"{' or '.join(PROFILES)} (default ${PROFILE_ENV}, else paper)")
+    add_profile(p)
     p.add_argument(
         "--experiments",
         default="1,2,3,stability,robustness",
@@ -172,7 +219,12 @@ def register_cli(sub) -> None:
     )
     p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
-    p.add_argument("--out", default=None, help="output folder (default results/<profile>/)")
+    p.add_argument(
+        "--out",
+        default=None,
+        help="output folder (default results/<profile>/); one holding an earlier run's tables, claims or "
+        "figures is refused unless --force",
+    )
     p.add_argument(
         "--replicates",
         type=int,
@@ -198,5 +250,6 @@ def register_cli(sub) -> None:
         "--cache", default=None, help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})"
     )
     p.add_argument("--no-figures", action="store_true", help="tables only")
-    p.add_argument("--no-progress", action="store_true", help="no progress bars")
+    add_force(p)
+    add_no_progress(p)
     p.set_defaults(func=cmd_reproduce)

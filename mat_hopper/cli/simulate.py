@@ -7,12 +7,11 @@ import math
 import sys
 
 from ..core import reference as ref
-from ..core.behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR, behaviour
+from ..core.behaviours import DEFAULT_BEHAVIOUR, behaviour
+from ..core.contact import CONTACTS, DEFAULT_CONTACT
 from ..core.control_legs import CONTROLS, control, mass_properties
 from ..core.damping import DAMPINGS, DEFAULT_DAMPING
 from ..core.materials import (
-    CONVENTIONS,
-    DEFAULT_CONVENTION,
     DENSITY_RANGE_G_CM3,
     MODULUS_RANGE_GPA,
     SEGMENT_MASSES,
@@ -20,8 +19,9 @@ from ..core.materials import (
     check_n_segments,
     parse_design,
 )
-from ..core.timestep import AUTO, is_auto
-from ..experiments.profiles import PROFILE_ENV, PROFILES, get_profile
+from ..core.rollout import FELL_TILT_DEG
+from ..core.timestep import AUTO, CLI_AUTO_HINT, check_stable_step, is_auto
+from ..experiments.profiles import PROFILE_ENV
 from ..physics.metrics import METRICS, hop_table, run_summary
 from ..util.parsing import is_decimal, parse_number
 from ._checks import (
@@ -34,6 +34,23 @@ from ._checks import (
     sensor_timing_arg,
     sensor_timing_type,
     write_table,
+)
+from ._options import (
+    BEHAVIOUR_HELP,
+    DENSITY_HELP,
+    DURATION_HELP,
+    MODULUS_HELP,
+    SEGMENT_MASS_HELP,
+    SEGMENTS_HELP,
+    TRANSIENT_HELP,
+    add_behaviour,
+    add_convention,
+    add_force,
+    add_no_progress,
+    add_profile,
+    check_force_used,
+    decimal_comma_of,
+    profile_of,
 )
 
 DEFAULT_DESIGN = "SS"
@@ -55,9 +72,11 @@ def _timestep(text):
 def design_from_args(args) -> LegDesign:
     """--design NAME, --design-csv FILE, or --density/--modulus lists
     (g/cm^3, GPa); never two of them, and --segments only with a
-    single-material --design (a list, a file, a gradient such as PVC-Ti-SS,
-    a named design such as rho-inc or a custom(...) name sets its own: the
-    pair is refused, naming both, rather than --segments ignored)."""
+    single-material --design (a file, a gradient such as PVC-Ti-SS, a
+    named design such as rho-inc or a custom(...) name sets its own: the
+    pair is refused, naming both, rather than --segments ignored) or, with
+    lists, as their count confirmed (DECIMAL_COMMA_RULE: "2,7" with
+    "1,5" may be decimal commas, and is refused without it)."""
     segments = ref.REFERENCE_SEGMENTS if args.segments is None else args.segments
     with named_by_flags():
         n = check_n_segments(segments)  # an integer in [1, 64] whatever the design form
@@ -79,14 +98,11 @@ def design_from_args(args) -> LegDesign:
         given = "--density" if args.density is not None else "--modulus"
         if args.design is not None:
             raise ValueError("give either --design or --density with --modulus, not both")
-        if args.segments is not None:
-            raise ValueError(f"--segments is for --design; {given} sets one value per segment")
         if args.density is None or args.modulus is None:
             raise ValueError("--density and --modulus go together (one value per segment)")
         dens = parse_list(args.density, "--density", unit="g/cm^3")
         mods = parse_list(args.modulus, "--modulus", rigid=True, unit="GPa")
-        if len(dens) != len(mods):  # no lone value spread over the segments (the help says one per segment)
-            raise ValueError(f"--density and --modulus need one value per segment (got {len(dens)} and {len(mods)})")
+        _check_list_count(args, len(dens), len(mods), given)
         for flag, vals, (lo, hi), unit in (
             ("--density", dens, DENSITY_RANGE_G_CM3, "g/cm^3"),
             ("--modulus", mods, MODULUS_RANGE_GPA, "GPa"),
@@ -104,6 +120,25 @@ def design_from_args(args) -> LegDesign:
             f"{design.n_segments} segments (leave out --segments)"
         )
     return design
+
+
+def _check_list_count(args, n_dens: int, n_mods: int, given: str) -> None:
+    """--density and --modulus have one value per segment, as many as
+    --segments where it is given; two lists that may be decimal commas
+    ("2,7" and "1,5": one segment of 2.7 g/cm^3 and 1.5 GPa, or two) are
+    refused unless --segments confirms the count (DECIMAL_COMMA_RULE)."""
+    commas = {f: d for f, t in (("--density", args.density), ("--modulus", args.modulus)) if (d := decimal_comma_of(t))}
+    if n_dens != n_mods:  # no lone value spread over the segments (the help says one per segment)
+        hint = "".join(f"; {f} {getattr(args, f[2:])} is two values: for {d} write a point" for f, d in commas.items())
+        raise ValueError(f"--density and --modulus need one value per segment (got {n_dens} and {n_mods}){hint}")
+    if args.segments is not None and args.segments != n_dens:
+        raise ValueError(f"--segments {args.segments}: {given} gives {n_dens} values, one per segment")
+    if args.segments is None and len(commas) == 2:
+        shown = " and ".join(f"{f} {getattr(args, f[2:])}" for f in commas)
+        raise ValueError(
+            f"{shown}: two segments, or decimal commas ({' and '.join(commas.values())})? write "
+            f"{' and '.join(commas.values())} with a decimal point for one segment, or give --segments 2"
+        )
 
 
 def _design_from_csv(path) -> LegDesign:
@@ -132,45 +167,30 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="the one design of a designs CSV (density_i, modulus_i columns; e.g. optimize --export's)",
     )
-    p.add_argument("--density", help="per-segment densities, g/cm^3, e.g. 1.39,4.43,8 (0.001-30)")
-    p.add_argument("--modulus", help="per-segment moduli, GPa (1e-6-2000, or 'rigid'), e.g. 70,70,70")
-    p.add_argument(
-        "--segments",
-        type=int,
-        default=None,
-        help=f"segments for a single-material --design (default {ref.REFERENCE_SEGMENTS}, at most 64)",
-    )
-    p.add_argument(
-        "--behaviour",
-        "--behavior",
-        dest="behaviour",
-        default=DEFAULT_BEHAVIOUR,
-        help=f"one of {', '.join(BEHAVIOUR_NAMES)} (default {DEFAULT_BEHAVIOUR})",
-    )
+    p.add_argument("--density", help=DENSITY_HELP)
+    p.add_argument("--modulus", help=MODULUS_HELP)
+    p.add_argument("--segments", type=int, default=None, help=SEGMENTS_HELP)
+    add_behaviour(p, DEFAULT_BEHAVIOUR, BEHAVIOUR_HELP)
     p.add_argument(
         "--timestep",
         default=None,
         help="physics time step, s, or 'auto' (substeps of the 1e-4 s control period chosen from the "
         f"design's spring bound); default: the profile's (1e-4; ${PROFILE_ENV})",
     )
-    p.add_argument(
-        "--convention",
-        default=DEFAULT_CONVENTION,
-        help=f"stiffness convention: {', '.join(CONVENTIONS)} (default {DEFAULT_CONVENTION})",
-    )
+    add_convention(p)
     p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
-    p.add_argument(
-        "--segment-mass",
-        default="leg",
-        choices=SEGMENT_MASSES,
-        help="leg: leg mass independent of the number of segments (default, the authors' model at 3); "
-        "capsule: the authors' per-capsule density at any number",
-    )
+    p.add_argument("--segment-mass", default="leg", choices=SEGMENT_MASSES, help=SEGMENT_MASS_HELP)
     p.add_argument(
         "--damping",
         default=DEFAULT_DAMPING,
         choices=DAMPINGS,
         help="material springs' damping: authors (default, 1 N s/m) or loss-factor (per material class)",
+    )
+    p.add_argument(
+        "--contact",
+        default=DEFAULT_CONTACT,
+        choices=tuple(CONTACTS),
+        help="foot-terrain contact: authors (default: MuJoCo's soft default, time constant 0.02 s) or stiff (1 ms)",
     )
 
 
@@ -183,7 +203,7 @@ def sim_settings_from_args(
 
     Args:
         args: the parsed command line (--timestep, --convention,
-            --sensor-timing, --segment-mass, --damping, --profile).
+            --sensor-timing, --segment-mass, --damping, --contact, --profile).
         design: the leg (for --timestep auto).
         duration_s: the run's length, s.
         transient_s: hop cycles starting before it are not scored, s.
@@ -218,12 +238,13 @@ def _sim_settings(args, design: LegDesign, duration_s: float, transient_s: float
     return sim_settings(
         design,
         duration_s=duration_s,
-        timestep_s=get_profile(getattr(args, "profile", None)).timestep_s if dt is None else dt,
+        timestep_s=profile_of(getattr(args, "profile", None)).timestep_s if dt is None else dt,
         transient_s=transient_s,
         convention=args.convention,
         sensor_timing=sensor_timing_arg(args.sensor_timing),
         segment_mass=args.segment_mass,
         damping=getattr(args, "damping", DEFAULT_DAMPING),
+        contact=getattr(args, "contact", DEFAULT_CONTACT),
         **extra,
     )
 
@@ -234,7 +255,7 @@ def describe_settings(settings, auto: bool = False) -> str:
         step += f" ({settings.substeps} physics substeps per {settings.control_period_s:g} s control period)"
     return (
         f"{step}, convention={settings.convention}, sensor timing={settings.sensor_timing}, "
-        f"segment mass={settings.segment_mass}, damping={settings.damping}"
+        f"segment mass={settings.segment_mass}, damping={settings.damping}, contact={settings.contact}"
     )
 
 
@@ -266,44 +287,49 @@ def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: boo
     return runner.result()
 
 
-FELL_TILT_DEG = (
-    60.0  # a base tilted further than this is falling (a hopping base pitches up to about 45 deg and recovers)
-)
+def stable_step_warning(command: str, design, settings) -> str | None:
+    """Before any run: :func:`mat_hopper.core.timestep.check_stable_step`'s
+    line, if the run's step lies above the leg's analytic bound, printed on
+    stderr as ``mat-hopper <command>: warning: ...`` (naming --timestep
+    auto); returned too (None when within the bounds)."""
+    note = check_stable_step(design, settings, auto_hint=CLI_AUTO_HINT)
+    if note:
+        print(f"mat-hopper {command}: warning: {note}", file=sys.stderr, flush=True)
+    return note
 
 
-def _unstable_line(rollout, auto: bool) -> str:
-    """Why a run ended early: a fall (the base tilted past FELL_TILT_DEG
-    before the numbers blew up) or a numerical divergence, with the hint
-    that fits (a stiff convention without --timestep auto; the authors'
-    controller on a leg that bends)."""
-    import numpy as np
-
-    from ..core.rollout import C
-
-    conv = rollout.settings.convention
-    tilt = np.degrees(np.hypot(rollout.data[:, C["roll"]], rollout.data[:, C["pitch"]]))
-    over = np.flatnonzero(tilt > FELL_TILT_DEG)
-    end = f"the run ended at t = {rollout.diverged_at_s:.4f} s"
-    if len(over):
-        line = f"UNSTABLE: the hopper fell (base tilted past {FELL_TILT_DEG:g} deg at t = {rollout.time[over[0]]:.3f} s); {end}"
-        if conv in ("bending", "axial+bending"):
-            line += (
-                " (on a leg that bends the authors' controller can be laterally unstable: a sideways mode grows "
-                "from round-off; see the book's chapter 'Do gradients relieve stress?')"
-            )
-        return line
-    line = f"UNSTABLE: diverged at t = {rollout.diverged_at_s:.4f} s (numerical divergence: |qacc| > 1e6 or NaN)"
-    if conv != "paper" and not auto:
-        line += f" ({conv} springs are stiff: try --timestep auto, physics substeps chosen from the spring bound)"
+def unstable_line(rollout) -> str:
+    """Why a run ended early, in one line: when, which check, the step
+    above the analytic bound if it is, what to try
+    (:meth:`mat_hopper.core.rollout.Rollout.divergence_message`); a fall
+    (the base tilted past FELL_TILT_DEG before the numbers blew up) says so
+    first, with the hint for the authors' controller on a leg that bends."""
+    message = rollout.divergence_message(CLI_AUTO_HINT)
+    fell = rollout.fell_at_s
+    if fell is None or fell >= rollout.diverged_at_s:
+        return f"UNSTABLE: {message}"
+    line = f"UNSTABLE: the hopper fell (base tilted past {FELL_TILT_DEG:g} deg at t = {fell:.3f} s), then {message}"
+    if rollout.settings.convention in ("bending", "axial+bending"):
+        line += (
+            " (on a leg that bends the authors' controller can be laterally unstable: a sideways mode grows "
+            "from round-off; see the book's chapter 'Do gradients relieve stress?')"
+        )
     return line
 
 
+EXIT_STATUS = (
+    "Exit status: 0 when every run ended without numerical divergence; 1 when any diverged (the output says "
+    "when, why and what to try; tables are still printed and written); 2 for bad input."
+)
+
+
 def cmd_simulate(args) -> int:
-    profile = get_profile(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
+    profile = profile_of(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
     if args.profile is not None and None not in (args.duration, args.transient, args.timestep):
         raise ValueError("--profile sets the defaults of --duration, --transient and --timestep: all three are given")
-    check_output_file(args.csv, "--csv", stdout=True)
+    check_force_used(args, {"--csv": args.csv})
     check_distinct_paths({"--csv": args.csv}, {"--design-csv": args.design_csv})  # never over the input table
+    check_output_file(args.csv, "--csv", stdout=True, force=args.force)
     design = design_from_args(args)
     if args.control is not None:
         if str(args.control).lower() == "rigid" and all(seg.rigid for seg in design.segments):
@@ -316,8 +342,9 @@ def cmd_simulate(args) -> int:
     duration = profile.duration_s if args.duration is None else args.duration
     transient = profile.transient_s if args.transient is None else args.transient
     settings = sim_settings_from_args(args, design, duration, transient)
+    stable_step_warning("simulate", design, settings)
     rollout = run_with_progress(design, beh, settings, progress=not args.no_progress)
-    hops = hop_table(rollout)
+    hops = hop_table(rollout, warn=False)  # the UNSTABLE line below says it
     s = run_summary(rollout)
     print(
         f"{design.name} on {beh.name}: {settings.duration_s:g} s ({profile.name} profile) at "
@@ -329,7 +356,7 @@ def cmd_simulate(args) -> int:
         f"hip inertia {mp.hip_inertia_kg_m2:.4f} kg m^2"
     )
     if not rollout.stable:
-        print(_unstable_line(rollout, auto=_timestep(args.timestep) == AUTO))
+        print(unstable_line(rollout))
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
     if len(hops):
         desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
@@ -366,7 +393,8 @@ def register_cli(sub) -> None:
         "simulate",
         help="simulate one design on one behaviour, print a per-hop summary",
         description="Simulate one leg design on one behaviour and summarize its hop cycles. Run sizes are "
-        "capped (2e9 physics steps, 5e6 recorded samples, 64 segments) and checked before any work.",
+        "capped (2e9 physics steps, 5e6 recorded samples, 64 segments) and checked before any work; a time "
+        f"step above the design's analytic stable step is warned of (try --timestep auto). {EXIT_STATUS}",
     )
     add_sim_arguments(p)
     p.add_argument(
@@ -376,21 +404,10 @@ def register_cli(sub) -> None:
         help="simulate a control of the design instead: rigid (same densities, no springs), mass (homogeneous "
         "leg of the same leg mass), inertia (same leg mass and hip inertia; mat_hopper.core.control_legs)",
     )
-    p.add_argument(
-        "--profile",
-        default=None,
-        help=f"run profile for the defaults of --duration, --transient and --timestep: {' or '.join(PROFILES)} "
-        f"(default ${PROFILE_ENV}, else paper: 60 s, 20 s transient)",
-    )
-    p.add_argument("--duration", type=float, default=None, help="simulated seconds (the profile's: paper 60)")
-    p.add_argument(
-        "--transient",
-        type=float,
-        default=None,
-        help="seconds before the first scored hop cycle (the profile's: paper 20)",
-    )
+    add_profile(p)
+    p.add_argument("--duration", type=float, default=None, help=DURATION_HELP)
+    p.add_argument("--transient", type=float, default=None, help=TRANSIENT_HELP)
     p.add_argument("--csv", help="write the per-hop table (one row per scored hop cycle) here (- for standard output)")
-    p.add_argument(
-        "--no-progress", action="store_true", help="no progress bar (it is off when stderr is not a terminal)"
-    )
+    add_force(p)
+    add_no_progress(p)
     p.set_defaults(func=cmd_simulate)

@@ -92,10 +92,24 @@ CHANNELS = (
     # filter, so the record-rate signal can be low-passed with zero phase
     # afterwards (mat_hopper.physics.jerk).
     "az_mean",
+    # The foot's contact at the physics rate over each record interval
+    # (every physics step since the previous record; ContactProbe):
+    # the toe's touch-sensor on/off switches (touch > 0 N is on), counted
+    # on the reading the controller gets (the sensor max(L, 1) physics
+    # steps old, L the sensor latency), so that a toggle falls in the
+    # record of the phase switch it causes; and the least signed distance,
+    # m, between the foot geom and the terrain (MuJoCo's mj_geomDistance on
+    # each state s_i, capped at CLEARANCE_CAP_M; negative: the foot is that
+    # deep in the ground).
+    "touch_toggles",
+    "foot_clearance_min",
 )
 C = {name: i for i, name in enumerate(CHANNELS)}
 N_CHANNELS = len(CHANNELS)
 RECORD_DTYPE = np.dtype([(name, np.float64) for name in CHANNELS])
+
+# m, the cap of the foot's recorded clearance (mj_geomDistance's distmax): well above any hop.
+CLEARANCE_CAP_M = 10.0
 
 # One row of the reading history: what the base sensors gave at one step.
 H_POS, H_QUAT, H_GYRO, H_VEL, H_TOUCH = 0, 3, 7, 10, 13
@@ -159,6 +173,32 @@ class StressProbe(NamedTuple):
     peak: np.ndarray
 
 
+class ContactProbe(NamedTuple):
+    """The foot's contact, evaluated at every physics step: the touch
+    reading's toggles (the controller's reading, see CHANNELS) and the
+    foot-terrain distance of s_i after mj_step2. foot: the foot geom's id;
+    terrain: ids of the terrain geoms (ground, ramp) it can touch; state:
+    [touch reading on (1) or off (0) at the last step, toggles since the
+    last record, least foot-terrain distance m since the last record],
+    carried between calls."""
+
+    foot: int
+    terrain: np.ndarray
+    state: np.ndarray
+
+
+def contact_probe(model, touch_on: bool) -> ContactProbe:
+    """The :class:`ContactProbe` of a compiled hopper model, its touch
+    state starting at `touch_on` (the start state's touch sensor > 0 N,
+    which every row of the reading history starts with)."""
+    from .mjcf import FOOT_GEOM, GROUND_GEOM, RAMP_GEOM
+
+    ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, n) for n in (GROUND_GEOM, RAMP_GEOM)]
+    terrain = np.array([i for i in ids if i >= 0], dtype=np.int64)
+    foot = int(model.geom(FOOT_GEOM).id)
+    return ContactProbe(foot, terrain, np.array([1.0 if touch_on else 0.0, 0.0, CLEARANCE_CAP_M]))
+
+
 # Columns of the stress record (one (N, 4) block per record), Pa: axial F / A
 # (tension > 0), bending M c / I about x and about y (signed), and the
 # physics-rate peak of the section's largest normal stress since the last record.
@@ -193,6 +233,11 @@ _STEP_PROTO = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
 MJ_STEP = _STEP_PROTO(("mj_step", _LIB))
 MJ_STEP1 = _STEP_PROTO(("mj_step1", _LIB))
 MJ_STEP2 = _STEP_PROTO(("mj_step2", _LIB))
+# mjtNum mj_geomDistance(const mjModel*, const mjData*, int geom1, int geom2, mjtNum distmax, mjtNum fromto[6])
+_DISTANCE_PROTO = ctypes.CFUNCTYPE(
+    ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int, ctypes.c_int, ctypes.c_double, ctypes.c_void_p
+)
+MJ_GEOM_DISTANCE = _DISTANCE_PROTO(("mj_geomDistance", _LIB))
 
 
 @numba.njit(cache=True)
@@ -223,6 +268,7 @@ def _diverged(qpos, qacc, limit):
 def rollout_loop(
     step1,
     step2,
+    geom_distance,
     m_ptr,
     d_ptr,
     buf,
@@ -239,6 +285,7 @@ def rollout_loop(
     events,
     probe,
     stress_rec,
+    contact,
 ):
     """Run physics steps ``steps.first`` .. ``steps.first + steps.count - 1``.
 
@@ -248,7 +295,9 @@ def rollout_loop(
     the step, or 0 rows; events: (n, 3) rows of (time s, kind, hop height m);
     jerk: the JerkFilter run on the base's z acceleration every step;
     probe: the StressProbe evaluated on s_i every step; stress_rec: (records,
-    N, 4) stress rows (STRESS_COLUMNS) written with each record.
+    N, 4) stress rows (STRESS_COLUMNS) written with each record; contact:
+    the ContactProbe evaluated on s_i after every mj_step2 (geom_distance
+    is libmujoco's mj_geomDistance; the positions it reads are still s_i's).
     Returns (records written, events written, step of divergence or -1)."""
     out = np.zeros(OUT_SIZE)
     hip_angle = np.zeros(2)
@@ -270,6 +319,11 @@ def rollout_loop(
         t = i * steps.dt
         step1(m_ptr, d_ptr)
         read_sensors(buf.sensordata, lay, history[i % ring])
+        # touch toggles, on the reading the controller gets (as below): in step with its phase switches
+        on = 1.0 if history[(i + ring - touch_lag) % ring][H_TOUCH] > 0.0 else 0.0
+        if on != contact.state[0]:
+            contact.state[0] = on
+            contact.state[1] += 1.0
         hip_angle[0] = buf.qpos[lay.hip_y_qpos]
         hip_angle[1] = buf.qpos[lay.hip_x_qpos]
         hip_rate[0] = buf.qvel[lay.hip_y_dof]
@@ -322,6 +376,12 @@ def rollout_loop(
         z[2] = az_f
         z[3] += az
         z[4] += 1.0
+        cs = contact.state
+        if not bad:
+            for g in contact.terrain:
+                gap = geom_distance(m_ptr, d_ptr, g, contact.foot, CLEARANCE_CAP_M, 0)
+                if gap < cs[2]:
+                    cs[2] = gap
         if (i % steps.record_every == 0 or bad) and n_rec < rec.shape[0]:
             r = rec[n_rec]
             now = history[i % ring]  # the state s_i as MuJoCo computed it
@@ -354,6 +414,10 @@ def rollout_loop(
             r["az_mean"] = z[3] / z[4]
             z[3] = 0.0
             z[4] = 0.0
+            r["touch_toggles"] = cs[1]
+            r["foot_clearance_min"] = cs[2]
+            cs[1] = 0.0
+            cs[2] = CLEARANCE_CAP_M
             if n_rec < qpos_rec.shape[0]:
                 qpos_rec[n_rec, :] = buf.qpos
             for s in range(n_seg):

@@ -269,7 +269,10 @@ def behaviour(
         return Behaviour("ramp", "line", speed_m_s, ramp_grade_deg=grade_deg)
     if key == "circle":
         return Behaviour("circle", "circle", speed_m_s, radius_m=radius_m, start_xy_m=(radius_m, 0.0))
-    raise ValueError(f"unknown behaviour {name!r}; accepted: {', '.join(BEHAVIOUR_NAMES)}")
+    from ..util.parsing import did_you_mean
+
+    hint = f"; {did_you_mean(name, BEHAVIOUR_NAMES)}" if did_you_mean(name, BEHAVIOUR_NAMES) else ""
+    raise ValueError(f"unknown behaviour {name!r}; accepted: {', '.join(BEHAVIOUR_NAMES)}{hint}")
 
 
 @numba.njit(cache=True)

@@ -135,8 +135,11 @@ def material(name: str) -> Material:
     try:
         return CATALOGUE[name.strip().lower()]
     except (KeyError, AttributeError):
-        known = ", ".join(m.name for m in CATALOGUE.values())
-        raise ValueError(f"unknown material {name!r}; accepted: {known}") from None
+        from ..util.parsing import did_you_mean
+
+        known = [m.name for m in CATALOGUE.values()]
+        hint = f"; {did_you_mean(name, known)}" if isinstance(name, str) and did_you_mean(name, known) else ""
+        raise ValueError(f"unknown material {name!r}; accepted: {', '.join(known)}{hint}") from None
 
 
 def porosity(bulk_density_g_cm3: float, solid_density_g_cm3: float) -> float:

@@ -158,6 +158,33 @@ def rigid_twin(design: LegDesign) -> LegDesign:
     return LegDesign.from_properties(design.densities_g_cm3, [None] * n, name=_name(design, "rigid"))
 
 
+# A control leg is derived by arithmetic (a mean, a series sum) whose last bit
+# depends on the order of its terms: aluminium's mass-matched leg came out at
+# 2.7000000000000006 g/cm^3, a second design (and cache key) for aluminium
+# itself, and PVC-Ti-SS~mass and SS-Ti-PVC~mass two for one leg. Twelve
+# significant digits lie far below any physical tolerance (1e-12 relative)
+# and far above float round-off (about 1e-16), so legs equal but for
+# round-off share one canonical form.
+CANONICAL_DIGITS = 12
+
+
+def canonical(value: float | None) -> float | None:
+    """A derived density (g/cm^3) or modulus (GPa) in its canonical form:
+    rounded to :data:`CANONICAL_DIGITS` significant digits (None, rigid,
+    stays None).
+
+    Args:
+        value: the derived value, or None.
+
+    Returns:
+        The value rounded to 12 significant digits, as a float; None for None.
+
+    >>> canonical(2.7000000000000006), canonical(None)
+    (2.7, None)
+    """
+    return None if value is None else float(f"{float(value):.{CANONICAL_DIGITS}g}")
+
+
 def _homogeneous(design: LegDesign) -> Material:
     """Mean density (equal segment volumes); the modulus whose N equal
     springs in series have the design's axial compliance: the design's
@@ -171,11 +198,11 @@ def _homogeneous(design: LegDesign) -> Material:
         ValueError: E_eq outside MODULUS_RANGE_GPA.
     """
     n = design.n_segments
-    rho = float(np.mean(design.densities_g_cm3))
+    rho = canonical(float(np.mean(design.densities_g_cm3)))
     elastic = [e for e in design.moduli_gpa if e is not None]
     if not elastic:
         return Material(f"{design.name} homogeneous", rho, None)
-    e_eq = n / sum(1.0 / e for e in elastic)
+    e_eq = canonical(n / sum(1.0 / e for e in elastic))
     lo, hi = MODULUS_RANGE_GPA
     if not lo <= e_eq <= hi:
         raise ValueError(
@@ -239,7 +266,7 @@ def inertia_matched(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS)
         LegDesign.from_properties(_linear_profile(mean, probe, n), [None] * n), segment_mass
     ).hip_inertia_kg_m2
     slope = probe * (target - i0) / (i1 - i0)
-    dens = _linear_profile(mean, slope, n)
+    dens = [canonical(d) for d in _linear_profile(mean, slope, n)]
     lo, hi = DENSITY_RANGE_G_CM3
     if min(dens) < lo or max(dens) > hi:
         raise ValueError(

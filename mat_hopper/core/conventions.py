@@ -222,8 +222,10 @@ def spring_stiffness(
     Args:
         modulus_gpa: Young's modulus, GPa (finite, > 0; not checked against
             :data:`MODULUS_RANGE_GPA`).
-        convention: the stiffness convention, any case (default
-            ``"paper"``).
+        convention: the stiffness convention as spelled in
+            :data:`CONVENTIONS` (default ``"paper"``): the entry points
+            (SimSettings, the model builder, the commands) spell it with
+            :func:`check_convention`; other spellings are refused.
         n_segments: the leg's number of segments N (default 3); read (and
             checked, an integer in [1, 64]) only under ``axial`` and
             ``axial+bending`` (L = 0.3 m / N).
@@ -234,11 +236,12 @@ def spring_stiffness(
         ``bending``, 0.0.
 
     Raises:
-        ValueError: an unknown convention, a modulus that is not a finite
-            number > 0, or under ``axial`` and ``axial+bending`` a segment
-            count that is not an integer in [1, 64].
+        ValueError: a convention not spelled as in :data:`CONVENTIONS`, a
+            modulus that is not a finite number > 0, or under ``axial`` and
+            ``axial+bending`` a segment count that is not an integer in [1, 64].
     """
-    convention = check_convention(convention)
+    if convention not in CONVENTIONS:  # spelled once, at the entry points
+        raise ValueError(f"stiffness convention {convention!r}: give one of {', '.join(CONVENTIONS)}, as spelled")
     e = _check_number(modulus_gpa, "modulus", "finite and > 0 GPa")
     if convention not in AXIAL_CONVENTIONS:
         return 0.0

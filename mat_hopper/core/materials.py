@@ -293,9 +293,12 @@ def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesi
         The :class:`LegDesign`.
 
     Raises:
-        ValueError: an empty or unknown name, or a gradient with an empty
-            name between its separators (``"SS--Ti"``, ``"-SS"``,
-            ``"SS-"``).
+        ValueError: an empty or unknown name (ending with "did you mean
+            ...?" where a design or material is close:
+            :func:`mat_hopper.util.parsing.did_you_mean`, e.g. ``rho_inc``
+            for ``rho-inc``, ``PVC-Tii-SS`` for ``PVC-Ti-SS``), or a gradient
+            with an empty name between its separators (``"SS--Ti"``,
+            ``"-SS"``, ``"SS-"``).
 
     >>> parse_design("PVC-Ti-SS").densities_g_cm3
     (1.39, 4.43, 8.0)
@@ -318,10 +321,38 @@ def parse_design(text: str, n_segments: int = ref.REFERENCE_SEGMENTS) -> LegDesi
             f"design {text!r} has an empty name between separators (- _ /); write one material per segment, "
             "e.g. PVC-Ti-SS"
         )
+    unknown = [p for p in parts if p.lower() not in CATALOGUE]
+    if unknown:
+        raise ValueError(_unknown_design(text.strip(), parts, unknown))
     if len(parts) == 1:
         return LegDesign.mono(parts[0], n_segments)
     mats = tuple(material(p) for p in parts)
     return LegDesign(mats, name="-".join(m.name for m in mats))
+
+
+def _unknown_design(text: str, parts: list[str], unknown: list[str]) -> str:
+    """The error of a design name with `unknown` material names among its
+    `parts`: the accepted materials, and "did you mean ...?" for a named
+    design spelt with other separators or case (``rho_inc``), a near
+    material (``Tii``: ``Ti``) or a gradient whose every unknown part has
+    one (``PVC-Tii-SS``: ``PVC-Ti-SS``)."""
+    from ..util.parsing import close_names, did_you_mean
+
+    known = [m.name for m in CATALOGUE.values()]
+    accepted = f"accepted: {', '.join(known)}, a gradient like PVC-Ti-SS, or {', '.join(NAMED_DESIGNS)}"
+    squash = lambda name: re.sub(r"[\s_\-/+.]+", "", name.lower())  # noqa: E731
+    named = [n for n in NAMED_DESIGNS if squash(n) == squash(text)]
+    if named:  # rho_inc, rho inc, rhoinc: a named design, not a gradient of materials "rho" and "inc"
+        return f"unknown design {text!r}; {accepted}; did you mean {named[0]}?"
+    fixes = {p: close_names(p, known) for p in unknown}
+    if len(parts) == 1:
+        hint = did_you_mean(text, [*known, *NAMED_DESIGNS])
+    elif all(fixes.values()):  # PVC-Tii-SS: the gradient with each unknown name replaced by its nearest
+        hint = f"did you mean {'-'.join(fixes[p][0] if p in fixes else material(p).name for p in parts)}?"
+    else:
+        hint = did_you_mean(text, NAMED_DESIGNS)
+    where = f" in design {text!r}" if len(parts) > 1 else ""
+    return f"unknown material {unknown[0]!r}{where}; {accepted}{f'; {hint}' if hint else ''}"
 
 
 def paper_designs() -> dict[str, LegDesign]:

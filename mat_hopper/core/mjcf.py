@@ -22,14 +22,15 @@ import numpy as np
 
 from ..util.parsing import parse_name
 from . import reference as ref
+from .contact import DEFAULT_CONTACT, check_contact, contact_solref
 from .conventions import (
     AXIAL_CONVENTIONS,
     BENDING_CONVENTIONS,
+    CONVENTIONS,
     DEFAULT_CONVENTION,
     DEFAULT_SEGMENT_MASS,
     bending_stiffness,
     capsule_density_scale,
-    check_convention,
     check_segment_mass,
     prbm_constants,
     spring_stiffness,
@@ -187,12 +188,13 @@ def build_spec(
     convention: str = DEFAULT_CONVENTION,
     sensors: str = "all",
     segment_mass: str = DEFAULT_SEGMENT_MASS,
+    contact: str = DEFAULT_CONTACT,
 ) -> mujoco.MjSpec:
     """The hopper with this leg as an editable ``MjSpec`` (not compiled).
 
     Built in named steps, each adding one part under the names of the
     constants block above: options, terrain, base, leg (hips, stub, material
-    segments), foot, actuators, start keyframe, sensors.
+    segments), foot, actuators, start keyframe, sensors, contact parameters.
 
     sensors: "all" (the spec's seven, in its order) or "control" (the first
     five, which the controller reads; what rollouts use, see CONTROL_SENSORS);
@@ -208,10 +210,16 @@ def build_spec(
         timestep_s: the physics step, s, in (0, 0.1] (default 1e-4, the
             paper's).
         convention: the stiffness convention (``paper``, ``axial``,
-            ``bending``, ``axial+bending``; any case; default ``paper``).
+            ``bending``, ``axial+bending``; default ``paper``), as spelled
+            in :data:`~mat_hopper.core.conventions.CONVENTIONS`: the entry
+            points (SimSettings, :func:`mat_hopper.core.model.build_model`,
+            the commands) spell it; other spellings are refused.
         sensors: ``"all"`` (default) or ``"control"``, any case
             (:func:`check_sensors`).
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
+        contact: ``"authors"`` (default: MuJoCo's default solref (0.02, 1))
+            or ``"stiff"`` (0.001, 1), any case (:mod:`mat_hopper.core.contact`);
+            set on every geom that can touch (:func:`_set_contact`).
 
     Returns:
         The uncompiled ``mujoco.MjSpec``, named ``hopper_<design name>``,
@@ -219,7 +227,7 @@ def build_spec(
 
     Raises:
         ValueError: a design that is not a LegDesign, an unknown sensor
-            set, convention or segment-mass convention, a time step not
+            set, convention, segment-mass convention or contact, a time step not
             in (0, 0.1] s (:func:`check_timestep`), or a ramp pitch not
             finite and strictly between -90 and 90 deg
             (:func:`check_ramp_grade`).
@@ -227,8 +235,10 @@ def build_spec(
     if not isinstance(design, LegDesign):
         raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
     sensors = check_sensors(sensors)
-    convention = check_convention(convention)
+    if convention not in CONVENTIONS:  # spelled once, at the entry points
+        raise ValueError(f"stiffness convention {convention!r}: give one of {', '.join(CONVENTIONS)}, as spelled")
     segment_mass = check_segment_mass(segment_mass)
+    solref = contact_solref(check_contact(contact))
     dt = check_timestep(timestep_s)
     ramp_grade_deg = check_ramp_grade(ramp_grade_deg)
     spec = mujoco.MjSpec()
@@ -241,7 +251,19 @@ def build_spec(
     _add_actuators(spec)
     spec.add_key(name=START_KEY, qpos=_start_qpos(design, convention))
     _add_sensors(spec, sensors)
+    _set_contact(spec, solref)
     return spec
+
+
+def _set_contact(spec: mujoco.MjSpec, solref: tuple[float, float]) -> None:
+    """The contact's solref (timeconst s, dampratio) on every geom that can
+    touch (contype or conaffinity set: the foot and the terrain). MuJoCo
+    mixes a contact's solref from its two geoms' by their solmix weights
+    (a weighted mean): equal on both sides, the mix is exactly `solref`.
+    The default solimp is kept."""
+    for g in spec.geoms:
+        if g.contype or g.conaffinity:
+            g.solref = list(solref)
 
 
 def _set_options(spec: mujoco.MjSpec, dt: float) -> None:

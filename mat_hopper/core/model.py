@@ -25,6 +25,7 @@ import mujoco
 import numpy as np
 
 from . import reference as ref
+from .contact import DEFAULT_CONTACT, check_contact
 from .conventions import (
     BENDING_CONVENTIONS,
     DEFAULT_CONVENTION,
@@ -158,6 +159,7 @@ class HopperModel:
     segment_mass: str = DEFAULT_SEGMENT_MASS  # "leg" (mass independent of N) or "capsule" (the authors')
     bending_stiffness_n_m_rad: tuple[float, ...] = ()  # per segment, each of its two hinges; 0 if none
     damping: str = DEFAULT_DAMPING  # "authors" or "loss-factor"
+    contact: str = DEFAULT_CONTACT  # "authors" (MuJoCo's default solref) or "stiff" (mat_hopper.core.contact)
 
     @property
     def total_mass_kg(self) -> float:
@@ -229,6 +231,7 @@ def build_model(
     sensors: str = "all",
     segment_mass: str = DEFAULT_SEGMENT_MASS,
     damping: str = DEFAULT_DAMPING,
+    contact: str = DEFAULT_CONTACT,
 ) -> HopperModel:
     """Compile the hopper for this leg, terrain (flat or ramp), time step (s),
     stiffness convention, sensor set and segment-mass convention (see
@@ -249,22 +252,25 @@ def build_model(
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
         damping: ``"authors"`` (default) or ``"loss-factor"``, any case
             (:func:`mat_hopper.core.damping.check_damping`).
+        contact: ``"authors"`` (default) or ``"stiff"``, any case: the
+            solref of every geom that can touch (:mod:`mat_hopper.core.contact`).
 
     Returns:
         The :class:`HopperModel`: the compiled ``MjModel``, the arguments
-        (the names ``convention``, ``sensors``, ``segment_mass`` and
-        ``damping`` in their canonical spelling, e.g. ``"Bending"`` as
+        (the names ``convention``, ``sensors``, ``segment_mass``,
+        ``damping`` and ``contact`` in their canonical spelling, e.g. ``"Bending"`` as
         ``"bending"``), its :class:`Layout`,
         and per segment the axial spring stiffness (N/m) and each bending
         hinge's stiffness (N m/rad), 0.0 for a rigid segment or where the
         convention has no such spring.
 
     Raises:
-        ValueError: an unknown damping, or any argument :func:`build_spec`
+        ValueError: an unknown damping or contact, or any argument :func:`build_spec`
             refuses (a time step not in (0, 0.1] s, a ramp pitch not
             strictly between -90 and 90 deg, ...).
     """
     damping = check_damping(damping)
+    contact = check_contact(contact)
     ramp_grade_deg = check_ramp_grade(ramp_grade_deg)
     convention = check_convention(convention)
     segment_mass = check_segment_mass(segment_mass)
@@ -276,6 +282,7 @@ def build_model(
         convention=convention,
         sensors=sensors,
         segment_mass=segment_mass,
+        contact=contact,
     )
     model = spec.compile()
     n = design.n_segments
@@ -298,6 +305,7 @@ def build_model(
         segment_mass,
         bending,
         damping,
+        contact,
     )
 
 

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -13,7 +14,17 @@ from .behaviours import Behaviour
 from .controller import LIFTOFF, TOUCHDOWN
 from .materials import LegDesign
 
-__all__ = ["Rollout", "hop_cycles"]
+__all__ = ["FELL_TILT_DEG", "DivergenceWarning", "Rollout", "hop_cycles"]
+
+# A base tilted further than this is falling (a hopping base pitches up to
+# about 45 deg and recovers): what tells a fall from a numerical divergence.
+FELL_TILT_DEG = 60.0
+
+
+class DivergenceWarning(RuntimeWarning):
+    """A run diverged numerically (a NaN or inf, or |qacc| > 1e6): it ended
+    early, and what it recorded stops there (:meth:`Rollout.divergence_message`
+    says when, why and what to try)."""
 
 
 @dataclass(eq=False)
@@ -38,6 +49,9 @@ class Rollout:
         qpos: (n, nq) joint positions, if recorded (``record_qpos=True``).
         stress: (n, N, 4) per-segment stress, Pa (columns
             :data:`mat_hopper.core._loop.STRESS_COLUMNS`), or None.
+        divergence_reason: why the run diverged (which check: NaN or inf,
+            or |qacc| > 1e6 and where; the step above the analytic bound if
+            it is), None for a stable run.
     """
 
     design: LegDesign
@@ -51,6 +65,7 @@ class Rollout:
     qpos: np.ndarray | None = None  # (n, nq) joint positions, if recorded
     # (n, N, 4) per-segment stress, Pa (mat_hopper.core._loop.STRESS_COLUMNS)
     stress: np.ndarray | None = None
+    divergence_reason: str | None = None  # which check, and the step above the analytic bound if it is
 
     def __getitem__(self, channel: str) -> np.ndarray:
         return self.data[:, C[channel]]
@@ -125,6 +140,20 @@ class Rollout:
         return self.data[:, C["touch"]]
 
     @property
+    def touch_toggles(self) -> np.ndarray:
+        """The touch sensor's on/off switches (> 0 N is on) at the physics
+        rate since the previous sample, counted on the reading the
+        controller gets (:data:`mat_hopper.core._loop.CHANNELS`) (n,)."""
+        return self.data[:, C["touch_toggles"]]
+
+    @property
+    def foot_clearance_min_m(self) -> np.ndarray:
+        """m, the least distance between the foot and the terrain at the
+        physics rate since the previous sample (n,); negative: the foot's
+        penetration into the ground."""
+        return self.data[:, C["foot_clearance_min"]]
+
+    @property
     def phase(self) -> np.ndarray:
         """0 flight, 1 stance"""
         return self.data[:, C["phase"]]
@@ -154,9 +183,59 @@ class Rollout:
         return self.diverged_step < 0
 
     @property
+    def diverged(self) -> bool:
+        """True when the run ended early on a numerical divergence (not :attr:`stable`)."""
+        return not self.stable
+
+    @property
     def diverged_at_s(self) -> float | None:
         """Simulated time (s) of divergence, or None."""
         return None if self.stable else self.diverged_step * self.settings.timestep_s
+
+    @property
+    def fell_at_s(self) -> float | None:
+        """Simulated time (s) of the first sample whose base tilt (roll and
+        pitch together) exceeds :data:`FELL_TILT_DEG`, or None."""
+        tilt = np.degrees(np.hypot(self.data[:, C["roll"]], self.data[:, C["pitch"]]))
+        over = np.flatnonzero(tilt > FELL_TILT_DEG)
+        return float(self.data[over[0], C["t"]]) if len(over) else None
+
+    def divergence_message(self, auto_hint: str = 'timestep_s="auto"') -> str | None:
+        """One line on a divergence: when (t, s), why (:attr:`divergence_reason`)
+        and what to try (:func:`mat_hopper.core.timestep.auto_suggestion`).
+
+        Args:
+            auto_hint: how the reader asks for the automatic step:
+                ``timestep_s="auto"`` (the API, default) or ``--timestep auto``.
+
+        Returns:
+            ``"diverged at t = 0.0043 s (numerical divergence: ...); try ..."``,
+            or None for a stable run.
+        """
+        if self.stable:
+            return None
+        from .timestep import auto_suggestion
+
+        reason = self.divergence_reason or "numerical divergence: |qacc| > 1e6 or NaN"
+        fix = auto_suggestion(self.design, self.settings, auto_hint)
+        return f"diverged at t = {self.diverged_at_s:.4f} s ({reason})" + (f"; {fix}" if fix else "")
+
+    def warn_if_diverged(self, what: str = "", stacklevel: int = 1) -> Rollout:
+        """A :class:`DivergenceWarning` with :meth:`divergence_message` (and
+        `what`, e.g. what a table holds) when the run diverged; nothing else.
+
+        Args:
+            what: a clause added to the message, or "".
+            stacklevel: as :func:`warnings.warn`'s, counted from the caller
+                of this method (1: the caller's line).
+
+        Returns:
+            This rollout.
+        """
+        if self.diverged:
+            text = f"{self.design.name}: {self.divergence_message()}" + (f"; {what}" if what else "")
+            warnings.warn(text, DivergenceWarning, stacklevel + 1)
+        return self
 
     @property
     def upright(self) -> bool:
@@ -244,3 +323,43 @@ def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray
         return np.zeros((0, 2))
     cyc = np.column_stack([lo[:-1], lo[1:]])
     return cyc[cyc[:, 0] >= transient]
+
+
+def divergence_reason(rollout: Rollout, model, data) -> str | None:
+    """Why a rollout diverged, from the state the divergence check stopped
+    at: which check fired (a NaN or inf, naming the joint; or
+    |qacc| > :data:`mat_hopper.core.reference.DIVERGENCE_QACC`, naming the
+    joint and the value), whether the hopper had fallen first (base tilt
+    past :data:`FELL_TILT_DEG`), and the step above the leg's analytic bound
+    if it is (:func:`mat_hopper.core.timestep.stable_step_excess`).
+
+    Args:
+        rollout: the :class:`Rollout` (its design, settings and records).
+        model: the run's ``mujoco.MjModel`` (for the joints' names).
+        data: the run's ``mujoco.MjData`` as the loop left it, at the step
+            of divergence.
+
+    Returns:
+        One clause, ``"numerical divergence: |qacc| 3.1e+07 > 1e+06 at joint
+        mat_spring_2; the physics step ... above ..."``; None for a stable run.
+    """
+    if rollout.stable:
+        return None
+    from .timestep import stable_step_excess
+
+    qacc, qpos = np.asarray(data.qacc), np.asarray(data.qpos)
+    joint = lambda jid: model.joint(int(jid)).name or f"#{int(jid)}"
+    if not np.isfinite(qacc).all():
+        why = f"NaN or inf in qacc at joint {joint(model.dof_jntid[np.flatnonzero(~np.isfinite(qacc))[0]])}"
+    elif not np.isfinite(qpos).all():
+        at = np.searchsorted(model.jnt_qposadr, np.flatnonzero(~np.isfinite(qpos))[0], side="right") - 1
+        why = f"NaN or inf in qpos at joint {joint(at)}"
+    else:
+        i = int(np.argmax(np.abs(qacc)))
+        why = f"|qacc| {abs(qacc[i]):.3g} > {ref.DIVERGENCE_QACC:.0e} at joint {joint(model.dof_jntid[i])}"
+    parts = [f"numerical divergence: {why}"]
+    fell = rollout.fell_at_s
+    if fell is not None and fell < rollout.diverged_at_s:
+        parts.append(f"after a fall: the base tilted past {FELL_TILT_DEG:g} deg at t = {fell:.3f} s")
+    excess = stable_step_excess(rollout.design, rollout.settings)
+    return "; ".join(parts + ([excess] if excess else []))

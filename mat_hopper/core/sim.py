@@ -16,8 +16,8 @@ steps) generalises both. See :mod:`mat_hopper.core.controller` for exactly when
 each reading is taken.
 
 Numerical divergence (a NaN or inf, or |qacc| > 1e6) ends the run early and
-marks it unstable with the simulated time it happened; MuJoCo's automatic
-reset is disabled so divergence can never pass unseen.
+marks it diverged with when and why (``Rollout.divergence_reason``); MuJoCo's
+automatic reset is disabled so divergence can never pass unseen.
 
 Set ``NUMBA_DISABLE_JIT=1`` to run the very same loop as plain Python.
 """
@@ -35,6 +35,7 @@ from . import reference as ref
 from ._loop import (
     CHANNELS,
     HISTORY_WIDTH,
+    MJ_GEOM_DISTANCE,
     MJ_STEP1,
     MJ_STEP2,
     N_CHANNELS,
@@ -46,10 +47,12 @@ from ._loop import (
     Path,
     Steps,
     StressProbe,
+    contact_probe,
     read_sensors,
     rollout_loop,
 )
 from .behaviours import behaviour as get_behaviour
+from .contact import DEFAULT_CONTACT, check_contact
 from .controller import (
     DEFAULT_SENSOR_TIMING,
     ControllerSettings,
@@ -66,8 +69,8 @@ from .materials import (
 )
 from .model import HopperModel, build_model, check_timestep, reset_to_start, stress_gains
 from .perturbations import NO_PUSH, Perturbation
-from .rollout import Rollout
-from .timestep import is_auto, resolve_timestep
+from .rollout import Rollout, divergence_reason
+from .timestep import is_auto, resolve_timestep, warn_stable_step
 
 __all__ = [
     "CHANNELS",
@@ -198,6 +201,7 @@ class SimSettings:
             (default: 1 N s/m, the authors' file) or ``"loss-factor"`` (each
             material's loss factor, :data:`mat_hopper.core.damping.LOSS_FACTORS`);
             any case, stored as spelled in :data:`mat_hopper.core.damping.DAMPINGS`.
+        contact: ``"authors"`` (default: MuJoCo's solref 0.02 1) or ``"stiff"`` (0.001 1), any case (contact.CONTACTS).
 
     Raises:
         ValueError: on any invalid value, naming the field.
@@ -214,6 +218,7 @@ class SimSettings:
     segment_mass: str = DEFAULT_SEGMENT_MASS
     substeps: int = 1
     damping: str = DEFAULT_DAMPING  # "authors" (1 N s/m) or "loss-factor" (damping.LOSS_FACTORS)
+    contact: str = DEFAULT_CONTACT  # "authors" (solref 0.02 1) or "stiff" (contact.CONTACTS)
 
     def __post_init__(self):
         # One check per field (a new field adds its own line); then the checks across fields.
@@ -221,6 +226,7 @@ class SimSettings:
         object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
         object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         object.__setattr__(self, "damping", check_damping(self.damping))
+        object.__setattr__(self, "contact", check_contact(self.contact))
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -326,6 +332,7 @@ def sim_settings(design=None, **settings) -> SimSettings:
             settings.get("convention", DEFAULT_CONVENTION),
             settings.get("segment_mass", DEFAULT_SEGMENT_MASS),
             settings.get("sensor_timing", DEFAULT_SENSOR_TIMING),
+            settings.get("contact", DEFAULT_CONTACT),
         )
     if settings.get("controller") is None:
         settings.pop("controller", None)
@@ -367,6 +374,7 @@ def prepare(
         sensors="control",
         segment_mass=settings.segment_mass,
         damping=settings.damping,
+        contact=settings.contact,
     )
     data = mujoco.MjData(hm.model)
     reset_to_start(hm.model, data)  # base z slide at 1.2 m, all else 0
@@ -412,6 +420,7 @@ class RolloutRunner:
         self._events = np.zeros((n_ev, 3))
         adr, gain = stress_gains(self.hopper)
         self._probe = StressProbe(adr, gain, np.zeros(len(adr)))
+        self._contact = contact_probe(self.hopper.model, self.data.sensordata[self.hopper.layout.touch] > 0.0)
         self._stress = np.zeros((n_rec, len(adr), 4))
         self._state = initial_state(settings.controller)
         self._gains = settings.controller.gains()
@@ -451,6 +460,7 @@ class RolloutRunner:
         n_rec, n_ev, bad = rollout_loop(
             MJ_STEP1,
             MJ_STEP2,
+            MJ_GEOM_DISTANCE,
             hm.model._address,
             self.data._address,
             self._buffers,
@@ -467,6 +477,7 @@ class RolloutRunner:
             self._events[self._n_ev :],
             self._probe,
             self._stress[self._n_rec :],
+            self._contact,
         )
         self._n_rec += n_rec
         self._n_ev += n_ev
@@ -489,6 +500,7 @@ class RolloutRunner:
         if len(self._qpos):
             r.qpos = self._qpos[: self._n_rec].copy()
         r.stress = self._stress[: self._n_rec].copy()
+        r.divergence_reason = divergence_reason(r, self.hopper.model, self.data)  # the state the check stopped at
         return r
 
 
@@ -507,8 +519,10 @@ def simulate(
     segment_mass: str | None = None,
     substeps: int | None = None,
     damping: str | None = None,
+    contact: str | None = None,
     record_qpos: bool = False,
     settings: SimSettings | None = None,
+    warn: bool = True,
 ) -> Rollout:
     """Run a design on a behaviour for ``duration_s`` simulated seconds.
 
@@ -536,12 +550,15 @@ def simulate(
         substeps: physics steps per control period (not with ``"auto"``).
         damping: ``"authors"`` (1 N s/m) or ``"loss-factor"``, any case
             (:mod:`mat_hopper.core.damping`).
+        contact: ``"authors"`` or ``"stiff"``, any case (:mod:`mat_hopper.core.contact`).
         record_qpos: also keep all joint positions (``Rollout.qpos``, (n, nq)) for rendering.
         settings: a SimSettings giving all of the settings at once; then no
             other setting may be given.
+        warn: a StableStepWarning before a run whose step lies above the leg's
+            analytic bound, a DivergenceWarning after one that diverged; False: none.
 
     Returns:
-        The :class:`Rollout`. Divergence never raises: see :attr:`Rollout.stable`.
+        The :class:`Rollout`. Divergence never raises: see :attr:`Rollout.diverged`.
 
     Raises:
         ValueError: settings given beside ``settings=`` (named), invalid
@@ -565,6 +582,7 @@ def simulate(
             ("segment_mass", segment_mass),
             ("substeps", substeps),
             ("damping", damping),
+            ("contact", contact),
         )
         if value is not None
     }
@@ -575,4 +593,7 @@ def simulate(
             raise ValueError(f"settings must be a SimSettings, got {type(settings).__name__}")
     else:
         settings = sim_settings(as_design(design), **given)
-    return RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()
+    if warn:
+        warn_stable_step(design, settings, stacklevel=2)
+    rollout = RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()
+    return rollout.warn_if_diverged(stacklevel=2) if warn else rollout

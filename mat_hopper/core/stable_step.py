@@ -1,11 +1,14 @@
 """The analytic stable time step of the hopper (pure physics, before any run).
 
 The leg along its axis is a chain of lumped masses joined by springs
-(:func:`leg_chain`, read from the compiled model): the base with the stub
+(:func:`leg_chain`): the base with the stub
 and the upper half of segment 1; the lower half of segment i with the upper
 half of segment i+1; the last lower half with the foot's upper capsule;
 the foot below the foot spring. Its natural frequencies solve
-K v = w^2 M v (``scipy.linalg.eigh(K, M)``).
+K v = w^2 M v (``scipy.linalg.eigh(K, M)``). Masses, inertias and
+stiffnesses come from the design without compiling a model
+(:class:`mat_hopper.core.lumped.LumpedHopper`, the compiled model's numbers
+to round-off): resolving ``--timestep auto`` builds settings, not a model.
 
 MuJoCo's Euler integrator treats joint damping implicitly but springs
 explicitly (semi-implicit Euler): stable for w_max dt < 2
@@ -27,20 +30,22 @@ import scipy.optimize
 
 from ..util.parsing import check_positive
 from . import reference as ref
+from .contact import DEFAULT_CONTACT, contact_max_timestep
 from .controller import DEFAULT_SENSOR_TIMING, SensorTiming
+from .lumped import LumpedHopper
 from .materials import (
     BENDING_CONVENTIONS,
     DEFAULT_CONVENTION,
     DEFAULT_SEGMENT_MASS,
     LegDesign,
-    check_convention,
 )
 from .model import (
+    BASE_BODY,
     BEND_SPRINGS,
+    HIP_JOINTS,
     MAX_TIMESTEP_S,
     MIN_TIMESTEP_S,
     START_KEY,
-    build_model,
 )
 
 # --timestep auto: the physics step is at most this fraction of the spring
@@ -104,9 +109,11 @@ def spring_chain_wmax(masses_kg, stiffnesses_n_m) -> float:
 def leg_chain(
     design: LegDesign, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS
 ) -> tuple[list[float], list[float]]:
-    """(masses kg, stiffnesses N/m) of the leg's axial spring chain, from
-    the compiled model: base + leg body, segment bodies (merged across
-    rigid segments), foot; springs in between, foot spring last.
+    """(masses kg, stiffnesses N/m) of the leg's axial spring chain: base
+    + leg body, segment bodies (merged across rigid segments), foot;
+    springs in between, foot spring last. Computed from the design
+    (:meth:`mat_hopper.core.lumped.LumpedHopper.axial_chain`), no model
+    compiled: the compiled model's ``body_mass`` and ``jnt_stiffness``.
 
     Args:
         design: the :class:`~mat_hopper.core.materials.LegDesign`.
@@ -122,28 +129,10 @@ def leg_chain(
         the foot spring.
 
     Raises:
-        ValueError: an unknown or bending convention, or an argument
-            :func:`mat_hopper.core.model.build_model` refuses.
+        ValueError: a design that is not a LegDesign, an unknown segment
+            mass, or an unknown or bending convention.
     """
-    convention = check_convention(convention)
-    if convention in BENDING_CONVENTIONS:
-        raise ValueError(
-            f"convention {convention!r} has rotational springs: the axial chain does not describe it "
-            "(see model_frequencies)"
-        )
-    m = build_model(design, convention=convention, segment_mass=segment_mass).model
-    mass = lambda name: float(m.body_mass[m.body(name).id])
-    masses = [mass("base") + mass("leg")]
-    springs = []
-    for i, seg in enumerate(design.segments, start=1):
-        if seg.rigid:
-            masses[-1] += mass(f"seg{i}")
-        else:
-            springs.append(float(m.jnt_stiffness[m.joint(f"mat_spring_{i}").id]))
-            masses.append(mass(f"seg{i}"))
-    springs.append(float(m.jnt_stiffness[m.joint("spring").id]))
-    masses.append(mass("foot"))
-    return masses, springs
+    return LumpedHopper(design, convention, segment_mass).axial_chain()
 
 
 def delayed_damping_factor(latency_steps: int) -> float:
@@ -193,11 +182,11 @@ def controller_timestep(
 ) -> float:
     """c(L) I / (stance_kd gear) in s: the explicit limit of the stance rate
     feedback, I (kg m^2) the base's smallest moment of inertia about a
-    horizontal axis through its origin (the hip), from the compiled model,
-    and c(L) the factor of :func:`delayed_damping_factor` for the sensor
-    timing's latency L (2 when fresh, 1 for the authors' one-step lag).
-    Under a bending convention the smaller of this and
-    :func:`hip_flight_timestep`.
+    horizontal axis through its origin (the hip), from its two capsules
+    (:class:`mat_hopper.core.lumped.LumpedHopper`), and c(L) the factor of
+    :func:`delayed_damping_factor` for the sensor timing's latency L (2
+    when fresh, 1 for the authors' one-step lag). Under a bending
+    convention the smaller of this and :func:`hip_flight_timestep`.
 
     Args:
         design: the :class:`~mat_hopper.core.materials.LegDesign`.
@@ -215,28 +204,25 @@ def controller_timestep(
         The control-period limit, s.
 
     Raises:
-        ValueError: an unknown convention or sensor timing, `stance_kd` or
-            `gear` not a finite number > 0, or an argument
-            :func:`mat_hopper.core.model.build_model` refuses.
+        ValueError: a design that is not a LegDesign, an unknown convention
+            or sensor timing, or `stance_kd` or `gear` not a finite number > 0.
     """
-    convention = check_convention(convention)
+    hopper = LumpedHopper(design, convention)
     stance_kd = check_positive(stance_kd, "stance_kd", "per rad/s")
     gear = check_positive(gear, "gear")
-    timing = SensorTiming(sensor_timing)
-    m = build_model(design, convention=convention).model
-    b = m.body("base").id
-    rot = np.zeros(9)
-    mujoco.mju_quat2Mat(rot, m.body_iquat[b])
-    rot = rot.reshape(3, 3)
-    inertia = rot @ np.diag(m.body_inertia[b]) @ rot.T  # about the base COM, world axes at rest
-    offset = m.body_ipos[b]
-    mass = m.body_mass[b]
-    parallel = mass * (offset @ offset * np.eye(3) - np.outer(offset, offset))  # to the hip (base origin)
-    inertia = inertia + parallel
-    factor = delayed_damping_factor(int(timing))
-    limit = factor * min(inertia[0, 0], inertia[1, 1]) / (stance_kd * gear)
-    if convention in BENDING_CONVENTIONS:
-        limit = min(limit, hip_flight_timestep(design, convention, gear=gear))
+    return _controller_limit(hopper, stance_kd, gear, SensorTiming(sensor_timing))
+
+
+def _controller_limit(hopper: LumpedHopper, stance_kd: float, gear: float, timing: SensorTiming) -> float:
+    """:func:`controller_timestep` of a hopper whose arguments are checked."""
+    base = hopper.body(BASE_BODY)
+    shift = base.mass_kg * base.com_z_m**2  # parallel axis: centre of mass on the axis, to the hip (base origin)
+    ixx, iyy, _ = base.inertia_kg_m2
+    limit = delayed_damping_factor(int(timing)) * min(ixx + shift, iyy + shift) / (stance_kd * gear)
+    if hopper.convention in BENDING_CONVENTIONS:
+        from ..core.controller import ControllerSettings
+
+        limit = min(limit, _hip_flight_limit(hopper, ControllerSettings().flight_kd, gear))
     return limit
 
 
@@ -267,25 +253,24 @@ def hip_flight_timestep(
         The limit, s.
 
     Raises:
-        ValueError: `flight_kd` or `gear` not a finite number > 0, or an
-            argument :func:`mat_hopper.core.model.build_model` refuses.
+        ValueError: a design that is not a LegDesign, an unknown
+            convention, or `flight_kd` or `gear` not a finite number > 0.
     """
     from ..core.controller import ControllerSettings
 
+    hopper = LumpedHopper(design, convention)
     kd = ControllerSettings().flight_kd if flight_kd is None else check_positive(flight_kd, "flight_kd", "per rad/s")
-    gear = check_positive(gear, "gear")
-    model = build_model(design, convention=convention).model
-    data = mujoco.MjData(model)
-    mujoco.mj_resetDataKeyframe(model, data, model.key(START_KEY).id)
-    mujoco.mj_forward(model, data)
-    full = np.zeros((model.nv, model.nv))
-    mujoco.mj_fullM(model, data, full)
-    hip = int(model.joint("hip_y").dofadr[0])
-    hinges = [int(model.joint(n.format(i=i)).dofadr[0]) for i in range(1, design.n_segments + 1) for n in BEND_SPRINGS
-              if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, n.format(i=i)) >= 0]  # fmt: skip
-    idx = [hip, *hinges]
+    return _hip_flight_limit(hopper, kd, check_positive(gear, "gear"))
+
+
+def _hip_flight_limit(hopper: LumpedHopper, flight_kd: float, gear: float) -> float:
+    """:func:`hip_flight_timestep` of a hopper whose arguments are checked:
+    the mass matrix over hip_y and the bending hinges, in MuJoCo's dof order."""
+    hinges = {n.format(i=i) for i in range(1, hopper.design.n_segments + 1) for n in BEND_SPRINGS}
+    idx = [hopper.dof(HIP_JOINTS[0]), *(i for i, d in enumerate(hopper.dofs) if d.name in hinges)]
+    full = hopper.mass_matrix()
     inertia = 1.0 / np.linalg.inv(full[np.ix_(idx, idx)])[0, 0]
-    return 2.0 * inertia / (kd * gear)
+    return 2.0 * inertia / (flight_kd * gear)
 
 
 def sprung_eig(model: mujoco.MjModel, dofs=None) -> np.ndarray:
@@ -310,17 +295,24 @@ def sprung_eig(model: mujoco.MjModel, dofs=None) -> np.ndarray:
     mujoco.mj_fullM(model, data, full)
     k = np.array([model.jnt_stiffness[model.dof_jntid[v]] for v in range(model.nv)])
     idx = np.arange(model.nv) if dofs is None else np.asarray(dofs)
-    w2 = scipy.linalg.eigh(np.diag(k[idx]), full[np.ix_(idx, idx)], eigvals_only=True)
+    return _sprung_frequencies(k[idx], full[np.ix_(idx, idx)])
+
+
+def _sprung_frequencies(stiffness, mass_matrix) -> np.ndarray:
+    """sqrt of the eigenvalues of K v = w^2 M v, K = diag(stiffness), rad/s ascending (negatives clipped to 0)."""
+    w2 = scipy.linalg.eigh(np.diag(stiffness), mass_matrix, eigvals_only=True)
     return np.sqrt(np.clip(w2, 0.0, None))
 
 
 def model_frequencies(
     design: LegDesign, convention: str = DEFAULT_CONVENTION, segment_mass: str = DEFAULT_SEGMENT_MASS
 ) -> np.ndarray:
-    """All natural frequencies (rad/s, ascending) of the whole compiled
-    hopper, linearised at its start pose (free base: the rigid-body zeros
-    first): axial, rotational (bending hinges, hips) and foot spring
-    together. What the stable step of the ``bending`` conventions uses.
+    """All natural frequencies (rad/s, ascending) of the whole hopper,
+    linearised at its start pose (free base: the rigid-body zeros first):
+    axial, rotational (bending hinges, hips) and foot spring together. What
+    the stable step of the ``bending`` conventions uses. The mass matrix is
+    the compiled model's (``mj_fullM``), computed from the design
+    (:meth:`mat_hopper.core.lumped.LumpedHopper.mass_matrix`).
 
     Args:
         design: the :class:`~mat_hopper.core.materials.LegDesign`.
@@ -332,11 +324,14 @@ def model_frequencies(
         freedom; negative eigenvalues clipped to 0).
 
     Raises:
-        ValueError: an unknown convention, or an argument
-            :func:`mat_hopper.core.model.build_model` refuses.
+        ValueError: a design that is not a LegDesign, or an unknown
+            convention or segment mass.
     """
-    convention = check_convention(convention)
-    return sprung_eig(build_model(design, convention=convention, segment_mass=segment_mass).model)
+    return _frequencies(LumpedHopper(design, convention, segment_mass))
+
+
+def _frequencies(hopper: LumpedHopper) -> np.ndarray:
+    return _sprung_frequencies(hopper.stiffness(), hopper.mass_matrix())
 
 
 def estimate_timestep(
@@ -359,15 +354,57 @@ def estimate_timestep(
         explicit bound 2 / w_max, s.
 
     Raises:
-        ValueError: an unknown convention, or an argument
-            :func:`mat_hopper.core.model.build_model` refuses.
+        ValueError: a design that is not a LegDesign, or an unknown
+            convention or segment mass.
     """
-    convention = check_convention(convention)
-    if convention in BENDING_CONVENTIONS:
-        w = float(model_frequencies(design, convention, segment_mass).max())
+    return _spring_bound(LumpedHopper(design, convention, segment_mass))
+
+
+def _spring_bound(hopper: LumpedHopper) -> tuple[float, float]:
+    """:func:`estimate_timestep` of a hopper."""
+    if hopper.convention in BENDING_CONVENTIONS:
+        w = float(_frequencies(hopper).max())
     else:
-        w = spring_chain_wmax(*leg_chain(design, convention, segment_mass))
+        w = spring_chain_wmax(*hopper.axial_chain())
     return w, 2.0 / w
+
+
+def stable_bounds(
+    design: LegDesign,
+    convention: str = DEFAULT_CONVENTION,
+    segment_mass: str = DEFAULT_SEGMENT_MASS,
+    stance_kd: float = ref.STANCE_KD,
+    sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
+) -> tuple[float, float]:
+    """(springs' bound s, controller's limit s) of one leg at once: the
+    :func:`estimate_timestep` and :func:`controller_timestep` of one
+    :class:`~mat_hopper.core.lumped.LumpedHopper` (the convention spelled once).
+
+    Args:
+        design: the :class:`~mat_hopper.core.materials.LegDesign`.
+        convention: the stiffness convention, any case (default ``paper``).
+        segment_mass: ``"leg"`` (default) or ``"capsule"``, any case (the
+            springs' bound; the controller's limit is the default segment
+            mass's, as :func:`controller_timestep`'s).
+        stance_kd: the stance attitude D gain, per rad/s before the gear; finite and > 0.
+        sensor_timing: the controller's sensor timing (a name or a latency L).
+
+    Returns:
+        (2 / w_max, the control-period limit), both s.
+
+    Raises:
+        ValueError: as :func:`estimate_timestep` and :func:`controller_timestep` raise.
+    """
+    hopper = LumpedHopper(design, convention, segment_mass)
+    stance_kd = check_positive(stance_kd, "stance_kd", "per rad/s")
+    limit = _controller_limit(_controller_hopper(hopper), stance_kd, ref.HIP_GEAR, SensorTiming(sensor_timing))
+    return _spring_bound(hopper)[1], limit
+
+
+def _controller_hopper(hopper: LumpedHopper) -> LumpedHopper:
+    """The hopper the controller's limits are read from: the default segment mass's, as
+    :func:`controller_timestep` and :func:`auto_control_period` read them."""
+    return hopper if hopper.segment_mass == DEFAULT_SEGMENT_MASS else LumpedHopper(hopper.design, hopper.convention)
 
 
 def auto_control_period(
@@ -406,9 +443,15 @@ def auto_control_period(
         ValueError: `control_period_s` or `safety` out of its range, or as
             :func:`controller_timestep` raises.
     """
+    hopper = LumpedHopper(design, convention)
     control_period_s = check_positive(control_period_s, "control_period_s", "s", MAX_TIMESTEP_S)
     safety = check_positive(safety, "safety", high=1.0)
-    limit = controller_timestep(design, convention, sensor_timing=sensor_timing)
+    return _control_period(hopper, SensorTiming(sensor_timing), control_period_s, safety)
+
+
+def _control_period(hopper: LumpedHopper, timing: SensorTiming, control_period_s: float, safety: float) -> float:
+    """:func:`auto_control_period` of a hopper whose arguments are checked."""
+    limit = _controller_limit(hopper, ref.STANCE_KD, ref.HIP_GEAR, timing)
     if limit >= control_period_s:
         return control_period_s
     return control_period_s / math.ceil(control_period_s / (safety * limit) - 1e-9)
@@ -421,6 +464,7 @@ def auto_substeps(
     control_period_s: float | None = None,
     safety: float = AUTO_SAFETY,
     sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
+    contact: str = DEFAULT_CONTACT,
 ) -> tuple[int, float, float]:
     """(substeps k, physics step s, spring bound s) of ``timestep_s="auto"``.
 
@@ -428,7 +472,9 @@ def auto_substeps(
     unless the controller's own limit is smaller) when ``control_period_s``
     is None; the physics takes the smallest k whose step control_period / k
     is at most ``safety`` x the springs' explicit bound 2 / w_max
-    (:func:`estimate_timestep`).
+    (:func:`estimate_timestep`) and at most half the contact's time
+    constant (:func:`mat_hopper.core.contact.contact_max_timestep`: MuJoCo
+    uses max(solref[0], 2*timestep), XML reference, option/flag refsafe).
 
     Args:
         design: the :class:`~mat_hopper.core.materials.LegDesign`.
@@ -442,6 +488,8 @@ def auto_substeps(
             (0, 1] (default :data:`AUTO_SAFETY`, 0.5).
         sensor_timing: the controller's sensor timing (read only when
             `control_period_s` is None; default ``"authors"``).
+        contact: the contact setting (default ``"authors"``, whose 0.01 s
+            limit never binds; ``"stiff"``: 5e-4 s).
 
     Returns:
         (k, dt, bound): the substeps per control period (an int >= 1), the
@@ -452,9 +500,11 @@ def auto_substeps(
         ValueError: `control_period_s` or `safety` out of its range, more
             than 1000 substeps needed, or as :func:`estimate_timestep` and
             :func:`controller_timestep` raise (unknown convention, segment
-            mass or sensor timing).
+            mass or sensor timing), or an unknown contact.
     """
+    hopper = LumpedHopper(design, convention, segment_mass)  # the one check of the convention on this path
     safety = check_positive(safety, "safety", high=1.0)
+    contact_limit = contact_max_timestep(contact)
     if control_period_s is not None:
         control_period_s = check_positive(control_period_s, "control_period_s", "s", MAX_TIMESTEP_S)
         if control_period_s < MIN_TIMESTEP_S:
@@ -463,9 +513,14 @@ def auto_substeps(
                 f"smallest physics step the package plans), got {control_period_s!r}"
             )
     if control_period_s is None:
-        control_period_s = auto_control_period(design, convention, sensor_timing, safety=safety)
-    _, bound = estimate_timestep(design, convention, segment_mass)
+        control_period_s = _control_period(
+            _controller_hopper(hopper), SensorTiming(sensor_timing), ref.TIMESTEP_S, safety
+        )
+    _, bound = _spring_bound(hopper)
     k = max(1, math.ceil(control_period_s / (safety * bound) - 1e-9))
+    # MuJoCo honours a contact time constant only down to 2 steps (refsafe):
+    # the step stays at most half of it.
+    k = max(k, math.ceil(control_period_s / contact_limit - 1e-9))
     if k > 1000:
         raise ValueError(
             f"--timestep auto would need {k} physics substeps per {control_period_s:g} s control "

@@ -7,16 +7,40 @@ explicit limit is smaller (:func:`mat_hopper.core.stable_step.auto_control_perio
 and the physics takes the fewest substeps of that period whose step is at
 most AUTO_SAFETY (0.5) x the springs' explicit bound
 (:func:`mat_hopper.core.stable_step.auto_substeps`).
+
+Before any run, :func:`check_stable_step` compares the run's step and
+control period with the leg's analytic bounds: one line (a warning, never
+a refusal) naming ``timestep_s="auto"`` (``--timestep auto``) when either
+lies above its bound.
 """
 
 from __future__ import annotations
 
+import functools
+import math
+import warnings
+
 from . import reference as ref
+from .contact import DEFAULT_CONTACT
 from .controller import DEFAULT_SENSOR_TIMING
 from .materials import DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, parse_design
 from .stable_step import auto_substeps
 
-__all__ = ["AUTO", "FINE_SUBSTEPS", "FINE_TIMESTEP_S", "auto_timestep", "is_auto", "resolve_timestep"]
+__all__ = [
+    "API_AUTO_HINT",
+    "AUTO",
+    "CLI_AUTO_HINT",
+    "FINE_SUBSTEPS",
+    "FINE_TIMESTEP_S",
+    "StableStepWarning",
+    "auto_suggestion",
+    "auto_timestep",
+    "check_stable_step",
+    "is_auto",
+    "resolve_timestep",
+    "stable_step_excess",
+    "warn_stable_step",
+]
 
 AUTO = "auto"  # timestep_s="auto": physics substeps of the control period (resolve_timestep)
 # The finer physics of the time-step checks (robustness study, optimizer validation):
@@ -53,6 +77,7 @@ def resolve_timestep(
     convention: str = DEFAULT_CONVENTION,
     segment_mass: str = DEFAULT_SEGMENT_MASS,
     sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
+    contact: str = DEFAULT_CONTACT,
 ) -> tuple[float, int]:
     """The one place where ``timestep_s="auto"`` is resolved.
 
@@ -62,12 +87,14 @@ def resolve_timestep(
         convention: the stiffness convention of the run.
         segment_mass: the segment mass convention of the run.
         sensor_timing: the run's sensor timing (the controller's limit).
+        contact: the run's contact setting (its time constant's limit).
 
     Returns:
         (timestep_s, substeps): the step given and 1 substep, or for
         ``"auto"`` the control period (the authors' 1e-4 s unless the
         controller's own limit is smaller) split into the fewest substeps
-        that keep the leg's springs stable (:func:`auto_timestep`).
+        that keep the leg's springs stable and the contact's time constant
+        honoured (:func:`auto_timestep`).
 
     Raises:
         ValueError: ``"auto"`` without a design, or another string.
@@ -78,7 +105,7 @@ def resolve_timestep(
         raise ValueError(f"timestep_s must be a number (s) or {AUTO!r}, got {timestep_s!r}")
     if design is None:
         raise ValueError("the time step is 'auto': pass the design (its substeps depend on it)")
-    substeps, dt = auto_timestep(design, convention, segment_mass, sensor_timing)
+    substeps, dt = auto_timestep(design, convention, segment_mass, sensor_timing, contact)
     return dt, substeps
 
 
@@ -87,6 +114,7 @@ def auto_timestep(
     convention: str = DEFAULT_CONVENTION,
     segment_mass: str = DEFAULT_SEGMENT_MASS,
     sensor_timing: str | int = DEFAULT_SENSOR_TIMING,
+    contact: str = DEFAULT_CONTACT,
 ) -> tuple[int, float]:
     """(substeps, physics step s) for ``timestep_s="auto"``: the controller
     keeps its period (1e-4 s) unless its own explicit limit is smaller
@@ -102,6 +130,9 @@ def auto_timestep(
             ``leg``).
         sensor_timing: the run's sensor timing (the controller's limit;
             default ``"authors"``).
+        contact: the run's contact setting (default ``"authors"``): the
+            step is at most half its time constant
+            (:func:`mat_hopper.core.contact.contact_max_timestep`).
 
     Returns:
         (substeps, timestep_s): the physics substeps per control period (an
@@ -111,7 +142,153 @@ def auto_timestep(
         ValueError: a design that is neither a LegDesign nor a str, an
             unknown design name, more than 1000 substeps, or as
             :func:`mat_hopper.core.stable_step.auto_substeps` raises (unknown
-            convention, segment mass or sensor timing).
+            convention, segment mass, sensor timing or contact).
     """
-    k, dt, _ = auto_substeps(_design(design), convention, segment_mass, sensor_timing=sensor_timing)
+    k, dt, _ = auto_substeps(_design(design), convention, segment_mass, sensor_timing=sensor_timing, contact=contact)
     return k, dt
+
+
+# --- the stable-step check before a run -------------------------------------------
+# The analytic bounds it compares with (mat_hopper.core.stable_step) are explicit
+# stability limits of linearised models: a step above one is likely, not certain, to
+# diverge (the measured stable steps lie within a factor 2 of the springs' bound), so
+# the check warns and never refuses: the authors' 1e-4 s default stays, for fidelity.
+
+API_AUTO_HINT = 'timestep_s="auto"'  # how the Python API asks for the automatic step
+CLI_AUTO_HINT = "--timestep auto"  # how the command line asks for it
+
+
+class StableStepWarning(RuntimeWarning):
+    """A run's physics step (or control period) lies above the leg's
+    analytic stable step (:func:`check_stable_step`): it may diverge."""
+
+
+@functools.lru_cache(maxsize=256)
+def _bounds(design: LegDesign, convention: str, segment_mass: str, stance_kd: float, latency: int) -> tuple:
+    """(springs' bound 2 / w_max s, controller's limit s), cached: a batch
+    or a sweep asks again for the same leg."""
+    from .stable_step import stable_bounds
+
+    return stable_bounds(design, convention, segment_mass, stance_kd, latency)  # no model is built
+
+
+def stable_step_excess(design, settings) -> str | None:
+    """What in a run's settings lies above the leg's analytic stable step.
+
+    Compares the physics step ``settings.timestep_s`` with the springs'
+    explicit bound 2 / w_max (:func:`mat_hopper.core.stable_step.estimate_timestep`)
+    and the control period (``substeps`` x the step) with the controller's
+    own limit (:func:`mat_hopper.core.stable_step.controller_timestep`, its
+    stance damping read late; its hips' flight damping under a bending
+    convention).
+
+    Args:
+        design: the leg, a LegDesign or a design name.
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings` (its
+            timestep_s, substeps, convention, segment_mass, sensor_timing and
+            controller are read).
+
+    Returns:
+        None when both are within their bounds; else one clause naming each
+        excess with both numbers, s (no fix: :func:`check_stable_step` adds it).
+
+    Raises:
+        ValueError: as the bounds' functions raise (an unknown design).
+    """
+    design = _design(design)
+    dt = float(settings.timestep_s)
+    period = dt * int(settings.substeps)
+    kd = float(settings.controller.stance_kd)
+    spring, control = _bounds(design, settings.convention, settings.segment_mass, kd, int(settings.sensor_timing))
+    over = []
+    if dt > spring:
+        over.append(
+            f"the physics step {dt:.3g} s is above this leg's analytic stable step {spring:.3g} s, "
+            f"its springs' explicit bound 2 / w_max under convention {settings.convention}"
+        )
+    if period > control:
+        over.append(
+            f"the control period {period:.3g} s is above the controller's explicit limit {control:.3g} s, "
+            f"its rate feedback under sensor timing {settings.sensor_timing}"
+        )
+    return " and ".join(over) or None
+
+
+def auto_suggestion(design, settings, auto_hint: str = API_AUTO_HINT) -> str | None:
+    """What to try instead of a run's step: the automatic one, when it
+    differs from the run's.
+
+    Args:
+        design: the leg, a LegDesign or a design name.
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings`.
+        auto_hint: how the caller asks for the automatic step
+            (:data:`API_AUTO_HINT` or :data:`CLI_AUTO_HINT`).
+
+    Returns:
+        ``"try <auto_hint> (k physics substeps of dt s per P s control
+        period)"``; a sentence saying why it cannot help when it would need
+        more than 1000 substeps; None when the run already takes that step
+        and period.
+    """
+    design = _design(design)
+    contact = getattr(settings, "contact", DEFAULT_CONTACT)
+    try:
+        k, dt = auto_timestep(design, settings.convention, settings.segment_mass, settings.sensor_timing, contact)
+    except ValueError as e:
+        return f"{auto_hint} cannot help: {e}"
+    same = math.isclose(dt, settings.timestep_s, rel_tol=1e-9) and k == settings.substeps
+    if same or dt > settings.timestep_s:
+        return None
+    return (
+        f"try {auto_hint} ({k} physics substep{'s' if k > 1 else ''} of {dt:.3g} s per {k * dt:.3g} s control period)"
+    )
+
+
+def check_stable_step(design, settings, *, auto_hint: str = API_AUTO_HINT) -> str | None:
+    """The one check of a run's time step against the leg's analytic stable
+    step, before any run (every command and :func:`mat_hopper.core.sim.simulate`).
+
+    Args:
+        design: the leg, a LegDesign or a design name.
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings`.
+        auto_hint: how the caller asks for the automatic step, named in the
+            line (:data:`API_AUTO_HINT`, ``timestep_s="auto"``, by default;
+            :data:`CLI_AUTO_HINT`, ``--timestep auto``, on the command line).
+
+    Returns:
+        None when the step and the control period are within their bounds
+        (:func:`stable_step_excess`); else one line: what lies above which
+        bound, that the run may diverge, and what to try (:func:`auto_suggestion`).
+
+    Raises:
+        ValueError: as the bounds' functions raise (an unknown design).
+
+    >>> from mat_hopper.core.sim import SimSettings
+    >>> check_stable_step("SS", SimSettings()) is None  # the authors' 1e-4 s step, below SS's 1.26e-4 s
+    True
+    >>> print(check_stable_step("WC", SimSettings()))  # doctest: +ELLIPSIS
+    the physics step 0.0001 s is above this leg's analytic stable step 9.52e-05 s, ...: it may diverge; try timestep_s="auto" (3 physics substeps of 3.33e-05 s per 0.0001 s control period)
+    """
+    excess = stable_step_excess(design, settings)
+    if excess is None:
+        return None
+    fix = auto_suggestion(design, settings, auto_hint) or f"a smaller step than {settings.timestep_s:g} s"
+    return f"{excess}: it may diverge; {fix}"
+
+
+def warn_stable_step(design, settings, stacklevel: int = 1) -> str | None:
+    """:func:`check_stable_step`'s line as a :class:`StableStepWarning`, if any.
+
+    Args:
+        design: the leg, a LegDesign or a design name.
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings`.
+        stacklevel: as :func:`warnings.warn`'s, counted from the caller of
+            this function (1: the caller's line).
+
+    Returns:
+        The line warned, or None.
+    """
+    note = check_stable_step(design, settings)
+    if note:
+        warnings.warn(note, StableStepWarning, stacklevel + 1)
+    return note

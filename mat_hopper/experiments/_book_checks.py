@@ -20,7 +20,7 @@ from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import REPRODUCTION_CONVENTIONS, LegDesign, parse_design
 from ..core.timestep import AUTO, is_auto
 from ._experiments import experiment_1
-from .profiles import Profile, get_profile
+from .profiles import Profile, get_profile, resolve_profile
 from .runner import FAILED, RunSpec, run_grid
 
 
@@ -35,7 +35,7 @@ def convention_tasks(
 
     Args:
         names: design names or LegDesigns.
-        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        profile: a Profile or its name (:func:`convention_stability` resolves $MAT_HOPPER_PROFILE).
         conventions: stiffness conventions (:data:`mat_hopper.core.materials.CONVENTIONS`).
 
     Returns:
@@ -94,7 +94,11 @@ def convention_stability(
             $MAT_HOPPER_CACHE set but empty.
     """
     res = run_grid(
-        convention_tasks(names, profile, conventions), cache_dir, workers=workers, progress=False, desc="conventions"
+        convention_tasks(names, resolve_profile(profile), conventions),
+        cache_dir,
+        workers=workers,
+        progress=False,
+        desc="conventions",
     )
     s = res.summary
     if (s["status"] == FAILED).any():
@@ -151,7 +155,7 @@ def in_place_replicates(
         ValueError: an unknown profile or behaviour, an `n` that is not an
             integer >= 0, invalid `workers`, or $MAT_HOPPER_CACHE set but empty.
     """
-    profile = get_profile(profile)
+    profile = resolve_profile(profile)
     n = profile.replicates if n is None else n
     exp = replace(experiment_1(), behaviours=(behaviour,))
     res = run_grid(exp.tasks(profile, n), cache_dir, workers=workers, progress=False)
@@ -203,7 +207,7 @@ def clock_drift(
             $MAT_HOPPER_CACHE set but empty.
         RuntimeError: a run raised (the errors joined).
     """
-    profile = get_profile(profile)
+    profile = resolve_profile(profile)
     tasks = []
     for d in designs:
         design = LegDesign.mono(d) if isinstance(d, str) and d in ref.MONO_MATERIALS else d
@@ -278,7 +282,7 @@ def axial_check(
         ValueError: an unknown profile, design or behaviour, an invalid time
             step, invalid `workers`, or $MAT_HOPPER_CACHE set but empty.
     """
-    prof = get_profile(profile)
+    prof = resolve_profile(profile)
     legs = {d: parse_design(d) for d in designs}
     if timestep_s is None:
         timestep_s = prof.axial_timestep_s

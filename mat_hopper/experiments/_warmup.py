@@ -54,6 +54,6 @@ try:
         stability,  # noqa: F401
     )
 
-    simulate("MD", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0))
+    simulate("MD", "static", settings=SimSettings(duration_s=0.002, timestep_s=1e-3, transient_s=0.0), warn=False)
 except Exception:  # pragma: no cover
     pass

@@ -22,7 +22,7 @@ from dataclasses import replace
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.control_legs import CONTROLS, check_control, control
 from ..core.materials import parse_design
-from .profiles import get_profile
+from .profiles import get_profile, resolve_profile
 from .runner import RunSpec, run_grid
 
 # The designs of the paper's material and gradient claims, and their baselines.
@@ -45,7 +45,7 @@ def control_tasks(
     """RunSpecs of designs, their controls and the baselines on shared seeds.
 
     Args:
-        profile: a Profile or its name (default: $MAT_HOPPER_PROFILE).
+        profile: a Profile or its name (:func:`run_controls` resolves $MAT_HOPPER_PROFILE).
         designs: design names (:func:`mat_hopper.core.materials.parse_design`).
         behaviours: behaviour names.
         kinds: control kinds (``rigid``, ``mass``, ``inertia``; any case).
@@ -120,7 +120,8 @@ def run_controls(profile=None, *, cache_dir=None, workers=None, progress: bool =
             invalid `workers`, or $MAT_HOPPER_CACHE set but empty
             (:func:`~mat_hopper.experiments.runner.run_grid`).
     """
-    return run_grid(control_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="controls")
+    tasks = control_tasks(resolve_profile(profile), **kw)
+    return run_grid(tasks, cache_dir, workers=workers, progress=progress, desc="controls")
 
 
 SPRINGS = ("rigid", "paper", "axial")
@@ -212,7 +213,8 @@ def run_attribution(profile=None, *, cache_dir=None, workers=None, progress: boo
             invalid `workers`, or $MAT_HOPPER_CACHE set but empty
             (:func:`~mat_hopper.experiments.runner.run_grid`).
     """
-    return run_grid(attribution_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="attribution")
+    tasks = attribution_tasks(resolve_profile(profile), **kw)
+    return run_grid(tasks, cache_dir, workers=workers, progress=progress, desc="attribution")
 
 
 PUSH_SCALES = (0.0, 1.0, 2.0)  # times REPLICATE_PUSH_FORCE_N: no push, the book's, twice it
@@ -283,4 +285,5 @@ def run_push_scale(profile=None, *, cache_dir=None, workers=None, progress: bool
             invalid `workers`, or $MAT_HOPPER_CACHE set but empty
             (:func:`~mat_hopper.experiments.runner.run_grid`).
     """
-    return run_grid(push_scale_tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="push scale")
+    tasks = push_scale_tasks(resolve_profile(profile), **kw)
+    return run_grid(tasks, cache_dir, workers=workers, progress=progress, desc="push scale")

@@ -27,7 +27,7 @@ import pandas as pd
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import parse_design
 from ..physics.modes import axial_modes
-from .profiles import Profile, get_profile
+from .profiles import Profile, get_profile, resolve_profile
 from .runner import RunSpec, run_grid
 
 DESIGNS = ("SS", "PVC", "rho-inc")
@@ -57,14 +57,14 @@ def plan_for(profile: Profile | str | None) -> ConvergencePlan:
     """The convergence plan of a profile: :data:`PLANS` by the profile's name.
 
     Args:
-        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        profile: a Profile or its name.
 
     Returns:
         The :class:`ConvergencePlan` of ``paper`` or ``quick``; a profile of any
         other name gets the ``quick`` plan.
 
     Raises:
-        ValueError: an unknown profile name, or $MAT_HOPPER_PROFILE set but empty
+        ValueError: an unknown profile name, or None
             (:func:`~mat_hopper.experiments.profiles.get_profile`).
     """
     prof = get_profile(profile)
@@ -77,7 +77,8 @@ def tasks(profile=None, designs=DESIGNS, behaviours=BEHAVIOURS, plan: Convergenc
     behaviour, n_segments, substeps, timestep_s.
 
     Args:
-        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``);
+        profile: a Profile or its name (the entry points, e.g. :func:`run`, resolve
+            $MAT_HOPPER_PROFILE);
             its ``axial`` form (:meth:`Profile.for_convention`) gives the settings.
         designs: design names (:func:`mat_hopper.core.materials.parse_design`), each
             resampled to every N (:meth:`LegDesign.resample`).
@@ -143,7 +144,9 @@ def run(profile=None, *, cache_dir=None, workers: int | None = None, progress: b
         ValueError: as :func:`tasks`, invalid `workers`, or $MAT_HOPPER_CACHE
             set but empty.
     """
-    res = run_grid(tasks(profile, **kw), cache_dir, workers=workers, progress=progress, desc="convergence")
+    res = run_grid(
+        tasks(resolve_profile(profile), **kw), cache_dir, workers=workers, progress=progress, desc="convergence"
+    )
     if res.n_failed:
         bad = res.summary[res.summary["status"] == "failed"]
         raise RuntimeError("convergence: runs failed: " + "; ".join(map(str, bad["error"].head(3))))

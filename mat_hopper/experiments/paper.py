@@ -172,7 +172,13 @@ def experiment_name(text: str) -> str:
     """
     key = _SPELLING_TO_NAME.get(str(text).strip().lower())
     if key is None:
-        raise ValueError(f"unknown experiment {text!r}; accepted: {experiment_spellings()}")
+        from ..util.parsing import close_names
+
+        near = dict.fromkeys(
+            EXPERIMENT_SPELLINGS[_SPELLING_TO_NAME[s]][0] for s in close_names(text, _SPELLING_TO_NAME)
+        )
+        hint = f"; did you mean {' or '.join(near)}?" if near else ""
+        raise ValueError(f"unknown experiment {text!r}; accepted: {experiment_spellings()}{hint}")
     return key
 
 

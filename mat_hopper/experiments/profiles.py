@@ -1,19 +1,25 @@
 """Run profiles: how long and how fine every run of a reproduction is.
 
 ``paper`` is the paper's protocol; ``quick`` is for CI and first looks.
-``MAT_HOPPER_PROFILE`` picks the default. Results carry a ``profile``
-column.
+``MAT_HOPPER_PROFILE`` picks the default, read at the entry points only
+(:func:`resolve_profile`: the commands, :func:`mat_hopper.book.setup`, the
+public API's runs); the functions below them take the :class:`Profile`
+(or a name, :func:`get_profile`). A profile holds its run settings once,
+as the :class:`~mat_hopper.core.sim.SimSettings` fields its runs take
+(:attr:`Profile.run`). Results carry a ``profile`` column.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
+from types import MappingProxyType
 
 import pandas as pd
 
 from ..core import reference as ref
 from ..core.controller import SensorTiming
-from ..core.materials import BENDING_CONVENTIONS, DEFAULT_SEGMENT_MASS, check_convention, check_segment_mass
+from ..core.materials import BENDING_CONVENTIONS, check_convention
 from ..core.perturbations import Perturbation
 from ..core.sim import SimSettings, sim_settings
 from ..core.timestep import AUTO, is_auto
@@ -39,11 +45,53 @@ def check_replicates(replicates) -> int:
     return replicates
 
 
-@dataclass(frozen=True)
+# Profile's arguments in their order: what key_dict records, in this order
+# (study keys and result caches depend on it).
+PROFILE_KEYS = (
+    "name",
+    "duration_s",
+    "transient_s",
+    "timestep_s",
+    "stability_grid_size",
+    "stability_duration_s",
+    "stability_tolerance",
+    "stability_max_iter",
+    "stability_scan",
+    "record_rate_hz",
+    "convention",
+    "axial_timestep_s",
+    "replicates",
+    "sensor_timing",
+    "segment_mass",
+    "push_scale",
+    "substep_studies",
+)
+# The SimSettings fields a profile sets for every run (Profile.run); a run
+# adds the rest (its perturbation, controller, substeps, damping).
+RUN_SETTINGS = (
+    "duration_s",
+    "transient_s",
+    "timestep_s",
+    "record_rate_hz",
+    "convention",
+    "sensor_timing",
+    "segment_mass",
+)
+# Every run setting but the run length and transient (which a profile must
+# give) defaults to SimSettings' own default.
+_RUN_DEFAULTS = {f.name: f.default for f in fields(SimSettings) if f.name in RUN_SETTINGS[2:]}
+
+
+def _run_setting(name: str, doc: str) -> property:
+    return property(lambda self: self.run[name], doc=f"{doc} (``run[{name!r}]``).")
+
+
+@dataclass(frozen=True, init=False, repr=False, eq=False)
 class Profile:
     """How long and how fine every run of a reproduction is.
 
-    duration_s, transient_s, timestep_s: each hopping run (s);
+    Positional and keyword arguments, in this order:
+    name; duration_s, transient_s, timestep_s: each hopping run (s);
     stability_grid_size: the map is size x size designs;
     stability_duration_s: static hopping per stability try (s);
     stability_tolerance: bisection stops when the bracket is within this
@@ -76,40 +124,101 @@ class Profile:
     axial arms (:func:`mat_hopper.experiments.controls.attribution_tasks`).
     The paper profile runs them; the quick profile (CI's book, a smoke
     build whose 2 seeds test nothing) leaves them out, and the chapters
-    say so."""
+    say so.
+
+    The run settings (:data:`RUN_SETTINGS`: duration_s, transient_s,
+    timestep_s, record_rate_hz, convention, sensor_timing, segment_mass) are
+    held once, in :attr:`run`, as the :class:`~mat_hopper.core.sim.SimSettings`
+    fields every run of the profile takes, checked and spelled by
+    SimSettings itself (a timestep_s of ``"auto"`` as a 1e-4 s step: the
+    auto control period is at most that); those left out take SimSettings'
+    defaults. ``run=`` (keyword only: a mapping of run settings or a
+    SimSettings) gives them at once; a run setting given by name overrides
+    it, so ``dataclasses.replace(profile, duration_s=8.0)`` works. The
+    properties ``duration_s``, ``convention``, ... read :attr:`run`.
+
+    Raises:
+        ValueError: an invalid value, naming the setting (a run setting as
+            :class:`~mat_hopper.core.sim.SimSettings` names it).
+        TypeError: duration_s or transient_s not given (and not in `run`).
+    """
 
     name: str
-    duration_s: float
-    transient_s: float
-    timestep_s: float = ref.TIMESTEP_S
-    stability_grid_size: int = ref.STABILITY_GRID_SIZE
-    stability_duration_s: float = ref.STABILITY_TEST_DURATION_S
-    stability_tolerance: float = 1.25
-    stability_max_iter: int = 10
-    stability_scan: bool = True
-    record_rate_hz: float = 1000.0
-    convention: str = "paper"
-    axial_timestep_s: float | str = AUTO
-    replicates: int = 10
-    sensor_timing: SensorTiming = SensorTiming()
-    segment_mass: str = DEFAULT_SEGMENT_MASS
-    push_scale: float = 1.0
-    substep_studies: bool = True
+    run: MappingProxyType  # RUN_SETTINGS -> value, as SimSettings stores it (timestep_s: a number or AUTO)
+    stability_grid_size: int
+    stability_duration_s: float
+    stability_tolerance: float
+    stability_max_iter: int
+    stability_scan: bool
+    axial_timestep_s: float | str
+    replicates: int
+    push_scale: float
+    substep_studies: bool
 
-    def __post_init__(self):
+    duration_s = _run_setting("duration_s", "Each hopping run's length, s")
+    transient_s = _run_setting("transient_s", "Hop cycles starting before it are not scored, s")
+    timestep_s = _run_setting("timestep_s", 'The physics step, s, or ``"auto"``')
+    record_rate_hz = _run_setting("record_rate_hz", "Recorded samples per simulated second, Hz")
+    convention = _run_setting("convention", "The stiffness convention, as spelled in CONVENTIONS")
+    sensor_timing = _run_setting("sensor_timing", "When the controller reads the base (a SensorTiming)")
+    segment_mass = _run_setting("segment_mass", "The segment-mass convention, as spelled in SEGMENT_MASSES")
+
+    def __init__(
+        self,
+        name: str,
+        duration_s: float | None = None,
+        transient_s: float | None = None,
+        timestep_s: float | str | None = None,
+        stability_grid_size: int = ref.STABILITY_GRID_SIZE,
+        stability_duration_s: float = ref.STABILITY_TEST_DURATION_S,
+        stability_tolerance: float = 1.25,
+        stability_max_iter: int = 10,
+        stability_scan: bool = True,
+        record_rate_hz: float | None = None,
+        convention: str | None = None,
+        axial_timestep_s: float | str = AUTO,
+        replicates: int = 10,
+        sensor_timing: SensorTiming | str | int | None = None,
+        segment_mass: str | None = None,
+        push_scale: float = 1.0,
+        substep_studies: bool = True,
+        *,
+        run: Mapping | SimSettings | None = None,
+    ):
+        given = dict(
+            duration_s=duration_s,
+            transient_s=transient_s,
+            timestep_s=timestep_s,
+            record_rate_hz=record_rate_hz,
+            convention=convention,
+            sensor_timing=sensor_timing,
+            segment_mass=segment_mass,
+        )
+        own = dict(
+            name=name,
+            stability_grid_size=stability_grid_size,
+            stability_duration_s=stability_duration_s,
+            stability_tolerance=stability_tolerance,
+            stability_max_iter=stability_max_iter,
+            stability_scan=stability_scan,
+            axial_timestep_s=axial_timestep_s,
+            replicates=replicates,
+            push_scale=push_scale,
+            substep_studies=substep_studies,
+        )
+        object.__setattr__(self, "run", MappingProxyType(_run_settings(run, given)))
+        for key, value in own.items():
+            object.__setattr__(self, key, value)
+        self._check()
+
+    def _check(self) -> None:
+        """The profile's own settings (the run settings are SimSettings')."""
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"profile name must be a non-empty string, got {self.name!r}")
-        object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing))
-        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
-        object.__setattr__(self, "convention", check_convention(self.convention))
-        for name in ("timestep_s", "axial_timestep_s"):
-            value = getattr(self, name)
-            if is_auto(value):  # any case: stored as AUTO
-                object.__setattr__(self, name, AUTO)
-            elif isinstance(value, str):
-                raise ValueError(f"{name} must be a number (s) or {AUTO!r}, got {value!r}")
-        if not is_auto(self.timestep_s):
-            self.sim_settings()  # validates duration, transient, time step, convention
+        if is_auto(self.axial_timestep_s):  # any case: stored as AUTO
+            object.__setattr__(self, "axial_timestep_s", AUTO)
+        elif isinstance(self.axial_timestep_s, str):
+            raise ValueError(f"axial_timestep_s must be a number (s) or {AUTO!r}, got {self.axial_timestep_s!r}")
         if int(self.stability_grid_size) < 1:
             raise ValueError(f"stability_grid_size must be >= 1, got {self.stability_grid_size!r}")
         if not self.stability_duration_s > 0:
@@ -122,6 +231,21 @@ class Profile:
         Perturbation.replicate(0, self.scored_window_s, push_scale=self.push_scale)  # checks push_scale
         if int(self.stability_max_iter) < 0:
             raise ValueError(f"stability_max_iter must be >= 0, got {self.stability_max_iter!r}")
+
+    def _key(self) -> tuple:
+        return tuple((k, getattr(self, k)) for k in PROFILE_KEYS)
+
+    def __eq__(self, other) -> bool:
+        return self._key() == other._key() if isinstance(other, Profile) else NotImplemented
+
+    def __hash__(self) -> int:
+        return hash(self._key())
+
+    def __repr__(self) -> str:
+        return f"Profile({', '.join(f'{k}={v!r}' for k, v in self._key())})"
+
+    def __reduce__(self):  # pickled as its key: Profile(**key_dict) rebuilds it
+        return (_profile_from_key, (self.key_dict(),))
 
     def stability_spec(self, design, labels: dict, *, convention: str | None = None, scan: bool | None = None):
         """The stable-time-step measurement (a runner task) of one design under
@@ -159,8 +283,10 @@ class Profile:
         return Perturbation.replicate(seed, self.scored_window_s, push_scale=self.push_scale)
 
     def key_dict(self) -> dict:
-        """Every field as a cache or study key records it (a sensor timing by its name)."""
-        return {f.name: _shown(getattr(self, f.name)) for f in fields(self)}
+        """Every setting as a cache or study key records it, in the order of
+        :data:`PROFILE_KEYS` (a sensor timing by its name); ``Profile(**key_dict)``
+        rebuilds an equal profile."""
+        return {k: _shown(v) for k, v in self._key()}
 
     def for_convention(self, convention: str) -> Profile:
         """This profile under another stiffness convention (and its time step)."""
@@ -179,20 +305,39 @@ class Profile:
         timing = SensorTiming(sensor_timing)
         return self if timing == self.sensor_timing else replace(self, sensor_timing=timing)
 
-    def sim_settings(self, perturbation: Perturbation | None = None, design=None) -> SimSettings:
-        """The SimSettings of one run. With ``timestep_s="auto"`` the
-        physics substeps depend on the leg: pass its ``design``."""
-        return sim_settings(
-            design,
-            duration_s=self.duration_s,
-            timestep_s=self.timestep_s,
-            transient_s=self.transient_s,
-            convention=self.convention,
-            record_rate_hz=self.record_rate_hz,
-            perturbation=perturbation,
-            sensor_timing=self.sensor_timing,
-            segment_mass=self.segment_mass,
-        )
+    def sim_settings(self, perturbation: Perturbation | None = None, design=None, **overrides) -> SimSettings:
+        """The SimSettings of one run: :attr:`run`, then `overrides` (other
+        SimSettings fields, e.g. ``segment_mass``), and `perturbation`. With
+        ``timestep_s="auto"`` the physics substeps depend on the leg: pass
+        its ``design`` (no model is built: :func:`mat_hopper.core.sim.sim_settings`)."""
+        return sim_settings(design, **{**self.run, **overrides}, perturbation=perturbation)
+
+
+def _run_settings(run, given: dict) -> dict:
+    """A profile's run settings: SimSettings' defaults, then `run` (a mapping
+    or a SimSettings), then those `given` by name (None: not given); checked
+    and spelled by SimSettings (module doc)."""
+    if isinstance(run, SimSettings):
+        run = {k: getattr(run, k) for k in RUN_SETTINGS}
+    run = {} if run is None else dict(run)
+    unknown = sorted(set(run) - set(RUN_SETTINGS))
+    if unknown:
+        raise ValueError(f"run: unknown setting(s) {', '.join(unknown)}; a profile sets {', '.join(RUN_SETTINGS)}")
+    values = {**_RUN_DEFAULTS, **run, **{k: v for k, v in given.items() if v is not None}}
+    for k in ("duration_s", "transient_s"):
+        if k not in values:
+            raise TypeError(f"Profile needs {k} (s), by name or in run=")
+    step = values["timestep_s"]
+    if is_auto(step):  # any case: stored as AUTO
+        values["timestep_s"] = AUTO
+    elif isinstance(step, str):
+        raise ValueError(f"timestep_s must be a number (s) or {AUTO!r}, got {step!r}")
+    checked = SimSettings(**{**values, "timestep_s": ref.TIMESTEP_S if is_auto(step) else step})
+    return {k: values[k] if k == "timestep_s" else getattr(checked, k) for k in RUN_SETTINGS}
+
+
+def _profile_from_key(key: dict) -> Profile:
+    return Profile(**key)
 
 
 PROFILES = {
@@ -206,12 +351,38 @@ PROFILES = {
 }
 
 
-def get_profile(name: str | Profile | None = None) -> Profile:
-    """A profile by name (``paper`` or ``quick``); None: $MAT_HOPPER_PROFILE,
-    else ``paper``. A Profile is returned as is.
+def get_profile(name: str | Profile) -> Profile:
+    """A profile by name, or a Profile as is: below the entry points, never
+    reading the environment (:func:`resolve_profile` does, at the entry points).
 
     Args:
-        name: ``"paper"`` or ``"quick"`` (any case, blanks trimmed), a
+        name: ``"paper"`` or ``"quick"`` (any case, blanks trimmed) or a Profile.
+
+    Returns:
+        The :class:`Profile` (the shared instance of :data:`PROFILES` for a name).
+
+    Raises:
+        ValueError: an unknown name, or None (no profile given: an entry point
+            resolves $MAT_HOPPER_PROFILE first, :func:`resolve_profile`).
+    """
+    if isinstance(name, Profile):
+        return name
+    if name is None:
+        raise ValueError(
+            f"profile: none given; pass a Profile or its name ({', '.join(PROFILES)}); "
+            f"${PROFILE_ENV} is read at the entry points (resolve_profile)"
+        )
+    return _named(name, "")
+
+
+def resolve_profile(profile: str | Profile | None = None) -> Profile:
+    """The run profile at an entry point (the commands, :func:`mat_hopper.book.setup`,
+    the public API's runs): `profile` if given, else $MAT_HOPPER_PROFILE, else
+    ``paper``. The one reader of $MAT_HOPPER_PROFILE; the functions below the
+    entry points take the Profile it returns.
+
+    Args:
+        profile: ``"paper"`` or ``"quick"`` (any case, blanks trimmed), a
             Profile, or None.
 
     Returns:
@@ -221,18 +392,21 @@ def get_profile(name: str | Profile | None = None) -> Profile:
         ValueError: an unknown name (naming $MAT_HOPPER_PROFILE when it came
             from there), or $MAT_HOPPER_PROFILE set but empty.
     """
-    if isinstance(name, Profile):
-        return name
-    src = ""
-    if name is None:  # set but empty is an error naming the variable, not the paper profile
-        from ..util.parsing import env_value
+    if profile is not None:
+        return get_profile(profile)
+    from ..util.parsing import env_value
 
-        name = env_value(PROFILE_ENV, f"accepted: {', '.join(PROFILES)}")
-        src = f" (from ${PROFILE_ENV})" if name is not None else ""
-        name = "paper" if name is None else name
+    name = env_value(PROFILE_ENV, f"accepted: {', '.join(PROFILES)}")  # set but empty: an error naming it
+    return PROFILES["paper"] if name is None else _named(name, f" (from ${PROFILE_ENV})")
+
+
+def _named(name, src: str) -> Profile:
     key = str(name).strip().lower()
     if key not in PROFILES:
-        raise ValueError(f"unknown profile {name!r}{src}; accepted: {', '.join(PROFILES)}")
+        from ..util.parsing import did_you_mean
+
+        hint = f"; {did_you_mean(name, PROFILES)}" if did_you_mean(name, PROFILES) else ""
+        raise ValueError(f"unknown profile {name!r}{src}; accepted: {', '.join(PROFILES)}{hint}")
     return PROFILES[key]
 
 
@@ -269,9 +443,9 @@ def profile_table(profile: str | Profile | None = None) -> pd.DataFrame:
         timing by its name).
 
     Raises:
-        ValueError: as :func:`get_profile`.
+        ValueError: as :func:`resolve_profile`.
     """
-    prof = get_profile(profile)
+    prof = resolve_profile(profile)
     paper = PROFILES["paper"]
     rows = [
         {"setting": f, "meaning": m, "this build": _shown(getattr(prof, f)), "paper": _shown(getattr(paper, f))}

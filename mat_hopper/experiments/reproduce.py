@@ -36,7 +36,7 @@ from ..core.materials import CONVENTIONS, check_convention
 from ..util.atomic import write_csv
 from ..util.limits import check_total_steps, task_steps
 from .paper import get_experiment, parse_experiments
-from .profiles import check_replicates, get_profile
+from .profiles import check_replicates, get_profile, resolve_profile
 from .runner import Runner, check_workers
 
 
@@ -128,7 +128,7 @@ def reproduce(
             $MAT_HOPPER_PROFILE or $MAT_HOPPER_CACHE set but empty; all
             of them before `out_dir` is made.
     """
-    prof = get_profile(profile)
+    prof = resolve_profile(profile)
     conventions = check_conventions(conventions)
     names = parse_experiments(
         experiments if experiments is None or isinstance(experiments, str) else ",".join(experiments)
@@ -277,7 +277,7 @@ def planned_steps(profile, names, conventions, replicates: int) -> float:
     before any work, runs beyond :data:`mat_hopper.util.limits.MAX_TOTAL_STEPS`.
 
     Args:
-        profile: a Profile or its name (None: $MAT_HOPPER_PROFILE, else ``paper``).
+        profile: a Profile or its name (the command resolves $MAT_HOPPER_PROFILE).
         names: canonical experiment names, as
             :func:`~mat_hopper.experiments.paper.parse_experiments` returns them.
         conventions: stiffness conventions of the hopping experiments.
@@ -304,6 +304,17 @@ def planned_steps(profile, names, conventions, replicates: int) -> float:
 
 
 def check_conventions(conventions) -> tuple:
+    """The stiffness conventions of a reproduction, each once, in canonical spelling.
+
+    Args:
+        conventions: names (any case) as a sequence or a comma-separated string.
+
+    Returns:
+        A tuple of canonical convention names, in the order given, without repeats.
+
+    Raises:
+        ValueError: an unknown convention, or none given.
+    """
     if isinstance(conventions, str):
         conventions = [c.strip() for c in conventions.split(",") if c.strip()]
     out = tuple(dict.fromkeys(check_convention(c) for c in conventions))
@@ -356,7 +367,7 @@ def run_experiments(
         RuntimeError: a task raised (the experiments with failed tasks named).
         ValueError: as :func:`reproduce`.
     """
-    prof = get_profile(profile)
+    prof = resolve_profile(profile)
     out_dir = str(out_dir) if out_dir is not None else None
     cache_dir = str(cache_dir) if cache_dir is not None else None
     rep = reproduce(

@@ -25,7 +25,7 @@ from ..analysis.robustness import DEFAULT, Variant, designs_and_behaviours, vari
 from ..core.behaviours import BEHAVIOUR_NAMES
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import parse_design
-from .profiles import get_profile
+from .profiles import get_profile, resolve_profile
 from .runner import RunSpec
 
 
@@ -38,7 +38,7 @@ def tasks(profile, variant_list=None) -> list:
     Args:
         profile: a :class:`~mat_hopper.experiments.profiles.Profile` or its
             name, any case (:func:`~mat_hopper.experiments.profiles.get_profile`;
-            None: $MAT_HOPPER_PROFILE, else ``paper``).
+            the entry points, e.g. :func:`batch_runs`, resolve $MAT_HOPPER_PROFILE).
         variant_list: the variants (:class:`~mat_hopper.analysis.robustness.Variant`)
             to run; None: :func:`~mat_hopper.analysis.robustness.variants`.
 
@@ -153,7 +153,7 @@ def batch_runs(
     """
     from ..batch import BatchSettings, evaluate  # MuJoCo Warp, imported only when a batch runs
 
-    profile = get_profile(profile)  # a name or a Profile
+    profile = resolve_profile(profile)  # a name, a Profile or None ($MAT_HOPPER_PROFILE)
     wanted = batch_variants() if variant_list is None else list(variant_list)
     if not wanted:
         raise ValueError("batch_runs: no variants to run (None runs batch_variants())")

@@ -104,9 +104,10 @@ class RunSpec:
         from ..core.sim import C, simulate
         from ..physics.metrics import hop_table, run_summary
 
-        rollout = simulate(self.design, self.behaviour, settings=self.settings)
-        hops = hop_table(rollout).drop(columns=["design", "behaviour"])
-        summary = run_summary(rollout)
+        rollout = simulate(self.design, self.behaviour, settings=self.settings, warn=False)  # status says it
+        full = hop_table(rollout, warn=False)
+        summary = run_summary(rollout, hops=full)  # one hop table per run
+        hops = full.drop(columns=["design", "behaviour"])
         for k in ("design", "behaviour"):
             summary.pop(k, None)
         if summary.get("diverged_at_s") is None:
@@ -460,7 +461,7 @@ class RolloutSpec(RunSpec):
     def compute(self) -> tuple[pd.DataFrame, dict]:
         from ..core.sim import CHANNELS, simulate
 
-        r = simulate(self.design, self.behaviour, settings=self.settings, record_qpos=self.record_qpos)
+        r = simulate(self.design, self.behaviour, settings=self.settings, record_qpos=self.record_qpos, warn=False)
         table = pd.DataFrame(np.asarray(r.data, dtype=float), columns=list(CHANNELS))
         if self.record_qpos:
             table = pd.concat(

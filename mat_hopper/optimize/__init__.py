@@ -15,7 +15,12 @@ on the MuJoCo Warp batch backend), its storage and its report
 with ``_batch``); ``_processes`` holds the signals;
 :mod:`~mat_hopper.optimize.report` writes a study's tables and plots;
 ``_scoring`` holds the noise- and mass-aware scores (replicates on common
-random numbers, mean or CVaR, the leg-mass constraint); ``_export`` writes a
+random numbers, mean or CVaR, the leg-mass constraint), ``_mass`` what a
+study held to a leg mass does with its band (refuses a void or unmeetable
+one, samples inside it, skips designs outside it before any run),
+``_feasibility`` why trials are not feasible (the line a study ends
+with) and why a run that fell is no baseline, ``_workers`` the worker
+index that keeps concurrent runs' samplers apart; ``_export`` writes a
 trial's design as CSV and MJCF; ``_racing`` runs multi-fidelity racing
 (successive halving on ask-and-tell, through the same evaluators). The
 named table of what an objective may minimize (:data:`METRICS`, with
@@ -34,6 +39,8 @@ from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch
 from ._driver import RunResult, run_batch_study, run_loop, run_study
 from ._evaluators import DEFAULT_BATCH, Evaluator, Lost, PoolEvaluator, WarpEvaluator
 from ._export import design_frame, design_mjcf, export_trial
+from ._feasibility import Feasibility, fall_reason, feasibility
+from ._mass import check_mass_band, left_out_text, leg_mass_range_kg, queued_seeds
 from ._objective import (
     CONSTRAINTS,
     HOPS_TO_FAILURE_RANGE,
@@ -56,15 +63,18 @@ from ._scoring import (
     SEARCH_SEED_START,
     cvar,
     leg_mass_kg,
+    leg_mass_model,
     replicate_seeds,
     score,
 )
 from ._space import (
     DENSITY_BOUNDS_G_CM3,
     KINDS,
+    MASS_PARAM,
     MAX_SEGMENTS,
     MODULUS_BOUNDS_GPA,
     PAPER_SEEDS,
+    MassHold,
     SearchSpace,
     describe,
     resample,
@@ -109,6 +119,16 @@ __all__ = [
     "design_frame",
     "design_mjcf",
     "export_trial",
+    "Feasibility",
+    "fall_reason",
+    "feasibility",
+    "check_mass_band",
+    "leg_mass_range_kg",
+    "left_out_text",
+    "queued_seeds",
+    "MASS_PARAM",
+    "MassHold",
+    "leg_mass_model",
     "METRICS",
     "Metric",
     "parse_objectives",

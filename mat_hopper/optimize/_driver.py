@@ -27,10 +27,18 @@ hand it to :func:`run_loop`, which drives any
    evaluation process died (FAIL with a ``fail_reason``, its parameters
    re-queued).
 
-What the sampler sees at each ask depends only on the seed, the batch size
-and the trials before it, never on the number of processes or on timing:
+What the sampler sees at each ask depends only on the seed, the batch size,
+the trials before it and the run's worker index (0 for a run alone on its
+study; runs started together on one study claim different ones in the
+storage, :mod:`mat_hopper.optimize._workers`, so their samplers do not
+propose the same points), never on the number of processes or on timing:
 a fresh study run by one command is bit-identical on any machine, with
 any number of ``workers``.
+
+A design outside the study's leg-mass band is known before any run: its
+trial fails at once, saying why (:mod:`mat_hopper.optimize._mass`), and the
+run ends with the study's trials counted by feasibility
+(:mod:`mat_hopper.optimize._feasibility`).
 
 Guarantees:
 
@@ -71,6 +79,8 @@ from optuna.trial import TrialState
 from ..util.progress import progress_bar
 from ._batch import check_unperturbed
 from ._evaluators import Evaluator, Lost, PoolEvaluator, WarpEvaluator
+from ._feasibility import feasibility
+from ._mass import SKIPPED_ATTR, outside_band, queued_seeds
 from ._objective import RESULT_ATTR, Evaluation, record_evaluation, result_attr
 from ._processes import HeldSignals, _signals_ignored, stop_signals
 from ._recovery import fail_and_retry, recover_dead, worker_identity
@@ -85,6 +95,7 @@ from ._study import (
     counts,
     create_or_load,
 )
+from ._workers import claim_worker, release_worker
 
 HELD = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)  # held from ask until the trial names its process
 
@@ -104,6 +115,13 @@ class RunResult:
             other commands), failed and re-queued by this run.
         evaluator: what simulated (``"pool:2"``, ``"warp:cuda"``; empty when
             the study needed nothing).
+        worker: this run's worker index on the study (0 when it ran alone;
+            :mod:`mat_hopper.optimize._workers`), None when it asked nothing.
+        feasibility: the study's finished trials by feasibility at the end
+            (:class:`~mat_hopper.optimize._feasibility.Feasibility`; its
+            ``text()`` is the line a study ends with).
+        left_out: the paper designs not queued, (name, leg mass kg): their
+            leg mass outside the study's band (:mod:`mat_hopper.optimize._mass`).
     """
 
     study: str
@@ -115,6 +133,9 @@ class RunResult:
     lost: list = field(default_factory=list)
     recovered: list = field(default_factory=list)
     evaluator: str = ""
+    worker: int | None = None
+    feasibility: object = None
+    left_out: list = field(default_factory=list)
 
     @property
     def finished(self) -> bool:
@@ -193,12 +214,21 @@ def _run(config: StudyConfig, options: RunOptions, url: str, evaluator: Evaluato
     recovered = _recover(study, storage, options.max_retry)
     done, running = counts(study)
     result = RunResult(config.name, redact(url), options.trials, done, running, recovered=recovered)
+    result.left_out = queued_seeds(config.space, config.objective)[1]
     if options.trials - done - running <= 0:
+        result.feasibility = feasibility(study, config)
         return result
-    seed = sampler_seed(options.seed, len(study.get_trials(deepcopy=False)))
-    study = optuna.load_study(study_name=config.name, storage=storage, sampler=make_sampler(options.sampler, seed))
-    with evaluator:
-        return run_loop(study, storage, config, evaluator, options, batch_size=batch_size, result=result)
+    study_id = storage.get_study_id_from_name(config.name)
+    token, result.worker = claim_worker(storage, study_id)  # runs started together get different seeds
+    try:
+        seed = sampler_seed(options.seed, len(study.get_trials(deepcopy=False)), result.worker)
+        study = optuna.load_study(study_name=config.name, storage=storage, sampler=make_sampler(options.sampler, seed))
+        with evaluator:
+            run_loop(study, storage, config, evaluator, options, batch_size=batch_size, result=result)
+    finally:
+        release_worker(storage, study_id, token, result.worker)
+    result.feasibility = feasibility(study, config)
+    return result
 
 
 def _recover(study, storage, max_retry: int) -> list[int]:
@@ -337,6 +367,14 @@ class _Loop:
                 asked[-1][1] = self.config.space.suggest(trial)
             except Exception as e:
                 self._fail(trial, f"{type(e).__name__}: {e}")
+                self.beat.discard(self._id(trial.number))
+                asked.pop()
+                continue
+            why = outside_band(asked[-1][1], self.config.objective)
+            if why is not None:  # outside the leg-mass band: known before any run (mat_hopper.optimize._mass)
+                trial.set_user_attr(SKIPPED_ATTR, "leg_mass")
+                self._fail(trial, why)
+                self.beat.discard(self._id(trial.number))
                 asked.pop()
 
     def _evaluate(self, asked: list) -> list:

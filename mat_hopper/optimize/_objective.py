@@ -72,7 +72,6 @@ from ..core import reference as ref
 from ..core.behaviours import BEHAVIOUR_NAMES
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import (
-    DEFAULT_CONVENTION,
     DEFAULT_SEGMENT_MASS,
     LegDesign,
     check_convention,
@@ -80,7 +79,7 @@ from ..core.materials import (
 )
 from ..core.rollout import hop_cycles
 from ..core.sim import RolloutRunner
-from ..experiments.profiles import Profile, get_profile
+from ..experiments.profiles import Profile, resolve_profile
 from ..physics.fatigue import fatigue_summary
 from ..physics.metrics import hop_table
 from ..physics.run_metrics import DEFAULT_OBJECTIVES, NO_DATA_VALUE, parse_objectives, run_values
@@ -113,8 +112,11 @@ class Objective:
 
     Args:
         behaviours: behaviours to run (names).
-        profile: the run profile (duration, transient, time step).
-        convention: the stiffness convention.
+        profile: the run profile (duration, transient, time step,
+            convention, segment mass), a Profile or its name; None (default):
+            $MAT_HOPPER_PROFILE, else ``paper``
+            (:func:`~mat_hopper.experiments.profiles.resolve_profile`).
+        convention: the stiffness convention, any case (None: the profile's).
         hop_height_target_m, hop_height_tolerance_m: the hop height constraint, m.
         segment_mass: the segment mass convention (None: the profile's).
         replicates: perturbed replicates per behaviour on common random
@@ -138,8 +140,8 @@ class Objective:
     """
 
     behaviours: tuple[str, ...] = ("ramp",)
-    profile: Profile = field(default_factory=get_profile)  # $MAT_HOPPER_PROFILE, else paper
-    convention: str = DEFAULT_CONVENTION
+    profile: Profile | str | None = None  # None: $MAT_HOPPER_PROFILE, else paper
+    convention: str | None = None  # None: the profile's
     hop_height_target_m: float = ref.HOP_HEIGHT_TARGET
     hop_height_tolerance_m: float = HOP_HEIGHT_TOLERANCE_M
     segment_mass: str | None = None  # None: the profile's
@@ -162,17 +164,26 @@ class Objective:
             raise ValueError(f"behaviours: give one or more of {', '.join(BEHAVIOUR_NAMES)}")
         for b in behs:
             if b not in BEHAVIOUR_NAMES:
-                raise ValueError(f"unknown behaviour {b!r}; accepted: {', '.join(BEHAVIOUR_NAMES)}")
+                from ..util.parsing import did_you_mean
+
+                hint = f"; {did_you_mean(b, BEHAVIOUR_NAMES)}" if did_you_mean(b, BEHAVIOUR_NAMES) else ""
+                raise ValueError(f"unknown behaviour {b!r}; accepted: {', '.join(BEHAVIOUR_NAMES)}{hint}")
         if len(set(behs)) != len(behs):
             raise ValueError(f"behaviours: each at most once, got {','.join(behs)}")
         object.__setattr__(self, "behaviours", behs)
         object.__setattr__(self, "objectives", parse_objectives(self.objectives))
-        if not isinstance(self.profile, Profile):
-            raise ValueError("profile must be a Profile")
-        object.__setattr__(self, "convention", check_convention(self.convention))
+        if self.profile is not None and not isinstance(self.profile, (Profile, str)):
+            raise ValueError(f"profile must be a Profile or a profile name, got {type(self.profile).__name__}")
+        object.__setattr__(self, "profile", resolve_profile(self.profile))
+        # every run setting not given is the profile's (its run settings are canonical)
+        if self.convention is None:
+            object.__setattr__(self, "convention", self.profile.convention)
+        else:
+            object.__setattr__(self, "convention", check_convention(self.convention))
         if self.segment_mass is None:
-            object.__setattr__(self, "segment_mass", getattr(self.profile, "segment_mass", DEFAULT_SEGMENT_MASS))
-        object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
+            object.__setattr__(self, "segment_mass", self.profile.segment_mass)
+        else:
+            object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         for name in ("hop_height_target_m", "hop_height_tolerance_m"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
@@ -235,12 +246,11 @@ class Objective:
         )
 
     def sim_settings(self, perturbation=None, design=None):
-        """The SimSettings of a run of this objective (`design`: needed when
-        the time step is ``"auto"``, as under ``axial``)."""
-        from dataclasses import replace
-
-        prof = replace(self.profile.for_convention(self.convention), segment_mass=self.segment_mass)
-        return prof.sim_settings(perturbation, design=design)
+        """The SimSettings of a run of this objective: its profile under its
+        convention and segment mass (`design`: needed when the time step is
+        ``"auto"``, as under ``axial``)."""
+        prof = self.profile.for_convention(self.convention)
+        return prof.sim_settings(perturbation, design=design, segment_mass=self.segment_mass)
 
 
 @dataclass
@@ -305,7 +315,7 @@ def run_behaviour(
         if tick is not None:
             tick()
     rollout = runner.result()
-    hops = hop_table(rollout)
+    hops = hop_table(rollout, warn=False)  # a diverged trial is scored as one (upright False)
     ok = bool(rollout.upright)
     height = float(hops["hop_height_m"].mean()) if len(hops) else float("nan")
     life = fatigue_summary(rollout, hop_cycles(rollout))

@@ -56,6 +56,8 @@ from ..core.materials import LegDesign
 from ..experiments.profiles import get_profile
 from ._driver import RunResult
 from ._evaluators import Evaluator, Lost, PoolEvaluator
+from ._feasibility import feasibility
+from ._mass import SKIPPED_ATTR, outside_band, queued_seeds
 from ._objective import OBJECTIVES, Evaluation, Objective, record_evaluation
 from ._samplers import make_sampler, sampler_seed
 from ._storage import ERROR_ATTR, WORKER_ATTR
@@ -64,6 +66,7 @@ from ._study import RACING_ATTR, StudyConfig, _quiet, create_or_load
 BRACKET_ATTR = "mat_hopper_bracket"  # study user attr: the open (or last) bracket
 RUNG_ATTR = "rung"  # trial user attrs rung0, rung1, ...: a rung's record
 REACHED_ATTR = "racing_rung"  # trial user attr: the last rung it ran
+LEFT_OUT_ATTR = "left_out"  # trial user attr: why a trial that fell was not promoted
 DEFAULT_ETA = 3
 DEFAULT_SCREEN = 9
 MAX_LOST = 3  # evaluations of a design whose evaluation process died, before its trial fails
@@ -159,7 +162,11 @@ def promote(records: dict[int, Evaluation], k: int) -> list[int]:
     """The `k` best trial numbers of a rung's {number: Evaluation}: feasible
     before infeasible (then by total constraint violation), then by
     non-dominated layer of the objectives, then by the sum of the
-    per-objective ranks, then by trial number (deterministic).
+    per-objective ranks, then by trial number (deterministic). A trial
+    whose runs fell or diverged (its ``unstable`` constraint above 0) is
+    never promoted, and its values, those of a run that did not hop to
+    its end, are no comparator for the others: the layers and ranks are
+    those of the trials that stood.
 
     Ours: Optuna's non-dominated sorting is private
     (``optuna.study._multi_objective``).
@@ -172,10 +179,12 @@ def promote(records: dict[int, Evaluation], k: int) -> list[int]:
         k: how many to keep.
 
     Returns:
-        Up to `k` trial numbers, best first (all of them when `k` is at
+        Up to `k` trial numbers, best first (all that stood when `k` is at
         least their number).
     """
-    nums = sorted(records)
+    nums = sorted(n for n in records if not fell(records[n]))
+    if not nums:
+        return []
     vals = np.array([records[n].values for n in nums], float).reshape(len(nums), -1)
     violation = np.array([sum(max(c, 0.0) for c in records[n].constraints) for n in nums])
     layer = np.full(len(nums), -1)
@@ -193,6 +202,14 @@ def promote(records: dict[int, Evaluation], k: int) -> list[int]:
     return [nums[i] for i in order[:k]]
 
 
+def fell(ev: Evaluation) -> bool:
+    """Whether an Evaluation's runs fell or diverged: its ``unstable``
+    constraint (:data:`~mat_hopper.optimize._objective.CONSTRAINTS`) above 0."""
+    names = tuple(ev.constraint_names)
+    i = names.index("unstable") if "unstable" in names and len(names) == len(ev.constraints) else 1
+    return len(ev.constraints) > i and ev.constraints[i] > 0
+
+
 # --- records in the storage ------------------------------------------------------
 
 
@@ -207,12 +224,13 @@ def _record(ev: Evaluation) -> dict:
     }
 
 
-def _as_evaluation(rec: dict) -> Evaluation:
+def _as_evaluation(rec: dict, constraint_names=None) -> Evaluation:
     return Evaluation(
         values=tuple(rec["values"]),
         constraints=tuple(rec["constraints"]),
         hop_height_m=math.nan,
         simulated_s=rec["simulated_s"],
+        **({"constraint_names": tuple(constraint_names)} if constraint_names is not None else {}),
     )
 
 
@@ -330,6 +348,8 @@ def run_racing(
 def _evaluate(evaluator: Evaluator, designs: list, objective: Objective, desc: str) -> list:
     """The evaluator's outcomes, a design whose evaluation process died
     evaluated again (MAX_LOST times in all, then its error)."""
+    if not designs:  # every trial of the rung before fell: nothing promoted
+        return []
     out = evaluator.evaluate(designs, objective, desc=desc)
     for _ in range(MAX_LOST - 1):
         again = [i for i, o in enumerate(out) if isinstance(o, Lost)]
@@ -369,8 +389,9 @@ def _open_bracket(study, trials: _Trials, config: StudyConfig, racing: Racing, i
     return b
 
 
-def _designs(trials: _Trials, numbers, space) -> dict[int, LegDesign]:
-    """The bracket's designs by number; a trial without one is failed."""
+def _designs(trials: _Trials, numbers, space, objective) -> dict[int, LegDesign]:
+    """The bracket's designs by number; a trial without one, or whose
+    design lies outside the objective's leg-mass band, is failed."""
     out = {}
     for n in numbers:
         ft = trials.frozen(n)
@@ -379,17 +400,25 @@ def _designs(trials: _Trials, numbers, space) -> dict[int, LegDesign]:
         try:
             if ERROR_ATTR in ft.user_attrs:
                 raise ValueError(ft.user_attrs[ERROR_ATTR])
-            out[n] = space.design(ft.params)
+            design = space.design(ft.params)
         except ValueError as e:
             if ERROR_ATTR not in ft.user_attrs:
                 trials[n].set_user_attr(ERROR_ATTR, f"{type(e).__name__}: {e}"[:500])
             trials.study.tell(n, state=TrialState.FAIL)
+            continue
+        why = outside_band(design, objective)
+        if why is not None:  # outside the leg-mass band: not run (mat_hopper.optimize._mass)
+            trials[n].set_user_attr(SKIPPED_ATTR, "leg_mass")
+            trials[n].set_user_attr(ERROR_ATTR, why)
+            trials.study.tell(n, state=TrialState.FAIL)
+            continue
+        out[n] = design
     return out
 
 
 def _run_bracket(study, trials: _Trials, b: dict, config: StudyConfig, racing: Racing, evaluator, on_rung) -> None:
     """Rungs of one bracket, from the first whose records are missing."""
-    designs = _designs(trials, b["trials"], config.space)
+    designs = _designs(trials, b["trials"], config.space, config.objective)
     alive = sorted(designs)
     last = len(racing.rungs) - 1
     for r in range(last + 1):
@@ -414,12 +443,14 @@ def _run_bracket(study, trials: _Trials, b: dict, config: StudyConfig, racing: R
         if r == last:
             _tell_complete(study, trials, alive, designs, objective, full, evaluator)
             return
-        records = {n: _as_evaluation(stored[n]) for n in alive}
+        records = {n: _as_evaluation(stored[n], objective.constraint_names) for n in alive}
         keep = set(promote(records, racing.kept(len(alive))))
         for n in alive:
             if n not in keep:  # its constraints as screened: the sampler sees why it lost
                 for name, c in zip(objective.constraint_names, stored[n]["constraints"]):
                     trials[n].set_constraint(name, c)
+                if fell(records[n]):  # never promoted, nor a comparator (promote)
+                    trials[n].set_user_attr(LEFT_OUT_ATTR, f"fell or diverged on rung {r}: not promoted")
                 study.tell(n, state=TrialState.PRUNED)
         alive = sorted(keep)
 
@@ -519,4 +550,7 @@ def race_study(config: StudyConfig, options, racing: Racing | None = None):
             workers=options.workers,
         )
         done = closed_brackets(study) * racing.screen
-    return RunResult(config.name, redact(url), brackets * racing.screen, done, 0, evaluator="racing")
+        result = RunResult(config.name, redact(url), brackets * racing.screen, done, 0, evaluator="racing")
+        result.feasibility = feasibility(study, config)
+        result.left_out = queued_seeds(config.space, config.objective)[1]
+    return result

@@ -50,16 +50,19 @@ def make_sampler(name: str, seed: int):
         return optuna.samplers.GPSampler(seed=seed)
 
 
-def sampler_seed(seed: int, n_existing: int) -> int:
+def sampler_seed(seed: int, n_existing: int, worker: int = 0) -> int:
     """The sampler seed of one run.
 
     Args:
         seed: the run's seed (``--seed``).
         n_existing: the study's trials when the run started.
+        worker: the run's worker index on the study (0 when it runs alone;
+            :mod:`mat_hopper.optimize._workers`).
 
     Returns:
-        A seed from both (a resumed run does not repeat the random
-        proposals of the run before it; a fresh study's is fixed by `seed`).
+        A seed from all three (a resumed run does not repeat the random
+        proposals of the run before it, nor a run started beside it on the
+        same study those of that run; a fresh study run by one command is
+        fixed by `seed`).
     """
-    # the trailing 0: the former worker index, kept so that earlier studies' seeds stay the same
-    return int(np.random.SeedSequence([seed, n_existing, 0]).generate_state(1)[0])
+    return int(np.random.SeedSequence([seed, n_existing, worker]).generate_state(1)[0])

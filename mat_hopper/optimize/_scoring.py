@@ -45,6 +45,7 @@ Every trial records its leg mass, constrained or not.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -235,6 +236,49 @@ def leg_mass_target_kg(leg_mass, n_segments: int, segment_mass: str) -> float:
     return float(leg_mass)
 
 
+@functools.lru_cache(maxsize=64)
+def leg_mass_model(n_segments: int, segment_mass: str) -> tuple[float, float]:
+    """The leg's mass as a function of its segments' densities: ``fixed +
+    per * sum(rho_i)`` (kg, rho in g/cm^3), exact for the model's leg (the
+    hip stub and the foot do not depend on the materials; each material
+    segment's mass is linear in its density, the same factor for every
+    segment of an N-segment leg: :func:`mat_hopper.core.materials.segment_masses`).
+
+    Args:
+        n_segments: the leg's number of material segments.
+        segment_mass: the segment-mass convention (``leg`` or ``capsule``).
+
+    Returns:
+        (fixed_kg, per_g_cm3_kg): the mass that no density changes, kg, and
+        each segment's mass per g/cm^3 of its density, kg.
+    """
+    from ..core.materials import Material, segment_masses
+
+    unit = LegDesign(tuple(Material(f"unit{i}", 1.0, 1.0) for i in range(n_segments)), name="unit")
+    per = segment_masses(unit, segment_mass)
+    return leg_mass_kg(unit, segment_mass) - float(sum(per)), float(per[0])
+
+
+def leg_mass_target(objective, n_segments: int) -> tuple[float, float] | None:
+    """kg, (target, tolerance) of the objective's ``leg_mass`` constraint
+    for legs of `n_segments` (the tolerance defaulting to
+    DEFAULT_LEG_MASS_TOLERANCE of the target); None when the objective does
+    not constrain the mass."""
+    if objective.leg_mass is None:
+        return None
+    target = leg_mass_target_kg(objective.leg_mass, n_segments, objective.segment_mass)
+    tol = objective.leg_mass_tolerance_kg
+    return target, DEFAULT_LEG_MASS_TOLERANCE * target if tol is None else tol
+
+
+def leg_mass_band_kg(objective, n_segments: int) -> tuple[float, float] | None:
+    """kg, the leg masses the ``leg_mass`` constraint accepts for legs of
+    `n_segments`: (target - tolerance, target + tolerance); None when the
+    objective does not constrain the mass."""
+    held = leg_mass_target(objective, n_segments)
+    return None if held is None else (held[0] - held[1], held[0] + held[1])
+
+
 def leg_mass_violation(mass_kg: float, target_kg: float, tolerance_kg: float) -> float:
     """kg, the ``leg_mass`` constraint: ``|mass - target| - tolerance`` (<= 0 feasible)."""
     return float(abs(mass_kg - target_kg) - tolerance_kg)
@@ -248,10 +292,7 @@ def mass_constraints(objective, design: LegDesign | None, mass_kg: float) -> tup
         return ()
     if design is None:
         raise ValueError("design: needed to score the leg_mass constraint")
-    target = leg_mass_target_kg(objective.leg_mass, design.n_segments, objective.segment_mass)
-    tol = objective.leg_mass_tolerance_kg
-    tol = DEFAULT_LEG_MASS_TOLERANCE * target if tol is None else tol
-    return (leg_mass_violation(mass_kg, target, tol),)
+    return (leg_mass_violation(mass_kg, *leg_mass_target(objective, design.n_segments)),)
 
 
 def replicate_values(rows: list[dict], objectives: tuple[str, ...]) -> list[tuple[float, ...]]:

@@ -47,6 +47,22 @@ a baseline outside the study.
 
 Parameter names: ``seg{i}_density_g_cm3``, ``seg{i}_modulus_gpa``,
 ``seg{i}_material`` (i from 1).
+
+Mass-held spaces. A study that constrains the leg's mass to a band
+(``Objective.leg_mass``) samples inside it (:class:`MassHold`, set by
+:class:`~mat_hopper.optimize._study.StudyConfig`): the leg's mass is a
+parameter of its own, ``leg_mass_kg``, uniform in the band, and the
+continuous segments' sampled densities give only the distribution of
+density along the leg; the design's densities are those scaled to the
+sampled mass (each kept within the density bounds: the scale is found
+with the densities clipped to them). A leg's mass is linear in its
+densities (:func:`mat_hopper.optimize._scoring.leg_mass_model`), so the
+derived design has the sampled mass. The enqueued paper designs carry
+their own mass as ``leg_mass_kg`` and stay exactly themselves. Spaces
+without a continuous segment, or restricted to Ashby classes (whose
+projection moves the densities), are not held: their designs outside the
+band are skipped before any run
+(:func:`mat_hopper.optimize._mass.outside_band`).
 """
 
 from __future__ import annotations
@@ -68,6 +84,7 @@ from ..core.materials import (  # noqa: F401  (the bounds re-exported: the searc
 from ._ashby import check_classes, classes_bounds, in_classes, project
 
 KINDS = ("continuous", "catalogue")
+MASS_PARAM = "leg_mass_kg"  # the sampled leg mass of a mass-held space, kg (module doc)
 
 DEFAULT_MATERIALS = tuple(m.name for m in CATALOGUE.values() if not m.rigid)
 # The paper's nine designs every study starts from (enqueued in this order;
@@ -89,6 +106,70 @@ def _bounds(value, field_name: str, unit: str) -> tuple[float, float]:
 
 
 @dataclass(frozen=True)
+class MassHold:
+    """How a mass-held space samples inside a leg-mass band (module doc).
+
+    Args:
+        band_kg: (min, max) of the sampled leg mass, kg: the constraint's
+            band within the masses the space can reach.
+        fixed_kg, per_g_cm3_kg: the leg's mass model, mass = fixed_kg +
+            per_g_cm3_kg x (sum of the segments' densities in g/cm^3)
+            (:func:`mat_hopper.optimize._scoring.leg_mass_model`).
+    """
+
+    band_kg: tuple[float, float]
+    fixed_kg: float
+    per_g_cm3_kg: float
+
+    def mass_kg(self, segments) -> float:
+        """kg, the mass model's leg mass of these Materials."""
+        return self.fixed_kg + self.per_g_cm3_kg * sum(m.density_g_cm3 for m in segments)
+
+    def held(self, segments: list, kinds, bounds: tuple[float, float], mass_kg: float) -> list:
+        """`segments` with their continuous densities scaled to give a leg
+        of `mass_kg` (each within `bounds`, g/cm^3); the catalogue
+        segments as they are. Unchanged when they already weigh exactly
+        `mass_kg` (an enqueued design)."""
+        if mass_kg == self.mass_kg(segments):
+            return segments
+        free = [i for i, k in enumerate(kinds) if k == "continuous"]
+        rest = sum(m.density_g_cm3 for i, m in enumerate(segments) if i not in free)
+        total = (mass_kg - self.fixed_kg) / self.per_g_cm3_kg - rest  # g/cm^3 the free segments share
+        dens = scaled_to_sum([segments[i].density_g_cm3 for i in free], total, bounds)
+        out = list(segments)
+        for i, d in zip(free, dens):
+            m = segments[i]
+            out[i] = Material(m.name, d, m.modulus_gpa, m.material_class)
+        return out
+
+
+def scaled_to_sum(values, total: float, bounds: tuple[float, float]) -> list[float]:
+    """``clip(s * v, lo, hi)`` for each of `values` (> 0), with the one
+    scale s > 0 that makes them sum to `total` (exact: the sum is piecewise
+    linear in s); all at lo (hi) when `total` is below (above) what the
+    bounds allow."""
+    lo, hi = bounds
+    v = [float(x) for x in values]
+    if total <= lo * len(v):
+        return [lo] * len(v)
+    if total >= hi * len(v):
+        return [hi] * len(v)
+    breaks = sorted({b / x for x in v for b in (lo, hi)})
+
+    def parts(s):  # (sum of the clipped ones, sum of the free values)
+        fixed = sum(lo if s * x <= lo else hi for x in v if not lo < s * x < hi)
+        return fixed, sum(x for x in v if lo < s * x < hi)
+
+    s = breaks[-1]
+    for a, b in zip(breaks, breaks[1:]):
+        if sum(min(max(b * x, lo), hi) for x in v) >= total:
+            fixed, slope = parts((a + b) / 2)
+            s = (total - fixed) / slope if slope > 0 else b
+            break
+    return [min(max(s * x, lo), hi) for x in v]
+
+
+@dataclass(frozen=True)
 class SearchSpace:
     """Where the optimizer looks.
 
@@ -99,6 +180,8 @@ class SearchSpace:
             g/cm^3 and GPa (None: from the Ashby classes' hulls, else the defaults).
         materials: catalogue names for catalogue segments.
         ashby_classes: restrict continuous segments to these classes' hulls (module doc).
+        mass_hold: sample inside a leg-mass band (:class:`MassHold`; set
+            by the study from its objective, not part of the space's key).
 
     Raises:
         ValueError: bounds outside the physical ranges, unknown materials,
@@ -111,6 +194,7 @@ class SearchSpace:
     modulus_gpa: tuple[float, float] | None = None
     materials: tuple[str, ...] = field(default=DEFAULT_MATERIALS)
     ashby_classes: tuple[str, ...] | str = ()
+    mass_hold: MassHold | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
         n = self.n_segments
@@ -155,6 +239,13 @@ class SearchSpace:
             extra = f" of the classes {', '.join(classes)}" if classes else ""
             raise ValueError(f"materials: a catalogue segment needs at least one material{extra}")
         object.__setattr__(self, "materials", tuple(names))
+        if self.mass_hold is not None and not isinstance(self.mass_hold, MassHold):
+            raise ValueError("mass_hold must be a MassHold or None")
+
+    @property
+    def holds_mass(self) -> bool:
+        """Whether the space samples inside a leg-mass band (module doc)."""
+        return self.mass_hold is not None and "continuous" in self.kinds and not self.ashby_classes
 
     # --- parameters <-> designs ---
     def suggest(self, trial) -> LegDesign:
@@ -168,12 +259,16 @@ class SearchSpace:
                 params[f"seg{i}_modulus_gpa"] = trial.suggest_float(f"seg{i}_modulus_gpa", *self.modulus_gpa, log=True)
             else:
                 params[f"seg{i}_material"] = trial.suggest_categorical(f"seg{i}_material", self.materials)
+        if self.holds_mass:
+            params[MASS_PARAM] = trial.suggest_float(MASS_PARAM, *self.mass_hold.band_kg)
         return self.design(params)
 
     def design(self, params: dict, name: str = "") -> LegDesign:
         """The leg a trial's parameters describe (the same one ``suggest``
         built): with Ashby classes, each continuous segment is the nearest
-        point of an allowed class hull (module doc)."""
+        point of an allowed class hull; in a mass-held space, with a
+        ``leg_mass_kg`` parameter, the densities scaled to that mass
+        (module doc)."""
         segs = []
         for i, kind in enumerate(self.kinds, 1):
             if kind == "continuous":
@@ -190,6 +285,8 @@ class SearchSpace:
                     segs.append(material(params[f"seg{i}_material"]))
                 except KeyError as k:
                     raise ValueError(f"parameters lack {k.args[0]} (not a design of this space)") from None
+        if self.holds_mass and MASS_PARAM in params:
+            segs = self.mass_hold.held(segs, self.kinds, self.density_g_cm3, float(params[MASS_PARAM]))
         return LegDesign(tuple(segs), name=name or describe(segs))
 
     def params_for(self, design: LegDesign) -> dict | None:
@@ -215,6 +312,8 @@ class SearchSpace:
                 if m.name not in self.materials:
                     return None
                 params[f"seg{i}_material"] = m.name
+        if self.holds_mass:  # its own mass: the design stays exactly itself (MassHold.held)
+            params[MASS_PARAM] = self.mass_hold.mass_kg(segs)
         return params
 
     def seeds(self) -> list[tuple[str, dict]]:

@@ -5,7 +5,8 @@ materials: :mod:`mat_hopper.optimize._space`) for low tracking error and
 low hip power (or two or three other metrics: ``--objectives``,
 :mod:`mat_hopper.physics.run_metrics`) under a hop-height and a stability
 constraint (:mod:`mat_hopper.optimize._objective`). Every study starts from the
-paper's designs SS, rho-inc and PVC-Ti-SS (enqueued first). This module
+paper's designs its space can express (enqueued first; in a study held to
+a leg mass, those inside its band: :mod:`mat_hopper.optimize._mass`). This module
 holds what a study is (:class:`StudyConfig`, stored in the study), how to
 run it (:class:`RunOptions`) and its creation (:func:`create_or_load`);
 :mod:`mat_hopper.optimize._driver` runs it: one ask-and-tell loop, with
@@ -58,13 +59,14 @@ from __future__ import annotations
 import os
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import InitVar, dataclass, field, replace
 
 import optuna
 from optuna.trial import TrialState
 
 from ..core.materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
 from ..physics.run_metrics import METRICS
+from ._mass import check_mass_band, mass_hold, queued_seeds
 from ._objective import Objective
 from ._samplers import SAMPLERS
 from ._space import SearchSpace
@@ -138,29 +140,40 @@ class StudyConfig:
         name: the study's name (:func:`check_study_name`).
         space: where the optimizer looks (:class:`SearchSpace`).
         objective: what it minimizes (:class:`Objective`).
+        check_band: refuse a void or unmeetable leg-mass band (False: a
+            stored study read back, whose report, replay and export must
+            work whatever an older version accepted).
 
     Raises:
-        ValueError: a bad name, space or objective.
+        ValueError: a bad name, space or objective; a leg-mass band that is
+            void (it holds every leg of the space) or that no leg of the
+            space meets (:func:`~mat_hopper.optimize._mass.check_mass_band`).
     """
 
     name: str
     space: SearchSpace = field(default_factory=SearchSpace)
     objective: Objective = field(default_factory=Objective)
+    check_band: InitVar[bool] = True
 
-    def __post_init__(self):
+    def __post_init__(self, check_band: bool = True):
         check_study_name(self.name)
         if not isinstance(self.space, SearchSpace):
             raise ValueError("space must be a SearchSpace")
         if not isinstance(self.objective, Objective):
             raise ValueError("objective must be an Objective")
         check_physical_bounds(self.space)
+        if check_band:  # a void or unmeetable leg-mass band (mat_hopper.optimize._mass)
+            check_mass_band(self.space, self.objective)
+        hold = mass_hold(self.space, self.objective)
+        if hold is not None:  # sample inside the band (not part of the key: derived from the objective)
+            object.__setattr__(self, "space", replace(self.space, mass_hold=hold))
 
     def key(self) -> dict:
         return {"version": CONFIG_VERSION, "space": self.space.key(), "objective": self.objective.key()}
 
     @classmethod
     def from_key(cls, name: str, key: dict) -> StudyConfig:
-        return cls(name, SearchSpace.from_key(key["space"]), Objective.from_key(key["objective"]))
+        return cls(name, SearchSpace.from_key(key["space"]), Objective.from_key(key["objective"]), check_band=False)
 
 
 @dataclass(frozen=True)
@@ -396,7 +409,7 @@ def create_or_load(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
             study.set_metric_names(list(config.objective.objectives))
-        for name, params in config.space.seeds():
+        for name, params in queued_seeds(config.space, config.objective)[0]:  # outside a mass band: not queued
             study.enqueue_trial(params, user_attrs={PAPER_ATTR: name}, skip_if_exists=True)
         study.set_user_attr(CONFIG_ATTR, config.key())  # last: the study is ready
     elif stored != config.key():

@@ -165,6 +165,38 @@ def fallen_comparators(runs: pd.DataFrame, design: str) -> list[str]:
     return sorted(p for p, g in fell.groupby("design") if seeds & set(g["replicate"]))
 
 
+def fallen_reasons(runs: pd.DataFrame, design: str) -> dict[str, str]:
+    """Why each of :func:`fallen_comparators`' paper designs is left out:
+    its first replicate run that fell or diverged on a seed where the front
+    `design` stood, e.g. ``diverged at t = 0.0043 s (ramp, seed 3)`` or
+    ``fell (ramp, seed 7)``.
+
+    Args:
+        runs: a validation's run table (as :func:`fallen_comparators`; a
+            ``diverged_at_s`` column, when present, gives the time).
+        design: the front design's name.
+
+    Returns:
+        {paper design: reason}, in the order of :func:`fallen_comparators`.
+    """
+    names = fallen_comparators(runs, design)
+    reps = runs[runs["check"] == REPLICATE]
+    mine = reps[(reps["role"] == "front") & (reps["design"] == design)]
+    stood = mine.groupby("replicate")["status"].agg(lambda s: bool((s == OK).all()))
+    seeds = set(stood[stood].index)
+    out = {}
+    for name in names:
+        bad = reps[(reps["role"] == "paper") & (reps["design"] == name) & reps["status"].isin([FALLEN, DIVERGED])]
+        r = bad[bad["replicate"].isin(seeds)].sort_values("replicate", kind="stable").iloc[0]
+        where = f"{r['behaviour']}, seed {int(r['replicate'])}" if "behaviour" in r else f"seed {int(r['replicate'])}"
+        t = r.get("diverged_at_s")
+        if r["status"] == DIVERGED:
+            out[name] = f"diverged at t = {float(t):.4g} s ({where})" if pd.notna(t) else f"diverged ({where})"
+        else:
+            out[name] = f"fell ({where})"
+    return out
+
+
 def _holm_by_kind(t: pd.DataFrame, alpha: float) -> list[pd.DataFrame]:
     """One front design's comparisons, Holm-adjusted within each question's
     family: its comparator kind (the paper's designs decide survival, each

@@ -47,7 +47,7 @@ from ..core.behaviours import behaviour as get_behaviour
 from ..core.controller import ControllerSettings
 from ..core.materials import MONO_NAMES, LegDesign, parse_design
 from ..core.perturbations import Perturbation
-from ..experiments.profiles import Profile, get_profile
+from ..experiments.profiles import Profile, resolve_profile
 from ..experiments.runner import FAILED, OK, Runner, RunSpec
 from ._objective import HOP_HEIGHT_TOLERANCE_M
 from ._study import _quiet
@@ -154,7 +154,7 @@ def tune(
     trials, batch = _check_int(trials, "trials", 1), _check_int(batch, "batch", 1)
     seed = _check_int(seed, "seed")
     design = parse_design(design) if isinstance(design, str) else design
-    profile = get_profile(profile)
+    profile = resolve_profile(profile)
     beh = get_behaviour(behaviour)
     target = ControllerSettings().hop_height_target_m
     own = runner is None
@@ -263,7 +263,7 @@ def codesign(
             design name, profile or behaviour (all before any run), or :func:`tune`'s.
         RuntimeError: a comparison run failed, or :func:`tune`'s.
     """
-    profile = get_profile(profile)
+    profile = resolve_profile(profile)
     n = profile.replicates if replicates is None else _check_int(replicates, "replicates")
     if n < 2:
         raise ValueError(f"comparing materials needs at least 2 replicates, got {n}")

@@ -9,7 +9,9 @@
 - ``pareto.csv``: the non-dominated feasible designs, with the percent
   change of each objective against the paper's SS and rho-inc
   (the study's own runs of them, or, when its space cannot express them,
-  runs made here with the study's settings and kept in the study);
+  runs made here with the study's settings and kept in the study); a
+  baseline whose runs fell or diverged is left out, and the report says
+  why (:func:`baseline_runs`);
 - ``pareto.png``: the second objective against the first (with three
   objectives, one panel per pair), feasible, infeasible, the Pareto front
   and the paper's designs marked;
@@ -46,15 +48,19 @@ from ..physics.run_metrics import METRICS
 from ..util.atomic import write_csv
 from ..viz import study as study_plots
 from ..viz.style import save_figure
+from ._feasibility import fall_reason, feasibility
 from ._hypervolume import HV_MARGIN, hypervolume, hypervolume_2d, hypervolume_history
-from ._objective import OBJECTIVES, evaluate
+from ._objective import OBJECTIVES, RESULT_ATTR, evaluate
 from ._report_tables import feasible_complete, front_designs, front_table, pareto_frame, trials_frame
 from ._space import resample
+from ._storage import PAPER_ATTR
 from ._study import CONFIG_ATTR, StudyConfig, _quiet, load_existing
 
 __all__ = [
     "BASELINES",
     "HV_MARGIN",
+    "baseline_runs",
+    "missing_baselines",
     "MIN_SAMPLED_TRIALS",
     "baselines",
     "enough_for_importances",
@@ -152,40 +158,91 @@ def importances(study: optuna.Study) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["objective", "param", "importance"])
 
 
-def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> dict:
-    """The objective values (the study's objectives, in order) of SS and
-    rho-inc under the study's settings: its enqueued run, or a run made now
-    and kept in the study.
+def baseline_runs(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> tuple[dict, dict]:
+    """SS and rho-inc under the study's settings, as comparators: the
+    objective values of those whose runs stood, and why the others are
+    left out. A run that fell or diverged is no baseline: its values are
+    the whole-run means of a run that did not hop to its end (a leg that
+    diverged at t = 0.004 s has a tracking error of 3 mm), and a percent
+    change against them says nothing.
 
     Args:
         study: the ``optuna.Study``; a run made now is stored in its user
-            attr ``baseline:<name>``, and read from there on later calls.
+            attr ``baseline:<name>`` ({"values", "left_out"}), and read from
+            there on later calls.
         config: its :class:`StudyConfig`.
         frame: :func:`trials_frame`'s table: the first COMPLETE row whose
-            ``paper_design`` is the baseline's name gives its values.
+            ``paper_design`` is the baseline's name is its run.
 
     Returns:
-        {``"SS"``: values, ``"rho-inc"``: values}, each a tuple of floats
-        in the order of ``config.objective.objectives`` (their units). A
-        baseline neither in `frame` nor in the study's user attrs is
-        resampled to the study's number of segments and evaluated now
+        ({name: values}, {name: reason}): the values a tuple of floats in
+        the order of ``config.objective.objectives`` (their units); the
+        reason as :func:`~mat_hopper.optimize._feasibility.fall_reason`
+        gives it (``diverged at t = 0.0043 s (ramp)``). A baseline neither
+        in `frame` nor stored (in this form) is resampled to the study's
+        number of segments and evaluated now
         (:func:`~mat_hopper.optimize._objective.evaluate`).
     """
-    out, objectives = {}, config.objective.objectives
+    values, left_out, objectives = {}, {}, config.objective.objectives
     for name in BASELINES:
         rows = frame[(frame["paper_design"] == name) & (frame["state"] == "COMPLETE")] if not frame.empty else frame
         if len(rows):
-            out[name] = tuple(float(rows.iloc[0][o]) for o in objectives)
-            continue
-        key = f"baseline:{name}"
-        if key in study.user_attrs:
-            out[name] = tuple(study.user_attrs[key])
-            continue
-        design = LegDesign(resample(paper_designs()[name], config.space.n_segments), name=name)
-        ev = evaluate(design, config.objective)
-        study.set_user_attr(key, list(ev.values))
-        out[name] = ev.values
-    return out
+            number = int(rows.iloc[0]["trial"])
+            t = next(t for t in study.get_trials(deepcopy=False) if t.number == number)
+            why = fall_reason((t.user_attrs.get(RESULT_ATTR) or {}).get("per_behaviour"))
+            vals = tuple(float(rows.iloc[0][o]) for o in objectives)
+        else:
+            key = f"baseline:{name}"
+            stored = study.user_attrs.get(key)
+            if not isinstance(stored, dict):  # none, or values alone (no word on how the run ended)
+                design = LegDesign(resample(paper_designs()[name], config.space.n_segments), name=name)
+                ev = evaluate(design, config.objective)
+                stored = {"values": list(ev.values), "left_out": fall_reason(ev.per_behaviour)}
+                study.set_user_attr(key, stored)
+            vals, why = tuple(stored["values"]), stored.get("left_out")
+        if why is None:
+            values[name] = vals
+        else:
+            left_out[name] = why
+    return values, left_out
+
+
+def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> dict:
+    """The objective values of SS and rho-inc under the study's settings,
+    those whose runs stood (:func:`baseline_runs`, which also says why the
+    others are left out).
+
+    Args:
+        study: the ``optuna.Study``.
+        config: its :class:`StudyConfig`.
+        frame: :func:`trials_frame`'s table.
+
+    Returns:
+        {name: values}, each a tuple of floats in the order of
+        ``config.objective.objectives``; a baseline that fell or diverged
+        is not in it.
+    """
+    return baseline_runs(study, config, frame)[0]
+
+
+def missing_baselines(study: optuna.Study) -> list[str]:
+    """The baselines a report must run (and store in the study, so it
+    needs a writable storage): those the study did not run itself, and has
+    not stored with how their run ended.
+
+    Args:
+        study: the Optuna study.
+
+    Returns:
+        The baselines' names (of :data:`BASELINES`), in their order.
+    """
+    have = {
+        t.user_attrs.get(PAPER_ATTR)
+        for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
+        if t.user_attrs.get(PAPER_ATTR)
+    }
+    attrs = study.user_attrs
+    return [b for b in BASELINES if b not in have and not isinstance(attrs.get(f"baseline:{b}"), dict)]
 
 
 # --- the report -------------------------------------------------------------
@@ -209,7 +266,7 @@ def write_report(name: str, storage, out_dir: str) -> dict:
     os.makedirs(out_dir, exist_ok=True)
     objectives = config.objective.objectives
     frame = trials_frame(study, config)
-    base = baselines(study, config, frame)
+    base, left_out = baseline_runs(study, config, frame)  # a run that fell or diverged is no baseline
     front = pareto_frame(frame, base, best=[t.number for t in study.best_trials], objectives=objectives)
     hv, ref_point = hypervolume_history(frame, objectives=objectives)
     imp = importances(study)
@@ -257,6 +314,8 @@ def write_report(name: str, storage, out_dir: str) -> dict:
         "hypervolume": hv,
         "importances": imp,
         "baselines": base,
+        "baselines_left_out": left_out,
+        "feasibility": feasibility(study, config),
         "reference": ref_point,
     }
 

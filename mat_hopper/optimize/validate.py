@@ -61,7 +61,7 @@ from ._validate_checks import (
     validation_tasks,
 )
 from ._validate_pairs import _compare as _compare  # re-exported: tests pair replicate means with it
-from ._validate_pairs import _paper_family, fallen_comparators, paired_table, replicate_means
+from ._validate_pairs import _paper_family, fallen_comparators, fallen_reasons, paired_table, replicate_means
 from ._validate_rules import (
     DOMINATED,
     EQUIVALENT,
@@ -113,6 +113,7 @@ __all__ = [
     "dominance_state",
     "dominated_by",
     "fallen_comparators",
+    "fallen_reasons",
     "homogeneous_legs",
     "is_gradient",
     "paired_table",
@@ -159,7 +160,9 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame, rule: str = DEFAULT_DOMINA
         is left), ``stable everywhere`` (stable under every check that
         applies: over the behaviours the study ran, and the others),
         ``dominated by`` (comma-separated paper designs), ``paper designs
-        left out (fell)`` (:func:`fallen_comparators`), ``survives``
+        left out (fell)`` (:func:`fallen_comparators`), ``paper designs
+        left out (why)`` (each with its first run that fell or diverged
+        there, :func:`fallen_reasons`), ``survives``
         (True, False, or ``"untestable"`` where a stable design's
         comparisons with the paper's designs, survival's Holm family, are
         not all testable or there are none), ``against the paper's designs``
@@ -192,6 +195,7 @@ def verdicts(runs: pd.DataFrame, table: pd.DataFrame, rule: str = DEFAULT_DOMINA
         dom = dominated_by(table, design, rule=rule)
         row["dominated by"] = ", ".join(dom)
         row["paper designs left out (fell)"] = ", ".join(fallen_comparators(runs, design))
+        row["paper designs left out (why)"] = "; ".join(f"{p}: {w}" for p, w in fallen_reasons(runs, design).items())
         row["survives"] = (row["stable everywhere"] and not dom) if testable else "untestable"
         row["against the paper's designs"] = survival_state(table, design)
         if not row["stable everywhere"]:

@@ -31,6 +31,16 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
   hop (Pa, physics rate) and its segment, the worst segment's Miner damage
   of the hop, and whether any segment's peak exceeded its yield strength
   (:mod:`mat_hopper.physics.fatigue`); beside the ``damping`` setting.
+- ``touch_toggles_per_switch``: the toe's touch-sensor on/off switches
+  (touch > 0 N is on, counted at the physics rate on the reading the
+  controller gets, so in step with its switches) over the hop, divided by
+  the controller's phase switches in it (its lift-off and touchdown): 1.0
+  is a clean contact, more is chatter; ``peak_penetration_m``: the foot's
+  deepest penetration into the terrain over the hop (m, positive into the
+  ground; 0 if it never touched; MuJoCo's foot-terrain distance at the
+  physics rate); beside the ``contact`` setting
+  (:mod:`mat_hopper.core.contact`). Both are read from the records of the
+  hop, each covering the physics steps since the record before.
 - the energetics of :mod:`mat_hopper.physics.energetics` (total actuator work
   including thrust, absolute and positive, hip work, total power, Joule
   proxies): ``work_abs_j`` ... ``joule_thrust_n2s``.
@@ -39,11 +49,13 @@ Every row also carries the design's leg mass properties (constant per run,
 :func:`mat_hopper.core.control_legs.mass_properties`): ``leg_mass_kg``,
 ``leg_com_m`` (m below the hip) and ``hip_inertia_kg_m2``.
 
-Comparisons (:func:`compare`) give the percent change of means against a
-baseline design, a two-sided Mann-Whitney U test with Holm correction
-across the comparisons, and the rank-biserial effect size. Hop cycles of
-one deterministic run are not independent samples: read p-values as a
-description, and use replicate runs for inference.
+:func:`compare` sets each design's hop cycles beside a baseline's: the
+percent change of means, the rank-biserial effect size and a Mann-Whitney
+U, descriptive only (its columns say so, and it draws no verdict): hop
+cycles of one deterministic run are not independent samples. Inference
+uses replicate runs: paired on shared seeds
+(:func:`mat_hopper.analysis.paired.compare_paired`), or independent run
+means (:func:`compare_independent`, Mann-Whitney U with Holm's correction).
 """
 
 from __future__ import annotations
@@ -54,6 +66,7 @@ from scipy import stats
 
 from ..core import reference as ref
 from ..core.control_legs import MASS_PROPERTY_COLUMNS, mass_properties
+from ..core.controller import LIFTOFF, TOUCHDOWN
 from ..core.model import terrain_height_m
 from ..core.rollout import Rollout, check_transient_within, hop_cycles
 from ..core.sim import C
@@ -72,6 +85,8 @@ ALL_METRICS = METRICS + (
 GRAVITY = ref.GRAVITY_M_S2
 # the damping setting, then each hop's stress and fatigue (mat_hopper.physics.fatigue)
 STRESS_COLUMNS = ("damping", "peak_stress_pa", "peak_stress_segment", "damage", "yield_exceeded")
+# the contact setting, then each hop's contact chatter and penetration (module doc)
+CONTACT_COLUMNS = ("contact", "touch_toggles_per_switch", "peak_penetration_m")
 ROUNDOFF = 1e-12  # relative spread below which a metric's values count as equal
 
 
@@ -90,12 +105,35 @@ def _body_jerk(rollout: Rollout, i0: np.ndarray, i1: np.ndarray) -> np.ndarray:
         return np.full(len(i0), np.nan)
 
 
+def _hop_contact(rollout: Rollout, cycles: np.ndarray, i0: np.ndarray, i1: np.ndarray) -> dict:
+    """Per hop: touch toggles per phase switch and peak penetration, m (module doc)."""
+    d = rollout.data
+    toggles = np.concatenate([[0.0], np.cumsum(d[:, C["touch_toggles"]])])
+    ev = rollout.events
+    switch_t = np.sort(ev[np.isin(ev[:, 1], (TOUCHDOWN, LIFTOFF)), 0])
+    switches = np.searchsorted(switch_t, cycles[:, 1], "left") - np.searchsorted(switch_t, cycles[:, 0], "left")
+    gap = d[:, C["foot_clearance_min"]]
+    return {
+        "touch_toggles_per_switch": (toggles[i1] - toggles[i0]) / np.maximum(switches, 1),
+        "peak_penetration_m": np.array([max(0.0, -float(gap[a:b].min())) for a, b in zip(i0, i1)]),
+    }
+
+
 def _check_rollout(rollout) -> None:
     if not isinstance(rollout, Rollout):
         raise ValueError(f"rollout must be a mat_hopper.Rollout (from simulate), got {type(rollout).__name__}")
 
 
-def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFrame:
+def _scored_cycles(rollout: Rollout, transient_s, warn: bool) -> np.ndarray:
+    """hop_cycles, with a DivergenceWarning (at hop_table's caller) for a
+    diverged run when `warn`: never a silently short or empty table."""
+    cycles = hop_cycles(rollout, transient_s)
+    if warn:
+        rollout.warn_if_diverged(f"hop_table holds the {len(cycles)} hop cycles scored before it", stacklevel=3)
+    return cycles
+
+
+def hop_table(rollout: Rollout, transient_s: float | None = None, *, warn: bool = True) -> pd.DataFrame:
     """One row per scored hop cycle, with every metric (see module doc).
     Raises ValueError when `rollout` is not a Rollout.
 
@@ -103,6 +141,8 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
         rollout: the :class:`~mat_hopper.core.rollout.Rollout` of a run.
         transient_s: hop cycles starting before it (s) are not scored, a
             finite number >= 0; None: the rollout's own ``settings.transient_s``.
+        warn: a DivergenceWarning when the run diverged (its table holds only
+            the cycles before it, often none); False: none (the caller says it).
 
     Returns:
         DataFrame, one row per scored hop cycle (lift-off to lift-off), columns
@@ -110,7 +150,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
         ``segment_mass``, ``hop`` (0, 1, ...), ``t_start_s``, ``t_end_s``, every
         metric of :data:`ALL_METRICS`, the leg's mass properties
         (``leg_mass_kg``, ``leg_com_m``, ``hip_inertia_kg_m2``) and
-        :data:`STRESS_COLUMNS`. Empty (same columns) without scored cycles or
+        :data:`STRESS_COLUMNS` and :data:`CONTACT_COLUMNS`. Empty (same columns) without scored cycles or
         with fewer than 4 recorded samples.
 
     Raises:
@@ -121,7 +161,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
     """
     _check_rollout(rollout)
     transient_s = check_transient_within(rollout, transient_s)
-    cycles = hop_cycles(rollout, transient_s)
+    cycles = _scored_cycles(rollout, transient_s, warn)
     d = rollout.data
     t = d[:, C["t"]]
     cols = [
@@ -136,6 +176,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
         *ALL_METRICS,
         *MASS_PROPERTY_COLUMNS,
         *STRESS_COLUMNS,
+        *CONTACT_COLUMNS,
     ]
     if len(cycles) == 0 or len(t) < 4:
         return pd.DataFrame(columns=cols)
@@ -187,10 +228,13 @@ def hop_table(rollout: Rollout, transient_s: float | None = None) -> pd.DataFram
     stress = hop_stress_columns(rollout, cycles)
     for c in STRESS_COLUMNS[1:]:
         out[c] = stress[c].to_numpy()
+    out["contact"] = rollout.settings.contact
+    for c, v in _hop_contact(rollout, cycles, i0, i1).items():
+        out[c] = v
     return out[cols]
 
 
-def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
+def run_summary(rollout: Rollout, transient_s: float | None = None, *, hops: pd.DataFrame | None = None) -> dict:
     """One run in a line: outcome, the leg's mass properties, means of the
     per-hop metrics, energy (J) and the run energetics of
     :func:`mat_hopper.physics.energetics.run_energetics` (cost of transport over the
@@ -201,6 +245,9 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
         rollout: the :class:`~mat_hopper.core.rollout.Rollout` of a run.
         transient_s: hop cycles starting before it (s) are not scored, a
             finite number >= 0; None: the rollout's own ``settings.transient_s``.
+        hops: the run's hop table (:func:`hop_table` of `rollout` with the
+            same `transient_s`), when the caller has it already: each run's
+            hop table is computed once. None: computed here.
 
     Returns:
         dict: ``design``, ``behaviour``, ``convention``, ``sensor_timing``,
@@ -209,8 +256,10 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
         ``hip_inertia_kg_m2``), ``mean_<metric>`` for every metric of
         :data:`ALL_METRICS` (nan without hops), ``damping``, the stress and
         fatigue of :func:`mat_hopper.physics.fatigue.fatigue_summary`, ``energy_j``
-        (sum over the hops, J; nan without hops) and the keys of
-        :func:`mat_hopper.physics.energetics.run_energetics`.
+        (sum over the hops, J; nan without hops), the keys of
+        :func:`mat_hopper.physics.energetics.run_energetics`, ``contact``,
+        ``mean_touch_toggles_per_switch`` and ``peak_penetration_m`` (the
+        deepest over the hops, m; both nan without hops).
 
     Raises:
         ValueError: `rollout` is not a Rollout, or `transient_s` is not None
@@ -220,7 +269,8 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     """
     _check_rollout(rollout)
     transient_s = check_transient_within(rollout, transient_s)
-    hops = hop_table(rollout, transient_s)
+    if hops is None:  # the summary says it diverged (stable, diverged_at_s)
+        hops = hop_table(rollout, transient_s, warn=False)
     out = {
         "design": rollout.design.name,
         "behaviour": rollout.behaviour.name,
@@ -239,6 +289,9 @@ def run_summary(rollout: Rollout, transient_s: float | None = None) -> dict:
     out.update(fatigue_summary(rollout, hop_cycles(rollout, transient_s)))
     out["energy_j"] = float(hops["energy_j"].sum()) if len(hops) else np.nan
     out.update(_energetics.run_energetics(hops, rollout))
+    out["contact"] = rollout.settings.contact
+    out["mean_touch_toggles_per_switch"] = float(hops["touch_toggles_per_switch"].mean()) if len(hops) else np.nan
+    out["peak_penetration_m"] = float(hops["peak_penetration_m"].max()) if len(hops) else np.nan
     return out
 
 
@@ -306,58 +359,31 @@ def holm(pvalues) -> np.ndarray:
     return out
 
 
-def compare(
-    hops: pd.DataFrame, baseline: str, *, by: str = "behaviour", metrics=METRICS, alpha: float = 0.05
-) -> pd.DataFrame:
-    """Every design against `baseline`, per `by` group and metric.
+DESCRIPTIVE = "descriptive: hop cycles of one run are not independent"
 
-    Columns: percent change of means, Mann-Whitney U (two-sided), raw and
-    Holm-adjusted p (over all rows), rank-biserial effect size in [-1, 1]
-    (positive: the design's values tend to be larger), and significance.
-    Raises ValueError naming the argument: hops not a table with columns
-    design, `by` and every metric; alpha not in (0, 1); an unknown baseline.
 
-    Args:
-        hops: a hop table (:func:`hop_table` rows of several designs).
-        baseline: the design name (column ``design``) compared against.
-        by: the column to group by (default ``"behaviour"``); designs are
-            compared with the baseline within each group.
-        metrics: the metric columns compared (a non-empty sequence of names).
-        alpha: significance level for the Holm-adjusted p (default 0.05).
-
-    Returns:
-        DataFrame, one row per group, design (other than the baseline) and
-        metric: `by`, ``design``, ``baseline``, ``metric``, ``n``,
-        ``n_baseline``, ``mean``, ``mean_baseline``, ``pct_change`` (%, nan
-        where the baseline mean is not finite or below 1e-12 in magnitude),
-        ``u`` (Mann-Whitney U of the design), ``p``, ``effect_size``
-        (2 U / (n n_baseline) - 1), ``p_holm`` and ``significant``
-        (``p_holm < alpha``). Where all values tie (within
-        round-off) u is nan, p 1 and the effect 0; where either side has no
-        hops u and p are nan. Empty (no columns) when no design but the
-        baseline is present.
-
-    Raises:
-        ValueError: hops not a DataFrame; metrics a string or empty; alpha
-            not a number in (0, 1); hops without a ``design`` or `by` column;
-            a baseline not among the designs; a metric not among the columns.
-    """
-    if not isinstance(hops, pd.DataFrame):
-        raise ValueError(f"hops must be a pandas DataFrame (a hop table), got {type(hops).__name__}")
+def _check_compare_args(table, baseline: str, by: str, metrics, what: str) -> None:
+    """The checks :func:`compare` and :func:`compare_independent` share
+    (`what`: the argument's name in messages)."""
+    if not isinstance(table, pd.DataFrame):
+        raise ValueError(f"{what} must be a pandas DataFrame (a hop table), got {type(table).__name__}")
     if isinstance(metrics, str) or not list(metrics):
         raise ValueError(f"metrics must be a non-empty sequence of column names, got {metrics!r}")
-    if isinstance(alpha, bool) or not isinstance(alpha, int | float) or not 0 < alpha < 1:
-        raise ValueError(f"alpha must be a significance level in (0, 1), got {alpha!r}")
-    missing = [c for c in ("design", by) if c not in hops.columns]
+    missing = [c for c in ("design", by) if c not in table.columns]
     if missing:
-        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (by={by!r})")
-    if baseline not in set(hops["design"]):
-        raise ValueError(f"baseline {baseline!r} not among the designs: {sorted(set(hops['design']))}")
-    missing = [c for c in metrics if c not in hops.columns]
+        raise ValueError(f"{what} has no column {', '.join(map(repr, missing))} (by={by!r})")
+    if baseline not in set(table["design"]):
+        raise ValueError(f"baseline {baseline!r} not among the designs: {sorted(set(table['design']))}")
+    missing = [c for c in metrics if c not in table.columns]
     if missing:
-        raise ValueError(f"hops has no column {', '.join(map(repr, missing))} (metrics={list(metrics)})")
+        raise ValueError(f"{what} has no column {', '.join(map(repr, missing))} (metrics={list(metrics)})")
+
+
+def _rank_rows(table: pd.DataFrame, baseline: str, by: str, metrics) -> list[dict]:
+    """Per group, design and metric: sizes, means, percent change of means,
+    Mann-Whitney U (two-sided), its p and the rank-biserial effect size."""
     rows = []
-    for group, g in hops.groupby(by, sort=False):
+    for group, g in table.groupby(by, sort=False):
         base = g[g["design"] == baseline]
         for design, dg in g.groupby("design", sort=False):
             if design == baseline:
@@ -391,7 +417,112 @@ def compare(
                         "effect_size": effect,
                     }
                 )
-    out = pd.DataFrame(rows)
+    return rows
+
+
+def compare(hops: pd.DataFrame, baseline: str, *, by: str = "behaviour", metrics=METRICS, alpha=None) -> pd.DataFrame:
+    """Every design's hop cycles beside `baseline`'s, per `by` group and
+    metric: descriptive, hop cycles of one run are not independent.
+
+    Each cycle starts from the state the previous one left and the
+    controller adapts its thrust from the last hop, so a run's cycles are
+    one sample, not many: a rank test over them gets a smaller p from a
+    longer run, not from more evidence, and this table draws no verdict
+    (no significance column). The Mann-Whitney U and its p are kept as a
+    description of how far apart two runs' cycle distributions lie, in
+    columns that say so. For inference compare replicate runs on shared
+    seeds (:func:`mat_hopper.analysis.paired.compare_paired`, through
+    :func:`mat_hopper.analysis.stats.compare_replicates`), or independent
+    run means with :func:`compare_independent`.
+
+    Args:
+        hops: a hop table (:func:`hop_table` rows of several designs).
+        baseline: the design name (column ``design``) described against.
+        by: the column to group by (default ``"behaviour"``); designs are
+            set beside the baseline within each group.
+        metrics: the metric columns (a non-empty sequence of names).
+        alpha: not accepted (None): a description has no significance
+            level; a value is refused with a pointer to the tests.
+
+    Returns:
+        DataFrame, one row per group, design (other than the baseline) and
+        metric: `by`, ``design``, ``baseline``, ``metric``, ``n_hops``,
+        ``n_hops_baseline`` (hop cycles), ``mean``, ``mean_baseline``,
+        ``pct_change`` (%, nan where the baseline mean is not finite or below
+        1e-12 in magnitude), ``u_descriptive`` (Mann-Whitney U of the
+        design's cycles), ``p_descriptive`` (its two-sided p over hop cycles,
+        not a test), ``effect_size`` (rank-biserial, 2 U / (n n_baseline) - 1,
+        in [-1, 1], positive: the design's cycles tend to be larger) and
+        ``basis`` (:data:`DESCRIPTIVE`). Where all values tie (within
+        round-off) u is nan, p 1 and the effect 0; where either side has no
+        hops u and p are nan. Empty (no columns) when no design but the
+        baseline is present.
+
+    Raises:
+        ValueError: hops not a DataFrame; metrics a string or empty; `alpha`
+            given; hops without a ``design`` or `by` column; a baseline not
+            among the designs; a metric not among the columns.
+    """
+    if alpha is not None:
+        raise ValueError(
+            f"alpha={alpha!r}: metrics.compare is descriptive (hop cycles of one run are not independent) and draws "
+            "no verdict; test replicate runs instead: mat_hopper.analysis.paired.compare_paired on shared seeds, or "
+            "metrics.compare_independent on independent run means"
+        )
+    _check_compare_args(hops, baseline, by, metrics, "hops")
+    out = pd.DataFrame(_rank_rows(hops, baseline, by, metrics))
+    if len(out):
+        out = out.rename(
+            columns={"n": "n_hops", "n_baseline": "n_hops_baseline", "u": "u_descriptive", "p": "p_descriptive"}
+        )
+        out["basis"] = DESCRIPTIVE
+    return out
+
+
+def compare_independent(
+    samples: pd.DataFrame, baseline: str, *, by: str = "behaviour", metrics=METRICS, alpha: float = 0.05
+) -> pd.DataFrame:
+    """Every design against `baseline` on independent samples, per `by`
+    group and metric: a two-sided Mann-Whitney U test with Holm's
+    correction over all rows.
+
+    The samples must be independent: one value per run, e.g. the means of
+    replicate runs with their own seeds
+    (:func:`mat_hopper.analysis.stats.replicate_means`); runs on shared
+    seeds are better compared paired
+    (:func:`mat_hopper.analysis.paired.compare_paired`). The hop cycles of
+    one run are not independent: on them the p-values describe the run
+    (:func:`compare`), they test nothing. The paper's comparison does
+    this on hop cycles; :func:`mat_hopper.analysis.stats.compare_hops`
+    reproduces it and labels it ``basis = "hops"``.
+
+    Args:
+        samples: one row per independent sample: columns ``design``, `by`
+            and the metrics.
+        baseline: the design name (column ``design``) compared against.
+        by: the column to group by (default ``"behaviour"``).
+        metrics: the metric columns compared (a non-empty sequence of names).
+        alpha: significance level for the Holm-adjusted p (default 0.05).
+
+    Returns:
+        DataFrame, one row per group, design (other than the baseline) and
+        metric: `by`, ``design``, ``baseline``, ``metric``, ``n``,
+        ``n_baseline``, ``mean``, ``mean_baseline``, ``pct_change`` (%, nan
+        where the baseline mean is not finite or below 1e-12 in magnitude),
+        ``u``, ``p``, ``effect_size`` (rank-biserial), ``p_holm`` and
+        ``significant`` (``p_holm < alpha``). Ties and empty sides as
+        :func:`compare`. Empty (no columns) when no design but the baseline
+        is present.
+
+    Raises:
+        ValueError: samples not a DataFrame; metrics a string or empty; alpha
+            not a number in (0, 1); no ``design`` or `by` column; a baseline
+            not among the designs; a metric not among the columns.
+    """
+    if isinstance(alpha, bool) or not isinstance(alpha, int | float) or not 0 < alpha < 1:
+        raise ValueError(f"alpha must be a significance level in (0, 1), got {alpha!r}")
+    _check_compare_args(samples, baseline, by, metrics, "samples")
+    out = pd.DataFrame(_rank_rows(samples, baseline, by, metrics))
     if len(out):
         out["p_holm"] = holm(out["p"].to_numpy())
         out["significant"] = out["p_holm"] < alpha

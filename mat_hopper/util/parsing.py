@@ -3,7 +3,10 @@ line and the Python API alike.
 
 Names (conventions, behaviours, backends, samplers, segment-mass rules)
 are case-insensitive, the way design names always were: ``PAPER`` is
-``paper``. URL schemes are too (RFC 3986, section 3.1: "schemes are
+``paper``. An unknown name is answered with the accepted ones and, where
+one is close (:func:`did_you_mean`: the same name with other separators,
+``rho_inc`` for ``rho-inc``, or a near spelling by
+:func:`difflib.get_close_matches`), "did you mean ...?". URL schemes are too (RFC 3986, section 3.1: "schemes are
 case-insensitive"; ``SQLite:///x.db`` is ``sqlite:///x.db``).
 
 Numbers are ASCII decimals only (``12``, ``-1.5``, ``2e-4``): Python's
@@ -21,6 +24,7 @@ user typed.
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 import re
@@ -30,6 +34,62 @@ RIGID = "rigid"
 # Optional sign, digits with an optional fraction (or a bare fraction), optional exponent: ASCII only.
 _DECIMAL = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?", re.ASCII)
 _SCHEME = re.compile(r"([A-Za-z][A-Za-z0-9+.-]*):", re.ASCII)
+# Separators a user may type for one another in a name: "rho_inc", "rho inc", "axial bending".
+_SEPARATORS = re.compile(r"[\s_\-/+.]+")
+# difflib's similarity ratio a near spelling must reach (its own default).
+CLOSE_MATCH_CUTOFF = 0.6
+
+
+def _name_key(text) -> str:
+    return _SEPARATORS.sub("-", str(text).strip().lower()).strip("-")
+
+
+def close_names(text, choices: Iterable[str], n: int = 3) -> list[str]:
+    """The names of `choices` that `text` may have meant, best first: those
+    equal to it but for case and separators (``rho_inc``, ``RHO INC`` for
+    ``rho-inc``; ``axial bending`` for ``axial+bending``), else up to `n`
+    near spellings (:func:`difflib.get_close_matches`, cutoff
+    :data:`CLOSE_MATCH_CUTOFF`, compared in lower case).
+
+    Args:
+        text: the name typed (read as str; None: no match).
+        choices: the accepted names.
+        n: the most near spellings returned.
+
+    Returns:
+        The matching names as spelled in `choices` (possibly empty).
+    """
+    choices = tuple(dict.fromkeys(choices))
+    if text is None or not str(text).strip():
+        return []
+    keys = {}
+    for c in choices:
+        keys.setdefault(_name_key(c), c)
+    key = _name_key(text)
+    if key in keys:
+        return [keys[key]]
+    return [keys[k] for k in difflib.get_close_matches(key, list(keys), n=n, cutoff=CLOSE_MATCH_CUTOFF)]
+
+
+def did_you_mean(text, choices: Iterable[str]) -> str:
+    """``"did you mean X?"`` (``"X or Y"`` for two or three) for the names
+    :func:`close_names` finds, or ``""`` when none is close: the clause the
+    package's "unknown name" errors end with.
+
+    Args:
+        text: the name typed.
+        choices: the accepted names.
+
+    Returns:
+        The clause, or an empty string.
+
+    >>> did_you_mean("rho_inc", ["rho-inc", "rho-dec", "SS"])
+    'did you mean rho-inc?'
+    """
+    found = close_names(text, choices)
+    if not found:
+        return ""
+    return f"did you mean {', '.join(found[:-1]) + ' or ' + found[-1] if len(found) > 1 else found[0]}?"
 
 
 def parse_name(text, choices: Iterable[str], flag: str) -> str:
@@ -47,7 +107,9 @@ def parse_name(text, choices: Iterable[str], flag: str) -> str:
         spelled in `choices`.
 
     Raises:
-        ValueError: empty, or not one of `choices` (the message lists them).
+        ValueError: empty, or not one of `choices` (the message lists them
+            and ends with :func:`did_you_mean`'s clause where a name is
+            close).
     """
     choices = tuple(choices)
     key = "" if text is None else str(text).strip().lower()
@@ -56,7 +118,8 @@ def parse_name(text, choices: Iterable[str], flag: str) -> str:
     for c in choices:
         if c.lower() == key:
             return c
-    raise ValueError(f"unknown {flag} {text!r}; accepted: {', '.join(choices)}")
+    hint = did_you_mean(text, choices)
+    raise ValueError(f"unknown {flag} {text!r}; accepted: {', '.join(choices)}{f'; {hint}' if hint else ''}")
 
 
 def is_decimal(text) -> bool:

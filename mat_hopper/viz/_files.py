@@ -45,12 +45,35 @@ def parse_size(text: str) -> tuple[int, int]:
 
 
 def check_fps(fps) -> float:
+    """A video's frame rate, checked.
+
+    Args:
+        fps: frames per second.
+
+    Returns:
+        `fps` as a float in (0, 240].
+
+    Raises:
+        ValueError: not a finite number in (0, 240].
+    """
     if not (isinstance(fps, (int, float)) and math.isfinite(fps) and 0 < fps <= 240):
         raise ValueError(f"fps must be in (0, 240] frames per second, got {fps!r}")
     return float(fps)
 
 
 def check_extension(path: str, allowed: tuple) -> str:
+    """An output file's extension, checked against what the writer can make.
+
+    Args:
+        path: the output path.
+        allowed: accepted extensions, lower case with the dot (``".png"``).
+
+    Returns:
+        The extension of `path`, lower case.
+
+    Raises:
+        ValueError: an extension not in `allowed`, naming those accepted.
+    """
     ext = os.path.splitext(str(path))[1].lower()
     if ext not in allowed:
         raise ValueError(f"unknown file type {ext or '(none)'!r} for {path!r}; accepted: {', '.join(allowed)}")

@@ -34,6 +34,7 @@ def record(
     start_s: float = 0.0,
     convention: str | None = None,
     settings: SimSettings | None = None,
+    warn: bool = True,
 ) -> Rollout:
     """A rollout with joint positions recorded up to start_s + seconds (s).
     convention: the stiffness convention (None: the settings', else the
@@ -51,6 +52,9 @@ def record(
             settings, the default).
         settings: the run's :class:`~mat_hopper.core.sim.SimSettings`; None: the
             defaults.
+        warn: :func:`mat_hopper.core.sim.simulate`'s warnings (a step above
+            the leg's analytic bound, a divergence); False: none (the caller
+            says it).
 
     Returns:
         The :class:`~mat_hopper.core.rollout.Rollout`, with ``qpos`` (every joint
@@ -70,10 +74,48 @@ def record(
         if convention is not None and convention != settings.convention:
             raise ValueError(f"convention {convention!r} given beside settings of convention {settings.convention!r}")
         settings = dataclasses.replace(settings, duration_s=start_s + seconds, transient_s=0.0)
-        return simulate(design, behaviour, settings=settings, record_qpos=True)
+        return simulate(design, behaviour, settings=settings, record_qpos=True, warn=warn)
     return simulate(
-        design, behaviour, duration_s=start_s + seconds, transient_s=0.0, convention=convention, record_qpos=True
+        design,
+        behaviour,
+        duration_s=start_s + seconds,
+        transient_s=0.0,
+        convention=convention,
+        record_qpos=True,
+        warn=warn,
     )
+
+
+def drawn_until_s(rollout: Rollout) -> float:
+    """The last simulated time (s) that can be drawn: the rollout's end,
+    or for a diverged one its last record with finite joint positions
+    (nothing past a divergence is drawn).
+
+    Args:
+        rollout: a :class:`~mat_hopper.core.rollout.Rollout`.
+
+    Returns:
+        The time, s.
+    """
+    t = rollout.time
+    if rollout.stable or rollout.qpos is None:
+        return float(t[-1])
+    ok = np.flatnonzero(np.isfinite(rollout.qpos).all(axis=1) & (t < rollout.diverged_at_s))
+    return float(t[ok[-1]]) if len(ok) else float(t[0])
+
+
+def _check_drawable(rollout: Rollout, first_s: float, what: str) -> float:
+    """drawn_until_s, or ValueError when `what` starts after it (the run
+    ended, or diverged, before): nothing to draw, rather than frozen poses."""
+    end = drawn_until_s(rollout)
+    if first_s > end:
+        why = (
+            f"the run diverged at t = {rollout.diverged_at_s:.4f} s"
+            if rollout.diverged
+            else f"the run ends at {end:g} s"
+        )
+        raise ValueError(f"nothing to draw: {what} start at {first_s:g} s, after {why}")
+    return end
 
 
 def iter_frames(
@@ -92,7 +134,8 @@ def iter_frames(
         rollout: a :class:`~mat_hopper.core.rollout.Rollout` recorded with
             ``record_qpos=True``.
         times_s: the frames' simulated times, s; each shows the first record
-            at or after its time (the last record for later times).
+            at or after its time (the last record for later times; never a
+            time past a divergence, :func:`drawn_until_s`).
         size: (width, height) of the frames, pixels.
         camera: the :class:`Camera`; None: ``Camera()``.
         backend: ``"osmesa"`` or ``"egl"``; None: :func:`choose_backend`.
@@ -102,12 +145,16 @@ def iter_frames(
         (height, width, 3) uint8 RGB arrays, one per time, in order.
 
     Raises:
-        ValueError: a rollout without joint positions (raised at the first
+        ValueError: a rollout without joint positions, or of a diverged
+            run a time after its last drawable record (raised at the first
             frame requested, as for any generator).
         RenderBackendError: no usable off-screen OpenGL library or context.
     """
     if rollout.qpos is None:
         raise ValueError("the rollout has no joint positions: simulate(..., record_qpos=True)")
+    times_s = np.asarray(times_s, float)
+    if rollout.diverged and len(times_s):
+        _check_drawable(rollout, float(times_s.max()), "frames")
     w, h = size
     spec = render_spec(
         rollout.design,
@@ -118,7 +165,7 @@ def iter_frames(
         height=h,
     )
     model = spec.compile()
-    idx = np.clip(np.searchsorted(rollout.time, np.asarray(times_s, float)), 0, len(rollout.time) - 1)
+    idx = np.clip(np.searchsorted(rollout.time, times_s), 0, len(rollout.time) - 1)
     camera = camera or Camera()
     from ..util.progress import progress_bar
 
@@ -273,7 +320,8 @@ def gait_tiles(
             behaviour are shown); None: :func:`record` one of `seconds` from
             `start_s`.
         start_s: time of the first frame, simulated s.
-        seconds: span of the frames, s (cut at the rollout's end).
+        seconds: span of the frames, s (cut at the rollout's end, or at its
+            divergence: the title says so, the last tile is marked).
         n_frames: the number of frames, evenly spaced, >= 1.
         size: (width, height) of each frame, pixels.
         camera: the :class:`Camera`; None: ``Camera(distance_m=2.1)``.
@@ -285,9 +333,10 @@ def gait_tiles(
         (n_frames, height, width, 3) uint8 array.
 
     Raises:
-        ValueError: `n_frames` < 1, a rollout without joint positions, or an
-            error of :func:`record` (invalid `seconds` or `start_s`, unknown
-            design or behaviour).
+        ValueError: `n_frames` < 1, a rollout without joint positions, a
+            `start_s` after the rollout's end or divergence (nothing to draw),
+            or an error of :func:`record` (invalid `seconds` or `start_s`,
+            unknown design or behaviour).
         RenderBackendError: no usable off-screen OpenGL library or context.
     """
     from matplotlib.figure import Figure
@@ -296,19 +345,25 @@ def gait_tiles(
         raise ValueError(f"n_frames must be >= 1, got {n_frames!r}")
     if rollout is None:
         rollout = record(design, behaviour, seconds, start_s=start_s)
-    times = np.linspace(start_s, min(start_s + seconds, float(rollout.time[-1])), int(n_frames))
+    end = _check_drawable(rollout, start_s, "the tiles")  # times run forward from start_s, never back
+    cut = rollout.diverged and start_s + seconds > end  # the window reaches the divergence
+    times = np.linspace(start_s, min(start_s + seconds, end), int(n_frames))
     frames = render_frames(rollout, times, size=size, camera=camera or Camera(distance_m=2.1), backend=backend)
     fig = Figure(figsize=(1.6 * len(frames) + 1.2, 2.6), dpi=150, layout="constrained")
     ax = fig.subplots()
     ax.imshow(np.concatenate(list(frames), axis=1))
     w = frames.shape[2]
+    digits = 2 if times[-1] - times[0] >= 0.07 else 4  # tiles a few ms apart keep distinct labels
     for k, t in enumerate(times):
-        ax.text(k * w + 6, 14, f"t = {t:.2f} s", fontsize=7, color="black")
+        last = cut and k == len(times) - 1
+        label = f"t = {t:.{digits}f} s" + (" (diverged)" if last else "")
+        ax.text(k * w + 6, 14, label, fontsize=7, color="red" if last else "black")
     ax.set_axis_off()
     d = rollout.design
     beh = rollout.behaviour
     terrain = f", {math.tan(math.radians(beh.ramp_grade_deg)) * 100:.1f} % ramp" if beh.ramp_grade_deg else ""
-    ax.set_title(f"{d.name}: {beh.name} hopping{terrain} (red: desired path)", fontsize=9)
+    div = f"; diverged at t = {rollout.diverged_at_s:.4f} s, the frames end there" if cut else ""
+    ax.set_title(f"{d.name}: {beh.name} hopping{terrain} (red: desired path){div}", fontsize=9)
     _density_legend(fig, ax, d)
     fig.frames = frames
     return fig
@@ -331,11 +386,13 @@ def video_times(
 
     Raises:
         ValueError: `fps` outside (0, 240], or a window that starts after the
-            rollout ends.
+            rollout ends (or diverged: the frames stop there, :func:`drawn_until_s`).
     """
     fps = check_fps(fps)
-    t_end = float(rollout.time[-1]) if seconds is None else start_s + seconds
-    n = int(math.floor((min(t_end, float(rollout.time[-1])) - start_s) * fps + 1e-9)) + 1
+    end = drawn_until_s(rollout)
+    t_end = end if seconds is None else start_s + seconds
+    n = int(math.floor((min(t_end, end) - start_s) * fps + 1e-9)) + 1
     if n < 1:
+        _check_drawable(rollout, start_s, "the video's frames")
         raise ValueError("nothing to render: the window starts after the rollout ends")
     return start_s + np.arange(n) / fps

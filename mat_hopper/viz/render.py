@@ -38,7 +38,16 @@ from ._files import (
     save_image,
     write_video,
 )
-from ._frames import gait_tiles, iter_frames, record, render_frames, render_still, standing_qpos, video_times
+from ._frames import (
+    drawn_until_s,
+    gait_tiles,
+    iter_frames,
+    record,
+    render_frames,
+    render_still,
+    standing_qpos,
+    video_times,
+)
 from .scene import (
     DENSITY_RANGE_G_CM3,
     GL_LIBS,
@@ -65,6 +74,7 @@ __all__ = [
     "check_mp4_size",
     "choose_backend",
     "density_color",
+    "drawn_until_s",
     "gait_tiles",
     "iter_frames",
     "parse_size",
@@ -148,13 +158,16 @@ def render_files(
     backend: str | None = None,
     log=print,
     settings: SimSettings | None = None,
+    rollout: Rollout | None = None,
 ) -> list[str]:
     """Write gait tiles (`tiles`: .png, .svg, .pdf, .jpg), a video (`video`:
     .mp4 or .gif; `seconds` of simulated time from `start_s` at `fps`) and/or
     a still of the model at rest (`still`) of one design on one behaviour.
     Every input is checked before any work. settings: the run's time step,
     sensor timing and segment mass (:func:`record`); a convention given must be its own.
-    Returns the paths written.
+    Returns the paths written. Nothing past a divergence is drawn: the tiles
+    and the video stop at it (the tiles marked), and one whose window starts
+    after it is not written (`log` says so).
 
     Args:
         design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name.
@@ -174,10 +187,15 @@ def render_files(
         convention: the stiffness convention (see :func:`record`).
         backend: ``"osmesa"`` or ``"egl"`` (as ``MUJOCO_GL``); None:
             :func:`choose_backend` from the environment.
-        log: called with one line of text: a note when the run diverged, and
-            the video's frame count.
+        log: called with one line of text: a note when the run diverged
+            (when, why, what to try; not for a `rollout` given), an output not
+            written because its window starts after the divergence, and the
+            video's frame count.
         settings: the run's :class:`~mat_hopper.core.sim.SimSettings`; None: the
             defaults.
+        rollout: the run to draw, recorded with ``qpos`` over start_s +
+            max(seconds, tile_start_s + 1) (e.g. by :func:`record` with
+            these settings); None: :func:`record` it here.
 
     Returns:
         The paths written, in the order still, tiles, video.
@@ -201,13 +219,15 @@ def render_files(
     design = as_design(design)
     beh = get_behaviour(behaviour) if isinstance(behaviour, str) else behaviour
     backend = choose_backend({"MUJOCO_GL": backend} if backend else None)
-    rollout = (
-        record(design, beh, max(seconds, tile_start_s + 1.0), start_s=start_s, convention=convention, settings=settings)
-        if (tiles or video)
-        else None
-    )
-    if rollout is not None and not rollout.stable:
-        log(f"note: {design.name} diverged at t = {rollout.diverged_at_s:.3f} s; frames stop there")
+    if rollout is None and (tiles or video):
+        rollout = record(
+            design, beh, max(seconds, tile_start_s + 1.0), start_s=start_s, convention=convention, settings=settings
+        )
+        if rollout.diverged:
+            log(f"note: {design.name} {rollout.divergence_message()}; frames stop there")
+    if rollout is not None and rollout.diverged:
+        tiles = _drawable(rollout, tiles, start_s + tile_start_s, "tiles", log)
+        video = _drawable(rollout, video, start_s, "video", log)
     written = []
     if still:
         written.append(save_image(render_still(design, beh, size=size, backend=backend), still))
@@ -217,6 +237,19 @@ def render_files(
     if video:
         times = video_times(rollout, start_s=start_s, seconds=seconds, fps=fps)
         write_video(iter_frames(rollout, times, size=size, backend=backend, progress=True), video, fps)
-        log(f"{video}: {len(times)} frames at {fps:g} fps, {size[0]}x{size[1]}")
+        cut = f", ending at the divergence at t = {rollout.diverged_at_s:.4f} s" if rollout.diverged else ""
+        log(f"{video}: {len(times)} frames at {fps:g} fps, {size[0]}x{size[1]}{cut}")
         written.append(video)
     return written
+
+
+def _drawable(rollout: Rollout, path: str | None, first_s: float, what: str, log) -> str | None:
+    """`path`, or None (with a line to `log`) when its window starts after
+    the diverged rollout's last drawable record (:func:`drawn_until_s`)."""
+    if path and first_s > drawn_until_s(rollout):
+        log(
+            f"{what} not written ({path}): its window starts at {first_s:g} s, after the run diverged at "
+            f"t = {rollout.diverged_at_s:.4f} s"
+        )
+        return None
+    return path

@@ -69,7 +69,7 @@ def figure4_sweeps(
 
     Raises:
         ValueError: `hops` lacks a required column, or (with baseline hops)
-            `alpha` not in (0, 1) (:func:`mat_hopper.physics.metrics.compare`).
+            `alpha` not in (0, 1) (:func:`mat_hopper.physics.metrics.compare_independent`).
     """
     _require(hops, ("sweep_base", "sweep_property", "density_g_cm3", "modulus_gpa", metric), "figure4_sweeps")
     table, bad, baseline_hops = _sweep_table(hops, baseline_hops, runs, metric)
@@ -143,9 +143,9 @@ def _against_baseline(table, baseline_hops, baseline, metric, alpha):
                 ],
                 ignore_index=True,
             )
-            from ..physics.metrics import compare
+            from ..physics.metrics import compare_independent
 
-            cmp = compare(joint, "__baseline__", by="behaviour", metrics=(metric,), alpha=alpha)
+            cmp = compare_independent(joint, "__baseline__", by="behaviour", metrics=(metric,), alpha=alpha)
             significant = set(cmp.loc[cmp["significant"].astype(bool), "design"])
     return base, significant
 

@@ -118,6 +118,9 @@ def test_designs_csv_round_trip_and_parallel_cpu(tmp_path):
         (["--designs", "SS", "--duration", "-1e3"], "duration must be"),
         (["--designs", "SS", "--timestep", "-1e-4"], "timestep"),
         (["--map", "2", "--stability", "--stability-duration", "-1e-3"], "--stability-duration must be > 0"),
+        (["--designs", "SS", "--timestep", "fast"], "or 'auto'"),
+        (["--designs", "SS", "--backend", "warp", "--timestep", "auto"], "--timestep auto is for --backend mujoco"),
+        (["--designs", "SS", "--stability", "--timestep", "auto"], "--timestep: not used by --stability"),
     ],
 )
 def test_bad_input_one_line_exit_2_no_file(tmp_path, capsys, args, message):
@@ -251,8 +254,9 @@ def test_sensor_timing_reaches_the_runs(tmp_path):
     stable = {}
     for timing in ("authors", "2"):
         out = tmp_path / f"{timing}.csv"
-        assert main([*args, "--sensor-timing", timing, "--csv", str(out)]) == 0
+        code = main([*args, "--sensor-timing", timing, "--csv", str(out)])
         stable[timing] = bool(pd.read_csv(out)["stable"][0])
+        assert code == (0 if stable[timing] else 1)  # a diverged run exits 1, its table written
     assert stable == {"authors": True, "2": False}
 
 
@@ -262,11 +266,14 @@ def test_profile_sets_the_run_lengths_and_a_csv_is_replaced(tmp_path, monkeypatc
     out = tmp_path / "out.csv"
     monkeypatch.setenv("MAT_HOPPER_PROFILE", "quick")
     args = ["batch", "--designs", "MD", "--timestep", "1e-3", "--quiet", "--csv", str(out)]
-    assert main(args) == 0
+    # MD diverges at 1e-3 s (above the controller's 2.1e-4 s limit): exit 1, the table written all the same
+    assert main(args) == 1
     first = pd.read_csv(out)
     assert first["duration_s"][0] == 12.0 and first["transient_s"][0] == 4.0  # the quick profile's
     out.write_text("stale\n")
-    assert main(args) == 0  # the existing file is replaced, not refused
+    assert main(args) == 2  # an existing output is replaced only with --force
+    assert out.read_text() == "stale\n"
+    assert main([*args, "--force"]) == 1  # replaced
     assert pd.read_csv(out).equals(first)
 
 
@@ -316,3 +323,41 @@ def test_an_unknown_warp_device_is_one_line_before_any_work(capsys, device):
     rc, err = _main(capsys, "batch", "--designs", "SS", "--backend", "warp", "--device", device)
     assert rc == 2 and len(err.strip().splitlines()) == 1, err
     assert "--device" in err and "cpu, cuda or cuda:N" in err and "building" not in err
+
+
+def test_timestep_auto_gives_each_design_its_substeps_and_a_diverged_run_exits_1(tmp_path, capsys):
+    """WC's springs' bound (9.52e-05 s) lies under the authors' 1e-4 s step: the batch warns of it
+    before any run, WC diverges 5 ms in and the batch exits 1; at --timestep auto each design runs
+    at its own substeps (SS 2, WC 3), none diverges, exit 0."""
+    out = tmp_path / "out.csv"
+    argv = ["batch", "--designs", "SS,WC", "--behaviour", "forward", "--duration", "2", "--transient", "1"]
+    argv += ["--workers", "1", "--quiet"]
+    assert main([*argv, "--csv", str(out)]) == 1
+    cap = capsys.readouterr()
+    warned = [line for line in cap.err.splitlines() if "warning" in line]
+    assert len(warned) == 1 and warned[0].startswith("mat-hopper batch: warning: WC: the physics step 0.0001 s")
+    assert "--timestep auto" in warned[0]
+    assert "1 of 2 designs diverged (WC at t = 0.00" in cap.out and "try --timestep auto" in cap.out
+    table = pd.read_csv(out)  # still written
+    assert list(table.stable) == [True, False] and list(table.substeps) == [1, 1]
+    auto = tmp_path / "auto.csv"
+    assert main([*argv, "--timestep", "auto", "--csv", str(auto)]) == 0
+    cap = capsys.readouterr()
+    assert (
+        "warning" not in cap.err and "diverged" not in cap.out and "--timestep auto (dt=3.33e-05 to 5e-05 s" in cap.out
+    )
+    table = pd.read_csv(auto)
+    assert list(table.stable) == [True, True] and list(table.substeps) == [2, 3]
+    assert list(table.timestep_s) == pytest.approx([5e-5, 1e-4 / 3])
+    # the rows are those designs' own runs at auto
+    s = run_summary(simulate("WC", "forward", 2.0, "auto", transient_s=1.0))
+    assert table.n_hops[1] == s["n_hops"] and table.hop_height_m[1] == pytest.approx(s["mean_hop_height_m"], rel=1e-9)
+
+
+def test_the_api_refuses_auto_on_warp_and_runs_it_on_mujoco():
+    from mat_hopper.batch import design_settings, evaluate
+
+    with pytest.raises(ValueError, match="auto_timestep is for backend='mujoco'"):
+        evaluate(["SS"], "static", BatchSettings(duration_s=0.2, transient_s=0.0), backend="warp", auto_timestep=True)
+    s = design_settings("SS", BatchSettings(duration_s=0.2, transient_s=0.0), auto_timestep=True)
+    assert (s.timestep_s, s.substeps) == (5e-5, 2)

@@ -200,7 +200,8 @@ def test_an_empty_environment_variable_is_refused_naming_it(here, capsys, monkey
 # --- 5. an output never over an input -------------------------------------------------
 
 
-def test_an_output_never_overwrites_an_input(here, capsys):
+@pytest.mark.parametrize("force", [[], ["--force"]])  # --force replaces outputs, never an input
+def test_an_output_never_overwrites_an_input(here, capsys, force):
     (here / "d.csv").write_text(DESIGN_TABLE)
     os.symlink("d.csv", here / "link.csv")
     for argv in (
@@ -211,7 +212,7 @@ def test_an_output_never_overwrites_an_input(here, capsys):
         ["render", "--design-csv", "d.png", "--still", "./d.png"],
     ):
         flag = "--designs-csv" if argv[0] == "batch" else "--design-csv"
-        _refused(argv, capsys, "--still" if argv[0] == "render" else "--csv", flag, "overwrite")
+        _refused([*argv, *force], capsys, "--still" if argv[0] == "render" else "--csv", flag, "overwrite")
     assert (here / "d.csv").read_text() == DESIGN_TABLE
     assert sorted(os.listdir(here)) == ["d.csv", "link.csv"]
 

@@ -98,3 +98,24 @@ def test_a_run_cut_short_by_divergence_says_stopped_not_done(capsys):
     main(["simulate", "--design", "SS", "--convention", "axial", "--duration", "2", "--transient", "1"])
     err = capsys.readouterr().err
     assert "SS: stopped" in err and "SS: done" not in err, err
+
+
+FIVE = ["--density", "2.0,3.0,4.5,6.0,7.8", "--modulus", "50,80,110,150,200", "--behaviour", "forward"]
+
+
+def test_a_step_above_the_bound_is_warned_of_and_a_divergence_says_when_why_and_what_to_try(capsys):
+    # the five-segment leg's springs' bound, 9.29e-05 s, lies under the authors' 1e-4 s step
+    argv = ["simulate", *FIVE, "--duration", "2", "--transient", "1", "--no-progress"]
+    assert main(argv) == 1
+    cap = capsys.readouterr()
+    warned = [line for line in cap.err.splitlines() if "warning" in line]
+    assert len(warned) == 1 and warned[0].startswith("mat-hopper simulate: warning: the physics step 0.0001 s is above")
+    assert "analytic stable step 9.29e-05 s" in warned[0] and "try --timestep auto (3 physics substeps" in warned[0]
+    line = next(x for x in cap.out.splitlines() if x.startswith("UNSTABLE"))
+    assert line.startswith("UNSTABLE: diverged at t = 0.0043 s (numerical divergence: |qacc| ")  # when, which check
+    assert "at joint mat_spring_" in line and "above this leg's analytic stable step 9.29e-05 s" in line  # why
+    assert line.endswith("try --timestep auto (3 physics substeps of 3.33e-05 s per 0.0001 s control period)")
+    # the same leg at --timestep auto: no warning, it hops, exit 0
+    assert main([*argv, "--timestep", "auto"]) == 0
+    cap = capsys.readouterr()
+    assert "warning" not in cap.err and "UNSTABLE" not in cap.out and "1 hop cycles scored" in cap.out

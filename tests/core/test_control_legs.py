@@ -168,3 +168,19 @@ def test_control_kind_any_case():
     assert check_control(" Inertia ") == "inertia"
     assert control(d, "MASS").name == "rho-inc~mass"
     assert control(d, "Rigid").densities_g_cm3 == control(d, "rigid").densities_g_cm3
+
+
+def test_control_legs_equal_but_for_round_off_are_one_design():
+    """A mean or a series sum in another order changes the last bit: the
+    canonical form makes such legs one design, so one cache key and one run."""
+    from mat_hopper.core.control_legs import canonical
+    from mat_hopper.util.keys import design_key
+
+    al = mats.parse_design("Al")
+    assert float(np.mean(al.densities_g_cm3)) != 2.7  # the raw mean carries round-off
+    assert design_key(mass_matched(al)) == design_key(al)
+    inc, dec = mats.parse_design("PVC-Ti-SS"), mats.parse_design("SS-Ti-PVC")
+    assert design_key(mass_matched(inc)) == design_key(mass_matched(dec))
+    assert canonical(2.7000000000000006) == 2.7 and canonical(None) is None
+    # far above round-off: a real difference of 1e-9 stays a difference
+    assert canonical(2.7 + 1e-9) != 2.7

@@ -14,7 +14,7 @@ from mat_hopper.experiments.paper import (
     get_experiment,
     parse_experiments,
 )
-from mat_hopper.experiments.profiles import PROFILE_ENV, Profile, get_profile
+from mat_hopper.experiments.profiles import PROFILE_ENV, Profile, get_profile, resolve_profile
 from mat_hopper.physics.stability import stability_grid
 
 
@@ -110,12 +110,12 @@ def test_profiles_paper_and_quick(monkeypatch):
     assert (s.duration_s, s.transient_s) == (quick.duration_s, quick.transient_s)
     assert {t.labels["profile"] for t in experiment_3().tasks(quick)} == {"quick"}
     monkeypatch.setenv(PROFILE_ENV, "quick")
-    assert get_profile() is quick
+    assert resolve_profile() is quick
     monkeypatch.setenv(PROFILE_ENV, "bogus")
     with pytest.raises(ValueError, match="MAT_HOPPER_PROFILE"):
-        get_profile()
+        resolve_profile()
     monkeypatch.delenv(PROFILE_ENV)
-    assert get_profile() is paper
+    assert resolve_profile() is paper
 
 
 def test_profile_and_experiment_bad_input():

@@ -81,6 +81,63 @@ def test_default_objective_keeps_the_key_it_had_before_the_setting(tmp_path):
         create_or_load(StudyConfig("k", SearchSpace(), three), storage)
 
 
+# The default objective's key as studies stored it (the paper profile, convention paper).
+DEFAULT_KEY = {
+    "behaviours": ["ramp"],
+    "profile": {
+        "name": "paper",
+        "duration_s": 60.0,
+        "transient_s": 20.0,
+        "timestep_s": 0.0001,
+        "stability_grid_size": 20,
+        "stability_duration_s": 2.0,
+        "stability_tolerance": 1.25,
+        "stability_max_iter": 10,
+        "stability_scan": True,
+        "record_rate_hz": 1000.0,
+        "convention": "paper",
+        "axial_timestep_s": "auto",
+        "replicates": 10,
+        "sensor_timing": "authors",
+        "segment_mass": "leg",
+        "push_scale": 1.0,
+        "substep_studies": True,
+    },
+    "convention": "paper",
+    "hop_height_target_m": 1.0,
+    "hop_height_tolerance_m": 0.05,
+    "segment_mass": "leg",
+    "leg_material_length_m": 0.3,
+    "replicates": 4,
+    "replicate_seed_start": 1000,
+}
+
+
+def test_objective_takes_every_run_setting_from_its_profile(monkeypatch):
+    """convention and segment_mass left out are the profile's (both alike);
+    given, they override it; the default objective's key is unchanged."""
+    from dataclasses import replace
+
+    from mat_hopper.experiments.profiles import PROFILES
+
+    monkeypatch.delenv("MAT_HOPPER_PROFILE", raising=False)
+    assert Objective().key() == DEFAULT_KEY and list(Objective().key()) == list(DEFAULT_KEY)
+    axial = replace(TINY.for_convention("axial"), segment_mass="capsule")
+    ob = Objective(replicates=0, profile=axial)
+    assert (ob.convention, ob.segment_mass) == ("axial", "capsule")
+    s = ob.sim_settings(design=paper_designs()["SS"])
+    assert (s.convention, s.segment_mass, s.substeps) == ("axial", "capsule", 8)
+    given = Objective(replicates=0, profile=axial, convention="Paper", segment_mass="LEG")
+    assert (given.convention, given.segment_mass) == ("paper", "leg")
+    assert given.sim_settings().convention == "paper" and given.sim_settings().timestep_s == 1e-4
+    assert Objective.from_key(ob.key()) == ob and Objective.from_key(given.key()) == given
+    assert Objective(profile="quick").profile is PROFILES["quick"]
+    monkeypatch.setenv("MAT_HOPPER_PROFILE", "quick")
+    assert Objective().profile is PROFILES["quick"]  # the API's entry point reads the variable
+    with pytest.raises(ValueError, match="profile must be a Profile"):
+        Objective(profile=3)
+
+
 @pytest.mark.parametrize(
     "value, text",
     [

@@ -23,6 +23,7 @@ from mat_hopper.optimize.validate import (
     check_settings,
     dominated_by,
     fallen_comparators,
+    fallen_reasons,
     paired_table,
     validate_front,
     validation_tasks,
@@ -171,6 +172,24 @@ def test_a_fallen_comparator_is_left_out_however_much_better_it_is():
     runs.loc[(runs["design"] == "A") & (runs["replicate"] == 7), "status"] = "fallen"
     v = verdicts(runs, paired_table(runs, OB)).set_index("design")
     assert v.loc["f", "dominated by"] == "" and v.loc["f", "paper designs left out (fell)"] == "A"
+
+
+def test_a_left_out_comparator_is_named_with_why():
+    """The verdict says why a paper design is no comparator: its first run
+    that diverged (with the time) or fell on a seed where the design stood."""
+    legs = {("front", "f"): (1.0, 1.0), ("paper", "A"): (0.5, 0.5), ("paper", "B"): (2.0, 1.0)}
+    runs = _runs(legs, 10)
+    runs["diverged_at_s"] = np.nan
+    runs.loc[(runs["design"] == "A") & (runs["replicate"] == 7), ["status", "diverged_at_s"]] = ["diverged", 0.0043]
+    runs.loc[(runs["design"] == "B") & (runs["replicate"] >= 4), "status"] = "fallen"
+    assert fallen_reasons(runs, "f") == {"A": "diverged at t = 0.0043 s (ramp, seed 7)", "B": "fell (ramp, seed 4)"}
+    v = verdicts(runs, paired_table(runs, OB)).set_index("design")
+    assert v.loc["f", "paper designs left out (fell)"] == "A, B"
+    assert (
+        v.loc["f", "paper designs left out (why)"]
+        == "A: diverged at t = 0.0043 s (ramp, seed 7); B: fell (ramp, seed 4)"
+    )
+    assert verdicts(_runs(legs, 10), paired_table(_runs(legs, 10), OB)).loc[0, "paper designs left out (why)"] == ""
 
 
 def test_three_seeds_test_nothing():

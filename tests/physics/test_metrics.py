@@ -4,7 +4,16 @@ import pytest
 
 from mat_hopper.core.rollout import hop_cycles
 from mat_hopper.core.sim import simulate
-from mat_hopper.physics.metrics import ALL_METRICS, compare, holm, hop_table, run_summary, summarize
+from mat_hopper.physics.metrics import (
+    ALL_METRICS,
+    DESCRIPTIVE,
+    compare,
+    compare_independent,
+    holm,
+    hop_table,
+    run_summary,
+    summarize,
+)
 
 
 @pytest.fixture(scope="module")
@@ -72,20 +81,48 @@ def test_holm_counts_untested_comparisons_in_the_family():
     assert holm([np.nan, 0.1])[1] == pytest.approx(0.2)
 
 
-def test_compare_percent_change_and_effect():
+def _samples(n=30):
     rng = np.random.default_rng(0)
     rows = []
     for design, shift in (("base", 0.0), ("better", -0.5), ("same", 0.0)):
-        for v in rng.normal(1.0 + shift, 0.05, 30):
+        for v in rng.normal(1.0 + shift, 0.05, n):
             rows.append({"design": design, "behaviour": "forward", "tracking_error_m": v})
-    table = compare(pd.DataFrame(rows), "base", metrics=("tracking_error_m",))
+    return pd.DataFrame(rows)
+
+
+def test_compare_is_descriptive_and_draws_no_verdict():
+    """Hop cycles of one run are not independent: compare describes them
+    (percent change, effect size, a U and p named descriptive) and has no
+    significance column; a significance level is refused with a pointer
+    to the tests."""
+    table = compare(_samples(), "base", metrics=("tracking_error_m",))
+    better = table[table.design == "better"].iloc[0]
+    assert better["pct_change"] == pytest.approx(-50, abs=5)
+    assert better.effect_size == -1.0 and better.n_hops == 30 and better.n_hops_baseline == 30
+    assert 0 < better.p_descriptive < 1e-6 and np.isfinite(better.u_descriptive)
+    assert (table["basis"] == DESCRIPTIVE).all() and "not independent" in DESCRIPTIVE
+    assert not {"significant", "p", "p_holm", "u", "n"} & set(table.columns)
+    assert "descriptive" in compare.__doc__.split("\n\n")[0] and "not independent" in compare.__doc__
+    with pytest.raises(ValueError, match="alpha.*descriptive.*compare_paired"):
+        compare(_samples(), "base", metrics=("tracking_error_m",), alpha=0.05)
+    with pytest.raises(ValueError, match="baseline"):
+        compare(_samples(), "nope")
+
+
+def test_compare_independent_tests_run_level_samples():
+    """The test on independent samples (one value per run) keeps the
+    Mann-Whitney U with Holm and its verdict; same numbers as compare's
+    description of the same table."""
+    table = compare_independent(_samples(), "base", metrics=("tracking_error_m",))
     better = table[table.design == "better"].iloc[0]
     same = table[table.design == "same"].iloc[0]
     assert better["pct_change"] == pytest.approx(-50, abs=5)
     assert better.effect_size == -1.0 and better.significant
     assert not same.significant
-    with pytest.raises(ValueError, match="baseline"):
-        compare(pd.DataFrame(rows), "nope")
+    described = compare(_samples(), "base", metrics=("tracking_error_m",))
+    assert described["p_descriptive"].tolist() == table["p"].tolist()
+    with pytest.raises(ValueError, match="alpha"):
+        compare_independent(_samples(), "base", alpha=1.5)
 
 
 def test_summarize_is_tidy(rollout):
@@ -98,6 +135,8 @@ def test_compare_ignores_round_off_differences():
     rows = [{"design": "MD", "behaviour": "static", "tracking_error_m": v} for v in np.full(20, 1e-17)]
     rows += [{"design": "SS", "behaviour": "static", "tracking_error_m": 0.0} for _ in range(20)]
     row = compare(pd.DataFrame(rows), "MD", metrics=("tracking_error_m",)).iloc[0]
+    assert row["p_descriptive"] == 1.0 and row["effect_size"] == 0.0
+    row = compare_independent(pd.DataFrame(rows), "MD", metrics=("tracking_error_m",)).iloc[0]
     assert row["p"] == 1.0 and not row["significant"]
 
 
@@ -155,3 +194,80 @@ def test_a_transient_at_or_beyond_the_run_end_is_refused(transient):
         with pytest.raises(ValueError, match=r"transient_s .* at or beyond the run's end \(duration 0.3 s\)"):
             call(r, transient_s=transient)
     assert hop_cycles(r, transient_s=0.29).shape[1] == 2
+
+
+# --- contact: touch toggles per phase switch and peak penetration per hop ---
+
+
+def test_hop_table_contact_columns(rollout):
+    from mat_hopper.physics.metrics import CONTACT_COLUMNS
+
+    hops = hop_table(rollout)
+    assert list(hops.columns[-len(CONTACT_COLUMNS) :]) == list(CONTACT_COLUMNS)
+    assert (hops["contact"] == "authors").all()
+    assert np.isfinite(hops["touch_toggles_per_switch"]).all() and (hops["touch_toggles_per_switch"] >= 0).all()
+    # MuJoCo's default soft contact lets the foot sink a centimetre or two
+    assert ((hops["peak_penetration_m"] > 5e-3) & (hops["peak_penetration_m"] < 5e-2)).all()
+    s = run_summary(rollout)
+    assert s["contact"] == "authors"
+    assert s["peak_penetration_m"] == hops["peak_penetration_m"].max()
+    assert s["mean_touch_toggles_per_switch"] == pytest.approx(hops["touch_toggles_per_switch"].mean())
+
+
+def test_rigid_leg_under_stiff_contact_touches_cleanly():
+    """A rigid leg on a 1 ms contact: one touch on/off per phase switch
+    (no chatter), and the foot sinks under 3 mm."""
+    hops = hop_table(simulate("MD", "forward", duration_s=8.0, transient_s=2.0, contact="stiff"))
+    assert len(hops) >= 5 and (hops["contact"] == "stiff").all()
+    assert hops["touch_toggles_per_switch"].mean() == pytest.approx(1.0, abs=0.05)
+    assert ((hops["peak_penetration_m"] > 0) & (hops["peak_penetration_m"] < 3e-3)).all()
+
+
+def test_hop_contact_columns_by_hand():
+    """A hand-made 1 kHz record: hop 0 (lift-off 0.100 s, touchdown 0.150,
+    next lift-off 0.200) toggles 2 times in records 100..199, deepest
+    clearance -4 mm; hop 1 (to 0.300) toggles 6 times, deepest -9 mm."""
+    from mat_hopper.core.behaviours import behaviour
+    from mat_hopper.core.controller import LIFTOFF, TOUCHDOWN
+    from mat_hopper.core.materials import parse_design
+    from mat_hopper.core.rollout import Rollout
+    from mat_hopper.core.sim import CHANNELS, C, SimSettings
+
+    t = np.arange(400) * 1e-3
+    data = np.zeros((len(t), len(CHANNELS)))
+    data[:, C["t"]] = t
+    data[:, C["foot_clearance_min"]] = 0.3
+    data[[100, 150], C["touch_toggles"]] = 1.0  # hop 0: off at lift-off, on at touchdown
+    data[[170], C["foot_clearance_min"]] = -0.004
+    data[[200, 201, 240], C["touch_toggles"]] = [3.0, 1.0, 2.0]  # hop 1: chatter
+    data[[99, 260], C["foot_clearance_min"]] = [-0.02, -0.009]  # record 99 is before hop 0
+    events = [(0.1, LIFTOFF, np.nan), (0.15, TOUCHDOWN, 1.0), (0.2, LIFTOFF, np.nan), (0.25, TOUCHDOWN, 1.0)]
+    events += [(0.3, LIFTOFF, np.nan)]
+    settings = SimSettings(duration_s=0.4, transient_s=0.05, timestep_s=1e-4, contact="Stiff")
+    r = Rollout(parse_design("MD"), behaviour("forward"), settings, data, np.array(events), -1, 16.9, ())
+    hops = hop_table(r)
+    assert hops["t_start_s"].tolist() == pytest.approx([0.1, 0.2])
+    assert hops["touch_toggles_per_switch"].tolist() == pytest.approx([1.0, 3.0])
+    assert hops["peak_penetration_m"].tolist() == pytest.approx([0.004, 0.009])
+    assert (hops["contact"] == "stiff").all()
+
+
+def test_run_summary_takes_the_hop_table_it_is_given():
+    """One hop table per run: the runner hands run_summary the table it made,
+    and the summary is the same as from a table computed inside."""
+    from mat_hopper import simulate
+    from mat_hopper.physics import metrics
+
+    r = simulate("SS", "forward", duration_s=3.0, transient_s=1.0)
+    hops = metrics.hop_table(r)
+    a, b = metrics.run_summary(r), metrics.run_summary(r, hops=hops)
+    assert a.keys() == b.keys()
+    assert all((a[k] == b[k]) or (a[k] != a[k] and b[k] != b[k]) for k in a)
+    calls = []
+    real = metrics.hop_table
+    try:
+        metrics.hop_table = lambda *args, **kw: calls.append(1) or real(*args, **kw)
+        metrics.run_summary(r, hops=hops)
+    finally:
+        metrics.hop_table = real
+    assert calls == []

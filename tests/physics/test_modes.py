@@ -101,6 +101,34 @@ def test_auto_shortens_the_control_period_only_where_the_controller_limit_binds(
     assert r.stable and r.settings.control_period_s == pytest.approx(period)
 
 
+def test_the_analytic_bounds_are_the_compiled_models():
+    """The bounds --timestep auto reads from the design (no model compiled)
+    are those of the compiled model: its modes (sprung_eig of MuJoCo's mass
+    matrix), its base inertia and its hip_y inertia with the hinges free."""
+    import mujoco
+    import numpy as np
+
+    from mat_hopper.core.model import START_KEY, build_model
+    from mat_hopper.core.stable_step import controller_timestep, hip_flight_timestep, model_frequencies, sprung_eig
+
+    for d, conv in ((LegDesign.mono("TrabecularBone", 4), "bending"), (parse_design("rho-inc"), "axial+bending")):
+        m = build_model(d, convention=conv).model
+        np.testing.assert_allclose(model_frequencies(d, conv), sprung_eig(m), rtol=1e-9, atol=1e-6)
+        data = mujoco.MjData(m)
+        mujoco.mj_resetDataKeyframe(m, data, m.key(START_KEY).id)
+        mujoco.mj_forward(m, data)
+        full = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, data, full)
+        idx = [m.joint("hip_y").dofadr[0]] + [
+            m.joint(j).dofadr[0] for j in (m.joint(i).name for i in range(m.njnt)) if j.startswith("mat_bend_")
+        ]
+        inertia = 1.0 / np.linalg.inv(full[np.ix_(idx, idx)])[0, 0]
+        assert hip_flight_timestep(d, conv) == pytest.approx(2.0 * inertia / (0.1 * 600.0), rel=1e-12)
+        base = m.body("base").id  # both capsules centred on the hip; its smallest moment is a horizontal one
+        stance = 1.0 * min(m.body_inertia[base]) / (1.0 * 600.0)  # c(1) = 1, the authors' lag
+        assert controller_timestep(d, "paper") == pytest.approx(stance, rel=1e-12)
+
+
 def test_timestep_bounds_read_the_convention_any_case():
     from mat_hopper.core.stable_step import controller_timestep, model_frequencies
 

@@ -39,8 +39,10 @@ def test_settings_key_names_every_setting_and_conventions_by_name():
         "segment_mass",
         "substeps",
         "damping",
+        "contact",
     }
     assert k["damping"] == "authors"  # issue 21's setting, by its name
+    assert k["contact"] == "authors" and keys.settings_key(SimSettings(contact="Stiff"))["contact"] == "stiff"
     assert k["sensor_timing"] == "latency-5" and k["convention"] == "paper" and k["substeps"] == 1
     assert k["controller"]["flight_kp"] == 10.0 and k["perturbation"]["seed"] == 2
     assert keys.settings_key(SimSettings())["sensor_timing"] == "authors"

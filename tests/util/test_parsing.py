@@ -1,5 +1,6 @@
-"""mat_hopper.util.parsing.check_positive: the one check of a setting that must
-be a finite number > 0 (modes' gains, behaviours' periods, porosity)."""
+"""mat_hopper.util.parsing: check_positive, the one check of a setting that
+must be a finite number > 0 (modes' gains, behaviours' periods, porosity);
+parse_name's answer to an unknown name (the accepted ones, and the nearest)."""
 
 import math
 
@@ -25,3 +26,44 @@ def test_an_upper_bound_is_inclusive_and_named():
     assert check_positive(1.0, "safety", high=1.0) == 1.0
     with pytest.raises(ValueError, match=r"safety must be in \(0, 1\], got 1.5"):
         check_positive(1.5, "safety", high=1.0)
+
+
+# --- parse_name: an unknown name is answered with the nearest ---------------------------------------------
+
+from mat_hopper.util.parsing import close_names, did_you_mean, parse_name  # noqa: E402
+
+CONVENTIONS = ("paper", "axial", "bending", "axial+bending")
+
+
+@pytest.mark.parametrize(
+    "text, found",
+    [
+        ("rho_inc", ["rho-inc"]),  # other separators: that name alone
+        ("RHO INC", ["rho-inc"]),
+        ("rho/inc", ["rho-inc"]),
+        ("rhoinc", ["rho-inc", "rho-dec"]),  # near spellings, best first
+        ("kryptonite", []),
+        ("", []),
+        (None, []),
+    ],
+)
+def test_close_names_reads_separators_then_spellings(text, found):
+    assert close_names(text, ["rho-inc", "rho-dec", "SS"]) == found
+
+
+def test_parse_name_suggests_the_nearest_after_the_accepted_names():
+    with pytest.raises(ValueError, match=r"^unknown convention 'axail'; accepted: paper, .*; did you mean axial\?$"):
+        parse_name("axail", CONVENTIONS, "convention")
+    with pytest.raises(ValueError, match=r"; did you mean axial\+bending\?$"):
+        parse_name("axial_bending", CONVENTIONS, "convention")
+    with pytest.raises(
+        ValueError, match=r"^unknown convention 'beam'; accepted: paper, axial, bending, axial\+bending$"
+    ):
+        parse_name("beam", CONVENTIONS, "convention")  # nothing close: no guess
+    assert parse_name(" Axial+Bending ", CONVENTIONS, "convention") == "axial+bending"
+
+
+def test_did_you_mean_names_up_to_three():
+    assert did_you_mean("rho_inc", ["rho-inc", "rho-dec"]) == "did you mean rho-inc?"
+    assert did_you_mean("rhoinc", ["rho-inc", "rho-dec"]) == "did you mean rho-inc or rho-dec?"
+    assert did_you_mean("zzz", ["rho-inc"]) == ""

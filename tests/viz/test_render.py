@@ -205,3 +205,48 @@ def test_an_rgb_picture_to_a_vector_file_is_refused_before_any_work(tmp_path, mo
         render.render_files("SS", "static", still=str(tmp_path / "still.svg"), tiles=str(tmp_path / "t.png"))
     assert main(["render", "--design", "SS", "--still", str(tmp_path / "still.pdf")]) == 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.png"]
+
+
+@pytest.fixture(scope="module")
+def diverged():
+    # SS at 1e-3 s: above its springs' bound (1.26e-4 s); it diverges a few ms in
+    return simulate("SS", "forward", duration_s=1.0, timestep_s=1e-3, transient_s=0.0, record_qpos=True, warn=False)
+
+
+def _tile_times(fig) -> list[float]:
+    return [float(t.get_text().split()[2]) for t in fig.axes[0].texts]
+
+
+def test_tiles_stop_at_a_divergence_marked_and_time_runs_forward(diverged, rollout):
+    r = diverged
+    assert r.diverged and r.diverged_at_s < 0.05
+    fig = gait_tiles("SS", "forward", rollout=r, start_s=0.0, n_frames=4, size=(40, 60))
+    times = _tile_times(fig)
+    assert times == sorted(times) and times[0] == 0.0 and times[-1] > 0.0  # forward, a few ms apart, told apart
+    assert times[-1] <= r.diverged_at_s and fig.axes[0].texts[-1].get_text().endswith("(diverged)")
+    assert f"diverged at t = {r.diverged_at_s:.4f} s, the frames end there" in fig.axes[0].get_title()
+    # a window after the divergence (or after a stable run's end) is refused, never frozen poses backwards
+    with pytest.raises(
+        ValueError, match=r"nothing to draw: the tiles start at 5 s, after the run diverged at t = 0\.0"
+    ):
+        gait_tiles("SS", "forward", rollout=r, start_s=5.0, size=(40, 60))
+    with pytest.raises(ValueError, match="nothing to draw: the tiles start at 5 s, after the run ends at 1.49"):
+        gait_tiles("rho-inc", "ramp", rollout=rollout, start_s=5.0, size=(40, 60))
+    with pytest.raises(ValueError, match="nothing to draw: frames start at 0.5 s, after the run diverged"):
+        render_frames(r, [0.5], size=(40, 60))
+    assert video_times(r, start_s=0.0, seconds=1.0, fps=240)[-1] <= r.diverged_at_s
+    stable = _tile_times(gait_tiles("rho-inc", "ramp", rollout=rollout, start_s=0.5, n_frames=3, size=(40, 60)))
+    assert stable == [0.5, 0.85, 1.2]
+
+
+def test_cli_render_of_a_diverging_design_exits_1_and_draws_nothing_past_it(tmp_path, capsys):
+    from mat_hopper.cli import main
+
+    five = ["--density", "2.0,3.0,4.5,6.0,7.8", "--modulus", "50,80,110,150,200", "--behaviour", "forward"]
+    tiles = tmp_path / "t.png"
+    assert main(["render", *five, "--tiles", str(tiles)]) == 1  # the tiles start at 5 s; it diverges at 4.3 ms
+    cap = capsys.readouterr()
+    assert "mat-hopper render: warning: the physics step 0.0001 s is above" in cap.err
+    assert "UNSTABLE: diverged at t = 0.0043 s (numerical divergence" in cap.out and "try --timestep auto" in cap.out
+    assert f"tiles not written ({tiles}): its window starts at 5 s, after the run diverged at t = 0.0043 s" in cap.out
+    assert not tiles.exists()

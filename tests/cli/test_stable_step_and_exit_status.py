@@ -1,0 +1,49 @@
+"""Every command that runs (or plans runs of) a leg compares its time step
+with the leg's analytic stable step before any work, in one warning line
+naming --timestep auto; and every command states the one exit-status rule:
+1 when any run asked for diverged."""
+
+import argparse
+
+import pytest
+
+from mat_hopper.cli import main
+
+
+def _help(capsys, command: str) -> str:
+    with pytest.raises(SystemExit) as e:
+        main([command, "--help"])
+    assert e.value.code == 0
+    return " ".join(capsys.readouterr().out.split())  # argparse wraps the lines
+
+
+@pytest.mark.parametrize("command", ["simulate", "batch", "render"])
+def test_each_command_states_the_exit_status_rule(capsys, command):
+    text = _help(capsys, command)
+    assert "Exit status: 0 when every run ended without numerical divergence; 1 when any diverged" in text
+    assert "--timestep auto" in text
+
+
+def test_modes_warns_when_the_default_step_is_above_the_bound(capsys):
+    assert main(["modes", "--design", "WC", "--convention", "paper"]) == 0
+    out = capsys.readouterr().out
+    lines = [x for x in out.splitlines() if x.startswith("warning: at the default step")]
+    assert (
+        len(lines) == 1 and "the physics step 0.0001 s is above this leg's analytic stable step 9.52e-05 s" in lines[0]
+    )
+    assert "try --timestep auto (3 physics substeps" in lines[0]
+    assert main(["modes", "--design", "SS", "--convention", "paper"]) == 0
+    assert "warning: at the default step" not in capsys.readouterr().out
+
+
+def test_reproduce_names_the_designs_above_their_bound_before_any_work(capsys):
+    """Experiment 2's sweeps hold designs whose springs' bound lies under the protocol's 1e-4 s step."""
+    from mat_hopper.cli.reproduce import _warn_stable_step
+    from mat_hopper.experiments.profiles import PROFILES
+
+    _warn_stable_step(PROFILES["quick"], argparse.Namespace(experiments="2", conventions="paper"))
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("mat-hopper reproduce: warning: 6 designs run above their analytic")
+    assert "exp2 SS E=1000" in err[0] and "--timestep auto" in err[0]
+    _warn_stable_step(PROFILES["quick"], argparse.Namespace(experiments="1,stability", conventions="paper,axial"))
+    assert capsys.readouterr().err == ""  # the paper's materials at 1e-4 s, axial at auto; the scan left out
