@@ -303,16 +303,16 @@ def unstable_line(rollout) -> str:
     above the analytic bound if it is, what to try
     (:meth:`mat_hopper.core.rollout.Rollout.divergence_message`); a fall
     (the base tilted past FELL_TILT_DEG before the numbers blew up) says so
-    first, with the hint for the authors' controller on a leg that bends."""
+    first, with the stiff-contact hint for a leg that bends."""
     message = rollout.divergence_message(CLI_AUTO_HINT)
     fell = rollout.fell_at_s
     if fell is None or fell >= rollout.diverged_at_s:
         return f"UNSTABLE: {message}"
     line = f"UNSTABLE: the hopper fell (base tilted past {FELL_TILT_DEG:g} deg at t = {fell:.3f} s), then {message}"
-    if rollout.settings.convention in ("bending", "axial+bending"):
+    if rollout.settings.convention in ("bending", "axial+bending") and rollout.settings.contact == "authors":
         line += (
-            " (on a leg that bends the authors' controller can be laterally unstable: a sideways mode grows "
-            "from round-off; see the book's chapter 'Do gradients relieve stress?')"
+            " (a leg that bends rings on MuJoCo's default soft contact and chatters until it falls; "
+            "try --contact stiff, a 1 ms contact time constant)"
         )
     return line
 
