@@ -12,7 +12,8 @@ import time
 import optuna
 from optuna.trial import TrialState
 
-from mat_hopper.optimize._storage import WORKER_ATTR, open_storage
+from mat_hopper.optimize import open_storage
+from mat_hopper.optimize._storage import WORKER_ATTR
 
 # How long a test waits for a trial or an evaluation process to appear: a
 # bound against a hang, not a speed check. Under CI's load (4 test workers

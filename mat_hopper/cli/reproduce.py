@@ -168,11 +168,11 @@ def cmd_reproduce(args) -> int:
     if is_inside(out, cache):
         raise ValueError(f"--out {out} is inside {cache_flag} {cache}; give the results a folder of their own")
     _check_size(profile, args)
-    _warn_stable_step(profile, args)
     # a failed run leaves no empty --out or cache folder behind
     with nothing_left_behind(out, cache):
         client = _connect(args.scheduler) if args.scheduler else None
         try:
+            _warn_stable_step(profile, args)  # after every check: a refusal stays one line
             rep = reproduce(
                 profile,
                 args.experiments,

@@ -10,8 +10,7 @@ import pytest
 
 pytest.importorskip("mujoco_warp")
 
-from mat_hopper.batch import BatchSettings  # noqa: E402
-from mat_hopper.batch._warp import require_warp  # noqa: E402
+from mat_hopper.batch import BatchSettings, require_warp  # noqa: E402
 from mat_hopper.core import controller as ctl  # noqa: E402
 from mat_hopper.core.behaviours import Behaviour, behaviour, desired_state  # noqa: E402
 from mat_hopper.core.materials import parse_design  # noqa: E402

@@ -38,10 +38,10 @@ from mat_hopper.optimize import (  # noqa: E402
     SearchSpace,
     StudyConfig,
     evaluate,
+    open_storage,
     run_batch_study,  # noqa: E402
 )
 from mat_hopper.optimize._objective import RESULT_ATTR  # noqa: E402
-from mat_hopper.optimize._storage import open_storage  # noqa: E402
 from mat_hopper.optimize._study import BACKEND_ATTR  # noqa: E402
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)

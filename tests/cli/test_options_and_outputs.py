@@ -282,11 +282,18 @@ def test_export_leaves_no_wal_files_beside_the_study(here, capsys):
     import optuna
 
     from mat_hopper.experiments.profiles import Profile
-    from mat_hopper.optimize import PoolEvaluator, RunOptions, run_loop
-    from mat_hopper.optimize._objective import Objective
-    from mat_hopper.optimize._space import SearchSpace
-    from mat_hopper.optimize._storage import default_url, dispose, open_storage
-    from mat_hopper.optimize._study import StudyConfig, create_or_load
+    from mat_hopper.optimize import (
+        Objective,
+        PoolEvaluator,
+        RunOptions,
+        SearchSpace,
+        StudyConfig,
+        create_or_load,
+        default_url,
+        dispose,
+        open_storage,
+        run_loop,
+    )
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     config = StudyConfig("s", SearchSpace(), Objective(profile=Profile("tiny", duration_s=1.0, transient_s=0.5)))
@@ -314,7 +321,7 @@ def test_simulate_summary_labels_hip_power_and_the_work_of_all_actuators(here, c
 
 
 def test_optimize_help_names_the_enqueued_paper_designs(capsys):
-    from mat_hopper.optimize._space import PAPER_SEEDS, SearchSpace
+    from mat_hopper.optimize import PAPER_SEEDS, SearchSpace
 
     with pytest.raises(SystemExit):
         main(["optimize", "--help"])

@@ -58,8 +58,7 @@ def test_a_bad_cache_from_the_environment_is_named_as_such(command, tmp_path, mo
 
 @pytest.mark.parametrize("flag", ["--export", "--replay"])
 def test_a_trial_that_has_not_run_is_named_by_its_state(flag, tmp_path, capsys):
-    from mat_hopper.optimize import RunOptions, StudyConfig, dispose
-    from mat_hopper.optimize._study import create_or_load
+    from mat_hopper.optimize import RunOptions, StudyConfig, create_or_load, dispose
 
     options = RunOptions(studies_dir=str(tmp_path))
     storage = options.open("base")
@@ -186,7 +185,7 @@ def _help(capsys, *argv) -> str:
 def test_help_states_defaults_and_ranges(capsys):
     from mat_hopper.core.behaviours import DEFAULT_BEHAVIOUR
     from mat_hopper.core.materials import DEFAULT_CONVENTION, MAX_SEGMENTS
-    from mat_hopper.optimize._space import MAX_SEGMENTS as MAX_OPT_SEGMENTS
+    from mat_hopper.optimize import MAX_SEGMENTS as MAX_OPT_SEGMENTS
 
     assert "empty or 'rigid'" not in _help(capsys, "batch")
     for command in ("simulate", "render"):

@@ -310,7 +310,7 @@ def test_names_are_case_insensitive_everywhere(here, capsys):
 
 def test_one_parser_for_names_numbers_and_url_schemes():
     from mat_hopper.core.materials import LegDesign, check_convention
-    from mat_hopper.optimize._storage import storage_file
+    from mat_hopper.optimize import storage_file
     from mat_hopper.util.parsing import normalize_url, parse_name, parse_number
 
     assert parse_name(" PAPER ", ("paper", "axial"), "--convention") == "paper"

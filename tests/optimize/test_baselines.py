@@ -11,9 +11,17 @@ import pytest
 
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize import Objective, RunOptions, SearchSpace, StudyConfig, fall_reason, run_study, write_report
-from mat_hopper.optimize._objective import Evaluation
-from mat_hopper.optimize._racing import promote
+from mat_hopper.optimize import (
+    Evaluation,
+    Objective,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    fall_reason,
+    promote,
+    run_study,
+    write_report,
+)
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)

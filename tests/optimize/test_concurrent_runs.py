@@ -18,8 +18,8 @@ import pytest
 from optuna.trial import TrialState
 from pg_server import new_database
 
+from mat_hopper.optimize import open_storage
 from mat_hopper.optimize._samplers import sampler_seed
-from mat_hopper.optimize._storage import open_storage
 from mat_hopper.optimize._workers import RUN_ATTR, claim_worker, release_worker
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)

@@ -11,12 +11,17 @@ import optuna
 import pytest
 
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize._driver import run_loop
-from mat_hopper.optimize._evaluators import PoolEvaluator
-from mat_hopper.optimize._objective import Objective
-from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._storage import default_url, open_storage
-from mat_hopper.optimize._study import RunOptions, StudyConfig, create_or_load
+from mat_hopper.optimize import (
+    Objective,
+    PoolEvaluator,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    create_or_load,
+    default_url,
+    open_storage,
+    run_loop,
+)
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 

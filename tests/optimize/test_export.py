@@ -15,13 +15,20 @@ from mat_hopper.cli import main
 from mat_hopper.core.behaviours import behaviour
 from mat_hopper.core.model import build_model
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize import export_trial, leg_mass_kg
-from mat_hopper.optimize._driver import run_loop
-from mat_hopper.optimize._evaluators import PoolEvaluator
-from mat_hopper.optimize._objective import Objective, evaluate
-from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._storage import default_url, open_storage
-from mat_hopper.optimize._study import RunOptions, StudyConfig, create_or_load
+from mat_hopper.optimize import (
+    Objective,
+    PoolEvaluator,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    create_or_load,
+    default_url,
+    evaluate,
+    export_trial,
+    leg_mass_kg,
+    open_storage,
+    run_loop,
+)
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)

@@ -18,9 +18,11 @@ from mat_hopper.experiments.profiles import Profile, get_profile
 from mat_hopper.optimize import (
     MASS_PARAM,
     Objective,
+    PoolEvaluator,
     RunOptions,
     SearchSpace,
     StudyConfig,
+    create_or_load,
     feasibility,
     leg_mass_kg,
     leg_mass_model,
@@ -29,9 +31,7 @@ from mat_hopper.optimize import (
     run_loop,
     run_study,
 )
-from mat_hopper.optimize._evaluators import PoolEvaluator
 from mat_hopper.optimize._space import scaled_to_sum
-from mat_hopper.optimize._study import create_or_load
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)

@@ -27,13 +27,13 @@ from mat_hopper.optimize import (
     evaluate,
     front_table,
     hypervolume,
+    leg_mass_kg,
     open_storage,
     parse_objectives,
     run_study,
     write_report,
 )
 from mat_hopper.optimize._batch import check_unperturbed
-from mat_hopper.optimize._scoring import leg_mass_kg
 from mat_hopper.optimize.report import hypervolume_2d
 from mat_hopper.optimize.validate import replicate_means
 

@@ -29,13 +29,26 @@ from running_trials import (
 from mat_hopper.cli import main
 from mat_hopper.core.materials import LegDesign, paper_designs
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize._driver import run_loop, run_study
-from mat_hopper.optimize._evaluators import Evaluator, Lost
-from mat_hopper.optimize._objective import Objective, evaluate
-from mat_hopper.optimize._samplers import check_sampler, make_sampler, sampler_seed
-from mat_hopper.optimize._space import DENSITY_BOUNDS_G_CM3, MODULUS_BOUNDS_GPA, SearchSpace, resample
-from mat_hopper.optimize._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR, open_storage
-from mat_hopper.optimize._study import RunOptions, StudyConfig, counts, create_or_load
+from mat_hopper.optimize import (
+    DENSITY_BOUNDS_G_CM3,
+    MODULUS_BOUNDS_GPA,
+    Evaluator,
+    Lost,
+    Objective,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    check_sampler,
+    create_or_load,
+    evaluate,
+    open_storage,
+    resample,
+    run_loop,
+    run_study,
+)
+from mat_hopper.optimize._samplers import make_sampler, sampler_seed
+from mat_hopper.optimize._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
+from mat_hopper.optimize._study import counts
 from mat_hopper.optimize.report import hypervolume_2d, pareto_frame, replay, write_report
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)

@@ -14,11 +14,10 @@ import optuna
 import pytest
 
 from mat_hopper.experiments.profiles import Profile
+from mat_hopper.optimize import Objective, SearchSpace, StudyConfig, create_or_load, open_storage
 from mat_hopper.optimize._batch import behaviour_row, default_device  # noqa: F401  (imports without warp)
-from mat_hopper.optimize._objective import NO_DATA_VALUE, Objective, aggregate
-from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._storage import open_storage
-from mat_hopper.optimize._study import BACKEND_ATTR, StudyConfig, create_or_load
+from mat_hopper.optimize._objective import NO_DATA_VALUE, aggregate
+from mat_hopper.optimize._study import BACKEND_ATTR
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 OBJ = Objective(replicates=0, profile=Profile("tiny", duration_s=2.0, transient_s=0.5))

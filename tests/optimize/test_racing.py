@@ -15,20 +15,24 @@ import pytest
 from optuna.trial import TrialState
 
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize._driver import run_study
-from mat_hopper.optimize._evaluators import Lost, PoolEvaluator
-from mat_hopper.optimize._objective import Evaluation, Objective, evaluate
-from mat_hopper.optimize._racing import (
-    BRACKET_ATTR,
+from mat_hopper.optimize import (
+    Evaluation,
+    Lost,
+    Objective,
+    PoolEvaluator,
     Racing,
     Rung,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
     default_racing,
+    evaluate,
     promote,
     run_racing,
+    run_study,
     simulated_seconds,
 )
-from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._study import RunOptions, StudyConfig
+from mat_hopper.optimize._racing import BRACKET_ATTR
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -103,10 +107,7 @@ def test_racing_study_fronts_full_fidelity_trials_only(tmp_path):
 _KILLED = """
 import os, signal
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize._objective import Objective
-from mat_hopper.optimize._racing import Racing, Rung, run_racing
-from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._study import StudyConfig
+from mat_hopper.optimize import Objective, Racing, Rung, SearchSpace, StudyConfig, run_racing
 
 ob = Objective(profile=Profile("tiny", duration_s=2.0, transient_s=0.5), replicates=2)
 racing = Racing(rungs=(Rung(duration_s=1.0, transient_s=0.3, replicates=1), Rung()), eta=3, screen={screen})
@@ -177,7 +178,7 @@ def test_sigkill_mid_rung_resumes_there(tmp_path):
     config = StudyConfig("race", SearchSpace(), OB)
     with Counting(str(tmp_path / "cache-resumed"), workers=1) as counting:
         resumed = run_racing(config, url, brackets=1, racing=racing, evaluator=counting)
-    assert counting.evaluated == [0, 4]  # rung 0: nothing run again; rung 1: the 4 promoted
+    assert counting.evaluated == [4]  # rung 0: nothing run again (no call); rung 1: the 4 promoted
     fresh = run_racing(
         config, f"sqlite:///{tmp_path}/fresh.db", brackets=1, racing=racing, cache_dir=str(tmp_path / "c"), workers=1
     )
@@ -193,8 +194,7 @@ def test_sigkill_mid_rung_resumes_there(tmp_path):
 
 def test_cli_race(tmp_path, monkeypatch, capsys):
     from mat_hopper.cli import main
-    from mat_hopper.optimize._storage import default_url, open_storage
-    from mat_hopper.optimize._study import create_or_load
+    from mat_hopper.optimize import create_or_load, default_url, open_storage
 
     monkeypatch.chdir(tmp_path)  # the runner's cache: results/cache here
     (tmp_path / "studies").mkdir()

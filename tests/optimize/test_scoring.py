@@ -14,12 +14,19 @@ from mat_hopper.core.behaviours import behaviour
 from mat_hopper.core.materials import LegDesign, paper_designs
 from mat_hopper.core.sim import C, RolloutRunner
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize import _scoring
-from mat_hopper.optimize._driver import run_loop
-from mat_hopper.optimize._evaluators import PoolEvaluator
-from mat_hopper.optimize._objective import OBJECTIVES, Objective, aggregate, evaluate
-from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._study import RunOptions, StudyConfig, create_or_load
+from mat_hopper.optimize import (
+    OBJECTIVES,
+    Objective,
+    PoolEvaluator,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    _scoring,
+    create_or_load,
+    evaluate,
+    run_loop,
+)
+from mat_hopper.optimize._objective import aggregate
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
@@ -270,7 +277,7 @@ def test_cli_stress_constraints(tmp_path, monkeypatch, capsys):
 
 
 def test_risk_name_any_case_is_stored_canonical():
-    from mat_hopper.optimize._objective import Objective
+    from mat_hopper.optimize import Objective
 
     v = [1.0, 2.0, 4.0, 8.0]
     assert _scoring.score(v, "CVaR", 0.5) == _scoring.score(v, "cvar", 0.5)

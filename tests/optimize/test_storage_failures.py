@@ -27,13 +27,19 @@ from running_trials import (
 
 from mat_hopper.cli import main
 from mat_hopper.experiments.profiles import Profile
-from mat_hopper.optimize import _storage
-from mat_hopper.optimize._driver import run_study
-from mat_hopper.optimize._objective import Objective
+from mat_hopper.optimize import (
+    CONFIG_ATTR,
+    Objective,
+    RunOptions,
+    SearchSpace,
+    StudyConfig,
+    _storage,
+    create_or_load,
+    open_storage,
+    run_study,
+)
 from mat_hopper.optimize._processes import HeldSignals
-from mat_hopper.optimize._space import SearchSpace
-from mat_hopper.optimize._storage import FAIL_REASON_ATTR, WORKER_ATTR, open_storage
-from mat_hopper.optimize._study import CONFIG_ATTR, RunOptions, StudyConfig, create_or_load
+from mat_hopper.optimize._storage import FAIL_REASON_ATTR, WORKER_ATTR
 
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 TINY = Profile("tiny", duration_s=2.0, transient_s=0.5)
