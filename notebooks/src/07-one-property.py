@@ -20,8 +20,8 @@ import matplotlib.pyplot as plt
 import pandas as pd
 
 from mat_hopper import book
-from mat_hopper import reference as ref
 from mat_hopper.analysis import tables as tab
+from mat_hopper.core import reference as ref
 from mat_hopper.experiments import reproduce
 from mat_hopper.viz import figures as plots
 
@@ -191,7 +191,7 @@ b.downloads({"exp2_leg_mass": masses})
 # The paper's density sweeps change the density alone: a porous steel at
 # 2 g/cm³ keeps steel's 193 GPa. A real foam is softer too: for open-cell,
 # bending-dominated foams E = E_s (ρ / ρ_s)² (Gibson & Ashby, *Cellular
-# Solids*, 2nd ed., 1997, ch. 5; `mat_hopper.porosity`). The same density
+# Solids*, 2nd ed., 1997, ch. 5; `mat_hopper.physics.porosity`). The same density
 # sweeps with the porous points softened (points above the solid's
 # density keep E_s):
 
@@ -272,7 +272,7 @@ book.show(tab.claims_for(tables, "one_property"))
 # end of the sweeps:
 
 # %%
-from mat_hopper.materials import spring_stiffness
+from mat_hopper.core.materials import spring_stiffness
 
 softest = min(min(s["modulus"]) for s in ref.SWEEPS.values())
 k = spring_stiffness(softest)
