@@ -249,7 +249,11 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--cache", default=None, help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})"
     )
-    p.add_argument("--no-figures", action="store_true", help="tables only")
+    p.add_argument(
+        "--no-figures",
+        action="store_true",
+        help="the run and hop tables only: no figures and no claims table (claims.csv, claims.md)",
+    )
     add_force(p)
     add_no_progress(p)
     p.set_defaults(func=cmd_reproduce)

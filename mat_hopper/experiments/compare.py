@@ -216,6 +216,9 @@ def _comparators(design: LegDesign, baselines, controls, segment_mass: str) -> t
             out.append({"leg": leg.name, "role": leg.role, "seeds": [], "why": why, "all": True})
         else:
             kept.append(leg)
+    if not kept:  # known before any run: a refusal, as simulate --control refuses it
+        why = "; ".join(f"{o['leg']}: {o['why']}" for o in out)
+        raise ValueError(f"nothing to compare, every comparator is left out before any run ({why})")
     return kept, out
 
 

@@ -77,11 +77,14 @@ class Feasibility:
     feasible: int = 0
     reasons: dict = field(default_factory=dict)
     labels: dict = field(default_factory=dict)  # reason -> its words for this study (units, bounds)
+    pruned: int = 0  # racing: trials stopped at a lower rung, judged at no full fidelity
 
     def text(self) -> str:
         """The line a study ends with, e.g. ``feasible: 9 of 12 finished
         trials; not feasible: 2 hop height outside 1 +- 0.05 m, 1 fell``."""
         head = f"feasible: {self.feasible} of {self.finished} finished trials"
+        if self.pruned:
+            head += f" ({self.pruned} more pruned by racing before full fidelity)"
         if self.feasible == self.finished:
             return head
         parts = [f"{self.reasons[r]} {self.labels.get(r, r)}" for r in REASONS if self.reasons.get(r)]
@@ -132,6 +135,7 @@ def feasibility(study, config) -> Feasibility:
         else:
             counts[why] += 1
     out.reasons = dict(counts)
+    out.pruned = len(study.get_trials(deepcopy=False, states=(TrialState.PRUNED,)))
     band = leg_mass_band_kg(ob, config.space.n_segments)
     out.labels = {
         "hop height": f"hop height outside {ob.hop_height_target_m:g} +- {ob.hop_height_tolerance_m:g} m",

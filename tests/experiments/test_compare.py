@@ -100,6 +100,15 @@ def test_identical_and_unbuildable_comparators_are_named_not_run():
     assert {t.design.name for t in plan.tasks} == {"SS", "MD", "SS~rigid"}
 
 
+def test_nothing_left_to_compare_is_refused_before_any_run():
+    """Every comparator the design itself: known before any run, so a refusal
+    naming why, not runs of the design alone and "nothing to compare"."""
+    with pytest.raises(ValueError, match="nothing to compare.*rho-inc: the same leg as the design"):
+        plan_compare("rho-inc", baselines="rho-inc", controls="none", profile=TINY)
+    with pytest.raises(ValueError, match="nothing to compare.*MD~rigid: the same leg"):
+        plan_compare("MD", baselines="none", controls="rigid", profile=TINY)
+
+
 @pytest.mark.parametrize(
     "kw, match",
     [

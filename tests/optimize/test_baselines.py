@@ -112,3 +112,14 @@ def test_the_command_ends_with_the_feasibility_line(tmp_path, monkeypatch, capsy
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith("study s5 (sqlite:///") and out[0].endswith("2/2 trials finished")
     assert out[1] == "feasible: 0 of 2 finished trials; not feasible: 2 diverged"
+
+
+def test_the_feasibility_line_counts_what_racing_pruned():
+    """Racing prunes trials at a lower rung: the line says so, rather than
+    "3 of 3" beside a study of 9 trials."""
+    from mat_hopper.optimize._feasibility import Feasibility
+
+    assert Feasibility(finished=3, feasible=3, pruned=6).text() == (
+        "feasible: 3 of 3 finished trials (6 more pruned by racing before full fidelity)"
+    )
+    assert Feasibility(finished=3, feasible=3).text() == "feasible: 3 of 3 finished trials"
