@@ -205,7 +205,8 @@ def parse_number(
             hint = f" (write {RIGID} for a rigid segment)" if rigid and "inf" in s.lower() else ""
             if s.lower().lstrip("+-") in ("inf", "infinity", "nan"):
                 raise ValueError(f"{flag} must be a finite number{u}, got {text!r}{hint}")
-            raise ValueError(f"{flag} must be a decimal number{u} (e.g. 12, 0.5, 2e-4), got {text!r}{hint}")
+            kind, examples = ("a whole number", "3, 12") if integer else ("a decimal number", "12, 0.5, 2e-4")
+            raise ValueError(f"{flag} must be {kind}{u} (e.g. {examples}), got {text!r}{hint}")
         x = float(s)
         if not math.isfinite(x):  # 1e999
             raise ValueError(f"{flag} must be a finite number{u}, got {text!r}")

@@ -67,3 +67,13 @@ def test_did_you_mean_names_up_to_three():
     assert did_you_mean("rho_inc", ["rho-inc", "rho-dec"]) == "did you mean rho-inc?"
     assert did_you_mean("rhoinc", ["rho-inc", "rho-dec"]) == "did you mean rho-inc or rho-dec?"
     assert did_you_mean("zzz", ["rho-inc"]) == ""
+
+
+def test_a_count_that_is_not_a_number_asks_for_a_whole_number():
+    """An option that takes a count says "whole number", not "decimal"."""
+    from mat_hopper.util.parsing import parse_number
+
+    with pytest.raises(ValueError, match=r"--segments must be a whole number \(e.g. 3, 12\), got 'abc'"):
+        parse_number("abc", "--segments", integer=True)
+    with pytest.raises(ValueError, match="must be a decimal number"):
+        parse_number("abc", "--duration")
