@@ -20,8 +20,9 @@ Storage choices (``--storage``):
   ``postgresql://USER:PASSWORD@HOST:5432/DB``: the way to run a study
   on many machines (every machine runs the same ``mat-hopper optimize``
   command against the same URL). ``postgresql://`` uses SQLAlchemy 2's
-  default driver, psycopg 3 (pinned in environment.txt);
-  ``postgresql+psycopg2://`` picks psycopg2.
+  default driver, psycopg 3 (pinned in environment.txt, and the
+  ``cluster`` extra); ``postgresql+psycopg2://`` picks psycopg2, which
+  is not installed.
 - ``journal:///PATH/study.log``: Optuna's journal file backend, for a
   shared file system without a database server (NFS v3+; symlink lock).
   No heartbeat: a machine that dies mid-trial leaves that trial RUNNING
@@ -354,8 +355,8 @@ def open_storage(url: str, *, heartbeat_s: int = 10, grace_s: int = 60, max_retr
     for the accepted URLs.
 
     ``postgresql://`` URLs use SQLAlchemy's default driver, psycopg 3
-    (installed, pinned in environment.txt); ``postgresql+psycopg2://``
-    picks psycopg2.
+    (pinned in environment.txt, and the ``cluster`` extra);
+    ``postgresql+psycopg2://`` picks psycopg2, which is not installed.
 
     Args:
         url: ``sqlite:///PATH``, ``postgresql://USER@HOST:PORT/DB`` (or another
