@@ -22,6 +22,13 @@ touch force of s_{i-max(L,1)}. The hips are read from ``qpos``/``qvel``
 (s_i). With L = 1 this is exactly the authors' read-control-``mj_step``
 loop.
 
+Apex reference (:mod:`mat_hopper.core.controller`): with
+``apex_reference = "ground"`` (:class:`ApexReference`), at each lift-off the
+loop sets the controller's reference height ``S_GROUND_Z`` to the terrain
+height under the foot geom's centre in s_i
+(:func:`mat_hopper.core.terrain.terrain_height_at`); with ``"world"`` the
+reference stays 0 and nothing is read.
+
 Records are written by channel name into a numpy structured array
 (:data:`RECORD_DTYPE`, one float64 field per channel of :data:`CHANNELS`,
 written as ``r["name"]``, which numba compiles to a fixed offset);
@@ -41,8 +48,10 @@ import mujoco
 import numba
 import numpy as np
 
+from . import reference as ref
 from .behaviours import desired_state
-from .controller import OUT_SIZE, S_LAST_HEIGHT, S_PHASE, S_THRUST, controller_step, euler_zyx
+from .controller import LIFTOFF, OUT_SIZE, S_GROUND_Z, S_LAST_HEIGHT, S_PHASE, S_THRUST, controller_step, euler_zyx
+from .terrain import terrain_height_at, terrain_params
 
 # Recorded channels, in column order. Each row is the state s_i at t = i dt
 # (what MuJoCo computed for it), not what the controller read.
@@ -134,6 +143,13 @@ class Buffers(NamedTuple):
     sensordata: np.ndarray
     qfrc_actuator: np.ndarray
     xfrc_applied: np.ndarray
+    geom_xpos: np.ndarray
+
+
+def buffers(data) -> Buffers:
+    """The :class:`Buffers` of a ``mujoco.MjData`` (its own arrays, no copies)."""
+    d = data
+    return Buffers(d.qpos, d.qvel, d.qacc, d.ctrl, d.sensordata, d.qfrc_actuator, d.xfrc_applied, d.geom_xpos)
 
 
 class Path(NamedTuple):
@@ -205,6 +221,71 @@ def contact_probe(model, touch_on: bool) -> ContactProbe:
     terrain = np.array([i for i in ids if i >= 0], dtype=np.int64)
     foot = int(model.geom(FOOT_GEOM).id)
     return ContactProbe(foot, terrain, np.array([1.0 if touch_on else 0.0, 0.0, CLEARANCE_CAP_M, 0.0]))
+
+
+class ApexReference(NamedTuple):
+    """What the controller's hop height is measured from (module doc).
+    ground: True for ``"ground"`` (the terrain under the foot at each
+    lift-off), False for ``"world"`` (z = 0); foot: the foot geom's id;
+    terrain: :func:`mat_hopper.core.terrain.terrain_params` of the terrain."""
+
+    ground: bool
+    foot: int
+    terrain: np.ndarray
+
+
+def apex_reference_of(model, apex_reference: str, ramp_grade_deg) -> ApexReference:
+    """The :class:`ApexReference` of a compiled hopper model on a terrain.
+
+    Args:
+        model: the compiled ``MjModel`` (its foot geom).
+        apex_reference: ``"world"`` or ``"ground"``, as checked by
+            :func:`mat_hopper.core.controller.check_apex_reference`.
+        ramp_grade_deg: None for flat ground, else the ramp's pitch, deg.
+    """
+    from .mjcf import FOOT_GEOM
+
+    foot = int(model.geom(FOOT_GEOM).id)
+    return ApexReference(apex_reference == "ground", foot, terrain_params(ramp_grade_deg))
+
+
+# Jerk is computed at the physics rate: the base's z acceleration through a
+# causal Butterworth low-pass, then differentiated step by step. The cut-off
+# lies far below the leg's axial modes (2.5-4 kHz, barely damped) and the
+# record rates' Nyquist frequencies, and above the hop's body dynamics
+# (stance about 0.1 s): the number does not depend on the record rate.
+# Butterworth filtering before differentiating is the standard treatment of
+# noisy kinematic derivatives (D. A. Winter, Biomechanics and Motor Control
+# of Human Movement, 4th ed., Wiley 2009, sec. 2.2); the coefficients come
+# from scipy.signal.butter.
+JERK_CUTOFF_HZ = 50.0
+JERK_FILTER_ORDER = 2
+
+
+def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkFilter:
+    """The jerk low-pass for this physics step, at rest on input az0 (its
+    steady state, scipy.signal.sosfilt_zi) so a run starts without a
+    filter transient. Steps coarser than 4 ms (where jerk means little)
+    lower the cut-off to 0.2 / timestep_s, below their Nyquist frequency.
+
+    Args:
+        timestep_s: the physics time step, s (> 0).
+        az0_m_s2: the filter's steady-state input, m/s^2 (default -g, the
+            base's free fall at the start).
+
+    Returns:
+        :class:`JerkFilter`: coef (b0, b1, b2, a1, a2) of
+        the order-:data:`JERK_FILTER_ORDER` Butterworth at
+        min(:data:`JERK_CUTOFF_HZ`, 0.2 / timestep_s) Hz, and state (z1, z2,
+        az0_m_s2 as the previous output, 0, 0).
+    """
+    import scipy.signal
+
+    cutoff = min(JERK_CUTOFF_HZ, 0.2 / timestep_s)
+    sos = scipy.signal.butter(JERK_FILTER_ORDER, cutoff, fs=1.0 / timestep_s, output="sos")
+    ((b0, b1, b2, _, a1, a2),) = sos
+    zi = scipy.signal.sosfilt_zi(sos)[0] * az0_m_s2
+    return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2, 0.0, 0.0]))
 
 
 # Columns of the stress record (one (N, 4) block per record), Pa: axial F / A
@@ -294,6 +375,7 @@ def rollout_loop(
     probe,
     stress_rec,
     contact,
+    apex,
 ):
     """Run physics steps ``steps.first`` .. ``steps.first + steps.count - 1``.
 
@@ -305,7 +387,8 @@ def rollout_loop(
     probe: the StressProbe evaluated on s_i every step; stress_rec: (records,
     N, 4) stress rows (STRESS_COLUMNS) written with each record; contact:
     the ContactProbe evaluated on s_i after every mj_step2 (geom_distance
-    is libmujoco's mj_geomDistance; the positions it reads are still s_i's).
+    is libmujoco's mj_geomDistance; the positions it reads are still s_i's);
+    apex: the ApexReference, read at each lift-off (module doc).
     Returns (records written, events written, step of divergence or -1)."""
     out = np.zeros(OUT_SIZE)
     hip_angle = np.zeros(2)
@@ -356,6 +439,9 @@ def rollout_loop(
             buf.ctrl[lay.act_hip_y] = out[0]
             buf.ctrl[lay.act_hip_x] = out[1]
             buf.ctrl[lay.act_thrust] = out[2]
+            if event == LIFTOFF and apex.ground:  # the apex above the ground this hop leaves from
+                fx, fy = buf.geom_xpos[apex.foot, 0], buf.geom_xpos[apex.foot, 1]
+                state[S_GROUND_Z] = terrain_height_at(fx, fy, apex.terrain)
             if event != 0 and n_ev < events.shape[0]:
                 events[n_ev, 0] = t
                 events[n_ev, 1] = event

@@ -34,6 +34,19 @@ generalises both: base readings of s_{i-L}, touch of s_{i-max(L,1)}, hips
 always current. Before the first step every lagged reading is the start
 state's (the hopper is at rest there). The rollout loop implements this
 (``mat_hopper/core/_loop.py``); the controller below is timing-agnostic.
+
+What the hop height is measured from (:data:`APEX_REFERENCES`, the setting
+``SimSettings.apex_reference``). The thrust adapts from the last hop
+height, the highest base z since the touchdown before, less the state's
+reference height ``S_GROUND_Z``:
+
+- ``"world"`` (default, the authors' controller): the reference stays 0, so
+  the apex is regulated in world z. On the 2 deg ramp (3.5 % grade) the
+  ground rises under the hopper and its height above the ground shrinks as
+  it climbs;
+- ``"ground"``: at each lift-off the rollout loop sets the reference to the
+  terrain height under the foot (:func:`mat_hopper.core.terrain.terrain_height_at`),
+  so the apex is regulated above the ground the hop leaves from.
 """
 
 from __future__ import annotations
@@ -45,6 +58,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from ..util.parsing import parse_name
 from . import reference as ref
 
 FLIGHT, STANCE = 0, 1
@@ -58,7 +72,8 @@ S_Z_MAX = 3  # m, highest base z since the last touchdown
 S_LAST_HEIGHT = 4  # m, last hop height (nan before the first)
 S_LIFTOFFS = 5  # count of lift-offs so far
 S_TOUCHDOWNS = 6  # count of touchdowns so far
-STATE_SIZE = 7
+S_GROUND_Z = 7  # m, the height the hop height is measured from (0 in world z; module doc)
+STATE_SIZE = 8
 
 # Controller outputs (float64 array): controls, then hip targets for logging.
 O_HIP_Y, O_HIP_X, O_THRUST = 0, 1, 2  # actuator controls
@@ -68,6 +83,30 @@ OUT_SIZE = 7
 
 
 HOP_HEIGHT_RANGE_M = (0.7, 3.0)  # accepted hop-height targets (base z at the apex)
+
+# What the apex is measured from (module doc): name -> what it means.
+APEX_REFERENCES = {
+    "world": "the apex in world z (the authors' controller)",
+    "ground": "the apex above the terrain under the foot at lift-off",
+}
+DEFAULT_APEX_REFERENCE = "world"
+
+
+def check_apex_reference(apex_reference) -> str:
+    """The apex reference named (case-insensitive, blanks trimmed;
+    :func:`mat_hopper.util.parsing.parse_name`), as spelled in :data:`APEX_REFERENCES`.
+
+    Args:
+        apex_reference: ``"world"`` or ``"ground"``, any case.
+
+    Returns:
+        The name as spelled in :data:`APEX_REFERENCES` (``"Ground"`` gives ``"ground"``).
+
+    Raises:
+        ValueError: an empty name or one not in :data:`APEX_REFERENCES`
+            (the message names ``apex_reference`` and lists them).
+    """
+    return parse_name(apex_reference, APEX_REFERENCES, "apex_reference")
 
 
 @dataclass(frozen=True)
@@ -249,7 +288,8 @@ def _latency(timing) -> int:
 
 
 def initial_state(settings: ControllerSettings) -> np.ndarray:
-    """Fresh controller state: in flight, thrust at its start. The phase
+    """Fresh controller state: in flight, thrust at its start, the hop
+    height measured from z = 0 (``S_GROUND_Z``; module doc). The phase
     lock's clock starts at t = 0, as in the authors' loop, so no switch can
     happen in the first ``phase_lock_s`` of a run.
 
@@ -259,7 +299,7 @@ def initial_state(settings: ControllerSettings) -> np.ndarray:
     Returns:
         A float64 array of length :data:`STATE_SIZE`: phase FLIGHT, last
         switch at 0 s, thrust ``thrust_start_n`` N, highest z -inf, last hop
-        height nan, lift-off and touchdown counts 0.
+        height nan, lift-off and touchdown counts 0, reference height 0 m.
     """
     s = np.zeros(STATE_SIZE)
     s[S_PHASE] = FLIGHT
@@ -291,7 +331,8 @@ def _clamp(v, limit):
 def update_phase(t, touch, z, vz, g, state):
     """Advance the stance/flight state machine; adapt thrust at touchdown.
 
-    Returns NO_EVENT, TOUCHDOWN or LIFTOFF."""
+    The hop height is the highest z since the last touchdown less
+    ``state[S_GROUND_Z]`` (module doc). Returns NO_EVENT, TOUCHDOWN or LIFTOFF."""
     if z > state[S_Z_MAX]:
         state[S_Z_MAX] = z
     if t - state[S_T_SWITCH] < g.phase_lock_s:
@@ -301,7 +342,7 @@ def update_phase(t, touch, z, vz, g, state):
         state[S_T_SWITCH] = t
         state[S_TOUCHDOWNS] += 1.0
         if state[S_LIFTOFFS] > 0.0:  # the very first touchdown adapts nothing
-            height = state[S_Z_MAX]
+            height = state[S_Z_MAX] - state[S_GROUND_Z]  # exactly S_Z_MAX in world z (a reference of 0)
             state[S_LAST_HEIGHT] = height
             # Kept physical: the foot actuator pushes, it never pulls the leg
             # in (a thrust adapted below 0 N would). With the paper's 1 m

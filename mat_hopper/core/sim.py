@@ -35,28 +35,33 @@ from . import reference as ref
 from ._loop import (
     CHANNELS,
     HISTORY_WIDTH,
+    JERK_CUTOFF_HZ,
+    JERK_FILTER_ORDER,
     MJ_GEOM_DISTANCE,
     MJ_STEP1,
     MJ_STEP2,
     N_CHANNELS,
     RECORD_DTYPE,
-    Buffers,
     C,
     Disturbance,
-    JerkFilter,
     Path,
     Steps,
     StressProbe,
+    apex_reference_of,
+    buffers,
     contact_probe,
+    jerk_filter,
     read_sensors,
     rollout_loop,
 )
 from .behaviours import behaviour as get_behaviour
 from .contact import DEFAULT_CONTACT, check_contact
 from .controller import (
+    DEFAULT_APEX_REFERENCE,
     DEFAULT_SENSOR_TIMING,
     ControllerSettings,
     SensorTiming,
+    check_apex_reference,
     initial_state,
 )
 from .damping import DEFAULT_DAMPING, check_damping
@@ -75,6 +80,8 @@ from .timestep import is_auto, resolve_timestep, warn_stable_step
 __all__ = [
     "CHANNELS",
     "C",
+    "JERK_CUTOFF_HZ",
+    "JERK_FILTER_ORDER",
     "N_CHANNELS",
     "DEFAULT_RECORD_RATE_HZ",
     "SimSettings",
@@ -112,43 +119,7 @@ def loop_chunk_steps(n_segments: int) -> int:
     return max(1000, LOOP_CHUNK_STEPS * 3 // max(3, int(n_segments)))
 
 
-# Jerk is computed at the physics rate: the base's z acceleration through a
-# causal Butterworth low-pass, then differentiated step by step. The cut-off
-# lies far below the leg's axial modes (2.5-4 kHz, barely damped) and the
-# record rates' Nyquist frequencies, and above the hop's body dynamics
-# (stance about 0.1 s): the number does not depend on the record rate.
-# Butterworth filtering before differentiating is the standard treatment of
-# noisy kinematic derivatives (D. A. Winter, Biomechanics and Motor Control
-# of Human Movement, 4th ed., Wiley 2009, sec. 2.2); the coefficients come
-# from scipy.signal.butter.
-JERK_CUTOFF_HZ = 50.0
-JERK_FILTER_ORDER = 2
-
-
-def jerk_filter(timestep_s: float, az0_m_s2: float = -ref.GRAVITY_M_S2) -> JerkFilter:
-    """The jerk low-pass for this physics step, at rest on input az0 (its
-    steady state, scipy.signal.sosfilt_zi) so a run starts without a
-    filter transient. Steps coarser than 4 ms (where jerk means little)
-    lower the cut-off to 0.2 / timestep_s, below their Nyquist frequency.
-
-    Args:
-        timestep_s: the physics time step, s (> 0).
-        az0_m_s2: the filter's steady-state input, m/s^2 (default -g, the
-            base's free fall at the start).
-
-    Returns:
-        :class:`~mat_hopper.core._loop.JerkFilter`: coef (b0, b1, b2, a1, a2) of
-        the order-:data:`JERK_FILTER_ORDER` Butterworth at
-        min(:data:`JERK_CUTOFF_HZ`, 0.2 / timestep_s) Hz, and state (z1, z2,
-        az0_m_s2 as the previous output, 0, 0).
-    """
-    import scipy.signal
-
-    cutoff = min(JERK_CUTOFF_HZ, 0.2 / timestep_s)
-    sos = scipy.signal.butter(JERK_FILTER_ORDER, cutoff, fs=1.0 / timestep_s, output="sos")
-    ((b0, b1, b2, _, a1, a2),) = sos
-    zi = scipy.signal.sosfilt_zi(sos)[0] * az0_m_s2
-    return JerkFilter(np.array([b0, b1, b2, a1, a2]), np.array([zi[0], zi[1], az0_m_s2, 0.0, 0.0]))
+# The jerk low-pass (JERK_CUTOFF_HZ, jerk_filter) lives beside the loop that runs it (_loop).
 
 
 _log = logging.getLogger("mat_hopper.mujoco")
@@ -202,6 +173,8 @@ class SimSettings:
             material's loss factor, :data:`mat_hopper.core.damping.LOSS_FACTORS`);
             any case, stored as spelled in :data:`mat_hopper.core.damping.DAMPINGS`.
         contact: ``"authors"`` (default: MuJoCo's solref 0.02 1) or ``"stiff"`` (0.001 1), any case (contact.CONTACTS).
+        apex_reference: what the controller's hop height is measured from, ``"world"`` (default: world z, the
+            authors') or ``"ground"`` (the terrain under the foot at lift-off); controller.APEX_REFERENCES.
 
     Raises:
         ValueError: on any invalid value, naming the field.
@@ -219,6 +192,7 @@ class SimSettings:
     substeps: int = 1
     damping: str = DEFAULT_DAMPING  # "authors" (1 N s/m) or "loss-factor" (damping.LOSS_FACTORS)
     contact: str = DEFAULT_CONTACT  # "authors" (solref 0.02 1) or "stiff" (contact.CONTACTS)
+    apex_reference: str = DEFAULT_APEX_REFERENCE  # "world" or "ground" (controller.APEX_REFERENCES)
 
     def __post_init__(self):
         # One check per field (a new field adds its own line); then the checks across fields.
@@ -227,6 +201,7 @@ class SimSettings:
         object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         object.__setattr__(self, "damping", check_damping(self.damping))
         object.__setattr__(self, "contact", check_contact(self.contact))
+        object.__setattr__(self, "apex_reference", check_apex_reference(self.apex_reference))
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -421,6 +396,7 @@ class RolloutRunner:
         adr, gain = stress_gains(self.hopper)
         self._probe = StressProbe(adr, gain, np.zeros(len(adr)))
         self._contact = contact_probe(self.hopper.model, self.data.sensordata[self.hopper.layout.touch] > 0.0)
+        self._apex = apex_reference_of(self.hopper.model, settings.apex_reference, self.behaviour.ramp_grade_deg)
         self._stress = np.zeros((n_rec, len(adr), 4))
         self._state = initial_state(settings.controller)
         self._gains = settings.controller.gains()
@@ -428,8 +404,7 @@ class RolloutRunner:
         self._history = np.zeros((settings.sensor_latency_steps + 1, HISTORY_WIDTH))
         read_sensors(self.data.sensordata, self.hopper.layout, self._history[0])
         self._history[1:] = self._history[0]
-        d = self.data
-        self._buffers = Buffers(d.qpos, d.qvel, d.qacc, d.ctrl, d.sensordata, d.qfrc_actuator, d.xfrc_applied)
+        self._buffers = buffers(self.data)
         beh = self.behaviour
         self._path = Path(beh.path_code, beh.path_params, beh.table_xy_m)
         self._disturbance = Disturbance(self._push, self._noise, self._noise_every)
@@ -478,6 +453,7 @@ class RolloutRunner:
             self._probe,
             self._stress[self._n_rec :],
             self._contact,
+            self._apex,
         )
         self._n_rec += n_rec
         self._n_ev += n_ev
@@ -520,6 +496,7 @@ def simulate(
     substeps: int | None = None,
     damping: str | None = None,
     contact: str | None = None,
+    apex_reference: str | None = None,
     record_qpos: bool = False,
     settings: SimSettings | None = None,
     warn: bool = True,
@@ -551,6 +528,7 @@ def simulate(
         damping: ``"authors"`` (1 N s/m) or ``"loss-factor"``, any case
             (:mod:`mat_hopper.core.damping`).
         contact: ``"authors"`` or ``"stiff"``, any case (:mod:`mat_hopper.core.contact`).
+        apex_reference: ``"world"`` or ``"ground"``, any case (:mod:`mat_hopper.core.controller`).
         record_qpos: also keep all joint positions (``Rollout.qpos``, (n, nq)) for rendering.
         settings: a SimSettings giving all of the settings at once; then no
             other setting may be given.
@@ -583,6 +561,7 @@ def simulate(
             ("substeps", substeps),
             ("damping", damping),
             ("contact", contact),
+            ("apex_reference", apex_reference),
         )
         if value is not None
     }

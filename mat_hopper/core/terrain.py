@@ -5,19 +5,32 @@ behaviour (the authors' box, pitched up by its grade).
 (:data:`mat_hopper.core.reference.RAMP_CENTER_X`, ``RAMP_CENTER_Z``,
 ``RAMP_HALF_SIZE``; docs/reference-hopper.md), and :func:`terrain_height_m`
 gives the height of that terrain under world points, m, for the metrics that
-measure a hop above the ground. :mod:`mat_hopper.core.mjcf` adds the box to
-the model.
+measure a hop above the ground. :func:`terrain_height_at` is the same
+height at one point in compiled code, from the numbers of
+:func:`terrain_params`: the rollout loop reads it at each lift-off when the
+controller regulates the apex above the ground
+(``SimSettings.apex_reference = "ground"``, :mod:`mat_hopper.core.controller`).
+:mod:`mat_hopper.core.mjcf` adds the box to the model.
 """
 
 from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
 from . import reference as ref
 
-__all__ = ["MAX_RAMP_GRADE_DEG", "check_ramp_grade", "ramp_pose", "terrain_height_m"]
+__all__ = [
+    "MAX_RAMP_GRADE_DEG",
+    "TERRAIN_PARAMS",
+    "check_ramp_grade",
+    "ramp_pose",
+    "terrain_height_at",
+    "terrain_height_m",
+    "terrain_params",
+]
 
 # deg, exclusive: a grade of +-90 deg is a wall (tan is infinite), beyond it
 # the ramp is upside down. The paper's ramp is 2 deg; the Behaviour class
@@ -118,3 +131,66 @@ def terrain_height_m(x_m, y_m, ramp_grade_deg: float | None = None):
     top = cz + hz / math.cos(a) + math.tan(a) * (x - cx)
     on = (np.abs(u) <= hx) & (np.abs(y) <= hy)
     return np.where(on, np.maximum(ground, top), ground)
+
+
+# The numbers terrain_height_at reads, in this order (terrain_params):
+# a ramp (1) or flat ground (0), the box's centre x and z (m), its half
+# sizes (m), and the sine, cosine and tangent of the grade.
+TERRAIN_PARAMS = ("ramp", "cx_m", "cz_m", "hx_m", "hy_m", "hz_m", "sin_a", "cos_a", "tan_a")
+
+
+def terrain_params(ramp_grade_deg: float | None = None) -> np.ndarray:
+    """The terrain as :func:`terrain_height_at` reads it.
+
+    Args:
+        ramp_grade_deg: None for flat ground (default), else the ramp's
+            pitch, deg, strictly between -90 and 90.
+
+    Returns:
+        Float array of the values named by :data:`TERRAIN_PARAMS`: all 0
+        on flat ground; on the ramp 1, the box of :func:`ramp_pose` and
+        :data:`mat_hopper.core.reference.RAMP_HALF_SIZE`, and the grade's
+        sine, cosine and tangent.
+
+    Raises:
+        ValueError: a pitch :func:`check_ramp_grade` refuses.
+    """
+    grade = check_ramp_grade(ramp_grade_deg)
+    if grade is None:
+        return np.zeros(len(TERRAIN_PARAMS))
+    a = math.radians(grade)
+    (cx, _, cz), _ = ramp_pose(grade)
+    hx, hy, hz = ref.RAMP_HALF_SIZE
+    return np.array([1.0, cx, cz, hx, hy, hz, math.sin(a), math.cos(a), math.tan(a)], dtype=float)
+
+
+@numba.njit(cache=True)
+def terrain_height_at(x_m, y_m, params):
+    """Height (m) of the terrain under one world point (x, y): the arithmetic
+    of :func:`terrain_height_m` for a scalar, compiled (the rollout loop
+    calls it); tests/core/test_apex_reference.py checks the two agree.
+
+    Args:
+        x_m, y_m: world x and y of the point, m.
+        params: :func:`terrain_params` of the terrain.
+
+    Returns:
+        float, m: 0 on flat ground or off the ramp's footprint.
+    """
+    if params[0] == 0.0:
+        return 0.0
+    cx, cz, hx, hy, hz, sa, ca, ta = (
+        params[1],
+        params[2],
+        params[3],
+        params[4],
+        params[5],
+        params[6],
+        params[7],
+        params[8],
+    )
+    u = (x_m - cx + hz * sa) / ca  # along the top face, from its centre
+    top = cz + hz / ca + ta * (x_m - cx)
+    if abs(u) <= hx and abs(y_m) <= hy:
+        return max(0.0, top)
+    return 0.0

@@ -47,7 +47,10 @@ default) are not scored. Per cycle, from the rollout's samples (1 kHz):
 
 Every row also carries the design's leg mass properties (constant per run,
 :func:`mat_hopper.core.control_legs.mass_properties`): ``leg_mass_kg``,
-``leg_com_m`` (m below the hip) and ``hip_inertia_kg_m2``.
+``leg_com_m`` (m below the hip) and ``hip_inertia_kg_m2``; and the
+``apex_reference`` setting, what the controller's hop height is measured
+from (``world`` z or the ``ground`` under the foot at lift-off,
+:mod:`mat_hopper.core.controller`).
 
 :func:`compare` sets each design's hop cycles beside a baseline's: the
 percent change of means, the rank-biserial effect size and a Mann-Whitney
@@ -149,7 +152,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None, *, warn: bool 
         ``design``, ``behaviour``, ``convention``, ``sensor_timing``,
         ``segment_mass``, ``hop`` (0, 1, ...), ``t_start_s``, ``t_end_s``, every
         metric of :data:`ALL_METRICS`, the leg's mass properties
-        (``leg_mass_kg``, ``leg_com_m``, ``hip_inertia_kg_m2``) and
+        (``leg_mass_kg``, ``leg_com_m``, ``hip_inertia_kg_m2``), ``apex_reference``,
         :data:`STRESS_COLUMNS` and :data:`CONTACT_COLUMNS`. Empty (same columns) without scored cycles or
         with fewer than 4 recorded samples.
 
@@ -175,6 +178,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None, *, warn: bool 
         "t_end_s",
         *ALL_METRICS,
         *MASS_PROPERTY_COLUMNS,
+        "apex_reference",
         *STRESS_COLUMNS,
         *CONTACT_COLUMNS,
     ]
@@ -224,7 +228,7 @@ def hop_table(rollout: Rollout, transient_s: float | None = None, *, warn: bool 
             **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),
         }
     )
-    out["damping"] = rollout.settings.damping
+    out["apex_reference"], out["damping"] = rollout.settings.apex_reference, rollout.settings.damping
     stress = hop_stress_columns(rollout, cycles)
     for c in STRESS_COLUMNS[1:]:
         out[c] = stress[c].to_numpy()
@@ -253,7 +257,7 @@ def run_summary(rollout: Rollout, transient_s: float | None = None, *, hops: pd.
         dict: ``design``, ``behaviour``, ``convention``, ``sensor_timing``,
         ``segment_mass``, ``stable``, ``diverged_at_s``, ``n_hops``,
         ``total_mass_kg``, the mass properties (``leg_mass_kg``, ``leg_com_m``,
-        ``hip_inertia_kg_m2``), ``mean_<metric>`` for every metric of
+        ``hip_inertia_kg_m2``), ``apex_reference``, ``mean_<metric>`` for every metric of
         :data:`ALL_METRICS` (nan without hops), ``damping``, the stress and
         fatigue of :func:`mat_hopper.physics.fatigue.fatigue_summary`, ``energy_j``
         (sum over the hops, J; nan without hops), the keys of
@@ -282,6 +286,7 @@ def run_summary(rollout: Rollout, transient_s: float | None = None, *, hops: pd.
         "n_hops": len(hops),
         "total_mass_kg": rollout.total_mass_kg,
         **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),
+        "apex_reference": rollout.settings.apex_reference,
     }
     for m in ALL_METRICS:
         out[f"mean_{m}"] = float(hops[m].mean()) if len(hops) else np.nan

@@ -40,6 +40,7 @@ def test_settings_key_names_every_setting_and_conventions_by_name():
         "substeps",
         "damping",
         "contact",
+        "apex_reference",
     }
     assert k["damping"] == "authors"  # issue 21's setting, by its name
     assert k["contact"] == "authors" and keys.settings_key(SimSettings(contact="Stiff"))["contact"] == "stiff"
