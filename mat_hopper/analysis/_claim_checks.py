@@ -41,6 +41,7 @@ COLUMNS = (
     "basis",
     "n_replicates",
     "timestep_check",
+    "stationarity",
     "detail",
     "rule",
 )

@@ -100,6 +100,7 @@ from ._claim_checks import (  # noqa: F401 (public names of this module)
     match_percent,
     smallest_p,
 )
+from .stationarity import NOT_CHECKED, stationarity, window_halves
 from .stats import seconds
 
 _PCT_RULE = (
@@ -366,6 +367,7 @@ def claims_table(
     fine_label: str = "the finer step",
     controls: pd.DataFrame | None = None,
     control_runs: pd.DataFrame | None = None,
+    check_window: bool = True,
 ) -> pd.DataFrame:
     """Every claim of the paper beside ours, per stiffness convention.
 
@@ -398,7 +400,7 @@ def claims_table(
     Returns:
         DataFrame, one row per claim and convention. Columns: claim_id, claim, paper, ours, verdict,
         convention, sensor_timing, basis, n_replicates (per design and behaviour, 0 on the hop-cycle
-        basis), timestep_check, detail, rule (and profile, when the tables have one), power_verdicts
+        basis), timestep_check, stationarity (the verdicts on the scored window's two halves), detail, rule (and profile, when the tables have one), power_verdicts
         (claims that quote power: the verdict under the paper's formula, hip power and total power side
         by side), jerk_verdicts (the jerk claim under the causal and the body jerk), and the beyond-mass
         columns of :func:`mat_hopper.analysis.beyond_mass.beyond_mass_columns` (vs_rigid_twin,
@@ -425,7 +427,10 @@ def claims_table(
             raise ValueError("hops needs a 'design' column")
         ctx = _Context(conv, h, r, _by_convention(stability, conv), basis, alpha, timestep_s, bad)
         fine = _by_convention(fine_hops, conv)
-        rows += [{**_claim_row(claim, ctx, fine, fine_label), "sensor_timing": timing} for claim in CLAIMS]
+        halves = window_halves(h) if check_window else None
+        if halves is not None:
+            halves = [_Context(conv, half, r, ctx.stability, basis, alpha, timestep_s, bad) for half in halves]
+        rows += [{**_claim_row(claim, ctx, fine, fine_label, halves), "sensor_timing": timing} for claim in CLAIMS]
     out = pd.DataFrame(rows, columns=[*COLUMNS, "power_verdicts", "jerk_verdicts"])
     bad_controls = _stats.unusable_runs(control_runs, timestep_s) if control_runs is not None else None
     sweeps = hops[hops["experiment"] == "exp2"] if len(hops) and "experiment" in hops.columns else None
@@ -447,9 +452,11 @@ def _one_value(tables, column: str, what: str) -> str | None:
     return values.pop() if values else None
 
 
-def _claim_row(claim: Claim, ctx: _Context, fine_hops, fine_label: str) -> dict:
-    """One claim under one convention: its outcome, basis, time-step check
-    and the power and jerk verdicts side by side (a row of claims_table)."""
+def _claim_row(claim: Claim, ctx: _Context, fine_hops, fine_label: str, halves=None) -> dict:
+    """One claim under one convention: its outcome, basis, time-step check,
+    its verdicts on the two halves of the scored window (`halves`: their
+    contexts, or None) and the power and jerk verdicts side by side (a row
+    of claims_table)."""
     conv, h = ctx.convention, ctx.hops
     is_stab = claim.claim_id.startswith("timestep")
     if not is_stab and len(h) == 0 and len(ctx.bad) == 0:
@@ -466,6 +473,10 @@ def _claim_row(claim: Claim, ctx: _Context, fine_hops, fine_label: str) -> dict:
         else timestep_check(claim.claim_id, h if exps is None else ctx.experiment(exps), fine_hops, fine_label)
     )
     run = out.verdict != NOT_RUN
+    window = NOT_CHECKED
+    if run and not is_stab and halves is not None:
+        first, second = (claim.evaluate(half) for half in halves)
+        window = stationarity(first.verdict, second.verdict, first.ours, second.ours)
     return {
         "claim_id": claim.claim_id,
         "claim": claim.claim,
@@ -476,6 +487,7 @@ def _claim_row(claim: Claim, ctx: _Context, fine_hops, fine_label: str) -> dict:
         "basis": used,
         "n_replicates": n_rep,
         "timestep_check": check,
+        "stationarity": window if not is_stab else "",
         "detail": out.detail,
         "rule": claim.rule,
         "power_verdicts": _power_verdicts(claim.claim_id, ctx) if run else "",
@@ -505,7 +517,17 @@ def _md_cell(x) -> str:
 
 def to_markdown(
     table: pd.DataFrame,
-    columns=("claim", "convention", "paper", "ours", "verdict", "beyond_mass", "basis", "timestep_check"),
+    columns=(
+        "claim",
+        "convention",
+        "paper",
+        "ours",
+        "verdict",
+        "beyond_mass",
+        "basis",
+        "timestep_check",
+        "stationarity",
+    ),
 ) -> str:
     """The claims as a markdown table (one row per claim and convention),
     the rules listed below it.

@@ -32,6 +32,7 @@ from ..util.parsing import check_positive
 from . import reference as ref
 from .contact import DEFAULT_CONTACT, contact_max_timestep
 from .controller import DEFAULT_SENSOR_TIMING, SensorTiming
+from .flight_loop import PERIOD_MARGIN, flight_loop_stable
 from .lumped import LumpedHopper
 from .materials import (
     BENDING_CONVENTIONS,
@@ -52,6 +53,7 @@ from .model import (
 # chain's explicit bound 2 / w_max (the measured stable steps lie at 0.92 of
 # the bound in the median, and within a factor 2 everywhere: docs/).
 AUTO_SAFETY = 0.5
+MAX_CONTROL_DIVISIONS = 64  # auto shortens the control period at most to 1/64 of the authors' (1.6e-6 s)
 
 
 def chain_frequencies(masses_kg, stiffnesses_n_m) -> np.ndarray:
@@ -424,7 +426,10 @@ def auto_control_period(
     limit: the torque is held over the whole control period. Binds for soft
     legs that bend (trabecular bone: limit 5.8e-5 s under ``bending``, so
     2.5e-5 s), never for the paper's designs under ``paper``/``axial``
-    (2.1e-4 s under the authors' sensor timing).
+    (2.1e-4 s under the authors' sensor timing). Under a bending
+    convention k grows further until the hips' sampled flight loop is
+    stable within +-10 % of the period (:mod:`mat_hopper.core.flight_loop`:
+    a stiff leg's bending mode near the control rate aliases and grows).
 
     Args:
         design: the leg.
@@ -452,9 +457,11 @@ def auto_control_period(
 def _control_period(hopper: LumpedHopper, timing: SensorTiming, control_period_s: float, safety: float) -> float:
     """:func:`auto_control_period` of a hopper whose arguments are checked."""
     limit = _controller_limit(hopper, ref.STANCE_KD, ref.HIP_GEAR, timing)
-    if limit >= control_period_s:
-        return control_period_s
-    return control_period_s / math.ceil(control_period_s / (safety * limit) - 1e-9)
+    k = 1 if limit >= control_period_s else math.ceil(control_period_s / (safety * limit) - 1e-9)
+    if hopper.convention in BENDING_CONVENTIONS:  # no bending mode in resonance with the hips' flight PD
+        while k < MAX_CONTROL_DIVISIONS and not flight_loop_stable(hopper, control_period_s / k, PERIOD_MARGIN):
+            k += 1
+    return control_period_s / k
 
 
 def auto_substeps(

@@ -72,10 +72,14 @@ print(
 )
 
 # %% [markdown]
-# The time-step check of each claim:
+# Each claim's time-step check, and whether its verdict depends on the
+# scoring window: the claim judged again on the first and on the second
+# half of the scored cycles, on the same seeds. A claim whose verdict
+# differs between the halves is "window-dependent": it holds in one window
+# only, so it is a claim about the window.
 
 # %%
-book.show(claims.query("convention == 'paper'")[["claim", "verdict", "timestep_check"]])
+book.show(claims.query("convention == 'paper'")[["claim", "verdict", "timestep_check", "stationarity"]])
 
 # %% [markdown]
 # The same table, with the details each verdict rests on, is written to
