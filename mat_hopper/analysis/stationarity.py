@@ -27,9 +27,15 @@ NOT_CHECKED = "not checked"
 
 
 def window_midpoint_s(hops: pd.DataFrame) -> float | None:
-    """The midpoint of the scored window, s: the mean of the earliest
-    cycle start (``t_start_s``) and the latest cycle end (``t_end_s``) in
-    `hops`; None when the table is empty or lacks those columns."""
+    """The midpoint of the scored window, s.
+
+    Args:
+        hops: per-hop rows with ``t_start_s`` and ``t_end_s`` (s).
+
+    Returns:
+        The mean of the earliest cycle start and the latest cycle end, s;
+        None when the table is empty or lacks those columns.
+    """
     if hops is None or len(hops) == 0 or not {"t_start_s", "t_end_s"} <= set(hops.columns):
         return None
     return 0.5 * (float(hops["t_start_s"].min()) + float(hops["t_end_s"].max()))
@@ -84,5 +90,12 @@ def stationarity(first_verdict: str, second_verdict: str, first_ours: str = "", 
 
 
 def is_window_dependent(cell: str) -> bool:
-    """Whether a ``stationarity`` cell marks its claim window-dependent."""
+    """Whether a ``stationarity`` cell marks its claim window-dependent.
+
+    Args:
+        cell: a cell of the claims table's ``stationarity`` column.
+
+    Returns:
+        True for a ``window-dependent (...)`` cell.
+    """
     return str(cell).startswith(WINDOW_DEPENDENT)

@@ -41,10 +41,17 @@ PERIOD_MARGIN = 0.1  # auto's control period must leave the loop stable within +
 
 
 def joint_damping(hopper: LumpedHopper) -> np.ndarray:
-    """(nv,) joint damping in MuJoCo's dof order, N s/m or N m s/rad, as
-    :mod:`mat_hopper.core.mjcf` sets it under the authors' damping: the hips
-    ``HIP_DAMPING`` (20), the foot spring ``FOOT_SPRING_DAMPING`` (10),
-    every other sprung joint ``JOINT_DAMPING_DEFAULT`` (1), the free base 0."""
+    """The joints' damping as :mod:`mat_hopper.core.mjcf` sets it under the
+    authors' damping: the hips ``HIP_DAMPING`` (20), the foot spring
+    ``FOOT_SPRING_DAMPING`` (10), every other sprung joint
+    ``JOINT_DAMPING_DEFAULT`` (1), the free base 0.
+
+    Args:
+        hopper: the linearised hopper.
+
+    Returns:
+        (nv,) damping in MuJoCo's dof order, N s/m or N m s/rad.
+    """
     out = np.zeros(len(hopper.dofs))
     for i, d in enumerate(hopper.dofs):
         if d.name in HIP_JOINTS:
@@ -97,8 +104,18 @@ def flight_loop_radius(
 
 
 def flight_loop_stable(hopper: LumpedHopper, period_s: float, margin: float = 0.0, **gains) -> bool:
-    """Whether the flight loop is stable at `period_s` and, with `margin`
-    > 0, also at ``period_s (1 -+ margin)`` (the modes move as the leg
-    swings from its start pose). `gains` as :func:`flight_loop_radius`."""
+    """Whether the hips' flight loop is stable at a control period.
+
+    Args:
+        hopper: the linearised hopper.
+        period_s: the control period, s.
+        margin: with `margin` > 0 the loop must also be stable at
+            ``period_s (1 -+ margin)`` (the modes move as the leg swings from
+            its start pose).
+        gains: flight_kp, flight_kd, gear, as :func:`flight_loop_radius`.
+
+    Returns:
+        True when the spectral radius is at most 1 (+ RADIUS_TOL) at each period.
+    """
     periods = (period_s,) if margin <= 0 else (period_s * (1 - margin), period_s, period_s * (1 + margin))
     return all(flight_loop_radius(hopper, p, **gains) <= 1.0 + RADIUS_TOL for p in periods)

@@ -165,9 +165,9 @@ glue("fig-designs", maps.designs_figure(), display=False)
 # ```
 
 # %% [markdown]
-# The remaining chapters follow the paper: what the materials are
-# (chapter 2), how a density and a modulus become a MuJoCo model
-# (chapter 3), the hopper and its controller (chapter 4), the numerical
-# price of stiff springs (chapter 5), the three experiments (chapters 6 to
-# 8), a design optimizer that goes past the paper (chapter 9), and the
-# reproduction report (chapter 10).
+# The remaining chapters follow the paper: what the materials are and
+# how a density and a modulus become a MuJoCo model (chapter 3), the
+# hopper and its controller (chapter 4), the numerical price of stiff
+# springs (chapter 5), the three experiments (chapters 6 to 8), a design
+# optimizer that goes past the paper (chapter 9), and the reproduction
+# report (chapter 10).

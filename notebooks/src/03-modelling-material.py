@@ -9,26 +9,120 @@
 # %% [markdown]
 # # Modelling material in MuJoCo
 #
+# Before a simulator can use a material, a designer has to choose one.
+# This chapter starts where the paper does, with the materials on an
+# Ashby chart, their catalogue and what porosity does to a density, and
+# then builds the models: how a rigid-body simulator is given a density
+# and a modulus, and what that costs.
+#
+# ## Materials
+#
+# Material scientists compare materials on an **Ashby chart**: one
+# property against another on log-log axes, where materials of one class
+# (metals, ceramics, polymers, natural materials) gather in a region of
+# their own. The paper uses the density-modulus chart to choose the range
+# of its designs: the class of metals and ceramics, and the class of
+# polymers and natural composites. The chart ({numref}`fig-ashby`) is
+# drawn from our catalogue: the paper's four materials (bold), a few
+# natural and technical ones for context {cite:p}`ashby2011materials,wegst2004mechanical`,
+# the two class regions and the bounds of the design space.
+
+# %%
+import pandas as pd
+from myst_nb import glue
+
+from mat_hopper import book
+from mat_hopper.core import materials
+from mat_hopper.viz import maps
+
+b = book.setup()
+glue("fig-ashby", maps.ashby_figure(), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-ashby
+# :name: fig-ashby
+# :alt: Log-log chart of elastic modulus (GPa) against density (g/cm³) with the catalogue's materials as labelled points, shaded regions for metals and ceramics and for polymers and natural materials, and the paper's design box.
+#
+# {term}`Ashby chart` of the catalogue: modulus against density, log-log.
+# The paper's materials in bold, the two material classes shaded, the
+# bounds of the design space outlined.
+# ```
+
+# %% [markdown]
+# The paper's materials sit in two clusters: PVC among the polymers (light
+# and soft, 4 GPa), aluminium, titanium and stainless steel among the
+# metals (70-193 GPa). Natural materials span the gap between them:
+# cortical bone is a little denser than PVC and several times stiffer;
+# tendon is lighter and softer still.
+#
+# ### The catalogue
+#
+# Every material the library knows, with the source of its numbers. The
+# paper's five come from the authors' code; the others are typical
+# mid-range values from Ashby's handbook {cite:p}`ashby2011materials` and
+# from Wegst & Ashby's survey of natural materials
+# {cite:p}`wegst2004mechanical`. A rigid material (MD, the simulator's default) has no
+# modulus.
+
+# %%
+book.show(maps.catalogue_table())
+
+# %% [markdown]
+# ### Porosity and density
+#
+# A porous material is a solid with holes ({term}`porosity`). Its bulk density ρ_b is what
+# the leg weighs per volume; its porosity is the fraction of the volume
+# that is empty:
+#
+# > Φ = 1 − ρ_b / ρ_s,
+#
+# with ρ_s the density of the solid itself. For a segment of fixed size,
+# mass scales with bulk density, so in the simulation porosity enters only
+# through mass (below). Bone is the model: trabecular (spongy) bone is
+# cortical bone with most of its volume empty. With our catalogue's
+# numbers:
+
+# %%
+trabecular = materials.material("TrabecularBone").density_g_cm3
+cortical = materials.material("CorticalBone").density_g_cm3
+phi = materials.porosity(trabecular, cortical)
+print(f"trabecular bone ({trabecular} g/cm³) as porous cortical bone ({cortical} g/cm³): porosity {phi:.0%}")
+print(f"titanium at 50 % porosity: {materials.bulk_density(0.5, materials.material('Ti').density_g_cm3):.2f} g/cm³")
+
+# %% [markdown]
+# Experiment 2 (chapter 7) varies density around each base material while
+# keeping its modulus. Read as porosity of that material, only the sweep
+# points below the solid's own density are reachable by making it porous;
+# the points above it (negative porosity) stand for a denser material of
+# the same stiffness, not for a porous one.
+
+# %%
+from mat_hopper.core import reference as ref
+
+rows = []
+for base, sweeps in ref.SWEEPS.items():
+    rho_s = materials.material(base).density_g_cm3  # the solid's own density
+    for rho in sweeps["density"]:
+        phi = 1.0 - rho / rho_s  # Φ = 1 - ρ_b / ρ_s; < 0: denser than the solid
+        rows.append({"base": base, "density_g_cm3": rho, "porosity": phi, "reachable_by_porosity": phi >= 0})
+book.show(pd.DataFrame(rows), {"porosity": "{:+.0%}"})
+
+# %% [markdown]
+# ## From materials to a model
+#
 # MuJoCo {cite:p}`todorov2012mujoco` simulates rigid bodies. The paper gives a rigid-body simulator
 # two material properties with two simple devices: **density becomes
 # mass**, and **modulus becomes a spring**. Each of the leg's material
 # segments is a capsule of radius 2.5 cm and length 10 cm, cut in two
 # halves with an axial spring between them, so that half of the segment's
-# mass sits above its spring and half below. This chapter builds the
-# models and looks at what the two devices do.
+# mass sits above its spring and half below. The rest of this chapter
+# builds the models and looks at what the two devices do.
 
 # %%
 import math
 
-import pandas as pd
-
-from mat_hopper import book
-from mat_hopper.core import materials
-from mat_hopper.core import reference as ref
 from mat_hopper.core.materials import parse_design
 from mat_hopper.core.model import build_model, build_spec
-
-b = book.setup()
 
 
 def segment_xml(design: str, i: int = 1) -> str:

@@ -157,7 +157,7 @@ book.show(pd.Series(summary)[keys].to_frame("value"), index=True, precision=3)
 # (GPa; `None` for a rigid segment) or the path (a function from time in
 # s to the desired position (x, y) in m), and run the cell. Here: a
 # bone-like leg, two segments of cortical bone above one of tendon (the
-# catalogue's values, chapter 2), weaving 10 cm to each side while it
+# catalogue's values, chapter 3), weaving 10 cm to each side while it
 # moves forward at 5 cm/s; the SS run above beside it.
 
 # %%

@@ -35,7 +35,7 @@ for base, sweep in ref.SWEEPS.items():
 # %% [markdown]
 # Each sweep includes the base material itself (added where the paper's
 # list leaves it out), so that every point can be read against it.
-# Chapter 2 showed which of the density points a porous version of the
+# Chapter 3 showed which of the density points a porous version of the
 # material could reach.
 
 # %%

@@ -20,7 +20,7 @@
 #
 # - **Design space**: per segment a density from 0.9 to 20 g/cm³ and a
 #   modulus from 0.1 to 1000 GPa, both on log scales. This box *bounds* the
-#   two Ashby classes the paper draws from (chapter 2); it is not their
+#   two Ashby classes the paper draws from (chapter 3); it is not their
 #   hull, and it holds materials no class holds (a leg at 11.9 g/cm³ and
 #   1 GPa, say). `--ashby-classes metal,polymer` (or
 #   `SearchSpace(ashby_classes=...)`) restricts every segment to the convex

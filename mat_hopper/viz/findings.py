@@ -1,0 +1,426 @@
+"""The book's findings page, read from the recorded paper-profile results.
+
+The paper profile's answers (60 s runs scored after 20 s, 10 paired seeds)
+take hours on a small machine, so the book keeps them as records
+(``book/records/``, each with how it was made in its README). This module
+turns those records into what a reader asks first, "what leg should I
+build?", without running a simulation:
+
+- :func:`read_records`: the record files as tables (a clear error names a
+  missing file or column);
+- :func:`findings_table`: one row per paper claim, its verdict and the
+  controls it was held against;
+- :func:`paired_effects`: every numeric paired effect of the records
+  (percent change of a design against its comparator, with its 95 %
+  interval), one tidy table;
+- :func:`design_answer`: the answer in plain sentences, every number in
+  it read from the records;
+- :func:`forest_plot`: every paired effect as an interval against the
+  ±10 % equivalence margin.
+
+Percent changes are of the design against its comparator (negative: the
+design's value is lower), in %; intervals are the records' 95 % paired t
+intervals. Nothing here switches the matplotlib backend: a new figure is a
+``matplotlib.figure.Figure``.
+"""
+
+from __future__ import annotations
+
+import re
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from matplotlib import rc_context
+from matplotlib.figure import Figure
+
+from ..analysis.paired import DIFFERENCE, EQUIVALENCE_MARGIN, NO_DIFFERENCE, NOT_ENOUGH, conclusion
+from .style import STYLE
+
+# Each record this page reads, by its key in :func:`read_records`' answer,
+# with the columns the page needs from it.
+RECORD_FILES = {
+    "claims": "claims-paper.csv",
+    "crossed": "crossed-legs-paper.csv",
+    "optimizer": "optimizer-paper.csv",
+    "optimizer_paired": "optimizer-paper-paired.csv",
+    "stress": "stress-verdicts-paper.csv",
+}
+EFFECT_COLUMNS = ("pct_change", "ci_low", "ci_high")
+REQUIRED_COLUMNS = {
+    "claims": ("claim", "paper", "ours", "verdict", "timestep_check", "vs_rigid_twin", "beyond_mass"),
+    "crossed": ("contrast", "metric", *EFFECT_COLUMNS, "p_holm"),
+    "optimizer": ("design", "dominance", "beats its mass-matched leg", "homogeneous legs of its mass dominating it"),
+    "optimizer_paired": ("design", "against", "kind", "objective", *EFFECT_COLUMNS, "p_holm"),
+    "stress": ("gradient", "metric", "against", *EFFECT_COLUMNS, "p_holm"),
+}
+# The claims table's column for "stable over the scoring window"; the
+# records do not carry it yet, and the page says so rather than guess.
+WINDOW_COLUMN = "stationarity"
+NOT_RECORDED = "not recorded"
+NOT_COMPARED = "not compared"
+MARGIN_PCT = 100 * EQUIVALENCE_MARGIN  # ±10 %: inside it a difference counts as none
+DEFAULT_DOMINANCE = "margin"
+
+METRIC_LABELS = {
+    "tracking_error_m": "tracking error",
+    "power_w": "hip power",
+    "power_total_w": "total power",
+    "hop_peak_stress_median_pa": "median hop peak stress",
+    "peak_stress_pa": "largest peak stress",
+    "fatigue_safety_factor": "fatigue safety factor",
+}
+FINDINGS_COLUMNS = (
+    "claim",
+    "paper",
+    "ours",
+    "verdict",
+    "beyond the rigid twin",
+    "beyond the mass-matched leg",
+    "converged in time step",
+    "stable over the scoring window",
+)
+_CONCLUSION = re.compile(r"\((difference|no difference|not enough evidence),")
+
+
+def read_records(folder) -> dict[str, pd.DataFrame]:
+    """The recorded paper-profile tables this page reads, from `folder`.
+
+    Args:
+        folder: the records folder (the repository's ``book/records``).
+
+    Returns:
+        A dict from each key of :data:`RECORD_FILES` to its table.
+
+    Raises:
+        FileNotFoundError: a record file is missing (its name and the folder
+            are given).
+        ValueError: a record lacks a column the page needs (named).
+    """
+    folder = Path(folder)
+    out = {}
+    for key, name in RECORD_FILES.items():
+        path = folder / name
+        if not path.is_file():
+            raise FileNotFoundError(f"record {name} missing from {folder} (the findings page reads {key} from it)")
+        table = pd.read_csv(path)
+        missing = [c for c in REQUIRED_COLUMNS[key] if c not in table.columns]
+        if missing:
+            raise ValueError(f"record {name} lacks the columns {missing}")
+        out[key] = table
+    return out
+
+
+def _text(value, empty: str) -> str:
+    """The record's text, or `empty` where the cell is blank."""
+    if value is None or (isinstance(value, float) and np.isnan(value)) or str(value).strip() == "":
+        return empty
+    return str(value)
+
+
+def rigid_twin_summary(cell) -> str:
+    """A claim's comparisons against the rigid twin (the same segment masses
+    without springs: what the moduli add), counted by their conclusion.
+
+    Args:
+        cell: the claims record's ``vs_rigid_twin`` text: one entry per
+            comparison, each with its conclusion in brackets.
+
+    Returns:
+        E.g. "differs in 3 of 16 (12 no difference, 1 not enough evidence)";
+        the text itself where it names no conclusion; "not compared" where
+        blank.
+    """
+    text = _text(cell, NOT_COMPARED)
+    counts = Counter(_CONCLUSION.findall(text))
+    if not counts:
+        return text
+    rest = ", ".join(f"{n} {c}" for c, n in counts.items() if c != "difference")
+    total = sum(counts.values())
+    return f"differs in {counts['difference']} of {total}" + (f" ({rest})" if rest else "")
+
+
+def findings_table(records: dict[str, pd.DataFrame]) -> pd.DataFrame:
+    """One row per paper claim: the paper's number, ours, whether it was
+    reproduced and whether the effect goes beyond the claim's controls.
+
+    Args:
+        records: from :func:`read_records` (its ``claims`` table is used).
+
+    Returns:
+        A DataFrame with the columns of :data:`FINDINGS_COLUMNS`, in the
+        claims record's order: ``verdict`` as recorded (holds, partly,
+        does not hold); ``beyond the rigid twin`` from
+        :func:`rigid_twin_summary`; ``beyond the mass-matched leg`` the
+        record's ``beyond_mass``; ``converged in time step`` its
+        ``timestep_check``; ``stable over the scoring window`` its
+        :data:`WINDOW_COLUMN` where recorded, else "not recorded". A blank
+        cell reads "not compared" (controls) or "not recorded" (checks).
+    """
+    claims = records["claims"]
+    window = claims[WINDOW_COLUMN] if WINDOW_COLUMN in claims.columns else pd.Series(np.nan, index=claims.index)
+    return pd.DataFrame(
+        {
+            "claim": claims["claim"].astype(str),
+            "paper": claims["paper"].astype(str),
+            "ours": claims["ours"].astype(str),
+            "verdict": claims["verdict"].astype(str),
+            "beyond the rigid twin": [rigid_twin_summary(v) for v in claims["vs_rigid_twin"]],
+            "beyond the mass-matched leg": [_text(v, NOT_COMPARED) for v in claims["beyond_mass"]],
+            "converged in time step": [_text(v, NOT_RECORDED) for v in claims["timestep_check"]],
+            "stable over the scoring window": [_text(v, NOT_RECORDED) for v in window],
+        },
+        columns=list(FINDINGS_COLUMNS),
+    ).reset_index(drop=True)
+
+
+def _metric(name: str) -> str:
+    return METRIC_LABELS.get(name, name)
+
+
+def _label(design: str, against: str) -> str:
+    design = design.replace("rho-", "ρ-")
+    against = against.replace("rho-", "ρ-")
+    if against.startswith(f"{design}~"):
+        against = against[len(design) + 1 :]
+    return f"{design} vs {against}"
+
+
+def paired_effects(records: dict[str, pd.DataFrame]) -> pd.DataFrame:
+    """Every numeric paired effect of the records, one row each.
+
+    The crossed legs (chapter 9c: a modulus or the densities changed
+    alone), the stress study's gradients against their mass-matched legs
+    and titanium (chapter 8b) and the optimizer's validated designs against
+    their controls and the paper's designs (chapter 9).
+
+    Args:
+        records: from :func:`read_records`.
+
+    Returns:
+        A DataFrame with columns ``group`` (the comparison kind),
+        ``label`` (design, comparator and metric), ``metric``,
+        ``pct_change``, ``ci_low``, ``ci_high`` (%), ``p_holm``,
+        ``same_mass`` (True where the comparator has the design's leg
+        mass: its rigid twin, mass-matched and homogeneous legs of its
+        mass, a modulus changed alone) and ``conclusion`` (difference, no difference, not
+        enough evidence: :func:`mat_hopper.analysis.paired.conclusion`,
+        ±10 % margin), in group order.
+    """
+    parts = []
+    crossed = records["crossed"]
+    modulus = crossed["contrast"].str.startswith("modulus")
+    kind = np.where(
+        modulus,
+        "crossed legs: modulus alone",
+        np.where(
+            crossed["contrast"].str.startswith("densities"), "crossed legs: densities alone", "crossed legs: claim"
+        ),
+    )
+    parts.append(
+        crossed.assign(
+            group=kind,
+            label=crossed["contrast"].str.replace("rho-", "ρ-") + ", " + crossed["metric"].map(_metric),
+            same_mass=modulus,
+        )
+    )
+    stress = records["stress"]
+    parts.append(
+        stress.assign(
+            group="stress: vs " + stress["against"],
+            label=[
+                f"{_label(g, a)}, {_metric(m)}"
+                for g, a, m in zip(stress["gradient"], stress["against"], stress["metric"])
+            ],
+            same_mass=stress["against"].eq("mass-matched"),
+        )
+    )
+    opt = records["optimizer_paired"]
+    parts.append(
+        opt.assign(
+            group="optimizer: vs " + opt["kind"].replace({"paper": "paper designs"}),
+            label=[f"{_label(d, a)}, {_metric(m)}" for d, a, m in zip(opt["design"], opt["against"], opt["objective"])],
+            metric=opt["objective"],
+            same_mass=opt["kind"].isin(["mass-matched", "homogeneous", "rigid twin"]),
+        )
+    )
+    cols = ["group", "label", "metric", *EFFECT_COLUMNS, "p_holm", "same_mass"]
+    out = pd.concat([p[cols] for p in parts], ignore_index=True)
+    for c in (*EFFECT_COLUMNS, "p_holm"):
+        out[c] = pd.to_numeric(out[c], errors="coerce")
+    out["conclusion"] = [conclusion(p, lo, hi) for p, lo, hi in zip(out["p_holm"], out["ci_low"], out["ci_high"])]
+    return out
+
+
+def _pct(x: float) -> str:
+    return f"{x:+.1f} %"
+
+
+def _effect(row) -> str:
+    return f"{_pct(row.pct_change)} [{row.ci_low:+.1f}, {row.ci_high:+.1f}]"
+
+
+def _same_mass_sentence(effects: pd.DataFrame) -> str:
+    same = effects[effects["same_mass"]]
+    n_eq = int((same["conclusion"] == NO_DIFFERENCE).sum())
+    differ = same[same["conclusion"] == DIFFERENCE]
+    lower = int((differ["pct_change"] < 0).sum())
+    unresolved = int((same["conclusion"] == NOT_ENOUGH).sum())
+    return (
+        f"Against a control of the same mass (rigid twins, mass-matched and homogeneous legs, a modulus changed alone), "
+        f"{n_eq} of {len(same)} paired comparisons are equivalent within ±{MARGIN_PCT:.0f} % "
+        f"(the whole 95 % interval inside the margin), {len(differ)} differ ({lower} lower for the design, "
+        f"{len(differ) - lower} higher) and {unresolved} have not enough evidence either way."
+    )
+
+
+def _crossed_sentence(crossed: pd.DataFrame) -> str:
+    tracking = crossed[crossed["metric"] == "tracking_error_m"].copy()
+    tracking["conclusion"] = [
+        conclusion(p, lo, hi) for p, lo, hi in zip(tracking["p_holm"], tracking["ci_low"], tracking["ci_high"])
+    ]
+    mod = tracking[tracking["contrast"].str.startswith("modulus")]
+    dens = tracking[tracking["contrast"].str.startswith("densities")]
+    if mod.empty or dens.empty:
+        return ""
+
+    def effects(rows):
+        return " and ".join(f"{_effect(r)} ({r.contrast.replace('rho-', 'ρ-')})" for r in rows.itertuples())
+
+    reading = ""
+    if (mod["conclusion"] == NO_DIFFERENCE).all() and (dens["conclusion"] == DIFFERENCE).all():
+        reading = ": the densities, that is the mass, carry the effect"
+    elif (mod["conclusion"] == DIFFERENCE).any():
+        reading = ": the modulus alone moves it too"
+    return (
+        f"On the crossed legs, changing the modulus alone moves tracking error by {effects(mod)}, "
+        f"changing the densities alone by {effects(dens)}{reading}."
+    )
+
+
+def _ramp_sentence(optimizer: pd.DataFrame, dominance: str) -> str:
+    rows = optimizer[optimizer["dominance"] == dominance]
+    if rows.empty:
+        return ""
+    beats = rows["beats its mass-matched leg"].astype(str)
+    wins = int((beats == "yes").sum())
+    others = ", ".join(f"{int(n)} {v}" for v, n in beats[beats != "yes"].value_counts().items())
+    dominated = rows["homogeneous legs of its mass dominating it"].map(lambda v: _text(v, "") != "")
+    which, verb = ("none", "dominates") if wins == 0 else (f"{wins}", "dominates" if wins == 1 else "dominate")
+    return (
+        f"On the ramp (the optimizer's objective, {dominance} rule), {which} of the {len(rows)} validated "
+        f"gradients {verb} the uniform leg of its mass" + (f" ({others})" if others else "") + ", "
+        f"and at least one homogeneous leg of the same mass dominates {int(dominated.sum())} of them."
+    )
+
+
+def _limits_sentence(claims: pd.DataFrame) -> str:
+    checks = claims["timestep_check"].astype(str)
+    unchecked = int((checks == "not checked").sum())
+    if WINDOW_COLUMN in claims.columns:
+        window = claims[WINDOW_COLUMN].astype(str)
+        window_text = (
+            f"{int((window == 'window-dependent').sum())} of them change verdict between the halves "
+            f"of the scoring window ({int((window == 'stationary').sum())} stationary)"
+        )
+    else:
+        window_text = "whether each verdict holds over both halves of the scoring window is not recorded"
+    return (
+        "These answers hold for one lumped model (rigid segments joined by axial springs, no bending), "
+        "for the behaviours and controller recorded here, and not beyond them; "
+        f"{unchecked} of the {len(claims)} claims were not rerun at a finer time step, and {window_text}."
+    )
+
+
+def design_answer(records: dict[str, pd.DataFrame], *, dominance: str = DEFAULT_DOMINANCE) -> str:
+    """What leg to build, in plain sentences generated from the records.
+
+    Three findings (comparisons against same-mass controls inside the
+    ±10 % margin; the crossed legs' modulus against density contrasts; on
+    the ramp, whether a gradient dominates the uniform leg of its mass),
+    then their limits. Every number in the text is read from `records`.
+
+    Args:
+        records: from :func:`read_records`.
+        dominance: the optimizer record's domination rule to read
+            (``margin``, the default, or ``significance``).
+
+    Returns:
+        The answer as one paragraph of plain text.
+    """
+    effects = paired_effects(records)
+    sentences = [
+        _same_mass_sentence(effects),
+        _crossed_sentence(records["crossed"]),
+        _ramp_sentence(records["optimizer"], dominance),
+        _limits_sentence(records["claims"]),
+    ]
+    return " ".join(s for s in sentences if s)
+
+
+def _draw_group(ax, rows: pd.DataFrame, y: np.ndarray, colour) -> None:
+    ax.hlines(y, rows["ci_low"], rows["ci_high"], colors=[colour], lw=1.2, gid="intervals")
+    ax.scatter(rows["pct_change"], y, s=9, color=colour, zorder=3)
+
+
+def forest_plot(records: dict[str, pd.DataFrame], ax=None, *, kinds=None):
+    """Every numeric paired effect as a horizontal 95 % interval around its
+    percent change, grouped by comparison kind, over a shaded ±10 %
+    equivalence band. The x axis is linear inside ±10 % and logarithmic
+    beyond (symlog), so that small and large effects both show.
+
+    Args:
+        records: from :func:`read_records`.
+        ax: a matplotlib Axes to draw on; None (the default) for a new
+            ``matplotlib.figure.Figure`` sized to the rows.
+        kinds: the groups of :func:`paired_effects` to draw, in that
+            order; None (the default) for every group.
+
+    Returns:
+        The Figure drawn on. Each group's intervals are one LineCollection
+        with gid ``intervals`` (one segment per effect); the band a patch
+        with gid ``margin-band``.
+
+    Raises:
+        ValueError: `kinds` names a group the records do not have.
+    """
+    import seaborn as sns
+
+    effects = paired_effects(records)
+    groups = list(dict.fromkeys(effects["group"])) if kinds is None else list(kinds)
+    unknown = [g for g in groups if g not in set(effects["group"])]
+    if unknown:
+        raise ValueError(
+            f"forest_plot: no effects of the kinds {unknown}; the records have {sorted(set(effects['group']))}"
+        )
+    colours = sns.color_palette("deep", len(groups))
+    n_rows = sum(int((effects["group"] == g).sum()) for g in groups)
+    with rc_context({**STYLE, "axes.grid.axis": "x"}):
+        fig = None
+        if ax is None:
+            fig = Figure(figsize=(7.5, 0.8 + 0.105 * (n_rows + 1.5 * len(groups))), layout="constrained")
+            ax = fig.add_subplot()
+        ax.axvspan(
+            -MARGIN_PCT, MARGIN_PCT, color="0.88", zorder=0, gid="margin-band", label=f"±{MARGIN_PCT:.0f} % margin"
+        )
+        ax.axvline(0, color="0.4", lw=0.7, zorder=1)
+        ticks, labels, y0 = [], [], 0.0
+        for g, colour in zip(groups, colours):
+            rows = effects[effects["group"] == g]
+            y = y0 + 1 + np.arange(len(rows))
+            ax.text(
+                0.005, y0, g, transform=ax.get_yaxis_transform(), ha="left", va="center", fontsize=7, fontweight="bold"
+            )
+            _draw_group(ax, rows, y, colour)
+            ticks += list(y)
+            labels += list(rows["label"])
+            y0 = y[-1] + 1.5
+        ax.set_xscale("symlog", linthresh=MARGIN_PCT, linscale=1.0)
+        ax.set_xticks([-100, -50, -10, 0, 10, 50, 100, 200], ["−100", "−50", "−10", "0", "+10", "+50", "+100", "+200"])
+        ax.set_xlim(-100, max(250.0, float(effects["ci_high"].max()) * 1.1))
+        ax.set_yticks(ticks, labels, fontsize=5.5)
+        ax.set_ylim(y0, -1)
+        ax.set_xlabel("change against the comparator, % (95 % paired t interval)")
+        ax.legend(loc="upper right", fontsize=7)
+    return fig if fig is not None else ax.figure

@@ -1,0 +1,115 @@
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # Findings
+#
+# **What leg should I build?** The paper's answer is a functional gradient:
+# hopping up a ramp, a leg whose density increases from hip to foot tracks
+# its path better, for less hip power, than a leg of stainless steel. This
+# page gives this book's answer first, and the chapters after it give the
+# evidence.
+#
+# The answer rests on the paper profile (60 s runs scored after 20 s, at
+# the authors' 1e-4 s time step, 10 paired replicate seeds per design).
+# Those runs take hours on a small machine, so their results are kept as
+# records in `book/records/`, each with the command, commit and machine
+# that made it (the folder's README). This page reads those records and
+# runs no simulation: every number below is read from them when the book
+# is built, none is typed into the text.
+
+# %%
+from mat_hopper import book
+from mat_hopper.viz import findings
+
+b = book.setup()
+records = findings.read_records(b.root / "book" / "records")
+print("records read from book/records/: " + ", ".join(findings.RECORD_FILES.values()))
+
+# %% [markdown]
+# ## The paper's claims, reproduced or not
+#
+# One row per quantitative claim of the paper: the paper's number, ours,
+# and the verdict by the rule stated in chapter 10 (holds, partly, does
+# not hold). The next two columns ask whether the effect is the material's:
+# against the **rigid twin** (the same segment masses without springs: what
+# the moduli add) and against the **mass-matched leg** (a homogeneous leg
+# of the same mass: what the gradient adds beyond the leg's mass), as
+# chapter 9c builds them. The last two are checks of the numerics: the
+# claim's runs rerun at a finer time step (chapter 11's robustness study,
+# not part of these records) and whether each run is stationary over its
+# scoring window, which the records do not carry yet.
+
+# %%
+book.show(findings.findings_table(records))
+
+# %% [markdown]
+# ## Every paired effect, against the ±10 % margin
+#
+# {numref}`fig-findings-forest` draws every numeric paired effect of the
+# records: a design against its comparator on the same replicate seeds,
+# its percent change (dot) and 95 % paired t interval (line). Inside the
+# shaded band (±10 %) a difference counts as none. The groups: the crossed
+# legs of chapter 9c (the modulus or the densities changed alone), the
+# stress study of chapter 8b (each gradient against its mass-matched leg
+# and titanium), and the optimizer's validated designs of chapter 9
+# against their controls (their 122 comparisons with the paper's designs
+# are in chapter 9).
+
+# %%
+from myst_nb import glue
+
+controls = [g for g in findings.paired_effects(records)["group"].unique() if g != "optimizer: vs paper designs"]
+glue("fig-findings-forest", findings.forest_plot(records, kinds=controls), display=False)
+
+# %% [markdown]
+# ```{glue:figure} fig-findings-forest
+# :name: fig-findings-forest
+# :alt: A forest plot: one horizontal interval per paired comparison of the recorded paper-profile results, grouped by comparison kind, over a shaded band from minus to plus ten percent; the modulus-only contrasts sit inside the band, the density contrasts far outside it.
+#
+# Every recorded paired effect of a design against a control (percent change,
+# 95 % paired t interval), grouped by comparison kind, on an axis linear
+# inside ±10 % (shaded: the equivalence margin) and logarithmic beyond.
+# ```
+
+# %% [markdown]
+# ## The answer
+#
+# Generated from the same records (`findings.design_answer`), with its
+# limits:
+
+# %%
+print(findings.design_answer(records))
+
+# %% [markdown]
+# Read plainly: in these records a leg's mass, and where along the leg it
+# sits, explains most of what the paper credits to the material. Changing
+# a metal leg's modulus alone changes nothing beyond the margin; the
+# springs themselves, against the rigid twin, differ beyond it in some
+# comparisons only (the table's "beyond the rigid twin" column). So choose
+# a leg by its mass and how the mass is distributed first, and its
+# material by what it must carry (chapter 8b). A graded leg is not a
+# better leg than the uniform leg of its mass: where one tracks better it
+# spends more hip power, where it spends less it tracks worse. These are
+# one lumped model's answers; the chapters say where they and the paper's
+# differ, and why.
+#
+# ## Where the evidence is
+#
+# - {doc}`09c-material-or-mass`: the controls (rigid twin, mass-matched and
+#   inertia-matched legs) and the crossed legs, the modulus and the
+#   densities changed one at a time;
+# - {doc}`09-optimizing-gradients`: the design study on the ramp, its front
+#   validated on fresh seeds against the paper's designs and the uniform
+#   legs of each design's mass;
+# - {doc}`10-reproduction-report`: every claim with its rule, where and why
+#   our numbers differ, the authors' code defects;
+# - {doc}`08b-gradients-stress`: the stress study behind the stress
+#   effects above;
+# - the records themselves, in `book/records/` (CSV files, with how each
+#   was made in the folder's README).

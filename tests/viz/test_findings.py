@@ -1,0 +1,144 @@
+"""The findings page from the recorded paper-profile results: its table
+follows the claims record, its answer and plot follow the numbers (a record
+changed changes the page), and a missing record says which."""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from mat_hopper import viz
+from mat_hopper.viz import findings
+
+RECORDS = Path(__file__).resolve().parents[2] / "book" / "records"
+
+
+@pytest.fixture(scope="module")
+def records():
+    return findings.read_records(RECORDS)
+
+
+@pytest.fixture
+def copied(tmp_path):
+    """A copy of the records folder, for editing."""
+    folder = tmp_path / "records"
+    shutil.copytree(RECORDS, folder)
+    return folder
+
+
+def test_the_package_hands_the_names_on():
+    assert viz.findings_table is findings.findings_table and viz.forest_plot is findings.forest_plot
+
+
+def test_one_row_per_claim_with_the_records_verdicts(records):
+    claims = pd.read_csv(RECORDS / "claims-paper.csv")
+    table = findings.findings_table(records)
+    assert list(table.columns) == list(findings.FINDINGS_COLUMNS)
+    assert len(table) == len(claims)
+    assert table["claim"].tolist() == claims["claim"].tolist()
+    assert table["verdict"].tolist() == claims["verdict"].tolist()
+    assert table["converged in time step"].tolist() == claims["timestep_check"].fillna("not recorded").tolist()
+    # the records carry no scoring-window check: the page says so, every row
+    assert (table["stable over the scoring window"] == findings.NOT_RECORDED).all()
+
+
+def test_rigid_twin_summary_counts_the_conclusions():
+    cell = (
+        "static SS +6.2 % [+2.0, +10.6] (difference, p_holm 0.023); forward SS -6.0 % [-7.7, -4.3] "
+        "(no difference, p_holm 0.0078) | hip: ramp SS +0.9 % [-0.0, +1.8] (not enough evidence, p_holm 0.3)"
+    )
+    assert findings.rigid_twin_summary(cell) == "differs in 1 of 3 (1 no difference, 1 not enough evidence)"
+    assert findings.rigid_twin_summary(float("nan")) == findings.NOT_COMPARED
+    assert findings.rigid_twin_summary("homogeneous: its own twin") == "homogeneous: its own twin"
+
+
+def test_a_changed_verdict_changes_the_table(copied):
+    claims = pd.read_csv(copied / "claims-paper.csv")
+    before = findings.findings_table(findings.read_records(copied))
+    i = int((claims["verdict"] == "holds").idxmax())
+    claims.loc[i, "verdict"] = "does not hold"
+    claims[findings.WINDOW_COLUMN] = "stationary"
+    claims.to_csv(copied / "claims-paper.csv", index=False)
+    after = findings.findings_table(findings.read_records(copied))
+    assert before.loc[i, "verdict"] == "holds" and after.loc[i, "verdict"] == "does not hold"
+    assert (after.drop(index=i)["verdict"] == before.drop(index=i)["verdict"]).all()
+    # a recorded window check is shown as recorded
+    assert (after["stable over the scoring window"] == "stationary").all()
+    answer = findings.design_answer(findings.read_records(copied))
+    assert f"0 of them change verdict between the halves of the scoring window ({len(claims)} stationary)" in answer
+
+
+def test_a_changed_effect_changes_the_answer(copied, records):
+    answer = findings.design_answer(records)
+    crossed = pd.read_csv(copied / "crossed-legs-paper.csv")
+    row = crossed.index[(crossed["metric"] == "tracking_error_m") & crossed["contrast"].str.startswith("modulus")][0]
+    old = f"{crossed.loc[row, 'pct_change']:+.1f} %"
+    assert old in answer
+    # the modulus alone now moves tracking error by 30 % [25, 35]: no longer equivalent
+    crossed.loc[row, ["pct_change", "ci_low", "ci_high", "p_holm"]] = [30.0, 25.0, 35.0, 0.002]
+    crossed.to_csv(copied / "crossed-legs-paper.csv", index=False)
+    changed = findings.design_answer(findings.read_records(copied))
+    assert "+30.0 % [+25.0, +35.0]" in changed and old not in changed.split("densities alone")[0]
+
+    def equivalent(text):
+        return int(re.search(r"(\d+) of (\d+) paired comparisons are equivalent", text).group(1))
+
+    assert equivalent(changed) == equivalent(answer) - 1
+
+
+def test_a_changed_dominance_changes_the_ramp_sentence(copied, records):
+    assert "none of the" in findings.design_answer(records)
+    opt = pd.read_csv(copied / "optimizer-paper.csv")
+    opt.loc[opt["dominance"] == "margin", "beats its mass-matched leg"] = "yes"
+    opt.to_csv(copied / "optimizer-paper.csv", index=False)
+    n = int((opt["dominance"] == "margin").sum())
+    assert f"{n} of the {n} validated gradients dominate" in findings.design_answer(findings.read_records(copied))
+
+
+def test_every_number_of_the_answer_is_in_the_records(records):
+    """No typed number: each number of the answer is a count or a value of the records."""
+    answer = findings.design_answer(records)
+    effects = findings.paired_effects(records)
+    values = {f"{v:+.1f}" for c in findings.EFFECT_COLUMNS for v in effects[c]}
+    for token in re.findall(r"[+-]\d+\.\d", answer):
+        assert token in values, token
+
+
+def test_forest_plot_one_interval_per_effect_and_the_band(records):
+    effects = findings.paired_effects(records)
+    fig = findings.forest_plot(records)
+    ax = fig.axes[0]
+    segments = [s for c in ax.collections if c.get_gid() == "intervals" for s in c.get_segments()]
+    assert len(segments) == len(effects)
+    drawn = sorted((round(s[0][0], 6), round(s[1][0], 6)) for s in segments)
+    assert drawn == sorted(zip(effects["ci_low"].round(6), effects["ci_high"].round(6)))
+    band = [p for p in ax.patches if p.get_gid() == "margin-band"]
+    assert len(band) == 1
+    x0, x1 = band[0].get_bbox().x0, band[0].get_bbox().x1  # data x, axes y (axvspan)
+    assert (x0, x1) == (pytest.approx(-10), pytest.approx(10))
+    # drawn on a given Axes, only the chosen kinds
+    from matplotlib.figure import Figure
+
+    ax = Figure().add_subplot()
+    findings.forest_plot(records, ax, kinds=["stress: vs mass-matched"])
+    segments = [s for c in ax.collections if c.get_gid() == "intervals" for s in c.get_segments()]
+    assert len(segments) == int((effects["group"] == "stress: vs mass-matched").sum())
+    with pytest.raises(ValueError, match="no effects of the kinds"):
+        findings.forest_plot(records, kinds=["nope"])
+
+
+def test_a_missing_record_is_named(copied):
+    (copied / "crossed-legs-paper.csv").unlink()
+    with pytest.raises(FileNotFoundError, match="crossed-legs-paper.csv"):
+        findings.read_records(copied)
+
+
+def test_a_missing_column_is_named(copied):
+    claims = pd.read_csv(copied / "claims-paper.csv").drop(columns=["verdict"])
+    claims.to_csv(copied / "claims-paper.csv", index=False)
+    with pytest.raises(ValueError, match="verdict"):
+        findings.read_records(copied)
