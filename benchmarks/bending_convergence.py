@@ -11,7 +11,7 @@ mode near the 10 kHz control rate aliases into the hips' flight PD and the
 run diverges in its first 20 ms (PVC x100, 400 GPa).
 
     python benchmarks/bending_convergence.py [--materials PVC,Al] [--scales 1,10,100]
-        [--seconds 30] [--csv out.csv]
+        [--seconds 30] [--damping authors|loss-factor] [--csv out.csv]
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ import time
 import pandas as pd
 
 from mat_hopper.core.control_legs import rigid_twin
+from mat_hopper.core.damping import DAMPINGS
 from mat_hopper.core.materials import CATALOGUE, LegDesign
 from mat_hopper.core.ranges import MODULUS_RANGE_GPA
 from mat_hopper.core.sim import simulate
@@ -31,7 +32,7 @@ from mat_hopper.physics.metrics import run_summary
 METRICS = ("mean_tracking_error_m", "mean_power_w", "mean_power_total_w")
 
 
-def _run(design, seconds, substeps, dt):
+def _run(design, seconds, substeps, dt, damping):
     t0 = time.perf_counter()
     r = simulate(
         design,
@@ -42,6 +43,7 @@ def _run(design, seconds, substeps, dt):
         substeps=substeps,
         convention="bending",
         contact="stiff",
+        damping=damping,
         warn=False,
     )
     s = run_summary(r)
@@ -51,7 +53,7 @@ def _run(design, seconds, substeps, dt):
     return out
 
 
-def convergence_rows(material: str, scales, seconds: float) -> list[dict]:
+def convergence_rows(material: str, scales, seconds: float, damping: str = "authors") -> list[dict]:
     """One row per modulus scale: the bending leg and its rigid twin at
     the bending leg's automatic step and control period, and their
     percent differences."""
@@ -61,8 +63,9 @@ def convergence_rows(material: str, scales, seconds: float) -> list[dict]:
         modulus = min(mat.modulus_gpa * scale, MODULUS_RANGE_GPA[1])
         leg = LegDesign.from_properties([mat.density_g_cm3] * 3, [modulus] * 3)
         substeps, dt = auto_timestep(leg, "bending", contact="stiff")
-        bend, rigid = _run(leg, seconds, substeps, dt), _run(rigid_twin(leg), seconds, substeps, dt)
-        row = {"material": mat.name, "scale": scale, "modulus_gpa": modulus, "substeps": substeps}
+        bend = _run(leg, seconds, substeps, dt, damping)
+        rigid = _run(rigid_twin(leg), seconds, substeps, dt, damping)
+        row = {"material": mat.name, "scale": scale, "modulus_gpa": modulus, "damping": damping, "substeps": substeps}
         row.update(timestep_s=dt, control_period_s=substeps * dt)
         row.update({f"{k}": v for k, v in bend.items()})
         row.update({f"rigid_{k}": v for k, v in rigid.items()})
@@ -78,12 +81,15 @@ def main() -> None:
     ap.add_argument("--materials", default="PVC,Al")
     ap.add_argument("--scales", default="1,10,100")
     ap.add_argument("--seconds", type=float, default=30.0)
+    ap.add_argument("--damping", default="authors", choices=DAMPINGS)
     ap.add_argument("--csv")
     args = ap.parse_args()
     scales = [float(s) for s in args.scales.split(",")]
-    rows = [r for m in args.materials.split(",") for r in convergence_rows(m.strip(), scales, args.seconds)]
+    rows = [
+        r for m in args.materials.split(",") for r in convergence_rows(m.strip(), scales, args.seconds, args.damping)
+    ]
     table = pd.DataFrame(rows)
-    cols = ["material", "scale", "modulus_gpa", "control_period_s", "stable", "fell_at_s"]
+    cols = ["material", "scale", "modulus_gpa", "control_period_s", "stable", "fell_at_s", "touch_toggles_per_switch"]
     cols += [c for c in table.columns if c.endswith("_vs_rigid_pct")]
     print(table[cols].to_string(index=False))
     if args.csv:

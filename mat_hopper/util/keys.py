@@ -76,6 +76,7 @@ RESULT_MODULES = (
     "physics/jerk",
     "core/lumped",
     "core/stable_step",
+    "core/flight_loop",
     "physics/modes",
     "physics/stability",
     "util/keys",
