@@ -36,8 +36,7 @@ MIN_FIGURES = {
     "08-gradients": 4,  # gradients, time series, gait tiles forward and ramp
     "08b-gradients-stress": 1,  # peak stress along the leg
     "09-optimizing-gradients": 3,  # the Pareto front, the hypervolume, the surviving legs
-    "09b-control-vs-material": 1,  # materials at the authors' gains and at their own
-    "09c-material-or-mass": 4,  # effects against the controls, push scale, R² of the attribution, jerk sensitivity
+    "09c-material-or-mass": 5,  # effects against the controls, push scale, R² of the attribution, jerk sensitivity, tuned gains
     "10-reproduction-report": 1,  # a defect measured
     "11-robustness": 1,  # keeps / moves / flips at a glance
     "12-convergence": 1,  # hopping metrics against N

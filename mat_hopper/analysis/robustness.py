@@ -42,7 +42,8 @@ import pandas as pd
 
 from ..core import reference as ref
 from ..core.behaviours import BEHAVIOUR_NAMES
-from ..core.controller import SensorTiming
+from ..core.contact import DEFAULT_CONTACT, check_contact
+from ..core.controller import DEFAULT_APEX_REFERENCE, SensorTiming, check_apex_reference
 from ..core.materials import MONO_NAMES, check_convention
 from ..core.timestep import FINE_SUBSTEPS, FINE_TIMESTEP_S
 from ..util.change import percent_change
@@ -141,7 +142,9 @@ FINE_PHYSICS = "2e-5 s physics"  # the variant the claims table's time-step chec
 class Variant:
     """One setting of the study: label, stiffness convention, sensor timing,
     physics step (s; None: the profile's) and substeps per control period,
-    and perturbed replicate seed (None: unperturbed).
+    perturbed replicate seed (None: unperturbed), contact
+    (:mod:`mat_hopper.core.contact`) and apex reference
+    (:data:`mat_hopper.core.controller.APEX_REFERENCES`).
 
     The convention (any case) is stored as spelled in
     :data:`mat_hopper.core.materials.CONVENTIONS` and the sensor timing (a name,
@@ -155,10 +158,14 @@ class Variant:
     replicate: int | None = None
     timestep_s: float | None = None
     substeps: int = 1
+    contact: str = DEFAULT_CONTACT
+    apex_reference: str = DEFAULT_APEX_REFERENCE
 
     def __post_init__(self):
         object.__setattr__(self, "convention", check_convention(self.convention))
         object.__setattr__(self, "sensor_timing", SensorTiming(self.sensor_timing).name)
+        object.__setattr__(self, "contact", check_contact(self.contact))
+        object.__setattr__(self, "apex_reference", check_apex_reference(self.apex_reference))
 
     @property
     def kind(self) -> str:
@@ -166,6 +173,10 @@ class Variant:
             return "replicate"
         if self.timestep_s is not None:
             return "time step"
+        if self.contact != DEFAULT_CONTACT:
+            return "contact"
+        if self.apex_reference != DEFAULT_APEX_REFERENCE:
+            return "apex reference"
         return "convention" if self.convention != "paper" else "sensor latency"
 
 
@@ -173,11 +184,17 @@ DEFAULT = Variant("authors")
 
 
 def variants(
-    latencies=DEFAULT_LATENCIES, conventions=("paper", "axial"), replicates: int = 3, timesteps: bool = True
+    latencies=DEFAULT_LATENCIES,
+    conventions=("paper", "axial"),
+    replicates: int = 3,
+    timesteps: bool = True,
+    contacts=("stiff",),
+    apex_references=("ground",),
 ) -> list[Variant]:
     """The study's variants, the default first: one per sensor latency
     (paper convention), one per other convention (authors' timing, axial
     runs with auto substeps), the two time-step variants (module doc), one
+    per other contact and apex reference (the default's otherwise), one
     per replicate seed 0 .. replicates - 1 (default settings, perturbed).
 
     Args:
@@ -188,14 +205,17 @@ def variants(
             repeated.
         replicates: the number of perturbed replicate seeds.
         timesteps: whether to add the two time-step variants (``2e-5 s physics``, ``2e-5 s step``).
+        contacts: contacts (:data:`mat_hopper.core.contact.CONTACTS`), each a variant ``<name> contact``;
+            the default's (``authors``) is not repeated.
+        apex_references: apex references, each a variant ``apex above <name>``; ``world`` is not repeated.
 
     Returns:
-        list[Variant]: :data:`DEFAULT` first, then the latency, convention, time-step and replicate
-        variants in that order.
+        list[Variant]: :data:`DEFAULT` first, then the latency, convention, time-step, contact, apex
+        reference and replicate variants in that order.
 
     Raises:
         ValueError: a latency outside [0, 1000] physics steps (:class:`mat_hopper.core.controller.SensorTiming`),
-            or an unknown convention.
+            or an unknown convention, contact or apex reference.
     """
     out = [DEFAULT]
     for lat in latencies:
@@ -216,6 +236,14 @@ def variants(
             )
         )
         out.append(Variant("2e-5 s step", timestep_s=FINE_TIMESTEP_S))
+    for contact in contacts:
+        contact = check_contact(contact)
+        if contact != DEFAULT_CONTACT:
+            out.append(Variant(f"{contact} contact", contact=contact))
+    for apex in apex_references:
+        apex = check_apex_reference(apex)
+        if apex != DEFAULT_APEX_REFERENCE:
+            out.append(Variant(f"apex above {apex}", apex_reference=apex))
     for seed in range(int(replicates)):
         out.append(Variant(f"replicate {seed}", replicate=seed))
     return out

@@ -70,6 +70,8 @@ def tasks(profile, variant_list=None) -> list:
             settings = prof.sim_settings(pert, design=design)
             if v.timestep_s is not None:
                 settings = replace(settings, timestep_s=v.timestep_s, substeps=v.substeps)
+            if (v.contact, v.apex_reference) != (settings.contact, settings.apex_reference):
+                settings = replace(settings, contact=v.contact, apex_reference=v.apex_reference)
             labels = {
                 "study": "robustness",
                 "profile": profile.name,
@@ -87,8 +89,9 @@ def tasks(profile, variant_list=None) -> list:
 
 def batch_variants(variant_list=None) -> list[Variant]:
     """The variants a batch backend (:mod:`mat_hopper.batch`) runs: those
-    with no perturbation, no physics substeps and the paper convention
-    (its axial runs need substeps): the sensor latencies and the plain
+    with no perturbation, no physics substeps, the paper convention (its
+    axial runs need substeps), and the default contact and apex reference
+    (the batch model takes neither): the sensor latencies and the plain
     ``2e-5 s step``. The default comes first, as in :func:`variants`.
     variant_list: None for :func:`variants`; raises ValueError for an entry
     that is not a :class:`Variant`.
@@ -99,7 +102,7 @@ def batch_variants(variant_list=None) -> list[Variant]:
 
     Returns:
         list of the given variants, in their order, that have no replicate,
-        one substep and the default (``paper``) convention.
+        one substep, the default (``paper``) convention, contact and apex reference.
 
     Raises:
         ValueError: an entry that is not a :class:`Variant`.
@@ -108,7 +111,14 @@ def batch_variants(variant_list=None) -> list[Variant]:
     bad = [v for v in given if not isinstance(v, Variant)]
     if bad:
         raise ValueError(f"variants must be Variant objects (robustness.variants()), got {bad[0]!r}")
-    return [v for v in given if v.replicate is None and v.substeps == 1 and v.convention == DEFAULT.convention]
+    return [
+        v
+        for v in given
+        if v.replicate is None
+        and v.substeps == 1
+        and v.convention == DEFAULT.convention
+        and (v.contact, v.apex_reference) == (DEFAULT.contact, DEFAULT.apex_reference)
+    ]
 
 
 def batch_runs(

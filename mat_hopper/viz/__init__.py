@@ -25,6 +25,7 @@ _FINDINGS = (
     "paired_effects",
     "design_answer",
     "forest_plot",
+    "beside_record",
 )
 
 

@@ -380,7 +380,7 @@ def leg_mass_figure(table: pd.DataFrame, md_tracking_m: float | None = None):
 
 
 def codesign_figure(hops: pd.DataFrame, designs, default: str, tuned: str, *, title: str = ""):
-    """Chapter 9b: each material's replicate mean of tracking error (mm)
+    """Chapter 9c (gains tuned per material): each material's replicate mean of tracking error (mm)
     against hip power (W), at the authors' gains (open circle, experiment
     ``default``) and at its own tuned gains (filled, experiment ``tuned``),
     an arrow from one to the other.

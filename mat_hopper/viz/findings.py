@@ -424,3 +424,49 @@ def forest_plot(records: dict[str, pd.DataFrame], ax=None, *, kinds=None):
         ax.set_xlabel("change against the comparator, % (95 % paired t interval)")
         ax.legend(loc="upper right", fontsize=7)
     return fig if fig is not None else ax.figure
+
+
+RECORDED = "recorded, paper profile"  # the suffix of a recorded column beside this build's
+
+
+def beside_record(built: pd.DataFrame, recorded: pd.DataFrame, key, columns) -> pd.DataFrame:
+    """This build's verdicts beside the recorded paper-profile ones.
+
+    A quick build's 2 seeds cannot reach a paired verdict ("untestable");
+    the paper profile's 10 seeds can, and its results are kept in
+    ``book/records/``. So every row of this build is shown with the
+    recorded values of the same row, labelled as recorded (the records'
+    README names the commit and machine that made them).
+
+    Args:
+        built: this build's table (e.g. :func:`mat_hopper.analysis.claims.claims_table`'s rows of one convention).
+        recorded: the recorded table of the same rows (e.g. ``read_records(...)["claims"]``).
+        key: the column (or list of columns) that identifies a row in both.
+        columns: the columns to set side by side; each recorded one is named
+            ``"<column> (recorded, paper profile)"``.
+
+    Returns:
+        A DataFrame: the key columns, then for each of `columns` this build's
+        value and the recorded one ("not recorded" where the records lack the
+        row or the column).
+
+    Raises:
+        ValueError: a key or column missing from `built`, or a key missing from `recorded`.
+    """
+    keys = [key] if isinstance(key, str) else list(key)
+    columns = list(columns)
+    missing = [c for c in keys + columns if c not in built.columns]
+    if missing:
+        raise ValueError(f"beside_record: this build's table has no column {missing}")
+    if any(k not in recorded.columns for k in keys):
+        raise ValueError(
+            f"beside_record: the recorded table has no key column {[k for k in keys if k not in recorded.columns]}"
+        )
+    rec = recorded[keys + [c for c in columns if c in recorded.columns]].drop_duplicates(keys)
+    rec = rec.rename(columns={c: f"{c} ({RECORDED})" for c in columns})
+    out = built[keys + columns].merge(rec, on=keys, how="left")
+    order = keys + [x for c in columns for x in (c, f"{c} ({RECORDED})")]
+    for c in order:
+        if c not in out.columns:
+            out[c] = NOT_RECORDED
+    return out[order].fillna({f"{c} ({RECORDED})": NOT_RECORDED for c in columns})

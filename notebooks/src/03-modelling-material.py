@@ -318,6 +318,7 @@ print(f"controller limit c(1) I / c: {steps['controller_timestep_s'].min():.1e} 
 # roughly the square root of that: the metals then need steps well below
 # 1e-4 s, and the paper's time step makes them diverge.
 #
-# Everything in chapters 5 to 9 uses the `paper` convention, as the
-# paper's results do. Chapter 10 measures what the `axial` convention
-# changes, at a time step where it is stable.
+# The experiments of chapters 5 to 9 use the `paper` convention, as the
+# paper's results do, except chapter 8b's stress study, which needs legs
+# that bend (`bending`, `axial+bending`). Chapter 10 measures what the
+# `axial` convention changes, at a time step where it is stable.

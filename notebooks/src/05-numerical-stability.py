@@ -97,7 +97,8 @@ book.show(tab.claims_for(tables, "stability"))
 
 # %% [markdown]
 # The verdicts follow the rules of `mat_hopper/analysis/claims.py` (chapter 10
-# lists them). A time step is only "about" right within half a decade; the
+# lists them). A time step is only "about" right within 0.3 decade (a
+# factor of 2, the rule's `TIMESTEP_TOL_DECADES`); the
 # trend holds when a plane fitted to log Δt over log ρ and log E has a
 # positive density slope, a negative modulus slope and R² ≥ 0.8.
 #

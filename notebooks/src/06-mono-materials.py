@@ -17,7 +17,10 @@
 # is scored per {term}`hop cycle` after the {term}`transient`, and each material is
 # compared with MD on the same behaviour: a two-sided Mann-Whitney U test
 # over hop cycles, Holm-corrected over the experiment's comparisons, as
-# the paper does (a star marks p < 0.05).
+# the paper does (a star marks p < 0.05). The hop cycles of one run are
+# not independent, so these stars are **descriptive**: they draw the
+# paper's figure, they are not verdicts. The verdicts come from paired
+# replicate seeds (chapters 9c and 10).
 
 # %%
 from IPython.display import display

@@ -276,9 +276,11 @@ book.show(tab.claims_for(tables, "gradients"))
 # The paper draws one more conclusion from this experiment: ρ-inc and
 # ρ-dec differ, and so do PVC-Ti-SS and SS-Ti-PVC, although each pair has
 # the same materials in the same amounts. The order matters, so the leg
-# does not act like one bulk material of averaged properties. Whether the
-# difference is significant in our runs (percent change of the second
-# design's mean against the first's; a star: Holm p < 0.05 on hop cycles):
+# does not act like one bulk material of averaged properties. The
+# difference in our runs (percent change of the second design's mean
+# against the first's; a star: Holm p < 0.05 on the hop cycles of one run
+# each, a **description**, not a test: the cycles of one run are not
+# independent; the paired verdicts are chapter 10's):
 
 # %%
 book.show(tab.starred(tab.order_effect(hops)), index=True)

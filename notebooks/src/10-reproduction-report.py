@@ -51,6 +51,21 @@ print(
 book.show(claims[["claim", "convention", "paper", "ours", "verdict", "beyond_mass", "basis", "n_replicates"]])
 
 # %% [markdown]
+# A build with few seeds cannot reach a paired verdict ("untestable"
+# below 6 paired seeds for a single comparison). The paper profile's
+# verdicts, recorded in `book/records/claims-paper.csv` (its README names
+# the commit and the machine), stand beside this build's, labelled as
+# recorded:
+
+# %%
+from mat_hopper.viz import findings
+
+recorded = findings.read_records(b.root / "book" / "records")["claims"]
+book.show(
+    findings.beside_record(claims.query("convention == 'paper'"), recorded, "claim_id", ["verdict", "beyond_mass"])
+)
+
+# %% [markdown]
 # How small a p-value the replicates can give. Every design runs the same
 # replicate seeds, so the comparisons are paired: a paired t test on the
 # per-seed log ratios, and a verdict is given only where an exact,
@@ -104,7 +119,7 @@ book.show(claims[["claim", "detail"]])
 # ## Where and why our numbers differ
 #
 # We rebuilt the authors' model and controller from their published code
-# (`shared/spec/reference-hopper.md` lists every number), so differences
+# (`docs/reference-hopper.md` lists every number with its source), so differences
 # do not come from guessing the model. They come from the protocol, from
 # defects of the authors' code that we do not copy, and from the profile
 # of this build:

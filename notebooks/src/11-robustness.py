@@ -35,6 +35,14 @@
 #   integration converge? And the authors' loop run plainly at 2e-5 s, which
 #   also makes the controller five times faster and its sensor delay five
 #   times shorter: what a user of their code gets by refining the step.
+# - **The contact.** MuJoCo's default soft contact (`authors`, a 0.02 s
+#   time constant: the foot sinks 16-25 mm) against a stiff one (`stiff`,
+#   1 ms, about 1 mm; `mat_hopper.core.contact`).
+# - **What the apex is measured from.** The authors' controller regulates
+#   the apex in world z (`world`), so on the ramp the height above the
+#   ground shrinks as the hopper climbs and the gait never settles; the
+#   `ground` reference measures it above the terrain under the foot at
+#   lift-off. The ramp claims are thus reported under both references.
 # - **Perturbed replicates** of the default: a few millimetres of start
 #   offset, half a degree of tilt, a 5 N push and sensor noise, seeded.
 #

@@ -1,6 +1,8 @@
 """The robustness study on a batch backend (experiments.robustness.batch_runs)
 against the same study through the runner's per-hop tables."""
 
+from dataclasses import replace
+
 import pandas as pd
 import pytest
 
@@ -73,9 +75,30 @@ def test_variants_store_canonical_names():
     v = R.Variant("axial", convention="Axial", sensor_timing="FRESH")
     assert (v.convention, v.sensor_timing) == ("axial", "fresh")
     assert R.Variant("paper", convention="PAPER") in study.batch_variants([R.Variant("paper", convention="PAPER")])
-    assert [v.convention for v in R.variants(conventions=("Axial",), latencies=(), timesteps=False, replicates=0)] == [
+    only = dict(latencies=(), timesteps=False, replicates=0, contacts=(), apex_references=())
+    assert [v.convention for v in R.variants(conventions=("Axial",), **only)] == [
         "paper",
         "axial",
     ]
     with pytest.raises(ValueError, match="unknown stiffness convention"):
         R.Variant("x", convention="radial")
+
+
+def test_contact_and_apex_variants_change_only_their_setting():
+    """The stiff contact and the apex above the ground are variants of
+    their own: each run differs from the default's in that setting alone
+    (so its key differs), and no batch backend runs them."""
+    vs = R.variants(latencies=(), conventions=(), timesteps=False, replicates=0, contacts=("Stiff",))
+    assert [(v.label, v.kind) for v in vs] == [
+        ("authors", "sensor latency"),
+        ("stiff contact", "contact"),
+        ("apex above ground", "apex reference"),
+    ]
+    base, stiff, ground = (study.tasks("quick", [v]) for v in vs)
+    for default, other, field in ((base, stiff, "contact"), (base, ground, "apex_reference")):
+        for a, b in zip(default, other):
+            assert getattr(b.settings, field) != getattr(a.settings, field) and a.key() != b.key()
+            assert replace(b.settings, **{field: getattr(a.settings, field)}) == a.settings
+    assert study.batch_variants(vs) == [R.DEFAULT]
+    with pytest.raises(ValueError, match="contact"):
+        R.Variant("x", contact="glue")

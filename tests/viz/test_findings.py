@@ -142,3 +142,24 @@ def test_a_missing_column_is_named(copied):
     claims.to_csv(copied / "claims-paper.csv", index=False)
     with pytest.raises(ValueError, match="verdict"):
         findings.read_records(copied)
+
+
+def test_beside_record_sets_the_recorded_verdict_beside_the_builds():
+    from mat_hopper.viz.findings import NOT_RECORDED, beside_record
+
+    built = pd.DataFrame({"claim_id": ["a", "b"], "verdict": ["untestable", "holds"], "x": [1, 2]})
+    rec = pd.DataFrame({"claim_id": ["a"], "verdict": ["partly"]})
+    out = beside_record(built, rec, "claim_id", ["verdict", "x"])
+    assert list(out.columns) == [
+        "claim_id",
+        "verdict",
+        "verdict (recorded, paper profile)",
+        "x",
+        "x (recorded, paper profile)",
+    ]
+    assert out["verdict (recorded, paper profile)"].tolist() == ["partly", NOT_RECORDED]
+    assert (out["x (recorded, paper profile)"] == NOT_RECORDED).all()
+    with pytest.raises(ValueError, match="no column"):
+        beside_record(built, rec, "claim_id", ["nope"])
+    with pytest.raises(ValueError, match="key column"):
+        beside_record(built, rec.rename(columns={"claim_id": "id"}), "claim_id", ["verdict"])
