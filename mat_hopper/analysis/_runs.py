@@ -70,12 +70,21 @@ def seconds(x: float) -> str:
     return f"{mant}e{int(exp)}"
 
 
+def _fell_at(runs: pd.DataFrame, i) -> float | None:
+    """The run's fall time (s) from a ``fell_at_s`` column, or None."""
+    if "fell_at_s" not in runs.columns:
+        return None
+    v = runs.at[i, "fell_at_s"]
+    return float(v) if v is not None and pd.notna(v) else None
+
+
 def unusable_runs(runs: pd.DataFrame | None, timestep_s: float | None = None) -> pd.DataFrame:
     """The runs of a run-summary table that diverged numerically, fell over
     (not upright at the end) or failed, with a reason in ``why`` ("unstable
-    at dt=1e-4 s, diverged at t=2.5e-3 s", "fell over", "failed"). Uses the
-    columns status, stable, upright, diverged_at_s and timestep_s where
-    present (else the `timestep_s` argument, s).
+    at dt=1e-4 s, diverged at t=2.5e-3 s", "fell at t=9.39 s, then unstable
+    ...", "fell over at t=9.39 s", "failed"). Uses the columns status,
+    stable, upright, diverged_at_s, fell_at_s and timestep_s where present
+    (else the `timestep_s` argument, s).
 
     Args:
         runs: a run-summary table (one row per run), or None.
@@ -109,8 +118,11 @@ def unusable_runs(runs: pd.DataFrame | None, timestep_s: float | None = None) ->
         text = "unstable" + (f" at dt={seconds(float(dt))} s" if dt is not None and np.isfinite(float(dt)) else "")
         if at is not None and pd.notna(at):
             text += f", diverged at t={seconds(float(at))} s"
-        why[i] = text
-    why[fallen] = "fell over"
+        fell = _fell_at(runs, i)
+        why[i] = text if fell is None else f"fell at t={seconds(fell)} s, then {text}"
+    for i in runs.index[fallen]:
+        fell = _fell_at(runs, i)
+        why[i] = "fell over" + ("" if fell is None else f" at t={seconds(fell)} s")
     why[failed] = "failed"
     bad = runs[diverged | fallen | failed].assign(why=why[diverged | fallen | failed])
     for c in cols:

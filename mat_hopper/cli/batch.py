@@ -197,7 +197,7 @@ def run_batch(args) -> int:
         f"{settings.sensor_timing}, backend {args.backend}{where}"
     )
     shown = out[list(RESULT_COLUMNS)]
-    note = _diverged_note(table, auto)
+    note = _diverged_note(table, auto, designs, per_design, args.backend)
     _report(out, args.csv, note, shown=shown)
     return 1 if note else 0  # any run that diverged: exit 1 (the rule of every command)
 
@@ -234,18 +234,30 @@ def _warn_stable_step(designs, per_design) -> None:
     print(f"mat-hopper batch: warning: {line}", file=sys.stderr, flush=True)
 
 
-def _diverged_note(table, auto: bool) -> str:
-    """The line on the designs that diverged (when, and what to try), or ""."""
+def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = "mujoco") -> str:
+    """The line on the designs that diverged (when, and what to try), or "".
+    --timestep auto is advised only where it would change a diverged
+    design's step (:func:`mat_hopper.core.timestep.auto_suggestion`; a leg
+    that falls before it diverges may already run at its automatic step)
+    and only for the backend that takes it (mujoco)."""
+    from ..core.timestep import CLI_AUTO_HINT, auto_suggestion
+
     bad = table[~table["stable"]]
     if not len(bad):
         return ""
     at = ", ".join(f"{r.design} at t = {r.diverged_at_s:.4f} s" for r in bad.head(5).itertuples())
     more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
-    fix = (
-        "already at --timestep auto: `mat-hopper simulate --design D --timestep auto` says why"
-        if auto
-        else "try --timestep auto (each design its own physics substeps); `mat-hopper simulate --design D` says why"
-    )
+    why = "`mat-hopper simulate --design D` says why"
+    by_name = {d.name: (d, st) for d, st in zip(designs, per_design)}
+    helps = any(auto_suggestion(*by_name[n], CLI_AUTO_HINT) for n in bad["design"] if n in by_name)
+    if auto:
+        fix = "already at --timestep auto: `mat-hopper simulate --design D --timestep auto` says why"
+    elif backend != "mujoco":
+        fix = f"--timestep auto is for --backend mujoco (each design its own physics substeps); {why}"
+    elif helps or not by_name:
+        fix = f"try --timestep auto (each design its own physics substeps); {why}"
+    else:
+        fix = f"--timestep auto would not change their step; {why}"
     return f"{len(bad)} of {_count(len(table), 'design')} diverged ({at}{more}); {fix}"
 
 

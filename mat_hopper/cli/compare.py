@@ -12,11 +12,13 @@ and pool; the table is the book's paired comparison
 from __future__ import annotations
 
 import math
+import sys
 
+from ..core.timestep import CLI_AUTO_HINT, check_stable_step
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ._checks import named_by_flags
 from ._options import DURATION_HELP, TRANSIENT_HELP, add_force, add_no_progress, add_profile, check_force_used
-from .simulate import _timestep, add_sim_arguments, design_from_args
+from .simulate import EXIT_STATUS, _timestep, add_sim_arguments, design_from_args
 
 HELP = "compare a design with baselines and its own controls, paired on shared seeds at one time step"
 # The API's argument names and the options that set them, for its messages.
@@ -92,6 +94,17 @@ def _few_seeds_note(table) -> str | None:
     )
 
 
+def _auto_would_change(plan, left_out) -> bool:
+    """Whether --timestep auto would change the step of a leg that diverged
+    (a leg whose automatic step is the one it ran at, e.g. one that fell
+    first, gets no such advice)."""
+    from ..core.timestep import auto_suggestion
+
+    legs = {leg.name: leg.design for leg in (plan.design, *plan.comparators)}
+    diverged = [legs[e["leg"]] for e in left_out if "unstable" in e["why"] and e["leg"] in legs]
+    return any(auto_suggestion(d, plan.settings[0], CLI_AUTO_HINT) for d in diverged)
+
+
 def _plan(args):
     """The checked plan (every input, before any work)."""
     from ..core.control_legs import CONTROLS
@@ -131,6 +144,10 @@ def cmd_compare(args) -> int:
     cache, _ = cache_folder(args.cache)
     plan = _plan(args)
     print(_header(plan, auto=plan.finest is not None))
+    for leg in (plan.design, *plan.comparators):  # before any run, as every command, naming the leg
+        note = check_stable_step(leg.design, plan.settings[0], auto_hint=CLI_AUTO_HINT)
+        if note:
+            print(f"mat-hopper compare: warning: {leg.name} ({leg.role}): {note}", file=sys.stderr, flush=True)
     with nothing_left_behind(cache):
         table = run_plan(plan, cache_dir=cache, workers=args.workers, progress=not args.no_progress)
     runs = f"{len(plan.tasks)} runs ({table.attrs['n_cached']} from the cache, {table.attrs['n_computed']} computed)"
@@ -148,11 +165,12 @@ def cmd_compare(args) -> int:
         print(f"{runs}; nothing to compare: no comparator has a usable run at a seed where the design has one")
     for line in _left_out_lines(table.attrs["left_out"]):
         print(line)
-    if plan.finest is None and any(e["why"].startswith("unstable") for e in table.attrs["left_out"]):
+    if plan.finest is None and _auto_would_change(plan, table.attrs["left_out"]):
         print("(a leg diverged at a fixed step: try --timestep auto, the finest automatic step, for every leg)")
     if args.csv:
         print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")
-    return 0 if len(table) else 1
+    diverged = [e["leg"] for e in table.attrs["left_out"] if "unstable" in e["why"]]
+    return 0 if len(table) and not diverged else 1  # EXIT_STATUS: any run asked for diverged
 
 
 def register_cli(sub) -> None:
@@ -162,7 +180,8 @@ def register_cli(sub) -> None:
         description="Run a design, baseline legs and the design's controls (rigid twin, mass-matched, "
         "inertia-matched) on one behaviour, at one time step and on the same seeds, and print the paired % "
         "difference of the design against each, with interval and verdict (the book's paired rules). Runs are "
-        "cached: a second call is instant.",
+        "cached: a second call is instant. A leg whose step is above its analytic stable step is warned of "
+        f"before any run. {EXIT_STATUS} A diverged leg is left out of the table and named.",
     )
     add_sim_arguments(p)
     p.add_argument(

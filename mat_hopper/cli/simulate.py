@@ -281,10 +281,13 @@ def run_with_progress(design, beh, settings, *, progress: bool, record_qpos: boo
     ) as bar:
         while not runner.done:
             runner.advance(chunk)
-            bar.update(runner.step * settings.timestep_s - bar.n)
-        if isinstance(bar, StageLines) and runner.step * settings.timestep_s < settings.duration_s - 1e-9:
-            bar.close(stopped=True)  # cut short by a divergence: "stopped", not "done"
-    return runner.result()
+            bar.update(min(runner.step * settings.timestep_s, settings.duration_s) - bar.n)
+        result = runner.result()
+        if result.diverged:  # cut short: "stopped" at the divergence, not "done" nor a chunk's end
+            bar.update(result.diverged_at_s - bar.n)
+            if isinstance(bar, StageLines):
+                bar.close(stopped=True)
+    return result
 
 
 def stable_step_warning(command: str, design, settings) -> str | None:

@@ -300,7 +300,11 @@ def check_transient_within(rollout: Rollout, transient_s) -> float | None:
 
 
 def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray:
-    """The scored hop cycles of a rollout, lift-off to lift-off.
+    """The scored hop cycles of a rollout, lift-off to lift-off: those
+    starting at or after the transient and, where the hopper fell
+    (:attr:`Rollout.fell_at_s`), ending before the fall: a cycle the fall
+    cuts through is a tumble, not a hop (its "power" reaches 1e5-1e6 W).
+    A diverged run's records stop at the divergence, so its cycles do too.
 
     Args:
         rollout: a :class:`Rollout`.
@@ -322,7 +326,9 @@ def hop_cycles(rollout: Rollout, transient_s: float | None = None) -> np.ndarray
     if len(lo) < 2:
         return np.zeros((0, 2))
     cyc = np.column_stack([lo[:-1], lo[1:]])
-    return cyc[cyc[:, 0] >= transient]
+    cyc = cyc[cyc[:, 0] >= transient]
+    fell = rollout.fell_at_s
+    return cyc if fell is None else cyc[cyc[:, 1] <= fell]
 
 
 def divergence_reason(rollout: Rollout, model, data) -> str | None:

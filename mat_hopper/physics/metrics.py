@@ -283,6 +283,7 @@ def run_summary(rollout: Rollout, transient_s: float | None = None, *, hops: pd.
         "segment_mass": rollout.settings.segment_mass,
         "stable": rollout.stable,
         "diverged_at_s": rollout.diverged_at_s,
+        "fell_at_s": rollout.fell_at_s,
         "n_hops": len(hops),
         "total_mass_kg": rollout.total_mass_kg,
         **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),

@@ -49,3 +49,17 @@ def test_csv_writes_the_paired_table_and_two_seeds_are_untestable(tmp_path, caps
     # a second call: every run from the cache
     assert main([*argv[:-3], "--no-progress"]) == 0
     assert "4 runs (4 from the cache, 0 computed)" in capsys.readouterr().out
+
+
+def test_a_diverging_comparator_is_warned_of_before_and_exits_1(tmp_path, capsys):
+    """CFRP's paper springs diverge at the 1e-4 s step: compare names it
+    on stderr before any run, leaves it out with why, and exits 1 (a run
+    asked for diverged), though the other comparator's table is printed."""
+    argv = ["compare", "--design", "SS", "--baseline", "CFRP,Ti", "--controls", "none", *SHORT, "--replicates", "2"]
+    argv += ["--workers", "1", "--cache", str(tmp_path / "cache"), "--no-progress"]
+    assert main(argv) == 1
+    cap = capsys.readouterr()
+    assert "mat-hopper compare: warning: CFRP (baseline): the physics step 0.0001 s is above" in cap.err
+    assert "--timestep auto" in cap.err and "SS (design)" not in cap.err and "Ti (baseline)" not in cap.err
+    assert "left out: CFRP (baseline, seeds 0 1): unstable at dt=1e-4 s" in cap.out
+    assert "comparator" in cap.out and "Ti" in cap.out

@@ -119,3 +119,13 @@ def test_a_step_above_the_bound_is_warned_of_and_a_divergence_says_when_why_and_
     assert main([*argv, "--timestep", "auto"]) == 0
     cap = capsys.readouterr()
     assert "warning" not in cap.err and "UNSTABLE" not in cap.out and "1 hop cycles scored" in cap.out
+
+
+def test_progress_stops_at_the_divergence_not_at_a_chunks_end(capsys):
+    """CFRP diverges at 2.1 ms: the progress line says "stopped" there
+    (it said 1/2 sim s, the end of the first progress chunk)."""
+    from mat_hopper.cli import main
+
+    assert main(["simulate", "--design", "CFRP", "--duration", "2", "--transient", "1"]) == 1
+    err = capsys.readouterr().err
+    assert "CFRP: stopped, 0.0021/2 sim s" in err and "CFRP: done" not in err

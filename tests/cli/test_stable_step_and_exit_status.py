@@ -47,3 +47,18 @@ def test_reproduce_names_the_designs_above_their_bound_before_any_work(capsys):
     assert "exp2 SS E=1000" in err[0] and "--timestep auto" in err[0]
     _warn_stable_step(PROFILES["quick"], argparse.Namespace(experiments="1,stability", conventions="paper,axial"))
     assert capsys.readouterr().err == ""  # the paper's materials at 1e-4 s, axial at auto; the scan left out
+
+
+def test_batch_advises_auto_only_where_it_would_change_the_step(tmp_path, capsys):
+    """A heavy leg (19 g/cm^3, 120 GPa) falls at 9.4 s and then diverges:
+    its automatic step is the 1e-4 s it ran at, so batch does not advise
+    --timestep auto for it (it did, and auto gave the same run)."""
+    from mat_hopper.cli import main
+
+    designs = tmp_path / "heavy.csv"
+    designs.write_text("design,density_1,density_2,density_3,modulus_1,modulus_2,modulus_3\nheavy,19,19,19,120,120,120\n")
+    argv = ["batch", "--designs-csv", str(designs), "--duration", "12", "--transient", "4", "--no-progress"]
+    assert main(argv) == 1
+    out = capsys.readouterr().out
+    assert "1 of 1 design diverged (heavy at t = 11.0553 s)" in out
+    assert "--timestep auto would not change their step" in out and "try --timestep auto" not in out

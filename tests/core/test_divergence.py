@@ -102,3 +102,20 @@ def test_hop_table_of_a_diverged_run_warns_and_warn_false_is_silent():
         s = run_summary(r)  # the summary says it itself
     assert not s["stable"]
     assert s["diverged_at_s"] == pytest.approx(0.0043)
+
+
+def test_no_hop_cycle_is_scored_through_a_fall():
+    """A heavy leg falls (9.4 s) before it diverges (11.1 s): the cycles
+    the fall cuts through were scored, with 'hip power' of 1e5-1e6 W; now
+    every scored cycle ends before the fall."""
+    from mat_hopper.core.materials import LegDesign
+    from mat_hopper.core.rollout import hop_cycles
+    from mat_hopper.core.sim import simulate
+    from mat_hopper.physics.metrics import hop_table
+
+    r = simulate(LegDesign.from_properties([19] * 3, [120] * 3), "forward", duration_s=12, transient_s=4, warn=False)
+    assert r.fell_at_s is not None and r.fell_at_s < 10.5
+    cycles = hop_cycles(r)
+    assert len(cycles) > 0 and (cycles[:, 1] <= r.fell_at_s).all()
+    hops = hop_table(r, warn=False)
+    assert len(hops) == len(cycles) and hops["power_w"].max() < 1e3
