@@ -3,7 +3,7 @@
 PY := .venv/bin/python
 PROFILE ?= paper
 
-.PHONY: setup test test-fast lint notebooks book book-quick demo bench
+.PHONY: setup test test-fast lint notebooks book book-quick book-plan demo bench
 
 setup:
 	@bash scripts/setup.sh
@@ -39,6 +39,10 @@ book: setup
 ## The same book on the quick profile (short runs; what CI builds).
 book-quick:
 	$(MAKE) book PROFILE=quick
+
+## The book's runs per chapter, counted before any run (shared, cached, core-hours).
+book-plan: setup
+	.venv/bin/mat-hopper plan --profile $(PROFILE)
 
 ## The paper's forward-hopping comparison of the five mono-materials.
 demo: setup

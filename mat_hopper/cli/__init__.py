@@ -27,6 +27,7 @@ COMMAND_MODULES = (
     "mat_hopper.cli.batch",
     "mat_hopper.cli.modes",
     "mat_hopper.cli.compare",
+    "mat_hopper.cli.plan",
 )
 # Each command's line in `mat-hopper --help` (tests/cli check it is the
 # module's own): the top-level help lists the commands without importing
@@ -40,6 +41,7 @@ COMMAND_HELP = {
     "batch": "evaluate many designs on one behaviour (CPU rollouts or a MuJoCo Warp batch)",
     "modes": "a leg's axial natural frequencies (lumped chain vs continuum rod) and its stable time step",
     "compare": "compare a design with baselines and its own controls, paired on shared seeds at one time step",
+    "plan": "count the book's runs per chapter before any run: shared, cached, physics steps, core-hours",
 }
 
 

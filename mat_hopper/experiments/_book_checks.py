@@ -120,6 +120,29 @@ def convention_stability(
     return out.reset_index(drop=True)
 
 
+def in_place_tasks(profile: str | Profile, n: int | None = None, behaviour: str = "static") -> list:
+    """The runs of :func:`in_place_replicates`: experiment 1's five legs on
+    one behaviour, the unperturbed run and n perturbed replicates each.
+
+    Args:
+        profile: a Profile or its name (:func:`in_place_replicates` resolves
+            $MAT_HOPPER_PROFILE).
+        n: perturbed replicates per leg (an integer >= 0; None: the
+            profile's ``replicates``).
+        behaviour: the behaviour name.
+
+    Returns:
+        list of RunSpec (:meth:`Experiment.tasks`'s, experiment ``exp1``).
+
+    Raises:
+        ValueError: an unknown profile or behaviour, or an `n` that is not an
+            integer >= 0.
+    """
+    profile = get_profile(profile)
+    n = profile.replicates if n is None else n
+    return replace(experiment_1(), behaviours=(behaviour,)).tasks(profile, n)
+
+
 def in_place_replicates(
     profile: str | Profile | None = None,
     n: int | None = None,
@@ -155,10 +178,7 @@ def in_place_replicates(
         ValueError: an unknown profile or behaviour, an `n` that is not an
             integer >= 0, invalid `workers`, or $MAT_HOPPER_CACHE set but empty.
     """
-    profile = resolve_profile(profile)
-    n = profile.replicates if n is None else n
-    exp = replace(experiment_1(), behaviours=(behaviour,))
-    res = run_grid(exp.tasks(profile, n), cache_dir, workers=workers, progress=False)
+    res = run_grid(in_place_tasks(resolve_profile(profile), n, behaviour), cache_dir, workers=workers, progress=False)
     if res.n_failed:
         raise RuntimeError(f"{res.n_failed} replicate run(s) failed: {res.summary['error'].dropna().unique()[:3]}")
     return res.tables
@@ -207,7 +227,37 @@ def clock_drift(
             $MAT_HOPPER_CACHE set but empty.
         RuntimeError: a run raised (the errors joined).
     """
-    profile = resolve_profile(profile)
+    tasks = clock_tasks(resolve_profile(profile), designs, factors, behaviour)
+    res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="clock")
+    s = res.summary
+    if (s["status"] == FAILED).any():
+        raise RuntimeError("clock_drift: runs failed: " + "; ".join(s.loc[s["status"] == FAILED, "error"]))
+    return s[
+        ["design", "clock_factor", "speed_m_s", "status", "n_hops", "mean_tracking_error_m", "mean_power_w"]
+    ].reset_index(drop=True)
+
+
+def clock_tasks(
+    profile: str | Profile, designs=("MD", "SS"), factors=CLOCK_FACTORS, behaviour: str = "forward"
+) -> list:
+    """The runs of :func:`clock_drift`: each design at r times the paper's
+    commanded speed, for every clock factor r.
+
+    Args:
+        profile: a Profile or its name (:func:`clock_drift` resolves $MAT_HOPPER_PROFILE).
+        designs: design names or LegDesigns.
+        factors: clock factors r, finite numbers > 0.
+        behaviour: the behaviour name.
+
+    Returns:
+        list of RunSpec, design-major; labels experiment (``"clock"``),
+        profile, design, behaviour, clock_factor, speed_m_s (m/s).
+
+    Raises:
+        ValueError: a factor that is not a finite number > 0, an unknown
+            profile, design or behaviour.
+    """
+    profile = get_profile(profile)
     tasks = []
     for d in designs:
         design = LegDesign.mono(d) if isinstance(d, str) and d in ref.MONO_MATERIALS else d
@@ -226,13 +276,7 @@ def clock_drift(
                 "speed_m_s": beh.speed_m_s,
             }
             tasks.append(RunSpec(design, beh, profile.sim_settings(design=design), labels))
-    res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="clock")
-    s = res.summary
-    if (s["status"] == FAILED).any():
-        raise RuntimeError("clock_drift: runs failed: " + "; ".join(s.loc[s["status"] == FAILED, "error"]))
-    return s[
-        ["design", "clock_factor", "speed_m_s", "status", "n_hops", "mean_tracking_error_m", "mean_power_w"]
-    ].reset_index(drop=True)
+    return tasks
 
 
 def axial_check(
@@ -283,11 +327,47 @@ def axial_check(
             step, invalid `workers`, or $MAT_HOPPER_CACHE set but empty.
     """
     prof = resolve_profile(profile)
-    legs = {d: parse_design(d) for d in designs}
+    timestep_s = _axial_step(prof, timestep_s)
+    tasks = axial_check_tasks(prof, designs, behaviour, timestep_s=timestep_s)
+    res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="axial")
+    if (res.summary["status"] == FAILED).any():
+        raise RuntimeError(
+            "axial_check: runs failed: " + "; ".join(res.summary.loc[res.summary["status"] == FAILED, "error"])
+        )
+    hops, runs = res.tables, res.summary
+    return {"timestep_s": timestep_s if timestep_s == AUTO else float(timestep_s), "hops": hops, "runs": runs}
+
+
+def _axial_step(prof: Profile, timestep_s):
+    """The axial runs' step: `timestep_s`, or the profile's axial_timestep_s; "auto" (any case) as AUTO."""
     if timestep_s is None:
         timestep_s = prof.axial_timestep_s
-    if is_auto(timestep_s):  # any case, blanks trimmed: stored as AUTO
-        timestep_s = AUTO
+    return AUTO if is_auto(timestep_s) else timestep_s  # any case, blanks trimmed: stored as AUTO
+
+
+def axial_check_tasks(
+    profile: str | Profile, designs=("MD", "SS", "rho-inc"), behaviour: str = "ramp", *, timestep_s=None
+) -> list:
+    """The runs of :func:`axial_check`: every design in its three settings.
+
+    Args:
+        profile: a Profile or its name (:func:`axial_check` resolves $MAT_HOPPER_PROFILE).
+        designs: design names (:func:`mat_hopper.core.materials.parse_design`).
+        behaviour: the behaviour name.
+        timestep_s: the axial runs' physics step (s), or ``"auto"``; None: the
+            profile's ``axial_timestep_s``.
+
+    Returns:
+        list of RunSpec, three per design (labels as :func:`axial_check`'s
+        ``"hops"``: experiment ``axial-check``, profile, convention, design,
+        behaviour, setting, timestep_s, substeps).
+
+    Raises:
+        ValueError: an unknown profile, design or behaviour, or an invalid time step.
+    """
+    prof = get_profile(profile)
+    timestep_s = _axial_step(prof, timestep_s)
+    legs = {d: parse_design(d) for d in designs}
     beh = get_behaviour(behaviour)
     plan = []
     for d, leg in legs.items():
@@ -314,10 +394,4 @@ def axial_check(
             "substeps": st.substeps,
         }
         tasks.append(RunSpec(legs[d], beh, st, labels))
-    res = run_grid(tasks, cache_dir, workers=workers, progress=False, desc="axial")
-    if (res.summary["status"] == FAILED).any():
-        raise RuntimeError(
-            "axial_check: runs failed: " + "; ".join(res.summary.loc[res.summary["status"] == FAILED, "error"])
-        )
-    hops, runs = res.tables, res.summary
-    return {"timestep_s": timestep_s if timestep_s == AUTO else float(timestep_s), "hops": hops, "runs": runs}
+    return tasks

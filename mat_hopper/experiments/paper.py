@@ -36,10 +36,13 @@ from . import robustness
 from ._book_checks import (
     CLOCK_FACTORS,
     axial_check,
+    axial_check_tasks,
     clock_drift,
+    clock_tasks,
     convention_stability,
     convention_tasks,
     in_place_replicates,
+    in_place_tasks,
 )
 from ._experiments import (
     SWEEP_SHORT,
@@ -67,7 +70,9 @@ __all__ = [
     "RobustnessStudy",
     "StabilityMap",
     "axial_check",
+    "axial_check_tasks",
     "clock_drift",
+    "clock_tasks",
     "convention_stability",
     "convention_tasks",
     "experiment_1",
@@ -78,6 +83,7 @@ __all__ = [
     "experiment_spellings",
     "get_experiment",
     "in_place_replicates",
+    "in_place_tasks",
     "parse_experiments",
 ]
 

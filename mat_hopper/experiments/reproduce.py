@@ -139,7 +139,7 @@ def reproduce(
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise ValueError(f"--out {out_dir!r} exists and is not a folder")
     check_total_steps(planned_steps(prof, names, conventions, replicates), f"replicates={replicates}")
-    tasks = _tasks(prof, names, conventions, replicates)
+    tasks = experiment_tasks(prof, names, conventions, replicates)
     # the runner checks workers against scheduler, the scheduler and the cache
     # folder; a scheduler is reached now: all before the results folder is made
     with Runner(cache_dir, workers=workers, scheduler=scheduler, progress=progress) as runner:
@@ -185,6 +185,46 @@ def _run_experiment(runner, name: str, tasks, rep: Reproduction, log) -> None:
         bad = res.summary[res.summary["status"] == "failed"]
         for row in bad.head(5).itertuples():
             log(f"  failed: {row.design} {getattr(row, 'behaviour', '')}: {row.error}")
+    _log_unusable(name, res.summary, log)
+
+
+def _log_unusable(name: str, summary, log) -> None:
+    """One line counting the experiment's runs that diverged or fell (they
+    are results of the study, not failures: the claims leave them out and
+    name them), and up to 5 of them with why."""
+    from ..analysis.stats import unusable_runs
+
+    bad = unusable_runs(summary)
+    bad = bad[bad["why"] != "failed"] if len(bad) else bad
+    if not len(bad):
+        return
+    log(f"  {len(bad)} runs diverged or fell (left out of every claim and named in claims.md), e.g.:")
+    for row in bad.head(5).itertuples():
+        log(f"    {row.design} {row.behaviour}: {row.why}")
+
+
+def experiment_tasks(profile, names, conventions=("paper",), replicates: int | None = None) -> dict:
+    """The tasks :func:`reproduce` runs, per experiment, without running any
+    (its own task list; :mod:`mat_hopper.experiments.plan` counts them).
+
+    Args:
+        profile: a Profile or its name.
+        names: canonical experiment names, as
+            :func:`~mat_hopper.experiments.paper.parse_experiments` returns them.
+        conventions: stiffness conventions of the hopping experiments (1-3).
+        replicates: perturbed replicates per design and behaviour (>= 0);
+            None: the profile's.
+
+    Returns:
+        dict {experiment name: list of runner tasks}, in the order of `names`;
+        the hopping experiments under every convention given.
+
+    Raises:
+        ValueError: an unknown profile or experiment, or invalid `replicates`.
+    """
+    prof = get_profile(profile)
+    replicates = prof.replicates if replicates is None else check_replicates(replicates)
+    return _tasks(prof, names, conventions, replicates)
 
 
 def _tasks(prof, names, conventions, replicates) -> dict:

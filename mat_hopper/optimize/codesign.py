@@ -109,6 +109,58 @@ def _settings(profile: Profile, gains: dict, perturbation=None, design=None):
     return replace(st, controller=replace(ControllerSettings(), **gains))
 
 
+def authors_gains() -> dict:
+    """The authors' values of the searched gains, the first trial of every tuning.
+
+    Returns:
+        dict {gain name of :data:`GAIN_BOUNDS`: its value in
+        :mod:`mat_hopper.core.reference`} (foot_placement_gain in s).
+    """
+    return {k: float(getattr(ref, k.upper())) for k in GAIN_BOUNDS}
+
+
+def tuning_task(design: LegDesign, behaviour, profile: Profile, gains: dict, trial: int) -> RunSpec:
+    """One tuning trial's run (:func:`tune`'s task).
+
+    Args:
+        design: the leg.
+        behaviour: the Behaviour tuned on.
+        profile: the Profile of the run.
+        gains: the trial's gains ({name of :data:`GAIN_BOUNDS`: value}).
+        trial: the trial's number (its label).
+
+    Returns:
+        The RunSpec, labelled ``{"trial": trial}``.
+    """
+    return RunSpec(design, behaviour, _settings(profile, gains, design=design), {"trial": trial})
+
+
+def comparison_tasks(legs: dict, profile: Profile, behaviour, replicates: int, tuned: dict | None = None) -> list:
+    """The replicate runs of :func:`codesign`'s comparison (module doc, step 2).
+
+    Args:
+        legs: {design name: LegDesign}.
+        profile: the Profile of the runs.
+        behaviour: the Behaviour compared on.
+        replicates: seeds per design and gain setting (0 .. replicates - 1).
+        tuned: {design name: its tuned gains}; None: the runs at the authors'
+            gains only (the tuned gains are known once the tuning ran).
+
+    Returns:
+        list of RunSpec, design-major, then gain setting, then seed; labels
+        experiment (the gain setting), profile, design, replicate.
+    """
+    tasks = []
+    for name, leg in legs.items():
+        settings = ((DEFAULT, {}),) if tuned is None else ((DEFAULT, {}), (TUNED, tuned[name]))
+        for setting, gains in settings:
+            for r in range(replicates):
+                st = _settings(profile, gains, Perturbation.replicate(r, profile.scored_window_s), leg)
+                labels = {"experiment": setting, "profile": profile.name, "design": name, "replicate": r}
+                tasks.append(RunSpec(leg, behaviour, st, labels))
+    return tasks
+
+
 def tune(
     design: LegDesign | str,
     *,
@@ -162,18 +214,14 @@ def tune(
     _quiet()
     sampler = optuna.samplers.TPESampler(seed=seed, multivariate=True, constant_liar=True)
     study = optuna.create_study(direction="minimize", sampler=sampler)
-    authors = {k: float(getattr(ref, k.upper())) for k in GAIN_BOUNDS}
-    study.enqueue_trial(authors)
+    study.enqueue_trial(authors_gains())
     base = None
     rows = []
     try:
         while len(study.trials) < trials:
             asked = [study.ask() for _ in range(min(batch, trials - len(study.trials)))]
             gains = [{k: t.suggest_float(k, *GAIN_BOUNDS[k], log=True) for k in GAIN_BOUNDS} for t in asked]
-            tasks = [
-                RunSpec(design, beh, _settings(profile, g, design=design), {"trial": t.number})
-                for t, g in zip(asked, gains)
-            ]
+            tasks = [tuning_task(design, beh, profile, g, t.number) for t, g in zip(asked, gains)]
             res = runner.run(tasks, desc=f"tuning {design.name}")
             for t, g, summ in zip(asked, gains, res.summary.to_dict("records")):
                 if summ.get("status") == FAILED:
@@ -278,13 +326,7 @@ def codesign(
             name: tune(leg, profile=profile, behaviour=behaviour, trials=trials, seed=seed, runner=runner)
             for name, leg in legs.items()
         }
-        tasks = []
-        for name, leg in legs.items():
-            for setting, gains in ((DEFAULT, {}), (TUNED, tunings[name].gains)):
-                for r in range(n):
-                    st = _settings(profile, gains, Perturbation.replicate(r, profile.scored_window_s), leg)
-                    labels = {"experiment": setting, "profile": profile.name, "design": name, "replicate": r}
-                    tasks.append(RunSpec(leg, beh, st, labels))
+        tasks = comparison_tasks(legs, profile, beh, n, {name: t.gains for name, t in tunings.items()})
         res = runner.run(tasks, desc="materials at their own gains")
     if res.n_failed:
         raise RuntimeError(f"{res.n_failed} comparison run(s) failed")

@@ -56,7 +56,9 @@ def test_batch_advises_auto_only_where_it_would_change_the_step(tmp_path, capsys
     from mat_hopper.cli import main
 
     designs = tmp_path / "heavy.csv"
-    designs.write_text("design,density_1,density_2,density_3,modulus_1,modulus_2,modulus_3\nheavy,19,19,19,120,120,120\n")
+    designs.write_text(
+        "design,density_1,density_2,density_3,modulus_1,modulus_2,modulus_3\nheavy,19,19,19,120,120,120\n"
+    )
     argv = ["batch", "--designs-csv", str(designs), "--duration", "12", "--transient", "4", "--no-progress"]
     assert main(argv) == 1
     out = capsys.readouterr().out

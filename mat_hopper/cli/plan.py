@@ -1,0 +1,57 @@
+"""``mat-hopper plan``: every cached run the book's chapters will request,
+counted and looked up in the result cache, before any run
+(:mod:`mat_hopper.experiments.plan`; chapter 9's optimizer study and
+chapter 9c's codesign from :mod:`mat_hopper.optimize.book_plan`)."""
+
+from __future__ import annotations
+
+from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
+from ..experiments.plan import US_PER_STEP
+from ._checks import check_output_file, write_table
+from ._options import add_force, add_profile, check_force_used, profile_of
+
+HELP = "count the book's runs per chapter before any run: shared, cached, physics steps, core-hours"
+
+
+def cmd_plan(args) -> int:
+    check_force_used(args, {"--csv": args.csv})
+    check_output_file(args.csv, "--csv", stdout=True, force=args.force)  # before any work
+    if not args.us_per_step > 0:
+        raise ValueError(f"--us-per-step must be a number > 0 (microseconds per physics step), got {args.us_per_step}")
+    profile = profile_of(args.profile)
+    from ..experiments.plan import format_plan, plan
+    from ..optimize.book_plan import chapters
+
+    table = plan(profile, cache_dir=args.cache, chapters=chapters())
+    print(f"plan of the book's runs, profile {profile.name} (nothing run; cache {args.cache or 'default'})")
+    print(format_plan(table, us_per_step=args.us_per_step))
+    if args.csv:
+        print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")
+    return 0
+
+
+def register_cli(sub) -> None:
+    p = sub.add_parser(
+        "plan",
+        help=HELP,
+        description="The runs of the book (the notebooks of _toc.yml, in order) under a profile, counted before "
+        "any run: per chapter and task kind, its runs, those an earlier chapter already requested (one cache key, "
+        "computed once), those in the result cache, simulated seconds, physics steps and time steps; then the "
+        "total, with core-hours estimated from a cost per physics step. Cells that simulate outside the cache are "
+        "named, not counted; the optimizer study's runs are an estimate.",
+    )
+    add_profile(p)
+    p.add_argument(
+        "--cache", default=None, help=f"result cache folder (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})"
+    )
+    p.add_argument(
+        "--csv", help="write the plan's table here, one row per chapter and task kind (- for standard output)"
+    )
+    p.add_argument(
+        "--us-per-step",
+        type=float,
+        default=US_PER_STEP,
+        help=f"wall time of one physics step on one core, microseconds, for the core-hours (default {US_PER_STEP:g})",
+    )
+    add_force(p)
+    p.set_defaults(func=cmd_plan)

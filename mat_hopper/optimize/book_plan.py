@@ -1,0 +1,116 @@
+"""Chapter 9's optimizer study and chapter 9c's codesign in the plan of the
+book's runs (``mat-hopper plan``).
+
+:mod:`mat_hopper.experiments.plan` counts every run the experiments build;
+these two run in this layer, above it, so their part is here and
+:func:`chapters` assembles the whole registry.
+
+- Chapter 9 (the racing study of gradients, then its validation): the
+  sampler picks every trial's design, so its runs are an *estimate*, an
+  upper bound: per bracket the screen's trials on the screen rung and the
+  promoted third (:meth:`Racing.kept`) at full fidelity, each with the
+  objective's replicates and behaviours (trials outside the leg-mass band
+  are not run; a rung whose trials fall promotes fewer). The validation
+  of the study's front (:mod:`mat_hopper.optimize.validate`) depends on
+  that front and is not counted. The study's settings (behaviour, replicates,
+  leg-mass target, trials screened) are the notebook's, copied.
+- Chapter 9c's codesign (:func:`mat_hopper.optimize.codesign.codesign`): the runs
+  known before it runs are tasks (each design's first tuning trial at the
+  authors' gains, and the comparison at the authors' gains:
+  :func:`~mat_hopper.optimize.codesign.tuning_task`,
+  :func:`~mat_hopper.optimize.codesign.comparison_tasks`, what codesign
+  itself runs); the other tuning trials and the comparison at the tuned
+  gains are counted exactly in number and length (the gains change neither)
+  as estimates, their keys unknown.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ..core.behaviours import behaviour as get_behaviour
+from ..core.materials import MONO_NAMES, paper_designs, parse_design
+from ..experiments.plan import CHAPTERS, Chapter, Estimate
+from . import codesign as cd
+from ._objective import Objective
+from ._racing import default_racing
+from ._scoring import DEFAULT_REPLICATES, perturbations
+
+# Chapter 9's study, as its notebook sets it up.
+RACING_BEHAVIOURS = ("ramp",)
+RACING_LEG_MASS = "rho-inc"
+SCREENED = {"paper": 180, "quick": 27}  # trials screened per profile (others: 27), in brackets of 9
+
+
+def racing_estimate(profile) -> list[Estimate]:
+    """Chapter 9's racing study, counted before it runs (module doc).
+
+    Args:
+        profile: the book's Profile.
+
+    Returns:
+        One :class:`~mat_hopper.experiments.plan.Estimate` per rung: its
+        trials' runs at most (trials x replicates x behaviours) at the rung's
+        run length.
+    """
+    objective = Objective(
+        behaviours=RACING_BEHAVIOURS,
+        profile=profile,
+        replicates=DEFAULT_REPLICATES,
+        risk="mean",
+        leg_mass=RACING_LEG_MASS,
+    )
+    racing = default_racing(objective)
+    brackets = SCREENED.get(profile.name, 27) // racing.screen
+    leg = paper_designs()[RACING_LEG_MASS]
+    out, trials = [], racing.screen
+    for r in range(len(racing.rungs)):
+        ob = racing.objective_at(objective, r)
+        runs = brackets * trials * len(perturbations(ob.replicates, ob.profile.scored_window_s)) * len(ob.behaviours)
+        note = (
+            f"estimate (upper bound): {brackets} brackets x {trials} trials on rung {r}, "
+            f"{ob.replicates} replicates; designs picked by the sampler"
+        )
+        out.append(Estimate("trial-run", runs, ob.sim_settings(design=leg), note))
+        trials = racing.kept(trials)
+    out[-1] = replace(out[-1], note=out[-1].note + "; the front's validation not counted (depends on the front)")
+    return out
+
+
+def codesign_requests(profile) -> list:
+    """Chapter 9c's codesign runs: tasks where known, estimates where the sampler picks (module doc).
+
+    Args:
+        profile: the book's Profile.
+
+    Returns:
+        list of RunSpec (the first tuning trial per design, the comparison at
+        the authors' gains) and :class:`~mat_hopper.experiments.plan.Estimate`
+        (the other tuning trials, the comparison at the tuned gains).
+    """
+    legs = {n: parse_design(n) for n in MONO_NAMES}
+    beh = get_behaviour(cd.BEHAVIOUR)
+    n = profile.replicates
+    out = [cd.tuning_task(leg, beh, profile, cd.authors_gains(), 0) for leg in legs.values()]
+    out += cd.comparison_tasks(legs, profile, beh, n)
+    settings = profile.sim_settings(design=legs[cd.BASELINE])
+    out.append(
+        Estimate(
+            "run", len(legs) * (cd.TRIALS - 1), settings, f"tuning trials 1-{cd.TRIALS - 1} per design (gains sampled)"
+        )
+    )
+    out.append(Estimate("run", len(legs) * n, settings, "comparison at the tuned gains (known after tuning)"))
+    return out
+
+
+def chapters() -> tuple[Chapter, ...]:
+    """The whole registry of the book's chapters: :data:`mat_hopper.experiments.plan.CHAPTERS`
+    with chapter 9's study and chapter 9c's codesign counted here.
+
+    Returns:
+        tuple of :class:`~mat_hopper.experiments.plan.Chapter`, in ``_toc.yml`` order.
+    """
+    own = {"09-optimizing-gradients": (racing_estimate,), "09c-material-or-mass": (codesign_requests,)}
+    return tuple(
+        replace(ch, requests=ch.requests + own[ch.name], in_optimize="") if ch.name in own else ch for ch in CHAPTERS
+    )
