@@ -104,6 +104,8 @@ def test_every_number_of_the_answer_is_in_the_records(records):
     answer = findings.design_answer(records)
     effects = findings.paired_effects(records)
     values = {f"{v:+.1f}" for c in findings.EFFECT_COLUMNS for v in effects[c]}
+    values |= {f"{v:+.1f}" for c in findings.EFFECT_COLUMNS for v in records["crossed_bending"][c]}
+    values |= {f"{v:+.1f}" for c in ("value_pct", "default_pct") for v in records["robustness_contact"][c]}
     for token in re.findall(r"[+-]\d+\.\d", answer):
         assert token in values, token
 
@@ -163,3 +165,21 @@ def test_beside_record_sets_the_recorded_verdict_beside_the_builds():
         beside_record(built, rec, "claim_id", ["nope"])
     with pytest.raises(ValueError, match="key column"):
         beside_record(built, rec.rename(columns={"claim_id": "id"}), "claim_id", ["verdict"])
+
+
+def test_the_contact_sentence_follows_the_robustness_record(tmp_path):
+    """Edit the recorded stiff-contact flip back to a keep: the answer stops
+    naming it and no longer says the ramp's claims rest on the contact
+    unless every changed number is a ramp tracking one."""
+    folder = tmp_path / "records"
+    shutil.copytree(RECORDS, folder)
+    path = folder / findings.RECORD_FILES["robustness_contact"]
+    table = pd.read_csv(path)
+    before = findings.design_answer(findings.read_records(folder))
+    assert "1 flip (tracking rho-inc vs SS, ramp" in before and "rest on the soft contact" in before
+    stiff = table["variant"] == "stiff contact"
+    table.loc[stiff & (table["class"] == "flips"), "class"] = "keeps"
+    table.loc[stiff & (table["quantity_id"] == "power SS vs MD, ramp"), "class"] = "moves > 2x"
+    table.to_csv(path, index=False)
+    after = findings.design_answer(findings.read_records(folder))
+    assert "0 flip" in after and "rest on the soft contact" not in after
