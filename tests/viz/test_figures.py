@@ -152,3 +152,23 @@ def test_save_figure_checks_every_format_before_writing(tmp_path, kwargs, text):
     with pytest.raises(ValueError, match=text):
         style.save_figure(maps.ashby_figure(), tmp_path / "sub" / "x", **kwargs)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_paper_box_figures_are_seaborn_boxes_at_the_papers_positions(tables):
+    """Fig. 4's boxes come from seaborn's boxplot (designs as hue), one box
+    per behaviour and design, each centred where the stars and the replicate
+    dots are placed: behaviour index - 0.4 + 0.8 / n (design index + 0.5)."""
+    from matplotlib.patches import PathPatch
+
+    hops, _ = tables
+    exp1 = hops[hops["experiment"] == "exp1"]
+    fig = plots.figure4_mono(exp1, basis="replicates")
+    ax = fig.axes[0]
+    boxes = [p for p in ax.patches if isinstance(p, PathPatch)]
+    n_designs, n_behaviours = exp1["design"].nunique(), exp1["behaviour"].nunique()
+    assert len(boxes) == n_designs * n_behaviours
+    xs = [p.get_path().vertices[:, 0] for p in boxes]
+    centres = sorted(round(float(x.min() + x.max()) / 2, 6) for x in xs)
+    w = 0.8 / n_designs
+    want = sorted(round(g - 0.4 + w * (d + 0.5), 6) for g in range(n_behaviours) for d in range(n_designs))
+    assert centres == pytest.approx(want, abs=1e-6)
