@@ -439,6 +439,20 @@ for r in verdicts.itertuples():
     )
 
 # %% [markdown]
+# With few seeds (the quick profile's 2) these verdicts cannot be reached;
+# the paper profile's, recorded in `book/records/stress-verdicts-paper.csv`
+# (its README names the commit and machine), stand beside this build's:
+
+# %%
+from mat_hopper.viz import findings
+
+recorded = findings.read_records(b.root / "book" / "records")["stress"]
+book.show(
+    findings.beside_record(verdicts, recorded, ["gradient", "metric", "against"], ["pct_change", "conclusion"]),
+    pattern="{:.3g}",
+)
+
+# %% [markdown]
 # Where the typical hop and the run's largest disagree, the difference is
 # in the tail of hard landings. Per gradient and seed, from the same runs'
 # hop tables: how many of the gradient's hops exceed the largest peak of
