@@ -28,10 +28,8 @@ them leaks nothing; Jupyter shows a returned figure as usual.
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 from matplotlib import rc_context
 from matplotlib.figure import Figure
@@ -41,6 +39,7 @@ from matplotlib.patches import Patch
 from ..analysis import stats as _stats
 from ..core.behaviours import order_behaviours
 from ..core.materials import CONVENTIONS, order_designs
+from ._boxes import grouped_boxes as _grouped_boxes
 from .maps import ashby_figure, stability_figure
 from .style import (
     BEHAVIOUR_LABELS,
@@ -56,98 +55,6 @@ from .style import (
     save_figure,
 )
 from .sweeps import SWEEP_PROPERTIES, figure4_sweeps  # noqa: F401 (re-exported)
-
-# --- grouped box plots -----------------------------------------------------------
-
-
-def _seaborn_boxes(sns, ax, long, groups, designs, width) -> None:
-    """The boxes of :func:`_grouped_boxes`: seaborn's boxplot of `long`
-    (columns group, design, value), designs as hue, in the given orders."""
-    sns.boxplot(
-        data=long,
-        x="group",
-        y="value",
-        hue="design",
-        order=list(groups),
-        hue_order=list(designs),
-        palette={d: design_colour(d, di) for di, d in enumerate(designs)},
-        width=width,
-        gap=0.2,
-        dodge=True,
-        linewidth=0.6,
-        linecolor="#333333",
-        fliersize=1.5,
-        medianprops=dict(color="black", linewidth=1.0),
-        legend=False,
-        ax=ax,
-    )
-
-
-def _grouped_boxes(
-    ax, table, metric, groups, designs, *, group_col="behaviour", factor=1.0, stars=None, width=0.8, points=None
-):
-    """Box plots of `metric` at x = group index, one box per design side by
-    side, drawn by seaborn (``boxplot`` with the designs as hue, the paper's
-    layout: behaviours along x, designs side by side in each). stars: set
-    of (group, design) to mark; points: a table of values to draw as black
-    dots over the boxes (replicate means). Returns the tops used."""
-    import seaborn as sns
-
-    n = max(len(designs), 1)
-    w = width / n
-    cells = {k: v.to_numpy(float) * factor for k, v in table.groupby([group_col, "design"], sort=False)[metric]}
-    pts = (
-        {k: v.to_numpy(float) * factor for k, v in points.groupby([group_col, "design"], sort=False)[metric]}
-        if points is not None and len(points)
-        else {}
-    )
-    long = pd.DataFrame(
-        [(g, d, x) for (g, d), v in cells.items() if g in groups and d in designs for x in v[np.isfinite(v)]],
-        columns=["group", "design", "value"],
-    )
-    if len(long):
-        with warnings.catch_warnings():  # seaborn 0.13.2 passes bxp(vert=), deprecated by matplotlib 3.11
-            warnings.filterwarnings("ignore", message="vert: bool was deprecated", category=DeprecationWarning)
-            _seaborn_boxes(sns, ax, long, groups, designs, width)
-    tops = []
-    for di, d in enumerate(designs):
-        dot_x, dot_y = [], []
-        for gi, g in enumerate(groups):
-            v = cells.get((g, d), np.array([]))
-            v = v[np.isfinite(v)]
-            if len(v) == 0:
-                continue
-            pos = gi - width / 2 + w * (di + 0.5)
-            top = float(v.max())
-            p = pts.get((g, d), np.array([]))
-            p = p[np.isfinite(p)]
-            if len(p):
-                dot_x.extend(pos + (np.arange(len(p)) - (len(p) - 1) / 2) * (w * 0.5 / len(p)))
-                dot_y.extend(p)
-                top = max(top, float(p.max()))
-            tops.append(top)
-            if stars and (g, d) in stars:
-                ax.annotate(
-                    "*",
-                    xy=(pos, top),
-                    xytext=(0, 0.5),
-                    textcoords="offset points",
-                    ha="center",
-                    va="bottom",
-                    fontsize=11,
-                    fontweight="bold",
-                )
-        if dot_x:
-            ax.plot(dot_x, dot_y, "o", ms=2.2, color="black", alpha=0.8, zorder=3, gid="replicate-means")
-    ax.set_xticks(range(len(groups)))
-    ax.set_xticklabels([BEHAVIOUR_LABELS.get(g, g) for g in groups])
-    ax.set_xlim(-0.5, len(groups) - 0.5)
-    ax.set_xlabel("")
-    ax.grid(False, axis="x")
-    if tops:
-        lo, hi = ax.get_ylim()
-        ax.set_ylim(lo, hi + 0.08 * (hi - lo))
-    return tops
 
 
 def _stars(comparison: pd.DataFrame | None, metric: str, by: str = "behaviour") -> set:
