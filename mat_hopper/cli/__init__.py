@@ -141,13 +141,22 @@ def main(argv=None) -> int:
     argv = negative_list_argv(sys.argv[1:] if argv is None else list(argv))  # every --option may take a negative
     command = command_of(argv)
     parser = build_parser(command if command in COMMAND_HELP else "")
+    if command is not None and command not in COMMAND_HELP:  # argparse's own words name no near command
+        from ..util.parsing import did_you_mean
+
+        hint = did_you_mean(command, COMMAND_HELP)
+        parser.error(
+            f"unknown command {command!r} (choose from {', '.join(COMMAND_HELP)}){f'; {hint}' if hint else ''}"
+        )
     args = _parse(parser, argv)
     from ..core.sim import route_mujoco_warnings
 
     route_mujoco_warnings()
     from ..optimize import stop_signals
     from ..util.atomic import remove_stale_mp_dirs
-    from ._checks import COMMAND_OPTIONS, table_on_stdout
+    from ._checks import COMMAND_NAME, COMMAND_OPTIONS, table_on_stdout, tell_new_folders
+
+    COMMAND_NAME[0] = args.command  # named in the notes of folders an output makes
 
     remove_stale_mp_dirs()  # what killed runs left in the temp folder
     COMMAND_OPTIONS[0] = frozenset(
@@ -156,6 +165,7 @@ def main(argv=None) -> int:
     try:
         with stop_signals(), table_on_stdout(args):  # SIGTERM, SIGHUP: like Ctrl-C (nothing half-written)
             code = int(args.func(args) or 0)
+            tell_new_folders()  # the output folders the command made, named
             sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's final flush
             return code
     except BrokenPipeError:
@@ -176,4 +186,5 @@ def main(argv=None) -> int:
         print(f"mat-hopper {args.command}: error: {describe_error(e)}", file=sys.stderr)
         return 2
     finally:
+        tell_new_folders(tell=False)  # after an error or an interrupt: the line above says what happened
         COMMAND_OPTIONS[0] = None

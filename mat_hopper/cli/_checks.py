@@ -15,7 +15,21 @@ import tempfile
 from contextlib import contextmanager
 
 from ..util.atomic import TEMP_PREFIX
-from ..util.parsing import RIGID, did_you_mean, is_decimal, parse_name, parse_number
+from ..util.parsing import RIGID, did_you_mean, parse_name, parse_number
+
+_SENSOR_TIMING = ("SENSOR_TIMING_HELP", "sensor_timing_arg", "sensor_timing_type")  # in _options, named here too
+
+
+def __getattr__(name):
+    """The --sensor-timing reader, kept here by name and loaded on first
+    use (:mod:`mat_hopper.cli._options` imports the library's tables;
+    ``mat-hopper --help`` imports this module and must stay light)."""
+    if name in _SENSOR_TIMING:
+        from . import _options
+
+        return getattr(_options, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 # A value argparse would take for an option: "-1", "-1.5e3", "-1,2,3".
 NEGATIVE_LIST = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
@@ -75,7 +89,10 @@ def harden_parser(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     finite), names with choices through :func:`~mat_hopper.util.parsing.parse_name`
     (case-insensitive), no empty value for any option that takes one, and
     no option of one value given twice. Errors name the flag as typed.
+    Abbreviated options are refused ("--convention" is not reproduce's
+    --conventions; :func:`mat_hopper.cli._parse` says "did you mean").
     Returns `parser`."""
+    parser.allow_abbrev = False  # argparse reads it when it parses
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
             for sub in dict.fromkeys(action.choices.values()):
@@ -141,7 +158,26 @@ def named_by_flags(**flags):
         text = pattern.sub(lambda m: mapping[m.group(1)], str(e)) if mapping else str(e)
         for advice, words in NO_OPTION_ADVICE.items():
             text = advice.sub(words, text)
-        raise ValueError(text) from None
+        raise ValueError(suggest_in(text)) from None
+
+
+# A library's "unknown control 'masss'; accepted: rigid, mass, inertia (or none)".
+_UNKNOWN = re.compile(
+    r"unknown [\w -]+? '(?P<item>[^']*)'; accepted: (?P<names>[^;()]+?)(?: \(or (?P<more>[\w-]+)\))?(?=$|;)"
+)
+
+
+def suggest_in(text: str) -> str:
+    """`text` with "did you mean ...?" added after an "unknown NAME 'x';
+    accepted: a, b, c" clause where one of them is close (the library's
+    readers of comma lists that have no parse_name of their own), unless
+    it has one already."""
+    m = None if "did you mean" in text else _UNKNOWN.search(text)
+    if m is None:
+        return text
+    names = [n.strip() for n in m.group("names").split(",")] + ([m.group("more")] if m.group("more") else [])
+    hint = did_you_mean(m.group("item"), names)
+    return f"{text[: m.end()]}; {hint}{text[m.end() :]}" if hint else text
 
 
 def check_name_list(text, flag: str, canonical=None) -> None:
@@ -316,6 +352,7 @@ def check_output_file(path, flag: str, *, stdout: bool = False, force: bool = Fa
         raise ValueError(f"{flag} {path}: file exists; give --force to replace it, or another name")
     # with --force an existing file is replaced (atomically, by a new file in its folder)
     _check_folder_can_hold(os.path.dirname(os.path.abspath(path)), flag, path)
+    note_new_folders(os.path.dirname(os.path.abspath(path)), flag)
     return path
 
 
@@ -413,6 +450,7 @@ def check_output_dir(path, flag: str) -> str | None:
             raise ValueError(f"{flag} {path}: folder is not writable")
         return path
     _check_folder_can_hold(path, flag, path)
+    note_new_folders(path, flag)
     return path
 
 
@@ -432,6 +470,39 @@ def missing_folders(*paths) -> list[str]:
                 break
             p = parent
     return sorted(out, key=lambda p: -p.count(os.sep))
+
+
+COMMAND_NAME: list = [None]  # the command being run (set by mat_hopper.cli.main)
+_PENDING: list = []  # (flag, folders missing when checked), told by tell_new_folders
+
+
+def note_new_folders(folder, flag: str) -> list[str]:
+    """The one rule of every output: a folder an output needs that does not
+    exist is made by the command, and said, in one line on stderr naming
+    the folders (top first) and the option, once the command is done
+    (:func:`tell_new_folders`: a refusal makes none and says none).
+    Returns the folders missing now (empty when all exist)."""
+    new = list(reversed(missing_folders(folder)))
+    if new:
+        _PENDING.append((flag, new))
+    return new
+
+
+def tell_new_folders(tell: bool = True) -> None:
+    """One line per option whose missing folders the command made (they
+    exist now), each folder named once; the pending notes are cleared
+    (`tell` False: cleared only, after an error or an interrupt)."""
+    import sys
+
+    told: set = set()
+    for flag, folders in _PENDING if tell else ():
+        made = [p for p in folders if os.path.isdir(p) and p not in told]
+        told.update(made)
+        if made:
+            who = f"mat-hopper {COMMAND_NAME[0]}" if COMMAND_NAME[0] else "mat-hopper"
+            print(f"{who}: note: {flag}: created folder{'s' if len(made) > 1 else ''} {', '.join(made)}",
+                  file=sys.stderr, flush=True)  # fmt: skip
+    _PENDING.clear()
 
 
 @contextmanager
@@ -526,49 +597,3 @@ def warp_device(device, flag: str = "--device") -> str:
         if index >= n:
             raise ValueError(f"{flag} {name}: Warp sees {n} CUDA device(s); accepted: cpu{', cuda' if n else ''}")
     return name
-
-
-SENSOR_TIMING_HELP = (
-    "when the controller reads the base sensors: authors (default: one physics step old, "
-    "as the authors' loop), fresh, latency-L, or an integer latency L in physics steps"
-)
-
-
-def sensor_timing_arg(text, flag: str = "--sensor-timing"):
-    """--sensor-timing: a name (authors, fresh; any case), ``latency-L`` or
-    an integer L, the latency in physics steps; L through
-    :func:`mat_hopper.util.parsing.parse_number` (ASCII digits only: "٣" and "²"
-    are refused). A SensorTiming is returned as is. Raises ValueError
-    naming `flag`."""
-    from ..core.controller import LATENCY_PREFIX, MAX_SENSOR_LATENCY_STEPS, SENSOR_TIMINGS, SensorTiming
-
-    if isinstance(text, SensorTiming):
-        return text
-    s = "" if text is None else str(text).strip()
-    accepted = (
-        f"accepted: {', '.join(SENSOR_TIMINGS)}, {LATENCY_PREFIX}L or an integer L of physics steps "
-        f"in [0, {MAX_SENSOR_LATENCY_STEPS}]"
-    )
-    if not s:
-        raise ValueError(f"{flag} is empty; {accepted}")
-    if s.lower() in SENSOR_TIMINGS:
-        return SensorTiming(s.lower())
-    steps = s[len(LATENCY_PREFIX) :] if s.lower().startswith(LATENCY_PREFIX) else s
-    if not is_decimal(steps):
-        raise ValueError(f"{flag}: unknown sensor timing {s!r}; {accepted}")
-    latency = parse_number(steps, flag, integer=True, low=0, high=MAX_SENSOR_LATENCY_STEPS, unit="physics steps")
-    return SensorTiming(latency)
-
-
-def sensor_timing_type(flag: str = "--sensor-timing"):
-    """The argparse type of a --sensor-timing option: read when the command
-    line is, before any command prints or works."""
-
-    def read(text):
-        try:
-            return sensor_timing_arg(text, flag)
-        except ValueError as e:  # argparse puts "argument FLAG: " in front
-            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag}: ").removeprefix(f"{flag} ")) from None
-
-    read.__name__ = "sensor timing"
-    return read

@@ -19,11 +19,14 @@ from ..optimize import (
     check_study_name,
     describe,
     dispose,
+    diverged_run_message,
+    fall_reason,
     front_table,
     load_existing,
     open_storage,
     redact,
     replay,
+    scored_by_hops,
     storage_file,
     study_exists,
     write_report,
@@ -31,6 +34,19 @@ from ..optimize import (
 from ..optimize.report import feasible_complete, missing_baselines
 from ..viz.render import choose_backend, render_files
 from ._checks import check_no_outputs_in, check_output_dir
+
+# The study's time step and exit status, in optimize's --help.
+STEP_HELP = (
+    "A study has no time step option: under --convention paper its runs take the profile's step (1e-4 s), under "
+    "axial and bending the automatic one; a queued design above its analytic stable step is warned of before "
+    "any run, and a study whose trials diverged ends with how many and what to try (fewer --segments, or "
+    "--convention axial)."
+)
+EXIT_STATUS = (
+    "Exit status: 0 when the study reached its target, diverged trials included (a search is expected to meet "
+    "designs that diverge: they are infeasible trials, counted at the end); 1 when it is short of its target, "
+    "or when --replay's runs diverged or differ from the stored values; 2 for bad input."
+)
 
 # The files of --report in its folder (mat_hopper.optimize.report.write_report).
 REPORT_FILES = (
@@ -154,34 +170,50 @@ def cmd_replay(name: str, storage, args) -> int:
     print(f"trial {t.number} ({t.state.name}) of {name}: {describe(design.segments)}")
     for i, m in enumerate(design.segments, 1):
         print(f"  segment {i}: {m.density_g_cm3:.6g} g/cm^3, {m.modulus_gpa:.6g} GPa ({m.name})")
+    diverged = False
     for r in ev.per_behaviour:
-        print(
-            f"  {r['behaviour']}"
-            + (f" (replicate seed {r['replicate']})" if r.get("replicate", -1) >= 0 else "")
-            + ": "
-            + ", ".join(_value_text(o, r[o], 6) for o in config.objective.objectives)
-            + f", hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, "
-            f"{'upright' if r['upright'] else 'UNSTABLE'}"
-        )
+        print(f"  {_run_line(r, config)}")
+        if r.get("diverged_at_s") is not None and r["diverged_at_s"] == r["diverged_at_s"]:  # not None, not nan
+            diverged = True
+            print(f"    UNSTABLE: {diverged_run_message(design, config.objective, r)}")
     se, names = ev.standard_errors, ev.objective_names
     se_text = f" (standard errors {', '.join(_value_text(o, v, 3, False) for o, v in zip(names, se))})"
     se_text = se_text if se and se[0] == se[0] else ""
     cons = ", ".join(f"{n} {c:.4g}" for n, c in zip(ev.constraint_names, ev.constraints))
     values = ", ".join(_value_text(o, v, 6, False) for o, v in zip(names, ev.values))
+    values = (
+        "none (a run diverged: the values the study holds are whole-run means of runs cut short, for the sampler)"
+        if diverged
+        else f"{values}{se_text}"
+    )
     print(
-        f"objectives {values}{se_text}; "
+        f"objectives {values}; "
         f"{'feasible' if ev.feasible else 'infeasible'} (constraints {cons}); leg mass {ev.leg_mass_kg:.4g} kg"
     )
+    same = t.state == TrialState.COMPLETE and tuple(t.values) == tuple(ev.values)
     if t.state == TrialState.COMPLETE:
-        same = tuple(t.values) == tuple(ev.values)
         print(
             "replay matches the stored values exactly"
             if same
             else f"replay differs from the stored values {tuple(t.values)}"
         )
+    if diverged:
+        print(f"exit status 1: a run of trial {t.number} diverged (as every command whose run diverges)")
     if args.render:
-        return _render(name, design, config, args)
-    return 0 if t.state != TrialState.COMPLETE or tuple(t.values) == tuple(ev.values) else 1
+        code = _render(name, design, config, args)
+        return 1 if diverged else code
+    return 1 if diverged or (t.state == TrialState.COMPLETE and not same) else 0
+
+
+def _run_line(r: dict, config: StudyConfig) -> str:
+    """One replayed run: its metrics where it scored hop cycles and ended
+    upright, else why it has none (a run cut short has no hop to score)."""
+    where = r["behaviour"] + (f" (replicate seed {r['replicate']})" if r.get("replicate", -1) >= 0 else "")
+    if scored_by_hops(int(r["n_hops"]), bool(r["upright"])):
+        metrics = ", ".join(_value_text(o, r[o], 6) for o in config.objective.objectives)
+        return f"{where}: {metrics}, hop height {r['hop_height_m']:.4g} m over {r['n_hops']} hops, upright"
+    why = fall_reason([r]) or "no hop cycle scored after the transient"
+    return f"{where}: no metric: {r['n_hops']} hop cycles scored, {why}"
 
 
 def _value_text(name: str, value: float, digits: int = 4, label: bool = True) -> str:

@@ -34,7 +34,7 @@ from ..core.behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR
 from ..core.materials import CONVENTIONS, DEFAULT_CONVENTION, MAX_SEGMENTS
 from ..core.reference import REFERENCE_SEGMENTS
 from ..experiments.profiles import PROFILE_ENV, PROFILES
-from ..util.parsing import close_names, parse_name
+from ..util.parsing import close_names, is_decimal, parse_name, parse_number
 
 NO_PROGRESS_HELP = "no progress display on stderr (else a bar on a terminal, a line per stage in a pipe or a log)"
 
@@ -203,6 +203,13 @@ DENSITY_HELP = (
 MODULUS_HELP = (
     "per-segment moduli, GPa (1e-6-2000, or 'rigid'), comma-separated, e.g. 70,70,70 (decimal commas: see --density)"
 )
+# --timestep auto in every command's help: what it chooses, the control period included.
+AUTO_TIMESTEP_HELP = (
+    "'auto': the fewest physics substeps of the control period that keep the design's springs stable; the "
+    "control period is the authors' 1e-4 s unless the controller's own limit is smaller (a sensor delay, "
+    "--sensor-timing latency-L, shortens it) or, under a bending convention, its hips' flight loop needs a "
+    "shorter one"
+)
 SEGMENTS_HELP = (
     f"segments of a single-material --design (default {REFERENCE_SEGMENTS}, at most {MAX_SEGMENTS}); with "
     "--density and --modulus, their count"
@@ -211,3 +218,49 @@ SEGMENT_MASS_HELP = (
     "segment mass: leg (default, the leg's mass independent of the number of segments; the authors' model at 3) "
     "or capsule (the authors' per-capsule density at any number)"
 )
+
+
+SENSOR_TIMING_HELP = (
+    "when the controller reads the base sensors: authors (default: one physics step old, "
+    "as the authors' loop), fresh, latency-L, or an integer latency L in physics steps"
+)
+
+
+def sensor_timing_arg(text, flag: str = "--sensor-timing"):
+    """--sensor-timing: a name (authors, fresh; any case), ``latency-L`` or
+    an integer L, the latency in physics steps; L through
+    :func:`mat_hopper.util.parsing.parse_number` (ASCII digits only: "٣" and "²"
+    are refused). A SensorTiming is returned as is. Raises ValueError
+    naming `flag`."""
+    from ..core.controller import LATENCY_PREFIX, MAX_SENSOR_LATENCY_STEPS, SENSOR_TIMINGS, SensorTiming
+
+    if isinstance(text, SensorTiming):
+        return text
+    s = "" if text is None else str(text).strip()
+    accepted = (
+        f"accepted: {', '.join(SENSOR_TIMINGS)}, {LATENCY_PREFIX}L or an integer L of physics steps "
+        f"in [0, {MAX_SENSOR_LATENCY_STEPS}]"
+    )
+    if not s:
+        raise ValueError(f"{flag} is empty; {accepted}")
+    if s.lower() in SENSOR_TIMINGS:
+        return SensorTiming(s.lower())
+    steps = s[len(LATENCY_PREFIX) :] if s.lower().startswith(LATENCY_PREFIX) else s
+    if not is_decimal(steps):
+        raise ValueError(f"{flag}: unknown sensor timing {s!r}; {accepted}")
+    latency = parse_number(steps, flag, integer=True, low=0, high=MAX_SENSOR_LATENCY_STEPS, unit="physics steps")
+    return SensorTiming(latency)
+
+
+def sensor_timing_type(flag: str = "--sensor-timing"):
+    """The argparse type of a --sensor-timing option: read when the command
+    line is, before any command prints or works."""
+
+    def read(text):
+        try:
+            return sensor_timing_arg(text, flag)
+        except ValueError as e:  # argparse puts "argument FLAG: " in front
+            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag}: ").removeprefix(f"{flag} ")) from None
+
+    read.__name__ = "sensor timing"
+    return read

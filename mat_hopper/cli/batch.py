@@ -20,6 +20,7 @@ from ..core.behaviours import DEFAULT_BEHAVIOUR
 from ..experiments.profiles import PROFILES
 from ._checks import SENSOR_TIMING_HELP, sensor_timing_type
 from ._options import (
+    AUTO_TIMESTEP_HELP,
     BEHAVIOUR_HELP,
     DURATION_HELP,
     TRANSIENT_HELP,
@@ -66,8 +67,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument(
         "--timestep",
         help=f"physics time step, s (the profile's, {ref.TIMESTEP_S:g}): the controller runs every physics step; "
-        "or 'auto': each design its own physics substeps of the 1e-4 s control period, chosen from its spring "
-        "bound as simulate --timestep auto does (--backend mujoco)",
+        f"or {AUTO_TIMESTEP_HELP}, for each design as simulate --timestep auto does (--backend mujoco)",
     )
     add_profile(p)
     add_convention(p)

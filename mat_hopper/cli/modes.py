@@ -54,11 +54,48 @@ PAPER_NOTE = (
 )
 
 
+def is_uniform(design) -> bool:
+    """Whether a leg is of one elastic material (every segment the same
+    density and modulus, not rigid): the legs whose modes have a uniform
+    rod and beam to be compared with.
+
+    Args:
+        design: the leg (a LegDesign).
+
+    Returns:
+        True for one elastic material; False for a graded or rigid leg.
+    """
+    mats = {(m.density_g_cm3, m.modulus_gpa) for m in design.segments}
+    return len(mats) == 1 and not design.segments[0].rigid
+
+
+GRADED_NOTE = (
+    "no modes table: the rod and beam it is compared with are of one material, and this leg is graded; "
+    "its stable time step, from its own spring chain, follows"
+)
+
+
+def _check_graded(args, design) -> None:
+    """A graded leg (some segment elastic) gets its stable time step only:
+    --modes and --csv, which are of the modes table, are refused naming
+    why; a leg with no spring at all is left to the modes' own refusal."""
+    if is_uniform(design) or all(m.rigid for m in design.segments):
+        return
+    for flag, value in (("--modes", args.modes), ("--csv", args.csv)):
+        if value is not None:
+            raise ValueError(
+                f"{flag} is for a leg of one elastic material (the modes table compares it with a uniform rod "
+                f"and beam); {design.name} is graded: leave out {flag} for its stable time step"
+            )
+
+
 def _tables(args, design, n_modes: int) -> dict:
     """{kind: table} of the convention's axial and bending modes, every
     count checked (--modes beyond the leg's modes is refused, whichever the
-    kind) before anything is printed."""
+    kind) before anything is printed; none for a graded leg."""
     tables = {}
+    if not is_uniform(design) and not all(m.rigid for m in design.segments):
+        return tables
     if args.convention in AXIAL_CONVENTIONS:
         tables["axial"] = axial_modes(
             design,
@@ -95,6 +132,7 @@ def cmd_modes(args) -> int:
     check_output_file(args.csv, "--csv", stdout=True, force=args.force)  # before any work
     check_count(args.modes, "--modes", 1, MAX_SEGMENTS, "modes to list")
     design = design_from_args(args)
+    _check_graded(args, design)
     n_modes = DEFAULT_MODES if args.modes is None else args.modes
     head = (
         f"{design.name}, {design.n_segments} segments, convention {args.convention}, segment mass {args.segment_mass}"
@@ -103,7 +141,7 @@ def cmd_modes(args) -> int:
     tables = _tables(args, design, n_modes)
     w, spring = estimate_timestep(design, args.convention, args.segment_mass)
     control = controller_timestep(design, args.convention, sensor_timing=args.sensor_timing)
-    k, dt, _ = auto_substeps(design, args.convention, args.segment_mass)
+    k, dt, _ = auto_substeps(design, args.convention, args.segment_mass, sensor_timing=args.sensor_timing)
     fmt = lambda v: f"{v:.6g}"
     if "axial" in tables:
         print(f"{head}: axial modes (Hz)")
@@ -116,7 +154,9 @@ def cmd_modes(args) -> int:
         print(f"{head}: bending modes in one plane (Hz), chain beside the continuum cantilever")
         print(tables["bending"].to_string(index=False, float_format=fmt))
         print(BENDING_FORMULA)
-    table = pd.concat([t.assign(kind=kind) for kind, t in tables.items()], ignore_index=True)
+    if not tables:
+        print(f"{head}: {GRADED_NOTE}")
+    table = pd.concat([t.assign(kind=kind) for kind, t in tables.items()], ignore_index=True) if tables else None
     which = (
         "the spring chain (2 / w_max)"
         if spring < control
@@ -136,8 +176,14 @@ def cmd_modes(args) -> int:
             "substeps cannot help; this leg is beyond the authors' controller at its rate"
         )
     print(
-        f"simulate --timestep auto: {k} physics substep(s) of {dt:.3g} s per {ref.TIMESTEP_S:g} s control period "
-        f"(at most {AUTO_SAFETY:g} x the spring bound)"
+        f"simulate --timestep auto: {k} physics substep(s) of {dt:.3g} s per {k * dt:.3g} s control period "
+        f"(at most {AUTO_SAFETY:g} x the spring bound"
+        + (
+            f"; the controller's limit shortens the {ref.TIMESTEP_S:g} s period"
+            if k * dt < ref.TIMESTEP_S * 0.999
+            else ""
+        )
+        + ")"
     )
     if args.csv:
         print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")
@@ -152,9 +198,16 @@ def register_cli(sub) -> None:
         "beside the continuum rod of the same mass per length and E A, under the same end masses; and the "
         "analytic stable time step with the limit that sets it. The convention is simulate's, paper by default "
         "(the authors' springs, not E A N / L: the rod shows how far they are from the bar of that modulus); "
-        "--convention axial compares the lumping alone; bending and axial+bending add the bending modes.",
+        "--convention axial compares the lumping alone; bending and axial+bending add the bending modes. A graded "
+        "leg (--density and --modulus of several materials) gets its stable time step only: the rod and beam are of "
+        "one material. It runs no simulation, so it has no run profile and no progress display.",
     )
-    p.add_argument("--design", default=None, help="one elastic material (SS, Ti, Al, PVC, ...; default SS)")
+    p.add_argument(
+        "--design",
+        default=None,
+        help="one elastic material (SS, Ti, Al, PVC, ...; default SS); a graded design (PVC-Ti-SS) gets its stable "
+        "time step only",
+    )
     p.add_argument("--density", help=DENSITY_HELP)
     p.add_argument("--modulus", help=MODULUS_HELP)
     p.add_argument("--segments", type=int, default=None, help=SEGMENTS_HELP)

@@ -31,9 +31,11 @@ from ..optimize import (
     check_study_name,
     check_warp,
     dispose,
+    divergence_advice,
     left_out_text,
     parse_objectives,
     queued_seeds,
+    queued_step_warnings,
     run_study,
     storage_errors,
     stored_config,
@@ -50,7 +52,9 @@ from ._checks import (
     warp_device,
 )
 from ._optimize_outputs import (
+    EXIT_STATUS,
     REPORT_FILES,
+    STEP_HELP,
     cmd_export,
     cmd_replay,
     cmd_report,
@@ -113,6 +117,12 @@ RUN_OPTIONS = ("trials", "workers", "sampler", "seed", "backend", "device", "bat
 # given one can be told from the default).
 DEFAULTS = {"trials": 200, "workers": DEFAULT_WORKERS, "sampler": "tpe", "seed": 0, "backend": "mujoco"}
 DEFAULT_STUDIES_DIR = "studies"
+# What each kind of work on a stored study does (the refusal of a study run's option says it).
+MODE_WORK = {
+    "--export": "--export runs nothing (it reads the stored study)",
+    "--report": "--report runs no trials (it reads the stored study)",
+    "--replay": "--replay re-simulates one trial at the study's stored settings (--no-progress is accepted)",
+}
 
 
 def _flag(dest: str) -> str:
@@ -135,8 +145,8 @@ def check_options(args) -> None:
         raise ValueError(f"--study {args.study} and --report {args.report} name two studies; give one")
     if mode is not None:
         for dest in (*STUDY_OPTIONS, *RUN_OPTIONS):
-            if _given(args, dest):
-                raise ValueError(f"{_flag(dest)} is for a study run; {mode} runs no trials (it reads the stored study)")
+            if _given(args, dest) and not (dest == "no_progress" and mode == "--replay"):
+                raise ValueError(f"{_flag(dest)} is for a study run; {MODE_WORK[mode]}")
     elif args.study and (args.cvar_alpha is not None) and (args.risk or "").strip().lower() != "cvar":
         given = f"--risk {args.risk.strip()}" if args.risk else "no --risk (mean)"
         raise ValueError(f"--cvar-alpha is for --risk cvar, given {given}; give --risk cvar with it")
@@ -336,9 +346,11 @@ def _cmd_optimize(args) -> int:
         with named_by_flags(**OPTION_OF_FIELD):
             config = config_from_args(args, stored) if stored else fresh
         dispose(storage)  # this look's pooled connection: the run opens its own
-        left_out = queued_seeds(config.space, config.objective)[1]
+        queued, left_out = queued_seeds(config.space, config.objective)
         if left_out and not stored:  # known before any run: not queued, not simulated
             print(left_out_text(left_out, config.objective, config.space.n_segments), flush=True)
+        for line in queued_step_warnings(config, queued, args.trials) if not stored else ():  # as simulate's
+            print(f"mat-hopper optimize: warning: {line}", file=sys.stderr, flush=True)
         res = _run_backend(config, options, args)
     print(
         f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
@@ -346,6 +358,9 @@ def _cmd_optimize(args) -> int:
     )
     if res.feasibility is not None:  # how many are feasible, and why the others are not
         print(res.feasibility.text())
+    advice = divergence_advice(res.feasibility, config)
+    if advice:  # a study still exits 0 (EXIT_STATUS)
+        print(advice)
     if res.lost:
         print(f"an evaluation process died: trials failed and re-queued: {res.lost}")
     if res.recovered:
@@ -430,7 +445,7 @@ def register_cli(sub) -> None:
         "optimize",
         help="search leg designs with Optuna (multi-objective, resumable, parallel)",
         description="Search per-segment densities and moduli (or catalogue materials) for low tracking "
-        f"error and hip power, hop height 1 +- 0.05 m and stable runs. {_seeds_text()}",
+        f"error and hip power, hop height 1 +- 0.05 m and stable runs. {_seeds_text()} {STEP_HELP} {EXIT_STATUS}",
     )
     p.add_argument("--study", help="study name (letters, digits, _ . -); resumes if it exists")
     p.add_argument("--trials", type=int, default=None, help="study size: finished trials to reach (200)")
@@ -503,14 +518,24 @@ def register_cli(sub) -> None:
     )
     _add_run_arguments(p)
     p.add_argument("--report", metavar="NAME", help="write the study's report (plots, tables, CSV)")
-    p.add_argument("--out", help="report folder (default STUDIES_DIR/NAME-report)")
+    p.add_argument(
+        "--out",
+        help="folder of the files written: --report's (default STUDIES_DIR/NAME-report), --export's and "
+        "--replay --render's (default STUDIES_DIR)",
+    )
     p.add_argument("--replay", type=int, metavar="TRIAL", help="re-simulate trial TRIAL's design")
-    p.add_argument("--render", action="store_true", help="with --replay: also render it (mat_hopper.viz.render)")
+    p.add_argument(
+        "--render",
+        action="store_true",
+        help="with --replay: also render it (mat_hopper.viz.render), gait tiles and a video per behaviour in --out "
+        "(default STUDIES_DIR)",
+    )
     p.add_argument(
         "--export",
         type=int,
         metavar="TRIAL",
-        help="write trial TRIAL's design as CSV (for simulate --design-csv, batch --designs-csv) and MJCF, in --out",
+        help="write trial TRIAL's design as CSV (for simulate --design-csv, batch --designs-csv) and MJCF, "
+        "NAME-trialTRIAL.csv and NAME-trialTRIAL-BEHAVIOUR.xml in --out (default STUDIES_DIR, not the report's folder)",
     )
     add_force(p)
     p.set_defaults(func=cmd_optimize)

@@ -10,6 +10,7 @@ from ..core.behaviours import behaviour
 from ..core.contact import DEFAULT_CONTACT
 from ..core.damping import DEFAULT_DAMPING
 from ..core.materials import DEFAULT_CONVENTION
+from ..core.rollout import FELL_TILT_DEG
 from ..core.timestep import is_auto
 from ..viz.render import (
     GL_LIBS,
@@ -26,7 +27,7 @@ from ..viz.render import (
     render_files,
 )
 from ._checks import check_distinct_paths, check_output_file, named_by_flags
-from ._options import add_force
+from ._options import add_force, add_no_progress, add_profile, profile_of
 from .simulate import (
     EXIT_STATUS,
     add_sim_arguments,
@@ -71,7 +72,7 @@ def _check_options(args) -> None:
             users = " or ".join(_flag(o) for o in outputs)
             verb = "does" if len(asked) == 1 else "do"
             raise ValueError(f"{_flag(dest)} is for {users}; {' and '.join(map(_flag, asked))} {verb} not use it")
-    for dest, default in (("timestep", None), *RUN_DEFAULTS.items()):
+    for dest, default in (("timestep", None), ("profile", None), *RUN_DEFAULTS.items()):
         if getattr(args, dest) is not None and asked == ["still"]:
             raise ValueError(f"{_flag(dest)} is for --video and --tiles (a run); --still pictures the leg at rest")
         if getattr(args, dest) is None:
@@ -91,6 +92,7 @@ def cmd_render(args) -> int:
             except ValueError as e:
                 raise ValueError(f"--{flag}: {e}") from None
     _check_options(args)
+    profile_of(args.profile)  # an unknown --profile (or $MAT_HOPPER_PROFILE) before any work
     with named_by_flags(size="--size", fps="--fps"):  # the library's words, the options' names
         size = parse_size(args.size)
         check_fps(args.fps)
@@ -108,8 +110,7 @@ def cmd_render(args) -> int:
     ):
         if not (math.isfinite(v) and ok):
             raise ValueError(f"{flag} must be {need} simulated seconds, got {v!r}")
-    seconds = max(args.seconds, args.tile_start + 1.0)
-    length = "--start + --seconds" if args.seconds >= args.tile_start + 1.0 else "--start + --tile-start + 1 s"
+    seconds, length = _run_length(args)
     settings = sim_settings_from_args(args, design, args.start + seconds, 0.0, duration_flag=length)
     if args.seconds < settings.control_period_s:  # a video of no step
         raise ValueError(
@@ -136,9 +137,22 @@ def cmd_render(args) -> int:
         backend=backend,
         settings=settings,
         rollout=rollout,
+        progress=not args.no_progress,
     ):
         print(f"wrote {path}")
     return 1 if rollout is not None and rollout.diverged else 0  # a diverged run: exit 1, as every command
+
+
+def _run_length(args) -> tuple[float, str]:
+    """The seconds simulated after --start, and the options that set them
+    (named in errors): a video's --seconds, the tiles' --tile-start + 1 s
+    (their window), the longer of the two when both are asked for."""
+    if not args.video and not args.tiles:  # a still alone: no run is made
+        return max(args.seconds, args.tile_start + 1.0), "--start + --seconds"
+    video, tiles = args.seconds if args.video else 0.0, args.tile_start + 1.0 if args.tiles else 0.0
+    if video >= tiles:
+        return video, "--start + --seconds"
+    return tiles, "--start + --tile-start + 1 s"
 
 
 def _run(args, design, beh, settings, seconds: float):
@@ -149,6 +163,11 @@ def _run(args, design, beh, settings, seconds: float):
     rollout = record(design, beh, seconds, start_s=args.start, settings=settings, warn=False)  # the lines say it
     if rollout.diverged:
         print(unstable_line(rollout))
+    elif rollout.fell_at_s is not None:  # drawn, but a hopper down is no gait: the tiles and the video say so
+        print(
+            f"note: the hopper fell at t = {rollout.fell_at_s:.3f} s (base tilted past {FELL_TILT_DEG:g} deg); "
+            "tiles after it are marked (fell), and the video's line counts its frames after the fall"
+        )
     return rollout
 
 
@@ -159,9 +178,13 @@ def register_cli(sub) -> None:
         description="Render gait tiles (PNG), a video (MP4 or GIF) or a still of one design "
         "on one behaviour, off-screen (OSMesa by default, EGL with MUJOCO_GL=egl). A time step above the design's "
         "analytic stable step is warned of (try --timestep auto); nothing past a divergence is drawn: the tiles "
-        f"and the video stop there (the tiles marked). {EXIT_STATUS} Exit status 3: no usable off-screen OpenGL.",
+        f"and the video stop there (the tiles marked); tiles after a fall are marked (fell). --profile sets only "
+        f"the time step (the run lasts --start + --seconds, or + --tile-start + 1 s for the tiles). {EXIT_STATUS} "
+        "Exit status 3: no usable off-screen OpenGL.",
     )
     add_sim_arguments(p)
+    add_profile(p)
+    add_no_progress(p)
     p.add_argument("--tiles", help="gait-tile figure to write (.png, .svg, .pdf, .jpg)")
     p.add_argument("--video", help="video to write (.mp4 or .gif)")
     p.add_argument("--still", help="picture of the model at rest to write (.png, .jpg)")

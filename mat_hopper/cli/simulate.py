@@ -36,6 +36,7 @@ from ._checks import (
     write_table,
 )
 from ._options import (
+    AUTO_TIMESTEP_HELP,
     BEHAVIOUR_HELP,
     DENSITY_HELP,
     DURATION_HELP,
@@ -122,6 +123,18 @@ def design_from_args(args) -> LegDesign:
     return design
 
 
+def _comma_hint(flag: str, text: str, decimal: str, n_dens: int, n_mods: int) -> str:
+    """ "for 2.7 write a point" where writing the point would make the two
+    counts equal; else what it would leave (a hint that does not fix the
+    input is not one)."""
+    dens, mods = (1, n_mods) if flag == "--density" else (n_dens, 1)
+    if dens == mods:
+        return f"; {flag} {text} is two values: for {decimal} write a point"
+    unit = ("density", "densities"), ("modulus", "moduli")
+    left = f"{dens} {unit[0][dens != 1]} and {mods} {unit[1][mods != 1]}"
+    return f"; {flag} {text} is two values ({decimal} with a point would still leave {left})"
+
+
 def _check_list_count(args, n_dens: int, n_mods: int, given: str) -> None:
     """--density and --modulus have one value per segment, as many as
     --segments where it is given; two lists that may be decimal commas
@@ -129,7 +142,7 @@ def _check_list_count(args, n_dens: int, n_mods: int, given: str) -> None:
     refused unless --segments confirms the count (DECIMAL_COMMA_RULE)."""
     commas = {f: d for f, t in (("--density", args.density), ("--modulus", args.modulus)) if (d := decimal_comma_of(t))}
     if n_dens != n_mods:  # no lone value spread over the segments (the help says one per segment)
-        hint = "".join(f"; {f} {getattr(args, f[2:])} is two values: for {d} write a point" for f, d in commas.items())
+        hint = "".join(_comma_hint(f, getattr(args, f[2:]), d, n_dens, n_mods) for f, d in commas.items())
         raise ValueError(f"--density and --modulus need one value per segment (got {n_dens} and {n_mods}){hint}")
     if args.segments is not None and args.segments != n_dens:
         raise ValueError(f"--segments {args.segments}: {given} gives {n_dens} values, one per segment")
@@ -174,8 +187,7 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--timestep",
         default=None,
-        help="physics time step, s, or 'auto' (substeps of the 1e-4 s control period chosen from the "
-        f"design's spring bound); default: the profile's (1e-4; ${PROFILE_ENV})",
+        help=f"physics time step, s, or {AUTO_TIMESTEP_HELP}; default: the profile's (1e-4; ${PROFILE_ENV})",
     )
     add_convention(p)
     p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)

@@ -53,6 +53,7 @@ from .materials import (
     MODULUS_RANGE_GPA,
     LegDesign,
     Material,
+    as_design,
     check_segment_mass,
 )
 
@@ -84,8 +85,12 @@ class MassProperties:
 
 
 def _check_design(design) -> LegDesign:
+    """A LegDesign, or a design name read as simulate reads it
+    (:func:`~mat_hopper.core.materials.as_design`: ``"SS"``, ``"rho-inc"``)."""
+    if isinstance(design, str):
+        return as_design(design)
     if not isinstance(design, LegDesign):
-        raise ValueError(f"design must be a LegDesign, got {type(design).__name__}")
+        raise ValueError(f"design must be a LegDesign or a design name, got {type(design).__name__}")
     return design
 
 
@@ -95,7 +100,7 @@ def mass_properties(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS)
     (kg m^2) of a design, from MuJoCo's compiled model.
 
     Args:
-        design: the leg.
+        design: the leg, a LegDesign or a design name (``"SS"``).
         segment_mass: the segment-mass convention (``leg`` or ``capsule``,
             :mod:`mat_hopper.core.conventions`).
 
@@ -110,7 +115,7 @@ def mass_properties(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS)
     """
     from .model import build_model, reset_to_start
 
-    _check_design(design)
+    design = _check_design(design)
     check_segment_mass(segment_mass)
     m = build_model(design, segment_mass=segment_mass, sensors="control").model
     d = mujoco.MjData(m)
@@ -145,15 +150,15 @@ def rigid_twin(design: LegDesign) -> LegDesign:
     """The design's densities with no springs (every segment rigid).
 
     Args:
-        design: the leg.
+        design: the leg, a LegDesign or a design name (``"SS"``).
 
     Returns:
         LegDesign named ``<name>~rigid``, same segment count and densities.
 
     Raises:
-        ValueError: design is not a LegDesign.
+        ValueError: design is neither a LegDesign nor a known design name.
     """
-    _check_design(design)
+    design = _check_design(design)
     n = design.n_segments
     return LegDesign.from_properties(design.densities_g_cm3, [None] * n, name=_name(design, "rigid"))
 
@@ -216,16 +221,16 @@ def mass_matched(design: LegDesign) -> LegDesign:
     """A homogeneous leg of the design's leg mass (module doc).
 
     Args:
-        design: the leg.
+        design: the leg, a LegDesign or a design name (``"SS"``).
 
     Returns:
         LegDesign named ``<name>~mass``: N segments of the mean density and
         the series-equivalent modulus (rigid if the design is).
 
     Raises:
-        ValueError: design is not a LegDesign.
+        ValueError: design is neither a LegDesign nor a known design name.
     """
-    _check_design(design)
+    design = _check_design(design)
     mat = _homogeneous(design)
     n = design.n_segments
     return LegDesign.from_properties([mat.density_g_cm3] * n, [mat.modulus_gpa] * n, name=_name(design, "mass"))
@@ -240,7 +245,7 @@ def inertia_matched(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS)
     linear density profile with the mass-matched modulus).
 
     Args:
-        design: the leg.
+        design: the leg, a LegDesign or a design name (``"SS"``).
         segment_mass: the segment-mass convention the inertia is matched
             under (the linear solve is exact under either).
 
@@ -248,11 +253,11 @@ def inertia_matched(design: LegDesign, segment_mass: str = DEFAULT_SEGMENT_MASS)
         LegDesign named ``<name>~inertia``.
 
     Raises:
-        ValueError: design is not a LegDesign, or the profile needs a
+        ValueError: design is neither a LegDesign nor a known design name, or the profile needs a
             density outside the accepted range (an extreme inertia for its
             mass).
     """
-    _check_design(design)
+    design = _check_design(design)
     n = design.n_segments
     mat = _homogeneous(design)
     if n == 1:
@@ -300,7 +305,7 @@ def control(design: LegDesign, kind: str, segment_mass: str = DEFAULT_SEGMENT_MA
     """The control of one kind (``rigid``, ``mass`` or ``inertia``) for a design.
 
     Args:
-        design: the leg.
+        design: the leg, a LegDesign or a design name (``"SS"``).
         kind: one of :data:`CONTROLS`, any case (:func:`check_control`).
         segment_mass: the segment-mass convention (matters for ``inertia``).
 

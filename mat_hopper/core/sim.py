@@ -205,7 +205,10 @@ class SimSettings:
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ValueError(f"{name} must be a finite number, got {v!r}")
+                auto = (
+                    " (or 'auto' through simulate() or sim_settings(), with the design)" if name == "timestep_s" else ""
+                )
+                raise ValueError(f"{name} must be a finite number{auto}, got {v!r}")
         check_timestep(self.timestep_s)
         if self.transient_s < 0:
             raise ValueError(f"transient must be >= 0 s, got {self.transient_s!r}")

@@ -3,8 +3,10 @@
 finer step of the time-step checks.
 
 ``"auto"``: the controller keeps the authors' 1e-4 s period unless its own
-explicit limit is smaller (:func:`mat_hopper.core.stable_step.auto_control_period`),
-and the physics takes the fewest substeps of that period whose step is at
+explicit limit is smaller (a sensor delay, ``latency-L``, lowers it: at
+latency 3 the period is 3.33e-05 s) or, under a bending convention, its
+hips' sampled flight loop needs a shorter one (:mod:`mat_hopper.core.flight_loop`;
+:func:`mat_hopper.core.stable_step.auto_control_period`), and the physics takes the fewest substeps of that period whose step is at
 most AUTO_SAFETY (0.5) x the springs' explicit bound
 (:func:`mat_hopper.core.stable_step.auto_substeps`).
 

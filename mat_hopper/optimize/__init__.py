@@ -20,7 +20,9 @@ study held to a leg mass does with its band (refuses a void or unmeetable
 one, samples inside it, skips designs outside it before any run),
 ``_feasibility`` why trials are not feasible (the line a study ends
 with) and why a run that fell is no baseline, ``_workers`` the worker
-index that keeps concurrent runs' samplers apart; ``_export`` writes a
+index that keeps concurrent runs' samplers apart; ``_stable_steps`` the warning
+before a run above a queued design's stable step and the advice after a
+divergence; ``_export`` writes a
 trial's design as CSV and MJCF; ``_racing`` runs multi-fidelity racing
 (successive halving on ask-and-tell, through the same evaluators). The
 named table of what an objective may minimize (:data:`METRICS`, with
@@ -49,6 +51,7 @@ from ._objective import (
     Evaluation,
     Objective,
     evaluate,
+    scored_by_hops,
 )
 from ._processes import stop_signals
 from ._racing import Racing, Rung, default_racing, promote, race_study, run_racing, simulated_seconds
@@ -79,6 +82,7 @@ from ._space import (
     describe,
     resample,
 )
+from ._stable_steps import diverged_run_message, divergence_advice, queued_step_warnings
 from ._storage import check_study_name, default_url, dispose, open_storage, redact, storage_errors, storage_file
 from ._study import (
     CONFIG_ATTR,
@@ -126,6 +130,10 @@ __all__ = [
     "leg_mass_range_kg",
     "left_out_text",
     "queued_seeds",
+    "queued_step_warnings",
+    "scored_by_hops",
+    "divergence_advice",
+    "diverged_run_message",
     "MASS_PARAM",
     "MassHold",
     "leg_mass_model",

@@ -33,6 +33,9 @@ from ._objective import RESULT_ATTR
 from ._scoring import leg_mass_band_kg
 from ._storage import ERROR_ATTR
 
+LEFT_OUT_ATTR = "left_out"  # racing: trial user attr, why a trial that fell was not promoted
+PRUNED_WHY_ATTR = "pruned_why"  # racing: trial user attr, "diverged" or "fell" on the rung it was pruned at
+PRUNED_REASONS = ("diverged", "fell", "fell or diverged", "ranked out")  # why racing pruned a trial
 REASONS = ("leg mass", "error", "diverged", "fell", "hop height", "peak stress", "fatigue life")
 _CONSTRAINT_REASON = {"leg_mass": "leg mass", "hop_height": "hop height", "peak_stress": "peak stress",
                       "fatigue_life": "fatigue life"}  # fmt: skip
@@ -78,13 +81,17 @@ class Feasibility:
     reasons: dict = field(default_factory=dict)
     labels: dict = field(default_factory=dict)  # reason -> its words for this study (units, bounds)
     pruned: int = 0  # racing: trials stopped at a lower rung, judged at no full fidelity
+    pruned_reasons: dict = field(default_factory=dict)  # PRUNED_REASONS -> count
 
     def text(self) -> str:
         """The line a study ends with, e.g. ``feasible: 9 of 12 finished
-        trials; not feasible: 2 hop height outside 1 +- 0.05 m, 1 fell``."""
+        trials; not feasible: 2 hop height outside 1 +- 0.05 m, 1 fell``;
+        trials racing pruned are counted by why (``7 more pruned by racing
+        before full fidelity: 7 diverged``)."""
         head = f"feasible: {self.feasible} of {self.finished} finished trials"
         if self.pruned:
-            head += f" ({self.pruned} more pruned by racing before full fidelity)"
+            why = ", ".join(f"{self.pruned_reasons[r]} {r}" for r in PRUNED_REASONS if self.pruned_reasons.get(r))
+            head += f" ({self.pruned} more pruned by racing before full fidelity{f': {why}' if why else ''})"
         if self.feasible == self.finished:
             return head
         parts = [f"{self.reasons[r]} {self.labels.get(r, r)}" for r in REASONS if self.reasons.get(r)]
@@ -111,6 +118,16 @@ def trial_reason(t, constraint_names) -> str | None:
     return None if res.get("feasible", all(c <= 0 for c in cons.values())) else "hop height"
 
 
+def _pruned_reason(t) -> str:
+    """Why racing pruned a trial (:data:`PRUNED_REASONS`): its runs
+    diverged or fell on a rung (an older study records "fell or diverged"
+    only), else it ranked below the trials promoted."""
+    ua = t.user_attrs
+    if ua.get(PRUNED_WHY_ATTR) in ("diverged", "fell"):
+        return ua[PRUNED_WHY_ATTR]
+    return "fell or diverged" if LEFT_OUT_ATTR in ua else "ranked out"
+
+
 def feasibility(study, config) -> Feasibility:
     """Count a study's finished trials by feasibility (module doc).
 
@@ -135,7 +152,9 @@ def feasibility(study, config) -> Feasibility:
         else:
             counts[why] += 1
     out.reasons = dict(counts)
-    out.pruned = len(study.get_trials(deepcopy=False, states=(TrialState.PRUNED,)))
+    pruned = study.get_trials(deepcopy=False, states=(TrialState.PRUNED,))
+    out.pruned = len(pruned)
+    out.pruned_reasons = dict(Counter(_pruned_reason(t) for t in pruned))
     band = leg_mass_band_kg(ob, config.space.n_segments)
     out.labels = {
         "hop height": f"hop height outside {ob.hop_height_target_m:g} +- {ob.hop_height_tolerance_m:g} m",

@@ -295,7 +295,15 @@ def whole_run_value(mean: float) -> float:
 
 def scored_by_hops(n_hops: int, upright: bool) -> bool:
     """Whether a run's objective values are its per-hop means (it scored
-    hop cycles and ended upright) rather than its whole-run means."""
+    hop cycles and ended upright) rather than its whole-run means.
+
+    Args:
+        n_hops: the hop cycles the run scored after the transient.
+        upright: whether it ended upright (:attr:`Rollout.upright`).
+
+    Returns:
+        True when both hold.
+    """
     return n_hops > 0 and upright
 
 

@@ -56,7 +56,7 @@ from ..core.materials import LegDesign
 from ..experiments.profiles import get_profile
 from ._driver import RunResult
 from ._evaluators import Evaluator, Lost, PoolEvaluator
-from ._feasibility import feasibility
+from ._feasibility import LEFT_OUT_ATTR, PRUNED_WHY_ATTR, fall_reason, feasibility
 from ._mass import SKIPPED_ATTR, outside_band, queued_seeds
 from ._objective import OBJECTIVES, Evaluation, Objective, record_evaluation
 from ._samplers import make_sampler, sampler_seed
@@ -66,7 +66,8 @@ from ._study import RACING_ATTR, StudyConfig, _quiet, create_or_load
 BRACKET_ATTR = "mat_hopper_bracket"  # study user attr: the open (or last) bracket
 RUNG_ATTR = "rung"  # trial user attrs rung0, rung1, ...: a rung's record
 REACHED_ATTR = "racing_rung"  # trial user attr: the last rung it ran
-LEFT_OUT_ATTR = "left_out"  # trial user attr: why a trial that fell was not promoted
+# LEFT_OUT_ATTR (trial user attr: why a trial that fell was not promoted) and
+# PRUNED_WHY_ATTR ("diverged" or "fell") are _feasibility's, which counts them.
 DEFAULT_ETA = 3
 DEFAULT_SCREEN = 9
 MAX_LOST = 3  # evaluations of a design whose evaluation process died, before its trial fails
@@ -221,7 +222,15 @@ def _record(ev: Evaluation) -> dict:
         "feasible": ev.feasible,
         "standard_errors": [fin(v) for v in ev.standard_errors],
         "simulated_s": float(ev.simulated_s),
+        "why": _fall_kind(ev),
     }
+
+
+def _fall_kind(ev: Evaluation) -> str | None:
+    """``"diverged"`` or ``"fell"`` for an Evaluation whose runs went wrong
+    (:func:`~mat_hopper.optimize._feasibility.fall_reason`), else None."""
+    why = fall_reason(ev.per_behaviour)
+    return None if why is None else ("diverged" if why.startswith("diverged") else "fell")
 
 
 def _as_evaluation(rec: dict, constraint_names=None) -> Evaluation:
@@ -450,7 +459,10 @@ def _run_bracket(study, trials: _Trials, b: dict, config: StudyConfig, racing: R
                 for name, c in zip(objective.constraint_names, stored[n]["constraints"]):
                     trials[n].set_constraint(name, c)
                 if fell(records[n]):  # never promoted, nor a comparator (promote)
-                    trials[n].set_user_attr(LEFT_OUT_ATTR, f"fell or diverged on rung {r}: not promoted")
+                    why = stored[n].get("why") or "fell or diverged"
+                    trials[n].set_user_attr(LEFT_OUT_ATTR, f"{why} on rung {r}: not promoted")
+                    if stored[n].get("why"):
+                        trials[n].set_user_attr(PRUNED_WHY_ATTR, stored[n]["why"])
                 study.tell(n, state=TrialState.PRUNED)
         alive = sorted(keep)
 

@@ -1,7 +1,7 @@
 """A study's trials as tables: every trial, the feasible Pareto front, and the front as a reader builds it.
 
-:func:`trials_frame` is one row per trial (state, feasibility, objectives,
-hop height in m, constraint values, per-segment density in g/cm^3 and
+:func:`trials_frame` is one row per trial (state, feasibility and why
+not, objectives (empty for a trial that diverged), hop height in m, constraint values, per-segment density in g/cm^3 and
 modulus in GPa, parameters, worker, error); :func:`pareto_frame` the
 non-dominated feasible designs with their percent change against
 baselines; :func:`front_table` that front in display units for a page, and
@@ -21,15 +21,23 @@ from optuna.trial import TrialState
 from ..core.materials import LegDesign
 from ..physics.run_metrics import METRICS
 from ..util.change import percent_change
+from ._feasibility import trial_reason
 from ._objective import OBJECTIVES, RESULT_ATTR
 from ._scoring import SE_ATTR, leg_mass_kg
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
 from ._study import StudyConfig
 
+DONE = (TrialState.COMPLETE, TrialState.FAIL)
+
 
 def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
     """One row per trial (module doc), queued trials not yet run (WAITING)
-    left out. No wall-clock columns.
+    left out. No wall-clock columns. A trial whose runs diverged has its
+    objective columns empty (NaN): the values Optuna holds for it are
+    whole-run means of a run cut short, kept for the sampler, which would
+    look better than any feasible trial's; ``not_feasible_because`` names
+    why a finished trial is not feasible (``diverged``, ``fell``, ...;
+    empty when it is).
 
     Args:
         study: an ``optuna.Study`` of ours.
@@ -55,8 +63,10 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
             "total_mass_kg": res.get("total_mass_kg", np.nan),
             "leg_mass_kg": np.nan,
         }
-        if t.state == TrialState.COMPLETE and t.values is not None:
-            row.update(dict(zip(objectives, t.values)))
+        why = trial_reason(t, config.objective.constraint_names) if t.state in DONE else None
+        row["not_feasible_because"] = why or ""
+        if t.state == TrialState.COMPLETE and t.values is not None and why != "diverged":
+            row.update(dict(zip(objectives, t.values)))  # a diverged run's values are for the sampler only: empty
         se = ua.get(SE_ATTR) or {}
         row.update({f"{o}_se": np.nan if se.get(o) is None else se[o] for o in objectives})
         c = t.constraints

@@ -10,8 +10,9 @@
   change of each objective against the paper's SS and rho-inc
   (the study's own runs of them, or, when its space cannot express them,
   runs made here with the study's settings and kept in the study); a
-  baseline whose runs fell or diverged is left out, and the report says
-  why (:func:`baseline_runs`);
+  baseline whose runs fell or diverged, or (in a study held to a leg
+  mass) whose leg lies outside the study's band, is left out, and the
+  report says why (:func:`baseline_runs`);
 - ``pareto.png``: the second objective against the first (with three
   objectives, one panel per pair), feasible, infeasible, the Pareto front
   and the paper's designs marked;
@@ -52,6 +53,7 @@ from ._feasibility import fall_reason, feasibility
 from ._hypervolume import HV_MARGIN, hypervolume, hypervolume_2d, hypervolume_history
 from ._objective import OBJECTIVES, RESULT_ATTR, evaluate
 from ._report_tables import feasible_complete, front_designs, front_table, pareto_frame, trials_frame
+from ._scoring import leg_mass_band_kg, leg_mass_kg
 from ._space import resample
 from ._storage import PAPER_ATTR
 from ._study import CONFIG_ATTR, StudyConfig, _quiet, load_existing
@@ -185,6 +187,10 @@ def baseline_runs(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame)
     """
     values, left_out, objectives = {}, {}, config.objective.objectives
     for name in BASELINES:
+        off_band = _outside_band(name, config)
+        if off_band:  # a study held to a leg mass is compared with legs of that mass only
+            left_out[name] = off_band
+            continue
         rows = frame[(frame["paper_design"] == name) & (frame["state"] == "COMPLETE")] if not frame.empty else frame
         if len(rows):
             number = int(rows.iloc[0]["trial"])
@@ -205,6 +211,23 @@ def baseline_runs(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame)
         else:
             left_out[name] = why
     return values, left_out
+
+
+def _outside_band(name: str, config: StudyConfig) -> str | None:
+    """Why baseline `name` is no comparator of a study held to a leg mass:
+    its leg (at the study's number of segments) lies outside the band; None
+    when it lies inside, or the study holds no mass."""
+    band = leg_mass_band_kg(config.objective, config.space.n_segments)
+    if band is None:
+        return None
+    design = LegDesign(resample(paper_designs()[name], config.space.n_segments), name=name)
+    mass = leg_mass_kg(design, config.objective.segment_mass)
+    if band[0] <= mass <= band[1]:
+        return None
+    return (
+        f"its leg mass {mass:.3g} kg lies outside the study's band {band[0]:.3g} to {band[1]:.3g} kg "
+        "(a comparison with a leg of another mass would mix the mass's effect into the material's)"
+    )
 
 
 def baselines(study: optuna.Study, config: StudyConfig, frame: pd.DataFrame) -> dict:
@@ -289,7 +312,10 @@ def write_report(name: str, storage, out_dir: str) -> dict:
     beh = ",".join(config.objective.behaviours)
     what = f"{name}: {beh}, {config.objective.profile.name} profile, {config.space.n_segments} segments"
     axes = [(o, METRICS[o].axis_label) for o in objectives]
-    fig = study_plots.pareto_figure(frame, front, base, what, axes=axes)
+    drawn = frame.dropna(subset=list(objectives)) if not frame.empty else frame  # a diverged trial: no values
+    with warnings.catch_warnings():  # every trial diverged: an empty plot, said by the feasibility line
+        warnings.filterwarnings("ignore", "No artists with labels", UserWarning)
+        fig = study_plots.pareto_figure(drawn, front, base, what, axes=axes)
     save_figure(fig, paths["pareto_plot"], formats=("png",), dpi=130)
     ref_text = ", ".join(f"{v:.4g}" for v in ref_point)
     unit = " ".join(METRICS[o].unit for o in objectives if METRICS[o].unit != "1") or "1"

@@ -47,8 +47,10 @@ def _name_key(text) -> str:
 def close_names(text, choices: Iterable[str], n: int = 3) -> list[str]:
     """The names of `choices` that `text` may have meant, best first: those
     equal to it but for case and separators (``rho_inc``, ``RHO INC`` for
-    ``rho-inc``; ``axial bending`` for ``axial+bending``), else up to `n`
-    near spellings (:func:`difflib.get_close_matches`, cutoff
+    ``rho-inc``; ``axial bending`` for ``axial+bending``), else the one
+    name `text` is a prefix of where only one is (``loss`` for
+    ``loss-factor``), else up to `n` near spellings
+    (:func:`difflib.get_close_matches`, cutoff
     :data:`CLOSE_MATCH_CUTOFF`, compared in lower case).
 
     Args:
@@ -68,6 +70,9 @@ def close_names(text, choices: Iterable[str], n: int = 3) -> list[str]:
     key = _name_key(text)
     if key in keys:
         return [keys[key]]
+    starting = [k for k in keys if k.startswith(key)]
+    if len(starting) == 1:  # a unique prefix ("loss" for "loss-factor") is the name meant
+        return [keys[starting[0]]]
     return [keys[k] for k in difflib.get_close_matches(key, list(keys), n=n, cutoff=CLOSE_MATCH_CUTOFF)]
 
 

@@ -20,7 +20,7 @@ from ..core.behaviours import Behaviour
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import LegDesign, as_design
 from ..core.model import reset_to_start
-from ..core.rollout import Rollout
+from ..core.rollout import FELL_TILT_DEG, Rollout
 from ..core.sim import SimSettings, simulate
 from ._files import check_fps
 from .scene import DENSITY_RANGE_G_CM3, Camera, OffscreenRenderer, render_spec
@@ -321,7 +321,9 @@ def gait_tiles(
             `start_s`.
         start_s: time of the first frame, simulated s.
         seconds: span of the frames, s (cut at the rollout's end, or at its
-            divergence: the title says so, the last tile is marked).
+            divergence: the title says so, the last tile is marked); tiles
+            at or after a fall (:attr:`~mat_hopper.core.rollout.Rollout.fell_at_s`)
+            are marked "(fell)" and the title says when it fell.
         n_frames: the number of frames, evenly spaced, >= 1.
         size: (width, height) of each frame, pixels.
         camera: the :class:`Camera`; None: ``Camera(distance_m=2.1)``.
@@ -354,15 +356,19 @@ def gait_tiles(
     ax.imshow(np.concatenate(list(frames), axis=1))
     w = frames.shape[2]
     digits = 2 if times[-1] - times[0] >= 0.07 else 4  # tiles a few ms apart keep distinct labels
+    fell = rollout.fell_at_s  # a tile after the fall shows a hopper down, not its gait
     for k, t in enumerate(times):
         last = cut and k == len(times) - 1
-        label = f"t = {t:.{digits}f} s" + (" (diverged)" if last else "")
-        ax.text(k * w + 6, 14, label, fontsize=7, color="red" if last else "black")
+        down = fell is not None and t >= fell
+        label = f"t = {t:.{digits}f} s" + (" (diverged)" if last else " (fell)" if down else "")
+        ax.text(k * w + 6, 14, label, fontsize=7, color="red" if last or down else "black")
     ax.set_axis_off()
     d = rollout.design
     beh = rollout.behaviour
     terrain = f", {math.tan(math.radians(beh.ramp_grade_deg)) * 100:.1f} % ramp" if beh.ramp_grade_deg else ""
     div = f"; diverged at t = {rollout.diverged_at_s:.4f} s, the frames end there" if cut else ""
+    if fell is not None and times[-1] >= fell:
+        div += f"; fell at t = {fell:.3f} s (base tilted past {FELL_TILT_DEG:g} deg): tiles after it marked (fell)"
     ax.set_title(f"{d.name}: {beh.name} hopping{terrain} (red: desired path){div}", fontsize=9)
     _density_legend(fig, ax, d)
     fig.frames = frames

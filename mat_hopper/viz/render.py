@@ -159,6 +159,7 @@ def render_files(
     log=print,
     settings: SimSettings | None = None,
     rollout: Rollout | None = None,
+    progress: bool = True,
 ) -> list[str]:
     """Write gait tiles (`tiles`: .png, .svg, .pdf, .jpg), a video (`video`:
     .mp4 or .gif; `seconds` of simulated time from `start_s` at `fps`) and/or
@@ -196,6 +197,8 @@ def render_files(
         rollout: the run to draw, recorded with ``qpos`` over start_s +
             max(seconds, tile_start_s + 1) (e.g. by :func:`record` with
             these settings); None: :func:`record` it here.
+        progress: show the video's frames rendered on stderr (default
+            True; ``mat-hopper render --no-progress``: False).
 
     Returns:
         The paths written, in the order still, tiles, video.
@@ -235,12 +238,21 @@ def render_files(
         fig = gait_tiles(design, beh, rollout=rollout, start_s=start_s + tile_start_s, backend=backend)
         written.append(save_image(fig, tiles))
     if video:
-        times = video_times(rollout, start_s=start_s, seconds=seconds, fps=fps)
-        write_video(iter_frames(rollout, times, size=size, backend=backend, progress=True), video, fps)
-        cut = f", ending at the divergence at t = {rollout.diverged_at_s:.4f} s" if rollout.diverged else ""
-        log(f"{video}: {len(times)} frames at {fps:g} fps, {size[0]}x{size[1]}{cut}")
+        _video(rollout, video, start_s, seconds, fps, size, backend, progress, log)
         written.append(video)
     return written
+
+
+def _video(rollout: Rollout, video: str, start_s, seconds, fps, size, backend, progress: bool, log) -> None:
+    """render_files' video, and its line: frames, the divergence it ends
+    at, and how many frames show the hopper after a fall."""
+    times = video_times(rollout, start_s=start_s, seconds=seconds, fps=fps)
+    write_video(iter_frames(rollout, times, size=size, backend=backend, progress=progress), video, fps)
+    cut = f", ending at the divergence at t = {rollout.diverged_at_s:.4f} s" if rollout.diverged else ""
+    fell = rollout.fell_at_s
+    if fell is not None and times[-1] >= fell:  # frames of a hopper down, not of its gait
+        cut += f"; the hopper fell at t = {fell:.3f} s: the last {int((times >= fell).sum())} frames show it after its fall"
+    log(f"{video}: {len(times)} frames at {fps:g} fps, {size[0]}x{size[1]}{cut}")
 
 
 def _drawable(rollout: Rollout, path: str | None, first_s: float, what: str, log) -> str | None:

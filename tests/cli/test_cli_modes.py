@@ -14,7 +14,10 @@ def test_modes_prints_chain_beside_rod_and_writes_csv(tmp_path, capsys):
     assert abs(t["chain_hz"][0] / t["rod_hz"][0] - 1) < 0.01  # mode 1 within 1 % at N = 16
 
 
-def test_modes_refuses_a_graded_leg(capsys):
-    assert main(["modes", "--design", "rho-inc"]) == 2
+def test_modes_gives_a_graded_leg_its_stable_step_and_refuses_its_table(tmp_path, capsys):
+    assert main(["modes", "--design", "rho-inc"]) == 0  # its help's example is graded: the step, no table
+    out = capsys.readouterr().out
+    assert "no modes table" in out and "analytic stable time step" in out and "chain_hz" not in out
+    assert main(["modes", "--design", "rho-inc", "--csv", str(tmp_path / "m.csv")]) == 2
     err = capsys.readouterr().err
     assert "one elastic material" in err and len(err.strip().splitlines()) == 1

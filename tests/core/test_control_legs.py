@@ -133,8 +133,9 @@ def test_names_and_errors():
     assert control_of("rho-inc~mass") == "rho-inc" and control_of("SS") == "SS"
     with pytest.raises(ValueError, match="unknown control 'stiff'; accepted: rigid, mass, inertia"):
         control(d, "stiff")
-    with pytest.raises(ValueError, match="design must be a LegDesign"):
-        rigid_twin("SS")
+    assert rigid_twin("SS") == rigid_twin(parse_design("SS"))  # a design name is read as simulate reads it
+    with pytest.raises(ValueError, match="unknown"):
+        rigid_twin("kryptonite")
     with pytest.raises(ValueError, match="no linear-profile leg"):
         inertia_matched(LegDesign.from_properties([20.0, 0.001, 0.001], [70.0]))
 

@@ -1,0 +1,94 @@
+"""A study tells its divergences: a warning before a run above a queued
+design's stable step, the diverged trials counted and advised at the end,
+racing's pruned trials counted by why, a replayed divergence explained,
+and a report that neither scores diverged trials nor compares a
+mass-held study with legs of other masses."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import optuna
+from optuna.trial import TrialState, create_trial
+
+from mat_hopper.core.materials import parse_design
+from mat_hopper.experiments.profiles import resolve_profile
+from mat_hopper.optimize import (
+    Feasibility,
+    SearchSpace,
+    StudyConfig,
+    diverged_run_message,
+    divergence_advice,
+    feasibility,
+    queued_seeds,
+    queued_step_warnings,
+    trials_frame,
+)
+from mat_hopper.optimize._feasibility import LEFT_OUT_ATTR, PRUNED_WHY_ATTR
+from mat_hopper.optimize._objective import RESULT_ATTR
+from mat_hopper.optimize.report import _outside_band
+
+
+def _config(n_segments: int = 5, **objective) -> StudyConfig:
+    c = StudyConfig("x", SearchSpace(n_segments=n_segments))
+    ob = dataclasses.replace(c.objective, profile=resolve_profile("quick"), replicates=0, **objective)
+    return StudyConfig("x", c.space, ob)
+
+
+def test_a_queued_design_above_its_stable_step_is_warned_of_with_what_a_study_offers():
+    config = _config(5)
+    lines = queued_step_warnings(config, queued_seeds(config.space, config.objective)[0], trials=4)
+    assert len(lines) == 4 and lines[0].startswith("queued design SS: the physics step 0.0001 s is above")
+    assert "may diverge" in lines[0] and "fewer --segments" in lines[0] and "--convention axial" in lines[0]
+    assert "no --timestep" in lines[0]  # a study has none: never "try --timestep auto"
+    three = _config(3)  # the paper's legs at 3 segments lie within their bounds
+    assert queued_step_warnings(three, queued_seeds(three.space, three.objective)[0]) == []
+
+
+def test_diverged_trials_end_the_study_with_a_count_and_what_to_try():
+    config = _config(5)
+    line = divergence_advice(Feasibility(finished=4, reasons={"diverged": 4}), config)
+    assert line.startswith("diverged: 4 of 4 finished trials") and "exits 0" in line and "fewer --segments" in line
+    raced = divergence_advice(Feasibility(finished=2, feasible=2, pruned=7, pruned_reasons={"diverged": 7}), config)
+    assert "7 pruned by racing" in raced
+    assert divergence_advice(Feasibility(finished=3, feasible=3), config) is None
+
+
+def test_racing_counts_its_pruned_trials_by_why():
+    study = optuna.create_study(directions=["minimize", "minimize"])
+    for attrs in ({PRUNED_WHY_ATTR: "diverged"},) * 3 + ({LEFT_OUT_ATTR: "fell or diverged on rung 0"}, {}):
+        study.add_trial(create_trial(state=TrialState.PRUNED, user_attrs=attrs))
+    f = feasibility(study, _config(3))
+    assert f.pruned == 5 and f.pruned_reasons == {"diverged": 3, "fell or diverged": 1, "ranked out": 1}
+    assert "(5 more pruned by racing before full fidelity: 3 diverged, 1 fell or diverged, 1 ranked out)" in f.text()
+
+
+def test_a_replayed_divergence_says_when_why_and_what_to_try():
+    config = _config(5)
+    line = diverged_run_message(parse_design("SS", n_segments=5), config.objective, {"behaviour": "ramp"})
+    assert line.startswith("diverged at t = ") and "analytic stable step" in line
+    assert "the automatic step would take 3 physics substeps" in line and "fewer --segments" in line
+
+
+def test_a_diverged_trial_has_no_objective_values_in_the_trials_table():
+    config = _config(3)
+    study = optuna.create_study(directions=["minimize", "minimize"])
+    rows = [{"behaviour": "ramp", "upright": False, "diverged_at_s": 0.004, "replicate": -1}]
+    study.add_trial(
+        create_trial(
+            state=TrialState.COMPLETE,
+            values=[0.003, 0.01],  # whole-run means of a run cut short: better than any feasible trial's
+            user_attrs={RESULT_ATTR: {"feasible": False, "per_behaviour": rows}},
+        )
+    )
+    frame = trials_frame(study, config)
+    assert math.isnan(frame.loc[0, "tracking_error_m"]) and math.isnan(frame.loc[0, "power_w"])
+    assert frame.loc[0, "not_feasible_because"] == "diverged"
+
+
+def test_a_mass_held_study_compares_with_no_baseline_of_another_mass():
+    held = _config(3, leg_mass=6.5, leg_mass_tolerance_kg=0.325)
+    assert "8.77 kg lies outside the study's band 6.17 to 6.83 kg" in _outside_band("SS", held)
+    assert "outside the study's band" in _outside_band("rho-inc", held)
+    assert _outside_band("SS", _config(3)) is None  # no mass held: every baseline compares
