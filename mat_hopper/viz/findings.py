@@ -265,17 +265,31 @@ def _effect(row) -> str:
     return f"{_pct(row.pct_change)} [{row.ci_low:+.1f}, {row.ci_high:+.1f}]"
 
 
+def _beyond_margin(row) -> bool:
+    """A difference whose whole interval lies outside the ±10 % margin."""
+    return row.ci_low > MARGIN_PCT or row.ci_high < -MARGIN_PCT
+
+
 def _same_mass_sentence(effects: pd.DataFrame) -> str:
-    same = effects[effects["same_mass"]]
-    n_eq = int((same["conclusion"] == NO_DIFFERENCE).sum())
-    differ = same[same["conclusion"] == DIFFERENCE]
-    lower = int((differ["pct_change"] < 0).sum())
-    unresolved = int((same["conclusion"] == NOT_ENOUGH).sum())
+    """Tracking error only (one metric, so no pooling of metrics), per kind
+    of same-mass control: equivalent, differing beyond the margin (the whole
+    interval outside it), differing within it, not enough evidence."""
+    same = effects[effects["same_mass"] & (effects["metric"] == "tracking_error_m")]
+    if same.empty:
+        return ""
+    parts = []
+    for group, g in same.groupby("group", sort=False):
+        differ = g[g["conclusion"] == DIFFERENCE]
+        beyond = int(sum(_beyond_margin(r) for r in differ.itertuples()))
+        parts.append(
+            f"{group.split(': ', 1)[-1]}: {int((g['conclusion'] == NO_DIFFERENCE).sum())} of {len(g)} equivalent, "
+            f"{beyond} beyond the margin, {len(differ) - beyond} within it, "
+            f"{int((g['conclusion'] == NOT_ENOUGH).sum())} not enough evidence"
+        )
     return (
-        f"Against a control of the same mass (rigid twins, mass-matched and homogeneous legs, a modulus changed alone), "
-        f"{n_eq} of {len(same)} paired comparisons are equivalent within ±{MARGIN_PCT:.0f} % "
-        f"(the whole 95 % interval inside the margin), {len(differ)} differ ({lower} lower for the design, "
-        f"{len(differ) - lower} higher) and {unresolved} have not enough evidence either way."
+        f"Tracking error against a control of the same leg mass, per kind of control (paired, ±{MARGIN_PCT:.0f} % "
+        f"margin; a rigid twin differs from its design in the springs alone, a mass-matched or homogeneous leg in "
+        f"density and modulus together): " + "; ".join(parts) + "."
     )
 
 
@@ -294,7 +308,7 @@ def _crossed_sentence(crossed: pd.DataFrame) -> str:
 
     reading = ""
     if (mod["conclusion"] == NO_DIFFERENCE).all() and (dens["conclusion"] == DIFFERENCE).all():
-        reading = ": the densities, that is the mass, carry the effect"
+        reading = ": the densities (the mass and its distribution together), not the modulus, carry the effect"
     elif (mod["conclusion"] == DIFFERENCE).any():
         reading = ": the modulus alone moves it too"
     return (
@@ -319,7 +333,7 @@ def _ramp_sentence(optimizer: pd.DataFrame, dominance: str) -> str:
     )
 
 
-def _bending_sentence(crossed: pd.DataFrame) -> str:
+def _bending_sentence(crossed: pd.DataFrame, soft: pd.DataFrame | None = None) -> str:
     mod = crossed[crossed["contrast"].str.startswith("modulus")]
     dens = crossed[crossed["contrast"].str.startswith("densities")]
     if mod.empty or dens.empty:
@@ -330,11 +344,23 @@ def _bending_sentence(crossed: pd.DataFrame) -> str:
         return " and ".join(_effect(x) for x in r.itertuples())
 
     verdict = "no difference within the margin" if (mod["conclusion"] == NO_DIFFERENCE).all() else "a difference"
+    sign = np.sign(dens.loc[dens["metric"] == "tracking_error_m", "pct_change"])
+    reading = ""
+    if soft is not None:
+        soft_sign = np.sign(
+            soft.loc[
+                soft["contrast"].str.startswith("densities") & (soft["metric"] == "tracking_error_m"), "pct_change"
+            ]
+        )
+        if len(sign) and len(soft_sign) and (sign.to_numpy() != soft_sign.to_numpy()[: len(sign)]).all():
+            reading = (
+                ": the densities' effect on ramp tracking reverses sign against the rigid legs on the soft contact "
+                "(the convention, the contact and the step all differ, so which one reverses it is not separated)"
+            )
     return (
-        f"Where the leg can bend (hinge springs, a 1 ms contact), the crossed legs give the same answer: the modulus "
-        f"alone moves tracking error by {effects(mod, 'tracking_error_m')} and hip power by "
-        f"{effects(mod, 'power_w')} ({verdict}), the densities alone move tracking error by "
-        f"{effects(dens, 'tracking_error_m')}."
+        f"Where the leg can bend (hinge springs, a 1 ms contact, one step for the four legs), the modulus alone moves "
+        f"tracking error by {effects(mod, 'tracking_error_m')} and hip power by {effects(mod, 'power_w')} "
+        f"({verdict}); the densities alone move tracking error by {effects(dens, 'tracking_error_m')}{reading}."
     )
 
 
@@ -349,15 +375,50 @@ def _contact_sentence(robust: pd.DataFrame) -> str:
     ramp_tracking = changed.str.startswith("tracking") & changed.str.endswith("ramp")
     reading = ": the ramp's tracking claims rest on the soft contact" if len(changed) and ramp_tracking.all() else ""
     return (
-        f"On a 1 ms contact instead of MuJoCo's default soft one (one run per design), {int(counts.get('keeps', 0))} "
+        f"On a 1 ms contact instead of MuJoCo's default soft one (one unperturbed run per design, no interval; "
+        f"'keeps' means the same sign within a factor 2), {int(counts.get('keeps', 0))} "
         f"of the {len(rows)} numbers the claims rest on keep, {int(counts.get('moves > 2x', 0))} move by more than "
-        f"a factor 2 and {int(counts.get('flips', 0))} flip" + (f" ({named})" if named else "") + reading + "."
+        f"a factor 2 and {int(counts.get('flips', 0))} flip"
+        + (f" ({named})" if named else "")
+        + reading
+        + "."
+        + _apex_clause(robust)
     )
 
 
-def _limits_sentence(claims: pd.DataFrame) -> str:
-    checks = claims["timestep_check"].astype(str)
-    unchecked = int((checks == "not checked").sum())
+def _apex_clause(robust: pd.DataFrame) -> str:
+    rows = robust[robust["variant"] == "apex above ground"]
+    if rows.empty:
+        return ""
+    changed = rows[rows["class"] != "keeps"]
+    named = "; ".join(
+        f"{q} {c}: {_pct(d)} to {_pct(v)}"
+        for q, c, d, v in zip(changed["quantity_id"], changed["class"], changed["default_pct"], changed["value_pct"])
+    )
+    return (
+        f" With the apex measured above the ground instead of in world z, {len(rows) - len(changed)} of {len(rows)} "
+        f"keep" + (f" ({named})" if named else "") + "."
+    )
+
+
+def _finer_step_text(claims: pd.DataFrame, crossed: pd.DataFrame | None) -> str:
+    """Where a record reruns the headline at a finer step (the crossed
+    legs), the two numbers side by side."""
+    if crossed is None:
+        return ""
+    fine = crossed[crossed["contrast"].str.startswith("claim") & (crossed["metric"] == "tracking_error_m")]
+    head = claims.loc[claims["claim_id"] == "headline_tracking", "ours"] if "claim_id" in claims.columns else []
+    if fine.empty or len(head) == 0:
+        return ""
+    return (
+        f" (where a record does, the crossed legs at a finer physics step, the headline's tracking is "
+        f"{_effect(next(fine.itertuples()))} against {str(head.iloc[0]).split(' (')[0]} at the 1e-4 s step of the claims)"
+    )
+
+
+def _limits_sentence(claims: pd.DataFrame, crossed: pd.DataFrame | None = None) -> str:
+    simulated = claims[claims["timestep_check"].notna()]
+    unchecked = int((simulated["timestep_check"].astype(str) == "not checked").sum())
     if WINDOW_COLUMN in claims.columns:
         window = claims[WINDOW_COLUMN].astype(str)
         window_text = (
@@ -365,11 +426,16 @@ def _limits_sentence(claims: pd.DataFrame) -> str:
             f"of the scoring window ({int(window.str.startswith('stationary').sum())} stationary)"
         )
     else:
-        window_text = "whether each verdict holds over both halves of the scoring window is not recorded"
+        window_text = (
+            "whether each verdict holds over both halves of the scoring window is not recorded, so every verdict "
+            "here is provisional"
+        )
+    step_text = _finer_step_text(claims, crossed)
     return (
         "These answers hold for one lumped model (rigid segments joined by springs), "
         "for the behaviours and controller recorded here, and not beyond them; "
-        f"{unchecked} of the {len(claims)} claims were not rerun at a finer time step, and {window_text}."
+        f"{unchecked} of the {len(simulated)} simulated claims were not rerun at a finer time step{step_text}, "
+        f"and {window_text}."
     )
 
 
@@ -394,9 +460,9 @@ def design_answer(records: dict[str, pd.DataFrame], *, dominance: str = DEFAULT_
         _same_mass_sentence(effects),
         _crossed_sentence(records["crossed"]),
         _ramp_sentence(records["optimizer"], dominance),
-        _bending_sentence(records["crossed_bending"]),
+        _bending_sentence(records["crossed_bending"], records["crossed"]),
         _contact_sentence(records["robustness_contact"]),
-        _limits_sentence(records["claims"]),
+        _limits_sentence(records["claims"], records["crossed"]),
     ]
     return " ".join(s for s in sentences if s)
 

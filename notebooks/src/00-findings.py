@@ -16,7 +16,9 @@
 # evidence.
 #
 # The answer rests on the paper profile (60 s runs scored after 20 s, at
-# the authors' 1e-4 s time step, 10 paired replicate seeds per design).
+# the authors' 1e-4 s time step, 10 paired replicate seeds per design, for
+# most records; each record's README entry gives its own basis: the
+# crossed legs run at finer steps, the robustness variants one run each).
 # Those runs take hours on a small machine, so their results are kept as
 # records in `book/records/`, each with the command, commit and machine
 # that made it (the folder's README). This page reads those records and
@@ -87,17 +89,16 @@ glue("fig-findings-forest", findings.forest_plot(records, kinds=controls), displ
 print(findings.design_answer(records))
 
 # %% [markdown]
-# Read plainly: in these records a leg's mass, and where along the leg it
-# sits, explains most of what the paper credits to the material. Changing
-# a metal leg's modulus alone changes nothing beyond the margin; the
-# springs themselves, against the rigid twin, differ beyond it in some
-# comparisons only (the table's "beyond the rigid twin" column). So choose
-# a leg by its mass and how the mass is distributed first, and its
-# material by what it must carry (chapter 8b). A graded leg is not a
-# better leg than the uniform leg of its mass: where one tracks better it
-# spends more hip power, where it spends less it tracks worse. These are
-# one lumped model's answers; the chapters say where they and the paper's
-# differ, and why.
+# Read plainly, within the limits stated above: in these records a leg's
+# mass, and where along the leg it sits, explain most of what the paper
+# credits to the material. A uniform modulus changed alone changes
+# nothing beyond the margin; the springs themselves, against the rigid
+# twin, differ beyond it in some comparisons (the table's "beyond the
+# rigid twin" column). Whether a graded leg beats the uniform leg of its
+# mass depends on the margin and the domination rule (chapter 9). The
+# ramp's answers depend on the contact model, so they are one lumped
+# model's answers on one contact; the chapters say where they and the
+# paper's differ, and why.
 #
 # ## Where the evidence is
 #
