@@ -30,7 +30,7 @@ or, for the variants without perturbations or substeps, on a batch backend
 >>> [v.label for v in variants(replicates=1)][:3]
 ['authors', 'fresh', 'latency-2']
 >>> [v.label for v in variants(replicates=1)][-3:]
-['2e-5 s physics', '2e-5 s step', 'replicate 0']
+['stiff contact', 'apex above ground', 'replicate 0']
 """
 
 from __future__ import annotations
