@@ -5,6 +5,8 @@ chapter 9c's codesign from :mod:`mat_hopper.optimize.book_plan`)."""
 
 from __future__ import annotations
 
+import os
+
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..experiments.plan import US_PER_STEP
 from ._checks import check_output_file, write_table
@@ -21,9 +23,13 @@ def cmd_plan(args) -> int:
     profile = profile_of(args.profile)
     from ..experiments.plan import format_plan, plan
     from ..optimize.book_plan import chapters
+    from ._checks import cache_folder
 
-    table = plan(profile, cache_dir=args.cache, chapters=chapters())
-    print(f"plan of the book's runs, profile {profile.name} (nothing run; cache {args.cache or 'default'})")
+    folder, flag = cache_folder(args.cache)  # a file, or an empty $MAT_HOPPER_CACHE, is refused
+    table = plan(profile, cache_dir=folder, chapters=chapters())
+    print(f"plan of the book's runs, profile {profile.name} (nothing run; cache {folder})")
+    if not os.path.isdir(folder):  # a mistyped folder must not read as "nothing cached yet"
+        print(f"note: {flag} {folder} does not exist: no run is cached there")
     print(format_plan(table, us_per_step=args.us_per_step))
     if args.csv:
         print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")

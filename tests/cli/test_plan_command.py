@@ -42,3 +42,16 @@ def test_plan_refuses_a_cost_per_step_that_is_not_positive(capsys):
 
 def test_plan_refuses_force_without_an_output(capsys):
     refused(["plan", "--profile", "quick", "--force"], capsys, "--force is for --csv")
+
+
+def test_a_cache_that_is_not_there_is_said_and_a_file_refused(tmp_path, capsys):
+    from mat_hopper.cli import main
+
+    missing = tmp_path / "typo" / "cache"
+    assert main(["plan", "--profile", "quick", "--cache", str(missing)]) == 0
+    assert f"note: --cache {missing} does not exist: no run is cached there" in capsys.readouterr().out
+    assert not missing.exists()
+    afile = tmp_path / "x.csv"
+    afile.write_text("a\n")
+    assert main(["plan", "--profile", "quick", "--cache", str(afile)]) == 2
+    assert "is a file, not a folder" in capsys.readouterr().err
