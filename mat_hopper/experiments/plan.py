@@ -13,10 +13,9 @@ the notebooks' calls run: :func:`~mat_hopper.experiments.reproduce.experiment_ta
 (``run_experiments``), :func:`~mat_hopper.experiments.controls.control_tasks`
 (``run_controls``), :func:`~mat_hopper.experiments.convergence.tasks`
 (``convergence.run``), the book checks' ``*_tasks`` of
-:mod:`mat_hopper.experiments.paper`, and :func:`rollout_tasks` (the tasks
-:func:`~mat_hopper.experiments.runner.rollouts` builds; the runner's source is
-part of every cache key, so its task list is rebuilt here, not refactored
-there). What a chapter passes them (its designs, behaviours, replicates) is
+:mod:`mat_hopper.experiments.paper`, and
+:func:`~mat_hopper.experiments.runner.rollout_specs` (the tasks
+:func:`~mat_hopper.experiments.runner.rollouts` runs). What a chapter passes them (its designs, behaviours, replicates) is
 copied from its notebook, one entry per call.
 
 Not counted here: cells that simulate outside the cache (``simulate``,
@@ -43,6 +42,7 @@ from . import controls, convergence
 from .paper import axial_check_tasks, clock_tasks, convention_tasks, in_place_tasks, parse_experiments
 from .profiles import get_profile
 from .reproduce import experiment_tasks
+from .runner import rollout_specs
 
 # Wall time of one physics step on one core, microseconds: measured 5.0-5.6
 # us on one idle core for the 3-segment leg (benchmarks/rollout.py;
@@ -118,42 +118,10 @@ def experiments(spec: str) -> Callable:
     return lambda profile: [t for ts in experiment_tasks(profile, names).values() for t in ts]
 
 
-def rollout_tasks(designs, behaviours, settings, *, record_rate_hz=None, record_qpos: bool = False) -> list:
-    """The tasks :func:`mat_hopper.experiments.runner.rollouts` runs for these
-    arguments (its own construction, rebuilt: see the module doc).
-
-    Args:
-        designs: design names or LegDesigns.
-        behaviours: behaviour names or Behaviours.
-        settings: the SimSettings of every rollout.
-        record_rate_hz: samples per simulated second, Hz (None: the settings').
-        record_qpos: keep every joint position.
-
-    Returns:
-        list of :class:`~mat_hopper.experiments.runner.RolloutSpec`, design-major.
-    """
-    from ..core.behaviours import behaviour as get_behaviour
-    from ..core.materials import parse_design
-    from .runner import RolloutSpec
-
-    if record_rate_hz is not None:
-        settings = replace(settings, record_rate_hz=float(record_rate_hz))
-    return [
-        RolloutSpec(
-            parse_design(d) if isinstance(d, str) else d,
-            get_behaviour(b) if isinstance(b, str) else b,
-            settings,
-            record_qpos=bool(record_qpos),
-        )
-        for d in designs
-        for b in behaviours
-    ]
-
-
 def _contact_rollouts(p) -> list:
     """Chapter 8's contact diagnostics: 8 s at the physics rate."""
     diag = replace(p.sim_settings(), duration_s=8.0, transient_s=4.0)
-    return rollout_tasks(["MD", "SS", "rho-inc"], ["ramp"], diag, record_rate_hz=1.0 / diag.timestep_s)
+    return rollout_specs(["MD", "SS", "rho-inc"], ["ramp"], diag, record_rate_hz=1.0 / diag.timestep_s)
 
 
 _SERIES = ["MD", "SS", "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC"]
@@ -167,7 +135,7 @@ CHAPTERS: tuple[Chapter, ...] = (
     Chapter("05-numerical-stability", (experiments("stability"),)),
     Chapter(
         "06-mono-materials",
-        (experiments("1"), lambda p: rollout_tasks(["MD", "SS"], ["forward"], p.sim_settings()), in_place_tasks),
+        (experiments("1"), lambda p: rollout_specs(["MD", "SS"], ["forward"], p.sim_settings()), in_place_tasks),
     ),
     Chapter("07-one-property", (experiments("2"), experiments("1"), experiments("2-gibson-ashby"))),
     Chapter(
@@ -175,7 +143,7 @@ CHAPTERS: tuple[Chapter, ...] = (
         (
             experiments("3"),
             _contact_rollouts,
-            lambda p: rollout_tasks(_SERIES, ["forward", "ramp"], p.sim_settings(), record_rate_hz=250),
+            lambda p: rollout_specs(_SERIES, ["forward", "ramp"], p.sim_settings(), record_rate_hz=250),
         ),
         "uncached cells not counted: gait tiles and a video (rendered rollouts)",
     ),
@@ -204,7 +172,7 @@ CHAPTERS: tuple[Chapter, ...] = (
         (
             experiments("1,2,3,stability,robustness,controls"),
             clock_tasks,
-            lambda p: rollout_tasks(["MD", "SS"], ["forward"], p.sim_settings()),
+            lambda p: rollout_specs(["MD", "SS"], ["forward"], p.sim_settings()),
             axial_check_tasks,
         ),
     ),

@@ -505,6 +505,41 @@ class RolloutSpec(RunSpec):
         )
 
 
+def rollout_specs(
+    designs, behaviours, settings: SimSettings, *, record_rate_hz=None, record_qpos: bool = False
+) -> list:
+    """The tasks of :func:`rollouts` (and of the book's plan, which counts
+    them before any run): one :class:`RolloutSpec` per design and behaviour.
+
+    Args:
+        designs: design names or LegDesigns.
+        behaviours: behaviour names or Behaviours.
+        settings: the :class:`~mat_hopper.core.sim.SimSettings` of every rollout.
+        record_rate_hz: samples per simulated second, Hz (None: the settings').
+        record_qpos: keep every joint position.
+
+    Returns:
+        list of :class:`RolloutSpec`, design-major.
+    """
+    from dataclasses import replace
+
+    from ..core.behaviours import behaviour as get_behaviour
+    from ..core.materials import parse_design
+
+    if record_rate_hz is not None:
+        settings = replace(settings, record_rate_hz=float(record_rate_hz))
+    return [
+        RolloutSpec(
+            parse_design(d) if isinstance(d, str) else d,
+            get_behaviour(b) if isinstance(b, str) else b,
+            settings,
+            record_qpos=bool(record_qpos),
+        )
+        for d in designs
+        for b in behaviours
+    ]
+
+
 def rollouts(
     designs,
     behaviours,
@@ -544,23 +579,7 @@ def rollouts(
             but empty.
         RuntimeError: a rollout raised (the errors joined).
     """
-    from ..core.behaviours import behaviour as get_behaviour
-    from ..core.materials import parse_design
-
-    if record_rate_hz is not None:
-        from dataclasses import replace
-
-        settings = replace(settings, record_rate_hz=float(record_rate_hz))
-    specs = [
-        RolloutSpec(
-            parse_design(d) if isinstance(d, str) else d,
-            get_behaviour(b) if isinstance(b, str) else b,
-            settings,
-            record_qpos=bool(record_qpos),
-        )
-        for d in designs
-        for b in behaviours
-    ]
+    specs = rollout_specs(designs, behaviours, settings, record_rate_hz=record_rate_hz, record_qpos=record_qpos)
     if not specs:
         raise ValueError("rollouts: give at least one design and one behaviour")
     with Runner(cache_dir, workers=workers, progress=False) as runner:

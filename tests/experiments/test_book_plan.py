@@ -13,8 +13,9 @@ import pytest
 
 from mat_hopper.experiments import plan as book_plan
 from mat_hopper.experiments.cache import Cache
-from mat_hopper.experiments.plan import CHAPTERS, Chapter, experiments, format_plan, plan, rollout_tasks
+from mat_hopper.experiments.plan import CHAPTERS, Chapter, experiments, format_plan, plan
 from mat_hopper.experiments.profiles import PROFILES
+from mat_hopper.experiments.runner import rollout_specs
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 TOTAL = re.compile(r"^total: (\d+) runs, (\S+) physics steps, (\S+) core-hours \(estimated\)$")
@@ -94,7 +95,7 @@ def test_the_rollouts_planned_are_those_runner_rollouts_runs(monkeypatch, tmp_pa
     settings = PROFILES["quick"].sim_settings()
     with pytest.raises(RuntimeError, match="captured"):
         runner.rollouts(["MD", "SS"], ["forward", "ramp"], settings, record_rate_hz=250, cache_dir=tmp_path)
-    planned = rollout_tasks(["MD", "SS"], ["forward", "ramp"], settings, record_rate_hz=250)
+    planned = rollout_specs(["MD", "SS"], ["forward", "ramp"], settings, record_rate_hz=250)
     assert [t.key() for t in planned] == [t.key() for t in seen]
 
 
