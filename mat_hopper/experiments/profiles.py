@@ -26,6 +26,12 @@ from ..core.timestep import AUTO, is_auto
 
 PROFILE_ENV = "MAT_HOPPER_PROFILE"
 
+# Seeds of a grid whose replicates no paired test reads (a regression
+# clustered by design, a figure's mean and spread): three give a spread.
+# A paired verdict needs more (Profile.replicates: 10 in the paper profile;
+# an exact sign-flip test on n pairs reaches p = 2 / 2^n at best).
+FIGURE_REPLICATES = 3
+
 
 def check_replicates(replicates) -> int:
     """Check a replicate count.
@@ -262,6 +268,13 @@ class Profile:
             convention=self.convention if convention is None else convention,
             labels=labels,
         )
+
+    @property
+    def figure_replicates(self) -> int:
+        """Seeds of a grid whose replicates no paired test reads:
+        min(:attr:`replicates`, :data:`FIGURE_REPLICATES`). Derived, so not a
+        key of its own."""
+        return min(self.replicates, FIGURE_REPLICATES)
 
     @property
     def scored_window_s(self) -> tuple[float, float]:

@@ -93,12 +93,10 @@ def codesign_requests(profile) -> list:
     n = profile.replicates
     out = [cd.tuning_task(leg, beh, profile, cd.authors_gains(), 0) for leg in legs.values()]
     out += cd.comparison_tasks(legs, profile, beh, n)
+    screen = cd.screen_profile(profile).sim_settings(design=legs[cd.BASELINE])
+    note = f"tuning trials 1-{cd.TRIALS - 1} per design (gains sampled; screening runs)"
+    out.append(Estimate("run", len(legs) * (cd.TRIALS - 1), screen, note))
     settings = profile.sim_settings(design=legs[cd.BASELINE])
-    out.append(
-        Estimate(
-            "run", len(legs) * (cd.TRIALS - 1), settings, f"tuning trials 1-{cd.TRIALS - 1} per design (gains sampled)"
-        )
-    )
     out.append(Estimate("run", len(legs) * n, settings, "comparison at the tuned gains (known after tuning)"))
     return out
 

@@ -9,7 +9,10 @@ its own gains and compares again:
    objective, TPE, :data:`TRIALS` trials, the authors' gains enqueued
    first) over the controller's foot-placement gain and stance attitude
    gains (:data:`GAIN_BOUNDS`, log scale, about the authors' values), on
-   one behaviour under the profile's settings. Score: the sum of tracking
+   one behaviour, on screening runs: the profile's settings with the
+   quick profile's run length and transient (12 s, scored after 4 s;
+   :func:`screen_profile`), as racing's rung 0 screens. A tuning ranks
+   gains; the comparison (step 2) measures them at full length. Score: the sum of tracking
    error and hip power, each relative to the same design's at the authors'
    gains, ``J = e / e0 + P / P0`` (2 at the authors' gains; lower is
    better on the two together, neither can be bought with the other
@@ -47,7 +50,7 @@ from ..core.behaviours import behaviour as get_behaviour
 from ..core.controller import ControllerSettings
 from ..core.materials import MONO_NAMES, LegDesign, parse_design
 from ..core.perturbations import Perturbation
-from ..experiments.profiles import Profile, resolve_profile
+from ..experiments.profiles import Profile, get_profile, resolve_profile
 from ..experiments.runner import FAILED, OK, Runner, RunSpec
 from ._objective import HOP_HEIGHT_TOLERANCE_M
 from ._study import _quiet
@@ -119,20 +122,39 @@ def authors_gains() -> dict:
     return {k: float(getattr(ref, k.upper())) for k in GAIN_BOUNDS}
 
 
+def screen_profile(profile: Profile) -> Profile:
+    """The profile a tuning screens gains on: `profile` with the quick
+    profile's run length and transient where they are shorter (its other
+    settings, the step and conventions, unchanged).
+
+    Args:
+        profile: the study's Profile.
+
+    Returns:
+        A Profile: duration_s and transient_s at most the quick profile's (s).
+    """
+    quick = get_profile("quick")
+    duration_s, transient_s = min(profile.duration_s, quick.duration_s), min(profile.transient_s, quick.transient_s)
+    if (duration_s, transient_s) == (profile.duration_s, profile.transient_s):
+        return profile
+    return replace(profile, duration_s=duration_s, transient_s=transient_s)
+
+
 def tuning_task(design: LegDesign, behaviour, profile: Profile, gains: dict, trial: int) -> RunSpec:
-    """One tuning trial's run (:func:`tune`'s task).
+    """One tuning trial's run (:func:`tune`'s task), a screening run
+    (:func:`screen_profile`).
 
     Args:
         design: the leg.
         behaviour: the Behaviour tuned on.
-        profile: the Profile of the run.
+        profile: the study's Profile (its screen runs the trial).
         gains: the trial's gains ({name of :data:`GAIN_BOUNDS`: value}).
         trial: the trial's number (its label).
 
     Returns:
         The RunSpec, labelled ``{"trial": trial}``.
     """
-    return RunSpec(design, behaviour, _settings(profile, gains, design=design), {"trial": trial})
+    return RunSpec(design, behaviour, _settings(screen_profile(profile), gains, design=design), {"trial": trial})
 
 
 def comparison_tasks(legs: dict, profile: Profile, behaviour, replicates: int, tuned: dict | None = None) -> list:

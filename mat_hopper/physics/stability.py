@@ -94,7 +94,8 @@ __all__ = [
 DT_MAX_S = 1e-2
 DT_MIN_S = MIN_TIMESTEP_S
 BRACKET_FACTOR = math.sqrt(10.0)  # the "ladder" bracket's step
-ANALYTIC_FACTOR = 1.5  # the "analytic" bracket's step (the estimate is within a factor 2)
+ANALYTIC_FACTOR = 1.5  # the "analytic" bracket's step
+ANALYTIC_SPREAD = 2.0  # the analytic estimate lies within this factor of the measured stable step
 BRACKETS = ("analytic", "ladder")
 DEFAULT_BRACKET = "analytic"
 DEFAULT_TOLERANCE = 1.25
@@ -386,13 +387,28 @@ class StabilitySpec:
         object.__setattr__(self, "bracket", parse_name(self.bracket, BRACKETS, "bracket"))
 
     def estimated_steps(self) -> float:
-        """Physics steps before the run (for the run-size limit): the
-        bisection's tries at the geometric mean of its bracket (the tries
-        close in on the design's stable step) plus, with the scan, the
-        reference ladder in full."""
-        steps = self.max_iter * self.duration_s / math.sqrt(self.dt_min * self.dt_max)
+        """Physics steps at most, before the run (the plan and the run-size
+        limit), every try counted at full length (an unstable one stops at
+        its divergence). With the analytic bracket and the estimate within
+        :data:`ANALYTIC_SPREAD` of the measured step (module doc): at most
+        three bracket tries and the bisection's, none below start /
+        ANALYTIC_FACTOR^3, and a scan that stops by start / ANALYTIC_SPREAD.
+        Otherwise (the ladder bracket): `max_iter` tries at the geometric
+        mean of [dt_min, dt_max] and the whole ladder."""
+        if self.bracket != "analytic":
+            steps = self.max_iter * self.duration_s / math.sqrt(self.dt_min * self.dt_max)
+            return float(steps + (sum(self.duration_s / dt for dt in spec_ladder()) if self.scan else 0.0))
+        start = min(
+            estimate_timestep(self.design, self.convention)[1], controller_timestep(self.design, self.convention)
+        )
+        start = min(max(start, self.dt_min), self.dt_max)
+        bisect = math.ceil(math.log2(math.log(ANALYTIC_FACTOR) / math.log(self.tolerance))) if self.max_iter else 0
+        tries = 3 + min(max(bisect, 0), int(self.max_iter))
+        steps = tries * self.duration_s / max(start / ANALYTIC_FACTOR**3, self.dt_min)
         if self.scan:
-            steps += float(sum(self.duration_s / dt for dt in spec_ladder()))
+            ladder = spec_ladder()
+            last = np.flatnonzero(ladder <= start / ANALYTIC_SPREAD)  # the first ladder step surely stable
+            steps += float(sum(self.duration_s / dt for dt in ladder[: (last[0] + 1) if len(last) else None]))
         return float(steps)
 
     def key_dict(self) -> dict:

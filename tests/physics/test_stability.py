@@ -167,3 +167,18 @@ def test_stability_spec_names_any_case_share_the_key():
     assert mixed.key() == plain.key()
     with pytest.raises(ValueError, match="unknown bracket 'binary'; accepted: analytic, ladder"):
         StabilitySpec(d, bracket="binary")
+
+
+@pytest.mark.parametrize(
+    "density_g_cm3, modulus_gpa", [(1.4, 4.0), (8.0, 340.0), (1.4, 340.0), (8.0, 4.0), (3.5, 41.5)]
+)
+def test_estimated_steps_bound_the_steps_a_search_runs(density_g_cm3, modulus_gpa):
+    """The plan's count of a stable-step search (the map's corners and
+    middle, the paper profile's 2 s tries and scan) is at least the steps
+    MuJoCo actually ran (each try to its end or its divergence), and not
+    looser than 20 times."""
+    leg = LegDesign.from_properties([density_g_cm3] * 3, [modulus_gpa] * 3)
+    spec = StabilitySpec(leg, duration_s=2.0, tolerance=1.25, max_iter=10, scan=True)
+    tries, _ = spec.compute()
+    ran = sum((2.0 if math.isnan(t.diverged_at_s) else t.diverged_at_s) / t.dt_s for t in tries.itertuples())
+    assert ran <= spec.estimated_steps() <= 20 * ran

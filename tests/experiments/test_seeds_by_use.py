@@ -1,0 +1,45 @@
+"""Seeds where a test needs them: the paired claims' grids run the
+profile's replicates, the grids no paired test reads run at most
+FIGURE_REPLICATES (three), and codesign's tuning screens on short runs."""
+
+from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.materials import parse_design
+from mat_hopper.experiments import controls
+from mat_hopper.experiments.profiles import FIGURE_REPLICATES, get_profile
+from mat_hopper.experiments.reproduce import experiment_tasks
+from mat_hopper.optimize import codesign
+
+
+def _seeds(tasks) -> set:
+    return {t.labels["replicate"] for t in tasks}
+
+
+def test_paired_grids_keep_the_profiles_seeds_and_sweeps_run_three():
+    paper = get_profile("paper")
+    tasks = experiment_tasks(paper, ["exp1", "exp2", "exp2-gibson-ashby", "exp3"])
+    # -1 is the unperturbed run every experiment keeps
+    assert _seeds(tasks["exp1"]) == _seeds(tasks["exp3"]) == {-1, *range(10)}
+    assert _seeds(tasks["exp2"]) == _seeds(tasks["exp2-gibson-ashby"]) == {-1, 0, 1, 2}
+    assert FIGURE_REPLICATES == 3 and paper.figure_replicates == 3
+    # an explicit count below the cap is kept; the quick profile's 2 seeds stay 2
+    assert _seeds(experiment_tasks(paper, ["exp2"], replicates=2)["exp2"]) == {-1, 0, 1}
+    assert get_profile("quick").figure_replicates == 2
+
+
+def test_the_attribution_factorial_runs_three_seeds_and_the_controls_ten():
+    paper = get_profile("paper")
+    assert _seeds(controls.attribution_tasks(paper, behaviours=("ramp",))) == {0, 1, 2}
+    assert _seeds(controls.control_tasks(paper, behaviours=("ramp",))) == set(range(10))
+    assert _seeds(controls.attribution_tasks(paper, behaviours=("ramp",), replicates=5)) == set(range(5))
+
+
+def test_codesign_tunes_on_screening_runs_and_compares_at_full_length():
+    paper, quick = get_profile("paper"), get_profile("quick")
+    leg = parse_design("Ti")
+    beh = behaviour("forward")
+    tune = codesign.tuning_task(leg, beh, paper, codesign.authors_gains(), 0).settings
+    assert (tune.duration_s, tune.transient_s) == (12.0, 4.0) == (quick.duration_s, quick.transient_s)
+    assert (tune.timestep_s, tune.convention) == (paper.timestep_s, paper.convention)
+    full = codesign.comparison_tasks({"Ti": leg}, paper, beh, 2)[0].settings
+    assert (full.duration_s, full.transient_s) == (60.0, 20.0)
+    assert codesign.screen_profile(quick) is quick  # already short: unchanged
