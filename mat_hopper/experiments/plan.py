@@ -130,12 +130,13 @@ _OPTIMIZE = "runs in mat_hopper.optimize, counted by mat-hopper plan (mat_hopper
 CHAPTERS: tuple[Chapter, ...] = (
     Chapter("00-findings", (), "none: reads the records"),
     Chapter("01-introduction", (), "none"),
-    Chapter("03-modelling-material", (lambda p: convention_tasks(profile=p),)),
+    Chapter("03-modelling-material", (), "none"),
     Chapter("04-hopper-controller", (), "uncached cells not counted: 2 simulate() runs, 1 rendered still"),
-    Chapter("05-numerical-stability", (experiments("stability"),)),
+    Chapter("05-numerical-stability", (lambda p: convention_tasks(profile=p), experiments("stability"))),
     Chapter(
         "06-mono-materials",
         (experiments("1"), lambda p: rollout_specs(["MD", "SS"], ["forward"], p.sim_settings()), in_place_tasks),
+        "not counted: the jerk filter study's RolloutRunner cells (uncached)",
     ),
     Chapter("07-one-property", (experiments("2"), experiments("1"), experiments("2-gibson-ashby"))),
     Chapter(
@@ -157,14 +158,13 @@ CHAPTERS: tuple[Chapter, ...] = (
         "09c-material-or-mass",
         (
             lambda p: controls.control_tasks(p),
-            experiments("1,3"),
             lambda p: controls.push_scale_tasks(p),
             lambda p: controls.attribution_tasks(
                 p, behaviours=("forward", "ramp") if p.name == "paper" else ("forward",)
             ),
             experiments("2"),
         ),
-        "not counted: the crossed-legs grid its cells build, RolloutRunner cells (uncached)",
+        "not counted: the crossed-legs grid its cells build",
         "codesign (gains tuned per material)",
     ),
     Chapter(
@@ -172,7 +172,6 @@ CHAPTERS: tuple[Chapter, ...] = (
         (
             experiments("1,2,3,stability,robustness,controls"),
             clock_tasks,
-            lambda p: rollout_specs(["MD", "SS"], ["forward"], p.sim_settings()),
             axial_check_tasks,
         ),
     ),

@@ -243,7 +243,7 @@ def jerk_rate_panel(ax, jerk: dict) -> None:
     for i, (d, t) in enumerate(jerk.items()):
         colour = design_colour(d, i)
         raw = t["raw_jerk_m_s3"] if "raw_jerk_m_s3" in t else t["mean_jerk_m_s3"]
-        ax.plot(t["rate_hz"], raw, "o-", color=colour, label=f"{d}, finite difference (old)")
+        ax.plot(t["rate_hz"], raw, "o-", color=colour, label=f"{d}, finite difference (authors')")
         if "metric_jerk_m_s3" in t:
             ax.plot(t["rate_hz"], t["metric_jerk_m_s3"], "s--", color=colour, label=f"{d}, 50 Hz low-pass (metric)")
     ax.set_xscale("log")
@@ -270,30 +270,28 @@ def jerk_rate_figure(jerk: dict):
     return fig
 
 
-def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
-    """Three of the authors' code defects, measured: (A) tracking error
+def defects_figure(clock: pd.DataFrame, power: pd.DataFrame):
+    """Two of the authors' code defects, measured: (A) tracking error
     against the wall-clock factor of the desired path (table from
-    :func:`clock_drift`); (B) mean |jerk| against the sampling rate, per
-    design ({design: table from :func:`jerk_by_rate`}, log-log); (C) the
-    percent change of power of one design against another, real hip power
-    beside the authors' formula (table from :func:`power_formula_table`).
+    :func:`clock_drift`); (B) the percent change of power of one design
+    against another, real hip power beside the authors' formula (table
+    from :func:`power_formula_table`). The jerk's sampling defect has a
+    figure of its own, :func:`jerk_rate_figure`.
 
     Args:
         clock: :func:`mat_hopper.experiments.paper.clock_drift` rows, columns
             ``design``, ``clock_factor`` and ``mean_tracking_error_m`` (m, drawn
             in mm).
-        jerk: {design name: :func:`mat_hopper.analysis.tables.jerk_by_rate`
-            table}, drawn by :func:`jerk_rate_panel`.
         power: :func:`mat_hopper.analysis.tables.power_formula_table`: one row
             per measure (bars, legend label = index), one column per behaviour
             (%); its ``columns.name`` labels the y axis.
 
     Returns:
-        The ``matplotlib.figure.Figure`` (panels A, B, C).
+        The ``matplotlib.figure.Figure`` (panels A, B).
     """
     with rc_context(STYLE):
-        fig = Figure(figsize=(11.0, 3.4), layout="constrained")
-        a, b, c = fig.subplots(1, 3)
+        fig = Figure(figsize=(8.0, 3.4), layout="constrained")
+        a, c = fig.subplots(1, 2)
         for i, (d, g) in enumerate(clock.groupby("design", sort=False)):
             g = g.sort_values("clock_factor")
             a.plot(g["clock_factor"], g["mean_tracking_error_m"] * 1e3, "o-", color=design_colour(d, i), label=d)
@@ -301,7 +299,6 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
         a.set_ylabel("Tracking error (mm)")
         a.set_title("Desired path on the wall clock")
         a.legend()
-        jerk_rate_panel(b, jerk)
         behs = order_behaviours(power.columns)
         x = np.arange(len(behs))
         for i, (label, row) in enumerate(power.iterrows()):
@@ -318,7 +315,7 @@ def defects_figure(clock: pd.DataFrame, jerk: dict, power: pd.DataFrame):
         c.set_title("Power: real or the authors' formula")
         c.legend(loc="upper left")
         c.grid(False, axis="x")
-        for ax, letter in zip((a, b, c), "ABC"):
+        for ax, letter in zip((a, c), "AB"):
             ax.text(
                 -0.02, 1.02, letter, transform=ax.transAxes, fontsize=12, fontweight="bold", ha="right", va="bottom"
             )

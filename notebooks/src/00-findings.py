@@ -36,16 +36,19 @@ print("records read from book/records/: " + ", ".join(findings.RECORD_FILES.valu
 # %% [markdown]
 # ## The paper's claims, reproduced or not
 #
-# One row per quantitative claim of the paper: the paper's number, ours,
-# and the verdict by the rule stated in chapter 10 (holds, partly, does
-# not hold). The next two columns ask whether the effect is the material's:
+# One row per quantitative claim of the paper, as recorded: the paper's
+# number, ours, and the verdict by the rule stated in
+# {doc}`10-reproduction-report` (holds, partly, does not hold), where the
+# claims table of this build stands beside these records. The next two columns ask whether the effect is the material's:
 # against the **rigid twin** (the same segment masses without springs: what
 # the moduli add) and against the **mass-matched leg** (a homogeneous leg
 # of the same mass: what the gradient adds beyond the leg's mass), as
 # chapter 9c builds them. The last two are checks of the numerics: the
-# claim's runs rerun at a finer time step (chapter 11's robustness study,
-# not part of these records) and whether each run is stationary over its
-# scoring window, which the records do not carry yet.
+# claim's runs rerun at a finer time step ("not checked" where the record
+# has no such rerun; chapter 11's robustness study reruns the main claims
+# at 2e-5 s) and whether the claim's verdict is the same on the first and
+# the second half of the scoring window ("stationary") or differs
+# ("window-dependent").
 
 # %%
 book.show(findings.findings_table(records))
@@ -80,26 +83,6 @@ glue("fig-findings-forest", findings.forest_plot(records, kinds=controls), displ
 # ```
 
 # %% [markdown]
-# ## The answer
-#
-# Generated from the same records (`findings.design_answer`), with its
-# limits:
-
-# %%
-print(findings.design_answer(records))
-
-# %% [markdown]
-# Read plainly, within the limits stated above: in these records a leg's
-# mass, and where along the leg it sits, explain most of what the paper
-# credits to the material. A uniform modulus changed alone changes
-# nothing beyond the margin; the springs themselves, against the rigid
-# twin, differ beyond it in some comparisons (the table's "beyond the
-# rigid twin" column). Whether a graded leg beats the uniform leg of its
-# mass depends on the margin and the domination rule (chapter 9). The
-# ramp's answers depend on the contact model, so they are one lumped
-# model's answers on one contact; the chapters say where they and the
-# paper's differ, and why.
-#
 # ## Where the evidence is
 #
 # - {doc}`09c-material-or-mass`: the controls (rigid twin, mass-matched and
@@ -114,3 +97,25 @@ print(findings.design_answer(records))
 #   effects above;
 # - the records themselves, in `book/records/` (CSV files, with how each
 #   was made in the folder's README).
+#
+# ## The records' answer
+#
+# Generated from the same records (`findings.design_answer`), with its
+# limits:
+
+# %%
+print(findings.design_answer(records))
+
+# %% [markdown]
+# ## Answer
+#
+# Read plainly, within the limits stated above: in these records a leg's
+# mass, and where along the leg it sits, explain most of what the paper
+# credits to the material. A uniform modulus changed alone changes
+# nothing beyond the margin; the springs themselves, against the rigid
+# twin, differ beyond it in some comparisons (the table's "beyond the
+# rigid twin" column). Whether a graded leg beats the uniform leg of its
+# mass depends on the margin and the domination rule (chapter 9). The
+# ramp's answers depend on the contact model, so they are one lumped
+# model's answers on one contact; the chapters say where they and the
+# paper's differ, and why.

@@ -9,6 +9,7 @@
 # %% [markdown]
 # # Introduction
 #
+# Do the materials a robot's leg is made of change how well it hops?
 # Most robots are built from aluminium, stainless steel and 3D-printed
 # plastic, and simulated as rigid bodies. Nature builds differently: bone
 # has a porous core inside a dense shell, and the tissue between bone,
@@ -88,8 +89,8 @@ book.show(book.environment_table())
 #   checks that need physics substeps (the axial and 2e-5 s robustness
 #   settings, the factorial's axial arms). CI builds this one. Its numbers
 #   are noisier and closer to the start-up transient; they are not the
-#   paper's protocol, and the claims table says which profile it was
-#   computed on.
+#   paper's protocol, and the claims table of
+#   {doc}`10-reproduction-report` says which profile it was computed on.
 #
 # This build's profile beside the paper's protocol:
 
@@ -165,9 +166,19 @@ glue("fig-designs", maps.designs_figure(), display=False)
 # ```
 
 # %% [markdown]
-# The remaining chapters follow the paper: what the materials are and
-# how a density and a modulus become a MuJoCo model (chapter 3), the
-# hopper and its controller (chapter 4), the numerical price of stiff
-# springs (chapter 5), the three experiments (chapters 6 to 8), a design
-# optimizer that goes past the paper (chapter 9), and the reproduction
-# report (chapter 10).
+# ## Answer
+#
+# The question this book asks with the paper is whether a leg's material,
+# its density and its modulus, changes how well a simulated hopper hops;
+# the short answer, from the paper profile's records, is on the
+# {doc}`00-findings` page. The chapters give the evidence in the paper's
+# order: what the materials are and how a density and a modulus become a
+# MuJoCo model (chapter 3), the hopper and its controller (chapter 4), the
+# numerical price of stiff springs (chapter 5), the paper's three
+# experiments (chapters 6 to 8), then three studies past the paper: the
+# stress in graded legs (chapter 8b), a design optimizer (chapter 9) and
+# the controls that separate material from mass (chapter 9c). The
+# reproduction report (chapter 10) tables every claim with its verdict,
+# and chapter 11 asks how robust the paper's numbers are; the appendix
+# checks the number of segments (chapter 12) and the batch backend
+# (chapter 13).

@@ -9,7 +9,8 @@
 # %% [markdown]
 # # Modelling material in MuJoCo
 #
-# Before a simulator can use a material, a designer has to choose one.
+# How does a rigid-body simulator hopping a leg know what the leg is made
+# of? Before a simulator can use a material, a designer has to choose one.
 # This chapter starts where the paper does, with the materials on an
 # Ashby chart, their catalogue and what porosity does to a density, and
 # then builds the models: how a rigid-body simulator is given a density
@@ -243,82 +244,29 @@ print(f"axial / paper: {springs['axial_over_paper'].iloc[0]:.1f} times stiffer, 
 book.show(springs, {"axial_over_paper": "{:.1f}"}, precision=3)
 
 # %% [markdown]
-# ## What stiffness costs: the stable time step
+# What the stiffer springs cost is the time step: a stiff spring between
+# small masses vibrates fast, and an explicit integrator that steps over a
+# vibration blows up. {doc}`05-numerical-stability` estimates and measures
+# the largest stable step under both conventions, and over the paper's
+# whole design space.
 #
-# A stiff spring between small masses vibrates fast, and an integrator
-# that steps over a vibration blows up. MuJoCo's default (semi-implicit
-# Euler) integrator treats joint damping implicitly but springs
-# explicitly; for a mass-spring chain it is stable while ω Δt < 2, with ω
-# the chain's highest natural frequency. The leg along its axis is such a
-# chain: the body with the top half of segment 1, the halves of adjacent
-# segments joined, the foot below the foot spring. Its highest frequency
-# ω_max comes from the generalized eigenproblem K v = ω² M v with the
-# masses and stiffnesses of the compiled model, and gives the estimate
-# Δt < 2 / ω_max.
-#
-# A second limit has nothing to do with the material: in stance the
-# controller damps the body's pitch and roll through the hips, a damper
-# of c = 1 × 600 N m s/rad acting on the body's inertia I about the hip.
-# Explicit damping computed from the current state is stable for
-# Δt < 2 I / c; the authors' controller reads the body's gyro one physics
-# step old (their {term}`sensor timing`), and a rate feedback read L steps
-# late is stable only for Δt < c(L) I / c with c(L) = 2 cos(Lπ / (2L + 1))
-# {cite:p}`levin1976note`: c(1) = 1, half the undelayed limit, the same for
-# every leg (`mat_hopper/physics/modes.py`, `mat_hopper/physics/stability.py`).
-#
-# We also measure the largest stable step: static hopping at a given step
-# counts as stable when it ends without NaN, without any acceleration
-# above 1e6 and with the body above 0.1 m (the paper's criterion). The
-# search starts at the estimate, steps by factors of 1.5 until the outcome
-# changes, then bisects (chapter 5 has the details). Both conventions,
-# every mono-material:
-
-# %%
-from mat_hopper.experiments import paper
-from mat_hopper.viz import chapters
-
-steps = paper.convention_stability(profile=b.profile, cache_dir=b.cache_dir)
-book.show(steps, precision=3)
-
-# %%
-from myst_nb import glue
-
-glue("fig-conventions", chapters.convention_figure(steps), display=False)
+# The experiments of chapters 6 to 9 use the `paper` convention, as the
+# paper's results do, except where a chapter names another: chapter 8b's
+# stress study needs legs that bend (`bending`, `axial+bending`), and
+# chapter 9c's attribution factorial adds axial springs. Chapters 10 and
+# 11 measure what the `axial` convention changes, at steps where it is
+# stable, and the appendix's convergence study uses it throughout.
 
 # %% [markdown]
-# ```{glue:figure} fig-conventions
-# :name: fig-conventions
-# :alt: Per mono-material leg, the paper and axial stiffness conventions compared: spring stiffness in N/m on a log axis, and the measured largest stable time step beside its spring-chain estimate, with the paper's 1e-4 s step and the controller's limit drawn as lines.
+# ## Answer
 #
-# The two {term}`stiffness conventions <stiffness convention>` for every
-# mono-material: the springs they give, and the largest stable time step,
-# measured and estimated. Dotted: the paper's time step of 1e-4 s;
-# dashed: the controller's limit.
-# ```
-
-# %%
-paper_conv = steps[steps["convention"] == "paper"].set_index("design")
-for name, claimed in ref.CLAIM_STABLE_TIMESTEP_S.items():
-    print(
-        f"{name:>3} (paper convention): stable up to {paper_conv.loc[name, 'max_stable_timestep_s']:.1e} s, "
-        f"spring-chain estimate {paper_conv.loc[name, 'analytic_timestep_s']:.1e} s; "
-        f"the paper: about {claimed:.0e} s"
-    )
-print(f"controller limit c(1) I / c: {steps['controller_timestep_s'].min():.1e} s, for every leg")
-
-# %% [markdown]
-# Under the paper's convention the measured limits of the metals lie near
-# the paper's own time step of 1e-4 s (dotted line), and PVC, the softest,
-# allows the largest step of the five sprung legs (the numbers are printed
-# above). Wherever a material spring sets the limit, the chain estimate
-# lands close to the measurement; where it does not, the delayed stance
-# damping does (dashed line), and it caps every leg, MD included, whose
-# chain estimate only sees the soft foot spring. The physical `axial`
-# springs are about twenty times stiffer, so the stable step shrinks by
-# roughly the square root of that: the metals then need steps well below
-# 1e-4 s, and the paper's time step makes them diverge.
-#
-# The experiments of chapters 5 to 9 use the `paper` convention, as the
-# paper's results do, except chapter 8b's stress study, which needs legs
-# that bend (`bending`, `axial+bending`). Chapter 10 measures what the
-# `axial` convention changes, at a time step where it is stable.
+# The paper gives a rigid-body simulator a material through two devices:
+# density becomes the mass of each segment's two half capsules (m = ρV),
+# and modulus becomes the stiffness of an axial spring between them. Its
+# materials sit in two clusters of the Ashby chart, PVC among the
+# polymers and the three metals together, and porosity reaches only the
+# densities below a solid's own. The authors' modulus-to-stiffness
+# constant is, to a few percent, their cantilever formula 3EI/L³: a
+# bending stiffness, about twenty times softer than the axial rod of the
+# same material. We keep it as the `paper` convention and offer the rod as
+# `axial`; what the stiffer rod costs in time step is chapter 5's answer.

@@ -9,7 +9,8 @@
 # %% [markdown]
 # # The hopper and its controller
 #
-# The robot is a 3D version of Raibert's one-legged hopping machine
+# What robot and controller do the paper's results come from, and what
+# does one run of them look like? The robot is a 3D version of Raibert's one-legged hopping machine
 # {cite:p}`raibert1984experiments,raibert1986legged`:
 # a 15 kg body free to move and turn in space, a leg on a two-axis hip,
 # and a sprung foot whose spring a linear actuator can push. Between hip
@@ -188,5 +189,19 @@ book.show(
 # (`b.profile.sim_settings()`: duration, time step, stiffness convention,
 # sensor timing); `SimSettings` and `simulate`'s docstring list them. A
 # leg whose springs are too stiff for the time step diverges rather than
-# raising: `mine.stable` and `mine.diverged_at_s` say so (chapter 5 tells
-# how to choose the step).
+# raising: `mine.stable` and `mine.diverged_at_s` say so
+# ({doc}`05-numerical-stability` tells how to choose the step).
+
+# %% [markdown]
+# ## Answer
+#
+# The paper's results come from a 3D Raibert hopper rebuilt here from the
+# authors' code: a 15 kg body on a two-axis hip, the three material
+# segments, and a sprung foot pushed by a thrust actuator, under a
+# controller that switches between flight and stance on the touch
+# sensor, adapts its thrust toward a 1 m apex, places the foot by
+# Raibert's rule in flight and levels the body in stance. In one run the
+# apex settles toward its target after a transient that is not scored,
+# and every hop cycle after it gives one row of hop height, tracking
+# error, jerk and hip power. Any leg of one's own runs through the same
+# call.

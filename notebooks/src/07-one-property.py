@@ -9,7 +9,8 @@
 # %% [markdown]
 # # One property at a time
 #
-# A real material comes with both properties tied together: steel is dense
+# Which of a material's two properties, its density or its modulus,
+# changes how well the hopper tracks its path? A real material comes with both properties tied together: steel is dense
 # *and* stiff. To tell which one matters, the paper's second experiment
 # varies one at a time around each base material, keeping the other at
 # the material's own value, and hops forward. The sweep values are the
@@ -181,7 +182,7 @@ b.downloads({"exp2_leg_mass": masses})
 # the same mass; set the difference of their tracking errors against the
 # span of the whole curve (both printed above): the curve is one of mass,
 # not of material. This also
-# reads the paper's first claim below differently: density "matters more"
+# reads the paper's first claim (below) differently: density "matters more"
 # than modulus because it is the only one of the two that changes the
 # leg's mass.
 
@@ -255,13 +256,10 @@ print(
 # tracking error more than modulus does, and the soft moduli (at most
 # 9 GPa, polymers and natural materials) track worse than the stiff ones
 # (at least 20 GPa, metals and ceramics).
-
-# %%
-book.show(tab.claims_for(tables, "one_property"))
-
-# %% [markdown]
-# The first claim compares, per base material, the span of the density
-# sweep with the span of the modulus sweep above; the second compares
+# Both are rows of the claims table of {doc}`10-reproduction-report`,
+# with our numbers and their verdicts. The first claim compares, per
+# base material, the span of the density sweep with the span of the
+# modulus sweep above; the second compares
 # every low-modulus point with every high-modulus one. One reading of why
 # density should matter more: density acts through mass, and a heavier leg
 # is a larger share of the robot's mass below the hip, which changes how
@@ -280,3 +278,16 @@ print(
     f"softest swept modulus {softest:g} GPa: material spring {k:.3g} N/m, "
     f"{k / ref.FOOT_SPRING_STIFFNESS:.0f} times the foot spring ({ref.FOOT_SPRING_STIFFNESS:g} N/m)"
 )
+
+# %% [markdown]
+# ## Answer
+#
+# Density moves the tracking error more than modulus does for most base
+# materials, as the paper says, and it does so through the leg's mass:
+# plotted against the mass of the leg's material, the four density
+# sweeps fall on one curve, and legs of different materials at nearly the
+# same mass track alike. Modulus matters little because, under the
+# paper's conversion, the material springs are far stiffer than the foot
+# spring in series with them, and even a softened foam's springs stay
+# stiffer than the foot spring. Whether the soft moduli track worse at equal
+# mass is tested in {doc}`09c-material-or-mass`.

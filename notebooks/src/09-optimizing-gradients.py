@@ -9,7 +9,8 @@
 # %% [markdown]
 # # Designing gradients with Optuna
 #
-# The paper picks four gradients by hand. A three-segment leg whose every
+# Can a searched gradient do better than the paper's four, and better
+# than a homogeneous leg of its own mass? The paper picks four gradients by hand. A three-segment leg whose every
 # segment has its own density and modulus is a point in a six-dimensional
 # space, and the hand-picked legs are four points in it. This chapter goes
 # past the paper: it lets an optimizer search that space for legs that
@@ -48,16 +49,16 @@
 # earn a full-fidelity score.
 #
 # **Noise-aware scores.** One unperturbed run per design is a single draw
-# of a noisy quantity (chapter 6's replicates spread by about 30 % in the
-# first release's paper build), and the front of 200 single draws there
-# was mostly luck (1 of its 27 front designs survived validation). Each
+# of a noisy quantity (chapter 6's replicates spread by about 30 % in a
+# paper-profile build), and the front of 200 single draws of an earlier
+# study was mostly luck (1 of its 27 front designs survived validation). Each
 # trial here is scored on
 # K perturbed replicates with **common random numbers** (the same seeds,
 # 1000 and up, for every trial: comparisons between trials are paired),
 # and the objective is their mean; its standard error stays on the trial.
 #
 # **Equal mass.** Leg mass alone explains most of the tracking error
-# (chapter "Material or mass?"). A search free in mass finds light legs,
+# ({doc}`09c-material-or-mass`). A search free in mass finds light legs,
 # not good materials. This one holds the leg's mass to that of the paper's
 # four gradients (ρ-inc's, ±5 %): every leg it compares weighs the same.
 
@@ -398,17 +399,6 @@ recorded = {
 print(validate.answer({**recorded, "surviving_fraction": len(kept) / len(judged)}, survivors))
 
 # %% [markdown]
-# Read plainly, the answer is **no**: no validated gradient, searched or
-# the paper's, dominates the homogeneous leg of its own mass. The new
-# designs survive against every paper design that stood where they stood
-# (ρ-dec, which fell at seed 7, is left out; on its 9 seeds it is a
-# trade-off against each of them, as the records' README gives, so
-# leaving it out changes no verdict). Against their mass-matched legs
-# they pay more hip power; those that track better are trade-offs, not
-# wins. One study, 10 seeds, legs within ±5 % of ρ-inc's mass: a gradient
-# that trades may still be the leg to build where tracking alone matters.
-
-# %% [markdown]
 # ## Bigger studies
 #
 # The same search runs from the command line, on as many cores and
@@ -444,3 +434,17 @@ from mat_hopper.optimize import report
 
 print(f"importances from {len(feasible)} feasible trials")
 book.show(report.importances(study), precision=3)
+
+# %% [markdown]
+# ## Answer
+#
+# No, by the paper profile's records: new gradients survive against the
+# paper's designs, but no validated gradient, searched or the paper's,
+# dominates the homogeneous leg of its own mass. The new designs survive
+# against every paper design that stood where they stood (ρ-dec, which
+# fell at one of the 10 seeds, is left out; on its other seeds it is a
+# trade-off against each of them, as the records' README gives, so
+# leaving it out changes no verdict). Against their mass-matched legs
+# they pay more hip power; those that track better are trade-offs, not
+# wins. One study, 10 seeds, legs within ±5 % of ρ-inc's mass: a gradient
+# that trades may still be the leg to build where tracking alone matters.

@@ -9,7 +9,8 @@
 # %% [markdown]
 # # Material or mass?
 #
-# A leg's density sets its segments' masses; its modulus sets the springs
+# When a leg of one material hops better than a leg of another, is it the
+# material, or only the leg's mass and where that mass sits? A leg's density sets its segments' masses; its modulus sets the springs
 # between them. Chapters 6-8 compare legs that differ in both, and in the
 # robot's total mass (computed below from the compiled models).
 # A claim about a *material* holds only against a control that differs
@@ -26,7 +27,7 @@
 #   linear density profile): what is left beyond the first two moments of
 #   the mass.
 #
-# Its last section asks the co-design question: whether tuning the
+# A later section asks the co-design question: whether tuning the
 # controller's gains per material erases the material's effect.
 #
 # Every design and its controls run the same replicate seeds (start
@@ -49,18 +50,16 @@ from IPython.display import display
 from myst_nb import glue
 
 from mat_hopper import mass_matched, mass_properties, parse_design, rigid_twin
-from mat_hopper.analysis import attribution, beyond_mass, claims, paired
+from mat_hopper.analysis import attribution, beyond_mass, paired
 from mat_hopper.analysis.stats import drop_unusable, unusable_runs
 from mat_hopper.core.behaviours import behaviour
 from mat_hopper.core.control_legs import inertia_matched
 from mat_hopper.core.materials import LegDesign
 from mat_hopper.core.model import build_model
-from mat_hopper.core.sim import RolloutRunner
 from mat_hopper.core.timestep import auto_timestep
 from mat_hopper.experiments import controls as control_runs
 from mat_hopper.experiments import reproduce
 from mat_hopper.experiments.runner import RunSpec, run_grid
-from mat_hopper.physics.jerk import jerk_sensitivity
 from mat_hopper.physics.metrics import holm
 from mat_hopper.util.keys import design_key
 
@@ -164,7 +163,10 @@ glue("fig-controls-effects", fig, display=False)
 # %% [markdown]
 # ## The claims, re-read with the controls
 #
-# The claims table of the reproduction (chapter 10) gains three columns.
+# The controls give the claims table of {doc}`10-reproduction-report`
+# its *beyond mass* column, the verdict of each claim against them, and
+# its per-formula power and jerk verdicts; this section says how they are
+# made, and shows the comparisons behind the headline.
 # For a claim against MD (rigid), each design is compared with its rigid
 # twin (what its moduli add at its own mass distribution) and with its
 # mass-matched leg (what the distribution adds at its mass). For a claim
@@ -190,20 +192,12 @@ glue("fig-controls-effects", fig, display=False)
 # its Fieller interval. Power claims get one verdict per formula (paper,
 # hip, total), the jerk claim one for the body's zero-phase jerk and one
 # for the causal jerk.
-
-# %%
-tables = reproduce.run_experiments(b.profile, "1,3", out_dir=b.out_dir, cache_dir=b.cache_dir)
-exp_hops = pd.concat([tables["exp1_hops"], tables["exp3_hops"]], ignore_index=True)
-exp_runs = pd.concat([tables["exp1_runs"], tables["exp3_runs"]], ignore_index=True)
-table = claims.claims_table(exp_hops, exp_runs, None, conventions=("paper",), controls=hops, control_runs=res.summary)
-material = table[table["claim_id"].isin(beyond_mass.MATERIAL_CLAIMS)]
-b.downloads({"claims_beyond_mass": table})
-book.show(material[["claim", "ours", "verdict", "beyond_mass", "power_verdicts"]])
-
-# %% [markdown]
-# The comparisons behind the headline claim's verdict (ρ-inc against SS on
-# the ramp), with Holm-adjusted p over the claim's comparisons and the
-# smallest p an exact sign-flip test can reach at this number of seeds:
+#
+# The comparisons behind three claims' beyond-mass verdicts (the
+# abstract's ρ-inc against SS on the ramp, ρ-inc against MD on the ramp,
+# and SS against MD on every behaviour), with Holm-adjusted p over each
+# claim's comparisons and the smallest p an exact sign-flip test can
+# reach at this number of seeds:
 
 # %%
 frames = []
@@ -446,81 +440,6 @@ equal_mass = attribution.modulus_at_equal_mass(sweeps)
 book.show(equal_mass, pattern="{:.3g}")
 
 # %% [markdown]
-# ## Jerk that measures the body
-#
-# The package's jerk (chapter 6) low-passes the base acceleration with a
-# causal 2nd-order 50 Hz filter, which passes some of the leg's kHz
-# ringing. The body jerk (`mat_hopper.physics.jerk`) uses a zero-phase
-# 4th-order Butterworth (Winter 2009) after an anti-aliasing mean. How the
-# jerk claim's own effect (ρ-inc lower than SS), paired on the replicate
-# seeds, moves with the cut-off and the order:
-
-# %%
-seeds = range(max(b.profile.replicates, 3))
-legs = {"rho-inc": parse_design("rho-inc"), "SS": parse_design("SS")}
-parts, left_out = [], []
-for name, d in legs.items():
-    for seed in seeds:
-        run = RolloutRunner(d, "forward", b.profile.sim_settings(b.profile.replicate(seed))).advance().result()
-        if run.upright:  # a run that diverged or fell is no measure of the body's jerk
-            parts.append(jerk_sensitivity(run).assign(replicate=seed))
-        else:
-            left_out.append((name, seed))
-sens = pd.concat(parts, ignore_index=True)
-print(f"{len(left_out)} of {len(legs) * len(seeds)} runs diverged or fell and are left out: {left_out}")
-# the claim's effect, rho-inc against SS, paired by seed, at each cut-off and order
-effect = pd.DataFrame(
-    [
-        {
-            "order": order,
-            "cutoff_hz": fc,
-            **paired.paired_effect(
-                g[g["design"] == "rho-inc"].set_index("replicate")["jerk_body_m_s3"].sort_index(),
-                g[g["design"] == "SS"].set_index("replicate")["jerk_body_m_s3"].sort_index(),
-            ),
-        }
-        for (order, fc), g in sens.groupby(["order", "cutoff_hz"])
-    ]
-)
-causal = sens.groupby(["design", "replicate"])["jerk_m_s3"].first().unstack("design")
-causal_effect = paired.paired_effect(causal["rho-inc"], causal["SS"])
-fig, ax = plt.subplots(figsize=(7, 3.5))
-for order, g in effect.groupby("order"):
-    ax.errorbar(
-        g["cutoff_hz"] + (order - 3) * 0.8,
-        g["pct_change"],
-        yerr=[g["pct_change"] - g["ci_low"], g["ci_high"] - g["pct_change"]],
-        marker="o",
-        capsize=3,
-        ls="-" if order == 4 else "--",
-        label=f"zero-phase, order {order}",
-    )
-ax.axhline(
-    causal_effect["pct_change"], color="0.4", lw=1, ls=":", label="causal 2nd-order 50 Hz (the package's jerk_m_s3)"
-)
-ax.axhline(0, color="k", lw=0.8)
-ax.set_xlabel("cut-off (Hz)")
-ax.set_ylabel("rho-inc vs SS, body jerk (%)")
-ax.legend(fontsize=8)
-plt.tight_layout()
-plt.close(fig)
-glue("fig-jerk-sensitivity", fig, display=False)
-
-# %% [markdown]
-# ```{glue:figure} fig-jerk-sensitivity
-# :name: fig-jerk-sensitivity
-# :alt: Percent change of the body jerk of rho-inc against stainless steel, forward hopping, against the filter cut-off from 20 to 100 hertz for zero-phase Butterworth filters of two orders, each point with its paired 95 percent interval, and a dotted line at the causal filter's effect.
-#
-# The jerk claim's effect (ρ-inc against SS, forward hopping, paired by
-# seed) under zero-phase filters of each cut-off and order, beside the
-# causal 50 Hz filter of chapter 6. An effect that moves with the cut-off
-# is set by the filter, not by the body.
-# ```
-
-# %%
-book.show(effect[["order", "cutoff_hz", "n_pairs", "pct_change", "ci_low", "ci_high", "p", "p_min"]], pattern="{:.3g}")
-
-# %% [markdown]
 # ## Does control erase material? Gains tuned per material
 #
 # Every comparison so far ran every leg under one controller, with the
@@ -603,14 +522,18 @@ print(tuned["answer"])
 # %% [markdown]
 # ## What survives
 #
-# The verdicts below are computed from the tables above, on this build's
-# profile and its number of seeds. One check they lack: the contrasts
+# Each claim's verdict against the controls, counted per power formula
+# and jerk filter, is the *beyond mass* column of the claims table in
+# {doc}`10-reproduction-report`, computed from the runs of this chapter;
+# below, how many seeds this build's verdicts can rest on, and the
+# equal-mass test of chapter 7's modulus-class claim. One check the
+# verdicts lack: the contrasts
 # with the rigid twins were run at the paper's 1e-4 s step and the
 # authors' sensor timing only. The `paper` springs ring at about
 # 2-2.6 kHz (ω dt of 1.3-1.6 at 1e-4 s, where the semi-implicit Euler
 # step errs in frequency by up to about 17 %), and a rigid twin has no
 # such mode, so a design-against-twin contrast is where a time-step
-# effect would show most; chapter 11's robustness study reruns the main
+# effect would show most; {doc}`11-robustness` reruns the main
 # claims at 2e-5 s and with fresh sensing, not these contrasts.
 #
 # A second limit is in the pairing. A seed's push comes at the same time
@@ -627,19 +550,6 @@ print(
     f"{b.profile.name} profile, {n_seeds} seeds per design and behaviour: an exact sign-flip test reaches "
     f"p >= {paired.wilcoxon_smallest_p(n_seeds):.3g}; seeds a Holm family of m comparisons needs: "
     + ", ".join(f"m = {m}: n >= {n}" for m, n in need.items())
-)
-for r in material.itertuples():
-    print(f"- {r.claim}: {r.verdict}; beyond mass: {r.beyond_mass}")
-# every verdict of every claim (power and jerk claims have one per formula), counted
-parts = [p.split(": ", 1)[-1] for v in material["beyond_mass"] for p in str(v).split(" | ")]
-kinds = pd.Series(parts).str.extract(r"^(yes|partly|no|untestable|not run)")[0]
-counts = kinds.value_counts().reindex(["yes", "partly", "no", "untestable", "not run"], fill_value=0)
-print(
-    f"In plain words: of {len(parts)} beyond-mass verdicts ({len(material)} material claims, one per power "
-    f"formula and jerk filter), {counts['yes']} survive the mass controls (every comparison where the claim's own "
-    f"effect holds, and it holds in at least half), {counts['partly']} some of them, "
-    f"{counts['no']} none (each 'no' lists how many comparisons were equivalent and how many went the other "
-    f"way), and {counts['untestable'] + counts['not run']} cannot be judged at n = {n_seeds}."
 )
 # the equal-mass test of the modulus-class claim: each base material's modulus sweep (density, so mass, fixed)
 for r in equal_mass[equal_mass["term"] == "log_modulus"].itertuples():
@@ -661,15 +571,17 @@ else:
     )
 
 # %% [markdown]
-# ## The paper profile's answer, recorded
+# ## Answer
 #
-# A quick build's 2 seeds test nothing. The paper profile's claims table
-# (10 paired seeds, 60 s runs) takes hours on a small machine, so one
-# build of it is kept in `book/records/` with how it was made (its
-# README). The verdict of each claim as the paper states it, and beyond
-# mass, as recorded (not computed by this build):
-
-# %%
-record = pd.read_csv(b.root / "book" / "records" / "claims-paper.csv")
-print(f"recorded under the {record['profile'].iloc[0]} profile, {int(record['n_replicates'].max())} seeds")
-book.show(record.loc[record["beyond_mass"].notna(), ["claim", "ours", "verdict", "beyond_mass"]])
+# A quick build's two seeds test nothing; the paper profile's records
+# (ten paired seeds, 60 s runs; their verdicts beyond mass are in
+# {doc}`00-findings` and beside this build's in
+# {doc}`10-reproduction-report`) give the answer: mass, not the moduli.
+# In the crossed legs, the density contrasts carry the headline claim's
+# size, while the modulus contrasts, 70 against 193 GPa at either
+# density profile, are no difference within the ±10 % margin. For the
+# density gradients the material *is* the distribution of mass, so the
+# controls cannot split them further. With each material's own
+# controller gains the comparisons against MD are unpaired and only
+# descriptive; the table above says how many of their differences keep
+# their sign.

@@ -9,10 +9,11 @@
 # %% [markdown]
 # # How robust are the paper's numbers?
 #
-# The paper's quantitative claims are percent changes of mean per-hop
+# Do the paper's numbers survive settings it does not report? The
+# paper's quantitative claims are percent changes of mean per-hop
 # metrics against a baseline design: SS tracks at least 55 % better than
 # the rigid MD leg, the increasing-density gradient (ρ-inc) tracks 82 %
-# better on the ramp for 123 % more power, and so on. Each rests on runs
+# better than MD on the ramp for 123 % more power, and so on. Each rests on runs
 # whose settings the paper does not report, and which its text cannot let
 # a reader check. This chapter reruns exactly the runs those numbers rest
 # on under settings that a reader might reasonably have chosen instead, and
@@ -112,35 +113,10 @@ moved = summary[(summary["flips"] > 0) | (summary["moves > 2x"] > 0)]
 book.show(moved[["quantity_id", "flipped_by", "moved_by"]])
 
 # %% [markdown]
-# ## Why latencies of 5 and 10 steps give no values
-#
-# The stance attitude law is a rate feedback on the base's roll and pitch
-# (stance gain 1 x gear 600 N m s/rad on the base's inertia about the hip,
-# I ≈ 0.127 kg m²). Read L steps late, the discrete loop
-# ω[n+1] = ω[n] − a h ω[n−L] is stable only while a h < 2 cos(Lπ/(2L+1))
-# (Levin & May, 1976): the largest stable step is c(L) I / (K_d gear).
-
-# %%
-import pandas as pd
-
-from mat_hopper.core.materials import parse_design
-from mat_hopper.core.stable_step import controller_timestep
-
-limits = pd.DataFrame(
-    {
-        "latency_steps": lat,
-        "largest stable step (s)": controller_timestep(parse_design("SS"), sensor_timing=lat),
-    }
-    for lat in robustness.DEFAULT_LATENCIES
-)
-limits["stable at 1e-4 s"] = limits["largest stable step (s)"] > 1e-4
-book.show(limits, precision=6)
-
-# %% [markdown]
-# Latencies of 5 and 10 steps put the paper's 1e-4 s step above that
-# limit: the controller itself goes unstable in the first stance, whatever
-# the leg. The authors' controller tolerates at most about two steps
-# (0.2 ms) of sensor delay at its own rate.
+# Latencies of 5 and 10 steps give no values: read that late, the
+# controller's stance damping is unstable at the paper's 1e-4 s step,
+# whatever the leg ({doc}`05-numerical-stability` derives the limit for
+# each delay).
 
 # %% [markdown]
 # ## What follows for the paper
@@ -159,7 +135,7 @@ for _, row in summary.iterrows():
     print(f"{row['quantity_id']}: {row['default_pct']:+.0f} % by default; {state} ({n} settings with a value)")
 
 # %% [markdown]
-# Read together with the claims table of the reproduction report (its
+# Read together with the claims table of {doc}`10-reproduction-report` (its
 # `timestep_check` column names every run that moves by more than 10 % at
 # the finer physics step), the study says, in numbers computed here:
 
@@ -193,12 +169,15 @@ print(
 )
 
 # %% [markdown]
-# What follows for the paper: the signs of its comparisons can be checked
-# against the list above; the sizes it quotes in the abstract depend on
-# settings it does not report (when the controller reads its sensors, the
-# stiffness convention, the step), so they need those settings stated and
-# an interval from replicates before they can be compared across studies.
-# Where the rigid MD leg is the baseline, its contact chatter (chapter 8:
-# its stance switches between the attitude law and the flight law on the
-# raw touch signal many times per hop, where a sprung leg switches once;
-# chapter 8 counts them) adds a fragility that comparisons between sprung legs do not have.
+# ## Answer
+#
+# Which of the paper's comparisons keep their sign under every setting
+# that runs is printed above, computed for this build. The sizes the
+# paper quotes in its abstract move with settings it does not report
+# (when the controller reads its sensors, the stiffness convention and the step), so they need those
+# settings stated and an interval from replicates before they can be
+# compared across studies. Where the rigid MD leg is the baseline, its
+# contact chatter ({doc}`08-gradients` counts it: its stance switches
+# between the attitude law and the flight law on the raw touch signal
+# many times per hop, where a sprung leg's switches twice) adds a
+# fragility that comparisons between sprung legs do not have.

@@ -9,7 +9,8 @@
 # %% [markdown]
 # # Is three segments enough?
 #
-# The paper models a leg's material as three segments, each a lumped mass
+# Does a leg of three lumped segments behave as the continuous rod it
+# stands for? The paper models a leg's material as three segments, each a lumped mass
 # split around an axial spring. A reviewer's first question about such a
 # model is whether three is enough: does the leg behave as a continuous
 # rod, and do the hopping results change when the same leg is cut finer?
@@ -72,8 +73,8 @@ book.show(modes.pivot(index="n_segments", columns="design", values="error_pct"),
 # %% [markdown]
 # Mode 1 of the chain against the rod's, error in %. It falls as 1/N²:
 # halving the segment length divides it by about four, and it is within
-# 1 % from N = 16 on. At the paper's N = 3 the fundamental is about 2 %
-# low; the higher modes, which the hop never excites much, are further off.
+# 1 % from N = 6 on. At the paper's N = 3 the fundamental is 1-2 % low
+# (the table above); the higher modes, which the hop never excites much, are further off.
 
 # %%
 steps = modes[modes["design"] == "SS"].set_index("n_segments")["error_pct"].abs()
@@ -143,7 +144,7 @@ timing = convergence.step_cost("SS", segments=plan.segments)
 book.show(timing, precision=2)
 
 # %% [markdown]
-# ## The answer
+# ## N = 3 against the finest leg
 #
 # Computed from the tables above: how far the paper's N = 3 lies from the
 # finest leg, per design and behaviour.
@@ -172,11 +173,14 @@ print(
 )
 
 # %% [markdown]
+# ## Answer
+#
 # Three segments reproduce the leg's fundamental axial mode within about
 # 2 %, and a material's hopping metrics move by the amounts printed above
 # when the same leg is cut finer. Where the designs keep their order, the
 # paper's conclusions about materials survive a finer leg; their sizes
 # carry the discretisation error printed here, on top of the settings
-# studied in the previous chapter. The larger modelling choice is not N but
+# studied in {doc}`11-robustness`. The larger modelling choice is not N but
 # the stiffness convention: at any N the authors' conversion makes the leg
-# about twenty times softer than the rod of its modulus (chapter 3).
+# about twenty times softer than the rod of its modulus
+# ({doc}`03-modelling-material`).

@@ -122,8 +122,7 @@ def test_power_formula_and_defects_figure(synthetic):
     assert list(p.index) == ["real hip power (ours)", "the authors' formula"]
     assert abs(p.loc["real hip power (ours)", "ramp"] - (2.93 - 1) * 100) < 10
     clock = pd.DataFrame({"design": ["MD", "MD"], "clock_factor": [1.0, 2.0], "mean_tracking_error_m": [0.06, 0.1]})
-    jerk = {"MD": pd.DataFrame({"rate_hz": [1000.0, 10.0], "mean_jerk_m_s3": [500.0, 100.0]})}
-    assert len(chapters.defects_figure(clock, jerk, p).axes) == 3
+    assert len(chapters.defects_figure(clock, p).axes) == 2
     rules = tab.claim_rules()
     assert len(rules) == len(tab.claims_for({"exp1_hops": hops[hops["experiment"] == "exp1"]}, None))
 
