@@ -41,6 +41,7 @@ from ._loop import (
     MJ_STEP1,
     MJ_STEP2,
     N_CHANNELS,
+    NO_NOISE_EVERY,
     RECORD_DTYPE,
     C,
     Disturbance,
@@ -59,6 +60,7 @@ from .contact import DEFAULT_CONTACT, check_contact
 from .controller import (
     DEFAULT_APEX_REFERENCE,
     DEFAULT_SENSOR_TIMING,
+    OUT_SIZE,
     ControllerSettings,
     SensorTiming,
     check_apex_reference,
@@ -385,7 +387,7 @@ class RolloutRunner:
                 (0.0, 0.0),
                 NO_PUSH,
                 np.zeros((1, 6)),
-                1 << 60,
+                NO_NOISE_EVERY,
             )
         else:
             offset, tilt, self._push, self._noise, self._noise_every = p.draw(settings.duration_s, settings.timestep_s)
@@ -402,6 +404,7 @@ class RolloutRunner:
         self._apex = apex_reference_of(self.hopper.model, settings.apex_reference, self.behaviour.ramp_grade_deg)
         self._stress = np.zeros((n_rec, len(adr), 4))
         self._state = initial_state(settings.controller)
+        self._out = np.zeros(OUT_SIZE)  # the controller's last outputs, held between control updates
         self._gains = settings.controller.gains()
         # Reading history: every lagged reading starts as the start state's.
         self._history = np.zeros((settings.sensor_latency_steps + 1, HISTORY_WIDTH))
@@ -449,6 +452,7 @@ class RolloutRunner:
             steps,
             self._history,
             self._state,
+            self._out,
             self._jerk,
             self._rec[self._n_rec :],
             self._qpos[self._n_rec :],
