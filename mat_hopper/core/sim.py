@@ -74,7 +74,7 @@ from .materials import (
     check_convention,
     check_segment_mass,
 )
-from .model import HopperModel, build_model, check_timestep, reset_to_start, stress_gains
+from .model import check_timestep, prepare, stress_gains
 from .perturbations import NO_PUSH, Perturbation
 from .rollout import Rollout, divergence_reason
 from .timestep import is_auto, resolve_timestep, warn_stable_step
@@ -317,54 +317,6 @@ def sim_settings(design=None, **settings) -> SimSettings:
     if settings.get("controller") is None:
         settings.pop("controller", None)
     return SimSettings(**settings)
-
-
-def prepare(
-    design, behaviour, settings: SimSettings, start_xy_offset=(0.0, 0.0), start_tilt=(0.0, 0.0)
-) -> tuple[HopperModel, mujoco.MjData]:
-    """Model and initial data for a rollout: start pose per the behaviour,
-    plus an optional offset (m) and roll/pitch tilt (rad).
-
-    Args:
-        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name
-            (:func:`mat_hopper.core.materials.parse_design`).
-        behaviour: a behaviour name or :class:`~mat_hopper.core.behaviours.Behaviour`;
-            its ramp grade shapes the terrain and its start_xy_m the start.
-        settings: the :class:`SimSettings`; its timestep_s, convention,
-            segment_mass and damping build the model.
-        start_xy_offset: (dx, dy), m, added to the behaviour's start position.
-        start_tilt: (roll, pitch) of the base at the start, rad.
-
-    Returns:
-        (hopper, data): the compiled :class:`~mat_hopper.core.model.HopperModel`
-        (control sensors) and its ``mujoco.MjData`` at the start keyframe
-        (base z 1.2 m) with the position and tilt set, after ``mj_forward``.
-
-    Raises:
-        ValueError: a design that is neither a LegDesign nor a known name, an
-            unknown behaviour, or a setting the model builder rejects.
-    """
-    design = as_design(design)
-    beh = get_behaviour(behaviour)
-    hm = build_model(
-        design,
-        ramp_grade_deg=beh.ramp_grade_deg,
-        timestep_s=settings.timestep_s,
-        convention=settings.convention,
-        sensors="control",
-        segment_mass=settings.segment_mass,
-        damping=settings.damping,
-        contact=settings.contact,
-    )
-    data = mujoco.MjData(hm.model)
-    reset_to_start(hm.model, data)  # base z slide at 1.2 m, all else 0
-    b = hm.layout.base_qpos  # base joints: x, y, z, roll, pitch, yaw
-    data.qpos[b + 0] = beh.start_xy_m[0] + start_xy_offset[0]
-    data.qpos[b + 1] = beh.start_xy_m[1] + start_xy_offset[1]
-    data.qpos[b + 3] = start_tilt[0]
-    data.qpos[b + 4] = start_tilt[1]
-    mujoco.mj_forward(hm.model, data)
-    return hm, data
 
 
 class RolloutRunner:
