@@ -24,6 +24,7 @@ Set ``NUMBA_DISABLE_JIT=1`` to run the very same loop as plain Python.
 
 from __future__ import annotations
 
+import copy
 import logging
 import math
 from dataclasses import dataclass, field, fields
@@ -322,9 +323,10 @@ def sim_settings(design=None, **settings) -> SimSettings:
 class RolloutRunner:
     """A rollout that advances in chunks of physics steps (see :func:`simulate`).
 
-    Useful to inspect or snapshot the MuJoCo state part-way; ``simulate``
-    runs it in one chunk. record_qpos keeps every joint position at the
-    record rate, which rendering needs."""
+    Useful to inspect or snapshot the MuJoCo state part-way, or to
+    :meth:`fork` it into runs that share a prefix; ``simulate`` runs it in
+    one call of :meth:`advance`. record_qpos keeps every joint position at
+    the record rate, which rendering needs."""
 
     def __init__(self, design, behaviour, settings: SimSettings, *, record_qpos: bool = False):
         if not isinstance(settings, SimSettings):
@@ -375,6 +377,34 @@ class RolloutRunner:
     @property
     def done(self) -> bool:
         return self.step >= self.settings.n_steps or self.diverged_step >= 0
+
+    def fork(self) -> RolloutRunner:
+        """An independent copy of this rollout at its current step, so that
+        runs sharing a prefix simulate it once.
+
+        The copy holds its own MuJoCo data (``mujoco.mj_copyData``: the
+        whole state, contacts, sensors and applied forces, not only the
+        integration state, since the loop reads the touch sensor before the
+        next step refreshes it), controller state and outputs, reading
+        history, filter and probe states, records and counters; it shares
+        only what no step writes: the compiled model, the design, behaviour
+        and settings, the disturbance's draws, the path and the gains.
+        Advancing either one leaves the other as it was, and each ends
+        bit-identical to a run that was never forked.
+
+        Returns:
+            A new :class:`RolloutRunner` at the same step.
+        """
+        twin = copy.copy(self)  # the shared, read-only parts; every mutable part replaced below
+        twin.data = mujoco.MjData(self.hopper.model)
+        mujoco.mj_copyData(twin.data, self.hopper.model, self.data)
+        twin._buffers = buffers(twin.data)
+        for name in ("_state", "_out", "_history", "_rec", "_qpos", "_events", "_stress"):
+            setattr(twin, name, getattr(self, name).copy())
+        twin._jerk = self._jerk._replace(state=self._jerk.state.copy())
+        twin._contact = self._contact._replace(state=self._contact.state.copy())
+        twin._probe = self._probe._replace(peak=self._probe.peak.copy())
+        return twin
 
     def advance(self, n_steps: int | None = None) -> RolloutRunner:
         """Run up to n_steps more physics steps (all that remain by default)."""
