@@ -50,7 +50,7 @@ import numpy as np
 
 from . import reference as ref
 from .behaviours import desired_state
-from .controller import LIFTOFF, OUT_SIZE, S_GROUND_Z, S_LAST_HEIGHT, S_PHASE, S_THRUST, controller_step, euler_zyx
+from .controller import LIFTOFF, S_GROUND_Z, S_LAST_HEIGHT, S_PHASE, S_THRUST, controller_step, euler_zyx
 from .terrain import terrain_height_at, terrain_params
 
 # Recorded channels, in column order. Each row is the state s_i at t = i dt
@@ -160,10 +160,14 @@ class Path(NamedTuple):
     table: np.ndarray
 
 
+# noise_every of a run without sensor noise: no step ever reaches it.
+NO_NOISE_EVERY = 1 << 60
+
+
 class Disturbance(NamedTuple):
     """push = [t0, t1, fx, fy] (s, s, N, N) on the base; noise rows
     (position m x3, velocity m/s x3) added to the controller's readings, one
-    row per ``noise_every`` steps."""
+    row per ``noise_every`` steps from step 0 (:data:`NO_NOISE_EVERY`: no noise)."""
 
     push: np.ndarray
     noise: np.ndarray
@@ -368,6 +372,7 @@ def rollout_loop(
     steps,
     history,
     state,
+    out,
     jerk,
     rec,
     qpos_rec,
@@ -380,7 +385,10 @@ def rollout_loop(
     """Run physics steps ``steps.first`` .. ``steps.first + steps.count - 1``.
 
     history: (latency + 1, HISTORY_WIDTH) ring of past readings, carried
-    between calls; rec: structured records (RECORD_DTYPE), one every
+    between calls; state: the controller's state; out: (OUT_SIZE,) the
+    controller's last outputs (controls and hip targets), carried between
+    calls so a record taken before a call's first control update (physics
+    substeps) holds the held control's targets; rec: structured records (RECORD_DTYPE), one every
     ``record_every`` steps; qpos_rec: (records, nq) joint positions after
     the step, or 0 rows; events: (n, 3) rows of (time s, kind, hop height m);
     jerk: the JerkFilter run on the base's z acceleration every step;
@@ -390,7 +398,6 @@ def rollout_loop(
     is libmujoco's mj_geomDistance; the positions it reads are still s_i's);
     apex: the ApexReference, read at each lift-off (module doc).
     Returns (records written, events written, step of divergence or -1)."""
-    out = np.zeros(OUT_SIZE)
     hip_angle = np.zeros(2)
     hip_rate = np.zeros(2)
     desired = np.zeros(4)
@@ -399,7 +406,7 @@ def rollout_loop(
     ring = history.shape[0]
     latency = ring - 1
     touch_lag = latency - 1 if latency > 0 else 0
-    noisy = dist.noise_every < steps.first + steps.count
+    noisy = dist.noise_every < NO_NOISE_EVERY
     base = lay.base_body
     pushing = buf.xfrc_applied[base, 0] != 0.0 or buf.xfrc_applied[base, 1] != 0.0
     n_rec = 0

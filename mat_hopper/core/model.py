@@ -9,7 +9,8 @@ and returns a :class:`HopperModel`: the ``MjModel``, what built it, its
 ``loss-factor`` damping each material spring's damping is set on the
 compiled model from its material's loss factor
 (:mod:`mat_hopper.core.damping`). :func:`stress_gains` turns the material
-springs' joint positions into section stress (Pa).
+springs' joint positions into section stress (Pa). :func:`prepare` gives a
+rollout's model and its data at the start pose.
 
 Nothing is written to disk: :func:`build_spec` returns an ``MjSpec`` (to
 edit further, e.g. for rendering) and :func:`build_model` compiles it.
@@ -25,6 +26,7 @@ import mujoco
 import numpy as np
 
 from . import reference as ref
+from .behaviours import behaviour as behaviour_of
 from .contact import DEFAULT_CONTACT, check_contact
 from .conventions import (
     BENDING_CONVENTIONS,
@@ -37,7 +39,7 @@ from .conventions import (
     spring_stiffness,
 )
 from .damping import DEFAULT_DAMPING, check_damping, loss_factor, spring_damping
-from .materials import LegDesign
+from .materials import LegDesign, as_design
 from .mjcf import (
     ACTUATORS,
     AXIAL_SPRING,
@@ -80,6 +82,7 @@ __all__ = [
     "build_model",
     "layout_of",
     "material_joints",
+    "prepare",
     "reset_to_start",
     "stress_gains",
     # re-exported: mat_hopper.core.mjcf
@@ -375,3 +378,51 @@ def stress_gains(hm: HopperModel) -> tuple[np.ndarray, np.ndarray]:
             adr[i - 1, col] = int(m.jnt_qposadr[jid])
             gain[i - 1, col] = k / area if col == 0 else k * r / inertia
     return adr, gain
+
+
+def prepare(
+    design, behaviour, settings, start_xy_offset=(0.0, 0.0), start_tilt=(0.0, 0.0)
+) -> tuple[HopperModel, mujoco.MjData]:
+    """Model and initial data for a rollout: start pose per the behaviour,
+    plus an optional offset (m) and roll/pitch tilt (rad).
+
+    Args:
+        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name
+            (:func:`mat_hopper.core.materials.parse_design`).
+        behaviour: a behaviour name or :class:`~mat_hopper.core.behaviours.Behaviour`;
+            its ramp grade shapes the terrain and its start_xy_m the start.
+        settings: the :class:`~mat_hopper.core.sim.SimSettings`; its timestep_s, convention,
+            segment_mass and damping build the model.
+        start_xy_offset: (dx, dy), m, added to the behaviour's start position.
+        start_tilt: (roll, pitch) of the base at the start, rad.
+
+    Returns:
+        (hopper, data): the compiled :class:`~mat_hopper.core.model.HopperModel`
+        (control sensors) and its ``mujoco.MjData`` at the start keyframe
+        (base z 1.2 m) with the position and tilt set, after ``mj_forward``.
+
+    Raises:
+        ValueError: a design that is neither a LegDesign nor a known name, an
+            unknown behaviour, or a setting the model builder rejects.
+    """
+    design = as_design(design)
+    beh = behaviour_of(behaviour)
+    hm = build_model(
+        design,
+        ramp_grade_deg=beh.ramp_grade_deg,
+        timestep_s=settings.timestep_s,
+        convention=settings.convention,
+        sensors="control",
+        segment_mass=settings.segment_mass,
+        damping=settings.damping,
+        contact=settings.contact,
+    )
+    data = mujoco.MjData(hm.model)
+    reset_to_start(hm.model, data)  # base z slide at 1.2 m, all else 0
+    b = hm.layout.base_qpos  # base joints: x, y, z, roll, pitch, yaw
+    data.qpos[b + 0] = beh.start_xy_m[0] + start_xy_offset[0]
+    data.qpos[b + 1] = beh.start_xy_m[1] + start_xy_offset[1]
+    data.qpos[b + 3] = start_tilt[0]
+    data.qpos[b + 4] = start_tilt[1]
+    mujoco.mj_forward(hm.model, data)
+    return hm, data

@@ -24,6 +24,7 @@ Set ``NUMBA_DISABLE_JIT=1`` to run the very same loop as plain Python.
 
 from __future__ import annotations
 
+import copy
 import logging
 import math
 from dataclasses import dataclass, field, fields
@@ -41,6 +42,7 @@ from ._loop import (
     MJ_STEP1,
     MJ_STEP2,
     N_CHANNELS,
+    NO_NOISE_EVERY,
     RECORD_DTYPE,
     C,
     Disturbance,
@@ -59,6 +61,7 @@ from .contact import DEFAULT_CONTACT, check_contact
 from .controller import (
     DEFAULT_APEX_REFERENCE,
     DEFAULT_SENSOR_TIMING,
+    OUT_SIZE,
     ControllerSettings,
     SensorTiming,
     check_apex_reference,
@@ -72,7 +75,7 @@ from .materials import (
     check_convention,
     check_segment_mass,
 )
-from .model import HopperModel, build_model, check_timestep, reset_to_start, stress_gains
+from .model import check_timestep, prepare, stress_gains
 from .perturbations import NO_PUSH, Perturbation
 from .rollout import Rollout, divergence_reason
 from .timestep import is_auto, resolve_timestep, warn_stable_step
@@ -317,60 +320,13 @@ def sim_settings(design=None, **settings) -> SimSettings:
     return SimSettings(**settings)
 
 
-def prepare(
-    design, behaviour, settings: SimSettings, start_xy_offset=(0.0, 0.0), start_tilt=(0.0, 0.0)
-) -> tuple[HopperModel, mujoco.MjData]:
-    """Model and initial data for a rollout: start pose per the behaviour,
-    plus an optional offset (m) and roll/pitch tilt (rad).
-
-    Args:
-        design: a :class:`~mat_hopper.core.materials.LegDesign` or a design name
-            (:func:`mat_hopper.core.materials.parse_design`).
-        behaviour: a behaviour name or :class:`~mat_hopper.core.behaviours.Behaviour`;
-            its ramp grade shapes the terrain and its start_xy_m the start.
-        settings: the :class:`SimSettings`; its timestep_s, convention,
-            segment_mass and damping build the model.
-        start_xy_offset: (dx, dy), m, added to the behaviour's start position.
-        start_tilt: (roll, pitch) of the base at the start, rad.
-
-    Returns:
-        (hopper, data): the compiled :class:`~mat_hopper.core.model.HopperModel`
-        (control sensors) and its ``mujoco.MjData`` at the start keyframe
-        (base z 1.2 m) with the position and tilt set, after ``mj_forward``.
-
-    Raises:
-        ValueError: a design that is neither a LegDesign nor a known name, an
-            unknown behaviour, or a setting the model builder rejects.
-    """
-    design = as_design(design)
-    beh = get_behaviour(behaviour)
-    hm = build_model(
-        design,
-        ramp_grade_deg=beh.ramp_grade_deg,
-        timestep_s=settings.timestep_s,
-        convention=settings.convention,
-        sensors="control",
-        segment_mass=settings.segment_mass,
-        damping=settings.damping,
-        contact=settings.contact,
-    )
-    data = mujoco.MjData(hm.model)
-    reset_to_start(hm.model, data)  # base z slide at 1.2 m, all else 0
-    b = hm.layout.base_qpos  # base joints: x, y, z, roll, pitch, yaw
-    data.qpos[b + 0] = beh.start_xy_m[0] + start_xy_offset[0]
-    data.qpos[b + 1] = beh.start_xy_m[1] + start_xy_offset[1]
-    data.qpos[b + 3] = start_tilt[0]
-    data.qpos[b + 4] = start_tilt[1]
-    mujoco.mj_forward(hm.model, data)
-    return hm, data
-
-
 class RolloutRunner:
     """A rollout that advances in chunks of physics steps (see :func:`simulate`).
 
-    Useful to inspect or snapshot the MuJoCo state part-way; ``simulate``
-    runs it in one chunk. record_qpos keeps every joint position at the
-    record rate, which rendering needs."""
+    Useful to inspect or snapshot the MuJoCo state part-way, or to
+    :meth:`fork` it into runs that share a prefix; ``simulate`` runs it in
+    one call of :meth:`advance`. record_qpos keeps every joint position at
+    the record rate, which rendering needs."""
 
     def __init__(self, design, behaviour, settings: SimSettings, *, record_qpos: bool = False):
         if not isinstance(settings, SimSettings):
@@ -385,7 +341,7 @@ class RolloutRunner:
                 (0.0, 0.0),
                 NO_PUSH,
                 np.zeros((1, 6)),
-                1 << 60,
+                NO_NOISE_EVERY,
             )
         else:
             offset, tilt, self._push, self._noise, self._noise_every = p.draw(settings.duration_s, settings.timestep_s)
@@ -402,6 +358,7 @@ class RolloutRunner:
         self._apex = apex_reference_of(self.hopper.model, settings.apex_reference, self.behaviour.ramp_grade_deg)
         self._stress = np.zeros((n_rec, len(adr), 4))
         self._state = initial_state(settings.controller)
+        self._out = np.zeros(OUT_SIZE)  # the controller's last outputs, held between control updates
         self._gains = settings.controller.gains()
         # Reading history: every lagged reading starts as the start state's.
         self._history = np.zeros((settings.sensor_latency_steps + 1, HISTORY_WIDTH))
@@ -420,6 +377,34 @@ class RolloutRunner:
     @property
     def done(self) -> bool:
         return self.step >= self.settings.n_steps or self.diverged_step >= 0
+
+    def fork(self) -> RolloutRunner:
+        """An independent copy of this rollout at its current step, so that
+        runs sharing a prefix simulate it once.
+
+        The copy holds its own MuJoCo data (``mujoco.mj_copyData``: the
+        whole state, contacts, sensors and applied forces, not only the
+        integration state, since the loop reads the touch sensor before the
+        next step refreshes it), controller state and outputs, reading
+        history, filter and probe states, records and counters; it shares
+        only what no step writes: the compiled model, the design, behaviour
+        and settings, the disturbance's draws, the path and the gains.
+        Advancing either one leaves the other as it was, and each ends
+        bit-identical to a run that was never forked.
+
+        Returns:
+            A new :class:`RolloutRunner` at the same step.
+        """
+        twin = copy.copy(self)  # the shared, read-only parts; every mutable part replaced below
+        twin.data = mujoco.MjData(self.hopper.model)
+        mujoco.mj_copyData(twin.data, self.hopper.model, self.data)
+        twin._buffers = buffers(twin.data)
+        for name in ("_state", "_out", "_history", "_rec", "_qpos", "_events", "_stress"):
+            setattr(twin, name, getattr(self, name).copy())
+        twin._jerk = self._jerk._replace(state=self._jerk.state.copy())
+        twin._contact = self._contact._replace(state=self._contact.state.copy())
+        twin._probe = self._probe._replace(peak=self._probe.peak.copy())
+        return twin
 
     def advance(self, n_steps: int | None = None) -> RolloutRunner:
         """Run up to n_steps more physics steps (all that remain by default)."""
@@ -449,6 +434,7 @@ class RolloutRunner:
             steps,
             self._history,
             self._state,
+            self._out,
             self._jerk,
             self._rec[self._n_rec :],
             self._qpos[self._n_rec :],

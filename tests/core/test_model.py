@@ -2,8 +2,8 @@ import mujoco
 import numpy as np
 import pytest
 
+from mat_hopper.core import model
 from mat_hopper.core import reference as ref
-from mat_hopper.core import sim
 from mat_hopper.core.materials import LegDesign, parse_design
 from mat_hopper.core.model import CONTROL_SENSORS, SENSORS, build_model, reset_to_start
 from mat_hopper.core.sim import simulate
@@ -113,7 +113,7 @@ def test_unread_sensors_do_not_change_the_trajectory(monkeypatch):
         built.append(hm.model.nsensor)
         return hm
 
-    monkeypatch.setattr(sim, "build_model", with_all_sensors)
+    monkeypatch.setattr(model, "build_model", with_all_sensors)
     full = simulate("SS", "ramp", duration_s=3.0, transient_s=1.0)
     assert built == [len(SENSORS)]
     np.testing.assert_array_equal(full.data, lean.data)

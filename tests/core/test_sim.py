@@ -173,6 +173,27 @@ def test_chunked_runner_equals_one_shot():
     assert np.array_equal(run.result().data, one.data)
 
 
+def test_chunked_runner_with_substeps_records_the_held_targets():
+    """Chunks that start between two control updates (3 substeps, chunks
+    of 20 steps, a record every 20): the records there hold the targets of
+    the control still in force, as in the single-call run."""
+    s = SimSettings(duration_s=0.3, transient_s=0.0, timestep_s=5e-5, substeps=3)
+    one = simulate("SS", "forward", settings=s)
+    run = RolloutRunner("SS", "forward", s)
+    while not run.done:
+        run.advance(20)
+    assert np.array_equal(run.result().data, one.data)
+
+
+def test_chunked_runner_with_sensor_noise_from_the_first_step():
+    """A first chunk shorter than one noise row (5 of 10 steps) still
+    reads the first noise row, as the single-call run does."""
+    s = SimSettings(duration_s=0.3, transient_s=0.0, perturbation=Perturbation.replicate(3))
+    one = simulate("SS", "forward", settings=s)
+    run = RolloutRunner("SS", "forward", s).advance(5).advance()
+    assert np.array_equal(run.result().data, one.data)
+
+
 def test_compiled_and_plain_python_loops_give_the_same_trajectory():
     """The same loop with NUMBA_DISABLE_JIT=1 (every function as plain
     Python, MuJoCo through ctypes) reproduces the compiled trajectory."""
