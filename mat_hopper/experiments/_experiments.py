@@ -17,7 +17,7 @@ from ..core.behaviours import BEHAVIOUR_NAMES
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import LegDesign, Material, paper_designs
 from ..physics.porosity import DEFAULT_POROSITY_MODEL, check_porosity_model, porous_modulus
-from .profiles import FIGURE_REPLICATES, Profile, check_replicates, get_profile
+from .profiles import Profile, check_replicates, get_profile
 from .runner import RunSpec
 
 UNPERTURBED = -1
@@ -54,9 +54,6 @@ class Experiment:
     points: tuple[DesignPoint, ...]
     behaviours: tuple[str, ...]
     baselines: tuple[str, ...] = ()
-    # True for a grid whose replicates feed span means, regressions and
-    # figures, never a paired test: it runs at most FIGURE_REPLICATES seeds.
-    figure_seeds: bool = False
 
     def __post_init__(self):
         if not self.points or not self.behaviours:
@@ -72,13 +69,9 @@ class Experiment:
     def tasks(self, profile: Profile | str | None = None, replicates: int = 0) -> list[RunSpec]:
         """One RunSpec per design, behaviour and replicate: the unperturbed
         run (replicate -1) and, for replicates N > 0, seeds 0..N-1 with
-        :meth:`Perturbation.replicate` (N at most
-        :data:`~mat_hopper.experiments.profiles.FIGURE_REPLICATES` for a
-        ``figure_seeds`` grid)."""
+        :meth:`Perturbation.replicate`."""
         profile = get_profile(profile)
         replicates = check_replicates(replicates)
-        if self.figure_seeds:
-            replicates = min(replicates, FIGURE_REPLICATES)
         out = []
         for point in self.points:
             for bname in self.behaviours:
@@ -212,7 +205,7 @@ def experiment_2(porosity_model: str = DEFAULT_POROSITY_MODEL) -> Experiment:
                 )
                 points.append(DesignPoint(design, label, tags))
     name = "exp2" if porosity_model == DEFAULT_POROSITY_MODEL else f"exp2-{porosity_model}"
-    return Experiment(name, "One property at a time, forward hopping", tuple(points), ("forward",), figure_seeds=True)
+    return Experiment(name, "One property at a time, forward hopping", tuple(points), ("forward",))
 
 
 def experiment_3() -> Experiment:

@@ -26,10 +26,13 @@ from ..core.timestep import AUTO, is_auto
 
 PROFILE_ENV = "MAT_HOPPER_PROFILE"
 
-# Seeds of a grid whose replicates no paired test reads (a regression
-# clustered by design, a figure's mean and spread): three give a spread.
-# A paired verdict needs more (Profile.replicates: 10 in the paper profile;
-# an exact sign-flip test on n pairs reaches p = 2 / 2^n at best).
+# Seeds of a grid whose replicates no paired test reads: the attribution
+# factorial, whose regression clusters its errors by mass distribution (7
+# clusters: more seeds barely narrow the mass and inertia terms; its springs
+# intervals are rough at 3). A paired verdict needs more (Profile.replicates,
+# 10 in the paper profile: an exact sign-flip test on n pairs reaches
+# p = 2 / 2^n at best), and so do experiment 2's sweeps, whose equal-mass
+# slopes are tested per seed (analysis.beyond_mass.sweep_controls).
 FIGURE_REPLICATES = 3
 
 
