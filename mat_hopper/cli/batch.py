@@ -45,7 +45,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "batch",
         help="evaluate many designs on one behaviour (CPU rollouts or a MuJoCo Warp batch)",
         description="Evaluate many leg designs on one behaviour; one row per design: design, n_hops, "
-        "hop_height_m, tracking_error_m, power_w, stable. Designs whose time step lies above their analytic "
+        "hop_height_m, tracking_error_m, power_w, stable (the CSV adds when a run diverged, diverged_at_s, and when the "
+        "hopper fell, fell_at_s: the base tilted past 60 deg; --backend mujoco only). A design that fell or diverged "
+        "is named below the table with when. Designs whose time step lies above their analytic "
         "stable step are warned of before any run (try --timestep auto). Exit status: 0 when every run ended "
         "without numerical divergence; 1 when any diverged (the table is still printed and written); 2 for bad "
         "input. --stability exits 0: its tries diverge by design, and a design stable at no step is a result.",
@@ -133,6 +135,8 @@ SETTING_COLUMNS = (
     "substeps",
     "backend",
 )
+# When each run diverged and when its hopper fell (s; empty if never), after the settings.
+EVENT_COLUMNS = ("diverged_at_s", "fell_at_s")
 
 
 def run_batch(args) -> int:
@@ -188,6 +192,7 @@ def run_batch(args) -> int:
         .assign(behaviour=beh.name, **settings.columns("convention", "sensor_timing", "duration_s", "transient_s"))
         .assign(timestep_s=[s.timestep_s for s in per_design], substeps=[s.substeps for s in per_design])
         .assign(backend=args.backend)
+        .assign(**{c: table[c].to_numpy() for c in EVENT_COLUMNS})
     )
     out = _with_properties(out, designs, settings.segment_mass)
     where = f" on {device}" if device else ""
@@ -197,9 +202,11 @@ def run_batch(args) -> int:
         f"{settings.sensor_timing}, backend {args.backend}{where}"
     )
     shown = out[list(RESULT_COLUMNS)]
-    note = _diverged_note(table, auto, designs, per_design, args.backend)
-    _report(out, args.csv, note, shown=shown)
-    return 1 if note else 0  # any run that diverged: exit 1 (the rule of every command)
+    source = "--map" if args.map is not None else "--designs-csv" if args.designs_csv is not None else "--designs"
+    rerun = {d.name: _rerun_command(d, source, beh, settings, auto) for d in designs}
+    note = _diverged_note(table, auto, designs, per_design, args.backend, rerun)
+    _report(out, args.csv, "\n".join(n for n in (note, _fallen_note(table)) if n), shown=shown)
+    return 1 if note else 0  # any run that diverged: exit 1 (the rule of every command); a fall alone: 0
 
 
 def _step_text(per_design) -> str:
@@ -234,24 +241,34 @@ def _warn_stable_step(designs, per_design) -> None:
     print(f"mat-hopper batch: warning: {line}", file=sys.stderr, flush=True)
 
 
-def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = "mujoco") -> str:
-    """The line on the designs that diverged (when, and what to try), or "".
-    --timestep auto is advised only where it would change a diverged
-    design's step (:func:`mat_hopper.core.timestep.auto_suggestion`; a leg
-    that falls before it diverges may already run at its automatic step)
-    and only for the backend that takes it (mujoco)."""
+def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = "mujoco", rerun=None) -> str:
+    """The line on the designs that diverged (when, after a fall where one
+    fell first, and what to try), or "". --timestep auto is advised only
+    where it would change a diverged design's step
+    (:func:`mat_hopper.core.timestep.auto_suggestion`; a leg that falls
+    before it diverges may already run at its automatic step) and only for
+    the backend that takes it (mujoco). `rerun` (design name to a
+    ``mat-hopper simulate`` command line that runs it, :func:`_rerun_command`)
+    names the command that says why; without it the line says
+    ``simulate`` with the design's --density and --modulus."""
     from ..core.timestep import CLI_AUTO_HINT, auto_suggestion
 
     bad = table[~table["stable"]]
     if not len(bad):
         return ""
-    at = ", ".join(f"{r.design} at t = {r.diverged_at_s:.4f} s" for r in bad.head(5).itertuples())
+    at = ", ".join(_when(r) for r in bad.head(5).itertuples())
     more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
-    why = "`mat-hopper simulate --design D` says why"
+    first = str(bad["design"].iloc[0])
+    command = (rerun or {}).get(first)
+    why = (
+        f"`{command}` says why ({first})"
+        if command
+        else "`mat-hopper simulate` with the design's --density and --modulus says why"
+    )
     by_name = {d.name: (d, st) for d, st in zip(designs, per_design)}
     helps = any(auto_suggestion(*by_name[n], CLI_AUTO_HINT) for n in bad["design"] if n in by_name)
     if auto:
-        fix = "already at --timestep auto: `mat-hopper simulate --design D --timestep auto` says why"
+        fix = f"already at --timestep auto; {why}"
     elif backend != "mujoco":
         fix = f"--timestep auto is for --backend mujoco (each design its own physics substeps); {why}"
     elif helps or not by_name:
@@ -259,6 +276,70 @@ def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = 
     else:
         fix = f"--timestep auto would not change their step; {why}"
     return f"{len(bad)} of {_count(len(table), 'design')} diverged ({at}{more}); {fix}"
+
+
+def _when(row) -> str:
+    """A diverged design's name and time, after its fall where it fell first."""
+    fell = getattr(row, "fell_at_s", math.nan)
+    fell = math.nan if fell is None else float(fell)
+    if math.isfinite(fell) and fell < row.diverged_at_s:
+        return f"{row.design} fell at t = {fell:.3f} s, then diverged at t = {row.diverged_at_s:.4f} s"
+    return f"{row.design} at t = {row.diverged_at_s:.4f} s"
+
+
+def _fallen_note(table) -> str:
+    """The line on the designs that fell over without diverging (base
+    tilted past FELL_TILT_DEG, or below the upright height at the end), or
+    "": their hop cycles after the fall are not scored; a fall alone does
+    not change the exit status (as simulate)."""
+    from ..core.rollout import FELL_TILT_DEG
+
+    fell = table["fell_at_s"].astype(float) if "fell_at_s" in table.columns else None
+    down = table["stable"] & (~table["upright"] | (fell.notna() if fell is not None else False))
+    if not down.any():
+        return ""
+    rows = table[down]
+    at = ", ".join(
+        f"{r.design} at t = {r.fell_at_s:.3f} s"
+        if math.isfinite(float(r.fell_at_s))
+        else f"{r.design} (when: not tracked)"
+        for r in rows.head(5).itertuples()
+    )
+    more = f" and {len(rows) - 5} more" if len(rows) > 5 else ""
+    return (
+        f"{len(rows)} of {_count(len(table), 'design')} fell over ({at}{more}; base tilted past {FELL_TILT_DEG:g} deg "
+        "or below the upright height at the end): hop cycles after a fall are not scored"
+    )
+
+
+def _rerun_command(design, source: str, beh, settings, auto: bool) -> str:
+    """A ``mat-hopper simulate`` command line that runs `design` as this
+    batch did: ``--design NAME`` for a design named in --designs, else its
+    --density and --modulus lists (a design from --designs-csv or --map has
+    no name simulate knows), with the batch's behaviour, duration,
+    transient, step and the settings that differ from simulate's defaults."""
+    from ..batch import design_columns
+
+    if source == "--designs":
+        parts = ["--design", design.name]
+    else:
+        cols = design_columns(design)
+        n = design.n_segments
+        parts = ["--density", ",".join(repr(float(cols[f"density_{i}"])) for i in range(1, n + 1))]
+        parts += ["--modulus", ",".join(str(_modulus_text(cols[f"modulus_{i}"])) for i in range(1, n + 1))]
+    parts += ["--behaviour", beh.name, "--duration", f"{settings.duration_s:g}"]
+    parts += ["--transient", f"{settings.transient_s:g}", "--timestep", "auto" if auto else f"{settings.timestep_s:g}"]
+    if settings.convention != "paper":
+        parts += ["--convention", settings.convention]
+    if settings.sensor_timing.name != "authors":
+        parts += ["--sensor-timing", settings.sensor_timing.name]
+    if settings.segment_mass != "leg":
+        parts += ["--segment-mass", settings.segment_mass]
+    return "mat-hopper simulate " + " ".join(parts)
+
+
+def _modulus_text(value) -> str:
+    return value if isinstance(value, str) else repr(float(value))
 
 
 def _batch_settings(args, profile, timing):

@@ -9,7 +9,7 @@ import pytest
 
 from mat_hopper.batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, designs_to_frame, evaluate_cpu
 from mat_hopper.cli import main
-from mat_hopper.cli.batch import SETTING_COLUMNS
+from mat_hopper.cli.batch import EVENT_COLUMNS, SETTING_COLUMNS
 from mat_hopper.core.materials import LegDesign, parse_design
 from mat_hopper.core.sim import simulate
 from mat_hopper.physics.metrics import run_summary
@@ -61,7 +61,9 @@ def test_mujoco_backend_rows_are_cpu_rollouts(tmp_path, capsys):
     assert rc == 0
     table = pd.read_csv(out)
     props = [f"density_{i}" for i in (1, 2, 3)] + [f"modulus_{i}" for i in (1, 2, 3)] + ["leg_mass_kg"]
-    assert list(table.columns) == ["design", *props, *RESULT_COLUMNS[1:], *SETTING_COLUMNS]
+    assert list(table.columns) == ["design", *props, *RESULT_COLUMNS[1:], *SETTING_COLUMNS, *EVENT_COLUMNS]
+    assert table[list(EVENT_COLUMNS)].isna().all().all()  # neither diverged nor fell
+    assert [d.name for d in designs_from_csv(out)] == ["MD", "PVC"]  # the table reads back as designs
     assert list(table.density_1) == [parse_design(n).densities_g_cm3[0] for n in ("MD", "PVC")]
     assert (table["behaviour"] == "forward").all() and (table["sensor_timing"] == "authors").all()
     assert list(table.design) == ["MD", "PVC"]

@@ -52,7 +52,10 @@ def test_reproduce_names_the_designs_above_their_bound_before_any_work(capsys):
 def test_batch_advises_auto_only_where_it_would_change_the_step(tmp_path, capsys):
     """A heavy leg (19 g/cm^3, 120 GPa) falls at 9.4 s and then diverges:
     its automatic step is the 1e-4 s it ran at, so batch does not advise
-    --timestep auto for it (it did, and auto gave the same run)."""
+    --timestep auto for it (it did, and auto gave the same run). The fall
+    is named with its time, as Rollout.fell_at_s gives it, and the command
+    that says why is one simulate runs: the CSV's design has no name
+    simulate knows, so its --density and --modulus."""
     from mat_hopper.cli import main
 
     designs = tmp_path / "heavy.csv"
@@ -62,5 +65,28 @@ def test_batch_advises_auto_only_where_it_would_change_the_step(tmp_path, capsys
     argv = ["batch", "--designs-csv", str(designs), "--duration", "12", "--transient", "4", "--no-progress"]
     assert main(argv) == 1
     out = capsys.readouterr().out
-    assert "1 of 1 design diverged (heavy at t = 11.0553 s)" in out
-    assert "--timestep auto would not change their step" in out and "try --timestep auto" not in out
+    assert "1 of 1 design diverged (heavy fell at t = 9.393 s, then diverged at t = 11.0553 s)" in out
+    assert "--timestep auto would not change their step" in out and "try " not in out
+    assert "--design D" not in out
+    command = out.split("`")[1]
+    assert command.startswith("mat-hopper simulate --density 19.0,19.0,19.0 --modulus 120.0,120.0,120.0 ")
+    assert main([*command.split()[1:], "--no-progress"]) == 1  # it runs, and says why
+    assert "UNSTABLE: the hopper fell (base tilted past 60 deg at t = 9.393 s)" in capsys.readouterr().out
+
+
+def test_batch_names_a_design_that_fell_without_diverging(capsys):
+    """A fall alone (the base tilted past 60 deg, the numbers finite) is
+    named with its time below the table; the exit status stays 0 (as
+    simulate's); the warp backend, which does not track the tilt, says so."""
+    import pandas as pd
+
+    from mat_hopper.cli.batch import _diverged_note, _fallen_note
+
+    table = pd.DataFrame(
+        {"design": ["a", "b", "c"], "stable": [True, True, False], "upright": [False, True, False],
+         "fell_at_s": [7.25, float("nan"), 3.5], "diverged_at_s": [None, None, 4.0]}
+    )  # fmt: skip
+    assert _fallen_note(table).startswith("1 of 3 designs fell over (a at t = 7.250 s;")
+    assert "c fell at t = 3.500 s, then diverged at t = 4.0000 s" in _diverged_note(table, False)
+    warp = table.assign(fell_at_s=float("nan"))
+    assert "a (when: not tracked)" in _fallen_note(warp)
