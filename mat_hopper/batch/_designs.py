@@ -35,6 +35,7 @@ RECORD_COLUMNS = (
     *("leg_mass_kg", "leg_com_m", "hip_inertia_kg_m2"),
     *("study", "trial", "state", "profile", "segment_mass", "replicates", "risk", "behaviours", "objectives"),
     "feasible",
+    "not_feasible_because",
 )
 
 
