@@ -23,6 +23,15 @@ from ._checks import (
 )
 from ._options import add_force, add_no_progress, add_profile, profile_of, suggesting
 
+# The exit rule, as simulate's and compare's: a run that diverged is a result
+# the tables and claims record, and still exits 1; the map's tries do not count.
+EXIT_STATUS = (
+    "Exit status: 0 when every task ran and no run diverged; 1 when a task failed or any run of experiments 1-3, "
+    "the controls or robustness diverged (as simulate and compare: the tables, figures and claims are still "
+    "written; the claims leave those runs out and name them; the stability map's tries diverge by design and do "
+    "not count); 2 for bad input."
+)
+
 # What a reproduction writes into --out (experiments.reproduce): its tables,
 # the claims and the figures folder; any of them there is an earlier run's.
 REPRODUCTION_FILES = ("*.csv", "claims.md", os.path.join("figures", "*"))
@@ -196,8 +205,14 @@ def cmd_reproduce(args) -> int:
     n_failed = sum(rep.failed.values())
     if n_failed:
         print(f"{n_failed} tasks failed (see the status and error columns); rerun to retry them", file=sys.stderr)
-        return 1
-    return 0
+    n_diverged = sum(rep.diverged.values())
+    if n_diverged:
+        where = ", ".join(f"{k} {v}" for k, v in rep.diverged.items() if v)
+        print(
+            f"{n_diverged} run{'s' if n_diverged != 1 else ''} diverged ({where}): exit status 1, as every command whose run diverges; the tables "
+            "record them, and the claims leave them out and name them"
+        )
+    return 1 if n_failed or n_diverged else 0  # EXIT_STATUS
 
 
 def register_cli(sub) -> None:
@@ -207,7 +222,7 @@ def register_cli(sub) -> None:
         description=(
             "Run the paper's experiments under one profile (cached, resumable, "
             "in parallel), write their tables as CSV into --out, then the figures "
-            "and the claims table (claims.md, claims.csv)."
+            "and the claims table (claims.md, claims.csv). " + EXIT_STATUS
         ),
     )
     add_profile(p)
