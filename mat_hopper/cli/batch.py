@@ -202,8 +202,7 @@ def run_batch(args) -> int:
         f"{settings.sensor_timing}, backend {args.backend}{where}"
     )
     shown = out[list(RESULT_COLUMNS)]
-    source = "--map" if args.map is not None else "--designs-csv" if args.designs_csv is not None else "--designs"
-    rerun = {d.name: _rerun_command(d, source, beh, settings, auto) for d in designs}
+    rerun = {d.name: _rerun_command(d, beh, settings, auto) for d in designs}
     note = _diverged_note(table, auto, designs, per_design, args.backend, rerun)
     _report(out, args.csv, "\n".join(n for n in (note, _fallen_note(table)) if n), shown=shown)
     return 1 if note else 0  # any run that diverged: exit 1 (the rule of every command); a fall alone: 0
@@ -312,22 +311,15 @@ def _fallen_note(table) -> str:
     )
 
 
-def _rerun_command(design, source: str, beh, settings, auto: bool) -> str:
+def _rerun_command(design, beh, settings, auto: bool) -> str:
     """A ``mat-hopper simulate`` command line that runs `design` as this
-    batch did: ``--design NAME`` for a design named in --designs, else its
-    --density and --modulus lists (a design from --designs-csv or --map has
-    no name simulate knows), with the batch's behaviour, duration,
-    transient, step and the settings that differ from simulate's defaults."""
-    from ..batch import design_columns
+    batch did (:func:`mat_hopper.cli._rerun.simulate_command`: by name
+    where simulate knows it, else by --density and --modulus), with the
+    batch's behaviour, duration, transient, step and the settings that
+    differ from simulate's defaults."""
+    from ._rerun import simulate_command
 
-    if source == "--designs":
-        parts = ["--design", design.name]
-    else:
-        cols = design_columns(design)
-        n = design.n_segments
-        parts = ["--density", ",".join(repr(float(cols[f"density_{i}"])) for i in range(1, n + 1))]
-        parts += ["--modulus", ",".join(str(_modulus_text(cols[f"modulus_{i}"])) for i in range(1, n + 1))]
-    parts += ["--behaviour", beh.name, "--duration", f"{settings.duration_s:g}"]
+    parts = ["--behaviour", beh.name, "--duration", f"{settings.duration_s:g}"]
     parts += ["--transient", f"{settings.transient_s:g}", "--timestep", "auto" if auto else f"{settings.timestep_s:g}"]
     if settings.convention != "paper":
         parts += ["--convention", settings.convention]
@@ -335,11 +327,7 @@ def _rerun_command(design, source: str, beh, settings, auto: bool) -> str:
         parts += ["--sensor-timing", settings.sensor_timing.name]
     if settings.segment_mass != "leg":
         parts += ["--segment-mass", settings.segment_mass]
-    return "mat-hopper simulate " + " ".join(parts)
-
-
-def _modulus_text(value) -> str:
-    return value if isinstance(value, str) else repr(float(value))
+    return simulate_command(design, *parts)
 
 
 def _batch_settings(args, profile, timing):

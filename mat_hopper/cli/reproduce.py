@@ -79,7 +79,7 @@ def _warn_stable_step(profile, args) -> None:
     from ..experiments.paper import get_experiment, parse_experiments
     from ..experiments.reproduce import check_conventions
 
-    over, seen = [], set()
+    over, seen, first = [], set(), None
     conventions = check_conventions(args.conventions)
     for name in parse_experiments(args.experiments):
         if name == "stability":
@@ -94,15 +94,25 @@ def _warn_stable_step(profile, args) -> None:
             seen.add(key)
             if check_stable_step(design, settings):
                 over.append(f"{name} {design.name}")
+                first = first or (design, settings.convention)
     if over:
         names = ", ".join(over[:6]) + (f" and {len(over) - 6} more" if len(over) > 6 else "")
         print(
             f"mat-hopper reproduce: warning: {len(over)} designs run above their analytic stable step ({names}): "
-            "they may diverge, and the tables record it (the protocol keeps its step; `mat-hopper simulate "
-            "--design D --timestep auto` runs one at the automatic step)",
+            "they may diverge, and the tables record it (the protocol keeps its step; "
+            f"`{_auto_command(*first)}` runs {first[0].name} at the automatic step)",
             file=sys.stderr,
             flush=True,
         )
+
+
+def _auto_command(design, convention: str) -> str:
+    """simulate at the automatic step of `design` (by name where simulate
+    knows it, else by its --density and --modulus)."""
+    from ._rerun import simulate_command
+
+    flags = ["--timestep", "auto"] + ([] if convention == "paper" else ["--convention", convention])
+    return simulate_command(design, *flags)
 
 
 # The experiments each option acts on (experiments/reproduce.py's _tasks and

@@ -45,6 +45,9 @@ def test_reproduce_names_the_designs_above_their_bound_before_any_work(capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("mat-hopper reproduce: warning: 6 designs run above their analytic")
     assert "exp2 SS E=1000" in err[0] and "--timestep auto" in err[0]
+    # the command it names is one simulate runs: a sweep's design by its lists, never "--design D"
+    command = err[0].split("`")[1]
+    assert command == "mat-hopper simulate --density 2.0,2.0,2.0 --modulus 120.0,120.0,120.0 --timestep auto"
     _warn_stable_step(PROFILES["quick"], argparse.Namespace(experiments="1,stability", conventions="paper,axial"))
     assert capsys.readouterr().err == ""  # the paper's materials at 1e-4 s, axial at auto; the scan left out
 
@@ -72,6 +75,30 @@ def test_batch_advises_auto_only_where_it_would_change_the_step(tmp_path, capsys
     assert command.startswith("mat-hopper simulate --density 19.0,19.0,19.0 --modulus 120.0,120.0,120.0 ")
     assert main([*command.split()[1:], "--no-progress"]) == 1  # it runs, and says why
     assert "UNSTABLE: the hopper fell (base tilted past 60 deg at t = 9.393 s)" in capsys.readouterr().out
+
+
+def test_a_command_named_in_a_message_gives_the_same_design():
+    """simulate's flags for a design read back as its segments: by name
+    where simulate knows it (a single material at 5 segments with
+    --segments), else by exact --density and --modulus lists."""
+    from mat_hopper.cli import build_parser, subcommand_parser
+    from mat_hopper.cli._rerun import design_flags
+    from mat_hopper.cli.simulate import design_from_args
+    from mat_hopper.core.materials import LegDesign, parse_design
+
+    designs = [
+        parse_design("rho-inc"),
+        parse_design("SS", n_segments=5),
+        LegDesign.from_properties([1.0 / 3, 2.0], [None, 4.0], name="SS"),  # a CSV's row that borrowed a name
+    ]
+    assert [design_flags(d)[:2] for d in designs] == [
+        ["--design", "rho-inc"],
+        ["--design", "SS"],
+        ["--density", "0.3333333333333333,2.0"],
+    ]
+    for d in designs:
+        args = subcommand_parser(build_parser("simulate"), "simulate").parse_args(design_flags(d))
+        assert design_from_args(args).segments == d.segments
 
 
 def test_batch_names_a_design_that_fell_without_diverging(capsys):
