@@ -219,8 +219,9 @@ def cmd_reproduce(args) -> int:
     if n_diverged:
         where = ", ".join(f"{k} {v}" for k, v in rep.diverged.items() if v)
         print(
-            f"{n_diverged} run{'s' if n_diverged != 1 else ''} diverged ({where}): exit status 1, as every command whose run diverges; the tables "
-            "record them, and the claims leave them out and name them"
+            f"{n_diverged} run{'s' if n_diverged != 1 else ''} diverged ({where}): exit status 1, as every command "
+            "whose run diverges; the tables record them"
+            + ("" if args.no_figures else ", and the claims leave them out and name them")
         )
     return 1 if n_failed or n_diverged else 0  # EXIT_STATUS
 
