@@ -31,7 +31,14 @@ def design_flags(design) -> list[str]:
     return ["--density", densities, "--modulus", moduli]
 
 
-def simulate_command(design, *flags: str) -> str:
+def simulate_command(design, **options) -> str:
     """``mat-hopper simulate`` with `design`'s flags (:func:`design_flags`)
-    and `flags` after them."""
+    and then `options`, simulate's options by their names
+    (``timestep="auto"``: ``--timestep auto``; ``segment_mass``:
+    ``--segment-mass``); one whose value is None is left out."""
+    flags = [f for name, value in options.items() if value is not None for f in (_flag(name), str(value))]
     return " ".join(["mat-hopper simulate", *design_flags(design), *flags])
+
+
+def _flag(name: str) -> str:
+    return "--" + name.replace("_", "-")

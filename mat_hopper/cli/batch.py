@@ -17,12 +17,14 @@ import sys
 
 from ..core import reference as ref
 from ..core.behaviours import DEFAULT_BEHAVIOUR
+from ..core.materials import SEGMENT_MASSES
 from ..experiments.profiles import PROFILES
 from ._checks import SENSOR_TIMING_HELP, sensor_timing_type
 from ._options import (
     AUTO_TIMESTEP_HELP,
     BEHAVIOUR_HELP,
     DURATION_HELP,
+    SEGMENT_MASS_HELP,
     TRANSIENT_HELP,
     add_behaviour,
     add_convention,
@@ -74,6 +76,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_profile(p)
     add_convention(p)
     p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
+    p.add_argument("--segment-mass", default="leg", choices=SEGMENT_MASSES, help=SEGMENT_MASS_HELP)
     p.add_argument(
         "--backend",
         choices=("mujoco", "warp"),
@@ -129,6 +132,7 @@ SETTING_COLUMNS = (
     "behaviour",
     "convention",
     "sensor_timing",
+    "segment_mass",
     "duration_s",
     "transient_s",
     "timestep_s",
@@ -189,7 +193,8 @@ def run_batch(args) -> int:
     table = evaluate(designs, beh, settings, progress=progress, auto_timestep=auto, **run)
     out = (
         table[list(RESULT_COLUMNS)]
-        .assign(behaviour=beh.name, **settings.columns("convention", "sensor_timing", "duration_s", "transient_s"))
+        .assign(behaviour=beh.name, **settings.columns("convention", "sensor_timing", "segment_mass"))
+        .assign(**settings.columns("duration_s", "transient_s"))
         .assign(timestep_s=[s.timestep_s for s in per_design], substeps=[s.substeps for s in per_design])
         .assign(backend=args.backend)
         .assign(**{c: table[c].to_numpy() for c in EVENT_COLUMNS})
@@ -199,13 +204,18 @@ def run_batch(args) -> int:
     print(
         f"{_count(len(out), 'design')} on {beh.name}: {settings.duration_s:g} s at {_step_text(per_design)}, "
         f"transient {settings.transient_s:g} s, convention {settings.convention}, sensor timing "
-        f"{settings.sensor_timing}, backend {args.backend}{where}"
+        f"{settings.sensor_timing}{_segment_mass_text(settings)}, backend {args.backend}{where}"
     )
     shown = out[list(RESULT_COLUMNS)]
     rerun = {d.name: _rerun_command(d, beh, settings, auto) for d in designs}
     note = _diverged_note(table, auto, designs, per_design, args.backend, rerun)
     _report(out, args.csv, "\n".join(n for n in (note, _fallen_note(table)) if n), shown=shown)
     return 1 if note else 0  # any run that diverged: exit 1 (the rule of every command); a fall alone: 0
+
+
+def _segment_mass_text(settings) -> str:
+    """``, segment mass capsule`` where the batch does not run the default (leg)."""
+    return "" if settings.segment_mass == "leg" else f", segment mass {settings.segment_mass}"
 
 
 def _step_text(per_design) -> str:
@@ -259,11 +269,7 @@ def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = 
     more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
     first = str(bad["design"].iloc[0])
     command = (rerun or {}).get(first)
-    why = (
-        f"`{command}` says why ({first})"
-        if command
-        else "`mat-hopper simulate` with the design's --density and --modulus says why"
-    )
+    why = f"`{command}` says why ({first})" if command else "`mat-hopper simulate` of the design says why"
     by_name = {d.name: (d, st) for d, st in zip(designs, per_design)}
     helps = any(auto_suggestion(*by_name[n], CLI_AUTO_HINT) for n in bad["design"] if n in by_name)
     if auto:
@@ -319,15 +325,16 @@ def _rerun_command(design, beh, settings, auto: bool) -> str:
     differ from simulate's defaults."""
     from ._rerun import simulate_command
 
-    parts = ["--behaviour", beh.name, "--duration", f"{settings.duration_s:g}"]
-    parts += ["--transient", f"{settings.transient_s:g}", "--timestep", "auto" if auto else f"{settings.timestep_s:g}"]
-    if settings.convention != "paper":
-        parts += ["--convention", settings.convention]
-    if settings.sensor_timing.name != "authors":
-        parts += ["--sensor-timing", settings.sensor_timing.name]
-    if settings.segment_mass != "leg":
-        parts += ["--segment-mass", settings.segment_mass]
-    return simulate_command(design, *parts)
+    return simulate_command(
+        design,
+        behaviour=beh.name,
+        duration=f"{settings.duration_s:g}",
+        transient=f"{settings.transient_s:g}",
+        timestep="auto" if auto else f"{settings.timestep_s:g}",
+        convention=None if settings.convention == "paper" else settings.convention,
+        sensor_timing=None if settings.sensor_timing.name == "authors" else settings.sensor_timing.name,
+        segment_mass=None if settings.segment_mass == "leg" else settings.segment_mass,
+    )
 
 
 def _batch_settings(args, profile, timing):
@@ -340,7 +347,7 @@ def _batch_settings(args, profile, timing):
         transient_s=profile.transient_s if args.transient is None else args.transient,
         convention=args.convention,
         sensor_timing=timing,
-        segment_mass=profile.segment_mass,
+        segment_mass=args.segment_mass,
     )
 
 
@@ -368,6 +375,8 @@ def _check_applicable(args) -> None:
     run_options = {"--behaviour": args.behaviour, "--duration": args.duration, "--transient": args.transient}
     run_options["--timestep"] = args.timestep
     given = [flag for flag, value in run_options.items() if value is not None]
+    if args.segment_mass != "leg":
+        given.append(f"--segment-mass {args.segment_mass}")
     if args.stability and given:
         raise ValueError(f"{', '.join(given)}: not used by --stability (static hopping at its ladder of time steps)")
     if not args.stability and args.stability_duration is not None:

@@ -111,8 +111,7 @@ def _auto_command(design, convention: str) -> str:
     knows it, else by its --density and --modulus)."""
     from ._rerun import simulate_command
 
-    flags = ["--timestep", "auto"] + ([] if convention == "paper" else ["--convention", convention])
-    return simulate_command(design, *flags)
+    return simulate_command(design, timestep="auto", convention=None if convention == "paper" else convention)
 
 
 # The experiments each option acts on (experiments/reproduce.py's _tasks and

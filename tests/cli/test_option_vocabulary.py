@@ -256,7 +256,7 @@ def test_a_setting_is_named_by_an_option_only_where_the_command_has_it():
             COMMAND_OPTIONS[0] = None
 
     assert text("simulate") == "--segment-mass must be leg or capsule; --segments 3"
-    assert text("batch") == "segment_mass must be leg or capsule; n_segments 3"  # batch has neither option
+    assert text("reproduce") == "segment_mass must be leg or capsule; n_segments 3"  # it has neither option
     assert text(None) == "--segment-mass must be leg or capsule; --segments 3"
 
 
