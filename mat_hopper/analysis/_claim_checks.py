@@ -280,6 +280,12 @@ def smallest_p(n_replicates: int, family_size: int = 1) -> float:
     return min(1.0, family_size * 2.0 / math.comb(2 * n_replicates, n_replicates))
 
 
+# A count over hop cycles of one run (basis hops): its p-values describe the
+# run (the cycles are not independent samples, mat_hopper.analysis.stats),
+# so the count is labelled descriptive and never called significant.
+HOPS_WORDS = "descriptive: Holm p < {alpha:g} over hop cycles, not independent samples"
+
+
 def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1",), baseline="MD"):
     def evaluate(ctx: _Context) -> Outcome:
         rows, basis = _comparison_rows(ctx, exps, designs, behaviours, metric, baseline)
@@ -343,6 +349,8 @@ def _claim_count_significant(metric, designs, behaviours, direction, exps=("exp1
                     NOT_TESTABLE,
                     detail,
                 )
+        if basis != "replicates":  # p over the cycles of one run describes it: no inference, no significance
+            return Outcome(f"{k}/{n_needed} {word}, {HOPS_WORDS.format(alpha=ctx.alpha)}", verdict, detail)
         return Outcome(f"{k}/{n_needed} significantly {word} (Holm p < {ctx.alpha:g})", verdict, detail)
 
     return evaluate

@@ -7,6 +7,7 @@ designs run in parallel over processes.
 
 from __future__ import annotations
 
+import math
 import multiprocessing
 import os
 from collections.abc import Sequence
@@ -42,6 +43,7 @@ def _row(design, beh, settings) -> dict:
         "total_mass_kg": s["total_mass_kg"],
         "backend": "mujoco",
         "upright": bool(r.upright),
+        "fell_at_s": math.nan if r.fell_at_s is None else r.fell_at_s,
         "run_tracking_error_m": finite_mean(err),
         "run_power_w": finite_mean(power),
     }

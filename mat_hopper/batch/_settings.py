@@ -14,7 +14,9 @@ from ..core.sim import SimSettings
 RESULT_COLUMNS = ("design", "n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable")
 # What the library's tables carry besides.
 # upright: stable and the base above reference.STABLE_MIN_BASE_Z at the last
-# recorded sample (Rollout.upright); run_tracking_error_m, run_power_w: means
+# recorded sample (Rollout.upright); fell_at_s: when the base first tilted
+# past core.rollout.FELL_TILT_DEG (s; NaN if never, and on the warp backend,
+# which does not track the tilt); run_tracking_error_m, run_power_w: means
 # over every finite recorded sample of the run, hop cycles or not (the
 # optimizer's score of a run without scored hops).
 EXTRA_COLUMNS = (
@@ -24,6 +26,7 @@ EXTRA_COLUMNS = (
     "total_mass_kg",
     "backend",
     "upright",
+    "fell_at_s",
     "run_tracking_error_m",
     "run_power_w",
 )

@@ -28,6 +28,7 @@ metrics run in float64.
 from __future__ import annotations
 
 import copy
+import math
 import warnings
 from collections.abc import Sequence
 
@@ -430,6 +431,7 @@ class WarpBatch:
                     "total_mass_kg": float(self.total_mass_kg[w]),
                     "backend": "warp",
                     "upright": bool(div[w] < 0 and acc[w, K.A_LAST_Z] > ref.STABLE_MIN_BASE_Z),
+                    "fell_at_s": math.nan,  # the kernels do not track the base's tilt
                     "run_tracking_error_m": mean_or_nan(acc[w, K.A_RUN_ERR], int(acc[w, K.A_RUN_NERR])),
                     "run_power_w": mean_or_nan(acc[w, K.A_RUN_POW], int(acc[w, K.A_RUN_NPOW])),
                 }

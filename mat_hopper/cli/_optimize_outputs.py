@@ -257,6 +257,12 @@ def cmd_export(args) -> int:
     finally:
         dispose(storage)  # a read-only use leaves no -wal/-shm files beside the study
     print(f"trial {args.export} of {name}: {describe(res['design'].segments)}")
+    if res["why"]:  # a diverged, fallen or otherwise infeasible trial says so, as its CSV row does
+        what = f"trial {args.export} {res['runs']}" if res["runs"] else f"trial {args.export}"
+        blank = (
+            "; its objective columns are empty: its runs were cut short" if res["why"].startswith("diverged") else ""
+        )
+        print(f"{what}: not feasible (the CSV's not_feasible_because: {res['why']}{blank})")
     print(f"wrote {res['csv']}")
     for path in res["mjcf"].values():
         print(f"wrote {path}")
@@ -271,3 +277,19 @@ def cmd_export(args) -> int:
         )
     )
     return 0
+
+
+def done_text(res, trials: int) -> str:
+    """How many trials the study holds against its target, in the words of
+    the feasibility line below it: under racing the target counts screened
+    trials (--trials rounded up to whole brackets), of which those finished
+    at full fidelity and those stopped on a screening rung."""
+    if res.evaluator != "racing" or res.feasibility is None:
+        running = f", {res.running} still running elsewhere" if res.running else ""
+        return f"{res.done}/{res.target} trials finished{running}"
+    f = res.feasibility
+    rounded = f", --trials {trials} rounded up to whole brackets" if res.target != trials else ""
+    return (
+        f"{res.done}/{res.target} trials screened by racing{rounded}: {f.finished} finished at full fidelity, "
+        f"{f.pruned} stopped on a screening rung"
+    )

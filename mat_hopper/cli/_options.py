@@ -34,7 +34,7 @@ from ..core.behaviours import BEHAVIOUR_NAMES, DEFAULT_BEHAVIOUR
 from ..core.materials import CONVENTIONS, DEFAULT_CONVENTION, MAX_SEGMENTS
 from ..core.reference import REFERENCE_SEGMENTS
 from ..experiments.profiles import PROFILE_ENV, PROFILES
-from ..util.parsing import close_names, is_decimal, parse_name, parse_number
+from ..util.parsing import close_names, did_you_mean, is_decimal, parse_name, parse_number
 
 NO_PROGRESS_HELP = "no progress display on stderr (else a bar on a terminal, a line per stage in a pipe or a log)"
 
@@ -247,7 +247,8 @@ def sensor_timing_arg(text, flag: str = "--sensor-timing"):
         return SensorTiming(s.lower())
     steps = s[len(LATENCY_PREFIX) :] if s.lower().startswith(LATENCY_PREFIX) else s
     if not is_decimal(steps):
-        raise ValueError(f"{flag}: unknown sensor timing {s!r}; {accepted}")
+        hint = did_you_mean(s, SENSOR_TIMINGS)
+        raise ValueError(f"{flag}: unknown sensor timing {s!r}; {accepted}{f'; {hint}' if hint else ''}")
     latency = parse_number(steps, flag, integer=True, low=0, high=MAX_SENSOR_LATENCY_STEPS, unit="physics steps")
     return SensorTiming(latency)
 

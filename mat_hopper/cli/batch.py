@@ -17,12 +17,14 @@ import sys
 
 from ..core import reference as ref
 from ..core.behaviours import DEFAULT_BEHAVIOUR
+from ..core.materials import SEGMENT_MASSES
 from ..experiments.profiles import PROFILES
 from ._checks import SENSOR_TIMING_HELP, sensor_timing_type
 from ._options import (
     AUTO_TIMESTEP_HELP,
     BEHAVIOUR_HELP,
     DURATION_HELP,
+    SEGMENT_MASS_HELP,
     TRANSIENT_HELP,
     add_behaviour,
     add_convention,
@@ -45,7 +47,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "batch",
         help="evaluate many designs on one behaviour (CPU rollouts or a MuJoCo Warp batch)",
         description="Evaluate many leg designs on one behaviour; one row per design: design, n_hops, "
-        "hop_height_m, tracking_error_m, power_w, stable. Designs whose time step lies above their analytic "
+        "hop_height_m, tracking_error_m, power_w, stable (the CSV adds when a run diverged, diverged_at_s, and when the "
+        "hopper fell, fell_at_s: the base tilted past 60 deg; --backend mujoco only). A design that fell or diverged "
+        "is named below the table with when. Designs whose time step lies above their analytic "
         "stable step are warned of before any run (try --timestep auto). Exit status: 0 when every run ended "
         "without numerical divergence; 1 when any diverged (the table is still printed and written); 2 for bad "
         "input. --stability exits 0: its tries diverge by design, and a design stable at no step is a result.",
@@ -72,6 +76,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_profile(p)
     add_convention(p)
     p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
+    p.add_argument("--segment-mass", default="leg", choices=SEGMENT_MASSES, help=SEGMENT_MASS_HELP)
     p.add_argument(
         "--backend",
         choices=("mujoco", "warp"),
@@ -127,12 +132,15 @@ SETTING_COLUMNS = (
     "behaviour",
     "convention",
     "sensor_timing",
+    "segment_mass",
     "duration_s",
     "transient_s",
     "timestep_s",
     "substeps",
     "backend",
 )
+# When each run diverged and when its hopper fell (s; empty if never), after the settings.
+EVENT_COLUMNS = ("diverged_at_s", "fell_at_s")
 
 
 def run_batch(args) -> int:
@@ -185,21 +193,29 @@ def run_batch(args) -> int:
     table = evaluate(designs, beh, settings, progress=progress, auto_timestep=auto, **run)
     out = (
         table[list(RESULT_COLUMNS)]
-        .assign(behaviour=beh.name, **settings.columns("convention", "sensor_timing", "duration_s", "transient_s"))
+        .assign(behaviour=beh.name, **settings.columns("convention", "sensor_timing", "segment_mass"))
+        .assign(**settings.columns("duration_s", "transient_s"))
         .assign(timestep_s=[s.timestep_s for s in per_design], substeps=[s.substeps for s in per_design])
         .assign(backend=args.backend)
+        .assign(**{c: table[c].to_numpy() for c in EVENT_COLUMNS})
     )
     out = _with_properties(out, designs, settings.segment_mass)
     where = f" on {device}" if device else ""
     print(
         f"{_count(len(out), 'design')} on {beh.name}: {settings.duration_s:g} s at {_step_text(per_design)}, "
         f"transient {settings.transient_s:g} s, convention {settings.convention}, sensor timing "
-        f"{settings.sensor_timing}, backend {args.backend}{where}"
+        f"{settings.sensor_timing}{_segment_mass_text(settings)}, backend {args.backend}{where}"
     )
     shown = out[list(RESULT_COLUMNS)]
-    note = _diverged_note(table, auto, designs, per_design, args.backend)
-    _report(out, args.csv, note, shown=shown)
-    return 1 if note else 0  # any run that diverged: exit 1 (the rule of every command)
+    rerun = {d.name: _rerun_command(d, beh, settings, auto) for d in designs}
+    note = _diverged_note(table, auto, designs, per_design, args.backend, rerun)
+    _report(out, args.csv, "\n".join(n for n in (note, _fallen_note(table)) if n), shown=shown)
+    return 1 if note else 0  # any run that diverged: exit 1 (the rule of every command); a fall alone: 0
+
+
+def _segment_mass_text(settings) -> str:
+    """``, segment mass capsule`` where the batch does not run the default (leg)."""
+    return "" if settings.segment_mass == "leg" else f", segment mass {settings.segment_mass}"
 
 
 def _step_text(per_design) -> str:
@@ -234,24 +250,30 @@ def _warn_stable_step(designs, per_design) -> None:
     print(f"mat-hopper batch: warning: {line}", file=sys.stderr, flush=True)
 
 
-def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = "mujoco") -> str:
-    """The line on the designs that diverged (when, and what to try), or "".
-    --timestep auto is advised only where it would change a diverged
-    design's step (:func:`mat_hopper.core.timestep.auto_suggestion`; a leg
-    that falls before it diverges may already run at its automatic step)
-    and only for the backend that takes it (mujoco)."""
+def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = "mujoco", rerun=None) -> str:
+    """The line on the designs that diverged (when, after a fall where one
+    fell first, and what to try), or "". --timestep auto is advised only
+    where it would change a diverged design's step
+    (:func:`mat_hopper.core.timestep.auto_suggestion`; a leg that falls
+    before it diverges may already run at its automatic step) and only for
+    the backend that takes it (mujoco). `rerun` (design name to a
+    ``mat-hopper simulate`` command line that runs it, :func:`_rerun_command`)
+    names the command that says why; without it the line says
+    ``simulate`` with the design's --density and --modulus."""
     from ..core.timestep import CLI_AUTO_HINT, auto_suggestion
 
     bad = table[~table["stable"]]
     if not len(bad):
         return ""
-    at = ", ".join(f"{r.design} at t = {r.diverged_at_s:.4f} s" for r in bad.head(5).itertuples())
+    at = ", ".join(_when(r) for r in bad.head(5).itertuples())
     more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
-    why = "`mat-hopper simulate --design D` says why"
+    first = str(bad["design"].iloc[0])
+    command = (rerun or {}).get(first)
+    why = f"`{command}` says why ({first})" if command else "`mat-hopper simulate` of the design says why"
     by_name = {d.name: (d, st) for d, st in zip(designs, per_design)}
     helps = any(auto_suggestion(*by_name[n], CLI_AUTO_HINT) for n in bad["design"] if n in by_name)
     if auto:
-        fix = "already at --timestep auto: `mat-hopper simulate --design D --timestep auto` says why"
+        fix = f"already at --timestep auto; {why}"
     elif backend != "mujoco":
         fix = f"--timestep auto is for --backend mujoco (each design its own physics substeps); {why}"
     elif helps or not by_name:
@@ -259,6 +281,60 @@ def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = 
     else:
         fix = f"--timestep auto would not change their step; {why}"
     return f"{len(bad)} of {_count(len(table), 'design')} diverged ({at}{more}); {fix}"
+
+
+def _when(row) -> str:
+    """A diverged design's name and time, after its fall where it fell first."""
+    fell = getattr(row, "fell_at_s", math.nan)
+    fell = math.nan if fell is None else float(fell)
+    if math.isfinite(fell) and fell < row.diverged_at_s:
+        return f"{row.design} fell at t = {fell:.3f} s, then diverged at t = {row.diverged_at_s:.4f} s"
+    return f"{row.design} at t = {row.diverged_at_s:.4f} s"
+
+
+def _fallen_note(table) -> str:
+    """The line on the designs that fell over without diverging (base
+    tilted past FELL_TILT_DEG, or below the upright height at the end), or
+    "": their hop cycles after the fall are not scored; a fall alone does
+    not change the exit status (as simulate)."""
+    from ..core.rollout import FELL_TILT_DEG
+
+    fell = table["fell_at_s"].astype(float) if "fell_at_s" in table.columns else None
+    down = table["stable"] & (~table["upright"] | (fell.notna() if fell is not None else False))
+    if not down.any():
+        return ""
+    rows = table[down]
+    at = ", ".join(
+        f"{r.design} at t = {r.fell_at_s:.3f} s"
+        if math.isfinite(float(r.fell_at_s))
+        else f"{r.design} (when: not tracked)"
+        for r in rows.head(5).itertuples()
+    )
+    more = f" and {len(rows) - 5} more" if len(rows) > 5 else ""
+    return (
+        f"{len(rows)} of {_count(len(table), 'design')} fell over ({at}{more}; base tilted past {FELL_TILT_DEG:g} deg "
+        "or below the upright height at the end): hop cycles after a fall are not scored"
+    )
+
+
+def _rerun_command(design, beh, settings, auto: bool) -> str:
+    """A ``mat-hopper simulate`` command line that runs `design` as this
+    batch did (:func:`mat_hopper.cli._rerun.simulate_command`: by name
+    where simulate knows it, else by --density and --modulus), with the
+    batch's behaviour, duration, transient, step and the settings that
+    differ from simulate's defaults."""
+    from ._rerun import simulate_command
+
+    return simulate_command(
+        design,
+        behaviour=beh.name,
+        duration=f"{settings.duration_s:g}",
+        transient=f"{settings.transient_s:g}",
+        timestep="auto" if auto else f"{settings.timestep_s:g}",
+        convention=None if settings.convention == "paper" else settings.convention,
+        sensor_timing=None if settings.sensor_timing.name == "authors" else settings.sensor_timing.name,
+        segment_mass=None if settings.segment_mass == "leg" else settings.segment_mass,
+    )
 
 
 def _batch_settings(args, profile, timing):
@@ -271,7 +347,7 @@ def _batch_settings(args, profile, timing):
         transient_s=profile.transient_s if args.transient is None else args.transient,
         convention=args.convention,
         sensor_timing=timing,
-        segment_mass=profile.segment_mass,
+        segment_mass=args.segment_mass,
     )
 
 
@@ -299,6 +375,8 @@ def _check_applicable(args) -> None:
     run_options = {"--behaviour": args.behaviour, "--duration": args.duration, "--transient": args.transient}
     run_options["--timestep"] = args.timestep
     given = [flag for flag, value in run_options.items() if value is not None]
+    if args.segment_mass != "leg":
+        given.append(f"--segment-mass {args.segment_mass}")
     if args.stability and given:
         raise ValueError(f"{', '.join(given)}: not used by --stability (static hopping at its ladder of time steps)")
     if not args.stability and args.stability_duration is not None:

@@ -58,6 +58,7 @@ from ._optimize_outputs import (
     cmd_export,
     cmd_replay,
     cmd_report,
+    done_text,
     open_existing,
     options_from_args,
     render_files_of,
@@ -119,8 +120,8 @@ DEFAULTS = {"trials": 200, "workers": DEFAULT_WORKERS, "sampler": "tpe", "seed":
 DEFAULT_STUDIES_DIR = "studies"
 # What each kind of work on a stored study does (the refusal of a study run's option says it).
 MODE_WORK = {
-    "--export": "--export runs nothing (it reads the stored study)",
-    "--report": "--report runs no trials (it reads the stored study)",
+    "--export": "--export runs nothing (it reads the stored study; --no-progress is accepted)",
+    "--report": "--report runs no trials (it reads the stored study; --no-progress is accepted)",
     "--replay": "--replay re-simulates one trial at the study's stored settings (--no-progress is accepted)",
 }
 
@@ -145,7 +146,7 @@ def check_options(args) -> None:
         raise ValueError(f"--study {args.study} and --report {args.report} name two studies; give one")
     if mode is not None:
         for dest in (*STUDY_OPTIONS, *RUN_OPTIONS):
-            if _given(args, dest) and not (dest == "no_progress" and mode == "--replay"):
+            if _given(args, dest) and dest != "no_progress":  # a shared option: accepted by every kind of work
                 raise ValueError(f"{_flag(dest)} is for a study run; {MODE_WORK[mode]}")
     elif args.study and (args.cvar_alpha is not None) and (args.risk or "").strip().lower() != "cvar":
         given = f"--risk {args.risk.strip()}" if args.risk else "no --risk (mean)"
@@ -352,10 +353,7 @@ def _cmd_optimize(args) -> int:
         for line in queued_step_warnings(config, queued, args.trials) if not stored else ():  # as simulate's
             print(f"mat-hopper optimize: warning: {line}", file=sys.stderr, flush=True)
         res = _run_backend(config, options, args)
-    print(
-        f"study {res.study} ({res.url}): {res.done}/{res.target} trials finished"
-        + (f", {res.running} still running elsewhere" if res.running else "")
-    )
+    print(f"study {res.study} ({res.url}): {done_text(res, args.trials)}")
     if res.feasibility is not None:  # how many are feasible, and why the others are not
         print(res.feasibility.text())
     advice = divergence_advice(res.feasibility, config)

@@ -23,6 +23,15 @@ from ._checks import (
 )
 from ._options import add_force, add_no_progress, add_profile, profile_of, suggesting
 
+# The exit rule, as simulate's and compare's: a run that diverged is a result
+# the tables and claims record, and still exits 1; the map's tries do not count.
+EXIT_STATUS = (
+    "Exit status: 0 when every task ran and no run diverged; 1 when a task failed or any run of experiments 1-3, "
+    "the controls or robustness diverged (as simulate and compare: the tables, figures and claims are still "
+    "written; the claims leave those runs out and name them; the stability map's tries diverge by design and do "
+    "not count); 2 for bad input."
+)
+
 # What a reproduction writes into --out (experiments.reproduce): its tables,
 # the claims and the figures folder; any of them there is an earlier run's.
 REPRODUCTION_FILES = ("*.csv", "claims.md", os.path.join("figures", "*"))
@@ -70,7 +79,7 @@ def _warn_stable_step(profile, args) -> None:
     from ..experiments.paper import get_experiment, parse_experiments
     from ..experiments.reproduce import check_conventions
 
-    over, seen = [], set()
+    over, seen, first = [], set(), None
     conventions = check_conventions(args.conventions)
     for name in parse_experiments(args.experiments):
         if name == "stability":
@@ -85,15 +94,24 @@ def _warn_stable_step(profile, args) -> None:
             seen.add(key)
             if check_stable_step(design, settings):
                 over.append(f"{name} {design.name}")
+                first = first or (design, settings.convention)
     if over:
         names = ", ".join(over[:6]) + (f" and {len(over) - 6} more" if len(over) > 6 else "")
         print(
             f"mat-hopper reproduce: warning: {len(over)} designs run above their analytic stable step ({names}): "
-            "they may diverge, and the tables record it (the protocol keeps its step; `mat-hopper simulate "
-            "--design D --timestep auto` runs one at the automatic step)",
+            "they may diverge, and the tables record it (the protocol keeps its step; "
+            f"`{_auto_command(*first)}` runs {first[0].name} at the automatic step)",
             file=sys.stderr,
             flush=True,
         )
+
+
+def _auto_command(design, convention: str) -> str:
+    """simulate at the automatic step of `design` (by name where simulate
+    knows it, else by its --density and --modulus)."""
+    from ._rerun import simulate_command
+
+    return simulate_command(design, timestep="auto", convention=None if convention == "paper" else convention)
 
 
 # The experiments each option acts on (experiments/reproduce.py's _tasks and
@@ -196,8 +214,15 @@ def cmd_reproduce(args) -> int:
     n_failed = sum(rep.failed.values())
     if n_failed:
         print(f"{n_failed} tasks failed (see the status and error columns); rerun to retry them", file=sys.stderr)
-        return 1
-    return 0
+    n_diverged = sum(rep.diverged.values())
+    if n_diverged:
+        where = ", ".join(f"{k} {v}" for k, v in rep.diverged.items() if v)
+        print(
+            f"{n_diverged} run{'s' if n_diverged != 1 else ''} diverged ({where}): exit status 1, as every command "
+            "whose run diverges; the tables record them"
+            + ("" if args.no_figures else ", and the claims leave them out and name them")
+        )
+    return 1 if n_failed or n_diverged else 0  # EXIT_STATUS
 
 
 def register_cli(sub) -> None:
@@ -207,7 +232,7 @@ def register_cli(sub) -> None:
         description=(
             "Run the paper's experiments under one profile (cached, resumable, "
             "in parallel), write their tables as CSV into --out, then the figures "
-            "and the claims table (claims.md, claims.csv)."
+            "and the claims table (claims.md, claims.csv). " + EXIT_STATUS
         ),
     )
     add_profile(p)

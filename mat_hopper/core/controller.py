@@ -58,7 +58,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from ..util.parsing import parse_name
+from ..util.parsing import did_you_mean, parse_name
 from . import reference as ref
 
 FLIGHT, STANCE = 0, 1
@@ -273,9 +273,11 @@ def _latency(timing) -> int:
         if name.startswith(LATENCY_PREFIX) and digits.isascii() and digits.isdigit():  # ASCII digits only (not "٣")
             timing = int(digits)
         else:
+            hint = did_you_mean(name, SENSOR_TIMINGS)
             raise ValueError(
                 f"unknown sensor timing {timing!r}; accepted: {', '.join(SENSOR_TIMINGS)}, "
                 f"'latency-L' or an integer L of physics steps in [0, {MAX_SENSOR_LATENCY_STEPS}]"
+                + (f"; {hint}" if hint else "")
             )
     if isinstance(timing, (bool, np.bool_)) or not isinstance(timing, (int, np.integer)):
         raise ValueError(

@@ -44,7 +44,8 @@ from .runner import Runner, check_workers
 class Reproduction:
     """What :func:`reproduce` made: tables by name (the CSV file names
     without .csv), files written, wall seconds per experiment (for the
-    log and benchmarks; never part of a table), failed task counts."""
+    log and benchmarks; never part of a table), failed task counts and,
+    per experiment, its runs that diverged (:func:`diverged_runs`)."""
 
     profile: str
     out_dir: str
@@ -53,6 +54,7 @@ class Reproduction:
     wall_s: dict = field(default_factory=dict)
     failed: dict = field(default_factory=dict)
     computed: dict = field(default_factory=dict)
+    diverged: dict = field(default_factory=dict)
     conventions: tuple = ("paper",)  # those asked for: the claims table has rows for these only
 
 
@@ -171,6 +173,7 @@ def _run_experiment(runner, name: str, tasks, rep: Reproduction, log) -> None:
     wall = time.perf_counter() - t0
     rep.wall_s[name] = wall
     rep.failed[name] = res.n_failed
+    rep.diverged[name] = diverged_runs(name, res.summary)
     rep.computed[name] = res.n_computed
     for tname, frame in _tables_of(name, res).items():
         path = os.path.join(rep.out_dir, f"{tname}.csv")
@@ -186,6 +189,28 @@ def _run_experiment(runner, name: str, tasks, rep: Reproduction, log) -> None:
         for row in bad.head(5).itertuples():
             log(f"  failed: {row.design} {getattr(row, 'behaviour', '')}: {row.error}")
     _log_unusable(name, res.summary, log)
+
+
+def diverged_runs(name: str, summary) -> int:
+    """How many of an experiment's runs diverged numerically (after a fall
+    or not; :func:`mat_hopper.analysis.stats.unusable_runs`): the count
+    that sets ``mat-hopper reproduce``'s exit status. The stability map's
+    tries diverge by design (its ladder goes above the stable steps on
+    purpose) and count 0.
+
+    Args:
+        name: the experiment's canonical name (``exp1``, ``stability``, ...).
+        summary: its run-summary table (one row per run), or None.
+
+    Returns:
+        The number of its runs that diverged.
+    """
+    from ..analysis.stats import unusable_runs
+
+    if name == "stability" or summary is None or not len(summary):
+        return 0
+    bad = unusable_runs(summary)
+    return int(bad["why"].astype(str).str.contains("unstable").sum()) if len(bad) else 0
 
 
 def _log_unusable(name: str, summary, log) -> None:

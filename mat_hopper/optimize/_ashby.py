@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.materials import CATALOGUE, LegDesign, Material, material
+from ..util.parsing import did_you_mean
 
 TOLERANCE = 1e-9  # log10 units: on the boundary counts as inside
 
@@ -154,7 +155,8 @@ def check_classes(classes) -> tuple[str, ...]:
         The names, lower case, stripped, empty ones dropped; () for None.
 
     Raises:
-        ValueError: an unknown class (the message lists the accepted ones).
+        ValueError: an unknown class (the message lists the accepted ones
+            and ends with "did you mean ...?" where one is close).
     """
     if classes is None:
         return ()
@@ -166,7 +168,10 @@ def check_classes(classes) -> tuple[str, ...]:
         if not c:
             continue
         if c not in ASHBY_CLASSES:
-            raise ValueError(f"unknown Ashby class {c!r}; accepted: {', '.join(ASHBY_CLASSES)}")
+            hint = did_you_mean(c, ASHBY_CLASSES)
+            raise ValueError(
+                f"unknown Ashby class {c!r}; accepted: {', '.join(ASHBY_CLASSES)}{f'; {hint}' if hint else ''}"
+            )
         if c not in out:
             out.append(c)
     return tuple(out)

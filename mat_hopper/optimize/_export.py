@@ -8,8 +8,11 @@ DIR (default the studies folder):
     it (``design``, ``density_i`` g/cm^3, ``modulus_i`` GPa, exact to the
     last bit: ``repr`` of each float), then the study's settings and the
     trial's record (study, trial, profile, convention, segment_mass,
-    replicates, risk, behaviours, objectives, leg_mass_kg, each objective
-    and its standard error). ``mat-hopper simulate --design-csv`` and ``mat-hopper
+    replicates, risk, behaviours, objectives, leg_mass_kg, feasible,
+    not_feasible_because (as the report's trials.csv: ``diverged``,
+    ``fell``, ...; empty for a feasible trial), each objective and its
+    standard error; a trial whose runs diverged has them empty, as
+    trials.csv: the values Optuna holds for it are means of runs cut short). ``mat-hopper simulate --design-csv`` and ``mat-hopper
     batch --designs-csv`` read it (they ignore the record's columns);
     simulating it with the study's settings reproduces the trial's metrics
     exactly (the simulator is deterministic).
@@ -34,6 +37,7 @@ from ..batch import designs_to_frame
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.model import build_spec
 from ..util.atomic import write_csv, write_text
+from ._feasibility import fall_reason, trial_outcome
 from ._objective import RESULT_ATTR
 from ._scoring import SE_ATTR, leg_mass_kg
 
@@ -52,9 +56,11 @@ def design_frame(trial, design, config) -> pd.DataFrame:
         strings), then study, trial, state (the trial state's name),
         profile, convention, segment_mass, replicates, risk, behaviours and
         objectives (comma-separated), leg_mass_kg (the leg's, stub to
-        foot, kg), feasible (bool, False without a stored result), and per
-        objective its value and ``<objective>_se`` (None when the trial is
-        not COMPLETE, or has no standard error).
+        foot, kg), feasible (bool, False without a stored result),
+        not_feasible_because (:func:`~mat_hopper.optimize._feasibility.trial_outcome`,
+        "" for a feasible trial), and per objective its value and
+        ``<objective>_se`` (None when the trial is not COMPLETE, has no
+        standard error, or diverged).
     """
     frame = designs_to_frame([design])
     ob = config.objective
@@ -71,10 +77,13 @@ def design_frame(trial, design, config) -> pd.DataFrame:
         "objectives": ",".join(ob.objectives),
         "leg_mass_kg": leg_mass_kg(design, ob.segment_mass),
         "feasible": bool((trial.user_attrs.get(RESULT_ATTR) or {}).get("feasible", False)),
+        "not_feasible_because": trial_outcome(trial, ob.constraint_names) or "",
     }
-    se = trial.user_attrs.get(SE_ATTR) or {}
+    diverged = record["not_feasible_because"].startswith("diverged")
+    se = {} if diverged else trial.user_attrs.get(SE_ATTR) or {}
     names = ob.objectives
-    values = trial.values if trial.state == optuna.trial.TrialState.COMPLETE and trial.values else [None] * len(names)
+    scored = trial.state == optuna.trial.TrialState.COMPLETE and trial.values and not diverged
+    values = trial.values if scored else [None] * len(names)
     for o, v in zip(names, values):
         record[o] = v
         record[f"{o}_se"] = se.get(o)
@@ -126,7 +135,11 @@ def export_trial(name: str, storage, number: int, out_dir: str) -> dict:
         A dict: ``csv`` (the path of ``<out_dir>/<name>-trial<number>.csv``),
         ``mjcf`` ({behaviour: path of ``<name>-trial<number>-<behaviour>.xml``},
         one per behaviour of the study), ``design`` (the LegDesign),
-        ``config`` (the StudyConfig) and ``trial`` (the FrozenTrial).
+        ``config`` (the StudyConfig), ``trial`` (the FrozenTrial), ``why``
+        (why it is not feasible, the CSV's not_feasible_because, or None)
+        and ``runs`` (how its stored runs fell or diverged,
+        ``diverged at t = 0.0009 s (ramp)``, or None:
+        :func:`~mat_hopper.optimize._feasibility.fall_reason`).
 
     Raises:
         ValueError: no study named `name` (the message lists the studies
@@ -146,4 +159,6 @@ def export_trial(name: str, storage, number: int, out_dir: str) -> dict:
         path = f"{stem}-{b}.xml"
         write_text(design_mjcf(design, config, b), path)
         mjcf[b] = path
-    return {"csv": csv_path, "mjcf": mjcf, "design": design, "config": config, "trial": t}
+    why = trial_outcome(t, config.objective.constraint_names)
+    runs = fall_reason((t.user_attrs.get(RESULT_ATTR) or {}).get("per_behaviour"))
+    return {"csv": csv_path, "mjcf": mjcf, "design": design, "config": config, "trial": t, "why": why, "runs": runs}

@@ -36,6 +36,14 @@ from ._storage import ERROR_ATTR
 LEFT_OUT_ATTR = "left_out"  # racing: trial user attr, why a trial that fell was not promoted
 PRUNED_WHY_ATTR = "pruned_why"  # racing: trial user attr, "diverged" or "fell" on the rung it was pruned at
 PRUNED_REASONS = ("diverged", "fell", "fell or diverged", "ranked out")  # why racing pruned a trial
+# Each in the words of the outputs: a trial that diverged or fell on a
+# screening rung is named so; only one ranked below those promoted was pruned.
+PRUNED_WORDS = {
+    "diverged": "diverged",
+    "fell": "fell",
+    "fell or diverged": "fell or diverged",
+    "ranked out": "pruned by racing (ranked out)",
+}
 REASONS = ("leg mass", "error", "diverged", "fell", "hop height", "peak stress", "fatigue life")
 _CONSTRAINT_REASON = {"leg_mass": "leg mass", "hop_height": "hop height", "peak_stress": "peak stress",
                       "fatigue_life": "fatigue life"}  # fmt: skip
@@ -85,13 +93,20 @@ class Feasibility:
 
     def text(self) -> str:
         """The line a study ends with, e.g. ``feasible: 9 of 12 finished
-        trials; not feasible: 2 hop height outside 1 +- 0.05 m, 1 fell``;
-        trials racing pruned are counted by why (``7 more pruned by racing
-        before full fidelity: 7 diverged``)."""
-        head = f"feasible: {self.feasible} of {self.finished} finished trials"
-        if self.pruned:
-            why = ", ".join(f"{self.pruned_reasons[r]} {r}" for r in PRUNED_REASONS if self.pruned_reasons.get(r))
-            head += f" ({self.pruned} more pruned by racing before full fidelity{f': {why}' if why else ''})"
+        trials; not feasible: 2 hop height outside 1 +- 0.05 m, 1 fell``.
+        Under racing, finished trials are those run at full fidelity, and
+        the trials stopped on a screening rung are counted by why, a
+        diverged one named diverged (``feasible: 2 of 2 trials finished at
+        full fidelity (7 more stopped on a screening rung: 6 diverged, 1
+        pruned by racing, ranked out)``)."""
+        if not self.pruned:
+            head = f"feasible: {self.feasible} of {self.finished} finished trials"
+        else:
+            head = f"feasible: {self.feasible} of {self.finished} trials finished at full fidelity"
+            why = ", ".join(
+                f"{self.pruned_reasons[r]} {PRUNED_WORDS[r]}" for r in PRUNED_REASONS if self.pruned_reasons.get(r)
+            )
+            head += f" ({self.pruned} more stopped on a screening rung{f': {why}' if why else ''})"
         if self.feasible == self.finished:
             return head
         parts = [f"{self.reasons[r]} {self.labels.get(r, r)}" for r in REASONS if self.reasons.get(r)]
@@ -116,6 +131,21 @@ def trial_reason(t, constraint_names) -> str | None:
         if cons.get(name, 0.0) > 0 and name in _CONSTRAINT_REASON:
             return _CONSTRAINT_REASON[name]
     return None if res.get("feasible", all(c <= 0 for c in cons.values())) else "hop height"
+
+
+def trial_outcome(t, constraint_names) -> str | None:
+    """Why a trial is not feasible, as the trials table and an exported
+    trial name it: a finished trial's :func:`trial_reason`; for a trial
+    racing stopped on a screening rung, ``diverged (screening rung)``,
+    ``fell (screening rung)``, ``fell or diverged (screening rung)`` or
+    ``pruned by racing (ranked out)``; None for a feasible trial, and for
+    one running or waiting."""
+    if t.state == TrialState.PRUNED:
+        why = _pruned_reason(t)
+        return PRUNED_WORDS[why] + ("" if why == "ranked out" else " (screening rung)")
+    if t.state in (TrialState.COMPLETE, TrialState.FAIL):
+        return trial_reason(t, constraint_names)
+    return None
 
 
 def _pruned_reason(t) -> str:

@@ -21,13 +21,11 @@ from optuna.trial import TrialState
 from ..core.materials import LegDesign
 from ..physics.run_metrics import METRICS
 from ..util.change import percent_change
-from ._feasibility import trial_reason
+from ._feasibility import trial_outcome
 from ._objective import OBJECTIVES, RESULT_ATTR
 from ._scoring import SE_ATTR, leg_mass_kg
 from ._storage import ERROR_ATTR, FAIL_REASON_ATTR, PAPER_ATTR, WORKER_ATTR
 from ._study import StudyConfig
-
-DONE = (TrialState.COMPLETE, TrialState.FAIL)
 
 
 def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
@@ -36,8 +34,9 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
     objective columns empty (NaN): the values Optuna holds for it are
     whole-run means of a run cut short, kept for the sampler, which would
     look better than any feasible trial's; ``not_feasible_because`` names
-    why a finished trial is not feasible (``diverged``, ``fell``, ...;
-    empty when it is).
+    why a trial is not feasible (``diverged``, ``fell``, ..., and for a
+    trial racing stopped on a screening rung ``diverged (screening
+    rung)`` or ``pruned by racing (ranked out)``; empty when it is).
 
     Args:
         study: an ``optuna.Study`` of ours.
@@ -63,7 +62,7 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
             "total_mass_kg": res.get("total_mass_kg", np.nan),
             "leg_mass_kg": np.nan,
         }
-        why = trial_reason(t, config.objective.constraint_names) if t.state in DONE else None
+        why = trial_outcome(t, config.objective.constraint_names)
         row["not_feasible_because"] = why or ""
         if t.state == TrialState.COMPLETE and t.values is not None and why != "diverged":
             row.update(dict(zip(objectives, t.values)))  # a diverged run's values are for the sampler only: empty

@@ -11,7 +11,20 @@ import warnings
 import numpy as np
 import optuna
 
+from ..util.parsing import did_you_mean
+
 SAMPLERS = ("tpe", "nsga2", "gp")
+
+
+def sampler_name(name) -> str:
+    """`name` as one of :data:`SAMPLERS` (any case, blanks trimmed);
+    ValueError for an unknown one, listing them, with "did you mean ...?"
+    where one is close (``tpee``: tpe)."""
+    name = str(name).strip().lower()
+    if name not in SAMPLERS:
+        hint = did_you_mean(name, SAMPLERS)
+        raise ValueError(f"unknown sampler {name!r}; accepted: {', '.join(SAMPLERS)}{f'; {hint}' if hint else ''}")
+    return name
 
 
 def check_sampler(name: str) -> str:
@@ -24,11 +37,10 @@ def check_sampler(name: str) -> str:
         The name in lower case.
 
     Raises:
-        ValueError: an unknown sampler, or ``"gp"`` without PyTorch.
+        ValueError: an unknown sampler (with "did you mean ...?" where one
+            is close), or ``"gp"`` without PyTorch.
     """
-    name = str(name).strip().lower()
-    if name not in SAMPLERS:
-        raise ValueError(f"unknown sampler {name!r}; accepted: {', '.join(SAMPLERS)}")
+    name = sampler_name(name)
     if name == "gp" and importlib.util.find_spec("torch") is None:
         raise ValueError(
             "--sampler gp needs PyTorch, which is not installed: "

@@ -52,7 +52,7 @@ import numpy as np
 
 from ..core.materials import LegDesign, paper_designs
 from ..core.perturbations import Perturbation
-from ..util.parsing import is_decimal, parse_name, parse_number
+from ..util.parsing import did_you_mean, is_decimal, parse_name, parse_number
 
 RISKS = ("mean", "cvar")
 # K from the noise study (benchmarks/noise.py; its figures in docs/optimizer.md,
@@ -213,7 +213,11 @@ def check_leg_mass(value):
         if text.lower() in names:
             return names[text.lower()]
         if not is_decimal(text):  # a mass is an ASCII decimal (mat_hopper.util.parsing): not "٣", "1_0" or "inf"
-            raise ValueError(f"leg_mass: a paper design ({', '.join(paper_designs())}) or a mass in kg, got {text!r}")
+            hint = did_you_mean(text, paper_designs())
+            raise ValueError(
+                f"leg_mass: a paper design ({', '.join(paper_designs())}) or a mass in kg, got {text!r}"
+                + (f"; {hint}" if hint else "")
+            )
         value = parse_number(text, "leg_mass", unit="kg")
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
         raise ValueError(f"leg_mass must be a paper design's name or a finite mass > 0 kg, got {value!r}")

@@ -63,7 +63,8 @@ def queued_step_warnings(config, queued, trials: int | None = None) -> list[str]
 
 def divergence_advice(feasibility, config) -> str | None:
     """The line a study ends with when some of its trials diverged: how
-    many (finished and pruned by racing) and what to try (module doc).
+    many (finished, and stopped by racing on a screening rung) and what to
+    try (module doc).
 
     Args:
         feasibility: the study's :class:`~mat_hopper.optimize._feasibility.Feasibility`.
@@ -80,7 +81,7 @@ def divergence_advice(feasibility, config) -> str | None:
         return None
     where = f"{done} of {feasibility.finished} finished trials" if done else ""
     if pruned:
-        where += f"{' and ' if done else ''}{pruned} pruned by racing"
+        where += f"{' and ' if done else ''}{pruned} on a screening rung (stopped there by racing)"
     return (
         f"diverged: {where} (infeasible, kept in the study: a search meets such designs, and the study "
         f"exits 0 when it reaches its target); {_advice(config.objective)}"

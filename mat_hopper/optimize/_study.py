@@ -68,7 +68,7 @@ from ..core.materials import DENSITY_RANGE_G_CM3, MODULUS_RANGE_GPA
 from ..physics.run_metrics import METRICS
 from ._mass import check_mass_band, mass_hold, queued_seeds
 from ._objective import Objective
-from ._samplers import SAMPLERS
+from ._samplers import sampler_name
 from ._space import SearchSpace
 from ._storage import ERROR_ATTR, PAPER_ATTR, check_study_name, default_url, open_storage
 
@@ -226,10 +226,7 @@ class RunOptions:
         b = self.batch_size
         if b is not None and (isinstance(b, bool) or not isinstance(b, int) or b < 1):
             raise ValueError(f"batch_size must be an integer >= 1 (trials asked per round), got {b!r}")
-        s = str(self.sampler).strip().lower()
-        if s not in SAMPLERS:
-            raise ValueError(f"unknown sampler {self.sampler!r}; accepted: {', '.join(SAMPLERS)}")
-        object.__setattr__(self, "sampler", s)
+        object.__setattr__(self, "sampler", sampler_name(self.sampler))
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ValueError(f"seed must be an integer >= 0, got {self.seed!r}")
 

@@ -114,7 +114,7 @@ def _basis_note(comparison, baseline: str, alpha: float) -> str:
     basis = (
         comparison["basis"].iloc[0] if comparison is not None and len(comparison) and "basis" in comparison else "hops"
     )
-    what = "hop cycles" if basis == "hops" else "replicate means"
+    what = "hop cycles: descriptive, they are not independent samples" if basis == "hops" else "replicate means"
     return f"Holm p < {alpha:g} vs {design_label(baseline)} (Mann-Whitney U, {what})"
 
 

@@ -46,8 +46,9 @@ def figure4_sweeps(
     density_g_cm3, modulus_gpa, the metric). baseline_hops: the baseline
     design's forward-hopping cycles (experiment 1): drawn as a dashed line
     with its IQR band, and each sweep point is then tested against it
-    (Mann-Whitney U on hop cycles, Holm over all points): filled markers
-    differ significantly, open ones do not. runs: the run summaries of
+    (Mann-Whitney U on hop cycles, Holm over all points; descriptive, as
+    the cycles of one run are not independent): filled markers differ at
+    Holm p < alpha, open ones do not. runs: the run summaries of
     experiment 2: points whose run diverged, fell or failed are left out of
     the lines and marked with a cross on the axis.
 
@@ -99,7 +100,7 @@ def figure4_sweeps(
             ax.grid(True, axis="x", which="major", alpha=0.3)
             _panel_label(ax, letter)
         axes[0].set_ylabel(ylabel)
-        handles = _sweep_legend(bases, bad, base, baseline)
+        handles = _sweep_legend(bases, bad, base, baseline, alpha)
         fig.legend(handles=handles, loc="outside upper center", ncols=min(len(handles), 5), columnspacing=1.0)
     return fig
 
@@ -216,8 +217,11 @@ def _draw_lost_runs(ax, lost, bases, col) -> None:
         )
 
 
-def _sweep_legend(bases, bad, base, baseline) -> list:
-    """The legend's handles: materials, the base-material ring, lost runs, the baseline."""
+def _sweep_legend(bases, bad, base, baseline, alpha: float = 0.05) -> list:
+    """The legend's handles: materials, the base-material ring, lost runs,
+    the baseline; open markers are points whose hop cycles do not differ
+    from the baseline's at Holm p < `alpha`, a description of one run each
+    (hop cycles are not independent samples), not a significance."""
     handles = [Line2D([], [], color=design_colour(b, i), marker="o", lw=1.2, label=b) for i, b in enumerate(bases)]
     ring = dict(ms=10, markerfacecolor="none", markeredgecolor="black", markeredgewidth=1.2)
     handles.append(Line2D([], [], ls="none", marker="o", label="base material", **ring))
@@ -229,6 +233,6 @@ def _sweep_legend(bases, bad, base, baseline) -> list:
         label = f"{design_label(baseline)} mean, IQR"
         handles.append(Patch(facecolor=colour, alpha=0.3, edgecolor=colour, linestyle="--", label=label))
         open_marker = dict(ms=5, markerfacecolor="white", markeredgecolor="#555555")
-        label = f"open: not significant vs {design_label(baseline)}"
+        label = f"open: hop-cycle Holm p >= {alpha:g} vs {design_label(baseline)} (descriptive)"
         handles.append(Line2D([], [], ls="none", marker="o", label=label, **open_marker))
     return handles

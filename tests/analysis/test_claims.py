@@ -74,6 +74,19 @@ def test_replicate_basis_is_used_when_present():
     assert t.set_index("claim_id").loc["density_over_modulus", "basis"] == "hop cycles (description only)"  # exp2: none
 
 
+def test_a_count_over_hop_cycles_is_labelled_descriptive_never_significant(paper_results):
+    """Hop cycles of one run are not independent samples (analysis.stats):
+    on that basis a claim's count is a description, its rows never say
+    "significantly"; on replicate means the same count is a test."""
+    hops, runs = paper_results
+    t = claims.claims_table(hops, runs, stability_table(), conventions=("paper",)).set_index("claim_id")
+    described = t[t["basis"] == "hop cycles (description only)"]
+    assert "tracking_all_beat_md" in described.index
+    for column in ("ours", "stationarity"):
+        assert not described[column].astype(str).str.contains("significant").any(), described[column]
+    assert described.loc["tracking_all_beat_md", "ours"].startswith("16/16 lower, descriptive: Holm p < 0.05 over")
+
+
 def test_match_percent_rule():
     assert claims.match_percent(-80.0, -82.0) == claims.HOLDS
     assert claims.match_percent(-30.0, -35.0) == claims.HOLDS  # within 10 points

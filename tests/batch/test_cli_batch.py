@@ -9,7 +9,7 @@ import pytest
 
 from mat_hopper.batch import RESULT_COLUMNS, BatchSettings, designs_from_csv, designs_to_frame, evaluate_cpu
 from mat_hopper.cli import main
-from mat_hopper.cli.batch import SETTING_COLUMNS
+from mat_hopper.cli.batch import EVENT_COLUMNS, SETTING_COLUMNS
 from mat_hopper.core.materials import LegDesign, parse_design
 from mat_hopper.core.sim import simulate
 from mat_hopper.physics.metrics import run_summary
@@ -61,7 +61,9 @@ def test_mujoco_backend_rows_are_cpu_rollouts(tmp_path, capsys):
     assert rc == 0
     table = pd.read_csv(out)
     props = [f"density_{i}" for i in (1, 2, 3)] + [f"modulus_{i}" for i in (1, 2, 3)] + ["leg_mass_kg"]
-    assert list(table.columns) == ["design", *props, *RESULT_COLUMNS[1:], *SETTING_COLUMNS]
+    assert list(table.columns) == ["design", *props, *RESULT_COLUMNS[1:], *SETTING_COLUMNS, *EVENT_COLUMNS]
+    assert table[list(EVENT_COLUMNS)].isna().all().all()  # neither diverged nor fell
+    assert [d.name for d in designs_from_csv(out)] == ["MD", "PVC"]  # the table reads back as designs
     assert list(table.density_1) == [parse_design(n).densities_g_cm3[0] for n in ("MD", "PVC")]
     assert (table["behaviour"] == "forward").all() and (table["sensor_timing"] == "authors").all()
     assert list(table.design) == ["MD", "PVC"]
@@ -361,3 +363,22 @@ def test_the_api_refuses_auto_on_warp_and_runs_it_on_mujoco():
         evaluate(["SS"], "static", BatchSettings(duration_s=0.2, transient_s=0.0), backend="warp", auto_timestep=True)
     s = design_settings("SS", BatchSettings(duration_s=0.2, transient_s=0.0), auto_timestep=True)
     assert (s.timestep_s, s.substeps) == (5e-5, 2)
+
+
+def test_segment_mass_reaches_the_runs_as_simulate_takes_it(tmp_path, capsys):
+    """--segment-mass, shared with simulate and compare: under capsule a
+    2-segment leg carries the authors' per-capsule density, whose leg mass
+    mass_properties gives (a different mass from leg's at 2 segments)."""
+    from mat_hopper.core.control_legs import mass_properties
+
+    designs = tmp_path / "two.csv"
+    designs.write_text("design,density_1,density_2,modulus_1,modulus_2\ntwo,8,8,193,193\n")
+    out = tmp_path / "out.csv"
+    argv = ["batch", "--designs-csv", str(designs), "--duration", "0.5", "--transient", "0.2", "--quiet"]
+    assert main([*argv, "--segment-mass", "capsule", "--csv", str(out)]) == 0
+    assert "segment mass capsule" in capsys.readouterr().out
+    row = pd.read_csv(out).iloc[0]
+    design = designs_from_csv(designs)[0]
+    assert row["segment_mass"] == "capsule"
+    assert row["leg_mass_kg"] == pytest.approx(mass_properties(design, "capsule").leg_mass_kg, rel=1e-12)
+    assert mass_properties(design, "capsule").leg_mass_kg != pytest.approx(mass_properties(design, "leg").leg_mass_kg)

@@ -47,3 +47,33 @@ def test_an_option_without_effect_on_the_experiments_is_refused(tmp_path, capsys
     err = _refused(["reproduce", *extra, "--out", str(tmp_path / "o")], capsys)
     assert words in err and "no effect" in err and "--experiments" in err
     assert not (tmp_path / "o").exists()
+
+
+def test_a_reproduction_whose_runs_diverged_exits_1_and_says_so(tmp_path, capsys, monkeypatch):
+    """The exit rule of simulate and compare: a run that diverged exits 1
+    (the tables and claims still written); --help states it. The runs are
+    counted from the run-summary table (stable False), the map's tries left
+    out."""
+    import pandas as pd
+
+    import mat_hopper.cli.reproduce as cli
+    from mat_hopper.cli import main
+    from mat_hopper.experiments.reproduce import Reproduction, diverged_runs
+
+    runs = pd.DataFrame(
+        {"design": ["Ti", "SS", "MD"], "behaviour": ["forward"] * 3, "stable": [False, True, True],
+         "upright": [False, False, True], "diverged_at_s": [0.0025, None, None], "status": ["diverged", "fallen", "ok"]}
+    )  # fmt: skip
+    assert diverged_runs("exp2", runs) == 1  # the fallen SS run ends upright-less, not diverged
+    assert diverged_runs("stability", runs) == 0
+
+    def fake(profile, experiments, out, **kwargs):
+        return Reproduction("quick", out, wall_s={"exp2": 1.0}, failed={"exp2": 0}, diverged={"exp2": 1})
+
+    monkeypatch.setattr(cli, "reproduce", fake)
+    argv = ["reproduce", "--profile", "quick", "--experiments", "2", "--out", str(tmp_path / "o")]
+    assert main([*argv, "--cache", str(tmp_path / "c"), "--no-progress"]) == 1
+    assert "1 run diverged (exp2 1): exit status 1" in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        main(["reproduce", "--help"])
+    assert "1 when a task failed or any run of experiments 1-3" in " ".join(capsys.readouterr().out.split())

@@ -32,6 +32,11 @@ def test_a_unique_prefix_is_the_name_suggested():
         (["simulate", "--damping", "loss"], "did you mean loss-factor?"),
         (["reproduce", "--convention", "paper"], "did you mean --conventions?"),
         (["compare", "--controls", "rigid,masss"], "did you mean mass?"),
+        (["optimize", "--study", "s", "--trials", "1", "--sampler", "tpee"], "did you mean tpe?"),
+        (["optimize", "--study", "s", "--trials", "1", "--ashby-classes", "metl"], "did you mean metal?"),
+        (["optimize", "--study", "s", "--trials", "1", "--leg-mass", "SSS"], "did you mean SS?"),
+        (["simulate", "--sensor-timing", "autors"], "did you mean authors?"),
+        (["batch", "--designs", "SS", "--sensor-timing", "frsh"], "did you mean fresh?"),
     ],
 )
 def test_a_near_name_is_answered_with_did_you_mean(argv, hint, capsys):

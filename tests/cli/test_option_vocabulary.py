@@ -114,6 +114,16 @@ def test_batch_takes_no_progress_and_quiet(capsys):
     assert not p.parse_args(["--designs", "SS"]).no_progress
 
 
+@pytest.mark.parametrize(
+    "mode", [["--report", "none"], ["--study", "none", "--export", "0"], ["--study", "none", "--replay", "0"]]
+)
+def test_optimize_takes_no_progress_in_every_kind_of_work(tmp_path, capsys, mode):
+    """--no-progress is a shared option: a script that passes it to every
+    command is never refused for it (the study is then looked for)."""
+    cap = refused(["optimize", *mode, "--no-progress", "--studies-dir", str(tmp_path)], capsys, "no study 'none'")
+    assert "--no-progress" not in cap.err
+
+
 def test_an_unknown_option_is_refused_by_its_command_with_the_nearest(capsys):
     _, err = refused(["batch", "--designs", "SS", "--no-progess"], capsys)
     assert err.startswith("mat-hopper batch: error: unrecognized arguments: --no-progess;")
@@ -246,7 +256,7 @@ def test_a_setting_is_named_by_an_option_only_where_the_command_has_it():
             COMMAND_OPTIONS[0] = None
 
     assert text("simulate") == "--segment-mass must be leg or capsule; --segments 3"
-    assert text("batch") == "segment_mass must be leg or capsule; n_segments 3"  # batch has neither option
+    assert text("reproduce") == "segment_mass must be leg or capsule; n_segments 3"  # it has neither option
     assert text(None) == "--segment-mass must be leg or capsule; --segments 3"
 
 

@@ -169,7 +169,6 @@ def test_messages_name_the_flags_not_the_parameters(here, capsys, argv, text):
         (["optimize", "--study", "s", "--trials", "1", "--out", "o"], ("--out",)),
         (["optimize", "--study", "s", "--replay", "0", "--out", "o"], ("--out", "--replay")),
         (["optimize", "--report", "s", "--seed", "3"], ("--seed", "--report")),
-        (["optimize", "--report", "s", "--no-progress"], ("--no-progress", "--report")),
         (["optimize", "--study", "s", "--replay", "0", "--convention", "axial"], ("--convention", "--replay")),
         (["optimize", "--study", "a", "--report", "b"], ("--study a", "--report b")),
         (["simulate", "--profile", "quick", "--timestep", "1e-4", *SHORT], ("--profile", "--duration")),

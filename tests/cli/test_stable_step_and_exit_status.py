@@ -45,6 +45,9 @@ def test_reproduce_names_the_designs_above_their_bound_before_any_work(capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("mat-hopper reproduce: warning: 6 designs run above their analytic")
     assert "exp2 SS E=1000" in err[0] and "--timestep auto" in err[0]
+    # the command it names is one simulate runs: a sweep's design by its lists, never "--design D"
+    command = err[0].split("`")[1]
+    assert command == "mat-hopper simulate --density 2.0,2.0,2.0 --modulus 120.0,120.0,120.0 --timestep auto"
     _warn_stable_step(PROFILES["quick"], argparse.Namespace(experiments="1,stability", conventions="paper,axial"))
     assert capsys.readouterr().err == ""  # the paper's materials at 1e-4 s, axial at auto; the scan left out
 
@@ -52,7 +55,10 @@ def test_reproduce_names_the_designs_above_their_bound_before_any_work(capsys):
 def test_batch_advises_auto_only_where_it_would_change_the_step(tmp_path, capsys):
     """A heavy leg (19 g/cm^3, 120 GPa) falls at 9.4 s and then diverges:
     its automatic step is the 1e-4 s it ran at, so batch does not advise
-    --timestep auto for it (it did, and auto gave the same run)."""
+    --timestep auto for it (it did, and auto gave the same run). The fall
+    is named with its time, as Rollout.fell_at_s gives it, and the command
+    that says why is one simulate runs: the CSV's design has no name
+    simulate knows, so its --density and --modulus."""
     from mat_hopper.cli import main
 
     designs = tmp_path / "heavy.csv"
@@ -62,5 +68,52 @@ def test_batch_advises_auto_only_where_it_would_change_the_step(tmp_path, capsys
     argv = ["batch", "--designs-csv", str(designs), "--duration", "12", "--transient", "4", "--no-progress"]
     assert main(argv) == 1
     out = capsys.readouterr().out
-    assert "1 of 1 design diverged (heavy at t = 11.0553 s)" in out
-    assert "--timestep auto would not change their step" in out and "try --timestep auto" not in out
+    assert "1 of 1 design diverged (heavy fell at t = 9.393 s, then diverged at t = 11.0553 s)" in out
+    assert "--timestep auto would not change their step" in out and "try " not in out
+    assert "--design D" not in out
+    command = out.split("`")[1]
+    assert command.startswith("mat-hopper simulate --density 19.0,19.0,19.0 --modulus 120.0,120.0,120.0 ")
+    assert main([*command.split()[1:], "--no-progress"]) == 1  # it runs, and says why
+    assert "UNSTABLE: the hopper fell (base tilted past 60 deg at t = 9.393 s)" in capsys.readouterr().out
+
+
+def test_a_command_named_in_a_message_gives_the_same_design():
+    """simulate's flags for a design read back as its segments: by name
+    where simulate knows it (a single material at 5 segments with
+    --segments), else by exact --density and --modulus lists."""
+    from mat_hopper.cli import build_parser, subcommand_parser
+    from mat_hopper.cli._rerun import design_flags
+    from mat_hopper.cli.simulate import design_from_args
+    from mat_hopper.core.materials import LegDesign, parse_design
+
+    designs = [
+        parse_design("rho-inc"),
+        parse_design("SS", n_segments=5),
+        LegDesign.from_properties([1.0 / 3, 2.0], [None, 4.0], name="SS"),  # a CSV's row that borrowed a name
+    ]
+    assert [design_flags(d)[:2] for d in designs] == [
+        ["--design", "rho-inc"],
+        ["--design", "SS"],
+        ["--density", "0.3333333333333333,2.0"],
+    ]
+    for d in designs:
+        args = subcommand_parser(build_parser("simulate"), "simulate").parse_args(design_flags(d))
+        assert design_from_args(args).segments == d.segments
+
+
+def test_batch_names_a_design_that_fell_without_diverging(capsys):
+    """A fall alone (the base tilted past 60 deg, the numbers finite) is
+    named with its time below the table; the exit status stays 0 (as
+    simulate's); the warp backend, which does not track the tilt, says so."""
+    import pandas as pd
+
+    from mat_hopper.cli.batch import _diverged_note, _fallen_note
+
+    table = pd.DataFrame(
+        {"design": ["a", "b", "c"], "stable": [True, True, False], "upright": [False, True, False],
+         "fell_at_s": [7.25, float("nan"), 3.5], "diverged_at_s": [None, None, 4.0]}
+    )  # fmt: skip
+    assert _fallen_note(table).startswith("1 of 3 designs fell over (a at t = 7.250 s;")
+    assert "c fell at t = 3.500 s, then diverged at t = 4.0000 s" in _diverged_note(table, False)
+    warp = table.assign(fell_at_s=float("nan"))
+    assert "a (when: not tracked)" in _fallen_note(warp)

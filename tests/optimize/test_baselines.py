@@ -115,11 +115,12 @@ def test_the_command_ends_with_the_feasibility_line(tmp_path, monkeypatch, capsy
 
 
 def test_the_feasibility_line_counts_what_racing_pruned():
-    """Racing prunes trials at a lower rung: the line says so, rather than
-    "3 of 3" beside a study of 9 trials."""
+    """Racing stops trials at a lower rung: the line says so, and what its
+    count counts (trials at full fidelity), rather than "3 of 3" beside a
+    study of 9 trials."""
     from mat_hopper.optimize._feasibility import Feasibility
 
     assert Feasibility(finished=3, feasible=3, pruned=6).text() == (
-        "feasible: 3 of 3 finished trials (6 more pruned by racing before full fidelity)"
+        "feasible: 3 of 3 trials finished at full fidelity (6 more stopped on a screening rung)"
     )
     assert Feasibility(finished=3, feasible=3).text() == "feasible: 3 of 3 finished trials"

@@ -51,7 +51,7 @@ def test_diverged_trials_end_the_study_with_a_count_and_what_to_try():
     line = divergence_advice(Feasibility(finished=4, reasons={"diverged": 4}), config)
     assert line.startswith("diverged: 4 of 4 finished trials") and "exits 0" in line and "fewer --segments" in line
     raced = divergence_advice(Feasibility(finished=2, feasible=2, pruned=7, pruned_reasons={"diverged": 7}), config)
-    assert "7 pruned by racing" in raced
+    assert "7 on a screening rung (stopped there by racing)" in raced and "pruned" not in raced
     assert divergence_advice(Feasibility(finished=3, feasible=3), config) is None
 
 
@@ -61,7 +61,16 @@ def test_racing_counts_its_pruned_trials_by_why():
         study.add_trial(create_trial(state=TrialState.PRUNED, user_attrs=attrs))
     f = feasibility(study, _config(3))
     assert f.pruned == 5 and f.pruned_reasons == {"diverged": 3, "fell or diverged": 1, "ranked out": 1}
-    assert "(5 more pruned by racing before full fidelity: 3 diverged, 1 fell or diverged, 1 ranked out)" in f.text()
+    assert f.text() == (
+        "feasible: 0 of 0 trials finished at full fidelity (5 more stopped on a screening rung: 3 diverged, "
+        "1 fell or diverged, 1 pruned by racing (ranked out))"
+    )
+    frame = trials_frame(study, _config(3))  # each row names its trial diverged, not pruned
+    assert list(frame["not_feasible_because"]) == [
+        *["diverged (screening rung)"] * 3,
+        "fell or diverged (screening rung)",
+        "pruned by racing (ranked out)",
+    ]
 
 
 def test_a_replayed_divergence_says_when_why_and_what_to_try():
@@ -87,8 +96,60 @@ def test_a_diverged_trial_has_no_objective_values_in_the_trials_table():
     assert frame.loc[0, "not_feasible_because"] == "diverged"
 
 
+def test_an_exported_diverged_trial_says_so_in_its_row_and_its_lines(tmp_path, capsys):
+    """--export of a trial whose runs diverged: the CSV row names why
+    (as trials.csv), its objective columns are empty (means of runs cut
+    short), the design still reads back, and the command's lines say when
+    it diverged."""
+    import pandas as pd
+
+    from mat_hopper.batch import designs_from_csv
+    from mat_hopper.cli import main
+    from mat_hopper.optimize._study import create_or_load
+
+    config = _config(3)
+    study = create_or_load(config, f"sqlite:///{tmp_path / 'x.db'}")
+    rows = [{"behaviour": "ramp", "upright": False, "diverged_at_s": 0.0009, "replicate": -1}]
+    params = {f"seg{i}_{q}": v for i in (1, 2, 3) for q, v in (("density_g_cm3", 1.2), ("modulus_gpa", 700.0))}
+    dists = {k: optuna.distributions.FloatDistribution(0.1, 1000.0) for k in params}
+    study.add_trial(
+        create_trial(
+            state=TrialState.COMPLETE, values=[2e-5, 0.07], params=params, distributions=dists,
+            user_attrs={RESULT_ATTR: {"feasible": False, "per_behaviour": rows}},
+        )
+    )  # fmt: skip
+    n = study.trials[-1].number
+    assert main(["optimize", "--export", str(n), "--study", "x", "--studies-dir", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert f"trial {n} diverged at t = 0.0009 s (ramp): not feasible" in out
+    row = pd.read_csv(tmp_path / f"x-trial{n}.csv").iloc[0]
+    assert row["not_feasible_because"] == "diverged" and not row["feasible"]
+    assert math.isnan(row["tracking_error_m"]) and math.isnan(row["power_w"])
+    assert designs_from_csv(tmp_path / f"x-trial{n}.csv")[0].moduli_gpa == (700.0, 700.0, 700.0)
+
+
 def test_a_mass_held_study_compares_with_no_baseline_of_another_mass():
     held = _config(3, leg_mass=6.5, leg_mass_tolerance_kg=0.325)
     assert "8.77 kg lies outside the study's band 6.17 to 6.83 kg" in _outside_band("SS", held)
     assert "outside the study's band" in _outside_band("rho-inc", held)
     assert _outside_band("SS", _config(3)) is None  # no mass held: every baseline compares
+
+
+def test_a_racing_studys_header_counts_what_its_feasibility_line_counts():
+    """Under racing the target counts screened trials: the header says so,
+    and splits them as the feasibility line below it does (full fidelity,
+    stopped on a screening rung), so "9/9" never stands beside "2 of 2"."""
+    from mat_hopper.cli._optimize_outputs import done_text
+    from mat_hopper.optimize._driver import RunResult
+
+    f = Feasibility(finished=2, feasible=2, pruned=7, pruned_reasons={"diverged": 7})
+    res = RunResult("r", "sqlite:///r.db", 9, 9, 0, evaluator="racing")
+    res.feasibility = f
+    head = done_text(res, trials=4)
+    assert head == (
+        "9/9 trials screened by racing, --trials 4 rounded up to whole brackets: 2 finished at full fidelity, "
+        "7 stopped on a screening rung"
+    )
+    assert f.text().startswith("feasible: 2 of 2 trials finished at full fidelity (7 more stopped on a screening")
+    plain = RunResult("s", "sqlite:///s.db", 4, 4, 0, evaluator="pool:1")
+    assert done_text(plain, trials=4) == "4/4 trials finished"

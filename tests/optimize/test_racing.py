@@ -201,7 +201,9 @@ def test_cli_race(tmp_path, monkeypatch, capsys):
     create_or_load(StudyConfig("r", SearchSpace(), OB), open_storage(default_url("r", "studies")))
     argv = ["optimize", "--study", "r", "--trials", "9", "--race", "--workers", "1", "--no-progress"]
     assert main(argv) == 0
-    assert "9/9 trials finished" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "9/9 trials screened by racing: 3 finished at full fidelity, 6 stopped on a screening rung" in out
+    assert "of 3 trials finished at full fidelity (6 more stopped on a screening rung" in out
     study = optuna.load_study(study_name="r", storage=default_url("r", "studies"))
     states = [t.state for t in study.trials]
     assert states.count(TrialState.COMPLETE) == 3 and states.count(TrialState.PRUNED) == 6

@@ -172,3 +172,20 @@ def test_paper_box_figures_are_seaborn_boxes_at_the_papers_positions(tables):
     w = 0.8 / n_designs
     want = sorted(round(g - 0.4 + w * (d + 0.5), 6) for g in range(n_behaviours) for d in range(n_designs))
     assert centres == pytest.approx(want, abs=1e-6)
+
+
+def test_a_hop_cycle_comparison_is_labelled_descriptive_in_the_figures():
+    """Stars and open markers drawn from hop cycles of one run (basis hops)
+    describe it: their labels say so and never say "significant"; on
+    replicate means the stars are a test."""
+    import pandas as pd
+
+    from mat_hopper.viz.figures import _basis_note
+    from mat_hopper.viz.sweeps import _sweep_legend
+
+    hops = _basis_note(pd.DataFrame({"basis": ["hops"]}), "MD", 0.05)
+    assert "descriptive" in hops and "significant" not in hops
+    assert "descriptive" not in _basis_note(pd.DataFrame({"basis": ["replicates"]}), "MD", 0.05)
+    labels = [h.get_label() for h in _sweep_legend(["SS"], pd.DataFrame(), pd.DataFrame({"x": [1]}), "MD", 0.05)]
+    assert "open: hop-cycle Holm p >= 0.05 vs MD (descriptive)" in labels
+    assert not any("significant" in label for label in labels)
