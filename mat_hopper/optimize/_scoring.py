@@ -213,7 +213,10 @@ def check_leg_mass(value):
         if text.lower() in names:
             return names[text.lower()]
         if not is_decimal(text):  # a mass is an ASCII decimal (mat_hopper.util.parsing): not "٣", "1_0" or "inf"
-            raise ValueError(f"leg_mass: a paper design ({', '.join(paper_designs())}) or a mass in kg, got {text!r}")
+            raise ValueError(
+                f"leg_mass: a paper design ({', '.join(paper_designs())}) or the leg's mass in kg as a bare "
+                f"number (e.g. 6.5), got {text!r}"
+            )
         value = parse_number(text, "leg_mass", unit="kg")
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
         raise ValueError(f"leg_mass must be a paper design's name or a finite mass > 0 kg, got {value!r}")
