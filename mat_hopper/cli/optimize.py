@@ -16,6 +16,7 @@ from ..optimize import (
     DEFAULT_WORKERS,
     HOPS_TO_FAILURE_RANGE,
     KINDS,
+    LEG_MASS_SCOPE,
     MAX_LEG_MASS_KG,
     MAX_SEGMENTS,
     MAX_YIELD_FRACTION,
@@ -481,8 +482,8 @@ def register_cli(sub) -> None:
     p.add_argument("--cvar-alpha", type=float, help=f"--risk cvar's level in [0, 1) (default {DEFAULT_CVAR_ALPHA})")
     p.add_argument(
         "--leg-mass",
-        help=f"constrain the leg's mass to a paper design's (e.g. SS) or to a mass in (0, {MAX_LEG_MASS_KG:g}] kg; "
-        "none: unconstrained (default)",
+        help=f"constrain the leg's mass ({LEG_MASS_SCOPE}, as simulate reports it) to a paper design's (e.g. SS) "
+        f"or to a mass in kg in (0, {MAX_LEG_MASS_KG:g}], e.g. 6.5; none: unconstrained (default)",
     )
     p.add_argument(
         "--leg-mass-tolerance",

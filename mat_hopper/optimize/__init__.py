@@ -42,7 +42,7 @@ from ._driver import RunResult, run_batch_study, run_loop, run_study
 from ._evaluators import DEFAULT_BATCH, Evaluator, Lost, PoolEvaluator, WarpEvaluator
 from ._export import design_frame, design_mjcf, export_trial
 from ._feasibility import Feasibility, fall_reason, feasibility
-from ._mass import check_mass_band, left_out_text, leg_mass_range_kg, queued_seeds
+from ._mass import LEG_MASS_SCOPE, check_mass_band, left_out_text, leg_mass_range_kg, queued_seeds
 from ._objective import (
     CONSTRAINTS,
     HOPS_TO_FAILURE_RANGE,
@@ -108,6 +108,7 @@ from .report import (
 __all__ = [
     "HOPS_TO_FAILURE_RANGE",
     "MAX_LEG_MASS_KG",
+    "LEG_MASS_SCOPE",
     "MAX_SEGMENTS",
     "MAX_YIELD_FRACTION",
     "check_classes",

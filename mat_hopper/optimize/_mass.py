@@ -32,10 +32,14 @@ Then:
 
 from __future__ import annotations
 
+from ..core import reference as ref
 from ..core.materials import LegDesign, material
 from . import _scoring
 from ._space import MassHold, SearchSpace
 
+# What a leg's mass counts (mat_hopper.optimize._scoring.leg_mass_kg), said wherever a mass is asked for:
+# the leg alone, not the hopper, whose base adds its two capsules.
+LEG_MASS_SCOPE = f"the leg from hip stub to foot, without the base's {2 * ref.BASE_CAPSULE_MASS:g} kg"
 SKIPPED_ATTR = "skipped"  # trial user attr: why its design was never run (outside the leg-mass band)
 BAND_MARGIN = 1e-9  # relative: the sampled masses stay this far inside the band (round-off of the mass model)
 
@@ -90,7 +94,8 @@ def check_mass_band(space: SearchSpace, objective) -> None:
     if target + tol < lo or target - tol > hi:
         raise ValueError(
             f"leg_mass {target:.4g} +- {tol:.4g} kg: no leg of the search space is in that band (its legs weigh "
-            f"{lo:.4g} to {hi:.4g} kg); change leg_mass, leg_mass_tolerance_kg or the density bounds"
+            f"{lo:.4g} to {hi:.4g} kg, {LEG_MASS_SCOPE}); change leg_mass, leg_mass_tolerance_kg or the density "
+            "bounds"
         )
 
 

@@ -215,8 +215,8 @@ def check_leg_mass(value):
         if not is_decimal(text):  # a mass is an ASCII decimal (mat_hopper.util.parsing): not "٣", "1_0" or "inf"
             hint = did_you_mean(text, paper_designs())
             raise ValueError(
-                f"leg_mass: a paper design ({', '.join(paper_designs())}) or a mass in kg, got {text!r}"
-                + (f"; {hint}" if hint else "")
+                f"leg_mass: a paper design ({', '.join(paper_designs())}) or the leg's mass in kg as a bare "
+                f"number (e.g. 6.5), got {text!r}" + (f"; {hint}" if hint else "")
             )
         value = parse_number(text, "leg_mass", unit="kg")
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:

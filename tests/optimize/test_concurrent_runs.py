@@ -56,7 +56,7 @@ RUN = textwrap.dedent(
     from mat_hopper.optimize import Objective, RunOptions, SearchSpace, StudyConfig, run_study
     url, start, cache = sys.argv[1], float(sys.argv[2]), sys.argv[3]
     config = StudyConfig("both", SearchSpace(), Objective(replicates=0, profile=Profile("tiny", 2.0, 0.5)))
-    options = RunOptions(trials=16, workers=1, storage=url, progress=False, cache_dir=cache)
+    options = RunOptions(trials=24, workers=1, storage=url, progress=False, cache_dir=cache, batch_size=4)
     time.sleep(max(0.0, start - time.time()))  # both at the same moment
     print(run_study(config, options).worker)
     """
@@ -64,9 +64,11 @@ RUN = textwrap.dedent(
 
 
 def _two_runs_evaluate_each_design_once(url, tmp_path):
-    """Two commands started together on one fresh study of 16 trials (8
-    paper designs, then sampled ones): before, both samplers had the same
-    seed and 1 to 4 of the 16 trials repeated another's parameters."""
+    """Two commands started together on one fresh study of 24 trials (8
+    paper designs, then sampled ones), 4 per round: both sample while TPE
+    still draws at random (its first 10 trials), so samplers of one seed
+    repeat each other's draws (4 of the 24 trials, in 5 of 5 tries with
+    the worker index left out of the seed); with it, none is repeated."""
     start = time.time() + 3.0
     procs = [
         subprocess.Popen(
@@ -84,7 +86,10 @@ def _two_runs_evaluate_each_design_once(url, tmp_path):
     assert sorted(int(o.split()[-1]) for o, _ in outs) == [0, 1]  # two indices, two seeds
     study = optuna.load_study(study_name="both", storage=open_storage(url))
     done = [t for t in study.trials if t.state == TrialState.COMPLETE]
-    assert len(done) >= 16 and not [t for t in study.trials if t.state == TrialState.RUNNING]
+    assert len(done) >= 24 and not [t for t in study.trials if t.state == TrialState.RUNNING]
+    sampled = [t for t in study.trials[:16] if "paper_design" not in t.user_attrs]
+    # both runs sampled before TPE left its random start: otherwise one seed for both could not show
+    assert len({t.user_attrs["worker"]["pid"] for t in sampled}) == 2
     params = collections.Counter(json.dumps(t.params, sort_keys=True) for t in done)
     assert max(params.values()) == 1, [p for p, n in params.items() if n > 1]
     seeds = [t.user_attrs.get("paper_design") for t in study.trials if t.user_attrs.get("paper_design")]

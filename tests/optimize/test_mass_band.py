@@ -14,6 +14,7 @@ from optuna.trial import TrialState
 
 from mat_hopper.cli import main
 from mat_hopper.core.materials import LegDesign, Material, paper_designs, segment_masses
+from mat_hopper.core.model import build_model
 from mat_hopper.experiments.profiles import Profile, get_profile
 from mat_hopper.optimize import (
     MASS_PARAM,
@@ -103,6 +104,27 @@ def test_cli_refuses_a_void_or_unmeetable_band(extra, text, tmp_path, monkeypatc
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and err.startswith("mat-hopper optimize: error: ") and text in err, err
     assert list(tmp_path.iterdir()) == []  # before any work
+
+
+def test_the_leg_mass_is_the_legs_not_the_hoppers(tmp_path, monkeypatch, capsys):
+    """--leg-mass is the leg's mass, kg, without the base: the whole SS
+    hopper (MuJoCo's model: 23.77 kg) is heavier than any leg of the space,
+    and its refusal, like the help, says what the leg's mass leaves out
+    (the base's mass as MuJoCo's model has it)."""
+    model = build_model(paper_designs()["SS"]).model
+    base_kg, whole_kg = float(model.body("base").mass[0]), float(model.body_mass.sum())
+    monkeypatch.chdir(tmp_path)
+    argv = ["optimize", "--study", "v", "--trials", "12", "--profile", "quick", "--leg-mass", f"{whole_kg:.2f}"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "no leg of the search space" in err and f"without the base's {base_kg:g} kg" in err, err
+    with pytest.raises(SystemExit):
+        main(["optimize", "--help"])
+    help_text = " ".join(capsys.readouterr().out.split())
+    assert (
+        f"--leg-mass LEG_MASS constrain the leg's mass (the leg from hip stub to foot, without the base's {base_kg:g} kg"
+        in help_text
+    )
 
 
 def test_paper_designs_outside_the_band_are_not_queued():
