@@ -37,10 +37,10 @@ from ._checks import check_no_outputs_in, check_output_dir
 
 # The study's time step and exit status, in optimize's --help.
 STEP_HELP = (
-    "A study has no time step option: under --convention paper its runs take the profile's step (1e-4 s), under "
-    "axial and bending the automatic one; a queued design above its analytic stable step is warned of before "
-    "any run, and a study whose trials diverged ends with how many and what to try (fewer --segments, or "
-    "--convention axial)."
+    "A study's runs take --timestep (default the profile's 1e-4 s under --convention paper; 'auto' gives each "
+    "design its own physics substeps), under axial and bending the automatic step; a queued design above its "
+    "analytic stable step is warned of before any run, and a study whose trials diverged ends with how many and "
+    "what to try (--timestep auto, fewer --segments, or --convention axial)."
 )
 EXIT_STATUS = (
     "Exit status: 0 when the study reached its target, diverged trials included (a search is expected to meet "

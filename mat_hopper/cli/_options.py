@@ -210,6 +210,31 @@ AUTO_TIMESTEP_HELP = (
     "--sensor-timing latency-L, shortens it) or, under a bending convention, its hips' flight loop needs a "
     "shorter one"
 )
+
+
+def timestep_arg(text):
+    """--timestep, one reader for every command: None (not given), seconds
+    (an ASCII decimal, :func:`mat_hopper.util.parsing.parse_number`) or
+    ``"auto"`` (any case; physics substeps of the control period chosen
+    per design, :func:`mat_hopper.core.timestep.auto_timestep`). Raises
+    ValueError naming the option."""
+    from ..core.timestep import AUTO, is_auto
+
+    if text is None:
+        return None
+    if is_auto(str(text)):
+        return AUTO
+    if not is_decimal(str(text)):  # the one number parser's reading: ASCII decimals only ("١e-4", "1_0", "inf": no)
+        raise ValueError(f"--timestep must be a decimal number of seconds (e.g. 1e-4) or 'auto', got {text!r}")
+    return parse_number(text, "--timestep", unit="s")
+
+
+def add_timestep(p, default_help: str) -> None:
+    """--timestep (read by :func:`timestep_arg`): seconds or 'auto'; `default_help` says what it is when
+    left out."""
+    p.add_argument("--timestep", default=None, help=f"physics time step, s, or {AUTO_TIMESTEP_HELP}; {default_help}")
+
+
 SEGMENTS_HELP = (
     f"segments of a single-material --design (default {REFERENCE_SEGMENTS}, at most {MAX_SEGMENTS}); with "
     "--density and --modulus, their count"

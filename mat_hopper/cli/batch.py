@@ -33,6 +33,7 @@ from ._options import (
     add_profile,
     check_force_used,
     profile_of,
+    timestep_arg,
 )
 
 CSV_HELP = (
@@ -113,18 +114,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 register_cli = add_parser  # the name mat_hopper.cli looks for
 
 
-def _timestep(text):
-    """--timestep as simulate reads it: None, seconds or 'auto' (ValueError naming the option)."""
-    from .simulate import _timestep as parse
-
-    return parse(text)
-
-
 def _auto(args) -> bool:
     """Whether --timestep is 'auto' (each design its own physics substeps)."""
     from ..core.timestep import AUTO
 
-    return _timestep(args.timestep) == AUTO
+    return timestep_arg(args.timestep) == AUTO
 
 
 # Settings the CSV carries beside each row (every table says what made it).
@@ -340,7 +334,7 @@ def _rerun_command(design, beh, settings, auto: bool) -> str:
 def _batch_settings(args, profile, timing):
     from ..batch import BatchSettings
 
-    step = None if _auto(args) else _timestep(args.timestep)  # auto: each design its own (design_settings)
+    step = None if _auto(args) else timestep_arg(args.timestep)  # auto: each design its own (design_settings)
     return BatchSettings(
         duration_s=profile.duration_s if args.duration is None else args.duration,
         timestep_s=profile.timestep_s if step is None else step,

@@ -17,8 +17,16 @@ import sys
 from ..core.timestep import CLI_AUTO_HINT, check_stable_step
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ._checks import named_by_flags
-from ._options import DURATION_HELP, TRANSIENT_HELP, add_force, add_no_progress, add_profile, check_force_used
-from .simulate import EXIT_STATUS, _timestep, add_sim_arguments, design_from_args
+from ._options import (
+    DURATION_HELP,
+    TRANSIENT_HELP,
+    add_force,
+    add_no_progress,
+    add_profile,
+    check_force_used,
+    timestep_arg,
+)
+from .simulate import EXIT_STATUS, add_sim_arguments, design_from_args
 
 HELP = "compare a design with baselines and its own controls, paired on shared seeds at one time step"
 # The API's argument names and the options that set them, for its messages.
@@ -121,7 +129,7 @@ def _plan(args):
             behaviour=args.behaviour,
             profile=args.profile,
             replicates=args.replicates,
-            timestep_s=_timestep(args.timestep),
+            timestep_s=timestep_arg(args.timestep),
             convention=args.convention,
             sensor_timing=sensor_timing_arg(args.sensor_timing),
             segment_mass=args.segment_mass,

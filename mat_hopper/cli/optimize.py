@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import shlex
 import sys
+from dataclasses import replace
 
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
 from ..optimize import (
@@ -70,8 +71,10 @@ from ._options import (
     add_force,
     add_no_progress,
     add_profile,
+    add_timestep,
     profile_of,
     suggesting,
+    timestep_arg,
 )
 
 # The search space's and objective's fields, as their options (for messages).
@@ -105,6 +108,7 @@ STUDY_OPTIONS = (
     "ashby_classes",
     "segment_mass",
     "profile",
+    "timestep",
     "convention",
     "replicates",
     "risk",
@@ -247,9 +251,13 @@ def config_from_args(args, stored: StudyConfig | None) -> StudyConfig:
         materials=args.materials if args.materials is not None else sp.materials,
         ashby_classes=classes,
     )
+    profile = profile_of(args.profile) if args.profile is not None else ob.profile
+    step = timestep_arg(getattr(args, "timestep", None))
+    if step is not None and step != profile.timestep_s:  # the study's profile at this step, in its key
+        profile = replace(profile, timestep_s=step)
     objective = Objective(
         behaviours=args.behaviour if args.behaviour is not None else ob.behaviours,
-        profile=profile_of(args.profile) if args.profile is not None else ob.profile,
+        profile=profile,
         convention=args.convention if args.convention is not None else ob.convention,
         hop_height_target_m=ob.hop_height_target_m,
         hop_height_tolerance_m=ob.hop_height_tolerance_m,
@@ -471,6 +479,7 @@ def register_cli(sub) -> None:
     )
     p.add_argument("--segment-mass", help=SEGMENT_MASS_HELP)  # read by the study config (the stored one's if left out)
     add_profile(p)
+    add_timestep(p, "for every trial's runs; default: the profile's (1e-4 s) or the stored study's (in its key)")
     add_convention(p, None)  # None: the stored study's when resuming, else paper
     p.add_argument(
         "--replicates",

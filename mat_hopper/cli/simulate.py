@@ -20,10 +20,9 @@ from ..core.materials import (
     parse_design,
 )
 from ..core.rollout import FELL_TILT_DEG
-from ..core.timestep import AUTO, CLI_AUTO_HINT, check_stable_step, is_auto
+from ..core.timestep import CLI_AUTO_HINT, check_stable_step, is_auto
 from ..experiments.profiles import PROFILE_ENV
 from ..physics.metrics import METRICS, hop_table, run_summary
-from ..util.parsing import is_decimal, parse_number
 from ._checks import (
     SENSOR_TIMING_HELP,
     check_distinct_paths,
@@ -36,7 +35,6 @@ from ._checks import (
     write_table,
 )
 from ._options import (
-    AUTO_TIMESTEP_HELP,
     BEHAVIOUR_HELP,
     DENSITY_HELP,
     DURATION_HELP,
@@ -49,25 +47,15 @@ from ._options import (
     add_force,
     add_no_progress,
     add_profile,
+    add_timestep,
     check_force_used,
     decimal_comma_of,
     profile_of,
+    timestep_arg,
 )
 
 DEFAULT_DESIGN = "SS"
 PROGRESS_CHUNK_S = 1.0  # simulated seconds per progress-bar update
-
-
-def _timestep(text):
-    """--timestep: seconds, or 'auto' (physics substeps of the controller's
-    1e-4 s period, chosen from the spring chain's bound)."""
-    if text is None:
-        return None
-    if is_auto(str(text)):
-        return AUTO
-    if not is_decimal(str(text)):  # the one number parser's reading: ASCII decimals only ("١e-4", "1_0", "inf": no)
-        raise ValueError(f"--timestep must be a decimal number of seconds (e.g. 1e-4) or 'auto', got {text!r}")
-    return parse_number(text, "--timestep", unit="s")
 
 
 def design_from_args(args) -> LegDesign:
@@ -184,11 +172,7 @@ def add_sim_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--modulus", help=MODULUS_HELP)
     p.add_argument("--segments", type=int, default=None, help=SEGMENTS_HELP)
     add_behaviour(p, DEFAULT_BEHAVIOUR, BEHAVIOUR_HELP)
-    p.add_argument(
-        "--timestep",
-        default=None,
-        help=f"physics time step, s, or {AUTO_TIMESTEP_HELP}; default: the profile's (1e-4; ${PROFILE_ENV})",
-    )
+    add_timestep(p, f"default: the profile's (1e-4; ${PROFILE_ENV})")
     add_convention(p)
     p.add_argument("--sensor-timing", default="authors", type=sensor_timing_type(), help=SENSOR_TIMING_HELP)
     p.add_argument("--segment-mass", default="leg", choices=SEGMENT_MASSES, help=SEGMENT_MASS_HELP)
@@ -246,7 +230,7 @@ def sim_settings_from_args(
 def _sim_settings(args, design: LegDesign, duration_s: float, transient_s: float, **extra):
     from ..core.sim import sim_settings
 
-    dt = _timestep(args.timestep)
+    dt = timestep_arg(args.timestep)
     return sim_settings(
         design,
         duration_s=duration_s,

@@ -1,16 +1,18 @@
 """A study's time step against its designs' stable steps: the warning
 before any run, and the advice a study that met divergences ends with.
 
-A study has no time step of its own: its runs take the profile's step
-under its convention (:meth:`mat_hopper.experiments.profiles.Profile.for_convention`):
-under ``paper`` the profile's fixed step (the authors' 1e-4 s), under
-``axial``, ``bending`` and ``axial+bending`` the automatic one
-(``timestep_s="auto"``). So the advice for a leg above its bound names
-what the study offers: fewer ``--segments`` (a shorter segment is a
-stiffer spring on a lighter mass, whose stable step is smaller), or a
-convention whose step is automatic. A search is expected to meet designs
-that diverge: they are infeasible trials, counted at the end, and the
-study still exits 0 when it reaches its target.
+A study's runs take its profile's step under its convention
+(:meth:`mat_hopper.experiments.profiles.Profile.for_convention`): under
+``paper`` the profile's step (the authors' 1e-4 s unless ``optimize
+--timestep`` set it, ``auto`` included), under ``axial``, ``bending`` and
+``axial+bending`` the automatic one (``timestep_s="auto"``). So the
+advice for a leg above its bound names what the study offers: a new
+study at ``--timestep auto`` (each trial's design its own substeps),
+fewer ``--segments`` (a shorter segment is a stiffer spring on a lighter
+mass, whose stable step is smaller), or a convention whose step is
+automatic. A search is expected to meet designs that diverge: they are
+infeasible trials, counted at the end, and the study still exits 0 when
+it reaches its target.
 """
 
 from __future__ import annotations
@@ -21,10 +23,10 @@ from ..core.timestep import is_auto, stable_step_excess
 
 # What a study offers instead of a step it cannot change (module doc).
 FIXED_STEP_ADVICE = (
-    "a study has no --timestep: under --convention paper it runs the profile's {dt:g} s step; try fewer "
-    "--segments, or --convention axial (or bending), whose runs take the automatic step"
+    "the study runs a fixed {dt:g} s step; try a new study with --timestep auto (each design its own physics "
+    "substeps), fewer --segments, or --convention axial (or bending), whose runs take the automatic step"
 )
-AUTO_WORDS = "the automatic step"  # how a study names it (it has no --timestep)
+AUTO_WORDS = "the automatic step"  # how a study names --timestep auto
 AUTO_STEP_ADVICE = "the automatic step of --convention {convention} does not hold it; try fewer --segments"
 
 

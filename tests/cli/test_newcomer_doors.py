@@ -92,7 +92,7 @@ def test_optimize_replay_takes_no_progress_and_help_says_where_export_writes(tmp
     assert "default STUDIES_DIR, not the report's folder" in actions["--export"].help
     assert "--export's" in actions["--out"].help
     description = subcommand_parser(build_parser("optimize"), "optimize").description
-    assert "no time step option" in description and "Exit status: 0 when the study reached its target" in description
+    assert "--timestep auto" in description and "Exit status: 0 when the study reached its target" in description
 
 
 def test_the_auto_step_help_says_the_control_period_may_shorten():

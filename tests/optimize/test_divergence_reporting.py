@@ -41,7 +41,7 @@ def test_a_queued_design_above_its_stable_step_is_warned_of_with_what_a_study_of
     lines = queued_step_warnings(config, queued_seeds(config.space, config.objective)[0], trials=4)
     assert len(lines) == 4 and lines[0].startswith("queued design SS: the physics step 0.0001 s is above")
     assert "may diverge" in lines[0] and "fewer --segments" in lines[0] and "--convention axial" in lines[0]
-    assert "no --timestep" in lines[0]  # a study has none: never "try --timestep auto"
+    assert "try a new study with --timestep auto" in lines[0]  # a study's step is in its key: a new study
     three = _config(3)  # the paper's legs at 3 segments lie within their bounds
     assert queued_step_warnings(three, queued_seeds(three.space, three.objective)[0]) == []
 
