@@ -31,8 +31,10 @@ lint: setup
 notebooks: setup
 	.venv/bin/jupytext --sync notebooks/src/*.py
 
-## The executable book, full paper profile (results cached under results/).
+## The executable book, full paper profile (results cached under results/): every
+## planned run first, in one pool on every core, longest first; then the notebooks.
 book: setup
+	.venv/bin/mat-hopper plan --profile $(PROFILE) --run
 	MAT_HOPPER_PROFILE=$(PROFILE) .venv/bin/jupyter-book build . -W -n --keep-going
 	@echo "open _build/html/index.html"
 

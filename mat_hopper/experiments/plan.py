@@ -335,6 +335,35 @@ def plan(profile, cache_dir=None, chapters=None) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=list(COLUMNS))
 
 
+def book_tasks(profile, chapters=None) -> list:
+    """Every cached run the book's chapters request that is known before
+    any run, each once, longest first: what ``mat-hopper plan --run``
+    computes into the cache before the notebooks execute, in one pool (a
+    notebook then reads its runs from the cache). Runs a sampler picks
+    (:class:`Estimate`) are left out: they are known only while their
+    chapter runs.
+
+    Args:
+        profile: a Profile or its name.
+        chapters: the registry (None: :data:`CHAPTERS`).
+
+    Returns:
+        list of runner tasks, distinct cache keys, sorted by their physics
+        steps (:func:`mat_hopper.util.limits.task_steps`), largest first.
+
+    Raises:
+        ValueError: an unknown profile.
+    """
+    prof = get_profile(profile)
+    tasks: dict[str, object] = {}
+    for chapter in CHAPTERS if chapters is None else chapters:
+        for request in chapter.requests:
+            for t in request(prof):
+                if not isinstance(t, Estimate):
+                    tasks.setdefault(t.key(), t)
+    return sorted(tasks.values(), key=lambda t: -task_steps(t))
+
+
 def core_hours(physics_steps: float, simulated_s: float, us_per_step: float = US_PER_STEP) -> float:
     """Core-hours of runs: their physics steps at `us_per_step`, plus the
     post-processing (:data:`POSTPROCESS_S_PER_SIMULATED_S`).

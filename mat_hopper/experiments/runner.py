@@ -55,6 +55,7 @@ from ..core.behaviours import Behaviour
 from ..core.materials import LegDesign
 from ..core.sim import SimSettings, route_mujoco_warnings
 from ..util.keys import design_key, hash_key, settings_key, versions
+from ..util.limits import task_steps
 from ..util.pool import default_workers, stop_pool
 from .cache import Cache
 
@@ -185,7 +186,10 @@ class Runner:
     results/cache); workers: local processes (default all cores; 1 runs in
     this process); scheduler: a Dask scheduler address or a
     ``distributed.Client`` (then `workers` must be left unset); progress:
-    show a tqdm bar. Use as a context manager, or call :meth:`close`."""
+    show a tqdm bar. Use as a context manager, or call :meth:`close`.
+    The runs a grid does not find cached are submitted longest first (their
+    physics steps, :func:`mat_hopper.util.limits.task_steps`), so no long
+    run starts last and finishes alone."""
 
     def __init__(self, cache_dir=None, *, workers: int | None = None, scheduler=None, progress: bool = True):
         self.workers = check_workers(workers)
@@ -270,7 +274,8 @@ class Runner:
             if got is not None:
                 results[k] = got
         n_cached = len(results)
-        todo = [k for k in unique if k not in results]
+        # longest first (the pool's makespan: a long run started last would finish alone)
+        todo = sorted((k for k in unique if k not in results), key=lambda k: -task_steps(unique[k]))
 
         from ..util.progress import progress_bar
 
