@@ -35,7 +35,13 @@ Variants (forward hopping unless said):
   gains (the authors' 4 and 1);
 - ``fresh sensing``: no sensor delay, at ``auto``.
 
-    python benchmarks/bending_mode.py [--design SS] [--seconds 12] [--workers 2] [--csv out.csv]
+A ``contact`` column names the foot's contact (``--contact``: ``authors``,
+MuJoCo's default soft contact, or ``stiff``, a 1 ms time constant;
+:mod:`mat_hopper.core.contact`): the mode's growth is the soft contact's
+(chapter 8b).
+
+    python benchmarks/bending_mode.py [--design SS] [--contact authors|stiff] [--seconds 12] [--workers 2]
+        [--csv out.csv]
 """
 
 from __future__ import annotations
@@ -48,6 +54,7 @@ import mujoco
 import pandas as pd
 
 from mat_hopper.analysis.growth import envelope_growth
+from mat_hopper.core.contact import CONTACTS
 from mat_hopper.core.controller import ControllerSettings
 from mat_hopper.core.materials import parse_design
 from mat_hopper.core.model import BASE_JOINTS, BEND_SPRINGS
@@ -77,12 +84,14 @@ VARIANTS = {
 
 
 def run_variant(args) -> dict:
-    design_name, label, seconds = args
+    design_name, label, seconds, contact = args
     behaviour, overrides, stiffen = VARIANTS[label]
     design = parse_design(design_name)
     overrides = dict(overrides)
     overrides["timestep_s"] = 1e-4 / overrides["substeps"] if "substeps" in overrides else "auto"
-    settings = sim_settings(duration_s=seconds, transient_s=1.0, convention="bending", design=design, **overrides)
+    settings = sim_settings(
+        duration_s=seconds, transient_s=1.0, convention="bending", contact=contact, design=design, **overrides
+    )
     runner = RolloutRunner(design, behaviour, settings)
     if stiffen:
         m = runner.hopper.model
@@ -100,6 +109,7 @@ def run_variant(args) -> dict:
     return {
         "design": design_name,
         "variant": label,
+        "contact": contact,
         "behaviour": behaviour,
         "substeps": settings.substeps,
         "sensor_delay_s": int(settings.sensor_timing) * settings.timestep_s,
@@ -114,6 +124,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--design", default="SS", help="a design name or list (SS)")
     ap.add_argument("--seconds", type=float, default=12.0, help=f"run length, s, > {KICK_S + 1 + 4 * WINDOW_S:g} (12)")
+    ap.add_argument("--contact", default="authors", choices=CONTACTS, help="the foot's contact (authors)")
     ap.add_argument("--workers", type=int, default=os.cpu_count(), help="processes (every core)")
     ap.add_argument("--csv", help="write the table here")
     args = ap.parse_args()
@@ -127,7 +138,7 @@ def main() -> None:
         ap.error(f"--workers must be >= 1, got {args.workers}")
     if args.csv and not os.path.isdir(os.path.dirname(os.path.abspath(args.csv))):  # checked before the runs
         ap.error(f"--csv: no folder {os.path.dirname(os.path.abspath(args.csv))}")
-    tasks = [(args.design, label, args.seconds) for label in VARIANTS]
+    tasks = [(args.design, label, args.seconds, args.contact) for label in VARIANTS]
     with ProcessPoolExecutor(args.workers) as ex:
         table = pd.DataFrame(list(ex.map(run_variant, tasks)))
     with pd.option_context("display.width", 160):
