@@ -1,0 +1,121 @@
+"""The modulus question where a leg can bend: experiment 2's modulus
+sweeps (ref.SWEEPS) under a bending convention and a named contact, on
+paired replicate seeds. Does the modulus change tracking error or power
+beyond the ±10 % margin when the leg bends?
+
+Per base material (PVC, Al, Ti, SS, each at its own density), its softest
+and stiffest swept modulus against its own (the base material), forward
+hopping. A base's legs all run at one physics step and control period,
+the finest any of them needs under ``timestep_s="auto"`` (so they are
+compared alike, at the step the stiffest needs). Paired % differences on
+the seeds, their 95 % t intervals, Holm over each metric's contrasts, and
+the book's verdicts with the ±10 % margin (:mod:`mat_hopper.analysis.paired`).
+
+    python benchmarks/modulus_sweeps_bending.py [--profile paper] [--replicates 10] [--convention bending]
+        [--contact stiff] [--cache results/cache] [--csv out.csv]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from dataclasses import replace
+
+import pandas as pd
+
+from mat_hopper.analysis import paired
+from mat_hopper.analysis.stats import drop_unusable, unusable_runs
+from mat_hopper.core import reference as ref
+from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.materials import LegDesign
+from mat_hopper.core.timestep import auto_timestep
+from mat_hopper.experiments.profiles import get_profile
+from mat_hopper.experiments.runner import RunSpec, run_grid
+from mat_hopper.physics.metrics import holm
+
+METRICS = ("tracking_error_m", "power_w")
+MARGIN_PCT = 100 * paired.EQUIVALENCE_MARGIN  # the book's ±10 %
+
+
+def legs() -> dict[str, dict[float, LegDesign]]:
+    """{base: {modulus GPa: leg}}: the base's own modulus and its sweep's extremes, at the base's density."""
+    out = {}
+    for base, sweeps in ref.SWEEPS.items():
+        rho, e0 = ref.MONO_MATERIALS[base]
+        sweep = sweeps["modulus"]
+        out[base] = {
+            e: LegDesign.from_properties([rho] * 3, [e] * 3, name=f"{base} E={e:g}")
+            for e in sorted({e0, min(sweep), max(sweep)})
+        }
+    return out
+
+
+def tasks(profile, replicates: int, convention: str, contact: str) -> list:
+    out = []
+    for base, by_modulus in legs().items():
+        autos = [auto_timestep(leg, convention, contact=contact) for leg in by_modulus.values()]
+        period = min(k * dt for k, dt in autos)
+        substeps = max(1, round(period / min(dt for _, dt in autos)))
+        for e, leg in by_modulus.items():
+            for seed in range(replicates):
+                s = profile.sim_settings(profile.replicate(seed), design=leg)
+                s = replace(s, convention=convention, contact=contact, timestep_s=period / substeps, substeps=substeps)
+                labels = {"base": base, "modulus_gpa": e, "replicate": seed, "timestep_s": s.timestep_s}
+                out.append(RunSpec(leg, behaviour("forward"), s, labels))
+    return out
+
+
+def contrasts(grid) -> pd.DataFrame:
+    usable = drop_unusable(grid.tables, unusable_runs(grid.summary))
+    means = usable.groupby(["base", "modulus_gpa", "replicate"])[list(METRICS)].mean()
+    rows = []
+    for base in ref.SWEEPS:
+        e0 = ref.MONO_MATERIALS[base][1]
+        for e in sorted(legs()[base]):
+            if e == e0:
+                continue
+            for m in METRICS:
+                eff = paired.paired_effect(means.xs((base, e))[m], means.xs((base, e0))[m])
+                rows.append({"base": base, "modulus_gpa": e, "against_gpa": e0, "metric": m, **eff})
+    table = pd.DataFrame(rows)
+    for _, g in table.groupby("metric"):
+        table.loc[g.index, "p_holm"] = holm(g["p"].to_numpy(float))
+    table["conclusion"] = [paired.conclusion(p, lo, hi) for p, lo, hi in zip(table.p_holm, table.ci_low, table.ci_high)]
+    # the whole interval past the margin, one side or the other
+    table["beyond_margin"] = (table["ci_low"] > MARGIN_PCT) | (table["ci_high"] < -MARGIN_PCT)
+    return table
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--profile", default="paper")
+    ap.add_argument("--replicates", type=int, default=None, help="paired seeds (default: the profile's)")
+    ap.add_argument("--convention", default="bending")
+    ap.add_argument("--contact", default="stiff")
+    ap.add_argument("--cache", default="results/cache")
+    ap.add_argument("--csv")
+    args = ap.parse_args()
+    profile = get_profile(args.profile)
+    n = profile.replicates if args.replicates is None else args.replicates
+    if n < 2:
+        ap.error(f"--replicates must be >= 2 (paired seeds), got {n}")
+    specs = tasks(profile, n, args.convention, args.contact)
+    print(
+        f"{len(specs)} runs, {args.convention}, {args.contact} contact, {n} seeds, {profile.name} profile", flush=True
+    )
+    t0 = time.perf_counter()
+    grid = run_grid(specs, args.cache, desc="modulus sweeps")
+    bad = unusable_runs(grid.summary)
+    print(f"{grid.n_computed} computed, {grid.n_cached} cached, {len(bad)} unusable, {time.perf_counter() - t0:.0f} s")
+    if len(bad):
+        print(bad.to_string(index=False))
+    table = contrasts(grid)
+    cols = ["base", "modulus_gpa", "against_gpa", "metric", "n_pairs", "pct_change", "ci_low", "ci_high", "p_holm"]
+    with pd.option_context("display.width", 200):
+        print(table[[*cols, "conclusion", "beyond_margin"]].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    if args.csv:
+        table.to_csv(args.csv, index=False)
+
+
+if __name__ == "__main__":
+    main()
