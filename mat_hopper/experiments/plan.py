@@ -43,6 +43,7 @@ from .paper import axial_check_tasks, clock_tasks, convention_tasks, in_place_ta
 from .profiles import get_profile
 from .reproduce import experiment_tasks
 from .runner import rollout_specs
+from .stress_pairs import stress_pair_tasks
 
 # Wall time of one physics step on one core, microseconds: measured 5.0-5.6
 # us on one idle core for the 3-segment leg (benchmarks/rollout.py;
@@ -150,8 +151,8 @@ CHAPTERS: tuple[Chapter, ...] = (
     ),
     Chapter(
         "08b-gradients-stress",
-        (),
-        "not counted: RolloutRunner cells (uncached) and the stress-pairs grid its cells build",
+        (lambda p: stress_pair_tasks(p),),
+        "not counted: RolloutRunner cells (uncached)",
     ),
     Chapter("09-optimizing-gradients", (), "", "the racing study and its validation"),
     Chapter(

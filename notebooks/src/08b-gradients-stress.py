@@ -60,20 +60,19 @@ b = book.setup()
 from IPython.display import display
 from myst_nb import glue
 
-from mat_hopper import mass_matched
-from mat_hopper.analysis import paired
+from mat_hopper.analysis import stress_pairs as stress_verdicts_of
 from mat_hopper.analysis.growth import envelope_growth
-from mat_hopper.core.behaviours import behaviour
 from mat_hopper.core.materials import PAPER_DESIGN_ORDER, paper_designs, parse_design, segment_masses
 from mat_hopper.core.rollout import C, hop_cycles
 from mat_hopper.core.sim import RolloutRunner
-from mat_hopper.experiments.runner import RunSpec, run_grid
+from mat_hopper.experiments import stress_pairs
+from mat_hopper.experiments.runner import run_grid
 from mat_hopper.physics.fatigue import DESIGN_LIFE_CYCLES, fatigue_summary, hop_stress, strength
-from mat_hopper.physics.metrics import holm, hop_table
+from mat_hopper.physics.metrics import hop_table
 
 print(b.describe())
 designs = paper_designs()
-CONVENTIONS = ("paper", "bending")
+CONVENTIONS = stress_pairs.CONVENTIONS  # ("paper", "bending")
 
 # %% [markdown]
 # ## The stress in one run
@@ -329,25 +328,14 @@ book.show(convergence[cols], pattern="{:.3g}")
 #   homogeneous leg of nearly the same mass, for the *life*.
 
 # %%
-GRADIENTS = ("rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC")
 ti = parse_design("Ti")
 seeds = range(b.profile.replicates)  # paired by seed: the profile's replicates (quick 2, paper 10)
-tasks = []
-for conv in CONVENTIONS:
-    prof = b.profile.for_convention(conv)
-    for name in GRADIENTS:
-        g = designs[name]
-        legs = {"gradient": g, "mass-matched": mass_matched(g), "titanium": ti}
-        for role, leg in legs.items():
-            for seed in seeds:
-                labels = {"convention": conv, "gradient": name, "leg": role, "design": leg.name, "replicate": seed}
-                settings = prof.sim_settings(prof.replicate(seed), design=leg)
-                tasks.append(RunSpec(leg, behaviour("forward"), settings, labels))
+tasks = stress_pairs.stress_pair_tasks(b.profile, CONVENTIONS)  # each gradient, its mass-matched leg, titanium
 grid = run_grid(tasks, b.cache_dir, progress=False, desc="stress pairs")
 runs = grid.summary
 print(f"{len(tasks)} runs ({grid.n_unique} distinct: titanium serves every gradient): "
       f"{grid.n_cached} cached, {grid.n_computed} computed")  # fmt: skip
-masses = {n: sum(segment_masses(designs[n])) for n in GRADIENTS}
+masses = {n: sum(segment_masses(designs[n])) for n in stress_pairs.GRADIENTS}
 print(
     "leg masses (kg): "
     + ", ".join(f"{n} {m:.3f}" for n, m in masses.items())
@@ -364,40 +352,15 @@ book.show(up, index=True, pattern="{:.0%}")
 
 # %%
 # usable runs only: a run that diverged or fell (status "diverged" or "fallen") keeps the hops it
-# scored before, which are not results; a pair lacking either run is dropped, and counted
-paper_runs = runs[(runs["convention"] == "paper") & (runs["status"] == "ok") & (runs["n_hops"] >= 2)]
-wide = paper_runs.pivot_table(
-    index=["gradient", "replicate"],
-    columns="leg",
-    values=["hop_peak_stress_median_pa", "peak_stress_pa", "fatigue_safety_factor"],
-)
-rows = []
-# the loads: the typical hop's peak (median over the run's hops) first; the run's maximum, an
-# extreme that grows with the number of hops and follows one hard landing, beside it
-for metric, control in (("hop_peak_stress_median_pa", "mass-matched"), ("hop_peak_stress_median_pa", "titanium"),
-                        ("peak_stress_pa", "mass-matched"), ("fatigue_safety_factor", "titanium")):  # fmt: skip
-    for name, grp in wide.groupby(level="gradient", sort=False):
-        both = grp[[(metric, "gradient"), (metric, control)]]
-        e = paired.paired_effect(both.iloc[:, 0].dropna(), both.iloc[:, 1].dropna())  # paired on the seed
-        rows.append(
-            {"gradient": name, "metric": metric, "against": control, "pairs_dropped": len(seeds) - e["n_pairs"], **e}
-        )
-verdicts = pd.DataFrame(rows)
-# Holm over the four gradients of each comparison; the sign-flip floor decides what n can show
-for _, g in verdicts.groupby(["metric", "against"], sort=False):
-    verdicts.loc[g.index, "p_holm"] = holm(g["p"].to_numpy(float))
-    testable = paired.reachable(int(g["n_pairs"].min()), len(g))
-    verdicts.loc[g.index, "conclusion"] = [
-        c if testable or c != paired.DIFFERENCE else paired.NOT_ENOUGH
-        for c in (
-            paired.conclusion(p, lo, hi) for p, lo, hi in zip(verdicts.loc[g.index, "p_holm"], g.ci_low, g.ci_high)
-        )
-    ]
+# scored before, which are not results; a pair lacking either run is dropped, and counted; Holm over
+# the four gradients of each comparison, the sign-flip floor deciding what the seeds can show
+paper_runs = stress_verdicts_of.usable_pairs(runs[runs["convention"] == "paper"])
+verdicts = stress_verdicts_of.stress_verdicts(paper_runs, len(seeds)).drop(columns="convention")
 # what the S-N table alone predicts for the life: the weakest segment's amplitude at 1e7 cycles against titanium's
 table_alone = {
     n: min(strength(m).amplitude_at(DESIGN_LIFE_CYCLES) for m in designs[n].segments)
     / strength(ti.segments[0]).amplitude_at(DESIGN_LIFE_CYCLES)
-    for n in GRADIENTS
+    for n in stress_pairs.GRADIENTS
 }
 life = verdicts["metric"] == "fatigue_safety_factor"
 verdicts.loc[life, "strength_alone_pct"] = [100 * (table_alone[n] - 1) for n in verdicts.loc[life, "gradient"]]

@@ -1,0 +1,66 @@
+"""The stress pairs: each paper gradient beside its controls on shared seeds.
+
+For each of the paper's four gradients (:data:`GRADIENTS`), under each
+stiffness convention asked for, one forward run per replicate seed (the
+profile's ``replicates``; the same seeds for every leg, so comparisons are
+paired) of the gradient, of its mass-matched leg
+(:func:`mat_hopper.core.control_legs.mass_matched`: the same leg mass, one
+homogeneous fictional material, for the loads) and of titanium (the
+catalogue metal nearest in density to the gradients' mean, with its own
+S-N curve, for the life). ``contact`` names the foot's contact
+(:mod:`mat_hopper.core.contact`): under a bending convention the soft
+default lets stiff legs fall, the stiff one does not. The runs go through
+the one cache and pool; titanium's serve every gradient. Chapter 8b reads
+them with :func:`mat_hopper.analysis.stress_pairs.stress_verdicts`.
+"""
+
+from __future__ import annotations
+
+from ..core.behaviours import behaviour
+from ..core.contact import DEFAULT_CONTACT
+from ..core.control_legs import mass_matched
+from ..core.materials import paper_designs, parse_design
+from .profiles import get_profile
+from .runner import RunSpec
+
+GRADIENTS = ("rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC")
+CONVENTIONS = ("paper", "bending")
+LEGS = ("gradient", "mass-matched", "titanium")
+
+
+def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_CONTACT) -> list:
+    """RunSpecs of every gradient, its mass-matched leg and titanium (module doc).
+
+    Args:
+        profile: a Profile or its name (its replicates, run length and step;
+            each convention's step as :meth:`Profile.for_convention` gives it).
+        conventions: stiffness conventions (canonical names).
+        contact: the foot's contact (``authors`` or ``stiff``).
+
+    Returns:
+        list of RunSpec, forward hopping; labels convention, contact,
+        gradient, leg (:data:`LEGS`), design, replicate.
+
+    Raises:
+        ValueError: an unknown profile, convention or contact.
+    """
+    profile = get_profile(profile)
+    designs, ti = paper_designs(), parse_design("Ti")
+    tasks = []
+    for conv in conventions:
+        prof = profile.for_convention(conv)
+        for name in GRADIENTS:
+            g = designs[name]
+            for role, leg in zip(LEGS, (g, mass_matched(g), ti)):
+                for seed in range(profile.replicates):
+                    labels = {
+                        "convention": conv,
+                        "contact": contact,
+                        "gradient": name,
+                        "leg": role,
+                        "design": leg.name,
+                        "replicate": seed,
+                    }
+                    settings = prof.sim_settings(prof.replicate(seed), design=leg, contact=contact)
+                    tasks.append(RunSpec(leg, behaviour("forward"), settings, labels))
+    return tasks
