@@ -31,7 +31,14 @@ COMPARISONS = (
 
 def usable_pairs(runs: pd.DataFrame) -> pd.DataFrame:
     """The runs that count: status ``ok`` with at least two scored hops (a
-    run that diverged or fell keeps the hops before, which are not results)."""
+    run that diverged or fell keeps the hops before, which are not results).
+
+    Args:
+        runs: run summaries (``status``, ``n_hops`` columns).
+
+    Returns:
+        The rows of `runs` that count, in their order.
+    """
     return runs[(runs["status"] == "ok") & (runs["n_hops"] >= 2)]
 
 
