@@ -177,8 +177,9 @@ def cmd_compare(args) -> int:
         print("(a leg diverged at a fixed step: try --timestep auto, the finest automatic step, for every leg)")
     if args.csv:
         print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")
-    diverged = [e["leg"] for e in table.attrs["left_out"] if "unstable" in e["why"]]
-    return 0 if len(table) and not diverged else 1  # EXIT_STATUS: any run asked for diverged
+    numeric = ("unstable", "numerically suspect")  # diverged, or corrupted without diverging
+    diverged = [e["leg"] for e in table.attrs["left_out"] if any(w in e["why"] for w in numeric)]
+    return 0 if len(table) and not diverged else 1  # EXIT_STATUS: any run asked for diverged or is suspect
 
 
 def register_cli(sub) -> None:
