@@ -90,7 +90,11 @@ def failure_table(runs: pd.DataFrame) -> pd.DataFrame:
     when the numbers blew up: the hopper failed first), ``fell`` (ended
     below 0.1 m without blowing up) or ``failed`` (an error). Columns:
     design, behaviour, kind, at_s (time of the blow-up, s; nan for a plain
-    fall), final_base_z_m (the last recorded body height), n_hops.
+    fall), ``numerically suspect`` (no blow-up, but a hop apex far above
+    the target: corrupted numbers, :attr:`mat_hopper.core.rollout.Rollout.suspect`;
+    at_s the apex's time). Columns:
+    design, behaviour, kind, at_s (time of the blow-up or of the suspect
+    apex, s; nan for a plain fall), final_base_z_m (the last recorded body height), n_hops.
 
     Args:
         runs: a run-summary table (design, behaviour, status, final_base_z_m; upright, diverged_at_s,
@@ -124,6 +128,8 @@ def failure_table(runs: pd.DataFrame) -> pd.DataFrame:
             at = float(row.diverged_at_s)
         elif row.status == "failed":
             kind, at = "failed", np.nan
+        elif row.status == "suspect":  # corrupted numbers without a blow-up (Rollout.suspect)
+            kind, at = "numerically suspect", float(getattr(row, "suspect_at_s", np.nan))
         else:
             kind, at = "fell", np.nan
         rows.append(

@@ -78,13 +78,30 @@ def _fell_at(runs: pd.DataFrame, i) -> float | None:
     return float(v) if v is not None and pd.notna(v) else None
 
 
+def _suspect_why(runs: pd.DataFrame, i, timestep_s: float | None) -> str:
+    """``numerically suspect at dt=1e-4 s, hop apex 7.45 m at t=1.82 s``: a
+    run whose numbers are corrupted without diverging."""
+    dt = runs.at[i, "timestep_s"] if "timestep_s" in runs.columns else timestep_s
+    text = "numerically suspect" + (
+        f" at dt={seconds(float(dt))} s" if dt is not None and np.isfinite(float(dt)) else ""
+    )
+    apex = runs.at[i, "suspect_apex_m"] if "suspect_apex_m" in runs.columns else None
+    at = runs.at[i, "suspect_at_s"] if "suspect_at_s" in runs.columns else None
+    if apex is not None and pd.notna(apex) and at is not None and pd.notna(at):
+        text += f", hop apex {float(apex):.3g} m at t={seconds(float(at))} s"
+    return text
+
+
 def unusable_runs(runs: pd.DataFrame | None, timestep_s: float | None = None) -> pd.DataFrame:
-    """The runs of a run-summary table that diverged numerically, fell over
-    (not upright at the end) or failed, with a reason in ``why`` ("unstable
-    at dt=1e-4 s, diverged at t=2.5e-3 s", "fell at t=9.39 s, then unstable
-    ...", "fell over at t=9.39 s", "failed"). Uses the columns status,
-    stable, upright, diverged_at_s, fell_at_s and timestep_s where present
-    (else the `timestep_s` argument, s).
+    """The runs of a run-summary table that diverged numerically, are
+    numerically suspect (corrupted without diverging:
+    :attr:`mat_hopper.core.rollout.Rollout.suspect`), fell over (not upright
+    at the end) or failed, with a reason in ``why`` ("unstable at dt=1e-4 s,
+    diverged at t=2.5e-3 s", "fell at t=9.39 s, then unstable ...",
+    "numerically suspect at dt=1e-4 s, hop apex 7.45 m at t=1.82 s", "fell
+    over at t=9.39 s", "failed"). Uses the columns status, stable, upright,
+    diverged_at_s, fell_at_s, suspect_at_s, suspect_apex_m and timestep_s
+    where present (else the `timestep_s` argument, s).
 
     Args:
         runs: a run-summary table (one row per run), or None.
@@ -96,7 +113,8 @@ def unusable_runs(runs: pd.DataFrame | None, timestep_s: float | None = None) ->
         convention, replicate, key, the sweep columns (:data:`SWEEP_COLUMNS`), why; columns `runs`
         lacks are nan. A run is diverged where status is "diverged" or ``stable`` is false, fallen
         where status is "fallen" or ``upright`` is false (a missing stable or upright value counts as
-        false), failed where status is "failed". Empty (those columns) for None or an empty table.
+        false), suspect where status is "suspect" or ``suspect_at_s`` is set (and not diverged),
+        failed where status is "failed". Empty (those columns) for None or an empty table.
     """
     cols = ["design", "behaviour", "experiment", "profile", "convention", "replicate", "key", *SWEEP_COLUMNS, "why"]
     if runs is None or len(runs) == 0:
@@ -110,7 +128,9 @@ def unusable_runs(runs: pd.DataFrame | None, timestep_s: float | None = None) ->
     )
     diverged = (status == "diverged") | ~stable
     failed = status == "failed"
-    fallen = ~diverged & ~failed & ((status == "fallen") | ~upright)
+    at_suspect = runs["suspect_at_s"] if "suspect_at_s" in runs.columns else pd.Series(np.nan, index=runs.index)
+    suspect = ~diverged & ~failed & ((status == "suspect") | pd.to_numeric(at_suspect, errors="coerce").notna())
+    fallen = ~diverged & ~failed & ~suspect & ((status == "fallen") | ~upright)
     why = pd.Series("", index=runs.index, dtype=object)
     for i in runs.index[diverged]:
         dt = runs.at[i, "timestep_s"] if "timestep_s" in runs.columns else timestep_s
@@ -120,11 +140,14 @@ def unusable_runs(runs: pd.DataFrame | None, timestep_s: float | None = None) ->
             text += f", diverged at t={seconds(float(at))} s"
         fell = _fell_at(runs, i)
         why[i] = text if fell is None else f"fell at t={seconds(fell)} s, then {text}"
+    for i in runs.index[suspect]:
+        why[i] = _suspect_why(runs, i, timestep_s)
     for i in runs.index[fallen]:
         fell = _fell_at(runs, i)
         why[i] = "fell over" + ("" if fell is None else f" at t={seconds(fell)} s")
     why[failed] = "failed"
-    bad = runs[diverged | fallen | failed].assign(why=why[diverged | fallen | failed])
+    out = diverged | suspect | fallen | failed
+    bad = runs[out].assign(why=why[out])
     for c in cols:
         if c not in bad.columns:
             bad[c] = np.nan

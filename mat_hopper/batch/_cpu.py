@@ -44,6 +44,7 @@ def _row(design, beh, settings) -> dict:
         "backend": "mujoco",
         "upright": bool(r.upright),
         "fell_at_s": math.nan if r.fell_at_s is None else r.fell_at_s,
+        "suspect_at_s": math.nan if s["suspect_at_s"] is None else s["suspect_at_s"],
         "run_tracking_error_m": finite_mean(err),
         "run_power_w": finite_mean(power),
     }

@@ -30,7 +30,16 @@ _LOOKS_LIKE_PROPERTY = re.compile(r"^(dens|mod|rho\b|e_)", re.IGNORECASE)
 # metrics (mat_hopper.physics.run_metrics.METRICS). Any other column is refused.
 RECORD_COLUMNS = (
     *("n_hops", "hop_height_m", "tracking_error_m", "power_w", "stable"),
-    *("behaviour", "sensor_timing", "diverged_at_s", "total_mass_kg", "backend", "upright", "fell_at_s"),
+    *(
+        "behaviour",
+        "sensor_timing",
+        "diverged_at_s",
+        "total_mass_kg",
+        "backend",
+        "upright",
+        "fell_at_s",
+        "suspect_at_s",
+    ),
     *("run_tracking_error_m", "run_power_w", "convention", "duration_s", "transient_s", "timestep_s", "substeps"),
     *("leg_mass_kg", "leg_com_m", "hip_inertia_kg_m2"),
     *("study", "trial", "state", "profile", "segment_mass", "replicates", "risk", "behaviours", "objectives"),

@@ -16,7 +16,10 @@ RESULT_COLUMNS = ("design", "n_hops", "hop_height_m", "tracking_error_m", "power
 # upright: stable and the base above reference.STABLE_MIN_BASE_Z at the last
 # recorded sample (Rollout.upright); fell_at_s: when the base first tilted
 # past core.rollout.FELL_TILT_DEG (s; NaN if never, and on the warp backend,
-# which does not track the tilt); run_tracking_error_m, run_power_w: means
+# which does not track the tilt); suspect_at_s: when a run that did not
+# diverge first scored a hop apex far above the target, its numbers
+# corrupted (core.rollout.Rollout.suspect_apex; s, NaN if never, and on the
+# warp backend, which keeps no apexes); run_tracking_error_m, run_power_w: means
 # over every finite recorded sample of the run, hop cycles or not (the
 # optimizer's score of a run without scored hops).
 EXTRA_COLUMNS = (
@@ -27,6 +30,7 @@ EXTRA_COLUMNS = (
     "backend",
     "upright",
     "fell_at_s",
+    "suspect_at_s",
     "run_tracking_error_m",
     "run_power_w",
 )

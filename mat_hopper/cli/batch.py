@@ -49,10 +49,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="evaluate many designs on one behaviour (CPU rollouts or a MuJoCo Warp batch)",
         description="Evaluate many leg designs on one behaviour; one row per design: design, n_hops, "
         "hop_height_m, tracking_error_m, power_w, stable (the CSV adds when a run diverged, diverged_at_s, and when the "
-        "hopper fell, fell_at_s: the base tilted past 60 deg; --backend mujoco only). A design that fell or diverged "
+        "hopper fell, fell_at_s: the base tilted past 60 deg, and when its numbers became suspect, suspect_at_s; "
+        "--backend mujoco only). A design that fell, diverged or is numerically suspect "
         "is named below the table with when. Designs whose time step lies above their analytic "
         "stable step are warned of before any run (try --timestep auto). Exit status: 0 when every run ended "
-        "without numerical divergence; 1 when any diverged (the table is still printed and written); 2 for bad "
+        "without numerical divergence; 1 when any diverged or is numerically suspect (a hop apex far above the "
+        "target: corrupted numbers without a blow-up; the table is still printed and written); 2 for bad "
         "input. --stability exits 0: its tries diverge by design, and a design stable at no step is a result.",
     )
     src = p.add_mutually_exclusive_group(required=True)
@@ -133,8 +135,9 @@ SETTING_COLUMNS = (
     "substeps",
     "backend",
 )
-# When each run diverged and when its hopper fell (s; empty if never), after the settings.
-EVENT_COLUMNS = ("diverged_at_s", "fell_at_s")
+# When each run diverged, when its hopper fell and when its numbers became
+# suspect (core.rollout.Rollout.suspect_apex) (s; empty if never), after the settings.
+EVENT_COLUMNS = ("diverged_at_s", "fell_at_s", "suspect_at_s")
 
 
 def run_batch(args) -> int:
@@ -201,10 +204,14 @@ def run_batch(args) -> int:
         f"{settings.sensor_timing}{_segment_mass_text(settings)}, backend {args.backend}{where}"
     )
     shown = out[list(RESULT_COLUMNS)]
+    suspect = table["suspect_at_s"].astype(float).notna().to_numpy()
+    if suspect.any():  # stable, but corrupted: the table says so beside "stable"
+        shown = shown.assign(suspect=suspect)
     rerun = {d.name: _rerun_command(d, beh, settings, auto) for d in designs}
     note = _diverged_note(table, auto, designs, per_design, args.backend, rerun)
-    _report(out, args.csv, "\n".join(n for n in (note, _fallen_note(table)) if n), shown=shown)
-    return 1 if note else 0  # any run that diverged: exit 1 (the rule of every command); a fall alone: 0
+    odd = _suspect_note(table, auto)
+    _report(out, args.csv, "\n".join(n for n in (note, odd, _fallen_note(table)) if n), shown=shown)
+    return 1 if note or odd else 0  # any run diverged or suspect: exit 1 (the rule of every command); a fall: 0
 
 
 def _segment_mass_text(settings) -> str:
@@ -284,6 +291,27 @@ def _when(row) -> str:
     if math.isfinite(fell) and fell < row.diverged_at_s:
         return f"{row.design} fell at t = {fell:.3f} s, then diverged at t = {row.diverged_at_s:.4f} s"
     return f"{row.design} at t = {row.diverged_at_s:.4f} s"
+
+
+def _suspect_note(table, auto: bool) -> str:
+    """The line on the designs whose run did not diverge but whose numbers
+    are corrupted (a scored hop apex far above the target:
+    :attr:`mat_hopper.core.rollout.Rollout.suspect`), or "": their rows are
+    the integrator's, not the leg's."""
+    from ..core.rollout import SUSPECT_APEX_MARGIN_M
+
+    at = table["suspect_at_s"].astype(float) if "suspect_at_s" in table.columns else None
+    if at is None or not at.notna().any():
+        return ""
+    rows = table[at.notna()]
+    names = ", ".join(f"{r.design} at t = {r.suspect_at_s:.3f} s" for r in rows.head(5).itertuples())
+    more = f" and {len(rows) - 5} more" if len(rows) > 5 else ""
+    fix = "already at --timestep auto: try a smaller --timestep" if auto else "try --timestep auto"
+    return (
+        f"{len(rows)} of {_count(len(table), 'design')} numerically suspect ({names}{more}: a hop apex more than "
+        f"{SUSPECT_APEX_MARGIN_M:g} m above the target, energy the integrator made up near the stable step; "
+        f"their numbers are corrupted); {fix}"
+    )
 
 
 def _fallen_note(table) -> str:

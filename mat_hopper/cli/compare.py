@@ -104,12 +104,13 @@ def _few_seeds_note(table) -> str | None:
 
 def _auto_would_change(plan, left_out) -> bool:
     """Whether --timestep auto would change the step of a leg that diverged
-    (a leg whose automatic step is the one it ran at, e.g. one that fell
+    or is numerically suspect (a leg whose automatic step is the one it ran at, e.g. one that fell
     first, gets no such advice)."""
     from ..core.timestep import auto_suggestion
 
     legs = {leg.name: leg.design for leg in (plan.design, *plan.comparators)}
-    diverged = [legs[e["leg"]] for e in left_out if "unstable" in e["why"] and e["leg"] in legs]
+    numeric = ("unstable", "numerically suspect")  # diverged, or corrupted without diverging
+    diverged = [legs[e["leg"]] for e in left_out if any(w in e["why"] for w in numeric) and e["leg"] in legs]
     return any(auto_suggestion(d, plan.settings[0], CLI_AUTO_HINT) for d in diverged)
 
 
@@ -174,11 +175,15 @@ def cmd_compare(args) -> int:
     for line in _left_out_lines(table.attrs["left_out"]):
         print(line)
     if plan.finest is None and _auto_would_change(plan, table.attrs["left_out"]):
-        print("(a leg diverged at a fixed step: try --timestep auto, the finest automatic step, for every leg)")
+        print(
+            "(a leg diverged or is numerically suspect at a fixed step: try --timestep auto, the finest automatic "
+            "step, for every leg)"
+        )
     if args.csv:
         print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")
-    diverged = [e["leg"] for e in table.attrs["left_out"] if "unstable" in e["why"]]
-    return 0 if len(table) and not diverged else 1  # EXIT_STATUS: any run asked for diverged
+    numeric = ("unstable", "numerically suspect")  # diverged, or corrupted without diverging
+    diverged = [e["leg"] for e in table.attrs["left_out"] if any(w in e["why"] for w in numeric)]
+    return 0 if len(table) and not diverged else 1  # EXIT_STATUS: any run asked for diverged or is suspect
 
 
 def register_cli(sub) -> None:

@@ -11,7 +11,7 @@ from ..core.contact import DEFAULT_CONTACT
 from ..core.damping import DEFAULT_DAMPING
 from ..core.materials import DEFAULT_CONVENTION
 from ..core.rollout import FELL_TILT_DEG
-from ..core.timestep import is_auto
+from ..core.timestep import CLI_AUTO_HINT, is_auto
 from ..viz.render import (
     GL_LIBS,
     IMAGE_EXTENSIONS,
@@ -140,7 +140,8 @@ def cmd_render(args) -> int:
         progress=not args.no_progress,
     ):
         print(f"wrote {path}")
-    return 1 if rollout is not None and rollout.diverged else 0  # a diverged run: exit 1, as every command
+    bad = rollout is not None and (rollout.diverged or rollout.suspect)
+    return 1 if bad else 0  # a diverged or numerically suspect run: exit 1, as every command
 
 
 def _run_length(args) -> tuple[float, str]:
@@ -163,7 +164,11 @@ def _run(args, design, beh, settings, seconds: float):
     rollout = record(design, beh, seconds, start_s=args.start, settings=settings, warn=False)  # the lines say it
     if rollout.diverged:
         print(unstable_line(rollout))
-    elif rollout.fell_at_s is not None:  # drawn, but a hopper down is no gait: the tiles and the video say so
+    elif rollout.suspect:  # drawn, but its motion is the integrator's, not the hopper's
+        print(f"SUSPECT: {rollout.suspect_message(CLI_AUTO_HINT)}")
+    if (
+        rollout.stable and rollout.fell_at_s is not None
+    ):  # drawn, but a hopper down is no gait: the tiles and the video say so
         print(
             f"note: the hopper fell at t = {rollout.fell_at_s:.3f} s (base tilted past {FELL_TILT_DEG:g} deg); "
             "tiles after it are marked (fell), and the video's line counts its frames after the fall"

@@ -317,8 +317,9 @@ def unstable_line(rollout) -> str:
 
 
 EXIT_STATUS = (
-    "Exit status: 0 when every run ended without numerical divergence; 1 when any diverged (the output says "
-    "when, why and what to try; tables are still printed and written); 2 for bad input."
+    "Exit status: 0 when every run ended without numerical divergence; 1 when any diverged or is numerically "
+    "suspect (a hop apex far above the target: corrupted numbers without a blow-up; the output says when, why "
+    "and what to try; tables are still printed and written); 2 for bad input."
 )
 
 
@@ -356,6 +357,10 @@ def cmd_simulate(args) -> int:
     )
     if not rollout.stable:
         print(unstable_line(rollout))
+    elif rollout.suspect:
+        print(f"SUSPECT: {rollout.suspect_message(CLI_AUTO_HINT)}")
+    if rollout.stable and rollout.fell_at_s is not None:
+        print(f"FELL: {rollout.fall_message()}")
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
     if len(hops):
         desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
@@ -384,7 +389,7 @@ def cmd_simulate(args) -> int:
         for k, (col, value) in enumerate(props.items()):
             hops.insert(at + k, col, value)
         print(f"wrote {len(hops)} rows to {write_table(hops, args.csv)}")
-    return 0 if rollout.stable else 1
+    return 0 if rollout.stable and not rollout.suspect else 1
 
 
 def register_cli(sub) -> None:

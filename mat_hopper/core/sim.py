@@ -522,7 +522,10 @@ def simulate(
         settings: a SimSettings giving all of the settings at once; then no
             other setting may be given.
         warn: a StableStepWarning before a run whose step lies above the leg's
-            analytic bound, a DivergenceWarning after one that diverged; False: none.
+            analytic bound, a DivergenceWarning after one that diverged, a
+            SuspectWarning after one whose numbers are corrupted without
+            diverging (:attr:`Rollout.suspect`), a FallWarning after a fall
+            without divergence; False: none.
 
     Returns:
         The :class:`Rollout`. Divergence never raises: see :attr:`Rollout.diverged`.
@@ -564,4 +567,4 @@ def simulate(
     if warn:
         warn_stable_step(design, settings, stacklevel=2)
     rollout = RolloutRunner(design, behaviour, settings, record_qpos=record_qpos).advance().result()
-    return rollout.warn_if_diverged(stacklevel=2) if warn else rollout
+    return rollout.warn_if_diverged(stacklevel=2).warn_if_suspect(stacklevel=2) if warn else rollout

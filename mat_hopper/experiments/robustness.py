@@ -127,7 +127,7 @@ def batch_runs(
     """The study's runs on a batch backend (:func:`mat_hopper.batch.evaluate`):
     one row per variant, design and behaviour with the means over scored hop
     cycles (``tracking_error_m``, ``power_w``, ``hop_height_m``, the CPU
-    path's per-hop means) and ``status`` ("ok", "diverged", "fallen", as
+    path's per-hop means) and ``status`` ("ok", "diverged", "suspect", "fallen", as
     the runner's). Each variant and behaviour is one batch of its designs.
     ``quantity_values(runs, runs)`` reads it as it reads per-hop tables.
 
@@ -188,6 +188,8 @@ def batch_runs(
             table = evaluate(names, b, settings, backend=backend, device=device, workers=workers, progress=progress)
             for r in table.to_dict("records"):
                 status = "ok" if r["upright"] else ("diverged" if not r["stable"] else "fallen")
+                if r["stable"] and pd.notna(r.get("suspect_at_s")):  # corrupted numbers (Rollout.suspect)
+                    status = "suspect"
                 rows.append(
                     {
                         "variant": v.label,

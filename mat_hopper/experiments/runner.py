@@ -63,7 +63,8 @@ _log = logging.getLogger("mat_hopper.cache")
 
 
 # Status of a task's summary row.
-OK, DIVERGED, FALLEN, FAILED = "ok", "diverged", "fallen", "failed"
+# suspect: no divergence, but the numbers are corrupted (core.rollout.Rollout.suspect).
+OK, DIVERGED, SUSPECT, FALLEN, FAILED = "ok", "diverged", "suspect", "fallen", "failed"
 
 
 # ---------------------------------------------------------------------------
@@ -101,7 +102,8 @@ class RunSpec:
 
     def compute(self) -> tuple[pd.DataFrame, dict]:
         """Simulate; return (per-hop table, run summary). Never raises on
-        divergence: an unstable run is a summary with status 'diverged'."""
+        divergence: an unstable run is a summary with status 'diverged', a
+        numerically suspect one (``Rollout.suspect``) status 'suspect'."""
         from ..core.sim import C, simulate
         from ..physics.metrics import hop_table, run_summary
 
@@ -120,7 +122,8 @@ class RunSpec:
             timestep_s=self.settings.timestep_s,
             transient_s=self.settings.transient_s,
         )
-        summary["status"] = OK if rollout.upright else (DIVERGED if not rollout.stable else FALLEN)
+        ok = OK if rollout.upright else FALLEN  # a suspect run's numbers are corrupted: left out as diverged ones
+        summary["status"] = DIVERGED if not rollout.stable else (SUSPECT if rollout.suspect else ok)
         return hops, summary
 
 

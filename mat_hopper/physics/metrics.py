@@ -133,6 +133,7 @@ def _scored_cycles(rollout: Rollout, transient_s, warn: bool) -> np.ndarray:
     cycles = hop_cycles(rollout, transient_s)
     if warn:
         rollout.warn_if_diverged(f"hop_table holds the {len(cycles)} hop cycles scored before it", stacklevel=3)
+        rollout.warn_if_suspect(f"hop_table holds its {len(cycles)} scored hop cycles", stacklevel=3)
     return cycles
 
 
@@ -144,8 +145,8 @@ def hop_table(rollout: Rollout, transient_s: float | None = None, *, warn: bool 
         rollout: the :class:`~mat_hopper.core.rollout.Rollout` of a run.
         transient_s: hop cycles starting before it (s) are not scored, a
             finite number >= 0; None: the rollout's own ``settings.transient_s``.
-        warn: a DivergenceWarning when the run diverged (its table holds only
-            the cycles before it, often none); False: none (the caller says it).
+        warn: a DivergenceWarning (its table holds only the cycles before it),
+            SuspectWarning or FallWarning (:meth:`Rollout.warn_if_suspect`) as it applies; False: none.
 
     Returns:
         DataFrame, one row per scored hop cycle (lift-off to lift-off), columns
@@ -255,7 +256,10 @@ def run_summary(rollout: Rollout, transient_s: float | None = None, *, hops: pd.
 
     Returns:
         dict: ``design``, ``behaviour``, ``convention``, ``sensor_timing``,
-        ``segment_mass``, ``stable``, ``diverged_at_s``, ``n_hops``,
+        ``segment_mass``, ``stable``, ``diverged_at_s``, ``fell_at_s``,
+        ``suspect_at_s`` and ``suspect_apex_m`` (when, s, and how high, m,
+        the first scored apex of a numerically suspect run:
+        :attr:`mat_hopper.core.rollout.Rollout.suspect_apex`; None if not), ``n_hops``,
         ``total_mass_kg``, the mass properties (``leg_mass_kg``, ``leg_com_m``,
         ``hip_inertia_kg_m2``), ``apex_reference``, ``mean_<metric>`` for every metric of
         :data:`ALL_METRICS` (nan without hops), ``damping``, the stress and
@@ -275,6 +279,7 @@ def run_summary(rollout: Rollout, transient_s: float | None = None, *, hops: pd.
     transient_s = check_transient_within(rollout, transient_s)
     if hops is None:  # the summary says it diverged (stable, diverged_at_s)
         hops = hop_table(rollout, transient_s, warn=False)
+    apex = rollout.suspect_apex  # numerically corrupted without diverging: when (s) and how high (m)
     out = {
         "design": rollout.design.name,
         "behaviour": rollout.behaviour.name,
@@ -284,6 +289,8 @@ def run_summary(rollout: Rollout, transient_s: float | None = None, *, hops: pd.
         "stable": rollout.stable,
         "diverged_at_s": rollout.diverged_at_s,
         "fell_at_s": rollout.fell_at_s,
+        "suspect_at_s": None if apex is None else apex[0],
+        "suspect_apex_m": None if apex is None else apex[1],
         "n_hops": len(hops),
         "total_mass_kg": rollout.total_mass_kg,
         **mass_properties(rollout.design, rollout.settings.segment_mass).as_dict(),
