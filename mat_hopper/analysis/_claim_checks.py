@@ -52,6 +52,14 @@ MEASURED_TIMESTEP_COLUMNS = ("max_stable_timestep_s", "dt_stable_s", "spec_times
 # --- small helpers ---------------------------------------------------------------
 
 
+# Why a percent change against MD has no value: its tracking error is zero
+# where nothing perturbs it (hopping in place, round-off only).
+UNDEFINED_WHY = (
+    "undefined: MD tracks exactly in place without a perturbation (its tracking error is round-off); "
+    "run perturbed replicates (--replicates 2 or more) for a ratio"
+)
+
+
 def _pct(x: float) -> str:
     return "nan" if x is None or not np.isfinite(x) else f"{x:+.0f} %"
 
@@ -361,6 +369,10 @@ def _claim_ss_tracking(ctx: _Context) -> Outcome:
     if len(rows) == 0:
         return _missing_or_untestable(ctx, ["MD", "SS"], BEHAVIOUR_NAMES, ("exp1",))
     pct = rows.set_index("behaviour")["pct_change"]
+    undefined = [b for b in BEHAVIOUR_NAMES if b in pct.index and not np.isfinite(pct[b])]
+    if len(undefined) == len(pct):
+        return Outcome(", ".join(f"{b} undefined" for b in undefined), NOT_TESTABLE, UNDEFINED_WHY)
+    pct = pct.drop(undefined)  # no ratio to MD's zero: judged on the others
     thr = ref.CLAIM_SS_TRACKING_PCT
     ok = pct <= thr
     if ok.all() and len(pct) == len(BEHAVIOUR_NAMES):
@@ -369,12 +381,18 @@ def _claim_ss_tracking(ctx: _Context) -> Outcome:
         verdict = PARTLY
     else:
         verdict = FAILS
-    ours = ", ".join(f"{b} {_pct(pct[b])}" for b in BEHAVIOUR_NAMES if b in pct.index)
+    ours = ", ".join(
+        f"{b} {'undefined (MD tracks exactly in place, unperturbed)' if b in undefined else _pct(pct[b])}"
+        for b in BEHAVIOUR_NAMES
+        if b in pct.index or b in undefined
+    )
     detail = _ci_detail(rows)
     probs = ctx.problems(["MD", "SS"], BEHAVIOUR_NAMES, ("exp1",))
     if probs or len(pct) < len(BEHAVIOUR_NAMES):
         verdict = _cap(verdict)
-        detail += ("; unusable: " + "; ".join(probs)) if probs else "; some behaviours missing"
+        detail += ("; unusable: " + "; ".join(probs)) if probs else ""
+        detail += f"; {', '.join(undefined)}: {UNDEFINED_WHY}" if undefined else ""
+        detail += "; some behaviours missing" if not probs and len(pct) + len(undefined) < len(BEHAVIOUR_NAMES) else ""
     return Outcome(ours, verdict, detail)
 
 

@@ -138,6 +138,22 @@ def _parse(parser: argparse.ArgumentParser, argv) -> argparse.Namespace:
 
 
 def main(argv=None) -> int:
+    """Run the command of `argv` (None: the process's); its exit code. An
+    interrupt at any point, the start-up's imports included, is one line
+    ("interrupted") and exit 128 + the signal's number, 130 for Ctrl-C."""
+    try:
+        return _main(argv)
+    except KeyboardInterrupt as e:
+        return _interrupted(e)
+
+
+def _interrupted(e: KeyboardInterrupt) -> int:
+    sig = getattr(e, "signal_name", None)
+    print(f"interrupted{f' by {sig}' if sig else ''}", file=sys.stderr)
+    return 128 + int(getattr(e, "signal_number", 2))
+
+
+def _main(argv) -> int:
     argv = negative_list_argv(sys.argv[1:] if argv is None else list(argv))  # every --option may take a negative
     command = command_of(argv)
     parser = build_parser(command if command in COMMAND_HELP else "")
@@ -179,9 +195,7 @@ def main(argv=None) -> int:
             pass
         return 141
     except KeyboardInterrupt as e:
-        sig = getattr(e, "signal_name", None)
-        print(f"interrupted{f' by {sig}' if sig else ''}", file=sys.stderr)
-        return 128 + int(getattr(e, "signal_number", 2))
+        return _interrupted(e)
     except (ValueError, OSError, *_storage_errors()) as e:
         print(f"mat-hopper {args.command}: error: {describe_error(e)}", file=sys.stderr)
         return 2

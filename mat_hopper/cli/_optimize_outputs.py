@@ -5,6 +5,7 @@ one trial replayed (``--replay``, ``--render``) and exported
 from __future__ import annotations
 
 import os
+import shlex
 
 from optuna.trial import TrialState
 
@@ -34,6 +35,7 @@ from ..optimize import (
 from ..optimize.report import feasible_complete, missing_baselines
 from ..viz.render import choose_backend, render_files
 from ._checks import check_no_outputs_in, check_output_dir
+from ._study_hints import command_text, study_flags
 
 # The study's time step and exit status, in optimize's --help.
 STEP_HELP = (
@@ -158,8 +160,8 @@ def _report(name: str, storage, args, out: str) -> int:
         table = front_table(front, objectives).drop(columns=["hop height (m)"])
         table.insert(1, "design", front["design"].to_numpy())
         print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-        where = f" --storage '{redact(args.storage)}'" if args.storage else ""
-        print(f"export a design: mat-hopper optimize --study {name} --export TRIAL{where}")
+        line = command_text("mat-hopper", "optimize", "--study", name, "--export", "TRIAL", *study_flags(args))
+        print(f"export a design: {line}")
     for p in rep["paths"].values():
         print(f"wrote {p}")
     return 0
@@ -268,7 +270,7 @@ def cmd_export(args) -> int:
         print(f"wrote {path}")
     ob = res["config"].objective
     print(
-        f"simulate it: mat-hopper simulate --design-csv {res['csv']} --behaviour {ob.behaviours[0]} "
+        f"simulate it: mat-hopper simulate --design-csv {shlex.quote(res['csv'])} --behaviour {ob.behaviours[0]} "
         f"--profile {ob.profile.name} --convention {ob.convention} --segment-mass {ob.segment_mass}"
         + (
             f" (the study scores {ob.replicates} perturbed replicates; simulate runs the unperturbed one)"

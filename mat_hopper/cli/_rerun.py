@@ -5,6 +5,8 @@ from a CSV file, the map or a sweep has a name no command reads)."""
 
 from __future__ import annotations
 
+import shlex
+
 
 def design_flags(design) -> list[str]:
     """simulate's flags that give `design`: ``--design NAME`` (with
@@ -35,9 +37,11 @@ def simulate_command(design, **options) -> str:
     """``mat-hopper simulate`` with `design`'s flags (:func:`design_flags`)
     and then `options`, simulate's options by their names
     (``timestep="auto"``: ``--timestep auto``; ``segment_mass``:
-    ``--segment-mass``); one whose value is None is left out."""
+    ``--segment-mass``); one whose value is None is left out. Each word is
+    shell-quoted where it needs to be (a map point's name ``rho=1.4
+    E=340`` has a space), so the line runs as printed."""
     flags = [f for name, value in options.items() if value is not None for f in (_flag(name), str(value))]
-    return " ".join(["mat-hopper simulate", *design_flags(design), *flags])
+    return shlex.join(["mat-hopper", "simulate", *design_flags(design), *flags])  # pasted into a shell as printed
 
 
 def _flag(name: str) -> str:

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import os
-import shlex
 import sys
 from dataclasses import replace
 
@@ -76,6 +75,7 @@ from ._options import (
     suggesting,
     timestep_arg,
 )
+from ._study_hints import command_text, mismatch_text, study_flags
 
 # The search space's and objective's fields, as their options (for messages).
 OPTION_OF_FIELD = {
@@ -372,10 +372,7 @@ def _cmd_optimize(args) -> int:
         print(f"an evaluation process died: trials failed and re-queued: {res.lost}")
     if res.recovered:
         print(f"trials of an earlier run that died, failed and re-queued: {res.recovered}")
-    where = f" --storage '{res.url}'" if args.storage else ""
-    if not args.storage and os.path.normpath(args.studies_dir) != "studies":  # the default folder needs no flag
-        where = f" --studies-dir {shlex.quote(args.studies_dir)}"
-    print(f"report: mat-hopper optimize --report {res.study}{where}")
+    print(f"report: {command_text('mat-hopper', 'optimize', '--report', res.study, *study_flags(args))}")
     if not res.finished and not res.running:
         print("the study is short of its target: run the same command again to resume", file=sys.stderr)
         return 1
@@ -423,15 +420,18 @@ def _check_backend(args) -> str | None:
 def _run_backend(config: StudyConfig, options: RunOptions, args):
     """The study on --backend mujoco (CPU processes, the reference) or warp
     (MuJoCo Warp batches), rounds of --batch-size trials either way."""
-    if getattr(args, "race", False):  # on mujoco (_check_backend)
-        from ..optimize import race_study
+    from ..optimize import StudyMismatch, race_study, run_batch_study
 
-        return race_study(config, options)
-    if args.backend != "warp":
-        return run_study(config, options)
-    from ..optimize import run_batch_study
-
-    return run_batch_study(config, options, device=args.device)
+    try:
+        if getattr(args, "race", False):  # on mujoco (_check_backend)
+            return race_study(config, options)
+        return (
+            run_study(config, options)
+            if args.backend != "warp"
+            else run_batch_study(config, options, device=args.device)
+        )
+    except StudyMismatch as e:  # in the options' terms
+        raise ValueError(mismatch_text(e, OPTION_OF_FIELD)) from None
 
 
 def _seeds_text() -> str:

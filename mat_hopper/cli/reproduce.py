@@ -211,6 +211,7 @@ def cmd_reproduce(args) -> int:
         f"wrote {len(rep.files)} files to {rep.out_dir} in {total:.1f} s wall "
         f"({', '.join(f'{k} {v:.1f} s' for k, v in rep.wall_s.items())})"
     )
+    _controls_note(rep)
     n_failed = sum(rep.failed.values())
     if n_failed:
         print(f"{n_failed} tasks failed (see the status and error columns); rerun to retry them", file=sys.stderr)
@@ -223,6 +224,21 @@ def cmd_reproduce(args) -> int:
             + ("" if args.no_figures else ", and the claims leave them out and name them")
         )
     return 1 if n_failed or n_diverged else 0  # EXIT_STATUS
+
+
+def _controls_note(rep) -> None:
+    """Where the controls' results are and what they feed: the claims'
+    beyond-mass columns, which stay "not run" without the experiments whose
+    claims they control (a run of the controls alone judges no claim)."""
+    if "controls" not in rep.wall_s:
+        return
+    where = os.path.join(rep.out_dir, "controls_hops.csv")
+    claims_run = [k for k in rep.wall_s if k in ("exp1", "exp2", "exp3")]
+    line = f"controls: {where} and controls_runs.csv beside it; they feed claims.csv's beyond-mass columns"
+    line += " (vs_rigid_twin, vs_mass_matched, beyond_mass)"
+    if not claims_run:
+        line += ", judged beside experiments 1-3: rerun with --experiments 1,2,3,controls (runs already made come from the cache)"
+    print(line)
 
 
 def register_cli(sub) -> None:

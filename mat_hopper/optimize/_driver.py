@@ -91,6 +91,7 @@ from ._study import (
     TRIAL_BACKEND_ATTR,
     RunOptions,
     StudyConfig,
+    StudyMismatch,
     check_objectives_vary,
     counts,
     create_or_load,
@@ -210,7 +211,11 @@ def _run(config: StudyConfig, options: RunOptions, url: str, evaluator: Evaluato
     storage = options.open(config.name)
     study = create_or_load(config, storage, backend=evaluator.backend)
     if RACING_ATTR in study.user_attrs:  # its open bracket's trials stay RUNNING
-        raise ValueError(f"study {config.name!r} is a racing study (mat_hopper.optimize.run_racing): resume it there")
+        raise StudyMismatch(
+            f"study {config.name!r} is a racing study (mat_hopper.optimize.run_racing): resume it there",
+            config.name,
+            "racing",
+        )
     recovered = _recover(study, storage, options.max_retry)
     done, running = counts(study)
     result = RunResult(config.name, redact(url), options.trials, done, running, recovered=recovered)

@@ -61,7 +61,7 @@ from ._mass import SKIPPED_ATTR, outside_band, queued_seeds
 from ._objective import OBJECTIVES, Evaluation, Objective, record_evaluation
 from ._samplers import make_sampler, sampler_seed
 from ._storage import ERROR_ATTR, WORKER_ATTR
-from ._study import RACING_ATTR, StudyConfig, _quiet, create_or_load
+from ._study import RACING_ATTR, StudyConfig, StudyMismatch, _quiet, create_or_load, differences
 
 BRACKET_ATTR = "mat_hopper_bracket"  # study user attr: the open (or last) bracket
 RUNG_ATTR = "rung"  # trial user attrs rung0, rung1, ...: a rung's record
@@ -278,10 +278,21 @@ def _check_racing(study: optuna.Study, racing: Racing) -> None:
     stored = study.user_attrs.get(RACING_ATTR)
     if stored is None:
         if any(t.state == TrialState.COMPLETE for t in study.get_trials(deepcopy=False)):
-            raise ValueError(f"study {study.study_name!r} was not run by racing: use a new study name")
+            raise StudyMismatch(
+                f"study {study.study_name!r} was not run by racing: use a new study name",
+                study.study_name,
+                "not racing",
+            )
         study.set_user_attr(RACING_ATTR, racing.key())
     elif stored != racing.key():
-        raise ValueError(f"study {study.study_name!r} races with other settings ({stored}); use its own or a new name")
+        diff = differences({"racing": stored}, {"racing": racing.key()})
+        text = "; ".join(f"{k}: study has {va!r}, asked {vb!r}" for k, va, vb in diff)
+        raise StudyMismatch(
+            f"study {study.study_name!r} races with other settings ({text}); use its own or a new name",
+            study.study_name,
+            "settings",
+            diff,
+        )
 
 
 def closed_brackets(study: optuna.Study) -> int:

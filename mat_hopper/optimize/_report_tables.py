@@ -33,7 +33,9 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
     left out. No wall-clock columns. A trial whose runs diverged has its
     objective columns empty (NaN): the values Optuna holds for it are
     whole-run means of a run cut short, kept for the sampler, which would
-    look better than any feasible trial's; ``not_feasible_because`` names
+    look better than any feasible trial's, and so are its standard errors,
+    hop height (m) and constraint values other than ``unstable``;
+    ``not_feasible_because`` names
     why a trial is not feasible (``diverged``, ``fell``, ..., and for a
     trial racing stopped on a screening rung ``diverged (screening
     rung)`` or ``pruned by racing (ranked out)``; empty when it is).
@@ -64,12 +66,16 @@ def trials_frame(study: optuna.Study, config: StudyConfig) -> pd.DataFrame:
         }
         why = trial_outcome(t, config.objective.constraint_names)
         row["not_feasible_because"] = why or ""
-        if t.state == TrialState.COMPLETE and t.values is not None and why != "diverged":
+        diverged = (why or "").startswith("diverged")  # also "diverged (screening rung)"
+        if t.state == TrialState.COMPLETE and t.values is not None and not diverged:
             row.update(dict(zip(objectives, t.values)))  # a diverged run's values are for the sampler only: empty
-        se = ua.get(SE_ATTR) or {}
+        se = {} if diverged else ua.get(SE_ATTR) or {}
         row.update({f"{o}_se": np.nan if se.get(o) is None else se[o] for o in objectives})
         c = t.constraints
         row.update({f"constraint_{n}": c.get(n, np.nan) for n in config.objective.constraint_names})
+        if diverged:  # every number measured on runs cut short is empty; "unstable" says they diverged
+            row["hop_height_m"] = np.nan
+            row.update({f"constraint_{n}": np.nan for n in config.objective.constraint_names if n != "unstable"})
         try:
             design = space.design(t.params)
             row["leg_mass_kg"] = leg_mass_kg(design, config.objective.segment_mass)  # the objective's too

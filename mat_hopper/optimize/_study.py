@@ -337,14 +337,33 @@ def stored_config(name: str, storage) -> StudyConfig | None:
     return StudyConfig.from_key(name, key) if key else None
 
 
-def _differences(a: dict, b: dict, prefix: str = "") -> list[str]:
+class StudyMismatch(ValueError):
+    """A study that exists cannot run as asked. `kind` says why:
+    ``"settings"`` (its stored settings differ; `differences` holds
+    (field path, stored value, asked value), a profile that differs by name
+    as one ``objective.profile`` entry), ``"racing"`` (a racing study
+    resumed by the plain loop) or ``"not racing"`` (a plain study resumed by
+    racing)."""
+
+    def __init__(self, message: str, name: str, kind: str, differences: tuple = ()):
+        super().__init__(message)
+        self.name, self.kind, self.differences = name, kind, tuple(differences)
+
+
+def differences(a: dict, b: dict, prefix: str = "") -> list[tuple[str, object, object]]:
+    """(dotted field path, value in `a`, value in `b`) of each field of two
+    nested settings dicts that differs; two profiles of other names are
+    one entry, by name (their fields follow from the names)."""
     out = []
     for k in sorted(set(a) | set(b)):
         va, vb = a.get(k), b.get(k)
         if isinstance(va, dict) and isinstance(vb, dict):
-            out += _differences(va, vb, f"{prefix}{k}.")
+            if "name" in va and "name" in vb and va["name"] != vb["name"]:
+                out.append((f"{prefix}{k}", va["name"], vb["name"]))
+            else:
+                out += differences(va, vb, f"{prefix}{k}.")
         elif va != vb:
-            out.append(f"{prefix}{k}: study has {va!r}, asked {vb!r}")
+            out.append((f"{prefix}{k}", va, vb))
     return out
 
 
@@ -410,10 +429,13 @@ def create_or_load(
             study.enqueue_trial(params, user_attrs={PAPER_ATTR: name}, skip_if_exists=True)
         study.set_user_attr(CONFIG_ATTR, config.key())  # last: the study is ready
     elif stored != config.key():
-        diff = _differences(stored, config.key())
-        raise ValueError(
-            f"study {config.name!r} exists with other settings ({'; '.join(diff)}); "
-            "use a new --study name or the study's own settings"
+        diff = differences(stored, config.key())
+        text = "; ".join(f"{k}: study has {va!r}, asked {vb!r}" for k, va, vb in diff)
+        raise StudyMismatch(
+            f"study {config.name!r} exists with other settings ({text}); use a new study name or the study's own settings",
+            config.name,
+            "settings",
+            diff,
         )
     return study
 

@@ -130,9 +130,21 @@ def enough_for_importances(study: optuna.Study) -> bool:
     return sum(1 for t in complete if not t.user_attrs.get("paper_design")) >= MIN_SAMPLED_TRIALS
 
 
+def _scored_study(study: optuna.Study) -> optuna.Study:
+    """An in-memory copy of `study`'s COMPLETE trials whose runs did not
+    diverge: those whose values say something about their parameters."""
+    out = optuna.create_study(directions=study.directions)
+    out.add_trials(
+        t
+        for t in study.get_trials(deepcopy=False, states=(TrialState.COMPLETE,))
+        if not (fall_reason((t.user_attrs.get(RESULT_ATTR) or {}).get("per_behaviour")) or "").startswith("diverged")
+    )
+    return out
+
+
 def importances(study: optuna.Study) -> pd.DataFrame:
-    """Parameter importances (Optuna's default, PED-ANOVA) per objective;
-    empty until the sampler has chosen MIN_SAMPLED_TRIALS finished trials.
+    """Parameter importances (Optuna's default, PED-ANOVA) per objective,
+    over the finished trials whose runs did not diverge; empty until the sampler has chosen MIN_SAMPLED_TRIALS finished trials.
 
     Args:
         study: an ``optuna.Study`` of ours; its ``metric_names`` (else the
@@ -147,13 +159,14 @@ def importances(study: optuna.Study) -> pd.DataFrame:
         :func:`enough_for_importances` is False.
     """
     rows = []
-    if not enough_for_importances(study):
+    scored = _scored_study(study)  # a diverged trial's values are whole-run means of runs cut short
+    if not enough_for_importances(scored):
         return pd.DataFrame(columns=["objective", "param", "importance"])
     for i, obj in enumerate(study.metric_names or OBJECTIVES):
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                imp = optuna.importance.get_param_importances(study, target=lambda t, i=i: t.values[i])
+                imp = optuna.importance.get_param_importances(scored, target=lambda t, i=i: t.values[i])
         except (ValueError, RuntimeError, ZeroDivisionError):
             continue
         rows += [{"objective": obj, "param": k, "importance": float(v)} for k, v in imp.items()]

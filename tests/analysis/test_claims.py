@@ -198,3 +198,17 @@ def test_conventions_and_basis_any_case():
     assert set(mixed["convention"]) == {"paper"}
     with pytest.raises(ValueError, match="unknown stiffness convention 'radial'"):
         claims.claims_table(None, None, s, conventions=("radial",))
+
+
+def test_a_ratio_to_mds_zero_tracking_in_place_is_undefined_not_judged():
+    """Unperturbed, MD hops in place with a tracking error of round-off
+    (2.5e-17 m): SS's percent change against it has no value, so static is
+    named undefined with why and the verdict comes from the other three."""
+    hops, runs = results(n=20)
+    static = hops["behaviour"] == "static"
+    hops.loc[static & (hops["design"] == "MD"), "tracking_error_m"] = 2.5e-17
+    hops.loc[static & (hops["design"] == "SS"), "tracking_error_m"] = 1.0e-17
+    row = claims.claims_table(hops, runs, conventions=("paper",)).set_index("claim_id").loc["tracking_ss_55"]
+    assert row["ours"].startswith("static undefined (MD tracks exactly in place")
+    assert "nan" not in row["ours"] and "static: undefined: MD tracks exactly in place" in row["detail"]
+    assert row["verdict"] == claims.PARTLY  # forward, ramp and circle hold; static cannot

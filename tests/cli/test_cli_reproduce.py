@@ -77,3 +77,18 @@ def test_a_reproduction_whose_runs_diverged_exits_1_and_says_so(tmp_path, capsys
     with pytest.raises(SystemExit):
         main(["reproduce", "--help"])
     assert "1 when a task failed or any run of experiments 1-3" in " ".join(capsys.readouterr().out.split())
+
+
+def test_a_run_of_the_controls_alone_says_where_they_are_and_what_they_feed(tmp_path, capsys):
+    """The controls judge no claim by themselves: their line names their
+    tables and the claims' columns they feed, and asks for experiments 1-3."""
+    from types import SimpleNamespace
+
+    from mat_hopper.cli.reproduce import _controls_note
+
+    _controls_note(SimpleNamespace(wall_s={"controls": 40.0, "figures": 2.0}, out_dir=str(tmp_path)))
+    line = capsys.readouterr().out
+    assert str(tmp_path / "controls_hops.csv") in line and "beyond_mass" in line
+    assert "--experiments 1,2,3,controls" in line
+    _controls_note(SimpleNamespace(wall_s={"exp1": 30.0, "controls": 40.0}, out_dir=str(tmp_path)))
+    assert "--experiments" not in capsys.readouterr().out  # judged with experiment 1 already

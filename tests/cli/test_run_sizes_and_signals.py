@@ -549,3 +549,16 @@ def test_batch_divergence_under_stiff_springs_names_a_way_out(here, capsys):
     code = main(["batch", "--designs", "Ti", "--convention", "axial", "--duration", "0.05", "--transient", "0.01"])
     out = capsys.readouterr().out
     assert code == 1 and "1 of 1 design diverged" in out and "try --timestep auto" in out  # a diverged run: exit 1
+
+
+def test_ctrl_c_during_start_up_is_one_line_and_exit_130(monkeypatch, capsys):
+    """An interrupt while the command's modules load (before its run) is
+    answered as one mid-run: "interrupted", exit 128 + SIGINT's 2."""
+    import mat_hopper.cli as cli
+
+    def slow_imports(command=None):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "build_parser", slow_imports)
+    assert cli.main(["simulate", "--design", "SS"]) == 130
+    assert capsys.readouterr().err == "interrupted\n"

@@ -27,7 +27,8 @@ from mat_hopper.optimize import (
 )
 from mat_hopper.optimize._feasibility import LEFT_OUT_ATTR, PRUNED_WHY_ATTR
 from mat_hopper.optimize._objective import RESULT_ATTR
-from mat_hopper.optimize.report import _outside_band
+from mat_hopper.optimize._scoring import SE_ATTR
+from mat_hopper.optimize.report import _outside_band, importances
 
 
 def _config(n_segments: int = 5, **objective) -> StudyConfig:
@@ -94,6 +95,48 @@ def test_a_diverged_trial_has_no_objective_values_in_the_trials_table():
     frame = trials_frame(study, config)
     assert math.isnan(frame.loc[0, "tracking_error_m"]) and math.isnan(frame.loc[0, "power_w"])
     assert frame.loc[0, "not_feasible_because"] == "diverged"
+
+
+def test_a_diverged_trials_standard_errors_hop_height_and_constraints_are_empty_too():
+    """Every number measured on runs cut short is empty, on a full-fidelity
+    trial and on one racing stopped on a screening rung; ``unstable`` (which
+    says that they diverged) is kept."""
+    config = _config(3)
+    study = optuna.create_study(directions=["minimize", "minimize"])
+    rows = [{"behaviour": "ramp", "upright": False, "diverged_at_s": 0.004, "replicate": -1}]
+    result = {"feasible": False, "per_behaviour": rows, "hop_height_m": 0.8958}
+    se = {"tracking_error_m": 0.000866, "power_w": 195044.43}
+    study.add_trial(
+        create_trial(
+            state=TrialState.COMPLETE,
+            values=[0.003, 0.01],
+            user_attrs={RESULT_ATTR: result, SE_ATTR: se},
+            constraints={"hop_height": 0.5, "unstable": 1.0},
+        )
+    )
+    study.add_trial(create_trial(state=TrialState.PRUNED, user_attrs={PRUNED_WHY_ATTR: "diverged", SE_ATTR: se}))
+    frame = trials_frame(study, config)
+    assert list(frame["not_feasible_because"]) == ["diverged", "diverged (screening rung)"]
+    blank = ["tracking_error_m_se", "power_w_se", "hop_height_m", "constraint_hop_height"]
+    assert frame[blank].isna().all().all()
+    assert frame.loc[0, "constraint_unstable"] == 1.0
+
+
+def test_importances_leave_out_the_trials_that_diverged():
+    """Three trials that stood and one that diverged: fewer than the four
+    sampled trials importances need, so none (the diverged one's values
+    would count otherwise)."""
+    study = optuna.create_study(directions=["minimize", "minimize"])
+    dist = {"x": optuna.distributions.FloatDistribution(0.0, 1.0)}
+    ok = {RESULT_ATTR: {"feasible": True, "per_behaviour": [{"behaviour": "ramp", "upright": True}]}}
+    bad = [{"behaviour": "ramp", "upright": False, "diverged_at_s": 0.004, "replicate": -1}]
+    for x, attrs in ((0.1, ok), (0.5, ok), (0.9, ok), (0.3, {RESULT_ATTR: {"feasible": False, "per_behaviour": bad}})):
+        study.add_trial(
+            create_trial(
+                state=TrialState.COMPLETE, values=[x, 1 - x], params={"x": x}, distributions=dist, user_attrs=attrs
+            )
+        )
+    assert importances(study).empty
 
 
 def test_an_exported_diverged_trial_says_so_in_its_row_and_its_lines(tmp_path, capsys):
