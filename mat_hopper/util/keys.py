@@ -83,6 +83,7 @@ RESULT_MODULES = (
     "util/keys",
     "experiments/cache",
     "experiments/runner",
+    "experiments/groups",
 )
 
 
