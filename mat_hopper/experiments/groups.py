@@ -13,8 +13,9 @@ with a 20 s transient save 20 s of every replicate but one: with the
 unperturbed run and 10 replicates, 11 x 60 s become 20 + 11 x 40 s, 30 %
 fewer physics steps.
 
-A unit is one task or one group; :func:`execute_unit` is the worker's entry
-and never raises (a failed task, or a failed prefix for every run of its
+A unit is one task or one group (halved where a grid has too few units to
+keep its processes busy, :func:`prefix_units`); :func:`execute_unit` is the
+worker's entry and never raises (a failed task, or a failed prefix for every run of its
 group, is an error text: a ``failed`` row).
 """
 
@@ -28,7 +29,11 @@ from ..core.sim import RolloutRunner, route_mujoco_warnings
 from ..util.keys import design_key, hash_key, settings_key
 from ..util.limits import task_steps
 
-__all__ = ["execute_unit", "prefix_key", "prefix_units", "shared_prefix_steps", "unit_steps"]
+__all__ = ["UNITS_PER_WORKER", "execute_unit", "prefix_key", "prefix_units", "shared_prefix_steps", "unit_steps"]
+
+# Units of work per process at least, where groups can be halved to give them
+# (prefix_units): the pool's makespan against the prefixes simulated again.
+UNITS_PER_WORKER = 2
 
 
 def prefix_key(task) -> str | None:
@@ -57,13 +62,18 @@ def prefix_key(task) -> str | None:
     )
 
 
-def prefix_units(keys, tasks: dict) -> list[tuple[str, ...]]:
+def prefix_units(keys, tasks: dict, workers: int | None = None) -> list[tuple[str, ...]]:
     """The units of work of `keys`: each group of runs sharing a prefix, and
     every other task alone, the largest units first.
 
     Args:
         keys: task keys (distinct), in the order to keep among equals.
         tasks: key -> task.
+        workers: the processes that will run the units (None or 1: no
+            split). Fewer than :data:`UNITS_PER_WORKER` units per process
+            would leave processes idle while one computes a whole group: the
+            largest groups are then halved (each half simulating the prefix
+            again) until there are that many units or none can be halved.
 
     Returns:
         list of tuples of keys: a group's keys in the order given; sorted by
@@ -75,7 +85,22 @@ def prefix_units(keys, tasks: dict) -> list[tuple[str, ...]]:
         group = prefix_key(tasks[k])
         units.setdefault(k if group is None else ("group", group), []).append(k)
     out = [tuple(u) for u in units.values()]
+    if workers is not None and workers > 1:
+        out = _split(out, tasks, UNITS_PER_WORKER * workers)
     return sorted(out, key=lambda u: -unit_steps([tasks[k] for k in u]))
+
+
+def _split(units: list, tasks: dict, target: int) -> list:
+    """Halve the largest group (by physics steps) until there are `target` units or none has 2 runs."""
+    units = list(units)
+    while len(units) < target:
+        groups = [u for u in units if len(u) > 1]
+        if not groups:
+            break
+        big = max(groups, key=lambda u: unit_steps([tasks[k] for k in u]))
+        i, half = units.index(big), (len(big) + 1) // 2
+        units[i : i + 1] = [big[:half], big[half:]]
+    return units
 
 
 def shared_prefix_steps(tasks) -> float:

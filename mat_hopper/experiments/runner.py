@@ -269,7 +269,8 @@ class Runner:
                 results[k] = got
         n_cached = len(results)
         # units of work (a task, or runs sharing a branch prefix), longest first (the pool's makespan)
-        todo = prefix_units([k for k in unique if k not in results], unique)
+        workers = None if self.scheduler is not None else self.n_workers
+        todo = prefix_units([k for k in unique if k not in results], unique, workers)
 
         from ..util.progress import progress_bar
 

@@ -61,6 +61,20 @@ def test_only_branch_runs_of_one_design_behaviour_and_settings_are_grouped():
     assert unit_steps(ramp_tasks(TINY, ("SS", "MD"))) == 8 * 20000
 
 
+def test_groups_are_halved_to_keep_every_worker_busy():
+    tasks = ramp_tasks(dataclasses.replace(BRANCH, replicates=10))  # one group of 11 runs
+    unique = {t.key(): t for t in tasks}
+    assert [len(u) for u in prefix_units(list(unique), unique, workers=1)] == [11]
+    units = prefix_units(list(unique), unique, workers=2)  # 2 units per worker: 11 -> 6 + 5 -> 3 + 3 + 3 + 2
+    assert sorted(map(len, units)) == [2, 3, 3, 3]
+    assert sorted(k for u in units for k in u) == sorted(unique)
+    for u in units:  # each half keeps the grid's order
+        assert list(u) == [k for k in unique if k in u]
+    many = ramp_tasks(BRANCH, ("SS", "MD", "PVC", "Al"))  # 4 groups of 4: enough units for 2 workers
+    unique = {t.key(): t for t in many}
+    assert sorted(map(len, prefix_units(list(unique), unique, workers=2))) == [4, 4, 4, 4]
+
+
 @pytest.fixture(scope="module")
 def alone():
     """Each branch replicate computed alone (its own unit): (key, table, summary)."""
