@@ -29,7 +29,15 @@ from ..core.sim import RolloutRunner, route_mujoco_warnings
 from ..util.keys import design_key, hash_key, settings_key
 from ..util.limits import task_steps
 
-__all__ = ["UNITS_PER_WORKER", "execute_unit", "prefix_key", "prefix_units", "shared_prefix_steps", "unit_steps"]
+__all__ = [
+    "UNITS_PER_WORKER",
+    "execute_unit",
+    "iter_unit",
+    "prefix_key",
+    "prefix_units",
+    "shared_prefix_steps",
+    "unit_steps",
+]
 
 # Units of work per process at least, where groups can be halved to give them
 # (prefix_units): the pool's makespan against the prefixes simulated again.
@@ -151,30 +159,47 @@ def execute_unit(tasks) -> list[tuple]:
         tasks: the unit's tasks: one task, or runs of one :func:`prefix_key`.
 
     Returns:
-        One (key, table, summary, error text) per task, in order: the table
-        and summary of its ``compute()`` (a group's runs: of its
-        ``summarize(rollout)`` on its fork), or None, None and the error.
+        ``list(iter_unit(tasks))``: one (key, table, summary, error text) per task, in order.
+    """
+    return list(iter_unit(tasks))
+
+
+def iter_unit(tasks):
+    """Compute a unit's tasks one by one (:func:`execute_unit`), so that a
+    caller in this process stores each result as it comes (a run killed
+    part-way through a group keeps the replicates it finished).
+
+    Args:
+        tasks: one task, or runs of one :func:`prefix_key`.
+
+    Yields:
+        (key, table, summary, None) of each task's ``compute()`` (a group's
+        runs: of its ``summarize(rollout)`` on its fork), or (key, None,
+        None, error text), in order; a failed prefix fails every run of
+        its group.
     """
     route_mujoco_warnings()
     tasks = list(tasks)
     keys = [t.key() for t in tasks]
     if len(tasks) == 1:
         try:
-            return [(keys[0], *tasks[0].compute(), None)]
+            yield (keys[0], *tasks[0].compute(), None)
         except Exception as e:  # a failed row, not a crashed grid
-            return [(keys[0], None, None, _error(e))]
+            yield (keys[0], None, None, _error(e))
+        return
     if len({prefix_key(t) for t in tasks} - {None}) != 1 or prefix_key(tasks[0]) is None:
-        return [(k, None, None, "a group's runs must share one branch prefix") for k in keys]
+        yield from ((k, None, None, "a group's runs must share one branch prefix") for k in keys)
+        return
     first = tasks[0]
     try:
         base = RolloutRunner(first.design, first.behaviour, replace(first.settings, perturbation=None))
         base.advance(branch_step(first.settings.transient_s, first.settings.timestep_s))
     except Exception as e:
-        return [(k, None, None, f"the shared prefix failed: {_error(e)}") for k in keys]
-    out = []
+        yield from ((k, None, None, f"the shared prefix failed: {_error(e)}") for k in keys)
+        return
     for k, t in zip(keys, tasks):
         try:
-            out.append((k, *t.summarize(base.fork_as(t.settings).advance().result()), None))
+            got = (k, *t.summarize(base.fork_as(t.settings).advance().result()), None)
         except Exception as e:
-            out.append((k, None, None, _error(e)))
-    return out
+            got = (k, None, None, _error(e))
+        yield got

@@ -8,7 +8,9 @@ physics steps and time steps. Nothing is simulated: a task's key and its
 physics steps (:func:`mat_hopper.util.limits.task_steps`) are known before
 it runs. The ``branch`` replicates of one design, behaviour and settings
 share the unperturbed prefix [0, transient_s), which the runner computes
-once: the physics steps count it once (:func:`mat_hopper.experiments.groups.unit_steps`);
+once: the physics steps count it once per group and chapter
+(:func:`mat_hopper.experiments.groups.unit_steps`; a pool with fewer than
+two units of work per process halves groups, simulating a prefix again);
 the simulated seconds are every run's whole duration.
 
 The chapters (:data:`CHAPTERS`) build their runs with the very task builders

@@ -57,7 +57,7 @@ from ..util.keys import design_key, hash_key, settings_key, versions
 from ..util.pool import default_workers, stop_pool
 from ._grid import FAILED, assemble
 from .cache import Cache
-from .groups import execute_unit, prefix_units
+from .groups import execute_unit, iter_unit, prefix_units
 
 _log = logging.getLogger("mat_hopper.cache")
 
@@ -307,8 +307,8 @@ class Runner:
         if self.scheduler is not None:
             yield from self._compute_dask(todo, unique)
         elif self.n_workers == 1 or len(todo) == 1:
-            for unit in todo:
-                yield from execute_unit([unique[k] for k in unit])
+            for unit in todo:  # each result stored as it comes
+                yield from iter_unit([unique[k] for k in unit])
         else:
             yield from self._compute_pool(todo, unique)
 
