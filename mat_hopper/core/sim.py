@@ -42,10 +42,8 @@ from ._loop import (
     MJ_STEP1,
     MJ_STEP2,
     N_CHANNELS,
-    NO_NOISE_EVERY,
     RECORD_DTYPE,
     C,
-    Disturbance,
     Path,
     Steps,
     StressProbe,
@@ -68,15 +66,17 @@ from .controller import (
     initial_state,
 )
 from .damping import DEFAULT_DAMPING, check_damping
-from .materials import (
-    DEFAULT_CONVENTION,
-    DEFAULT_SEGMENT_MASS,
-    as_design,
-    check_convention,
-    check_segment_mass,
-)
+from .materials import DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, as_design, check_convention, check_segment_mass
 from .model import check_timestep, prepare, stress_gains
-from .perturbations import NO_PUSH, Perturbation
+from .perturbations import Perturbation
+from .replicates import (
+    DEFAULT_REPLICATE_PROTOCOL,
+    check_branch_fork,
+    check_branch_push,
+    check_replicate_protocol,
+    kick_base,
+    replicate_draws,
+)
 from .rollout import Rollout, divergence_reason
 from .timestep import is_auto, resolve_timestep, warn_stable_step
 
@@ -178,6 +178,9 @@ class SimSettings:
         contact: ``"authors"`` (default: MuJoCo's solref 0.02 1) or ``"stiff"`` (0.001 1), any case (contact.CONTACTS).
         apex_reference: what the controller's hop height is measured from, ``"world"`` (default: world z, the
             authors') or ``"ground"`` (the terrain under the foot at lift-off); controller.APEX_REFERENCES.
+        replicate_protocol: when the perturbation acts, ``"authors"`` (default: from step 0) or ``"branch"``
+            (from ``transient_s``, after an unperturbed prefix; its push must fall at or after
+            ``transient_s``); any case (:mod:`mat_hopper.core.replicates`).
 
     Raises:
         ValueError: on any invalid value, naming the field.
@@ -196,6 +199,7 @@ class SimSettings:
     damping: str = DEFAULT_DAMPING  # "authors" (1 N s/m) or "loss-factor" (damping.LOSS_FACTORS)
     contact: str = DEFAULT_CONTACT  # "authors" (solref 0.02 1) or "stiff" (contact.CONTACTS)
     apex_reference: str = DEFAULT_APEX_REFERENCE  # "world" or "ground" (controller.APEX_REFERENCES)
+    replicate_protocol: str = DEFAULT_REPLICATE_PROTOCOL  # "authors" or "branch" (replicates.REPLICATE_PROTOCOLS)
 
     def __post_init__(self):
         # One check per field (a new field adds its own line); then the checks across fields.
@@ -205,6 +209,7 @@ class SimSettings:
         object.__setattr__(self, "damping", check_damping(self.damping))
         object.__setattr__(self, "contact", check_contact(self.contact))
         object.__setattr__(self, "apex_reference", check_apex_reference(self.apex_reference))
+        object.__setattr__(self, "replicate_protocol", check_replicate_protocol(self.replicate_protocol))
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -223,6 +228,7 @@ class SimSettings:
         if self.perturbation is not None and not isinstance(self.perturbation, Perturbation):
             raise ValueError("perturbation must be a Perturbation or None")
         self._check_run_size()
+        check_branch_push(self)
 
     def _check_run_size(self) -> None:
         if not self.duration_s > self.transient_s:
@@ -334,17 +340,7 @@ class RolloutRunner:
         self.design = as_design(design)
         self.behaviour = get_behaviour(behaviour)
         self.settings = settings
-        p = settings.perturbation
-        if p is None:
-            offset, tilt, self._push, self._noise, self._noise_every = (
-                (0.0, 0.0),
-                (0.0, 0.0),
-                NO_PUSH,
-                np.zeros((1, 6)),
-                NO_NOISE_EVERY,
-            )
-        else:
-            offset, tilt, self._push, self._noise, self._noise_every = p.draw(settings.duration_s, settings.timestep_s)
+        offset, tilt = self._draw(settings)
         self.hopper, self.data = prepare(self.design, self.behaviour, settings, offset, tilt)
         n_rec = settings.n_steps // settings.record_every + 2
         self._rec = np.zeros(n_rec, RECORD_DTYPE)
@@ -367,12 +363,18 @@ class RolloutRunner:
         self._buffers = buffers(self.data)
         beh = self.behaviour
         self._path = Path(beh.path_code, beh.path_params, beh.table_xy_m)
-        self._disturbance = Disturbance(self._push, self._noise, self._noise_every)
         self._jerk = jerk_filter(settings.timestep_s)
         self.step = 0
         self._n_rec = 0
         self._n_ev = 0
         self.diverged_step = -1
+
+    def _draw(self, settings: SimSettings) -> tuple:
+        """Set the disturbances of `settings`' perturbation (:func:`replicate_draws`;
+        ``_branch_at`` -1: no branch pending); return the start (offset m, tilt rad)."""
+        d = replicate_draws(settings)
+        self._disturbance, self._scored, self._kick, self._branch_at = d.disturbance, d.scored, d.kick, d.branch_at
+        return d.start_xy_m, d.tilt_rad
 
     @property
     def done(self) -> bool:
@@ -406,6 +408,26 @@ class RolloutRunner:
         twin._probe = self._probe._replace(peak=self._probe.peak.copy())
         return twin
 
+    def fork_as(self, settings: SimSettings) -> RolloutRunner:
+        """A fork that goes on as another ``branch`` replicate of this run, whose replicates share the
+        unperturbed prefix [0, transient_s): simulated once, forked for each (:mod:`.replicates`).
+
+        Args:
+            settings: the replicate's SimSettings: this run's but for the perturbation, ``branch``.
+
+        Returns:
+            A new :class:`RolloutRunner` at this step that ends bit-identical to one of `settings` run alone.
+
+        Raises:
+            ValueError: not ``branch``, other settings, or a run past its prefix (:func:`check_branch_fork`).
+        """
+        pending = self.settings.perturbation is None or self._branch_at >= 0
+        check_branch_fork(self.settings, settings, self.step, pending)
+        twin = self.fork()
+        twin.settings = settings
+        twin._draw(settings)
+        return twin
+
     def advance(self, n_steps: int | None = None) -> RolloutRunner:
         """Run up to n_steps more physics steps (all that remain by default)."""
         if self.done:
@@ -414,7 +436,11 @@ class RolloutRunner:
         n = remaining if n_steps is None else min(int(n_steps), remaining)
         end = self.step + n
         while self.step < end and self.diverged_step < 0:  # signals are handled between chunks
-            self._advance_chunk(min(end - self.step, loop_chunk_steps(self.design.n_segments)))
+            if self.step == self._branch_at:  # a branch replicate at transient_s: the kick, then noise and push
+                kick_base(self.data.qvel, self.hopper.layout.base_dof, self._kick)
+                self._disturbance, self._branch_at = self._scored, -1
+            stop = end if self.step >= self._branch_at else min(end, self._branch_at)  # a chunk ends at the branch
+            self._advance_chunk(min(stop - self.step, loop_chunk_steps(self.design.n_segments)))
         return self
 
     def _advance_chunk(self, n: int) -> None:
@@ -486,6 +512,7 @@ def simulate(
     damping: str | None = None,
     contact: str | None = None,
     apex_reference: str | None = None,
+    replicate_protocol: str | None = None,
     record_qpos: bool = False,
     settings: SimSettings | None = None,
     warn: bool = True,
@@ -518,6 +545,7 @@ def simulate(
             (:mod:`mat_hopper.core.damping`).
         contact: ``"authors"`` or ``"stiff"``, any case (:mod:`mat_hopper.core.contact`).
         apex_reference: ``"world"`` or ``"ground"``, any case (:mod:`mat_hopper.core.controller`).
+        replicate_protocol: ``"authors"`` or ``"branch"``, any case (:mod:`mat_hopper.core.replicates`).
         record_qpos: also keep all joint positions (``Rollout.qpos``, (n, nq)) for rendering.
         settings: a SimSettings giving all of the settings at once; then no
             other setting may be given.
@@ -554,6 +582,7 @@ def simulate(
             ("damping", damping),
             ("contact", contact),
             ("apex_reference", apex_reference),
+            ("replicate_protocol", replicate_protocol),
         )
         if value is not None
     }

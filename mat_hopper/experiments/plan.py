@@ -6,7 +6,12 @@ an earlier chapter already requested (the same cache key: computed once),
 how many are in the result cache now, and their simulated seconds,
 physics steps and time steps. Nothing is simulated: a task's key and its
 physics steps (:func:`mat_hopper.util.limits.task_steps`) are known before
-it runs.
+it runs. The ``branch`` replicates of one design, behaviour and settings
+share the unperturbed prefix [0, transient_s), which the runner computes
+once: the physics steps count it once per group and chapter
+(:func:`mat_hopper.experiments.groups.unit_steps`; a pool with fewer than
+two units of work per process halves groups, simulating a prefix again);
+the simulated seconds are every run's whole duration.
 
 The chapters (:data:`CHAPTERS`) build their runs with the very task builders
 the notebooks' calls run: :func:`~mat_hopper.experiments.reproduce.experiment_tasks`
@@ -39,6 +44,7 @@ import pandas as pd
 
 from ..util.limits import task_steps
 from . import controls, convergence
+from .groups import unit_steps
 from .paper import axial_check_tasks, clock_tasks, convention_tasks, in_place_tasks, parse_experiments
 from .profiles import get_profile
 from .reproduce import experiment_tasks
@@ -248,13 +254,13 @@ def _task_row(chapter: str, kind: str, tasks: list, seen: set, cached: set) -> d
         "shared_with_earlier": len(tasks) - len(new),
         "cached": sum(t.key() in cached for t in tasks),
         "simulated_s": sum(map(_seconds, tasks)),
-        "physics_steps": sum(map(task_steps, tasks)),
+        "physics_steps": unit_steps(tasks),
         "timesteps": _timesteps(_steps_text(t) for t in tasks),
         "new_simulated_s": sum(map(_seconds, new)),
-        "new_physics_steps": sum(map(task_steps, new)),
+        "new_physics_steps": unit_steps(new),
         "to_compute": len(todo),
         "to_compute_simulated_s": sum(map(_seconds, todo)),
-        "to_compute_steps": sum(map(task_steps, todo)),
+        "to_compute_steps": unit_steps(todo),
         "note": "stable-step searches: their tries at most" if bound else "",
     }
 

@@ -21,6 +21,7 @@ from ..core import reference as ref
 from ..core.controller import SensorTiming
 from ..core.materials import BENDING_CONVENTIONS, check_convention
 from ..core.perturbations import Perturbation
+from ..core.replicates import DEFAULT_REPLICATE_PROTOCOL
 from ..core.sim import SimSettings, sim_settings
 from ..core.timestep import AUTO, is_auto
 
@@ -75,6 +76,10 @@ PROFILE_KEYS = (
     "push_scale",
     "substep_studies",
 )
+# Keys recorded only when not at their default (then after PROFILE_KEYS, as
+# Profile's last arguments): a profile that leaves them keeps the study and
+# cache keys it had before they existed.
+OPTIONAL_KEYS = {"replicate_protocol": DEFAULT_REPLICATE_PROTOCOL}
 # The SimSettings fields a profile sets for every run (Profile.run); a run
 # adds the rest (its perturbation, controller, substeps, damping).
 RUN_SETTINGS = (
@@ -85,6 +90,7 @@ RUN_SETTINGS = (
     "convention",
     "sensor_timing",
     "segment_mass",
+    "replicate_protocol",
 )
 # Every run setting but the run length and transient (which a profile must
 # give) defaults to SimSettings' own default.
@@ -133,7 +139,12 @@ class Profile:
     axial arms (:func:`mat_hopper.experiments.controls.attribution_tasks`).
     The paper profile runs them; the quick profile (CI's book, a smoke
     build whose 2 seeds test nothing) leaves them out, and the chapters
-    say so.
+    say so; replicate_protocol: when a replicate's perturbations begin,
+    ``"authors"`` (default: from step 0) or ``"branch"`` (from transient_s,
+    after the unperturbed run's prefix, which the runner then computes once
+    per design and behaviour: :mod:`mat_hopper.core.replicates`,
+    :mod:`mat_hopper.experiments.groups`); a key only when ``branch``
+    (:data:`OPTIONAL_KEYS`).
 
     The run settings (:data:`RUN_SETTINGS`: duration_s, transient_s,
     timestep_s, record_rate_hz, convention, sensor_timing, segment_mass) are
@@ -171,6 +182,7 @@ class Profile:
     convention = _run_setting("convention", "The stiffness convention, as spelled in CONVENTIONS")
     sensor_timing = _run_setting("sensor_timing", "When the controller reads the base (a SensorTiming)")
     segment_mass = _run_setting("segment_mass", "The segment-mass convention, as spelled in SEGMENT_MASSES")
+    replicate_protocol = _run_setting("replicate_protocol", "When a replicate's perturbations begin")
 
     def __init__(
         self,
@@ -191,6 +203,7 @@ class Profile:
         segment_mass: str | None = None,
         push_scale: float = 1.0,
         substep_studies: bool = True,
+        replicate_protocol: str | None = None,
         *,
         run: Mapping | SimSettings | None = None,
     ):
@@ -202,6 +215,7 @@ class Profile:
             convention=convention,
             sensor_timing=sensor_timing,
             segment_mass=segment_mass,
+            replicate_protocol=replicate_protocol,
         )
         own = dict(
             name=name,
@@ -242,7 +256,8 @@ class Profile:
             raise ValueError(f"stability_max_iter must be >= 0, got {self.stability_max_iter!r}")
 
     def _key(self) -> tuple:
-        return tuple((k, getattr(self, k)) for k in PROFILE_KEYS)
+        optional = tuple((k, getattr(self, k)) for k, default in OPTIONAL_KEYS.items() if getattr(self, k) != default)
+        return tuple((k, getattr(self, k)) for k in PROFILE_KEYS) + optional
 
     def __eq__(self, other) -> bool:
         return self._key() == other._key() if isinstance(other, Profile) else NotImplemented
@@ -300,8 +315,9 @@ class Profile:
 
     def key_dict(self) -> dict:
         """Every setting as a cache or study key records it, in the order of
-        :data:`PROFILE_KEYS` (a sensor timing by its name); ``Profile(**key_dict)``
-        rebuilds an equal profile."""
+        :data:`PROFILE_KEYS`, then those of :data:`OPTIONAL_KEYS` not at their
+        default (a sensor timing by its name); ``Profile(**key_dict)`` rebuilds
+        an equal profile."""
         return {k: _shown(v) for k, v in self._key()}
 
     def for_convention(self, convention: str) -> Profile:
@@ -440,6 +456,7 @@ _PROFILE_FIELDS = (
     ("replicates", "perturbed replicates per design and behaviour (claims, chapter 6)"),
     ("push_scale", "replicates' push, x 5 N for 0.1 s"),
     ("substep_studies", "robustness's axial and 2e-5 s variants, the factorial's axial arms"),
+    ("replicate_protocol", "when replicates' perturbations begin (authors: step 0; branch: transient_s)"),
 )
 
 
@@ -454,9 +471,9 @@ def profile_table(profile: str | Profile | None = None) -> pd.DataFrame:
         DataFrame, one row per setting shown (duration_s, transient_s,
         timestep_s, record_rate_hz, convention, axial_timestep_s,
         sensor_timing, segment_mass, stability_grid_size,
-        stability_duration_s, replicates, push_scale): columns ``setting``,
-        ``meaning`` (with its unit), ``this build`` and ``paper`` (a sensor
-        timing by its name).
+        stability_duration_s, replicates, push_scale, substep_studies,
+        replicate_protocol): columns ``setting``, ``meaning`` (with its
+        unit), ``this build`` and ``paper`` (a sensor timing by its name).
 
     Raises:
         ValueError: as :func:`resolve_profile`.

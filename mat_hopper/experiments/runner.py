@@ -41,7 +41,6 @@ from __future__ import annotations
 import logging
 import math
 import multiprocessing
-import traceback
 from collections.abc import Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
@@ -53,18 +52,19 @@ import pandas as pd
 
 from ..core.behaviours import Behaviour
 from ..core.materials import LegDesign
-from ..core.sim import SimSettings, route_mujoco_warnings
+from ..core.sim import SimSettings
 from ..util.keys import design_key, hash_key, settings_key, versions
-from ..util.limits import task_steps
 from ..util.pool import default_workers, stop_pool
+from ._grid import FAILED, assemble
 from .cache import Cache
+from .groups import execute_unit, iter_unit, prefix_units
 
 _log = logging.getLogger("mat_hopper.cache")
 
 
 # Status of a task's summary row.
 # suspect: no divergence, but the numbers are corrupted (core.rollout.Rollout.suspect).
-OK, DIVERGED, SUSPECT, FALLEN, FAILED = "ok", "diverged", "suspect", "fallen", "failed"
+OK, DIVERGED, SUSPECT, FALLEN = "ok", "diverged", "suspect", "fallen"  # and FAILED (._grid)
 
 
 # ---------------------------------------------------------------------------
@@ -104,11 +104,17 @@ class RunSpec:
         """Simulate; return (per-hop table, run summary). Never raises on
         divergence: an unstable run is a summary with status 'diverged', a
         numerically suspect one (``Rollout.suspect``) status 'suspect'."""
-        from ..core.sim import C, simulate
+        from ..core.sim import simulate
+
+        return self.summarize(simulate(self.design, self.behaviour, settings=self.settings, warn=False))
+
+    def summarize(self, rollout) -> tuple[pd.DataFrame, dict]:
+        """(per-hop table, run summary) of this run's rollout (computed here or
+        forked from a shared prefix, :mod:`mat_hopper.experiments.groups`)."""
+        from ..core.sim import C
         from ..physics.metrics import hop_table, run_summary
 
-        rollout = simulate(self.design, self.behaviour, settings=self.settings, warn=False)  # status says it
-        full = hop_table(rollout, warn=False)
+        full = hop_table(rollout, warn=False)  # the summary's status says a divergence
         summary = run_summary(rollout, hops=full)  # one hop table per run
         hops = full.drop(columns=["design", "behaviour"])
         for k in ("design", "behaviour"):
@@ -129,20 +135,6 @@ class RunSpec:
 
 # ---------------------------------------------------------------------------
 # execution
-
-
-def _execute(task) -> tuple[str, pd.DataFrame | None, dict | None, str | None]:
-    """Worker entry: (key, table, summary, error text). Never raises.
-    MuJoCo's warnings go to logging (a diverging run is a result, not a
-    message on stderr nor a MUJOCO_LOG.TXT in the working folder)."""
-    route_mujoco_warnings()
-    key = task.key()
-    try:
-        table, summary = task.compute()
-        return key, table, summary, None
-    except Exception as e:  # a failed row, not a crashed grid
-        tb = traceback.format_exception_only(type(e), e)[-1].strip()
-        return key, None, None, tb
 
 
 def check_workers(workers) -> int | None:
@@ -192,7 +184,9 @@ class Runner:
     show a tqdm bar. Use as a context manager, or call :meth:`close`.
     The runs a grid does not find cached are submitted longest first (their
     physics steps, :func:`mat_hopper.util.limits.task_steps`), so no long
-    run starts last and finishes alone."""
+    run starts last and finishes alone; ``branch`` replicates of one design
+    go to one worker together, which simulates their shared prefix once
+    (:mod:`mat_hopper.experiments.groups`), each stored under its own key."""
 
     def __init__(self, cache_dir=None, *, workers: int | None = None, scheduler=None, progress: bool = True):
         self.workers = check_workers(workers)
@@ -277,8 +271,9 @@ class Runner:
             if got is not None:
                 results[k] = got
         n_cached = len(results)
-        # longest first (the pool's makespan: a long run started last would finish alone)
-        todo = sorted((k for k in unique if k not in results), key=lambda k: -task_steps(unique[k]))
+        # units of work (a task, or runs sharing a branch prefix), longest first (the pool's makespan)
+        workers = None if self.scheduler is not None else self.n_workers
+        todo = prefix_units([k for k in unique if k not in results], unique, workers)
 
         from ..util.progress import progress_bar
 
@@ -305,38 +300,35 @@ class Runner:
                 bar.update(1)
         finally:
             bar.close()
-        tables, summary = _assemble(tasks, keys, results, errors)
-        return GridResult(tables, summary, len(tasks), len(unique), n_cached, len(todo), len(errors))
+        tables, summary = assemble(tasks, keys, results, errors)
+        return GridResult(tables, summary, len(tasks), len(unique), n_cached, sum(map(len, todo)), len(errors))
 
-    def _compute(self, todo: list[str], unique: dict) -> Iterable:
+    def _compute(self, todo: list[tuple[str, ...]], unique: dict) -> Iterable:
+        """(key, table, summary, error) of every key of the units `todo`, as they finish."""
         if not todo:
             return
         if self.scheduler is not None:
             yield from self._compute_dask(todo, unique)
         elif self.n_workers == 1 or len(todo) == 1:
-            for k in todo:
-                yield _execute(unique[k])
+            for unit in todo:  # each result stored as it comes
+                yield from iter_unit([unique[k] for k in unit])
         else:
             yield from self._compute_pool(todo, unique)
 
     def _compute_pool(self, todo, unique):
         pool = self._get_pool()
-        futures = {pool.submit(_execute, unique[k]): k for k in todo}
+        futures = {pool.submit(execute_unit, [unique[k] for k in unit]): unit for unit in todo}
         try:
             for fut in as_completed(futures):
-                k = futures[fut]
+                unit = futures[fut]
                 try:
-                    yield fut.result()
+                    yield from fut.result()
                 except BrokenProcessPool as e:
                     self._pool = None  # a worker died (killed, out of memory): fresh pool next time
-                    yield (
-                        k,
-                        None,
-                        None,
-                        (f"worker process died ({e}); from a script, start the grid under if __name__ == '__main__':"),
-                    )
+                    died = f"worker process died ({e}); from a script, start the grid under if __name__ == '__main__':"
+                    yield from ((k, None, None, died) for k in unit)
                 except Exception as e:  # pickling and the like
-                    yield k, None, None, f"{type(e).__name__}: {e}"
+                    yield from ((k, None, None, f"{type(e).__name__}: {e}") for k in unit)
         except BaseException:  # an interrupt, or the grid's consumer stopped (GeneratorExit)
             # The pool cancels what has not started (stop_pool: Future.cancel() from here races the
             # pool's own thread into an InvalidStateError traceback when a worker dies) and finishes
@@ -349,61 +341,18 @@ class Runner:
         from distributed import as_completed as dask_completed
 
         client = self._get_client()
-        futures = {}
-        for k in todo:
-            futures[client.submit(_execute, unique[k], pure=False)] = k
+        futures = {client.submit(execute_unit, [unique[k] for k in unit], pure=False): unit for unit in todo}
         try:
             for fut in dask_completed(list(futures)):
-                k = futures[fut]
+                unit = futures[fut]
                 try:
-                    yield fut.result()
+                    yield from fut.result()
                 except Exception as e:
-                    yield k, None, None, f"{type(e).__name__}: {e}"
+                    yield from ((k, None, None, f"{type(e).__name__}: {e}") for k in unit)
         except BaseException:
             for f in futures:
                 f.cancel()
             raise
-
-
-def _label_frame(labels: dict, frame: pd.DataFrame) -> pd.DataFrame:
-    out = frame.copy()
-    for col in [c for c in labels if c in out.columns]:
-        out = out.drop(columns=col)
-    for i, (col, v) in enumerate(labels.items()):
-        out.insert(i, col, [v] * len(out))
-    return out
-
-
-def _assemble(tasks, keys, results, errors) -> tuple[pd.DataFrame, pd.DataFrame]:
-    frames, rows, empty = [], [], None
-    for t, k in zip(tasks, keys):
-        labels = {**t.labels, **{c: v for c, v in t.default_labels().items() if c not in t.labels}}
-        if k in results:
-            table, summary = results[k]
-            if len(table) or empty is None:
-                f = _label_frame(labels, table)
-                f["key"] = k
-                if len(f):
-                    frames.append(f)
-                else:
-                    empty = f  # keeps the columns when no task has a row
-            row = {**labels, **{c: v for c, v in summary.items() if c not in labels}, "error": ""}
-        else:
-            row = {**labels, "status": FAILED, "error": errors.get(k, "not computed")}
-        row["key"] = k
-        rows.append(row)
-    tables = (
-        pd.concat(frames, ignore_index=True)
-        if frames
-        else empty.reset_index(drop=True)
-        if empty is not None
-        else pd.DataFrame()
-    )
-    summary = pd.DataFrame(rows)
-    if "status" in summary.columns:
-        cols = [c for c in summary.columns if c not in ("status", "error", "key")]
-        summary = summary[cols + ["status", "error", "key"]]
-    return tables, summary
 
 
 def run_grid(

@@ -267,7 +267,7 @@ def run_summary(rollout: Rollout, transient_s: float | None = None, *, hops: pd.
         (sum over the hops, J; nan without hops), the keys of
         :func:`mat_hopper.physics.energetics.run_energetics`, ``contact``,
         ``mean_touch_toggles_per_switch`` and ``peak_penetration_m`` (the
-        deepest over the hops, m; both nan without hops).
+        deepest over the hops, m; both nan without hops), ``replicate_protocol``.
 
     Raises:
         ValueError: `rollout` is not a Rollout, or `transient_s` is not None
@@ -305,6 +305,7 @@ def run_summary(rollout: Rollout, transient_s: float | None = None, *, hops: pd.
     out["contact"] = rollout.settings.contact
     out["mean_touch_toggles_per_switch"] = float(hops["touch_toggles_per_switch"].mean()) if len(hops) else np.nan
     out["peak_penetration_m"] = float(hops["peak_penetration_m"].max()) if len(hops) else np.nan
+    out["replicate_protocol"] = rollout.settings.replicate_protocol
     return out
 
 

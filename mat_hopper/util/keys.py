@@ -57,6 +57,7 @@ RESULT_MODULES = (
     "core/catalogue",
     "core/damping",
     "core/contact",
+    "core/replicates",
     "physics/porosity",
     "core/model",
     "core/terrain",
@@ -82,6 +83,7 @@ RESULT_MODULES = (
     "util/keys",
     "experiments/cache",
     "experiments/runner",
+    "experiments/groups",
 )
 
 

@@ -105,7 +105,7 @@ def test_advancing_a_fork_leaves_its_parent_as_it_was(straight):
 
 
 # What a fork may share with its parent: what no physics step writes.
-READ_ONLY = {"_push", "_noise", "_disturbance", "_path", "_gains", "_apex"}
+READ_ONLY = {"_disturbance", "_scored", "_path", "_gains", "_apex"}
 READ_ONLY_FIELDS = {"coef", "adr", "gain", "terrain"}  # of the jerk filter, stress and contact probes
 
 

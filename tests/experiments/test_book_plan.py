@@ -118,3 +118,15 @@ def test_format_plan_refuses_a_cost_that_is_no_number(tmp_path):
         format_plan(table, us_per_step=0)
     hours = book_plan.core_hours(3.6e9, 0.0, us_per_step=1.0)
     assert hours == pytest.approx(1.0)
+
+
+def test_branch_replicates_count_their_shared_prefix_once(tmp_path):
+    quick = PROFILES["quick"]  # 12 s runs, 4 s transient, 2 replicates: the unperturbed run and 2 seeds
+    chapters = (Chapter("a", (experiments("1"),)),)
+    authors = plan(quick, cache_dir=tmp_path, chapters=chapters).iloc[0]
+    branch = plan(replace(quick, replicate_protocol="branch"), cache_dir=tmp_path, chapters=chapters).iloc[0]
+    groups = authors["runs"] // 3  # 5 legs x 4 behaviours, 3 runs each
+    assert authors["physics_steps"] == authors["runs"] * 120_000  # 12 s at 1e-4 s, by hand
+    # each group simulates 4 s (40000 steps) once instead of 3 times
+    assert branch["physics_steps"] == authors["physics_steps"] - groups * 2 * 40_000
+    assert branch["runs"] == authors["runs"] and branch["simulated_s"] == authors["simulated_s"]

@@ -56,6 +56,7 @@ def test_cache_key_changes_with_every_setting(monkeypatch):
         "gain": spec(settings=dataclasses.replace(SHORT, controller=ControllerSettings(flight_kp=11.0))),
         "perturbation": spec(settings=dataclasses.replace(SHORT, perturbation=Perturbation.replicate(0))),
         "seed": spec(settings=dataclasses.replace(SHORT, perturbation=Perturbation.replicate(1))),
+        "replicate protocol": spec(settings=dataclasses.replace(SHORT, replicate_protocol="branch")),
     }
     keys = {name: t.key() for name, t in variants.items()}
     assert base.key() not in keys.values()

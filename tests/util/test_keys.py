@@ -41,7 +41,10 @@ def test_settings_key_names_every_setting_and_conventions_by_name():
         "damping",
         "contact",
         "apex_reference",
+        "replicate_protocol",
     }
+    assert k["replicate_protocol"] == "authors"
+    assert keys.settings_key(SimSettings(replicate_protocol="Branch"))["replicate_protocol"] == "branch"
     assert k["damping"] == "authors"  # issue 21's setting, by its name
     assert k["contact"] == "authors" and keys.settings_key(SimSettings(contact="Stiff"))["contact"] == "stiff"
     assert k["sensor_timing"] == "latency-5" and k["convention"] == "paper" and k["substeps"] == 1

@@ -1,0 +1,219 @@
+"""When a replicate's perturbations begin: one named setting,
+``SimSettings.replicate_protocol``.
+
+A replicate (:meth:`mat_hopper.core.perturbations.Perturbation.replicate`)
+draws a start offset and tilt, a push and sensor noise from its seed. The
+protocol says when they act:
+
+``authors``
+    from step 0: the base starts offset (m) and tilted (rad), the sensor
+    noise runs from the first step, the push falls where it was drawn.
+    Replicates differ from the first step and share nothing. Default.
+``branch``
+    the run is unperturbed up to the end of the transient (``transient_s``)
+    and every perturbation begins there: the start offset and tilt become a
+    velocity kick of the base at ``transient_s`` (:func:`branch_kick`), the
+    sensor noise is switched on at ``transient_s`` (the very rows the
+    ``authors`` replicate reads at those times), and the push falls where it
+    was drawn, which must be inside the scored window. Every replicate of a
+    design therefore shares the prefix [0, transient_s) with the unperturbed
+    run, which is simulated once and forked
+    (:meth:`mat_hopper.core.sim.RolloutRunner.fork_as`).
+
+The kick. An offset of the start pose has no physical counterpart
+part-way through a run (moving the hopper in stance would sink its foot into
+the terrain), so ``branch`` turns it into the velocity that would carry the
+base through the same offset in :data:`BRANCH_KICK_TIME_S` (0.5 s, about one
+hop cycle): the base's x and y velocities change by offset / 0.5 s (m/s) and
+its roll and pitch rates by tilt / 0.5 s (rad/s), at once, as a short blow
+would. The replicate's 5 mm and 0.5 deg standard deviations become 0.01 m/s
+and 0.0175 rad/s (1 deg/s): on the 17-24 kg hopper a horizontal impulse of
+about 0.2 N s, below the replicate's push (5 N for 0.1 s, 0.5 N s). Only the
+base joints' velocities change; the leg's joints keep theirs relative to the
+base, so the whole hopper moves with the kick.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import NamedTuple
+
+import numpy as np
+
+from ..util.parsing import parse_name
+from ._loop import NO_NOISE_EVERY, Disturbance
+from .perturbations import NO_PUSH
+
+__all__ = [
+    "BRANCH_KICK_TIME_S",
+    "DEFAULT_REPLICATE_PROTOCOL",
+    "REPLICATE_PROTOCOLS",
+    "Draws",
+    "branch_kick",
+    "branch_step",
+    "check_branch_fork",
+    "check_branch_push",
+    "check_replicate_protocol",
+    "kick_base",
+    "replicate_draws",
+]
+
+REPLICATE_PROTOCOLS = ("authors", "branch")
+DEFAULT_REPLICATE_PROTOCOL = "authors"
+# s: the branch protocol's kick carries the base through the start offset in this time (module doc).
+BRANCH_KICK_TIME_S = 0.5
+
+
+def check_replicate_protocol(protocol) -> str:
+    """The replicate protocol named (case-insensitive, blanks trimmed), as
+    spelled in :data:`REPLICATE_PROTOCOLS`.
+
+    Args:
+        protocol: ``"authors"`` or ``"branch"``, any case.
+
+    Returns:
+        The name as spelled in :data:`REPLICATE_PROTOCOLS` (``"Branch"`` gives ``"branch"``).
+
+    Raises:
+        ValueError: an empty name or one not in :data:`REPLICATE_PROTOCOLS` (the message lists them).
+    """
+    return parse_name(protocol, REPLICATE_PROTOCOLS, "replicate_protocol")
+
+
+def branch_step(transient_s: float, timestep_s: float) -> int:
+    """The physics step at which a ``branch`` replicate's perturbations begin:
+    the first step at or after ``transient_s``.
+
+    Args:
+        transient_s: the transient's end, s (>= 0).
+        timestep_s: the physics step, s (> 0).
+
+    Returns:
+        round(transient_s / timestep_s): 200000 for the paper's 20 s at 1e-4 s.
+
+    >>> branch_step(20.0, 1e-4)
+    200000
+    """
+    return int(round(transient_s / timestep_s))
+
+
+def branch_kick(start_xy_m, tilt_rad) -> tuple[float, float, float, float]:
+    """The velocity kick of the base that stands for a replicate's start
+    offset and tilt under ``branch`` (module doc).
+
+    Args:
+        start_xy_m: the drawn start offset (dx, dy), m.
+        tilt_rad: the drawn start tilt (roll, pitch), rad.
+
+    Returns:
+        (dvx m/s, dvy m/s, droll rad/s, dpitch rad/s): each drawn value
+        divided by :data:`BRANCH_KICK_TIME_S`.
+
+    Raises:
+        ValueError: a value that is not finite.
+
+    >>> branch_kick((0.005, -0.01), (0.0, 0.01))
+    (0.01, -0.02, 0.0, 0.02)
+    """
+    values = [float(v) for v in (*start_xy_m, *tilt_rad)]
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise ValueError(f"branch_kick needs a finite (dx, dy) in m and (roll, pitch) in rad, got {values!r}")
+    dvx, dvy, droll, dpitch = (v / BRANCH_KICK_TIME_S for v in values)
+    return dvx, dvy, droll, dpitch
+
+
+def check_branch_push(settings) -> None:
+    """Check that a ``branch`` replicate's push falls after its unperturbed
+    prefix: a push drawn before ``transient_s`` would be lost.
+
+    Args:
+        settings: the :class:`~mat_hopper.core.sim.SimSettings`.
+
+    Raises:
+        ValueError: ``branch`` with a push whose window starts before
+            transient_s (naming both).
+    """
+    p = settings.perturbation
+    if settings.replicate_protocol == "branch" and p is not None and p.push_force_n > 0:
+        if p.push_window_s[0] < settings.transient_s:
+            raise ValueError(
+                f"replicate_protocol 'branch' perturbs only from transient_s ({settings.transient_s:g} s): the push "
+                f"window {p.push_window_s!r} s must start there or later (Perturbation.replicate's scored_window_s)"
+            )
+
+
+class Draws(NamedTuple):
+    """A run's perturbation as the rollout applies it: the start offset (m)
+    and tilt (rad) of its first pose, the disturbance from step 0, and under
+    ``branch`` the disturbance from ``branch_at`` on (``scored``) and the
+    kick (:func:`branch_kick`; ``branch_at`` -1 and both None otherwise)."""
+
+    start_xy_m: tuple
+    tilt_rad: tuple
+    disturbance: Disturbance
+    scored: Disturbance | None
+    kick: tuple | None
+    branch_at: int
+
+
+def replicate_draws(settings) -> Draws:
+    """The draws of `settings`' perturbation (:meth:`Perturbation.draw`),
+    placed by its replicate protocol (module doc).
+
+    Args:
+        settings: the :class:`~mat_hopper.core.sim.SimSettings`.
+
+    Returns:
+        :class:`Draws`: no perturbation, a start at rest and no noise nor
+        push; ``authors``, the drawn start, noise and push from step 0;
+        ``branch``, an unperturbed start and prefix, then from
+        :func:`branch_step` the drawn noise and push and the kick.
+    """
+    p, zero = settings.perturbation, (0.0, 0.0)
+    quiet = Disturbance(NO_PUSH, np.zeros((1, 6)), NO_NOISE_EVERY)
+    if p is None:
+        return Draws(zero, zero, quiet, None, None, -1)
+    offset, tilt, push, noise, every = p.draw(settings.duration_s, settings.timestep_s)
+    drawn = Disturbance(push, noise, every)
+    if settings.replicate_protocol != "branch":
+        return Draws(offset, tilt, drawn, None, None, -1)
+    return Draws(
+        zero, zero, quiet, drawn, branch_kick(offset, tilt), branch_step(settings.transient_s, settings.timestep_s)
+    )
+
+
+def kick_base(qvel: np.ndarray, base_dof: int, kick) -> None:
+    """Add a :func:`branch_kick` to the base joints' velocities, in place.
+
+    Args:
+        qvel: MuJoCo's ``data.qvel``.
+        base_dof: the first of the base's 6 joints in qvel (x, y, z, roll, pitch, yaw).
+        kick: (dvx m/s, dvy m/s, droll rad/s, dpitch rad/s).
+    """
+    for k, dv in zip((0, 1, 3, 4), kick):
+        qvel[base_dof + k] += dv
+
+
+def check_branch_fork(parent, settings, step: int, pending: bool) -> None:
+    """Check that a running rollout may be forked into a ``branch`` replicate
+    (:meth:`mat_hopper.core.sim.RolloutRunner.fork_as`).
+
+    Args:
+        parent: the running rollout's SimSettings.
+        settings: the replicate's SimSettings.
+        step: the running rollout's physics step.
+        pending: whether the running rollout is still unperturbed (no
+            perturbation, or a ``branch`` one not yet begun).
+
+    Raises:
+        ValueError: `settings` not ``branch``, differing from `parent` in
+            more than the perturbation, or the rollout past its prefix.
+    """
+    if getattr(settings, "replicate_protocol", None) != "branch":
+        raise ValueError("fork_as needs the SimSettings of a replicate_protocol 'branch' run")
+    if type(settings) is not type(parent) or replace(settings, perturbation=None) != replace(parent, perturbation=None):
+        raise ValueError("fork_as: the settings may differ from the running rollout's only in the perturbation")
+    prefix_end = branch_step(settings.transient_s, settings.timestep_s)
+    if step > prefix_end or not pending:
+        raise ValueError(f"fork_as: the rollout is past its unperturbed prefix (step {step}, prefix {prefix_end})")
