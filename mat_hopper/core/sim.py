@@ -495,6 +495,25 @@ class RolloutRunner:
         return r
 
 
+# simulate()'s keyword arguments that are SimSettings fields, in its signature's order.
+_SETTING_ARGUMENTS = (
+    "duration_s",
+    "timestep_s",
+    "transient_s",
+    "convention",
+    "sensor_timing",
+    "controller",
+    "record_rate_hz",
+    "perturbation",
+    "segment_mass",
+    "substeps",
+    "damping",
+    "contact",
+    "apex_reference",
+    "replicate_protocol",
+)
+
+
 def simulate(
     design,
     behaviour,
@@ -566,26 +585,8 @@ def simulate(
     >>> r.settings.sensor_timing.name, r.data.shape[1] == len(CHANNELS)
     ('authors', True)
     """
-    given = {
-        name: value
-        for name, value in (
-            ("duration_s", duration_s),
-            ("timestep_s", timestep_s),
-            ("transient_s", transient_s),
-            ("convention", convention),
-            ("sensor_timing", sensor_timing),
-            ("controller", controller),
-            ("record_rate_hz", record_rate_hz),
-            ("perturbation", perturbation),
-            ("segment_mass", segment_mass),
-            ("substeps", substeps),
-            ("damping", damping),
-            ("contact", contact),
-            ("apex_reference", apex_reference),
-            ("replicate_protocol", replicate_protocol),
-        )
-        if value is not None
-    }
+    passed = locals()  # the keyword arguments, first thing: each setting given by name
+    given = {name: passed[name] for name in _SETTING_ARGUMENTS if passed[name] is not None}
     if settings is not None:
         if given:
             raise ValueError(f"simulate: {', '.join(given)} given beside settings=; put them in the SimSettings")
