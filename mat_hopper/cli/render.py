@@ -156,6 +156,8 @@ def _run_length(args) -> tuple[float, str]:
 
 
 def _run(args, design, beh, settings, seconds: float):
+    from ..core.timestep import CLI_CONTACT_HINT, soft_contact_note
+
     """The run the tiles and the video show, its step checked against the
     leg's analytic bound first (a warning line); a divergence is told in
     one line (when, why, what to try), and nothing past it is drawn."""
@@ -164,9 +166,13 @@ def _run(args, design, beh, settings, seconds: float):
     if rollout.diverged:
         print(unstable_line(rollout))
     elif rollout.fell_at_s is not None:  # drawn, but a hopper down is no gait: the tiles and the video say so
+        note = soft_contact_note(
+            design, settings, CLI_CONTACT_HINT
+        )  # a bending leg on the soft contact: why, what to try
         print(
             f"note: the hopper fell at t = {rollout.fell_at_s:.3f} s (base tilted past {FELL_TILT_DEG:g} deg); "
             "tiles after it are marked (fell), and the video's line counts its frames after the fall"
+            + (f"; {note}" if note else "")
         )
     return rollout
 
