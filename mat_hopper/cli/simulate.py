@@ -370,7 +370,8 @@ def cmd_simulate(args) -> int:
         print(unstable_line(rollout))
     elif fall_line(rollout):
         print(fall_line(rollout))
-    print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
+    before = "" if rollout.stable else f", before the divergence at t = {rollout.diverged_at_s:.4f} s: not results"
+    print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s{before}")
     if len(hops):
         desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
         print(desc.to_string(float_format=lambda v: f"{v:.4g}"))
