@@ -203,15 +203,33 @@ def run_batch(args) -> int:
         f"transient {settings.transient_s:g} s, convention {settings.convention}, sensor timing "
         f"{settings.sensor_timing}{_segment_mass_text(settings)}, backend {args.backend}{where}"
     )
-    shown = out[list(RESULT_COLUMNS)]
+    shown = _blank_diverged(out[list(RESULT_COLUMNS)])
     suspect = table["suspect_at_s"].astype(float).notna().to_numpy()
     if suspect.any():  # stable, but corrupted: the table says so beside "stable"
         shown = shown.assign(suspect=suspect)
     rerun = {d.name: _rerun_command(d, beh, settings, auto) for d in designs}
     note = _diverged_note(table, auto, designs, per_design, args.backend, rerun)
     odd = _suspect_note(table, auto)
-    _report(out, args.csv, "\n".join(n for n in (note, odd, _fallen_note(table)) if n), shown=shown)
+    notes = (note, odd, _fallen_note(table, designs, per_design))
+    _report(out, args.csv, "\n".join(n for n in notes if n), shown=shown)
     return 1 if note or odd else 0  # any run diverged or suspect: exit 1 (the rule of every command); a fall: 0
+
+
+def _blank_diverged(shown):
+    """The printed table with a diverged design's metrics shown as "-": its
+    hop cycles before the divergence are not results (the CSV keeps them,
+    beside stable False and diverged_at_s). Metric columns become text,
+    4 significant digits as the rest of the table."""
+    bad = ~shown["stable"].astype(bool)
+    if not bad.any():
+        return shown
+    out = shown.copy()
+    for c in shown.columns:
+        if c in ("design", "stable"):
+            continue
+        text = [f"{v:.4g}" if isinstance(v, float) else str(v) for v in shown[c]]
+        out[c] = ["-" if b else t for t, b in zip(text, bad)]
+    return out
 
 
 def _segment_mass_text(settings) -> str:
@@ -261,7 +279,7 @@ def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = 
     ``mat-hopper simulate`` command line that runs it, :func:`_rerun_command`)
     names the command that says why; without it the line says
     ``simulate`` with the design's --density and --modulus."""
-    from ..core.timestep import CLI_AUTO_HINT, auto_suggestion
+    from ..core.timestep import CLI_AUTO_HINT, CLI_CONTACT_HINT, auto_suggestion, soft_contact_note
 
     bad = table[~table["stable"]]
     if not len(bad):
@@ -281,7 +299,14 @@ def _diverged_note(table, auto: bool, designs=(), per_design=(), backend: str = 
         fix = f"try --timestep auto (each design its own physics substeps); {why}"
     else:
         fix = f"--timestep auto would not change their step; {why}"
-    return f"{len(bad)} of {_count(len(table), 'design')} diverged ({at}{more}); {fix}"
+    soft = next(
+        (n for n in (soft_contact_note(*by_name[d], CLI_CONTACT_HINT) for d in bad["design"] if d in by_name) if n),
+        None,
+    )
+    soft = f"{soft}; " if soft else ""
+    return (
+        f"{len(bad)} of {_count(len(table), 'design')} diverged ({at}{more}); their metrics are shown as -; {soft}{fix}"
+    )
 
 
 def _when(row) -> str:
@@ -314,18 +339,27 @@ def _suspect_note(table, auto: bool) -> str:
     )
 
 
-def _fallen_note(table) -> str:
+def _fallen_note(table, designs=(), per_design=()) -> str:
     """The line on the designs that fell over without diverging (base
     tilted past FELL_TILT_DEG, or below the upright height at the end), or
     "": their hop cycles after the fall are not scored; a fall alone does
-    not change the exit status (as simulate)."""
+    not change the exit status (as simulate). With the batch's `designs`
+    and their settings `per_design`, a bending leg on the default soft
+    contact gets why and what to try
+    (:func:`mat_hopper.core.timestep.soft_contact_note`)."""
     from ..core.rollout import FELL_TILT_DEG
+    from ..core.timestep import CLI_CONTACT_HINT, soft_contact_note
 
     fell = table["fell_at_s"].astype(float) if "fell_at_s" in table.columns else None
     down = table["stable"] & (~table["upright"] | (fell.notna() if fell is not None else False))
     if not down.any():
         return ""
     rows = table[down]
+    by_name = {d.name: (d, st) for d, st in zip(designs, per_design)}
+    soft = next(
+        (n for n in (soft_contact_note(*by_name[d], CLI_CONTACT_HINT) for d in rows["design"] if d in by_name) if n),
+        None,
+    )
     at = ", ".join(
         f"{r.design} at t = {r.fell_at_s:.3f} s"
         if math.isfinite(float(r.fell_at_s))
@@ -336,6 +370,7 @@ def _fallen_note(table) -> str:
     return (
         f"{len(rows)} of {_count(len(table), 'design')} fell over ({at}{more}; base tilted past {FELL_TILT_DEG:g} deg "
         "or below the upright height at the end): hop cycles after a fall are not scored"
+        + (f"; {soft}" if soft else "")
     )
 
 

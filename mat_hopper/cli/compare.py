@@ -114,6 +114,18 @@ def _auto_would_change(plan, left_out) -> bool:
     return any(auto_suggestion(d, plan.settings[0], CLI_AUTO_HINT) for d in diverged)
 
 
+def _soft_contact_line(plan, left_out) -> str | None:
+    """Why a bending leg left out (diverged or fell) on the default soft
+    contact went down, and what to try
+    (:func:`mat_hopper.core.timestep.soft_contact_note`), or None."""
+    from ..core.timestep import CLI_CONTACT_HINT, soft_contact_note
+
+    legs = {leg.name: leg.design for leg in (plan.design, *plan.comparators)}
+    down = [legs[e["leg"]] for e in left_out if ("unstable" in e["why"] or "fell" in e["why"]) and e["leg"] in legs]
+    note = next((n for n in (soft_contact_note(d, plan.settings[0], CLI_CONTACT_HINT) for d in down) if n), None)
+    return f"({note})" if note else None
+
+
 def _plan(args):
     """The checked plan (every input, before any work)."""
     from ..core.control_legs import CONTROLS
@@ -174,6 +186,9 @@ def cmd_compare(args) -> int:
         print(f"{runs}; nothing to compare: no comparator has a usable run at a seed where the design has one")
     for line in _left_out_lines(table.attrs["left_out"]):
         print(line)
+    soft = _soft_contact_line(plan, table.attrs["left_out"])
+    if soft:
+        print(soft)
     if plan.finest is None and _auto_would_change(plan, table.attrs["left_out"]):
         print(
             "(a leg diverged or is numerically suspect at a fixed step: try --timestep auto, the finest automatic "

@@ -127,6 +127,21 @@ def _default_step_note(design, args) -> str | None:
     return check_stable_step(design, settings, auto_hint=CLI_AUTO_HINT)
 
 
+def _controller_note(control: float, auto_period: float) -> str:
+    """The line on a controller limit `control` (s) below the authors'
+    control period: physics substeps alone cannot help (the torque is held
+    over the period), but simulate's --timestep auto shortens the period itself to
+    `auto_period` (s); only a period still above the limit is beyond the
+    controller."""
+    head = f"warning: the controller's limit {control:.3g} s is below its {ref.TIMESTEP_S:g} s control period"
+    if auto_period <= control:
+        return (
+            f"{head}: physics substeps alone cannot help; simulate --timestep auto shortens the control period to "
+            f"{auto_period:.3g} s, within it"
+        )
+    return f"{head}: even simulate --timestep auto's {auto_period:.3g} s period is above it; this leg is beyond the controller"
+
+
 def cmd_modes(args) -> int:
     check_force_used(args, {"--csv": args.csv})
     check_output_file(args.csv, "--csv", stdout=True, force=args.force)  # before any work
@@ -171,10 +186,7 @@ def cmd_modes(args) -> int:
     if note:
         print(f"warning: at the default step, {note}")
     if control < ref.TIMESTEP_S:
-        print(
-            f"warning: the controller's limit {control:.3g} s is below its {ref.TIMESTEP_S:g} s control period: "
-            "substeps cannot help; this leg is beyond the authors' controller at its rate"
-        )
+        print(_controller_note(control, k * dt))
     print(
         f"simulate --timestep auto: {k} physics substep(s) of {dt:.3g} s per {k * dt:.3g} s control period "
         f"(at most {AUTO_SAFETY:g} x the spring bound"

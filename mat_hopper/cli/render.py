@@ -160,18 +160,21 @@ def _run(args, design, beh, settings, seconds: float):
     """The run the tiles and the video show, its step checked against the
     leg's analytic bound first (a warning line); a divergence is told in
     one line (when, why, what to try), and nothing past it is drawn."""
+    from ..core.timestep import CLI_CONTACT_HINT, soft_contact_note
+
     stable_step_warning("render", design, settings)
     rollout = record(design, beh, seconds, start_s=args.start, settings=settings, warn=False)  # the lines say it
     if rollout.diverged:
         print(unstable_line(rollout))
     elif rollout.suspect:  # drawn, but its motion is the integrator's, not the hopper's
         print(f"SUSPECT: {rollout.suspect_message(CLI_AUTO_HINT)}")
-    if (
-        rollout.stable and rollout.fell_at_s is not None
-    ):  # drawn, but a hopper down is no gait: the tiles and the video say so
+    if rollout.stable and rollout.fell_at_s is not None:  # drawn, but a hopper down is no gait: tiles and video say so
+        # a bending leg on the soft contact: why, what to try
+        note = soft_contact_note(design, settings, CLI_CONTACT_HINT)
         print(
             f"note: the hopper fell at t = {rollout.fell_at_s:.3f} s (base tilted past {FELL_TILT_DEG:g} deg); "
             "tiles after it are marked (fell), and the video's line counts its frames after the fall"
+            + (f"; {note}" if note else "")
         )
     return rollout
 

@@ -299,21 +299,31 @@ def stable_step_warning(command: str, design, settings) -> str | None:
 
 def unstable_line(rollout) -> str:
     """Why a run ended early, in one line: when, which check, the step
-    above the analytic bound if it is, what to try
+    above the analytic bound if it is, the soft contact's cause for a leg
+    that bends, what to try
     (:meth:`mat_hopper.core.rollout.Rollout.divergence_message`); a fall
     (the base tilted past FELL_TILT_DEG before the numbers blew up) says so
-    first, with the stiff-contact hint for a leg that bends."""
+    first."""
     message = rollout.divergence_message(CLI_AUTO_HINT)
     fell = rollout.fell_at_s
     if fell is None or fell >= rollout.diverged_at_s:
         return f"UNSTABLE: {message}"
-    line = f"UNSTABLE: the hopper fell (base tilted past {FELL_TILT_DEG:g} deg at t = {fell:.3f} s), then {message}"
-    if rollout.settings.convention in ("bending", "axial+bending") and rollout.settings.contact == "authors":
-        line += (
-            " (a leg that bends rings on MuJoCo's default soft contact and chatters until it falls; "
-            "try --contact stiff, a 1 ms contact time constant)"
-        )
-    return line
+    return f"UNSTABLE: the hopper fell (base tilted past {FELL_TILT_DEG:g} deg at t = {fell:.3f} s), then {message}"
+
+
+def fall_line(rollout) -> str | None:
+    """A stable run whose hopper fell, in one line: when
+    (:meth:`~mat_hopper.core.rollout.Rollout.fall_message`), and for a leg
+    that bends on the default soft contact why and what to try
+    (:func:`mat_hopper.core.timestep.soft_contact_note`); None for a run
+    that did not fall or diverged (:func:`unstable_line` says it)."""
+    from ..core.timestep import CLI_CONTACT_HINT, soft_contact_note
+
+    fell = rollout.fall_message()
+    if fell is None:
+        return None
+    note = soft_contact_note(rollout.design, rollout.settings, CLI_CONTACT_HINT)
+    return f"FELL: {fell}" + (f"; {note}" if note else "")
 
 
 EXIT_STATUS = (
@@ -359,9 +369,10 @@ def cmd_simulate(args) -> int:
         print(unstable_line(rollout))
     elif rollout.suspect:
         print(f"SUSPECT: {rollout.suspect_message(CLI_AUTO_HINT)}")
-    if rollout.stable and rollout.fell_at_s is not None:
-        print(f"FELL: {rollout.fall_message()}")
-    print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s")
+    if fall_line(rollout):
+        print(fall_line(rollout))
+    before = "" if rollout.stable else f", before the divergence at t = {rollout.diverged_at_s:.4f} s: not results"
+    print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s{before}")
     if len(hops):
         desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
         print(desc.to_string(float_format=lambda v: f"{v:.4g}"))

@@ -308,7 +308,8 @@ class Rollout:
 
     def divergence_message(self, auto_hint: str = 'timestep_s="auto"') -> str | None:
         """One line on a divergence: when (t, s), why (:attr:`divergence_reason`)
-        and what to try (:func:`mat_hopper.core.timestep.auto_suggestion`).
+        and what to try (:func:`mat_hopper.core.timestep.remedies`: the stiff
+        contact for a bending leg on the default soft one, the automatic step).
 
         Args:
             auto_hint: how the reader asks for the automatic step:
@@ -320,10 +321,10 @@ class Rollout:
         """
         if self.stable:
             return None
-        from .timestep import auto_suggestion
+        from .timestep import remedies
 
         reason = self.divergence_reason or "numerical divergence: |qacc| > 1e6 or NaN"
-        fix = auto_suggestion(self.design, self.settings, auto_hint)
+        fix = remedies(self.design, self.settings, auto_hint)
         return f"diverged at t = {self.diverged_at_s:.4f} s ({reason})" + (f"; {fix}" if fix else "")
 
     def warn_if_diverged(self, what: str = "", stacklevel: int = 1) -> Rollout:
@@ -443,7 +444,9 @@ def divergence_reason(rollout: Rollout, model, data) -> str | None:
     |qacc| > :data:`mat_hopper.core.reference.DIVERGENCE_QACC`, naming the
     joint and the value), whether the hopper had fallen first (base tilt
     past :data:`FELL_TILT_DEG`), and the step above the leg's analytic bound
-    if it is (:func:`mat_hopper.core.timestep.stable_step_excess`).
+    if it is (:func:`mat_hopper.core.timestep.stable_step_excess`); for a
+    bending leg on the default soft contact, that contact's measured cause
+    (:func:`mat_hopper.core.timestep.soft_contact_cause`).
 
     Args:
         rollout: the :class:`Rollout` (its design, settings and records).
@@ -457,7 +460,7 @@ def divergence_reason(rollout: Rollout, model, data) -> str | None:
     """
     if rollout.stable:
         return None
-    from .timestep import stable_step_excess
+    from .timestep import soft_contact_cause, stable_step_excess
 
     qacc, qpos = np.asarray(data.qacc), np.asarray(data.qpos)
     joint = lambda jid: model.joint(int(jid)).name or f"#{int(jid)}"
@@ -474,4 +477,5 @@ def divergence_reason(rollout: Rollout, model, data) -> str | None:
     if fell is not None and fell < rollout.diverged_at_s:
         parts.append(f"after a fall: the base tilted past {FELL_TILT_DEG:g} deg at t = {fell:.3f} s")
     excess = stable_step_excess(rollout.design, rollout.settings)
-    return "; ".join(parts + ([excess] if excess else []))
+    cause = None if excess else soft_contact_cause(rollout.design, rollout.settings)
+    return "; ".join(parts + [c for c in (cause, excess) if c])

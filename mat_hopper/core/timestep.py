@@ -23,8 +23,9 @@ import math
 import warnings
 
 from . import reference as ref
-from .contact import DEFAULT_CONTACT
+from .contact import CONTACTS, DEFAULT_CONTACT
 from .controller import DEFAULT_SENSOR_TIMING
+from .conventions import BENDING_CONVENTIONS
 from .materials import DEFAULT_CONVENTION, DEFAULT_SEGMENT_MASS, LegDesign, parse_design
 from .stable_step import auto_substeps
 
@@ -35,7 +36,13 @@ __all__ = [
     "FINE_SUBSTEPS",
     "FINE_TIMESTEP_S",
     "StableStepWarning",
+    "API_CONTACT_HINT",
+    "CLI_CONTACT_HINT",
     "auto_suggestion",
+    "contact_suggestion",
+    "remedies",
+    "soft_contact_cause",
+    "soft_contact_note",
     "auto_timestep",
     "check_stable_step",
     "is_auto",
@@ -244,6 +251,106 @@ def auto_suggestion(design, settings, auto_hint: str = API_AUTO_HINT) -> str | N
     return (
         f"try {auto_hint} ({k} physics substep{'s' if k > 1 else ''} of {dt:.3g} s per {k * dt:.3g} s control period)"
     )
+
+
+API_CONTACT_HINT = 'contact="stiff"'  # how the Python API asks for the stiff contact
+CLI_CONTACT_HINT = "--contact stiff"  # how the command line asks for it
+_CONTACT_HINTS = {API_AUTO_HINT: API_CONTACT_HINT, CLI_AUTO_HINT: CLI_CONTACT_HINT}
+
+
+def _rings_on_soft_contact(design, settings) -> bool:
+    """Whether a run bends (a bending convention) on MuJoCo's default soft
+    contact at a step within the leg's analytic bounds (a step above them
+    is the likelier cause: :func:`stable_step_excess` says it)."""
+    bends = getattr(settings, "convention", None) in BENDING_CONVENTIONS
+    soft = getattr(settings, "contact", DEFAULT_CONTACT) == DEFAULT_CONTACT
+    return bends and soft and stable_step_excess(design, settings) is None
+
+
+def soft_contact_cause(design, settings) -> str | None:
+    """The measured cause of a bending leg's fall or divergence on MuJoCo's
+    default soft contact, or None for a run it does not apply to.
+
+    On the authors' contact (a 0.02 s time constant) the foot sinks 11-24
+    mm; the touch sensor releases while the foot is still deep, the hips'
+    flight PD steps, and the step rings the leg's bending modes until a
+    stiff leg falls or diverges (book/records: bending-mode-stiff.csv,
+    bending-chatter-damping.csv). Smaller physics steps do not remove it.
+
+    Args:
+        design: the leg, a LegDesign or a design name.
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings` (its
+            convention, contact and step are read).
+
+    Returns:
+        One clause naming the cause, or None (an axial convention, a
+        contact other than the default, or a step above the leg's analytic
+        bounds, :func:`stable_step_excess`).
+    """
+    if not _rings_on_soft_contact(design, settings):
+        return None
+    return (
+        "a leg that bends rings on MuJoCo's default soft contact (contact authors): the foot sinks 11-24 mm, "
+        "the touch sensor releases while it is still deep and the hips' flight PD steps into the bending modes"
+    )
+
+
+def contact_suggestion(design, settings, contact_hint: str = API_CONTACT_HINT) -> str | None:
+    """What to try for a bending leg on the default soft contact: the stiff
+    contact, on which such legs stand (:func:`soft_contact_cause`).
+
+    Args:
+        design: the leg, a LegDesign or a design name.
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings`.
+        contact_hint: how the caller asks for the stiff contact
+            (:data:`API_CONTACT_HINT` or :data:`CLI_CONTACT_HINT`).
+
+    Returns:
+        ``"try <contact_hint> (a 1 ms contact time constant)"``, or None
+        where :func:`soft_contact_cause` is None.
+    """
+    if not _rings_on_soft_contact(design, settings):
+        return None
+    return f"try {contact_hint} (a {CONTACTS['stiff'][0] * 1e3:g} ms contact time constant)"
+
+
+def soft_contact_note(design, settings, contact_hint: str = API_CONTACT_HINT) -> str | None:
+    """Why a bending leg on the default soft contact fell, and what to try:
+    :func:`soft_contact_cause` and :func:`contact_suggestion` in one clause,
+    for a fall that did not diverge (a divergence says both in
+    :meth:`mat_hopper.core.rollout.Rollout.divergence_message`).
+
+    Args:
+        design: the leg, a LegDesign or a design name.
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings`.
+        contact_hint: :data:`API_CONTACT_HINT` or :data:`CLI_CONTACT_HINT`.
+
+    Returns:
+        ``"<cause>; try <contact_hint> (...)"``, or None where it does not apply.
+    """
+    cause = soft_contact_cause(design, settings)
+    return None if cause is None else f"{cause}; {contact_suggestion(design, settings, contact_hint)}"
+
+
+def remedies(design, settings, auto_hint: str = API_AUTO_HINT) -> str | None:
+    """Everything to try after a run that diverged or fell: the stiff
+    contact for a bending leg on the default soft one
+    (:func:`contact_suggestion`), then the automatic step where it differs
+    from the run's (:func:`auto_suggestion`).
+
+    Args:
+        design: the leg, a LegDesign or a design name.
+        settings: the run's :class:`~mat_hopper.core.sim.SimSettings`.
+        auto_hint: :data:`API_AUTO_HINT` or :data:`CLI_AUTO_HINT`; the
+            contact is named the same way (``contact="stiff"`` or
+            ``--contact stiff``).
+
+    Returns:
+        The suggestions joined by "; ", or None when there is none.
+    """
+    contact_hint = _CONTACT_HINTS.get(auto_hint, CLI_CONTACT_HINT if auto_hint.startswith("--") else API_CONTACT_HINT)
+    fixes = [contact_suggestion(design, settings, contact_hint), auto_suggestion(design, settings, auto_hint)]
+    return "; ".join(f for f in fixes if f) or None
 
 
 def check_stable_step(design, settings, *, auto_hint: str = API_AUTO_HINT) -> str | None:

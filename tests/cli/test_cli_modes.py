@@ -21,3 +21,13 @@ def test_modes_gives_a_graded_leg_its_stable_step_and_refuses_its_table(tmp_path
     assert main(["modes", "--design", "rho-inc", "--csv", str(tmp_path / "m.csv")]) == 2
     err = capsys.readouterr().err
     assert "one elastic material" in err and len(err.strip().splitlines()) == 1
+
+
+def test_modes_does_not_deny_what_its_auto_line_offers(capsys):
+    """A 64-segment SS leg under bending: the controller's limit (5.8e-5 s)
+    lies below the 1e-4 s period, and --timestep auto shortens the period
+    to 2.5e-5 s, within it: no line may say this leg is beyond the controller."""
+    assert main(["modes", "--design", "SS", "--segments", "64", "--convention", "bending"]) == 0
+    out = capsys.readouterr().out
+    assert "2.5e-05 s control period" in out
+    assert "beyond" not in out and "shortens the control period to 2.5e-05 s" in out

@@ -129,3 +129,10 @@ def test_progress_stops_at_the_divergence_not_at_a_chunks_end(capsys):
     assert main(["simulate", "--design", "CFRP", "--duration", "2", "--transient", "1"]) == 1
     err = capsys.readouterr().err
     assert "CFRP: stopped, 0.0021/2 sim s" in err and "CFRP: done" not in err
+
+
+def test_hop_cycles_before_a_divergence_are_not_called_results(capsys):
+    # the five-segment leg diverges at 0.0043 s at the authors' 1e-4 s step
+    assert main(["simulate", *FIVE, "--duration", "2", "--transient", "1", "--no-progress"]) == 1
+    out = capsys.readouterr().out
+    assert "scored after 1 s, before the divergence at t = 0.0043 s: not results" in out
