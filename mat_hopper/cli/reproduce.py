@@ -212,6 +212,7 @@ def cmd_reproduce(args) -> int:
         f"({', '.join(f'{k} {v:.1f} s' for k, v in rep.wall_s.items())})"
     )
     _controls_note(rep)
+    _earlier_outputs_note(rep)
     n_failed = sum(rep.failed.values())
     if n_failed:
         print(f"{n_failed} tasks failed (see the status and error columns); rerun to retry them", file=sys.stderr)
@@ -224,6 +225,29 @@ def cmd_reproduce(args) -> int:
             + ("" if args.no_figures else ", and the claims leave them out and name them")
         )
     return 1 if n_failed or n_diverged else 0  # EXIT_STATUS
+
+
+def _earlier_outputs_note(rep) -> None:
+    """One line naming the files of an earlier run that this one did not
+    replace (an earlier run's claims beside a --no-figures run's tables,
+    or another experiment's tables): --force replaces what the run writes,
+    and removes nothing, so the folder now mixes two runs."""
+    import glob
+
+    written = {os.path.realpath(f) for f in rep.files}
+    earlier = sorted(
+        f
+        for pattern in REPRODUCTION_FILES
+        for f in glob.glob(os.path.join(rep.out_dir, pattern))
+        if os.path.isfile(f) and os.path.realpath(f) not in written
+    )
+    if earlier:
+        names = ", ".join(os.path.relpath(f, rep.out_dir) for f in earlier[:5])
+        more = f" and {len(earlier) - 5} more" if len(earlier) > 5 else ""
+        print(
+            f"note: {len(earlier)} files in {rep.out_dir} are an earlier run's, not this one's ({names}{more}); "
+            "remove them or give a new --out"
+        )
 
 
 def _controls_note(rep) -> None:

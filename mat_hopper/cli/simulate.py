@@ -385,14 +385,24 @@ def cmd_simulate(args) -> int:
         )
         if s["peak_stress_pa"] == s["peak_stress_pa"]:  # a leg with modelled stress
             flag = "  ** PEAK STRESS OVER YIELD **" if s["yield_exceeded"] else ""
+            from ..physics.fatigue import strength_basis
+
+            # a leg given by its properties is judged by its class's curve, not a catalogue entry's: say whose
+            curves = ", ".join(dict.fromkeys(strength_basis(m) for m in design.segments if not m.rigid))
             print(
                 f"peak stress {s['peak_stress_pa'] / 1e6:.3g} MPa ({s['yield_ratio']:.2g} x yield), damage per hop "
-                f"{s['damage_per_hop']:.3g}, hops to failure {s['hops_to_failure']:.3g}{flag}"
+                f"{s['damage_per_hop']:.3g}, hops to failure {s['hops_to_failure']:.3g} (S-N curve: {curves}){flag}"
             )
     if args.csv:
         at = list(hops.columns).index("segment_mass") + 1
         hops.insert(at, "timestep_s", settings.timestep_s)
         hops.insert(at + 1, "substeps", settings.substeps)
+        # how the run ended, in every row (as batch's CSV): a diverged, fallen or suspect run's rows are not results
+        ended = {"diverged_at_s": rollout.diverged_at_s, "fell_at_s": rollout.fell_at_s, "suspect_at_s": None}
+        if rollout.suspect:
+            ended["suspect_at_s"] = rollout.suspect_apex[0]
+        for k, (col, when_s) in enumerate(ended.items()):
+            hops.insert(at + 2 + k, col, math.nan if when_s is None else float(when_s))
         from ..batch import design_columns  # the design's properties in every row: rows of two runs differ
 
         props = {k: v for k, v in design_columns(design, segment_mass=settings.segment_mass).items() if k not in hops}

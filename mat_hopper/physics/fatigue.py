@@ -132,6 +132,28 @@ CLASS_STRENGTH = {
 }
 
 
+def strength_basis(mat: Material) -> str:
+    """Whose S-N curve :func:`strength` judges a material by, in words: the
+    catalogue entry's own (``"SS's own"``), or its class's (``"the metal
+    class's"``) for a material that is not a catalogue entry by name,
+    density and modulus alike (a leg given by its properties, a control).
+
+    Args:
+        mat: the :class:`~mat_hopper.core.materials.Material` (not rigid).
+
+    Returns:
+        The words, e.g. ``"Ti's own"`` or ``"the metal class's"``.
+
+    Raises:
+        ValueError: a rigid material.
+    """
+    own = strength(mat)
+    name = mat.name.strip()
+    if STRENGTH.get(name.lower()) is own:
+        return f"{name}'s own"
+    return f"the {loss_factor_class(mat)} class's"
+
+
 def strength(mat: Material) -> Strength:
     """A material's :class:`Strength`: the catalogue's, for a material with
     a catalogue name *and* that entry's density and modulus; any other (a

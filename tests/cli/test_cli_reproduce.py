@@ -92,3 +92,21 @@ def test_a_run_of_the_controls_alone_says_where_they_are_and_what_they_feed(tmp_
     assert "--experiments 1,2,3,controls" in line
     _controls_note(SimpleNamespace(wall_s={"exp1": 30.0, "controls": 40.0}, out_dir=str(tmp_path)))
     assert "--experiments" not in capsys.readouterr().out  # judged with experiment 1 already
+
+
+def test_an_earlier_runs_files_left_beside_this_ones_are_named(tmp_path, capsys):
+    """--force replaces what a run writes and removes nothing: the files of
+    an earlier run that this one did not write are named."""
+    from types import SimpleNamespace
+
+    from mat_hopper.cli.reproduce import _earlier_outputs_note
+
+    (tmp_path / "figures").mkdir()
+    for name in ("exp1_hops.csv", "claims.csv", "claims.md", "figures/fig4.png"):
+        (tmp_path / name).write_text("x")
+    _earlier_outputs_note(SimpleNamespace(out_dir=str(tmp_path), files=[str(tmp_path / "exp1_hops.csv")]))
+    out = capsys.readouterr().out
+    assert "3 files" in out and "claims.csv" in out and "claims.md" in out and "figures/fig4.png" in out
+    assert "exp1_hops.csv" not in out
+    _earlier_outputs_note(SimpleNamespace(out_dir=str(tmp_path), files=[str(p) for p in tmp_path.rglob("*.*")]))
+    assert capsys.readouterr().out == ""

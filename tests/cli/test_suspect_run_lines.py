@@ -17,6 +17,19 @@ def test_simulate_says_a_suspect_run_and_exits_1(capsys):
     assert len(lines) == 1 and "hop apex of 1.90 m at t = 2.347 s" in lines[0] and "--timestep auto" in lines[0]
 
 
+def test_simulates_csv_says_how_the_run_ended_in_every_row(tmp_path, capsys):
+    """A suspect run's rows carry when it turned suspect; a clean run's are empty (as batch's CSV)."""
+    import pandas as pd
+
+    bad, good = tmp_path / "ti4.csv", tmp_path / "ss.csv"
+    main(["simulate", "--design", "Ti", "--segments", "4", "--behaviour", "forward", *RUN, "--csv", str(bad)])
+    main(["simulate", "--design", "SS", "--behaviour", "forward", *RUN, "--csv", str(good)])
+    rows, clean = pd.read_csv(bad), pd.read_csv(good)
+    assert {"diverged_at_s", "fell_at_s", "suspect_at_s"} <= set(rows.columns)
+    assert ((rows["suspect_at_s"] - 2.347).abs() < 5e-4).all() and rows["diverged_at_s"].isna().all()
+    assert clean[["diverged_at_s", "fell_at_s", "suspect_at_s"]].isna().all().all()
+
+
 def test_simulate_of_the_papers_steel_is_not_suspect(capsys):
     assert main(["simulate", "--design", "SS", "--behaviour", "forward", *RUN]) == 0
     out = capsys.readouterr().out

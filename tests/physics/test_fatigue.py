@@ -168,3 +168,13 @@ def test_strength_of_a_custom_ceramic_and_natural_material():
     assert strength(ceramic).yield_mpa == 300.0
     natural = Material("my-bone", 1.8, 15.0, "natural", "test")
     assert strength(natural).yield_mpa == 110.0
+
+
+def test_the_s_n_curve_a_leg_is_judged_by_is_named():
+    """A catalogue entry keeps its own curve; the same density and modulus
+    given as properties (not a catalogue entry by name) take the class's."""
+    from mat_hopper.core.materials import Material, parse_design
+    from mat_hopper.physics.fatigue import strength_basis
+
+    assert strength_basis(parse_design("SS").segments[0]) == "SS's own"
+    assert strength_basis(Material("custom", 8.0, 193.0)) == "the metal class's"
