@@ -235,6 +235,16 @@ def add_timestep(p, default_help: str) -> None:
     p.add_argument("--timestep", default=None, help=f"physics time step, s, or {AUTO_TIMESTEP_HELP}; {default_help}")
 
 
+def no_hops_line(transient_s: float, duration_s: float) -> str:
+    """Why a run that stood scored no hop cycle: a cycle (about 0.6 s of
+    the 1 m hop) counts only when it starts after the transient and ends
+    before the run does, so a window of a second or so holds none."""
+    return (
+        f"no hop cycle was scored between {transient_s:g} and {duration_s:g} s: a cycle lasts about 0.6 s and counts "
+        "only if it starts after --transient and ends before --duration; give a longer --duration"
+    )
+
+
 SEGMENTS_HELP = (
     f"segments of a single-material --design (default {REFERENCE_SEGMENTS}, at most {MAX_SEGMENTS}); with "
     "--density and --modulus, their count"

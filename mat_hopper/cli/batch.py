@@ -32,6 +32,7 @@ from ._options import (
     add_no_progress,
     add_profile,
     check_force_used,
+    no_hops_line,
     profile_of,
     timestep_arg,
 )
@@ -210,7 +211,9 @@ def run_batch(args) -> int:
     rerun = {d.name: _rerun_command(d, beh, settings, auto) for d in designs}
     note = _diverged_note(table, auto, designs, per_design, args.backend, rerun)
     odd = _suspect_note(table, auto)
-    notes = (note, odd, _fallen_note(table, designs, per_design))
+    hopless = table["stable"].astype(bool) & (table["n_hops"] == 0) & table["upright"].astype(bool)
+    empty = f"{int(hopless.sum())} of {_count(len(table), 'design')}: {no_hops_line(settings.transient_s, settings.duration_s)}"
+    notes = (note, odd, _fallen_note(table, designs, per_design), empty if hopless.any() else "")
     _report(out, args.csv, "\n".join(n for n in notes if n), shown=shown)
     return 1 if note or odd else 0  # any run diverged or suspect: exit 1 (the rule of every command); a fall: 0
 

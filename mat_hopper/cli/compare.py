@@ -24,6 +24,7 @@ from ._options import (
     add_no_progress,
     add_profile,
     check_force_used,
+    no_hops_line,
     timestep_arg,
 )
 from .simulate import EXIT_STATUS, add_sim_arguments, design_from_args
@@ -179,7 +180,9 @@ def cmd_compare(args) -> int:
             "comparators of each metric, no difference where the interval lies inside +-10%"
         )
         print(_shown(table, COMPARE_METRICS).to_string(index=False))
-        note = _few_seeds_note(table)
+        hopless = int(table["n_pairs"].max()) == 0  # every run stood, none scored a cycle: the window, not the seeds
+        window = plan.settings[0]
+        note = f"note: {no_hops_line(window.transient_s, window.duration_s)}" if hopless else _few_seeds_note(table)
         if note:
             print(note)
     else:
@@ -198,7 +201,8 @@ def cmd_compare(args) -> int:
         print(f"wrote {len(table)} rows to {write_table(table, args.csv)}")
     numeric = ("unstable", "numerically suspect")  # diverged, or corrupted without diverging
     diverged = [e["leg"] for e in table.attrs["left_out"] if any(w in e["why"] for w in numeric)]
-    return 0 if len(table) and not diverged else 1  # EXIT_STATUS: any run asked for diverged or is suspect
+    scored = len(table) and int(table["n_pairs"].max()) > 0
+    return 0 if scored and not diverged else 1  # EXIT_STATUS: any run diverged or is suspect, or nothing was scored
 
 
 def register_cli(sub) -> None:

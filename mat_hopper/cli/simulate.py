@@ -50,6 +50,7 @@ from ._options import (
     add_timestep,
     check_force_used,
     decimal_comma_of,
+    no_hops_line,
     profile_of,
     timestep_arg,
 )
@@ -373,6 +374,8 @@ def cmd_simulate(args) -> int:
         print(fall_line(rollout))
     before = "" if rollout.stable else f", before the divergence at t = {rollout.diverged_at_s:.4f} s: not results"
     print(f"{len(hops)} hop cycles scored after {settings.transient_s:g} s{before}")
+    if not len(hops) and rollout.stable and rollout.fell_at_s is None:  # a short window, not a failure: say so
+        print(f"note: {no_hops_line(settings.transient_s, settings.duration_s)}")
     if len(hops):
         desc = hops[list(METRICS)].describe().loc[["mean", "std", "min", "max"]]
         print(desc.to_string(float_format=lambda v: f"{v:.4g}"))

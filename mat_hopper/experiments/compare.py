@@ -333,11 +333,14 @@ def untestable(n_pairs: int, family_size: int, alpha: float = 0.05) -> str:
         alpha: the family's significance level.
 
     Returns:
-        The verdict text, naming the seeds needed (:func:`min_replicates`).
+        The verdict text, naming the seeds needed (:func:`min_replicates`),
+        or, with no pair at all, that no seed scored a hop cycle.
 
     >>> untestable(2, 1)
     'untestable with n = 2 seeds; use --replicates 6 or more'
     """
+    if n_pairs == 0:  # no seed of both legs scored a hop cycle: more seeds of the same runs cannot help
+        return "untestable: no paired seed has a scored hop cycle"
     k = min_replicates(family_size, alpha)
     seeds = "seed" if n_pairs == 1 else "seeds"
     more = f"use --replicates {k} or more" if k is not None else "use more replicates"
