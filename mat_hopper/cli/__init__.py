@@ -28,6 +28,7 @@ COMMAND_MODULES = (
     "mat_hopper.cli.modes",
     "mat_hopper.cli.compare",
     "mat_hopper.cli.plan",
+    "mat_hopper.cli.records",
 )
 # Each command's line in `mat-hopper --help` (tests/cli check it is the
 # module's own): the top-level help lists the commands without importing
@@ -42,6 +43,7 @@ COMMAND_HELP = {
     "modes": "a leg's axial natural frequencies (lumped chain vs continuum rod) and its stable time step",
     "compare": "compare a design with baselines and its own controls, paired on shared seeds at one time step",
     "plan": "count the book's runs per chapter before any run: shared, cached, physics steps, core-hours",
+    "records": "rebuild book/records (the paper-profile results the quick book shows) from one finished book build",
 }
 
 
