@@ -17,7 +17,8 @@ The chapters (:data:`CHAPTERS`) build their runs with the very task builders
 the notebooks' calls run: :func:`~mat_hopper.experiments.reproduce.experiment_tasks`
 (``run_experiments``), :func:`~mat_hopper.experiments.controls.control_tasks`
 (``run_controls``), :func:`~mat_hopper.experiments.convergence.tasks`
-(``convergence.run``), the book checks' ``*_tasks`` of
+(``convergence.run``), :func:`~mat_hopper.experiments.crossed_legs.tasks`
+(chapter 9c's crossed legs), the book checks' ``*_tasks`` of
 :mod:`mat_hopper.experiments.paper`, and
 :func:`~mat_hopper.experiments.runner.rollout_specs` (the tasks
 :func:`~mat_hopper.experiments.runner.rollouts` runs). What a chapter passes them (its designs, behaviours, replicates) is
@@ -43,7 +44,7 @@ from dataclasses import dataclass, replace
 import pandas as pd
 
 from ..util.limits import task_steps
-from . import controls, convergence
+from . import controls, convergence, crossed_legs
 from .groups import unit_steps
 from .paper import axial_check_tasks, clock_tasks, convention_tasks, in_place_tasks, parse_experiments
 from .profiles import get_profile
@@ -165,13 +166,14 @@ CHAPTERS: tuple[Chapter, ...] = (
         "09c-material-or-mass",
         (
             lambda p: controls.control_tasks(p),
+            crossed_legs.tasks,
             lambda p: controls.push_scale_tasks(p),
             lambda p: controls.attribution_tasks(
                 p, behaviours=("forward", "ramp") if p.name == "paper" else ("forward",)
             ),
             experiments("2"),
         ),
-        "not counted: the crossed-legs grid its cells build",
+        "",
         "codesign (gains tuned per material)",
     ),
     Chapter(

@@ -41,8 +41,6 @@
 from mat_hopper import book
 
 b = book.setup()
-from dataclasses import replace
-
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
@@ -51,15 +49,13 @@ from myst_nb import glue
 
 from mat_hopper import mass_matched, mass_properties, parse_design, rigid_twin
 from mat_hopper.analysis import attribution, beyond_mass, paired
+from mat_hopper.analysis.factorial import factorial_effects
 from mat_hopper.analysis.stats import drop_unusable, unusable_runs
-from mat_hopper.core.behaviours import behaviour
 from mat_hopper.core.control_legs import inertia_matched
-from mat_hopper.core.materials import LegDesign
 from mat_hopper.core.model import build_model
-from mat_hopper.core.timestep import auto_timestep
 from mat_hopper.experiments import controls as control_runs
-from mat_hopper.experiments import reproduce
-from mat_hopper.experiments.runner import RunSpec, run_grid
+from mat_hopper.experiments import crossed_legs, reproduce
+from mat_hopper.experiments.runner import run_grid
 from mat_hopper.physics.metrics import holm
 from mat_hopper.util.keys import design_key
 
@@ -235,57 +231,20 @@ print(beyond_mass.headline_sentence(hops, "power_total_w"))
 # step, a check of the paper's 1e-4 s):
 
 # %%
-rho, ss = parse_design("rho-inc"), parse_design("SS")
-crossed = {
-    "rho-inc": rho,
-    f"rho-inc at {ss.moduli_gpa[0]:g} GPa": LegDesign.from_properties(
-        rho.densities_g_cm3, ss.moduli_gpa, name=f"rho-inc-at-{ss.moduli_gpa[0]:g}GPa"
-    ),
-    f"SS at {rho.moduli_gpa[0]:g} GPa": LegDesign.from_properties(
-        ss.densities_g_cm3, rho.moduli_gpa, name=f"SS-at-{rho.moduli_gpa[0]:g}GPa"
-    ),
-    "SS": ss,
-}
 # ρ-inc's light segments on SS's stiff springs diverge at the paper's 1e-4 s step within
 # milliseconds: all four legs take the physics substeps the stiffest needs
 # (mat_hopper.core.timestep.auto_timestep), the controller keeping its 1e-4 s period
-substeps = max(auto_timestep(leg)[0] for leg in crossed.values())
-tasks = []
-for name, leg in crossed.items():
-    for seed in range(b.profile.replicates):
-        settings = b.profile.sim_settings(b.profile.replicate(seed), design=leg)
-        settings = replace(settings, substeps=substeps, timestep_s=settings.timestep_s / substeps)
-        tasks.append(RunSpec(leg, behaviour("ramp"), settings, {"leg": name, "replicate": seed}))
-print(f"{substeps} physics substeps of {settings.timestep_s:.3g} s per 1e-4 s control period, every leg")
+tasks = crossed_legs.tasks(b.profile)
+print(f"{tasks[0].settings.substeps} physics substeps of {tasks[0].settings.timestep_s:.3g} s "
+      "per 1e-4 s control period, every leg")  # fmt: skip
 grid = run_grid(tasks, b.cache_dir, progress=False, desc="crossed legs")
 usable = drop_unusable(grid.tables, unusable_runs(grid.summary))
 print(f"{len(tasks)} runs: {grid.n_cached} cached, {grid.n_computed} computed; "
       f"{len(unusable_runs(grid.summary))} unusable, dropped")  # fmt: skip
 run_means = usable.groupby(["leg", "replicate"])[["tracking_error_m", "power_total_w"]].mean()
-legs_by = {name: run_means.xs(name, level="leg") for name in crossed}
-names = list(crossed)  # rho-inc, rho-inc at 193, SS at 70, SS
-contrasts = {  # (label, design, against)
-    "claim: rho-inc against SS": (names[0], names[3]),
-    "modulus 70 vs 193 GPa, at rho-inc's densities": (names[0], names[1]),
-    "modulus 70 vs 193 GPa, at SS's densities": (names[2], names[3]),
-    "densities rho-inc vs SS, at 70 GPa": (names[0], names[2]),
-    "densities rho-inc vs SS, at 193 GPa": (names[1], names[3]),
-}
-factorial = pd.DataFrame(
-    [
-        {"contrast": label, "metric": m, **paired.paired_effect(legs_by[a][m], legs_by[c][m])}
-        for label, (a, c) in contrasts.items()
-        for m in ("tracking_error_m", "power_total_w")
-    ]
-)
-# Holm over the four factorial contrasts of each metric; the claim is a family of its own
-claim_rows = factorial["contrast"].str.startswith("claim")
-factorial.loc[claim_rows, "p_holm"] = factorial.loc[claim_rows, "p"]
-for _, g in factorial[~claim_rows].groupby("metric"):
-    factorial.loc[g.index, "p_holm"] = holm(g["p"].to_numpy(float))
-factorial["conclusion"] = [
-    paired.conclusion(p, lo, hi) for p, lo, hi in zip(factorial["p_holm"], factorial["ci_low"], factorial["ci_high"])
-]
+# the claim (rho-inc against SS) is a family of its own; Holm over the four factorial contrasts of each metric
+factorial = factorial_effects(run_means, crossed_legs.CONTRASTS, alone=(crossed_legs.CLAIM,))
+b.downloads({"crossed_legs": factorial})
 for m, g in factorial.groupby("metric", sort=False):
     print(f"{m}: " + "; ".join(f"{r.contrast} {r.pct_change:+.1f} % [{r.ci_low:+.1f}, {r.ci_high:+.1f}] ({r.conclusion})"
                                for r in g.itertuples()))  # fmt: skip

@@ -130,3 +130,14 @@ def test_branch_replicates_count_their_shared_prefix_once(tmp_path):
     # each group simulates 4 s (40000 steps) once instead of 3 times
     assert branch["physics_steps"] == authors["physics_steps"] - groups * 2 * 40_000
     assert branch["runs"] == authors["runs"] and branch["simulated_s"] == authors["simulated_s"]
+
+
+def test_chapter_9c_counts_its_crossed_legs():
+    from mat_hopper.experiments import crossed_legs
+
+    nine_c = [c for c in CHAPTERS if c.name == "09c-material-or-mass"]
+    keys = {t.key() for t in book_plan.book_tasks("quick", nine_c)}
+    crossed = {t.key() for t in crossed_legs.tasks("quick")}
+    assert len(crossed) == 4 * PROFILES["quick"].replicates
+    assert crossed <= keys  # the plan (and plan --run) knows the grid the chapter's cell runs
+    assert "crossed" not in nine_c[0].uncounted
