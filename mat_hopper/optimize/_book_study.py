@@ -163,7 +163,9 @@ def book_record_tables(studies_dir, cache_dir, profile, *, workers: int | None =
         (verdicts, paired): the ``optimizer-paper.csv`` and
         ``optimizer-paper-paired.csv`` tables
         (:data:`~mat_hopper.optimize.validate.RECORD_COLUMNS`,
-        :data:`~mat_hopper.optimize.validate.PAIRED_RECORD_COLUMNS`).
+        :data:`~mat_hopper.optimize.validate.PAIRED_RECORD_COLUMNS`; write
+        them with ``float_format=validate.RECORD_FLOAT_FORMAT``, as the
+        records are written).
 
     Raises:
         ValueError: no such study, a study of other settings or unfinished

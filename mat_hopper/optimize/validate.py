@@ -121,6 +121,7 @@ __all__ = [
     "paper_best",
     "PAIRED_RECORD_COLUMNS",
     "RECORD_COLUMNS",
+    "RECORD_FLOAT_FORMAT",
     "record_tables",
     "replicate_means",
     "run_paired",
@@ -319,6 +320,8 @@ RECORD_COLUMNS = (
     "profile",
     "n_seeds",
 )
+# How the records write floats (pandas' to_csv float_format): 6 significant digits.
+RECORD_FLOAT_FORMAT = "%.6g"
 # The columns of book/records/optimizer-paper-paired.csv: paired_table's.
 PAIRED_RECORD_COLUMNS = ("design", "against", "kind", "objective", "n_pairs", "pct_change", "ci_low", "ci_high",
                          "p", "p_min", "p_holm", "testable", "significant")  # fmt: skip
@@ -354,6 +357,7 @@ def record_tables(validation: dict, legs: dict, objective: Objective, searched=(
         ``leg_mass_kg`` (kg, the objective's segment mass), ``profile``
         (its name) and ``n_seeds``. paired: :func:`paired_table`'s rows,
         :data:`PAIRED_RECORD_COLUMNS` (they do not depend on the rule).
+        The records write both with ``float_format=RECORD_FLOAT_FORMAT``.
 
     Raises:
         ValueError: an unknown rule, or a rule other than the validation's

@@ -376,7 +376,7 @@ def test_record_tables_have_the_records_columns_and_each_legs_properties():
     from pathlib import Path
 
     from mat_hopper.core.materials import LegDesign
-    from mat_hopper.optimize.validate import record_tables
+    from mat_hopper.optimize.validate import RECORD_FLOAT_FORMAT, record_tables
 
     records = Path(__file__).resolve().parents[2] / "book" / "records"
     legs = {"f": LegDesign.from_properties([1.23456, 6.78912, 5.0], [57.1749, 65.9349, 29.7], name="f"),
@@ -394,6 +394,7 @@ def test_record_tables_have_the_records_columns_and_each_legs_properties():
     assert rows["densities_g_cm3"].tolist()[:2] == ["1.235;6.789;5", "1.39;4.43;8"]  # 4 significant digits
     assert rows["moduli_gpa"].tolist()[:2] == ["57.17;65.93;29.7", "70;70;70"]
     assert rows["leg_mass_kg"].iloc[1] == pytest.approx(5.44068, abs=5e-6)  # rho-inc's, as the record holds it
+    assert ",5.44068,tiny,10" in rows.iloc[[1]].to_csv(index=False, float_format=RECORD_FLOAT_FORMAT)
     assert (rows["profile"] == "tiny").all() and (rows["n_seeds"] == 10).all()
     assert rows.loc[0, "dominated by"] == "A" and len(paired) == len(table)
     with pytest.raises(ValueError, match="the significance rule needs the validation's runs"):
