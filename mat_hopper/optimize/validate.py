@@ -373,6 +373,8 @@ def record_tables(validation: dict, legs: dict, objective: Objective, searched=(
             ver = verdicts(validation["runs"], validation["paired"], rule)
         else:
             raise ValueError(f"the {rule} rule needs the validation's runs (it was judged under {own})")
+        if ver.empty:  # nothing validated: no rows
+            continue
         ver = ver.copy()
         ver.insert(1, "dominance", rule)
         ver.insert(2, "searched", ver["design"].isin(searched))

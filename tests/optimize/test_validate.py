@@ -399,3 +399,6 @@ def test_record_tables_have_the_records_columns_and_each_legs_properties():
     assert rows.loc[0, "dominated by"] == "A" and len(paired) == len(table)
     with pytest.raises(ValueError, match="the significance rule needs the validation's runs"):
         record_tables({k: v for k, v in checked.items() if k != "runs"}, legs, OB)
+    nothing = {**checked, "runs": runs.iloc[0:0], "paired": table.iloc[0:0], "verdicts": pd.DataFrame()}
+    empty, _ = record_tables(nothing, {}, OB)  # a front of no design: no rows, the record's columns
+    assert empty.empty and list(empty.columns) == list(rows.columns)
