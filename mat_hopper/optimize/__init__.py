@@ -24,7 +24,10 @@ index that keeps concurrent runs' samplers apart; ``_stable_steps`` the warning
 before a run above a queued design's stable step and the advice after a
 divergence; ``_export`` writes a
 trial's design as CSV and MJCF; ``_racing`` runs multi-fidelity racing
-(successive halving on ask-and-tell, through the same evaluators). The
+(successive halving on ask-and-tell, through the same evaluators);
+``_book_study`` is chapter 9's study as the book runs it
+(:func:`book_study`) and its record tables from a finished build
+(:func:`book_record_tables`). The
 named table of what an objective may minimize (:data:`METRICS`, with
 units) is :mod:`mat_hopper.physics.run_metrics`'s, re-exported here. The
 public module :mod:`~mat_hopper.optimize.validate` (a front judged on
@@ -38,6 +41,7 @@ imported by name; the report's tables and hypervolume live in
 from ..physics.run_metrics import METRICS, Metric, check_warp, parse_objectives
 from ._ashby import check_classes
 from ._batch import DEFAULT_BATCH_SIZE, evaluate_batch
+from ._book_study import BookStudy, book_record_tables, book_study, validated_legs
 from ._driver import RunResult, run_batch_study, run_loop, run_study
 from ._evaluators import DEFAULT_BATCH, Evaluator, Lost, PoolEvaluator, WarpEvaluator
 from ._export import design_frame, design_mjcf, export_trial
@@ -107,6 +111,10 @@ from .report import (
 )
 
 __all__ = [
+    "BookStudy",
+    "book_record_tables",
+    "book_study",
+    "validated_legs",
     "HOPS_TO_FAILURE_RANGE",
     "MAX_LEG_MASS_KG",
     "LEG_MASS_SCOPE",

@@ -13,7 +13,8 @@ these two run in this layer, above it, so their part is here and
   are not run; a rung whose trials fall promotes fewer). The validation
   of the study's front (:mod:`mat_hopper.optimize.validate`) depends on
   that front and is not counted. The study's settings (behaviour, replicates,
-  leg-mass target, trials screened) are the notebook's, copied.
+  leg-mass target, trials screened) are :func:`~mat_hopper.optimize.book_study`'s,
+  which the notebook runs.
 - Chapter 9c's codesign (:func:`mat_hopper.optimize.codesign.codesign`): the runs
   known before it runs are tasks (each design's first tuning trial at the
   authors' gains, and the comparison at the authors' gains:
@@ -32,14 +33,8 @@ from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import MONO_NAMES, paper_designs, parse_design
 from ..experiments.plan import CHAPTERS, Chapter, Estimate
 from . import codesign as cd
-from ._objective import Objective
-from ._racing import default_racing
-from ._scoring import DEFAULT_REPLICATES, perturbations
-
-# Chapter 9's study, as its notebook sets it up.
-RACING_BEHAVIOURS = ("ramp",)
-RACING_LEG_MASS = "rho-inc"
-SCREENED = {"paper": 180, "quick": 27}  # trials screened per profile (others: 27), in brackets of 9
+from ._book_study import BOOK_LEG_MASS, book_study
+from ._scoring import perturbations
 
 
 def racing_estimate(profile) -> list[Estimate]:
@@ -53,16 +48,9 @@ def racing_estimate(profile) -> list[Estimate]:
         trials' runs at most (trials x replicates x behaviours) at the rung's
         run length.
     """
-    objective = Objective(
-        behaviours=RACING_BEHAVIOURS,
-        profile=profile,
-        replicates=DEFAULT_REPLICATES,
-        risk="mean",
-        leg_mass=RACING_LEG_MASS,
-    )
-    racing = default_racing(objective)
-    brackets = SCREENED.get(profile.name, 27) // racing.screen
-    leg = paper_designs()[RACING_LEG_MASS]
+    book = book_study(profile)
+    objective, racing, brackets = book.objective, book.racing, book.brackets
+    leg = paper_designs()[BOOK_LEG_MASS]
     out, trials = [], racing.screen
     for r in range(len(racing.rungs)):
         ob = racing.objective_at(objective, r)

@@ -38,6 +38,7 @@ import pandas as pd
 from ..core.behaviours import BEHAVIOUR_NAMES
 from ..experiments.runner import FAILED, OK, run_grid
 from ._objective import Objective
+from ._scoring import leg_mass_kg
 from ._validate_checks import (
     ALPHA,
     AXIAL,
@@ -118,6 +119,10 @@ __all__ = [
     "is_gradient",
     "paired_table",
     "paper_best",
+    "PAIRED_RECORD_COLUMNS",
+    "RECORD_COLUMNS",
+    "RECORD_FLOAT_FORMAT",
+    "record_tables",
     "replicate_means",
     "run_paired",
     "survival_state",
@@ -264,7 +269,8 @@ def validate_front(
         (:func:`paired_table`), ``paper_best`` (names), ``verdicts``
         (:func:`verdicts`), ``survivors`` ({name: LegDesign}) and
         ``surviving_fraction`` (survivors over the front; NaN where
-        survival is untestable) and ``dominance`` (the rule).
+        survival is untestable), ``dominance`` (the rule) and
+        ``replicates`` (the seeds per design, n).
 
     Raises:
         ValueError: `replicates` not an integer, or fewer than 2, or an
@@ -290,7 +296,96 @@ def validate_front(
         "survivors": {k: v for k, v in front.items() if k in keep},
         "surviving_fraction": len(keep) / len(ver) if testable else np.nan,
         "dominance": dominance,
+        "replicates": n,
     }
+
+
+# The columns of book/records/optimizer-paper.csv: verdicts (less the free-text reasons), the rule and the leg.
+RECORD_COLUMNS = (
+    "design",
+    "dominance",
+    "searched",
+    *(f"stable: {c}" for c in CHECKS),
+    "stable everywhere",
+    "dominated by",
+    "paper designs left out (fell)",
+    "survives",
+    "against the paper's designs",
+    "beats its mass-matched leg",
+    "beats its rigid twin",
+    "homogeneous legs of its mass dominating it",
+    "densities_g_cm3",
+    "moduli_gpa",
+    "leg_mass_kg",
+    "profile",
+    "n_seeds",
+)
+# How the records write floats (pandas' to_csv float_format): 6 significant digits.
+RECORD_FLOAT_FORMAT = "%.6g"
+# The columns of book/records/optimizer-paper-paired.csv: paired_table's.
+PAIRED_RECORD_COLUMNS = ("design", "against", "kind", "objective", "n_pairs", "pct_change", "ci_low", "ci_high",
+                         "p", "p_min", "p_holm", "testable", "significant")  # fmt: skip
+
+
+def _joined(values) -> str:
+    """Per-segment values as the records write them: 4 significant digits,
+    ';'-joined, base to foot; a rigid segment's modulus (None) as ``rigid``."""
+    return ";".join("rigid" if v is None else f"{v:.4g}" for v in values)
+
+
+def record_tables(validation: dict, legs: dict, objective: Objective, searched=(),
+                  rules=DOMINANCE_RULES) -> tuple[pd.DataFrame, pd.DataFrame]:  # fmt: skip
+    """A validation as the book's record tables (``optimizer-paper.csv`` and
+    ``optimizer-paper-paired.csv``): its verdicts under each domination rule
+    from the same runs (no run repeated), and its paired comparisons.
+
+    Args:
+        validation: :func:`validate_front`'s result (``verdicts``,
+            ``paired``, ``dominance``, ``replicates``; ``runs`` where a rule
+            other than its own is asked).
+        legs: the {name: LegDesign} validated.
+        objective: the study's objective (its profile and segment mass).
+        searched: the names of the study's new designs (the others are the paper's).
+        rules: the domination rules, one block of rows each, in this order.
+
+    Returns:
+        (verdicts, paired). verdicts: one row per rule and validated design,
+        :data:`RECORD_COLUMNS`: the rule (``dominance``), ``searched``
+        (bool), the verdicts' columns (:func:`verdicts`, less its reasons
+        in words), ``densities_g_cm3`` (g/cm^3) and ``moduli_gpa`` (GPa)
+        per segment, base to foot, ';'-joined at 4 significant digits,
+        ``leg_mass_kg`` (kg, the objective's segment mass), ``profile``
+        (its name) and ``n_seeds``. paired: :func:`paired_table`'s rows,
+        :data:`PAIRED_RECORD_COLUMNS` (they do not depend on the rule).
+        The records write both with ``float_format=RECORD_FLOAT_FORMAT``.
+
+    Raises:
+        ValueError: an unknown rule, or a rule other than the validation's
+            asked of a validation without its ``runs``.
+    """
+    own, searched = validation["dominance"], set(searched)
+    blocks = []
+    for rule in rules:
+        check_dominance(rule)
+        if rule == own:
+            ver = validation["verdicts"]
+        elif "runs" in validation:
+            ver = verdicts(validation["runs"], validation["paired"], rule)
+        else:
+            raise ValueError(f"the {rule} rule needs the validation's runs (it was judged under {own})")
+        if ver.empty:  # nothing validated: no rows
+            continue
+        ver = ver.copy()
+        ver.insert(1, "dominance", rule)
+        ver.insert(2, "searched", ver["design"].isin(searched))
+        ver["densities_g_cm3"] = [_joined(legs[d].densities_g_cm3) for d in ver["design"]]
+        ver["moduli_gpa"] = [_joined(legs[d].moduli_gpa) for d in ver["design"]]
+        ver["leg_mass_kg"] = [leg_mass_kg(legs[d], objective.segment_mass) for d in ver["design"]]
+        ver["profile"] = objective.profile.name
+        ver["n_seeds"] = validation["replicates"]
+        blocks.append(ver.reindex(columns=list(RECORD_COLUMNS)))
+    out = pd.concat(blocks, ignore_index=True) if blocks else pd.DataFrame(columns=list(RECORD_COLUMNS))
+    return out, validation["paired"].reindex(columns=list(PAIRED_RECORD_COLUMNS)).reset_index(drop=True)
 
 
 def answer(validation: dict, front: dict) -> str:

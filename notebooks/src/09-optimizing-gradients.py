@@ -66,8 +66,6 @@
 from mat_hopper import book
 
 b = book.setup()  # first: it imports tqdm's notebook bar quietly
-import hashlib
-import json
 import warnings
 
 import matplotlib.pyplot as plt
@@ -83,14 +81,11 @@ from mat_hopper.core.materials import LegDesign, paper_designs
 from mat_hopper.optimize import validate
 from mat_hopper.viz import maps
 
-space = optimize.SearchSpace()  # per segment: density 0.9-20 g/cm^3, modulus 0.1-1000 GPa, log scales
-objective = optimize.Objective(
-    behaviours=("ramp",),
-    profile=b.profile,
-    replicates=optimize.DEFAULT_REPLICATES,  # K seeded replicates, the same seeds for every trial
-    risk="mean",
-    leg_mass="rho-inc",  # the constraint: a leg of the gradients' mass (+- 5 %)
-)
+# the chapter's study, configured in one place (mat_hopper.optimize.book_study): per segment density
+# 0.9-20 g/cm^3 and modulus 0.1-1000 GPa (log scales); the ramp; K seeded replicates, the same seeds for
+# every trial; the constraint: a leg of the gradients' mass (+- 5 %); the racing, sampler and seed below
+book_study = optimize.book_study(b.profile)
+space, objective = book_study.space, book_study.objective
 print(
     f"space: {space.n_segments} segments, density {space.density_g_cm3} g/cm^3, modulus {space.modulus_gpa} GPa "
     f"(log scales), {space.kinds}"
@@ -111,21 +106,18 @@ print(
 # study resumes mid-rung.
 
 # %%
-racing = optimize.default_racing(objective)
+racing, config = book_study.racing, book_study.config
 for i, rung in enumerate(racing.rungs):
     print(f"rung {i}: {rung}")
-SCREENED = {"paper": 180, "quick": 27}.get(b.profile.name, 27)  # trials screened, in brackets of 9
-config_key = {"space": space.key(), "objective": objective.key(), "racing": racing.key(), "sampler": "tpe", "seed": 0}
-digest = hashlib.sha256(json.dumps(config_key, sort_keys=True, default=str).encode()).hexdigest()[:8]
-config = optimize.StudyConfig(f"book-racing-ramp-{b.profile.name}-{digest}", space, objective)
+print(f"{book_study.screened} trials screened in {book_study.brackets} brackets; study {config.name}")
 storage = optimize.RunOptions(studies_dir=str(b.root / "studies")).open(config.name)
 study = optimize.run_racing(
     config,
     storage,
-    brackets=SCREENED // racing.screen,
+    brackets=book_study.brackets,
     racing=racing,
-    sampler="tpe",  # multi-objective TPE, the best of benchmarks/sampler.py's side-by-side runs
-    seed=0,
+    sampler=book_study.sampler,  # multi-objective TPE, the best of benchmarks/sampler.py's side-by-side runs
+    seed=book_study.seed,
     cache_dir=b.cache_dir,
 )
 cost = optimize.simulated_seconds(study, racing)
@@ -250,9 +242,8 @@ glue("fig-hypervolume", ax.figure, display=False)
 # interval inside ±10 %).
 
 # %%
-searched = optimize.front_designs(front)  # the front's new legs (the paper's own are comparators)
-gradients = {n: paper[n] for n in ("rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC")}  # always: the question's
-legs = {**searched, **gradients}
+# the front's new legs (the paper's own are comparators), then the paper's four gradients: always, the question's
+searched, legs = optimize.validated_legs(front)
 print(
     f"{len(searched)} new designs on the front (of {len(front)}), and the paper's four gradients: {len(legs)} to validate"
 )
@@ -282,6 +273,9 @@ if legs:
         if np.isfinite(checked["surviving_fraction"])
         else "surviving fraction: untestable at this number of seeds"
     )
+# this build's verdicts under every domination rule (the same runs) and its paired comparisons, as the records'
+verdicts_rows, paired_rows = validate.record_tables(checked, legs, objective, searched)
+b.downloads({"optimizer_verdicts": verdicts_rows, "optimizer_paired": paired_rows})
 
 # %% [markdown]
 # What the front designs are made of ({numref}`fig-survivors`), beside the
@@ -354,7 +348,10 @@ print(validate.answer(checked, legs))
 # on a 2-core machine, so one run of it is kept in
 # `book/records/optimizer-paper.csv` with how it was made (its README):
 # every validated design's verdicts under both domination rules, as
-# recorded (not computed by this build). There ρ-dec fell on the ramp at
+# recorded (not computed by this build; this build's own, in the same
+# columns, are the downloads under its validation above, made by
+# `validate.record_tables`, and `optimize.book_record_tables` rebuilds the
+# record from a finished build). There ρ-dec fell on the ramp at
 # one of the 10 seeds; a paper design that fell where a front design stood
 # up is no comparator for its survival (`validate.fallen_comparators`).
 

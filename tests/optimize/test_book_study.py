@@ -1,10 +1,12 @@
 """A study's Pareto table for the page (mat_hopper.optimize.report), a study run in
-rounds, and a round left running by a dead run recovered."""
+rounds, a round left running by a dead run recovered, and chapter 9's study
+(mat_hopper.optimize.book_study) and its record read from a finished build."""
 
 from __future__ import annotations
 
 import optuna
 import pandas as pd
+import pytest
 
 from mat_hopper import optimize
 
@@ -112,3 +114,95 @@ def test_a_round_left_running_by_a_dead_run_is_recovered(tmp_path):
     assert sorted(retries) == [0, 1] and [retries[n].params for n in (0, 1)] == [ts[0].params, ts[1].params]
     assert [t.state for t in ts].count(optuna.trial.TrialState.COMPLETE) == 3
     assert not [t for t in ts if t.state == optuna.trial.TrialState.RUNNING]
+
+
+def _notebook_study_name(profile) -> str:
+    """Chapter 9's study name as its notebook built it inline (commit 496aaba), for comparison."""
+    import hashlib
+    import json
+
+    space = optimize.SearchSpace()
+    objective = optimize.Objective(behaviours=("ramp",), profile=profile, replicates=optimize.DEFAULT_REPLICATES,
+                                   risk="mean", leg_mass="rho-inc")  # fmt: skip
+    racing = optimize.default_racing(objective)
+    config_key = {
+        "space": space.key(),
+        "objective": objective.key(),
+        "racing": racing.key(),
+        "sampler": "tpe",
+        "seed": 0,
+    }
+    digest = hashlib.sha256(json.dumps(config_key, sort_keys=True, default=str).encode()).hexdigest()[:8]
+    return f"book-racing-ramp-{profile.name}-{digest}"
+
+
+def test_the_book_study_keeps_the_notebooks_study_name_and_brackets():
+    from mat_hopper.experiments.profiles import get_profile
+
+    for name, brackets in (("paper", 20), ("quick", 3)):
+        profile = get_profile(name)
+        book = optimize.book_study(profile)
+        assert book.config.name == _notebook_study_name(profile)
+        assert (book.screened, book.brackets, book.racing.screen) == (9 * brackets, brackets, 9)
+        assert (book.sampler, book.seed, book.objective.behaviours, book.objective.leg_mass) == (
+            "tpe",
+            0,
+            ("ramp",),
+            "rho-inc",
+        )
+
+
+def test_the_book_record_refuses_a_missing_or_unfinished_study(tmp_path):
+    from mat_hopper.experiments.profiles import get_profile
+
+    profile = get_profile("quick")
+    book = optimize.book_study(profile)
+    with pytest.raises(ValueError, match=rf"no study '{book.config.name}': .* does not exist"):
+        optimize.book_record_tables(tmp_path, tmp_path / "cache", profile)
+    storage = optimize.RunOptions(studies_dir=str(tmp_path)).open(book.config.name)
+    optimize.create_or_load(book.config, storage)  # made, the paper's designs queued, no trial run
+    optimize.dispose(storage)
+    with pytest.raises(ValueError, match=r"is not finished: 0 of 3 brackets \(27 trials screened\), 0 complete"):
+        optimize.book_record_tables(tmp_path, tmp_path / "cache", profile)
+
+
+def _finished_by_hand(book, studies_dir, n: int = 10) -> None:
+    """The book's study with `n` complete, feasible, mutually non-dominated
+    trials (the paper's five queued designs first) and its brackets closed,
+    told by hand: no run."""
+    from mat_hopper.optimize._objective import RESULT_ATTR
+    from mat_hopper.optimize._racing import BRACKET_ATTR
+
+    storage = optimize.RunOptions(studies_dir=str(studies_dir)).open(book.config.name)
+    study = optimize.create_or_load(book.config, storage)
+    for k in range(n):
+        t = study.ask()
+        book.config.space.suggest(t)
+        for name in book.objective.constraint_names:
+            t.set_constraint(name, -1.0)
+        t.set_user_attr(RESULT_ATTR, {"feasible": True})
+        study.tell(t, [0.01 + 0.001 * k, 0.02 - 0.001 * k])
+    study.set_user_attr(BRACKET_ATTR, {"index": book.brackets - 1, "trials": [], "closed": True})
+    optimize.dispose(storage)
+
+
+def test_the_book_record_validates_the_finished_fronts_new_designs_and_the_gradients(tmp_path, monkeypatch):
+    import warnings
+
+    from mat_hopper.experiments.profiles import get_profile
+    from mat_hopper.optimize import validate
+
+    profile = get_profile("quick")
+    book = optimize.book_study(profile)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # Optuna: a heartbeat outside Study.optimize
+        _finished_by_hand(book, tmp_path)
+    with pytest.raises(ValueError, match=r"(\d+) of \1 validation runs are not in the cache"):
+        optimize.book_record_tables(tmp_path, tmp_path / "cache", profile)
+    seen = {}
+    monkeypatch.setattr(validate, "validate_front", lambda legs, objective, **kw: seen.update(legs=legs, ob=objective))
+    monkeypatch.setattr(validate, "record_tables", lambda checked, legs, objective, searched: (list(legs), searched))
+    names, searched = optimize.book_record_tables(tmp_path, tmp_path / "cache", profile, allow_runs=True)
+    new = ["#5", "#6", "#7", "#8", "#9"]  # trials 0-4 are the paper's queued designs: comparators, not new
+    assert list(searched) == new and names == [*new, "rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC"]
+    assert list(seen["legs"]) == names and seen["ob"] == book.objective

@@ -370,3 +370,35 @@ def test_three_states_keep_not_shown_dominated_apart_from_shown_not_dominated():
     # an objective without an interval is left out, not read as an advantage
     t.loc[(t["design"] == "g") & (t["objective"] == T), ["ci_low", "ci_high"]] = np.nan
     assert dominated_by(t, "g") == ["A"] and survival_state(t, "g") == "dominated"
+
+
+def test_record_tables_have_the_records_columns_and_each_legs_properties():
+    from pathlib import Path
+
+    from mat_hopper.core.materials import LegDesign
+    from mat_hopper.optimize.validate import RECORD_FLOAT_FORMAT, record_tables
+
+    records = Path(__file__).resolve().parents[2] / "book" / "records"
+    legs = {"f": LegDesign.from_properties([1.23456, 6.78912, 5.0], [57.1749, 65.9349, 29.7], name="f"),
+            "rho-inc": paper_designs()["rho-inc"]}  # fmt: skip
+    runs = _runs({**LEGS, ("front", "rho-inc"): (1.0, 1.0)}, 10)
+    table = paired_table(runs, OB, front=legs)
+    checked = {"runs": runs, "paired": table, "verdicts": verdicts(runs, table), "dominance": "margin",
+               "replicates": 10}  # fmt: skip
+    rows, paired = record_tables(checked, legs, OB, searched=["f"])
+    assert list(rows.columns) == pd.read_csv(records / "optimizer-paper.csv", nrows=0).columns.tolist()
+    assert list(paired.columns) == pd.read_csv(records / "optimizer-paper-paired.csv", nrows=0).columns.tolist()
+    assert rows["design"].tolist() == ["f", "rho-inc", "f", "rho-inc"]
+    assert rows["dominance"].tolist() == ["margin", "margin", "significance", "significance"]
+    assert rows["searched"].tolist() == [True, False, True, False]
+    assert rows["densities_g_cm3"].tolist()[:2] == ["1.235;6.789;5", "1.39;4.43;8"]  # 4 significant digits
+    assert rows["moduli_gpa"].tolist()[:2] == ["57.17;65.93;29.7", "70;70;70"]
+    assert rows["leg_mass_kg"].iloc[1] == pytest.approx(5.44068, abs=5e-6)  # rho-inc's, as the record holds it
+    assert ",5.44068,tiny,10" in rows.iloc[[1]].to_csv(index=False, float_format=RECORD_FLOAT_FORMAT)
+    assert (rows["profile"] == "tiny").all() and (rows["n_seeds"] == 10).all()
+    assert rows.loc[0, "dominated by"] == "A" and len(paired) == len(table)
+    with pytest.raises(ValueError, match="the significance rule needs the validation's runs"):
+        record_tables({k: v for k, v in checked.items() if k != "runs"}, legs, OB)
+    nothing = {**checked, "runs": runs.iloc[0:0], "paired": table.iloc[0:0], "verdicts": pd.DataFrame()}
+    empty, _ = record_tables(nothing, {}, OB)  # a front of no design: no rows, the record's columns
+    assert empty.empty and list(empty.columns) == list(rows.columns)
