@@ -3,7 +3,7 @@
 PY := .venv/bin/python
 PROFILE ?= paper
 
-.PHONY: setup test test-fast lint notebooks book book-quick book-plan demo bench
+.PHONY: setup test test-fast lint notebooks book book-quick book-plan records demo bench
 
 setup:
 	@bash scripts/setup.sh
@@ -37,6 +37,11 @@ book: setup
 	.venv/bin/mat-hopper plan --profile $(PROFILE) --run
 	MAT_HOPPER_PROFILE=$(PROFILE) .venv/bin/jupyter-book build . -W -n --keep-going
 	@echo "open _build/html/index.html"
+
+## book/records (what the quick book and the Findings page show of the paper
+## profile) rebuilt from the paper book just built: run after `make book`.
+records: setup
+	.venv/bin/mat-hopper records --profile paper --force
 
 ## The same book on the quick profile (short runs; what CI builds).
 book-quick:

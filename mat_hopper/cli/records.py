@@ -48,6 +48,10 @@ REPRODUCED = {
     ("claims", ".md"): "claims.md",
     ("robustness", ".csv"): "robustness.csv",
 }
+# Records computed from the build's cache and study storage by the chapters' own calls.
+COMPUTED = ("crossed-legs", "optimizer", "optimizer-paired")
+# The crossed legs' metrics in the record: the chapter's two and hip power.
+CROSSED_METRICS = ("tracking_error_m", "power_w", "power_total_w")
 PROVENANCE = "provenance.csv"
 
 
@@ -98,6 +102,7 @@ def record_files(profile_name: str) -> list[str]:
     """The file names this command writes for a profile, provenance included."""
     names = [f"{r}-{profile_name}.csv" for r in DOWNLOADS]
     names += [f"{r}-{profile_name}{suffix}" for r, suffix in REPRODUCED]
+    names += [f"{r}-{profile_name}.csv" for r in COMPUTED]
     return [*names, PROVENANCE]
 
 
@@ -110,6 +115,52 @@ def reproduced_tables(profile, cache_dir: str, folder: str, progress: bool) -> d
 
     reproduce(profile, CLAIM_EXPERIMENTS, folder, cache_dir=cache_dir, progress=progress, log=lambda *_: None)
     return {f"{r}-{profile.name}{suffix}": os.path.join(folder, name) for (r, suffix), name in REPRODUCED.items()}
+
+
+def crossed_table(profile, cache_dir: str) -> pd.DataFrame:
+    """Chapter 9c's crossed legs (:mod:`mat_hopper.experiments.crossed_legs`)
+    as their factorial of paired contrasts
+    (:func:`mat_hopper.analysis.factorial.factorial_effects`, the claim its own
+    Holm family), over :data:`CROSSED_METRICS`, from cached runs only.
+
+    Raises:
+        ValueError: a run of the grid not in the cache.
+    """
+    from ..analysis.factorial import factorial_effects
+    from ..analysis.stats import drop_unusable, unusable_runs
+    from ..experiments import crossed_legs
+    from ..experiments.plan import cached_keys
+    from ..experiments.runner import run_grid
+
+    tasks = crossed_legs.tasks(profile)
+    missing = {t.key() for t in tasks} - cached_keys(cache_dir)
+    if missing:
+        raise ValueError(f"{len(missing)} crossed-leg runs (chapter 09c) are not in {cache_dir}: build the book first")
+    grid = run_grid(tasks, cache_dir, progress=False, desc="crossed legs")
+    usable = drop_unusable(grid.tables, unusable_runs(grid.summary))
+    means = usable.groupby(["leg", "replicate"])[list(CROSSED_METRICS)].mean()
+    return factorial_effects(means, crossed_legs.CONTRASTS, metrics=CROSSED_METRICS, alone=(crossed_legs.CLAIM,))
+
+
+def computed_tables(profile, cache_dir: str, studies_dir: str, folder: str) -> dict[str, tuple[str, str]]:
+    """The crossed legs' factorial (chapter 9c) and the optimizer's
+    validated verdicts and paired comparisons (chapter 9,
+    :func:`mat_hopper.optimize.book_record_tables`: its finished study and
+    cached validation runs), written into `folder`; record file name ->
+    (path, how it was made)."""
+    from ..optimize import book_record_tables
+    from ..optimize.validate import RECORD_FLOAT_FORMAT
+
+    out = {}
+    path = os.path.join(folder, "crossed.csv")
+    write_csv(crossed_table(profile, cache_dir), path)
+    out[f"crossed-legs-{profile.name}.csv"] = (path, "experiments.crossed_legs + analysis.factorial (chapter 09c)")
+    verdicts, paired = book_record_tables(studies_dir, cache_dir, profile)
+    for record, table in (("optimizer", verdicts), ("optimizer-paired", paired)):
+        path = os.path.join(folder, f"{record}.csv")
+        table.to_csv(path, index=False, float_format=RECORD_FLOAT_FORMAT)  # the records' digits; copied atomically
+        out[f"{record}-{profile.name}.csv"] = (path, "optimize.book_record_tables (chapter 09)")
+    return out
 
 
 def downloaded_tables(build_dir: str, profile_name: str) -> dict[str, tuple[str, str]]:
@@ -164,7 +215,12 @@ def cmd_records(args) -> int:
     build_dir = args.build or os.path.join("results", profile.name)
     check_output_dir(args.out, "--out")
     check_no_outputs_in(args.out, record_files(profile.name), "--out", force=args.force)
-    for path, what in ((cache, f"{flag} {cache}"), (build_dir, f"--build {build_dir}")):
+    folders = (
+        (cache, f"{flag} {cache}"),
+        (build_dir, f"--build {build_dir}"),
+        (args.studies, f"--studies {args.studies}"),
+    )
+    for path, what in folders:
         if not os.path.isdir(path):
             raise ValueError(f"{what} does not exist: build the book first (make book PROFILE={profile.name})")
     sources = downloaded_tables(build_dir, profile.name)  # before any work
@@ -176,6 +232,7 @@ def cmd_records(args) -> int:
         )
     commit = args.commit or build_commit(".")
     with tempfile.TemporaryDirectory() as tmp:
+        sources.update(computed_tables(profile, cache, args.studies, tmp))  # refuses missing runs first
         made = reproduced_tables(profile, cache, tmp, progress=not args.no_progress)
         sources.update({r: (p, f"mat-hopper reproduce --experiments {CLAIM_EXPERIMENTS}") for r, p in made.items()})
         table = write_records(sources, args.out, profile.name, commit)
@@ -196,6 +253,7 @@ def register_cli(sub) -> None:
     p.add_argument(
         "--cache", default=None, help=f"the build's result cache (default ${CACHE_ENV}, else {DEFAULT_CACHE_DIR})"
     )
+    p.add_argument("--studies", default="studies", help="the build's optimizer studies folder (default studies)")
     p.add_argument("--build", default=None, help="the build's folder of tables (default results/<profile>)")
     p.add_argument("--out", default=os.path.join("book", "records"), help="the records folder (default book/records)")
     p.add_argument("--commit", default=None, help="the build's commit (default: this working tree's)")

@@ -40,7 +40,7 @@ def test_records_names_the_chapter_whose_download_is_missing(tmp_path, capsys):
     cache = tmp_path / "cache"
     cache.mkdir()
     build = _build_folder(tmp_path, skip=("stress_tail",))
-    argv = ["records", "--profile", "quick", "--cache", str(cache), "--build", str(build)]
+    argv = ["records", "--profile", "quick", "--cache", str(cache), "--build", str(build), "--studies", str(cache)]
     refused([*argv, "--out", str(tmp_path / "rec")], capsys, "stress_tail.csv", "08b-gradients-stress")
 
 
@@ -48,8 +48,9 @@ def test_records_refuses_an_unfinished_cache_with_the_command_that_fills_it(tmp_
     cache = tmp_path / "cache"
     cache.mkdir()
     build = _build_folder(tmp_path)
-    argv = ["records", "--profile", "quick", "--cache", str(cache), "--build", str(build)]
-    refused([*argv, "--out", str(tmp_path / "rec")], capsys, "not in", "plan --profile quick --run")
+    argv = ["records", "--profile", "quick", "--cache", str(cache), "--build", str(build), "--studies", str(cache)]
+    # the check keys every planned run of the claims (no physics): more than a bare refusal's time
+    refused([*argv, "--out", str(tmp_path / "rec")], capsys, "not in", "plan --profile quick --run", max_wall_s=30)
 
 
 def test_records_will_not_replace_records_without_force(tmp_path, capsys):
