@@ -56,17 +56,17 @@ PROVENANCE = "provenance.csv"
 
 
 def build_commit(root: str) -> str:
-    """The commit of the working tree at `root` (``git rev-parse --short
-    HEAD``), with ``+changes`` when tracked files differ from it; ``unknown``
+    """The commit of the working tree at `root` (its first 7 hex digits),
+    with ``+changes`` when tracked files differ from it; ``unknown``
     outside git."""
     try:
-        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=root, capture_output=True, text=True)
-        dirty = subprocess.run(["git", "diff", "--quiet", "HEAD", "--"], cwd=root, capture_output=True)
+        head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True)
+        changed = subprocess.run(["git", "status", "-s", "-uno"], cwd=root, capture_output=True, text=True)
     except OSError:
         return "unknown"
     if head.returncode != 0:
         return "unknown"
-    return head.stdout.strip() + ("+changes" if dirty.returncode == 1 else "")
+    return head.stdout.strip()[:7] + ("+changes" if changed.stdout.strip() else "")
 
 
 def missing_runs(profile, cache_dir: str) -> int:
