@@ -13,7 +13,7 @@ read it.
 :func:`validated_legs` is what the chapter validates: the front's new
 designs and the paper's four gradients. :func:`book_record_tables`
 rebuilds the chapter's record tables (``book/records/optimizer-paper.csv``
-and ``optimizer-paper-paired.csv``) from a finished build: its study,
+and ``optimizer-paired-paper.csv``) from a finished build: its study,
 loaded read-only, and its result cache, running nothing.
 """
 
@@ -161,7 +161,7 @@ def book_record_tables(studies_dir, cache_dir, profile, *, workers: int | None =
 
     Returns:
         (verdicts, paired): the ``optimizer-paper.csv`` and
-        ``optimizer-paper-paired.csv`` tables
+        ``optimizer-paired-paper.csv`` tables
         (:data:`~mat_hopper.optimize.validate.RECORD_COLUMNS`,
         :data:`~mat_hopper.optimize.validate.PAIRED_RECORD_COLUMNS`; write
         them with ``float_format=validate.RECORD_FLOAT_FORMAT``, as the

@@ -322,7 +322,7 @@ RECORD_COLUMNS = (
 )
 # How the records write floats (pandas' to_csv float_format): 6 significant digits.
 RECORD_FLOAT_FORMAT = "%.6g"
-# The columns of book/records/optimizer-paper-paired.csv: paired_table's.
+# The columns of book/records/optimizer-paired-paper.csv: paired_table's.
 PAIRED_RECORD_COLUMNS = ("design", "against", "kind", "objective", "n_pairs", "pct_change", "ci_low", "ci_high",
                          "p", "p_min", "p_holm", "testable", "significant")  # fmt: skip
 
@@ -336,7 +336,7 @@ def _joined(values) -> str:
 def record_tables(validation: dict, legs: dict, objective: Objective, searched=(),
                   rules=DOMINANCE_RULES) -> tuple[pd.DataFrame, pd.DataFrame]:  # fmt: skip
     """A validation as the book's record tables (``optimizer-paper.csv`` and
-    ``optimizer-paper-paired.csv``): its verdicts under each domination rule
+    ``optimizer-paired-paper.csv``): its verdicts under each domination rule
     from the same runs (no run repeated), and its paired comparisons.
 
     Args:

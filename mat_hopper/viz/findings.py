@@ -44,10 +44,10 @@ RECORD_FILES = {
     "claims": "claims-paper.csv",
     "crossed": "crossed-legs-paper.csv",
     "optimizer": "optimizer-paper.csv",
-    "optimizer_paired": "optimizer-paper-paired.csv",
+    "optimizer_paired": "optimizer-paired-paper.csv",
     "stress": "stress-verdicts-paper.csv",
     "crossed_bending": "crossed-legs-bending-stiff-paper.csv",
-    "robustness_contact": "robustness-contact-apex-paper.csv",
+    "robustness_contact": "robustness-paper.csv",
 }
 EFFECT_COLUMNS = ("pct_change", "ci_low", "ci_high")
 REQUIRED_COLUMNS = {
@@ -318,6 +318,8 @@ def _crossed_sentence(crossed: pd.DataFrame) -> str:
 
 
 def _ramp_sentence(optimizer: pd.DataFrame, dominance: str) -> str:
+    """The validated gradients against the uniform leg of their mass; of those
+    that beat it, how many survive validation, and the checks the rest fail."""
     rows = optimizer[optimizer["dominance"] == dominance]
     if rows.empty:
         return ""
@@ -326,11 +328,21 @@ def _ramp_sentence(optimizer: pd.DataFrame, dominance: str) -> str:
     others = ", ".join(f"{int(n)} {v}" for v, n in beats[beats != "yes"].value_counts().items())
     dominated = rows["homogeneous legs of its mass dominating it"].map(lambda v: _text(v, "") != "")
     which, verb = ("none", "dominates") if wins == 0 else (f"{wins}", "dominates" if wins == 1 else "dominate")
-    return (
+    text = (
         f"On the ramp (the optimizer's objective, {dominance} rule), {which} of the {len(rows)} validated "
         f"gradients {verb} the uniform leg of its mass" + (f" ({others})" if others else "") + ", "
         f"and at least one homogeneous leg of the same mass dominates {int(dominated.sum())} of them."
     )
+    winners = rows[beats == "yes"]
+    if wins and "survives" in rows.columns:
+        survive = int((winners["survives"].astype(str) == "True").sum())
+        checks = [c for c in rows.columns if c.startswith("stable: ")]
+        failed = sorted({c.removeprefix("stable: ") for c in checks if (winners[c].astype(str) == "False").any()})
+        text += f" Of those {wins}, {survive} survive validation"
+        if failed and survive < wins:
+            text += f"; the rest fell or diverged under the validation's checks: {', '.join(failed)}"
+        text += "."
+    return text
 
 
 def _bending_sentence(crossed: pd.DataFrame, soft: pd.DataFrame | None = None) -> str:
@@ -431,11 +443,19 @@ def _limits_sentence(claims: pd.DataFrame, crossed: pd.DataFrame | None = None) 
             "here is provisional"
         )
     step_text = _finer_step_text(claims, crossed)
+    checks = simulated["timestep_check"].astype(str)
+    if unchecked:
+        step_claims = f"{unchecked} of the {len(simulated)} simulated claims were not rerun at a finer time step"
+    else:
+        moved = int(checks.str.startswith("moves").sum())
+        step_claims = (
+            f"of the {len(simulated)} simulated claims, rerun at a finer physics step, "
+            f"{len(simulated) - moved} keep their runs within 10 % and {moved} move by more"
+        )
     return (
         "These answers hold for one lumped model (rigid segments joined by springs), "
         "for the behaviours and controller recorded here, and not beyond them; "
-        f"{unchecked} of the {len(simulated)} simulated claims were not rerun at a finer time step{step_text}, "
-        f"and {window_text}."
+        f"{step_claims}{step_text}, and {window_text}."
     )
 
 

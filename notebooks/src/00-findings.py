@@ -32,6 +32,12 @@ from mat_hopper.viz import findings
 b = book.setup()
 records = findings.read_records(b.root / "book" / "records")
 print("records read from book/records/: " + ", ".join(findings.RECORD_FILES.values()))
+import pandas as pd
+
+made = pd.read_csv(b.root / "book" / "records" / "provenance.csv")  # written by `mat-hopper records`
+print(f"provenance.csv: {len(made)} record files rebuilt from one paper-book build at commit "
+      f"{', '.join(made['commit'].unique())} (how each was made, its SHA-256); the bending records are "
+      "benchmarks', each with its commit in the folder's README")  # fmt: skip
 
 # %% [markdown]
 # ## The paper's claims, reproduced or not

@@ -387,7 +387,7 @@ def test_record_tables_have_the_records_columns_and_each_legs_properties():
                "replicates": 10}  # fmt: skip
     rows, paired = record_tables(checked, legs, OB, searched=["f"])
     assert list(rows.columns) == pd.read_csv(records / "optimizer-paper.csv", nrows=0).columns.tolist()
-    assert list(paired.columns) == pd.read_csv(records / "optimizer-paper-paired.csv", nrows=0).columns.tolist()
+    assert list(paired.columns) == pd.read_csv(records / "optimizer-paired-paper.csv", nrows=0).columns.tolist()
     assert rows["design"].tolist() == ["f", "rho-inc", "f", "rho-inc"]
     assert rows["dominance"].tolist() == ["margin", "margin", "significance", "significance"]
     assert rows["searched"].tolist() == [True, False, True, False]

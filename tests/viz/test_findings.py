@@ -96,13 +96,28 @@ def test_a_changed_effect_changes_the_answer(copied, records):
     assert after == (before[0] - 1, before[1] + 1)  # one equivalent comparison is now beyond the margin
 
 
-def test_a_changed_dominance_changes_the_ramp_sentence(copied, records):
-    assert "none of the" in findings.design_answer(records)
+def test_a_changed_dominance_changes_the_ramp_sentence(copied):
     opt = pd.read_csv(copied / "optimizer-paper.csv")
-    opt.loc[opt["dominance"] == "margin", "beats its mass-matched leg"] = "yes"
+    margin = opt["dominance"] == "margin"
+    n = int(margin.sum())
+    opt.loc[margin, "beats its mass-matched leg"] = "no evidence"
     opt.to_csv(copied / "optimizer-paper.csv", index=False)
-    n = int((opt["dominance"] == "margin").sum())
-    assert f"{n} of the {n} validated gradients dominate" in findings.design_answer(findings.read_records(copied))
+    assert f"none of the {n} validated gradients dominates" in findings.design_answer(findings.read_records(copied))
+    opt.loc[margin, "beats its mass-matched leg"] = "yes"
+    opt.loc[margin, "survives"] = True
+    opt.to_csv(copied / "optimizer-paper.csv", index=False)
+    answer = findings.design_answer(findings.read_records(copied))
+    assert (
+        f"{n} of the {n} validated gradients dominate" in answer and f"Of those {n}, {n} survive validation." in answer
+    )
+    # a winner that fell under one check of the validation does not survive, and the check is named
+    opt.loc[margin, "survives"] = False
+    opt.loc[margin, "stable: axial"] = False
+    opt.to_csv(copied / "optimizer-paper.csv", index=False)
+    answer = findings.design_answer(findings.read_records(copied))
+    assert (
+        f"Of those {n}, 0 survive validation; the rest fell or diverged under the validation's checks: axial" in answer
+    )
 
 
 def test_every_number_of_the_answer_is_in_the_records(records):
