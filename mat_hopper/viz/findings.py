@@ -340,7 +340,7 @@ def _ramp_sentence(optimizer: pd.DataFrame, dominance: str) -> str:
         failed = sorted({c.removeprefix("stable: ") for c in checks if (winners[c].astype(str) == "False").any()})
         text += f" Of those {wins}, {survive} survive validation"
         if failed and survive < wins:
-            text += f"; the rest fell or diverged under the validation's checks: {', '.join(failed)}"
+            text += f"; those that do not fell or diverged under the validation's checks: {', '.join(failed)}"
         text += "."
     return text
 

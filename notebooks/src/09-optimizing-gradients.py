@@ -435,14 +435,17 @@ book.show(report.importances(study), precision=3)
 # %% [markdown]
 # ## Answer
 #
-# Not on the ramp, by the paper profile's records (one whole paper-book
-# build, `book/records/provenance.csv` names its commit): the study found
-# legs with a heavy hip segment (about 12.7 g/cm³) over two light ones
-# (0.9 g/cm³), and 7 of its 8 new designs beat the homogeneous leg of their
-# own mass on paired seeds under the margin rule, but every one of them
-# fell or diverged when the validation ran the controller at 2e-5 s, so
-# none survives. Of the paper's gradients, ρ-inc and PVC-Ti-SS are worse
-# than their mass-matched legs and SS-Ti-PVC trades tracking for hip
-# power; ρ-dec fell at one of the 10 seeds. One study, 10 seeds, legs
-# within ±5 % of ρ-inc's mass: the heavy-hip legs need their 2e-5 s
-# instability explained before anyone builds one.
+# Not on this evidence, by the paper profile's records (one whole
+# paper-book build; `book/records/provenance.csv` names its commit). The
+# study found legs with a heavy hip segment (about 12.7 g/cm³) over two
+# light, soft ones (0.9 g/cm³, the search's lower bound). Against the
+# mass-matched leg, 7 of its 8 new designs use about 29 % less hip power
+# with tracking no worse (one also tracks 12 % better), but every one of
+# them fell or diverged when the validation ran the controller and its
+# sensor lag at 2e-5 s, so none survives. Their advantage rests on the
+# authors' 1e-4 s sensor lag: one of them (#118) tracks 2.9 mm at the
+# authors' settings and 4.1 mm at 2e-5 s physics with the same lag, but
+# 149 mm when the lag alone is cut to 2e-5 s (ρ-inc: 5.0 mm). Of the
+# paper's gradients, ρ-inc and PVC-Ti-SS are worse than their mass-matched
+# legs, SS-Ti-PVC trades tracking for hip power, and ρ-dec fell at one of
+# the 10 seeds. One study, 10 seeds, legs within ±5 % of ρ-inc's mass.
