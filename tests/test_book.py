@@ -311,6 +311,33 @@ def test_quick_book_apparatus(quick_book):
 
 
 @pytest.mark.slow
+def test_records_rebuilt_from_the_quick_book(quick_book, tmp_path):
+    """`mat-hopper records` makes every record from the book just built, with
+    nothing run: the chapters' downloads, the claims and robustness tables,
+    the crossed legs and the optimizer's verdicts, each named in
+    provenance.csv with its checksum."""
+    import hashlib
+
+    out = tmp_path / "records"
+    cmd = [sys.executable, "-m", "mat_hopper", "records", "--profile", "quick", "--out", str(out), "--no-progress"]
+    r = subprocess.run([*cmd, "--commit", "abc1234"], capture_output=True, text=True, cwd=ROOT, timeout=1800)
+    assert r.returncode == 0, (r.stdout + r.stderr)[-3000:]
+    prov = pd.read_csv(out / "provenance.csv")
+    expected = [
+        "claims-quick.csv", "claims-quick.md", "crossed-legs-quick.csv", "optimizer-paired-quick.csv",
+        "optimizer-quick.csv", "robustness-quick.csv", "stress-pairs-quick.csv", "stress-runs-quick.csv",
+        "stress-tail-quick.csv", "stress-verdicts-quick.csv",
+    ]  # fmt: skip
+    assert sorted(prov["record"]) == expected and set(prov["commit"]) == {"abc1234"}
+    for row in prov.itertuples():
+        assert hashlib.sha256((out / row.record).read_bytes()).hexdigest() == row.sha256
+    claims = pd.read_csv(out / "claims-quick.csv")
+    assert {"claim", "paper", "ours", "verdict", "stationarity", "beyond_mass"} <= set(claims)
+    crossed = pd.read_csv(out / "crossed-legs-quick.csv")
+    assert set(crossed["metric"]) == {"tracking_error_m", "power_w", "power_total_w"} and len(crossed) == 15
+
+
+@pytest.mark.slow
 def test_quick_book_in_chromium(quick_book):
     """Every page of the quick book in headless Chromium: it renders, every
     image loads, the video's metadata loads, the console shows no error."""

@@ -175,7 +175,8 @@ def downloaded_tables(build_dir: str, profile_name: str) -> dict[str, tuple[str,
         path = os.path.join(build_dir, f"{name}.csv")
         if not os.path.isfile(path):
             raise ValueError(
-                f"--build {build_dir}: no {name}.csv (chapter {chapter} writes it): build the book first (make book)"
+                f"--build {build_dir}: no {name}.csv (chapter {chapter} writes it): build the book first "
+                f"(make book PROFILE={profile_name})"
             )
         found[f"{record}-{profile_name}.csv"] = (path, f"download {name}.csv of chapter {chapter}")
     return found
@@ -213,16 +214,18 @@ def cmd_records(args) -> int:
 
     cache, flag = cache_folder(args.cache)
     build_dir = args.build or os.path.join("results", profile.name)
-    check_output_dir(args.out, "--out")
-    check_no_outputs_in(args.out, record_files(profile.name), "--out", force=args.force)
     folders = (
         (cache, f"{flag} {cache}"),
         (build_dir, f"--build {build_dir}"),
         (args.studies, f"--studies {args.studies}"),
     )
-    for path, what in folders:
+    for path, what in folders:  # the build first: without one, --out and --force are beside the point
+        if os.path.exists(path) and not os.path.isdir(path):
+            raise ValueError(f"{what}: is a file, not a folder")
         if not os.path.isdir(path):
             raise ValueError(f"{what} does not exist: build the book first (make book PROFILE={profile.name})")
+    check_output_dir(args.out, "--out")
+    check_no_outputs_in(args.out, record_files(profile.name), "--out", force=args.force)
     sources = downloaded_tables(build_dir, profile.name)  # before any work
     missing = missing_runs(profile, cache)
     if missing:

@@ -57,7 +57,24 @@ def test_records_will_not_replace_records_without_force(tmp_path, capsys):
     out = tmp_path / "rec"
     out.mkdir()
     (out / "claims-quick.csv").write_text("x\n")
-    refused(["records", "--profile", "quick", "--out", str(out)], capsys, "claims-quick.csv", "--force")
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    build = _build_folder(tmp_path)
+    argv = ["records", "--profile", "quick", "--cache", str(cache), "--build", str(build), "--studies", str(cache)]
+    refused([*argv, "--out", str(out)], capsys, "claims-quick.csv", "--force")
+
+
+def test_records_asks_for_a_build_before_it_asks_for_force(tmp_path, capsys):
+    """Without a build the answer is to build one, not --force (which would replace the committed records)."""
+    out = tmp_path / "rec"
+    out.mkdir()
+    (out / "claims-quick.csv").write_text("x\n")
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x")
+    argv = ["records", "--profile", "quick", "--out", str(out), "--cache", str(tmp_path / "none")]
+    cap = refused(argv, capsys, "does not exist", "make book PROFILE=quick")
+    assert "--force" not in cap.err
+    refused([*argv[:-1], str(tmp_path), "--build", str(a_file)], capsys, "--build", "is a file, not a folder")
 
 
 def test_written_records_carry_their_commit_and_checksum(tmp_path):
