@@ -25,7 +25,7 @@ import tempfile
 import pandas as pd
 
 from ..experiments.cache import CACHE_ENV, DEFAULT_CACHE_DIR
-from ..util.atomic import write_csv
+from ..util.atomic import atomic_path, write_csv
 from ._checks import check_no_outputs_in, check_output_dir
 from ._options import add_force, add_no_progress, add_profile, profile_of
 
@@ -83,19 +83,6 @@ def missing_runs(profile, cache_dir: str) -> int:
 def _sha256(path: str) -> str:
     with open(path, "rb") as f:
         return hashlib.sha256(f.read()).hexdigest()
-
-
-def _copy_atomically(src: str, dst: str) -> None:
-    """Copy `src` to `dst` through a temporary file in `dst`'s folder and a rename."""
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(dst) or ".", suffix=".part")
-    os.close(fd)
-    try:
-        shutil.copyfile(src, tmp)
-        os.replace(tmp, dst)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def record_files(profile_name: str) -> list[str]:
@@ -199,7 +186,8 @@ def write_records(sources: dict[str, tuple[str, str]], out_dir: str, profile: st
     rows = []
     for record, (path, made_from) in sorted(sources.items()):
         dst = os.path.join(out_dir, record)
-        _copy_atomically(path, dst)
+        with atomic_path(dst) as tmp:  # the project's one atomic write
+            shutil.copyfile(path, tmp)
         rows.append(
             {"record": record, "made_from": made_from, "profile": profile, "commit": commit, "sha256": _sha256(dst)}
         )
