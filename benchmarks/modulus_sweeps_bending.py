@@ -4,29 +4,34 @@ paired replicate seeds. Does the modulus change tracking error or power
 beyond the ±10 % margin when the leg bends?
 
 Per base material (PVC, Al, Ti, SS, each at its own density), its softest
-and stiffest swept modulus against its own (the base material), forward
-hopping. A base's legs all run at one physics step and control period,
+and stiffest swept modulus against its own (the base material), and its
+rigid twin (no springs: the limit of an infinite modulus, ``inf`` in the
+table; ``--no-rigid`` leaves it out), forward hopping. A base's legs all run at one physics step and control period,
 the finest any of them needs under ``timestep_s="auto"`` (so they are
 compared alike, at the step the stiffest needs). Paired % differences on
 the seeds, their 95 % t intervals, Holm over each metric's contrasts, and
-the book's verdicts with the ±10 % margin (:mod:`mat_hopper.analysis.paired`).
+the book's verdicts with the ±10 % margin (:mod:`mat_hopper.analysis.paired`),
+and each contrast again on each half of the scored window (``stationarity``).
 
     python benchmarks/modulus_sweeps_bending.py [--profile paper] [--replicates 10] [--convention bending]
-        [--contact stiff] [--cache results/cache] [--csv out.csv]
+        [--contact stiff] [--no-rigid] [--cache results/cache] [--csv out.csv]
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import time
 from dataclasses import replace
 
 import pandas as pd
 
 from mat_hopper.analysis import paired
+from mat_hopper.analysis.stationarity import stationarity, window_halves
 from mat_hopper.analysis.stats import drop_unusable, unusable_runs
 from mat_hopper.core import reference as ref
 from mat_hopper.core.behaviours import behaviour
+from mat_hopper.core.control_legs import rigid_twin
 from mat_hopper.core.materials import LegDesign
 from mat_hopper.core.timestep import auto_timestep
 from mat_hopper.experiments.profiles import get_profile
@@ -34,11 +39,14 @@ from mat_hopper.experiments.runner import RunSpec, run_grid
 from mat_hopper.physics.metrics import holm
 
 METRICS = ("tracking_error_m", "power_w")
+CONTACT = ("touch_toggles_per_switch", "peak_penetration_m")  # the hop table's contact columns, per leg
 MARGIN_PCT = 100 * paired.EQUIVALENCE_MARGIN  # the book's ±10 %
 
 
-def legs() -> dict[str, dict[float, LegDesign]]:
-    """{base: {modulus GPa: leg}}: the base's own modulus and its sweep's extremes, at the base's density."""
+def legs(rigid: bool = True) -> dict[str, dict[float, LegDesign]]:
+    """{base: {modulus GPa: leg}}: the base's own modulus and its sweep's
+    extremes, at the base's density; with `rigid`, its rigid twin (no
+    springs, the limit of an infinite modulus) under the key ``inf``."""
     out = {}
     for base, sweeps in ref.SWEEPS.items():
         rho, e0 = ref.MONO_MATERIALS[base]
@@ -47,12 +55,14 @@ def legs() -> dict[str, dict[float, LegDesign]]:
             e: LegDesign.from_properties([rho] * 3, [e] * 3, name=f"{base} E={e:g}")
             for e in sorted({e0, min(sweep), max(sweep)})
         }
+        if rigid:
+            out[base][math.inf] = rigid_twin(out[base][e0])
     return out
 
 
-def tasks(profile, replicates: int, convention: str, contact: str) -> list:
+def tasks(profile, replicates: int, convention: str, contact: str, rigid: bool = True) -> list:
     out = []
-    for base, by_modulus in legs().items():
+    for base, by_modulus in legs(rigid).items():
         autos = [auto_timestep(leg, convention, contact=contact) for leg in by_modulus.values()]
         period = min(k * dt for k, dt in autos)
         substeps = max(1, round(period / min(dt for _, dt in autos)))
@@ -65,13 +75,13 @@ def tasks(profile, replicates: int, convention: str, contact: str) -> list:
     return out
 
 
-def contrasts(grid) -> pd.DataFrame:
-    usable = drop_unusable(grid.tables, unusable_runs(grid.summary))
-    means = usable.groupby(["base", "modulus_gpa", "replicate"])[list(METRICS)].mean()
+def contrasts(hops) -> pd.DataFrame:
+    """Each swept modulus against the base's own, per metric, from usable runs' hops."""
+    means = hops.groupby(["base", "modulus_gpa", "replicate"])[list(METRICS)].mean()
     rows = []
     for base in ref.SWEEPS:
         e0 = ref.MONO_MATERIALS[base][1]
-        for e in sorted(legs()[base]):
+        for e in sorted(set(means.index.get_level_values("modulus_gpa")[means.index.get_level_values("base") == base])):
             if e == e0:
                 continue
             for m in METRICS:
@@ -86,6 +96,41 @@ def contrasts(grid) -> pd.DataFrame:
     return table
 
 
+def contact_columns(hops, table) -> pd.DataFrame:
+    """`table` with each leg's and its comparator's mean touch toggles per
+    phase switch (chatter) and peak foot penetration (mm) over their hops."""
+    legs = hops.groupby(["base", "modulus_gpa"])[list(CONTACT)].mean()
+    legs["peak_penetration_m"] *= 1e3
+    legs = legs.rename(columns={"peak_penetration_m": "peak_penetration_mm"})
+    own = legs.add_prefix("leg_").reset_index()
+    ref_ = legs.add_prefix("against_").reset_index().rename(columns={"modulus_gpa": "against_gpa"})
+    return table.merge(own, on=["base", "modulus_gpa"]).merge(ref_, on=["base", "against_gpa"])
+
+
+def with_halves(hops) -> pd.DataFrame:
+    """:func:`contrasts` over the whole scored window, beside the same on
+    each half of it (:func:`mat_hopper.analysis.stationarity.window_halves`):
+    ``first_half_pct``, ``second_half_pct``, their conclusions, and
+    ``stationarity`` (:func:`mat_hopper.analysis.stationarity.stationarity`);
+    then :func:`contact_columns`."""
+    table = contrasts(hops)
+    first, second = window_halves(hops)
+    key = ["base", "modulus_gpa", "metric"]
+    for name, half in (("first_half", first), ("second_half", second)):
+        h = contrasts(half)[[*key, "pct_change", "conclusion"]]
+        table = table.merge(h.rename(columns={"pct_change": f"{name}_pct", "conclusion": f"{name}_conclusion"}), on=key)
+    # a difference in opposite directions in the two halves is window-dependent too
+    signed = {
+        half: [
+            f"{c} ({'up' if x > 0 else 'down'})" if c == "difference" else c
+            for c, x in zip(table[f"{half}_conclusion"], table[f"{half}_pct"])
+        ]
+        for half in ("first_half", "second_half")
+    }
+    table["stationarity"] = [stationarity(a, b) for a, b in zip(signed["first_half"], signed["second_half"])]
+    return contact_columns(hops, table)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--profile", default="paper")
@@ -93,13 +138,14 @@ def main() -> None:
     ap.add_argument("--convention", default="bending")
     ap.add_argument("--contact", default="stiff")
     ap.add_argument("--cache", default="results/cache")
+    ap.add_argument("--no-rigid", action="store_true", help="leave out each base's rigid twin")
     ap.add_argument("--csv")
     args = ap.parse_args()
     profile = get_profile(args.profile)
     n = profile.replicates if args.replicates is None else args.replicates
     if n < 2:
         ap.error(f"--replicates must be >= 2 (paired seeds), got {n}")
-    specs = tasks(profile, n, args.convention, args.contact)
+    specs = tasks(profile, n, args.convention, args.contact, rigid=not args.no_rigid)
     print(
         f"{len(specs)} runs, {args.convention}, {args.contact} contact, {n} seeds, {profile.name} profile", flush=True
     )
@@ -109,10 +155,14 @@ def main() -> None:
     print(f"{grid.n_computed} computed, {grid.n_cached} cached, {len(bad)} unusable, {time.perf_counter() - t0:.0f} s")
     if len(bad):
         print(bad.to_string(index=False))
-    table = contrasts(grid)
+    table = with_halves(drop_unusable(grid.tables, bad))
     cols = ["base", "modulus_gpa", "against_gpa", "metric", "n_pairs", "pct_change", "ci_low", "ci_high", "p_holm"]
     with pd.option_context("display.width", 200):
-        print(table[[*cols, "conclusion", "beyond_margin"]].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+        print(
+            table[
+                [*cols, "conclusion", "beyond_margin", "first_half_pct", "second_half_pct", "stationarity"]
+            ].to_string(index=False, float_format=lambda v: f"{v:.3g}")
+        )
     if args.csv:
         table.to_csv(args.csv, index=False)
 

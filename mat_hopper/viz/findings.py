@@ -26,235 +26,52 @@ intervals. Nothing here switches the matplotlib backend: a new figure is a
 
 from __future__ import annotations
 
-import re
-from collections import Counter
-from pathlib import Path
-
 import numpy as np
 import pandas as pd
 from matplotlib import rc_context
 from matplotlib.figure import Figure
 
-from ..analysis.paired import DIFFERENCE, EQUIVALENCE_MARGIN, NO_DIFFERENCE, NOT_ENOUGH, conclusion
+from ..analysis.paired import DIFFERENCE, NO_DIFFERENCE, NOT_ENOUGH, conclusion
+from ._records import (
+    DEFAULT_DOMINANCE,
+    EFFECT_COLUMNS,
+    FINDINGS_COLUMNS,
+    MARGIN_PCT,
+    METRIC_LABELS,
+    NOT_COMPARED,
+    NOT_RECORDED,
+    RECORD_FILES,
+    REQUIRED_COLUMNS,
+    WINDOW_COLUMN,
+    cell_text,
+    findings_table,
+    metric_label,
+    paired_effects,
+    read_records,
+    rigid_twin_summary,
+)
 from .style import STYLE
 
-# Each record this page reads, by its key in :func:`read_records`' answer,
-# with the columns the page needs from it.
-RECORD_FILES = {
-    "claims": "claims-paper.csv",
-    "crossed": "crossed-legs-paper.csv",
-    "optimizer": "optimizer-paper.csv",
-    "optimizer_paired": "optimizer-paired-paper.csv",
-    "stress": "stress-verdicts-paper.csv",
-    "crossed_bending": "crossed-legs-bending-stiff-paper.csv",
-    "robustness_contact": "robustness-paper.csv",
-}
-EFFECT_COLUMNS = ("pct_change", "ci_low", "ci_high")
-REQUIRED_COLUMNS = {
-    "claims": ("claim", "paper", "ours", "verdict", "timestep_check", "vs_rigid_twin", "beyond_mass"),
-    "crossed": ("contrast", "metric", *EFFECT_COLUMNS, "p_holm"),
-    "optimizer": ("design", "dominance", "beats its mass-matched leg", "homogeneous legs of its mass dominating it"),
-    "optimizer_paired": ("design", "against", "kind", "objective", *EFFECT_COLUMNS, "p_holm"),
-    "stress": ("gradient", "metric", "against", *EFFECT_COLUMNS, "p_holm"),
-    "crossed_bending": ("contrast", "metric", *EFFECT_COLUMNS, "conclusion"),
-    "robustness_contact": ("variant", "quantity_id", "value_pct", "default_pct", "class"),
-}
-# The claims table's column for "stable over the scoring window"; the
-# records do not carry it yet, and the page says so rather than guess.
-WINDOW_COLUMN = "stationarity"
-NOT_RECORDED = "not recorded"
-NOT_COMPARED = "not compared"
-MARGIN_PCT = 100 * EQUIVALENCE_MARGIN  # ±10 %: inside it a difference counts as none
-DEFAULT_DOMINANCE = "margin"
-
-METRIC_LABELS = {
-    "tracking_error_m": "tracking error",
-    "power_w": "hip power",
-    "power_total_w": "total power",
-    "hop_peak_stress_median_pa": "median hop peak stress",
-    "peak_stress_pa": "largest peak stress",
-    "fatigue_safety_factor": "fatigue safety factor",
-}
-FINDINGS_COLUMNS = (
-    "claim",
-    "paper",
-    "ours",
-    "verdict",
-    "beyond the rigid twin",
-    "beyond the mass-matched leg",
-    "converged in time step",
-    "stable over the scoring window",
-)
-_CONCLUSION = re.compile(r"\((difference|no difference|not enough evidence),")
-
-
-def read_records(folder) -> dict[str, pd.DataFrame]:
-    """The recorded paper-profile tables this page reads, from `folder`.
-
-    Args:
-        folder: the records folder (the repository's ``book/records``).
-
-    Returns:
-        A dict from each key of :data:`RECORD_FILES` to its table.
-
-    Raises:
-        FileNotFoundError: a record file is missing (its name and the folder
-            are given).
-        ValueError: a record lacks a column the page needs (named).
-    """
-    folder = Path(folder)
-    out = {}
-    for key, name in RECORD_FILES.items():
-        path = folder / name
-        if not path.is_file():
-            raise FileNotFoundError(f"record {name} missing from {folder} (the findings page reads {key} from it)")
-        table = pd.read_csv(path)
-        missing = [c for c in REQUIRED_COLUMNS[key] if c not in table.columns]
-        if missing:
-            raise ValueError(f"record {name} lacks the columns {missing}")
-        out[key] = table
-    return out
-
-
-def _text(value, empty: str) -> str:
-    """The record's text, or `empty` where the cell is blank."""
-    if value is None or (isinstance(value, float) and np.isnan(value)) or str(value).strip() == "":
-        return empty
-    return str(value)
-
-
-def rigid_twin_summary(cell) -> str:
-    """A claim's comparisons against the rigid twin (the same segment masses
-    without springs: what the moduli add), counted by their conclusion.
-
-    Args:
-        cell: the claims record's ``vs_rigid_twin`` text: one entry per
-            comparison, each with its conclusion in brackets.
-
-    Returns:
-        E.g. "differs in 3 of 16 (12 no difference, 1 not enough evidence)";
-        the text itself where it names no conclusion; "not compared" where
-        blank.
-    """
-    text = _text(cell, NOT_COMPARED)
-    counts = Counter(_CONCLUSION.findall(text))
-    if not counts:
-        return text
-    rest = ", ".join(f"{n} {c}" for c, n in counts.items() if c != "difference")
-    total = sum(counts.values())
-    return f"differs in {counts['difference']} of {total}" + (f" ({rest})" if rest else "")
-
-
-def findings_table(records: dict[str, pd.DataFrame]) -> pd.DataFrame:
-    """One row per paper claim: the paper's number, ours, whether it was
-    reproduced and whether the effect goes beyond the claim's controls.
-
-    Args:
-        records: from :func:`read_records` (its ``claims`` table is used).
-
-    Returns:
-        A DataFrame with the columns of :data:`FINDINGS_COLUMNS`, in the
-        claims record's order: ``verdict`` as recorded (holds, partly,
-        does not hold); ``beyond the rigid twin`` from
-        :func:`rigid_twin_summary`; ``beyond the mass-matched leg`` the
-        record's ``beyond_mass``; ``converged in time step`` its
-        ``timestep_check``; ``stable over the scoring window`` its
-        :data:`WINDOW_COLUMN` where recorded, else "not recorded". A blank
-        cell reads "not compared" (controls) or "not recorded" (checks).
-    """
-    claims = records["claims"]
-    window = claims[WINDOW_COLUMN] if WINDOW_COLUMN in claims.columns else pd.Series(np.nan, index=claims.index)
-    return pd.DataFrame(
-        {
-            "claim": claims["claim"].astype(str),
-            "paper": claims["paper"].astype(str),
-            "ours": claims["ours"].astype(str),
-            "verdict": claims["verdict"].astype(str),
-            "beyond the rigid twin": [rigid_twin_summary(v) for v in claims["vs_rigid_twin"]],
-            "beyond the mass-matched leg": [_text(v, NOT_COMPARED) for v in claims["beyond_mass"]],
-            "converged in time step": [_text(v, NOT_RECORDED) for v in claims["timestep_check"]],
-            "stable over the scoring window": [_text(v, NOT_RECORDED) for v in window],
-        },
-        columns=list(FINDINGS_COLUMNS),
-    ).reset_index(drop=True)
-
-
-def _metric(name: str) -> str:
-    return METRIC_LABELS.get(name, name)
-
-
-def _label(design: str, against: str) -> str:
-    design = design.replace("rho-", "ρ-")
-    against = against.replace("rho-", "ρ-")
-    if against.startswith(f"{design}~"):
-        against = against[len(design) + 1 :]
-    return f"{design} vs {against}"
-
-
-def paired_effects(records: dict[str, pd.DataFrame]) -> pd.DataFrame:
-    """Every numeric paired effect of the records, one row each.
-
-    The crossed legs (chapter 9c: a modulus or the densities changed
-    alone), the stress study's gradients against their mass-matched legs
-    and titanium (chapter 8b) and the optimizer's validated designs against
-    their controls and the paper's designs (chapter 9).
-
-    Args:
-        records: from :func:`read_records`.
-
-    Returns:
-        A DataFrame with columns ``group`` (the comparison kind),
-        ``label`` (design, comparator and metric), ``metric``,
-        ``pct_change``, ``ci_low``, ``ci_high`` (%), ``p_holm``,
-        ``same_mass`` (True where the comparator has the design's leg
-        mass: its rigid twin, mass-matched and homogeneous legs of its
-        mass, a modulus changed alone) and ``conclusion`` (difference, no difference, not
-        enough evidence: :func:`mat_hopper.analysis.paired.conclusion`,
-        ±10 % margin), in group order.
-    """
-    parts = []
-    crossed = records["crossed"]
-    modulus = crossed["contrast"].str.startswith("modulus")
-    kind = np.where(
-        modulus,
-        "crossed legs: modulus alone",
-        np.where(
-            crossed["contrast"].str.startswith("densities"), "crossed legs: densities alone", "crossed legs: claim"
-        ),
-    )
-    parts.append(
-        crossed.assign(
-            group=kind,
-            label=crossed["contrast"].str.replace("rho-", "ρ-") + ", " + crossed["metric"].map(_metric),
-            same_mass=modulus,
-        )
-    )
-    stress = records["stress"]
-    parts.append(
-        stress.assign(
-            group="stress: vs " + stress["against"],
-            label=[
-                f"{_label(g, a)}, {_metric(m)}"
-                for g, a, m in zip(stress["gradient"], stress["against"], stress["metric"])
-            ],
-            same_mass=stress["against"].eq("mass-matched"),
-        )
-    )
-    opt = records["optimizer_paired"]
-    parts.append(
-        opt.assign(
-            group="optimizer: vs " + opt["kind"].replace({"paper": "paper designs"}),
-            label=[f"{_label(d, a)}, {_metric(m)}" for d, a, m in zip(opt["design"], opt["against"], opt["objective"])],
-            metric=opt["objective"],
-            same_mass=opt["kind"].isin(["mass-matched", "homogeneous", "rigid twin"]),
-        )
-    )
-    cols = ["group", "label", "metric", *EFFECT_COLUMNS, "p_holm", "same_mass"]
-    out = pd.concat([p[cols] for p in parts], ignore_index=True)
-    for c in (*EFFECT_COLUMNS, "p_holm"):
-        out[c] = pd.to_numeric(out[c], errors="coerce")
-    out["conclusion"] = [conclusion(p, lo, hi) for p, lo, hi in zip(out["p_holm"], out["ci_low"], out["ci_high"])]
-    return out
+__all__ = [
+    "DEFAULT_DOMINANCE",
+    "EFFECT_COLUMNS",
+    "FINDINGS_COLUMNS",
+    "MARGIN_PCT",
+    "METRIC_LABELS",
+    "NOT_COMPARED",
+    "NOT_RECORDED",
+    "RECORDED",
+    "RECORD_FILES",
+    "REQUIRED_COLUMNS",
+    "WINDOW_COLUMN",
+    "beside_record",
+    "design_answer",
+    "findings_table",
+    "forest_plot",
+    "paired_effects",
+    "read_records",
+    "rigid_twin_summary",
+]
 
 
 def _pct(x: float) -> str:
@@ -326,7 +143,7 @@ def _ramp_sentence(optimizer: pd.DataFrame, dominance: str) -> str:
     beats = rows["beats its mass-matched leg"].astype(str)
     wins = int((beats == "yes").sum())
     others = ", ".join(f"{int(n)} {v}" for v, n in beats[beats != "yes"].value_counts().items())
-    dominated = rows["homogeneous legs of its mass dominating it"].map(lambda v: _text(v, "") != "")
+    dominated = rows["homogeneous legs of its mass dominating it"].map(lambda v: cell_text(v, "") != "")
     which, verb = ("none", "dominates") if wins == 0 else (f"{wins}", "dominates" if wins == 1 else "dominate")
     text = (
         f"On the ramp (the optimizer's objective, {dominance} rule), {which} of the {len(rows)} validated "
@@ -373,6 +190,32 @@ def _bending_sentence(crossed: pd.DataFrame, soft: pd.DataFrame | None = None) -
         f"Where the leg can bend (hinge springs, a 1 ms contact, one step for the four legs), the modulus alone moves "
         f"tracking error by {effects(mod, 'tracking_error_m')} and hip power by {effects(mod, 'power_w')} "
         f"({verdict}); the densities alone move tracking error by {effects(dens, 'tracking_error_m')}{reading}."
+    )
+
+
+def _modulus_bending_sentence(sweeps: pd.DataFrame) -> str:
+    swept = sweeps[np.isfinite(sweeps["modulus_gpa"].astype(float))]
+    if swept.empty:
+        return ""
+    beyond = swept[swept["beyond_margin"].astype(bool)]
+    named = "; ".join(
+        f"{r.base} at {r.modulus_gpa:g} GPa against {r.against_gpa:g} GPa, {metric_label(r.metric)} {_effect(r)}"
+        for r in beyond.itertuples()
+    )
+    chatter = ""
+    toggles = "leg_touch_toggles_per_switch"
+    rigid = sweeps[~np.isfinite(sweeps["modulus_gpa"].astype(float))]
+    if toggles in sweeps.columns and len(rigid):
+        bent = pd.concat([swept[toggles], swept["against_touch_toggles_per_switch"]])
+        chatter = (
+            f"; the bending legs chatter on touchdown ({bent.min():.1f}-{bent.max():.1f} touch toggles per phase "
+            f"switch, their rigid twins {rigid[toggles].min():.1f}-{rigid[toggles].max():.1f}), so the contact "
+            "shares in these effects"
+        )
+    return (
+        f"Along the paper's modulus sweeps at equal mass, under the same bending and contact, "
+        f"{len(beyond)} of {len(swept)} contrasts (a leg and a metric) move tracking error or hip power beyond "
+        f"±{MARGIN_PCT:g} %" + (f" ({named})" if named else "") + chatter + "."
     )
 
 
@@ -481,6 +324,7 @@ def design_answer(records: dict[str, pd.DataFrame], *, dominance: str = DEFAULT_
         _crossed_sentence(records["crossed"]),
         _ramp_sentence(records["optimizer"], dominance),
         _bending_sentence(records["crossed_bending"], records["crossed"]),
+        _modulus_bending_sentence(records["modulus_bending"]),
         _contact_sentence(records["robustness_contact"]),
         _limits_sentence(records["claims"], records["crossed"]),
     ]

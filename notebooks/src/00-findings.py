@@ -100,7 +100,9 @@ glue("fig-findings-forest", findings.forest_plot(records, kinds=controls), displ
 # - {doc}`10-reproduction-report`: every claim with its rule, where and why
 #   our numbers differ, the authors' code defects;
 # - {doc}`08b-gradients-stress`: the stress study behind the stress
-#   effects above;
+#   effects above, and the same pairs where the leg bends;
+# - {doc}`07-one-property`: the modulus sweeps at equal mass, also where
+#   the leg bends;
 # - the records themselves, in `book/records/` (CSV files, with how each
 #   was made in the folder's README).
 #

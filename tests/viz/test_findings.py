@@ -127,6 +127,7 @@ def test_every_number_of_the_answer_is_in_the_records(records):
     effects = findings.paired_effects(records)
     values = {f"{v:+.1f}" for c in findings.EFFECT_COLUMNS for v in effects[c]}
     values |= {f"{v:+.1f}" for c in findings.EFFECT_COLUMNS for v in records["crossed_bending"][c]}
+    values |= {f"{v:+.1f}" for c in findings.EFFECT_COLUMNS for v in records["modulus_bending"][c]}
     values |= {f"{v:+.1f}" for c in ("value_pct", "default_pct") for v in records["robustness_contact"][c]}
     for token in re.findall(r"[+-]\d+\.\d", answer):
         assert token in values, token
@@ -205,3 +206,19 @@ def test_the_contact_sentence_follows_the_robustness_record(tmp_path):
     table.to_csv(path, index=False)
     after = findings.design_answer(findings.read_records(folder))
     assert "0 flip" in after and "rest on the soft contact" not in after
+
+
+def test_the_modulus_sweeps_under_bending_follow_their_record(copied, records):
+    """The answer counts the bending modulus contrasts beyond the margin from
+    the record, names each, and names the chatter beside the rigid twins'."""
+    answer = findings.design_answer(records)
+    sweeps = pd.read_csv(copied / "modulus-sweeps-bending-stiff-paper.csv")
+    swept = sweeps[sweeps["modulus_gpa"] != float("inf")]
+    n_beyond, n = int(swept["beyond_margin"].sum()), len(swept)
+    assert f"{n_beyond} of {n} contrasts (a leg and a metric) move" in answer
+    assert "their rigid twins" in answer
+    # no contrast beyond the margin any more: the count follows and nothing is named
+    sweeps["beyond_margin"] = False
+    sweeps.to_csv(copied / "modulus-sweeps-bending-stiff-paper.csv", index=False)
+    changed = findings.design_answer(findings.read_records(copied))
+    assert f"0 of {n} contrasts (a leg and a metric) move tracking error or hip power beyond ±10 %;" in changed
