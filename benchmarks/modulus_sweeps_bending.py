@@ -14,7 +14,8 @@ the book's verdicts with the ±10 % margin (:mod:`mat_hopper.analysis.paired`),
 and each contrast again on each half of the scored window (``stationarity``).
 
     python benchmarks/modulus_sweeps_bending.py [--profile paper] [--replicates 10] [--convention bending]
-        [--contact stiff] [--no-rigid] [--cache results/cache] [--csv out.csv]
+        [--contact stiff] [--no-rigid] [--only SS=15,193 ...] [--step-divisor 2] [--cache results/cache]
+        [--runs-csv runs.csv] [--csv out.csv]
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ from mat_hopper.core import reference as ref
 from mat_hopper.core.behaviours import behaviour
 from mat_hopper.core.control_legs import rigid_twin
 from mat_hopper.core.materials import LegDesign
-from mat_hopper.core.timestep import auto_timestep
+from mat_hopper.experiments.common_step import at_common_step, common_step
 from mat_hopper.experiments.profiles import get_profile
 from mat_hopper.experiments.runner import RunSpec, run_grid
 from mat_hopper.physics.metrics import holm
@@ -60,16 +61,23 @@ def legs(rigid: bool = True) -> dict[str, dict[float, LegDesign]]:
     return out
 
 
-def tasks(profile, replicates: int, convention: str, contact: str, rigid: bool = True) -> list:
+def tasks(
+    profile, replicates: int, convention: str, contact: str, rigid: bool = True, only=None, step_divisor: int = 1
+) -> list:
+    """The runs: every leg of :func:`legs` at its base's common step, or,
+    with `only` ({base: moduli}), those legs alone (still at the step all
+    of the base's legs need), the step divided by `step_divisor` (a
+    time-step check: more substeps of the same control period)."""
     out = []
     for base, by_modulus in legs(rigid).items():
-        autos = [auto_timestep(leg, convention, contact=contact) for leg in by_modulus.values()]
-        period = min(k * dt for k, dt in autos)
-        substeps = max(1, round(period / min(dt for _, dt in autos)))
+        period, substeps = common_step(by_modulus.values(), convention, contact)
+        substeps *= step_divisor
         for e, leg in by_modulus.items():
+            if only is not None and e not in only.get(base, ()):
+                continue
             for seed in range(replicates):
                 s = profile.sim_settings(profile.replicate(seed), design=leg)
-                s = replace(s, convention=convention, contact=contact, timestep_s=period / substeps, substeps=substeps)
+                s = at_common_step(replace(s, convention=convention, contact=contact), period, substeps)
                 labels = {"base": base, "modulus_gpa": e, "replicate": seed, "timestep_s": s.timestep_s}
                 out.append(RunSpec(leg, behaviour("forward"), s, labels))
     return out
@@ -79,7 +87,7 @@ def contrasts(hops) -> pd.DataFrame:
     """Each swept modulus against the base's own, per metric, from usable runs' hops."""
     means = hops.groupby(["base", "modulus_gpa", "replicate"])[list(METRICS)].mean()
     rows = []
-    for base in ref.SWEEPS:
+    for base in [b for b in ref.SWEEPS if b in means.index.get_level_values("base")]:
         e0 = ref.MONO_MATERIALS[base][1]
         for e in sorted(set(means.index.get_level_values("modulus_gpa")[means.index.get_level_values("base") == base])):
             if e == e0:
@@ -139,13 +147,32 @@ def main() -> None:
     ap.add_argument("--contact", default="stiff")
     ap.add_argument("--cache", default="results/cache")
     ap.add_argument("--no-rigid", action="store_true", help="leave out each base's rigid twin")
+    ap.add_argument(
+        "--only",
+        nargs="+",
+        metavar="BASE=E,E",
+        help="these legs only, e.g. SS=15,193 Ti=18,120 (GPa; inf: the rigid twin), at their base's step",
+    )
+    ap.add_argument("--step-divisor", type=int, default=1, help="divide each base's physics step by this (a check)")
+    ap.add_argument("--runs-csv", help="write the run summaries here")
     ap.add_argument("--csv")
     args = ap.parse_args()
+    only = None
+    if args.only:
+        try:
+            only = {b: {float(e) for e in es.split(",")} for b, es in (x.split("=", 1) for x in args.only)}
+        except ValueError:
+            ap.error(f"--only takes BASE=E,E,... (GPa numbers or inf), got {args.only}")
+        unknown = sorted(set(only) - set(ref.SWEEPS))
+        if unknown:
+            ap.error(f"--only: unknown base(s) {unknown}; the bases are {', '.join(ref.SWEEPS)}")
+    if args.step_divisor < 1:
+        ap.error(f"--step-divisor must be >= 1, got {args.step_divisor}")
     profile = get_profile(args.profile)
     n = profile.replicates if args.replicates is None else args.replicates
     if n < 2:
         ap.error(f"--replicates must be >= 2 (paired seeds), got {n}")
-    specs = tasks(profile, n, args.convention, args.contact, rigid=not args.no_rigid)
+    specs = tasks(profile, n, args.convention, args.contact, not args.no_rigid, only, args.step_divisor)
     print(
         f"{len(specs)} runs, {args.convention}, {args.contact} contact, {n} seeds, {profile.name} profile", flush=True
     )
@@ -165,6 +192,8 @@ def main() -> None:
         )
     if args.csv:
         table.to_csv(args.csv, index=False)
+    if args.runs_csv:
+        grid.summary.to_csv(args.runs_csv, index=False)
 
 
 if __name__ == "__main__":

@@ -28,6 +28,8 @@ from dataclasses import replace
 from ..core.behaviours import behaviour
 from ..core.materials import LegDesign, parse_design
 from ..core.timestep import auto_timestep
+from .common_step import at_common_step
+from .common_step import common_step as shared_step
 from .profiles import get_profile
 from .runner import RunSpec
 
@@ -137,10 +139,7 @@ def common_step(convention: str, contact: str) -> tuple[float, int]:
         ValueError: as :func:`~mat_hopper.core.timestep.auto_timestep` raises
             (unknown convention or contact).
     """
-    autos = [auto_timestep(leg, convention, contact=contact) for leg in legs().values()]
-    period = min(k * dt for k, dt in autos)
-    dt = min(dt for _, dt in autos)
-    return period, max(1, round(period / dt))
+    return shared_step(legs().values(), convention, contact)
 
 
 def common_step_tasks(profile, convention: str, contact: str) -> list[RunSpec]:
@@ -164,6 +163,6 @@ def common_step_tasks(profile, convention: str, contact: str) -> list[RunSpec]:
     for name, leg in legs().items():
         for seed in range(profile.replicates):
             s = profile.sim_settings(profile.replicate(seed), design=leg)
-            s = replace(s, convention=convention, contact=contact, timestep_s=period / k, substeps=k)
+            s = at_common_step(replace(s, convention=convention, contact=contact), period, k)
             out.append(RunSpec(leg, behaviour(BEHAVIOUR), s, _labels(name, seed)))
     return out

@@ -20,6 +20,8 @@ from ..core.behaviours import behaviour
 from ..core.contact import DEFAULT_CONTACT
 from ..core.control_legs import mass_matched
 from ..core.materials import paper_designs, parse_design
+from ..core.timestep import is_auto
+from .common_step import at_common_step, common_step
 from .profiles import get_profile
 from .runner import RunSpec
 
@@ -33,7 +35,9 @@ def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_C
 
     Args:
         profile: a Profile or its name (its replicates, run length and step;
-            each convention's step as :meth:`Profile.for_convention` gives it).
+            each convention's step as :meth:`Profile.for_convention` gives it;
+            where that is ``"auto"``, a gradient, its mass-matched leg and
+            titanium run at one step, :func:`~mat_hopper.experiments.common_step.common_step`).
         conventions: stiffness conventions (canonical names).
         contact: the foot's contact (``authors`` or ``stiff``).
 
@@ -51,7 +55,10 @@ def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_C
         prof = profile.for_convention(conv)
         for name in GRADIENTS:
             g = designs[name]
-            for role, leg in zip(LEGS, (g, mass_matched(g), ti)):
+            trio = (g, mass_matched(g), ti)
+            # under "auto" the three legs of a comparison share the step the finest of them needs
+            step = common_step(trio, conv, contact, prof.sensor_timing.name) if is_auto(prof.timestep_s) else None
+            for role, leg in zip(LEGS, trio):
                 for seed in range(profile.replicates):
                     labels = {
                         "convention": conv,
@@ -62,5 +69,7 @@ def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_C
                         "replicate": seed,
                     }
                     settings = prof.sim_settings(prof.replicate(seed), design=leg, contact=contact)
+                    if step is not None:
+                        settings = at_common_step(settings, *step)
                     tasks.append(RunSpec(leg, behaviour("forward"), settings, labels))
     return tasks

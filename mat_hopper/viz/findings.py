@@ -198,24 +198,26 @@ def _modulus_bending_sentence(sweeps: pd.DataFrame) -> str:
     if swept.empty:
         return ""
     beyond = swept[swept["beyond_margin"].astype(bool)]
+    toggles = ("leg_touch_toggles_per_switch", "against_touch_toggles_per_switch")
+    recorded = set(toggles) <= set(sweeps.columns)
+
+    def chatter(r) -> str:
+        return (
+            f", touchdown chatter {getattr(r, toggles[0]):.1f} against {getattr(r, toggles[1]):.1f}" if recorded else ""
+        )
+
     named = "; ".join(
         f"{r.base} at {r.modulus_gpa:g} GPa against {r.against_gpa:g} GPa, {metric_label(r.metric)} {_effect(r)}"
+        + chatter(r)
         for r in beyond.itertuples()
     )
-    chatter = ""
-    toggles = "leg_touch_toggles_per_switch"
-    rigid = sweeps[~np.isfinite(sweeps["modulus_gpa"].astype(float))]
-    if toggles in sweeps.columns and len(rigid):
-        bent = pd.concat([swept[toggles], swept["against_touch_toggles_per_switch"]])
-        chatter = (
-            f"; the bending legs chatter on touchdown ({bent.min():.1f}-{bent.max():.1f} touch toggles per phase "
-            f"switch, their rigid twins {rigid[toggles].min():.1f}-{rigid[toggles].max():.1f}), so the contact "
-            "shares in these effects"
-        )
     return (
-        f"Along the paper's modulus sweeps at equal mass, under the same bending and contact, "
-        f"{len(beyond)} of {len(swept)} contrasts (a leg and a metric) move tracking error or hip power beyond "
-        f"±{MARGIN_PCT:g} %" + (f" ({named})" if named else "") + chatter + "."
+        f"Hopping forward along the paper's modulus sweeps at equal mass, under bending on the stiff contact (one "
+        f"step per base material), {len(beyond)} of {len(swept)} contrasts (a leg and a metric) move tracking error "
+        f"or hip power beyond ±{MARGIN_PCT:g} %"
+        + (f" ({named}{'; touch toggles per phase switch, leg against base' if recorded else ''})" if named else "")
+        + (": where the chatter differs, the contact shares in the effect" if named and recorded else "")
+        + "."
     )
 
 

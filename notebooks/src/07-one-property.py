@@ -350,15 +350,17 @@ print(
 # ```
 #
 # Where the leg can bend, the modulus does move tracking beyond the
-# margin at the sweeps' soft ends, at equal mass and on paired seeds:
-# the softest PVC tracks worse, and a metal leg softened to 15-20 GPa
-# tracks better than at its own modulus, for more hip power. The stiff
-# ends move nothing beyond it. Two cautions. The path to the rigid twin is
-# not monotone (stainless steel tracks worse at its own 193 GPa than at
-# 15 GPa, 1000 GPa or rigid). And the bending legs chatter on touchdown
-# where their rigid twins do not (the toggle columns above), so part of
-# these effects is the contact ringing the hinges, not the material's
-# compliance; the two are not separated here.
+# margin at three of the four soft ends, at equal mass and on paired
+# seeds: the softest PVC tracks worse, titanium at 18 GPa (at the margin)
+# and stainless steel at 15 GPa better than at their own moduli, steel
+# for more hip power. The stiff ends move nothing beyond it. Two
+# confounds remain. The softened metal legs also chatter less on
+# touchdown than their own materials (the toggle columns above; the
+# rigid twins do not chatter), so part of their better tracking may be
+# the contact's, not the material's compliance; PVC's worse tracking
+# comes without chatter. And the path to the rigid twin is not monotone.
+# The physics step of each base is the one its stiffest leg needs; the
+# records' README gives the step check.
 
 # %% [markdown]
 # ## Answer
@@ -372,7 +374,8 @@ print(
 # spring in series with them, and even a softened foam's springs stay
 # stiffer than the foot spring. Whether the soft moduli track worse at equal
 # mass is tested in {doc}`09c-material-or-mass`. Where the leg can bend
-# (hinge springs, a stiff contact), the modulus matters at the sweeps'
-# soft ends: the softest PVC tracks worse and softened metal legs track
-# better, beyond ±10 %, though that comparison also carries the contact's
-# chatter, which the bending legs have and their rigid twins do not.
+# (hinge springs, a stiff contact), the modulus matters at three of the
+# four soft ends: the softest PVC tracks worse, softened titanium and
+# steel track better, beyond ±10 %, though the softened metals also
+# chatter less on touchdown, which this comparison does not separate
+# from their compliance.

@@ -33,3 +33,30 @@ def test_the_contact_is_in_every_runs_settings_and_key():
     assert not {t.key() for t in soft} & {t.key() for t in stiff}
     with pytest.raises(ValueError):
         stress_pair_tasks(quick, ("bending",), contact="rubber")
+
+
+def test_a_gradient_and_its_controls_share_one_step_where_the_step_is_auto():
+    """Under bending (timestep auto) a gradient, its mass-matched leg and
+    titanium run at the step the finest of them needs, so a pair differs in
+    the leg alone; under paper all run at the profile's 1e-4 s."""
+    from mat_hopper.core.timestep import auto_timestep
+    from mat_hopper.experiments.common_step import common_step
+
+    for contact in ("authors", "stiff"):
+        tasks = stress_pair_tasks("paper", ("bending",), contact=contact)
+        by_gradient = {}
+        for t in tasks:
+            by_gradient.setdefault(t.labels["gradient"], set()).add((t.settings.timestep_s, t.settings.substeps))
+        assert all(len(steps) == 1 for steps in by_gradient.values()), by_gradient
+        legs = {}
+        for t in tasks:
+            legs.setdefault(t.labels["gradient"], {})[t.labels["leg"]] = t.design
+        for name, steps in by_gradient.items():
+            period, k = common_step(legs[name].values(), "bending", contact)
+            assert steps == {(period / k, k)}
+        # the shared step is not every leg's own: some leg would run at another alone
+        own = {auto_timestep(leg, "bending", contact=contact)[1] for trio in legs.values() for leg in trio.values()}
+        shared = {dt for steps in by_gradient.values() for dt, _ in steps}
+        assert own - shared
+    paper = stress_pair_tasks("paper", ("paper",))
+    assert {t.settings.timestep_s for t in paper} == {1e-4}

@@ -210,15 +210,15 @@ def test_the_contact_sentence_follows_the_robustness_record(tmp_path):
 
 def test_the_modulus_sweeps_under_bending_follow_their_record(copied, records):
     """The answer counts the bending modulus contrasts beyond the margin from
-    the record, names each, and names the chatter beside the rigid twins'."""
+    the record, names each, and gives each one's touchdown chatter, leg against base."""
     answer = findings.design_answer(records)
     sweeps = pd.read_csv(copied / "modulus-sweeps-bending-stiff-paper.csv")
     swept = sweeps[sweeps["modulus_gpa"] != float("inf")]
     n_beyond, n = int(swept["beyond_margin"].sum()), len(swept)
     assert f"{n_beyond} of {n} contrasts (a leg and a metric) move" in answer
-    assert "their rigid twins" in answer
+    assert "touch toggles per phase switch, leg against base" in answer
     # no contrast beyond the margin any more: the count follows and nothing is named
     sweeps["beyond_margin"] = False
     sweeps.to_csv(copied / "modulus-sweeps-bending-stiff-paper.csv", index=False)
     changed = findings.design_answer(findings.read_records(copied))
-    assert f"0 of {n} contrasts (a leg and a metric) move tracking error or hip power beyond ±10 %;" in changed
+    assert f"0 of {n} contrasts (a leg and a metric) move tracking error or hip power beyond ±10 %." in changed
