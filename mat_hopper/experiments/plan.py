@@ -158,7 +158,7 @@ CHAPTERS: tuple[Chapter, ...] = (
     ),
     Chapter(
         "08b-gradients-stress",
-        (lambda p: stress_pair_tasks(p),),
+        (lambda p: stress_pair_tasks(p, one_step=False),),
         "not counted: RolloutRunner cells (uncached)",
     ),
     Chapter("09-optimizing-gradients", (), "", "the racing study and its validation"),

@@ -30,7 +30,7 @@ CONVENTIONS = ("paper", "bending")
 LEGS = ("gradient", "mass-matched", "titanium")
 
 
-def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_CONTACT) -> list:
+def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_CONTACT, one_step: bool = True) -> list:
     """RunSpecs of every gradient, its mass-matched leg and titanium (module doc).
 
     Args:
@@ -40,6 +40,10 @@ def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_C
             titanium run at one step, :func:`~mat_hopper.experiments.common_step.common_step`).
         conventions: stiffness conventions (canonical names).
         contact: the foot's contact (``authors`` or ``stiff``).
+        one_step: where the step is ``"auto"``, run a gradient, its
+            mass-matched leg and titanium at one step (their pairs are
+            compared); False: each leg at its own (only each leg's own
+            outcome is read, e.g. whether it stayed up).
 
     Returns:
         list of RunSpec, forward hopping; labels convention, contact,
@@ -57,7 +61,8 @@ def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_C
             g = designs[name]
             trio = (g, mass_matched(g), ti)
             # under "auto" the three legs of a comparison share the step the finest of them needs
-            step = common_step(trio, conv, contact, prof.sensor_timing.name) if is_auto(prof.timestep_s) else None
+            shared = one_step and is_auto(prof.timestep_s)
+            step = common_step(trio, conv, contact, prof.sensor_timing.name) if shared else None
             for role, leg in zip(LEGS, trio):
                 for seed in range(profile.replicates):
                     labels = {

@@ -60,3 +60,6 @@ def test_a_gradient_and_its_controls_share_one_step_where_the_step_is_auto():
         assert own - shared
     paper = stress_pair_tasks("paper", ("paper",))
     assert {t.settings.timestep_s for t in paper} == {1e-4}
+    # one_step=False (chapter 8b, which reads only whether each bending leg stayed up): each leg's own step
+    own = stress_pair_tasks("paper", ("bending",), one_step=False)
+    assert {t.settings.timestep_s for t in own} == {auto_timestep(t.design, "bending")[1] for t in own}
