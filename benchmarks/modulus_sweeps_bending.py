@@ -26,6 +26,7 @@ import time
 from dataclasses import replace
 
 import pandas as pd
+from _inputs import outputs, settings  # benchmarks/, on the path of a script run from there
 
 from mat_hopper.analysis import paired
 from mat_hopper.analysis.stationarity import stationarity, window_halves
@@ -35,7 +36,6 @@ from mat_hopper.core.behaviours import behaviour
 from mat_hopper.core.control_legs import rigid_twin
 from mat_hopper.core.materials import LegDesign
 from mat_hopper.experiments.common_step import at_common_step, common_step
-from mat_hopper.experiments.profiles import get_profile
 from mat_hopper.experiments.runner import RunSpec, run_grid
 from mat_hopper.physics.metrics import holm
 
@@ -139,6 +139,30 @@ def with_halves(hops) -> pd.DataFrame:
     return contact_columns(hops, table)
 
 
+def parse_only(ap, items, all_legs) -> dict[str, set[float]]:
+    """--only's {base: moduli}: each BASE=E,E... once, its moduli among the
+    base's legs (its own, the sweep's extremes, inf for the rigid twin); the
+    base's own modulus, every contrast's comparator, is added."""
+    only = {}
+    for item in items:
+        base, sep, values = item.partition("=")
+        if not sep or base not in all_legs:
+            ap.error(f"--only takes BASE=E,E,... with BASE one of {', '.join(all_legs)}, got {item!r}")
+        if base in only:
+            ap.error(f"--only names {base} twice; give its moduli once, e.g. {base}=E,E")
+        try:
+            moduli = {float(e) for e in values.split(",")}
+        except ValueError:
+            ap.error(f"--only {item}: the moduli must be numbers in GPa (or inf), got {values!r}")
+        own = ref.MONO_MATERIALS[base][1]
+        unknown = sorted(moduli - set(all_legs[base]))
+        if unknown:
+            choices = ", ".join(f"{e:g}" for e in sorted(all_legs[base]))
+            ap.error(f"--only {item}: {base} has no leg at {unknown} GPa; its legs: {choices}")
+        only[base] = moduli | {own}
+    return only
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--profile", default="paper")
@@ -157,25 +181,16 @@ def main() -> None:
     ap.add_argument("--runs-csv", help="write the run summaries here")
     ap.add_argument("--csv")
     args = ap.parse_args()
-    only = None
-    if args.only:
-        try:
-            only = {b: {float(e) for e in es.split(",")} for b, es in (x.split("=", 1) for x in args.only)}
-        except ValueError:
-            ap.error(f"--only takes BASE=E,E,... (GPa numbers or inf), got {args.only}")
-        unknown = sorted(set(only) - set(ref.SWEEPS))
-        if unknown:
-            ap.error(f"--only: unknown base(s) {unknown}; the bases are {', '.join(ref.SWEEPS)}")
+    profile, (convention,), contact = settings(ap, args.profile, [args.convention], args.contact)
+    outputs(ap, args.cache, csv=args.csv, runs_csv=args.runs_csv)
+    only = parse_only(ap, args.only, legs(not args.no_rigid)) if args.only else None
     if args.step_divisor < 1:
         ap.error(f"--step-divisor must be >= 1, got {args.step_divisor}")
-    profile = get_profile(args.profile)
     n = profile.replicates if args.replicates is None else args.replicates
     if n < 2:
         ap.error(f"--replicates must be >= 2 (paired seeds), got {n}")
-    specs = tasks(profile, n, args.convention, args.contact, not args.no_rigid, only, args.step_divisor)
-    print(
-        f"{len(specs)} runs, {args.convention}, {args.contact} contact, {n} seeds, {profile.name} profile", flush=True
-    )
+    specs = tasks(profile, n, convention, contact, not args.no_rigid, only, args.step_divisor)
+    print(f"{len(specs)} runs, {convention}, {contact} contact, {n} seeds, {profile.name} profile", flush=True)
     t0 = time.perf_counter()
     grid = run_grid(specs, args.cache, desc="modulus sweeps")
     bad = unusable_runs(grid.summary)

@@ -16,26 +16,29 @@ import argparse
 import time
 
 import pandas as pd
+from _inputs import outputs, settings  # benchmarks/, on the path of a script run from there
 
 from mat_hopper.analysis.stress_pairs import stress_verdicts, usable_pairs
-from mat_hopper.experiments.profiles import get_profile
 from mat_hopper.experiments.runner import run_grid
 from mat_hopper.experiments.stress_pairs import stress_pair_tasks
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--profile", default="paper")
-    ap.add_argument("--conventions", default="bending", help="comma-separated (bending)")
-    ap.add_argument("--contact", default="stiff")
-    ap.add_argument("--cache", default="results/cache")
+    ap.add_argument("--profile", default="paper", help="run profile: paper or quick (default paper)")
+    ap.add_argument("--conventions", default="bending", help="comma-separated stiffness conventions (default bending)")
+    ap.add_argument("--contact", default="stiff", help="the foot's contact: authors or stiff (default stiff)")
+    ap.add_argument("--cache", default="results/cache", help="result cache folder (default results/cache)")
     ap.add_argument("--runs-csv", help="write the run summaries here")
     ap.add_argument("--csv", help="write the verdicts here")
     args = ap.parse_args()
-    profile = get_profile(args.profile)
-    conventions = tuple(c.strip() for c in args.conventions.split(",") if c.strip())
-    tasks = stress_pair_tasks(profile, conventions, contact=args.contact)
-    print(f"{len(tasks)} runs, {', '.join(conventions)}, {args.contact} contact, {profile.name} profile", flush=True)
+    names = [c.strip() for c in args.conventions.split(",") if c.strip()]
+    if not names:
+        ap.error(f"--conventions names none, got {args.conventions!r}; e.g. bending")
+    profile, conventions, contact = settings(ap, args.profile, names, args.contact)
+    outputs(ap, args.cache, csv=args.csv, runs_csv=args.runs_csv)
+    tasks = stress_pair_tasks(profile, conventions, contact=contact)
+    print(f"{len(tasks)} runs, {', '.join(conventions)}, {contact} contact, {profile.name} profile", flush=True)
     t0 = time.perf_counter()
     grid = run_grid(tasks, args.cache, desc="stress pairs")
     runs = grid.summary

@@ -46,6 +46,15 @@ def common_step(legs, convention: str, contact: str, sensor_timing="authors") ->
 
 
 def at_common_step(settings, period_s: float, substeps: int):
-    """`settings` (a SimSettings) at a control period (s) split into
-    `substeps` physics steps (from :func:`common_step`)."""
+    """A run's settings at a control period split into physics substeps.
+
+    Args:
+        settings: the run's SimSettings.
+        period_s: the control period, s (from :func:`common_step`).
+        substeps: physics steps per control period, >= 1 (from :func:`common_step`).
+
+    Returns:
+        A copy of `settings` with ``timestep_s = period_s / substeps`` and
+        ``substeps``.
+    """
     return replace(settings, timestep_s=period_s / substeps, substeps=substeps)

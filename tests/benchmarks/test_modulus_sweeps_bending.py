@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +19,8 @@ SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "modulus_sweeps_be
 
 
 def _module():
+    if str(SCRIPT.parent) not in sys.path:  # as when the script runs: its folder first on the path (benchmarks/_inputs)
+        sys.path.insert(0, str(SCRIPT.parent))
     spec = importlib.util.spec_from_file_location("modulus_sweeps_bending", SCRIPT)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
