@@ -336,8 +336,6 @@ EXIT_STATUS = (
 
 def cmd_simulate(args) -> int:
     profile = profile_of(args.profile)  # ValueError for an unknown $MAT_HOPPER_PROFILE (e.g. turbo)
-    if args.profile is not None and None not in (args.duration, args.transient, args.timestep):
-        raise ValueError("--profile sets the defaults of --duration, --transient and --timestep: all three are given")
     check_force_used(args, {"--csv": args.csv})
     check_distinct_paths({"--csv": args.csv}, {"--design-csv": args.design_csv})  # never over the input table
     check_output_file(args.csv, "--csv", stdout=True, force=args.force)
@@ -352,7 +350,12 @@ def cmd_simulate(args) -> int:
     beh = behaviour(args.behaviour)
     duration = profile.duration_s if args.duration is None else args.duration
     transient = profile.transient_s if args.transient is None else args.transient
-    settings = sim_settings_from_args(args, design, duration, transient)
+    settings = sim_settings_from_args(args, design, duration, transient)  # a bad value is named first
+    if args.profile is not None and None not in (args.duration, args.transient, args.timestep):
+        raise ValueError(
+            "--profile sets only the defaults of --duration, --transient and --timestep, and all three are given: "
+            "leave out --profile (or one of the three)"
+        )
     stable_step_warning("simulate", design, settings)
     rollout = run_with_progress(design, beh, settings, progress=not args.no_progress)
     hops = hop_table(rollout, warn=False)  # the UNSTABLE line below says it

@@ -36,3 +36,16 @@ def test_a_study_at_auto_records_it_in_its_key():
     # resuming without --timestep keeps the stored study's step
     resumed = config_from_args(build_parser("optimize").parse_args(["optimize", "--study", "s"]), config)
     assert resumed.objective.profile.timestep_s == AUTO
+
+
+def test_a_bad_step_is_named_before_a_redundant_profile(capsys):
+    """simulate with --profile and all three of --duration, --transient and
+    --timestep refuses the redundant profile, but a bad value among them is
+    the error a newcomer sees first."""
+    from mat_hopper.cli import main
+
+    common = ["simulate", "--design", "SS", "--profile", "quick", "--duration", "3", "--transient", "1"]
+    assert main([*common, "--timestep", "-1e-4"]) == 2
+    assert "--timestep must be in (0, 0.1] s" in capsys.readouterr().err
+    assert main([*common, "--timestep", "1e-4"]) == 2
+    assert "leave out --profile" in capsys.readouterr().err
