@@ -11,7 +11,7 @@ mode near the 10 kHz control rate aliases into the hips' flight PD and the
 run diverges in its first 20 ms (PVC x100, 400 GPa).
 
     python benchmarks/bending_convergence.py [--materials PVC,Al] [--scales 1,10,100]
-        [--seconds 30] [--damping authors|loss-factor] [--csv out.csv]
+        [--seconds 30] [--damping authors|loss-factor] [--contact stiff|stiff-elliptic] [--csv out.csv]
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from mat_hopper.physics.metrics import run_summary
 METRICS = ("mean_tracking_error_m", "mean_power_w", "mean_power_total_w")
 
 
-def _run(design, seconds, substeps, dt, damping):
+def _run(design, seconds, substeps, dt, damping, contact="stiff"):
     t0 = time.perf_counter()
     r = simulate(
         design,
@@ -42,7 +42,7 @@ def _run(design, seconds, substeps, dt, damping):
         timestep_s=dt,
         substeps=substeps,
         convention="bending",
-        contact="stiff",
+        contact=contact,
         damping=damping,
         warn=False,
     )
@@ -53,7 +53,9 @@ def _run(design, seconds, substeps, dt, damping):
     return out
 
 
-def convergence_rows(material: str, scales, seconds: float, damping: str = "authors") -> list[dict]:
+def convergence_rows(
+    material: str, scales, seconds: float, damping: str = "authors", contact: str = "stiff"
+) -> list[dict]:
     """One row per modulus scale: the bending leg and its rigid twin at
     the bending leg's automatic step and control period, and their
     percent differences."""
@@ -62,10 +64,11 @@ def convergence_rows(material: str, scales, seconds: float, damping: str = "auth
     for scale in scales:
         modulus = min(mat.modulus_gpa * scale, MODULUS_RANGE_GPA[1])
         leg = LegDesign.from_properties([mat.density_g_cm3] * 3, [modulus] * 3)
-        substeps, dt = auto_timestep(leg, "bending", contact="stiff")
-        bend = _run(leg, seconds, substeps, dt, damping)
-        rigid = _run(rigid_twin(leg), seconds, substeps, dt, damping)
-        row = {"material": mat.name, "scale": scale, "modulus_gpa": modulus, "damping": damping, "substeps": substeps}
+        substeps, dt = auto_timestep(leg, "bending", contact=contact)
+        bend = _run(leg, seconds, substeps, dt, damping, contact)
+        rigid = _run(rigid_twin(leg), seconds, substeps, dt, damping, contact)
+        row = {"material": mat.name, "scale": scale, "modulus_gpa": modulus, "damping": damping, "contact": contact}
+        row["substeps"] = substeps
         row.update(timestep_s=dt, control_period_s=substeps * dt)
         row.update({f"{k}": v for k, v in bend.items()})
         row.update({f"rigid_{k}": v for k, v in rigid.items()})
@@ -82,11 +85,14 @@ def main() -> None:
     ap.add_argument("--scales", default="1,10,100")
     ap.add_argument("--seconds", type=float, default=30.0)
     ap.add_argument("--damping", default="authors", choices=DAMPINGS)
+    ap.add_argument("--contact", default="stiff", choices=("stiff", "stiff-elliptic"), help="the foot's contact")
     ap.add_argument("--csv")
     args = ap.parse_args()
     scales = [float(s) for s in args.scales.split(",")]
     rows = [
-        r for m in args.materials.split(",") for r in convergence_rows(m.strip(), scales, args.seconds, args.damping)
+        r
+        for m in args.materials.split(",")
+        for r in convergence_rows(m.strip(), scales, args.seconds, args.damping, args.contact)
     ]
     table = pd.DataFrame(rows)
     cols = ["material", "scale", "modulus_gpa", "control_period_s", "stable", "fell_at_s", "touch_toggles_per_switch"]

@@ -12,6 +12,16 @@ back out; the impedance ``solimp`` is left at MuJoCo's default.
     file sets no solver parameters. Default.
 ``stiff``
     a time constant of 1 ms, critically damped: ``solref = (0.001, 1)``.
+``stiff-elliptic``
+    ``stiff`` with MuJoCo's elliptic friction cones in place of the
+    pyramidal ones the model otherwise uses (MuJoCo documentation,
+    "Computation", "Contact": a pyramidal cone couples the normal and
+    friction forces through its edges; the elliptic cone is the
+    Coulomb cone itself). A stiff leg that bends rings at lift-off, and
+    the pyramid's coupling turns the ringing's tangential acceleration into
+    normal pushes that re-engage the foot; the elliptic cone does so less,
+    and such a leg comes closer to its rigid twin as it stiffens
+    (``book/records/README.md``).
 
 :func:`mat_hopper.core.mjcf.build_spec` sets the named ``solref`` on every
 geom that can touch (the foot and the terrain), so MuJoCo's mix of the two
@@ -31,14 +41,25 @@ from __future__ import annotations
 
 from ..util.parsing import parse_name
 
-__all__ = ["CONTACTS", "DEFAULT_CONTACT", "check_contact", "contact_max_timestep", "contact_solref"]
+__all__ = [
+    "CONTACTS",
+    "DEFAULT_CONTACT",
+    "ELLIPTIC_CONTACTS",
+    "check_contact",
+    "contact_max_timestep",
+    "contact_solref",
+    "elliptic_cone",
+]
 
 # Contact name -> MuJoCo solref (timeconst s, dampratio), the one table.
 # "authors" is MuJoCo's default (mjs_defaultGeom: solref 0.02 1), exactly.
 CONTACTS = {
     "authors": (0.02, 1.0),
     "stiff": (0.001, 1.0),
+    "stiff-elliptic": (0.001, 1.0),
 }
+# The contacts whose friction cone is elliptic (the rest: pyramidal).
+ELLIPTIC_CONTACTS = ("stiff-elliptic",)
 DEFAULT_CONTACT = "authors"
 # MuJoCo uses max(solref[0], 2*timestep) as the time constant (XML reference,
 # option/flag refsafe, on by default): a time constant holds for steps up to half of it.
@@ -76,6 +97,22 @@ def contact_solref(contact) -> tuple[float, float]:
         ValueError: an unknown name (:func:`check_contact`).
     """
     return CONTACTS[check_contact(contact)]
+
+
+def elliptic_cone(contact) -> bool:
+    """Whether a contact setting uses MuJoCo's elliptic friction cones
+    (otherwise the pyramidal ones, the model's default).
+
+    Args:
+        contact: a name of :data:`CONTACTS`, any case.
+
+    Returns:
+        True for the names in :data:`ELLIPTIC_CONTACTS` (``stiff-elliptic``).
+
+    Raises:
+        ValueError: an unknown name (:func:`check_contact`).
+    """
+    return check_contact(contact) in ELLIPTIC_CONTACTS
 
 
 def contact_max_timestep(contact) -> float:

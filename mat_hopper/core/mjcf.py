@@ -22,7 +22,7 @@ import numpy as np
 
 from ..util.parsing import parse_name
 from . import reference as ref
-from .contact import DEFAULT_CONTACT, check_contact, contact_solref
+from .contact import DEFAULT_CONTACT, check_contact, contact_solref, elliptic_cone
 from .conventions import (
     AXIAL_CONVENTIONS,
     BENDING_CONVENTIONS,
@@ -217,9 +217,10 @@ def build_spec(
         sensors: ``"all"`` (default) or ``"control"``, any case
             (:func:`check_sensors`).
         segment_mass: ``"leg"`` (default) or ``"capsule"``, any case.
-        contact: ``"authors"`` (default: MuJoCo's default solref (0.02, 1))
-            or ``"stiff"`` (0.001, 1), any case (:mod:`mat_hopper.core.contact`);
-            set on every geom that can touch (:func:`_set_contact`).
+        contact: ``"authors"`` (default: MuJoCo's default solref (0.02, 1)),
+            ``"stiff"`` (0.001, 1) or ``"stiff-elliptic"`` (``stiff`` with
+            elliptic friction cones), any case (:mod:`mat_hopper.core.contact`);
+            the solref set on every geom that can touch (:func:`_set_contact`).
 
     Returns:
         The uncompiled ``mujoco.MjSpec``, named ``hopper_<design name>``,
@@ -238,12 +239,15 @@ def build_spec(
     if convention not in CONVENTIONS:  # spelled once, at the entry points
         raise ValueError(f"stiffness convention {convention!r}: give one of {', '.join(CONVENTIONS)}, as spelled")
     segment_mass = check_segment_mass(segment_mass)
-    solref = contact_solref(check_contact(contact))
+    contact = check_contact(contact)
+    solref = contact_solref(contact)
     dt = check_timestep(timestep_s)
     ramp_grade_deg = check_ramp_grade(ramp_grade_deg)
     spec = mujoco.MjSpec()
     spec.modelname = f"hopper_{design.name}"
     _set_options(spec, dt)
+    if elliptic_cone(contact):
+        spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
     _add_terrain(spec.worldbody, ramp_grade_deg)
     base = _add_base(spec.worldbody)
     last = _add_leg(base, design, convention, segment_mass)

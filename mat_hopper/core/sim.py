@@ -175,7 +175,7 @@ class SimSettings:
             (default: 1 N s/m, the authors' file) or ``"loss-factor"`` (each
             material's loss factor, :data:`mat_hopper.core.damping.LOSS_FACTORS`);
             any case, stored as spelled in :data:`mat_hopper.core.damping.DAMPINGS`.
-        contact: ``"authors"`` (default: MuJoCo's solref 0.02 1) or ``"stiff"`` (0.001 1), any case (contact.CONTACTS).
+        contact: ``"authors"`` (default: MuJoCo's solref 0.02 1), ``"stiff"`` (0.001 1) or ``"stiff-elliptic"`` (stiff, elliptic friction cones), any case (contact.CONTACTS).
         apex_reference: what the controller's hop height is measured from, ``"world"`` (default: world z, the
             authors') or ``"ground"`` (the terrain under the foot at lift-off); controller.APEX_REFERENCES.
         replicate_protocol: when the perturbation acts, ``"authors"`` (default: from step 0) or ``"branch"``
@@ -197,7 +197,7 @@ class SimSettings:
     segment_mass: str = DEFAULT_SEGMENT_MASS
     substeps: int = 1
     damping: str = DEFAULT_DAMPING  # "authors" (1 N s/m) or "loss-factor" (damping.LOSS_FACTORS)
-    contact: str = DEFAULT_CONTACT  # "authors" (solref 0.02 1) or "stiff" (contact.CONTACTS)
+    contact: str = DEFAULT_CONTACT  # "authors" (solref 0.02 1), "stiff" (0.001 1), "stiff-elliptic" (contact.CONTACTS)
     apex_reference: str = DEFAULT_APEX_REFERENCE  # "world" or "ground" (controller.APEX_REFERENCES)
     replicate_protocol: str = DEFAULT_REPLICATE_PROTOCOL  # "authors" or "branch" (replicates.REPLICATE_PROTOCOLS)
 

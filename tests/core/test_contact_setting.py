@@ -165,3 +165,20 @@ def test_contact_channels_sum_over_any_record_rate():
     coarse = simulate("Ti", "ramp", settings=st)
     assert coarse.touch_toggles.sum() == fine.touch_toggles.sum() > 0
     assert coarse.foot_clearance_min_m.min() == fine.foot_clearance_min_m.min() < 0
+
+
+def test_stiff_elliptic_is_stiff_with_mujocos_elliptic_cone():
+    """``stiff-elliptic``: the stiff contact's solref with elliptic friction
+    cones in the compiled model; every other contact keeps the pyramid."""
+    ss = parse_design("SS")
+    cones = {c: mjcf.build_spec(ss, contact=c).compile().opt.cone for c in CONTACTS}
+    assert cones["stiff-elliptic"] == mujoco.mjtCone.mjCONE_ELLIPTIC
+    assert {c: v for c, v in cones.items() if c != "stiff-elliptic"} == {
+        "authors": mujoco.mjtCone.mjCONE_PYRAMIDAL,
+        "stiff": mujoco.mjtCone.mjCONE_PYRAMIDAL,
+    }
+    assert contact_solref("stiff-elliptic") == contact_solref("stiff")
+    assert contact_max_timestep("stiff-elliptic") == contact_max_timestep("stiff")
+    assert check_contact(" Stiff-Elliptic ") == "stiff-elliptic"
+    # a setting of the physics: its own cache key
+    assert SimSettings(contact="stiff-elliptic") != SimSettings(contact="stiff")
