@@ -54,6 +54,11 @@ def test_a_gradient_and_its_controls_share_one_step_where_the_step_is_auto():
         for name, steps in by_gradient.items():
             period, k = common_step(legs[name].values(), "bending", contact)
             assert steps == {(period / k, k)}
+            # independently of common_step: no leg of the trio runs coarser than its own auto step needs
+            ((dt, substeps),) = steps
+            for leg in legs[name].values():
+                own_k, own_dt = auto_timestep(leg, "bending", contact=contact)
+                assert dt <= own_dt * (1 + 1e-12) and dt * substeps <= own_k * own_dt * (1 + 1e-12)
         # the shared step is not every leg's own: some leg would run at another alone
         own = {auto_timestep(leg, "bending", contact=contact)[1] for trio in legs.values() for leg in trio.values()}
         shared = {dt for steps in by_gradient.values() for dt, _ in steps}
