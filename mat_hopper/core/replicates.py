@@ -19,6 +19,15 @@ protocol says when they act:
     design therefore shares the prefix [0, transient_s) with the unperturbed
     run, which is simulated once and forked
     (:meth:`mat_hopper.core.sim.RolloutRunner.fork_as`).
+``branch-settled``
+    as ``branch``, but the perturbations begin at a fraction
+    (:data:`BRANCH_SETTLE_FRACTION`, one half) of the transient, not at its
+    end: 10 s into the paper's 20 s transient. The kick's response then has
+    the transient's second half to settle before the scored window opens,
+    as the ``authors`` start disturbance has the whole transient, so the
+    window scores hopping, not the recovery from the kick (under ``branch``
+    the kick lands at the window's start and its response is scored). The
+    replicates of a design share the prefix [0, transient_s / 2).
 
 The kick. An offset of the start pose has no physical counterpart
 part-way through a run (moving the hopper in stance would sink its foot into
@@ -46,21 +55,30 @@ from ._loop import NO_NOISE_EVERY, Disturbance
 from .perturbations import NO_PUSH
 
 __all__ = [
+    "BRANCHING_PROTOCOLS",
     "BRANCH_KICK_TIME_S",
+    "BRANCH_SETTLE_FRACTION",
     "DEFAULT_REPLICATE_PROTOCOL",
     "REPLICATE_PROTOCOLS",
     "Draws",
     "branch_kick",
     "branch_step",
+    "branch_time_s",
     "check_branch_fork",
     "check_branch_push",
     "check_replicate_protocol",
+    "is_branching",
     "kick_base",
     "replicate_draws",
 ]
 
-REPLICATE_PROTOCOLS = ("authors", "branch")
+REPLICATE_PROTOCOLS = ("authors", "branch", "branch-settled")
 DEFAULT_REPLICATE_PROTOCOL = "authors"
+# the protocols whose replicates share an unperturbed prefix and are forked from it
+BRANCHING_PROTOCOLS = ("branch", "branch-settled")
+# branch-settled: the perturbations begin at this fraction of transient_s; the rest of the
+# transient lets the kick's response settle before scoring (module doc)
+BRANCH_SETTLE_FRACTION = 0.5
 # s: the branch protocol's kick carries the base through the start offset in this time (module doc).
 BRANCH_KICK_TIME_S = 0.5
 
@@ -70,7 +88,7 @@ def check_replicate_protocol(protocol) -> str:
     spelled in :data:`REPLICATE_PROTOCOLS`.
 
     Args:
-        protocol: ``"authors"`` or ``"branch"``, any case.
+        protocol: ``"authors"``, ``"branch"`` or ``"branch-settled"``, any case.
 
     Returns:
         The name as spelled in :data:`REPLICATE_PROTOCOLS` (``"Branch"`` gives ``"branch"``).
@@ -81,21 +99,55 @@ def check_replicate_protocol(protocol) -> str:
     return parse_name(protocol, REPLICATE_PROTOCOLS, "replicate_protocol")
 
 
-def branch_step(transient_s: float, timestep_s: float) -> int:
-    """The physics step at which a ``branch`` replicate's perturbations begin:
-    the first step at or after ``transient_s``.
+def is_branching(protocol) -> bool:
+    """Whether the replicates of a protocol share an unperturbed prefix
+    (:data:`BRANCHING_PROTOCOLS`).
 
     Args:
-        transient_s: the transient's end, s (>= 0).
+        protocol: a protocol's canonical name (or None).
+
+    Returns:
+        True for ``branch`` and ``branch-settled``.
+    """
+    return protocol in BRANCHING_PROTOCOLS
+
+
+def branch_time_s(settings) -> float:
+    """When a branching replicate's perturbations begin, s (module doc).
+
+    Args:
+        settings: a SimSettings (its ``transient_s`` and ``replicate_protocol``).
+
+    Returns:
+        ``transient_s`` under ``branch``; ``BRANCH_SETTLE_FRACTION *
+        transient_s`` under ``branch-settled`` (10 s of the paper's 20 s).
+
+    Raises:
+        ValueError: a protocol that does not branch.
+    """
+    protocol = settings.replicate_protocol
+    if protocol == "branch":
+        return float(settings.transient_s)
+    if protocol == "branch-settled":
+        return BRANCH_SETTLE_FRACTION * float(settings.transient_s)
+    raise ValueError(f"replicate_protocol {protocol!r} does not branch (branching: {', '.join(BRANCHING_PROTOCOLS)})")
+
+
+def branch_step(branch_s: float, timestep_s: float) -> int:
+    """The physics step at which a branching replicate's perturbations begin:
+    the first step at or after ``branch_s`` (:func:`branch_time_s`).
+
+    Args:
+        branch_s: the branch time, s (>= 0).
         timestep_s: the physics step, s (> 0).
 
     Returns:
-        round(transient_s / timestep_s): 200000 for the paper's 20 s at 1e-4 s.
+        round(branch_s / timestep_s): 200000 for the paper's 20 s at 1e-4 s.
 
     >>> branch_step(20.0, 1e-4)
     200000
     """
-    return int(round(transient_s / timestep_s))
+    return int(round(branch_s / timestep_s))
 
 
 def branch_kick(start_xy_m, tilt_rad) -> tuple[float, float, float, float]:
@@ -124,21 +176,22 @@ def branch_kick(start_xy_m, tilt_rad) -> tuple[float, float, float, float]:
 
 
 def check_branch_push(settings) -> None:
-    """Check that a ``branch`` replicate's push falls after its unperturbed
-    prefix: a push drawn before ``transient_s`` would be lost.
+    """Check that a branching replicate's push falls after its unperturbed
+    prefix: a push drawn before the branch time would be lost.
 
     Args:
         settings: the :class:`~mat_hopper.core.sim.SimSettings`.
 
     Raises:
-        ValueError: ``branch`` with a push whose window starts before
-            transient_s (naming both).
+        ValueError: ``branch`` or ``branch-settled`` with a push whose window
+            starts before the branch time (:func:`branch_time_s`), naming both.
     """
     p = settings.perturbation
-    if settings.replicate_protocol == "branch" and p is not None and p.push_force_n > 0:
-        if p.push_window_s[0] < settings.transient_s:
+    if is_branching(settings.replicate_protocol) and p is not None and p.push_force_n > 0:
+        start = branch_time_s(settings)
+        if p.push_window_s[0] < start:
             raise ValueError(
-                f"replicate_protocol 'branch' perturbs only from transient_s ({settings.transient_s:g} s): the push "
+                f"replicate_protocol {settings.replicate_protocol!r} perturbs only from {start:g} s: the push "
                 f"window {p.push_window_s!r} s must start there or later (Perturbation.replicate's scored_window_s)"
             )
 
@@ -176,10 +229,10 @@ def replicate_draws(settings) -> Draws:
         return Draws(zero, zero, quiet, None, None, -1)
     offset, tilt, push, noise, every = p.draw(settings.duration_s, settings.timestep_s)
     drawn = Disturbance(push, noise, every)
-    if settings.replicate_protocol != "branch":
+    if not is_branching(settings.replicate_protocol):
         return Draws(offset, tilt, drawn, None, None, -1)
     return Draws(
-        zero, zero, quiet, drawn, branch_kick(offset, tilt), branch_step(settings.transient_s, settings.timestep_s)
+        zero, zero, quiet, drawn, branch_kick(offset, tilt), branch_step(branch_time_s(settings), settings.timestep_s)
     )
 
 
@@ -210,10 +263,10 @@ def check_branch_fork(parent, settings, step: int, pending: bool) -> None:
         ValueError: `settings` not ``branch``, differing from `parent` in
             more than the perturbation, or the rollout past its prefix.
     """
-    if getattr(settings, "replicate_protocol", None) != "branch":
-        raise ValueError("fork_as needs the SimSettings of a replicate_protocol 'branch' run")
+    if not is_branching(getattr(settings, "replicate_protocol", None)):
+        raise ValueError(f"fork_as needs the SimSettings of a branching run (replicate_protocol {BRANCHING_PROTOCOLS})")
     if type(settings) is not type(parent) or replace(settings, perturbation=None) != replace(parent, perturbation=None):
         raise ValueError("fork_as: the settings may differ from the running rollout's only in the perturbation")
-    prefix_end = branch_step(settings.transient_s, settings.timestep_s)
+    prefix_end = branch_step(branch_time_s(settings), settings.timestep_s)
     if step > prefix_end or not pending:
         raise ValueError(f"fork_as: the rollout is past its unperturbed prefix (step {step}, prefix {prefix_end})")

@@ -1,17 +1,19 @@
 """Runs that share a prefix, computed once: the runner's unit of work.
 
-Under the ``branch`` replicate protocol (:mod:`mat_hopper.core.replicates`)
-every replicate of one design, behaviour and settings runs unperturbed up to
-``transient_s``, exactly as the unperturbed run does. A grid's runs
+Under a branching replicate protocol (``branch``, ``branch-settled``:
+:mod:`mat_hopper.core.replicates`) every replicate of one design, behaviour
+and settings runs unperturbed up to its branch time (``transient_s``, or
+half of it), exactly as the unperturbed run does. A grid's runs
 (``kind == "run"``, :class:`mat_hopper.experiments.runner.RunSpec`) that
 differ only in their perturbation therefore form one *group*: one worker
 process simulates the prefix once and forks it for each run
 (:meth:`mat_hopper.core.sim.RolloutRunner.fork_as`), and each run's result is
 its own, under its own key, bit-identical to the run computed alone
 (tests/experiments/test_prefix_groups.py). The paper profile's 60 s runs
-with a 20 s transient save 20 s of every replicate but one: with the
-unperturbed run and 10 replicates, 11 x 60 s become 20 + 11 x 40 s, 30 %
-fewer physics steps.
+with a 20 s transient save 20 s of every replicate but one under ``branch``:
+with the unperturbed run and 10 replicates, 11 x 60 s become 20 + 11 x 40 s,
+30 % fewer physics steps (10 replicates alone, 27 %); under
+``branch-settled`` 10 s of each, 15 %.
 
 A unit is one task or one group (halved where a grid has too few units to
 keep its processes busy, :func:`prefix_units`); :func:`execute_unit` is the
@@ -24,7 +26,7 @@ from __future__ import annotations
 import traceback
 from dataclasses import replace
 
-from ..core.replicates import branch_step
+from ..core.replicates import branch_step, branch_time_s, is_branching
 from ..core.sim import RolloutRunner, route_mujoco_warnings
 from ..util.keys import design_key, hash_key, settings_key
 from ..util.limits import task_steps
@@ -52,12 +54,13 @@ def prefix_key(task) -> str | None:
         task: a runner task.
 
     Returns:
-        For a run (``kind == "run"``) under ``replicate_protocol="branch"``:
+        For a run (``kind == "run"``) under a branching ``replicate_protocol``
+        (``branch``, ``branch-settled``):
         a hash of its design (the physics and its repr), behaviour and
         settings without the perturbation; None for any other task.
     """
     settings = getattr(task, "settings", None)
-    if getattr(task, "kind", None) != "run" or getattr(settings, "replicate_protocol", None) != "branch":
+    if getattr(task, "kind", None) != "run" or not is_branching(getattr(settings, "replicate_protocol", None)):
         return None
     return hash_key(
         {
@@ -127,7 +130,7 @@ def shared_prefix_steps(tasks) -> float:
         group = prefix_key(t)
         if group is not None:
             n, steps = counts.get(group, (0, 0))
-            counts[group] = (n + 1, branch_step(t.settings.transient_s, t.settings.timestep_s))
+            counts[group] = (n + 1, branch_step(branch_time_s(t.settings), t.settings.timestep_s))
     return float(sum((n - 1) * steps for n, steps in counts.values()))
 
 
@@ -193,7 +196,7 @@ def iter_unit(tasks):
     first = tasks[0]
     try:
         base = RolloutRunner(first.design, first.behaviour, replace(first.settings, perturbation=None))
-        base.advance(branch_step(first.settings.transient_s, first.settings.timestep_s))
+        base.advance(branch_step(branch_time_s(first.settings), first.settings.timestep_s))
     except Exception as e:
         yield from ((k, None, None, f"the shared prefix failed: {_error(e)}") for k in keys)
         return

@@ -140,10 +140,11 @@ class Profile:
     The paper profile runs them; the quick profile (CI's book, a smoke
     build whose 2 seeds test nothing) leaves them out, and the chapters
     say so; replicate_protocol: when a replicate's perturbations begin,
-    ``"authors"`` (default: from step 0) or ``"branch"`` (from transient_s,
+    ``"authors"`` (default: from step 0), ``"branch"`` (from transient_s,
     after the unperturbed run's prefix, which the runner then computes once
     per design and behaviour: :mod:`mat_hopper.core.replicates`,
-    :mod:`mat_hopper.experiments.groups`); a key only when ``branch``
+    :mod:`mat_hopper.experiments.groups`) or ``"branch-settled"`` (from
+    half the transient); a key only when not ``authors``
     (:data:`OPTIONAL_KEYS`).
 
     The run settings (:data:`RUN_SETTINGS`: duration_s, transient_s,
@@ -456,7 +457,10 @@ _PROFILE_FIELDS = (
     ("replicates", "perturbed replicates per design and behaviour (claims, chapter 6)"),
     ("push_scale", "replicates' push, x 5 N for 0.1 s"),
     ("substep_studies", "robustness's axial and 2e-5 s variants, the factorial's axial arms"),
-    ("replicate_protocol", "when replicates' perturbations begin (authors: step 0; branch: transient_s)"),
+    (
+        "replicate_protocol",
+        "when replicates' perturbations begin (authors: step 0; branch: transient_s; branch-settled: transient_s / 2)",
+    ),
 )
 
 

@@ -9,7 +9,12 @@ import numpy as np
 import pytest
 
 from mat_hopper.core.perturbations import Perturbation
-from mat_hopper.core.replicates import BRANCH_KICK_TIME_S, check_replicate_protocol
+from mat_hopper.core.replicates import (
+    BRANCH_KICK_TIME_S,
+    BRANCH_SETTLE_FRACTION,
+    branch_time_s,
+    check_replicate_protocol,
+)
 from mat_hopper.core.sim import C, RolloutRunner, SimSettings, simulate
 from mat_hopper.util.keys import settings_key
 
@@ -119,3 +124,40 @@ def test_fork_as_refuses_what_would_not_share_the_prefix():
     late = RolloutRunner("SS", "ramp", settings("branch")).advance(int(round(TRANSIENT_S / 1e-4)) + 1)
     with pytest.raises(ValueError, match="past its unperturbed prefix"):
         late.fork_as(settings("branch", replicate()))
+
+
+# -- branch-settled: the same kick, noise and push, from half the transient ---------------------------------------
+
+SETTLED_RECORDS = 250  # records at 1 kHz before 0.25 s, half of TRANSIENT_S
+
+
+def test_branch_settled_perturbs_from_half_the_transient(runs):
+    """Unperturbed (bit for bit the plain run) up to 0.25 s, then the same
+    kick as ``branch``: the drawn offset / 0.5 s."""
+    assert BRANCH_SETTLE_FRACTION == 0.5
+    settled = simulate("SS", "ramp", settings=settings("branch-settled", replicate()))
+    plain, t = runs["plain"], settled.data[:, C["t"]]
+    k = SETTLED_RECORDS
+    assert t[k - 1] < TRANSIENT_S / 2 <= t[k]
+    assert np.array_equal(settled.data[:k], plain.data[:k])
+    offset = np.random.default_rng(SEED).normal(0.0, 1.0, 2) * 0.005
+    jump = settled.data[k, [C["vx"], C["vy"]]] - plain.data[k, [C["vx"], C["vy"]]]
+    np.testing.assert_allclose(jump, offset / 0.5, rtol=1e-9)
+    assert not np.array_equal(settled.data[k:], runs["branch"].data[k:])  # not the branch run: kicked earlier
+    assert branch_time_s(settings("branch-settled")) == TRANSIENT_S / 2
+    assert branch_time_s(settings("branch")) == TRANSIENT_S
+    with pytest.raises(ValueError, match="does not branch"):
+        branch_time_s(settings("authors"))
+
+
+def test_a_settled_fork_ends_as_the_replicate_run_alone():
+    base = RolloutRunner("SS", "ramp", settings("branch-settled")).advance(int(round(TRANSIENT_S / 2 / 1e-4)))
+    twin = base.fork_as(settings("branch-settled", replicate(5))).advance().result()
+    alone = simulate("SS", "ramp", settings=settings("branch-settled", replicate(5)))
+    assert np.array_equal(twin.data, alone.data) and np.array_equal(twin.stress, alone.stress)
+    assert np.array_equal(twin.events, alone.events, equal_nan=True)
+    late = RolloutRunner("SS", "ramp", settings("branch-settled")).advance(int(round(TRANSIENT_S / 2 / 1e-4)) + 1)
+    with pytest.raises(ValueError, match="past its unperturbed prefix"):
+        late.fork_as(settings("branch-settled", replicate()))
+    with pytest.raises(ValueError, match="only in the perturbation"):  # no fork across protocols
+        base.fork_as(settings("branch", replicate()))

@@ -146,3 +146,13 @@ def test_the_process_pool_runs_groups_as_in_process(tmp_path):
     assert pool.n_computed == 8 and pool.n_failed == 0
     pd.testing.assert_frame_equal(local.tables, pool.tables)
     pd.testing.assert_frame_equal(local.summary, pool.summary)
+
+
+def test_branch_settled_groups_share_half_the_transient():
+    settled = dataclasses.replace(TINY, replicate_protocol="branch-settled")
+    tasks = ramp_tasks(settled)
+    assert shared_prefix_steps(tasks) == 3 * PREFIX_STEPS // 2  # 0.25 s of 3 replicates, by hand
+    alone = {t.key(): execute_unit([t])[0] for t in tasks}
+    for key, table, summary, err in execute_unit(tasks):
+        assert err is None
+        same_result((table, summary), alone[key][1:3])
