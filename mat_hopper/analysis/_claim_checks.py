@@ -38,6 +38,7 @@ COLUMNS = (
     "verdict",
     "convention",
     "sensor_timing",
+    "replicate_protocol",
     "basis",
     "n_replicates",
     "timestep_check",

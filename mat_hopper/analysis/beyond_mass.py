@@ -521,7 +521,8 @@ def headline_sentence(hops: pd.DataFrame, metric: str = "tracking_error_m", beha
         if kind not in eff.index:
             return f"against {label}: not run"
         r = eff.loc[kind]
-        return f"against {label} {r['pct_change']:+.1f} % [{r['ci_low']:+.1f}, {r['ci_high']:+.1f}]"
+        seeds = "" if r["n_pairs"] == main["n_pairs"] else f" (n = {int(r['n_pairs'])})"
+        return f"against {label} {r['pct_change']:+.1f} % [{r['ci_low']:+.1f}, {r['ci_high']:+.1f}]{seeds}"
 
     return (
         f"On the {behaviour}, rho-inc (leg {legs['rho-inc']:.2f} kg) changes the {word} by "

@@ -60,6 +60,7 @@ from ..core import reference as ref
 from ..core.behaviours import BEHAVIOUR_NAMES
 from ..core.controller import DEFAULT_SENSOR_TIMING
 from ..core.materials import REPRODUCTION_CONVENTIONS, check_convention
+from ..core.replicates import DEFAULT_REPLICATE_PROTOCOL
 from ..util.atomic import write_text
 from ..util.change import percent_change
 from ..util.parsing import parse_name
@@ -399,7 +400,7 @@ def claims_table(
 
     Returns:
         DataFrame, one row per claim and convention. Columns: claim_id, claim, paper, ours, verdict,
-        convention, sensor_timing, basis, n_replicates (per design and behaviour, 0 on the hop-cycle
+        convention, sensor_timing, replicate_protocol (the runs'), basis, n_replicates (per design and behaviour, 0 on the hop-cycle
         basis), timestep_check, stationarity (the verdicts on the scored window's two halves), detail, rule (and profile, when the tables have one), power_verdicts
         (claims that quote power: the verdict under the paper's formula, hip power and total power side
         by side), jerk_verdicts (the jerk claim under the causal and the body jerk), and the beyond-mass
@@ -409,13 +410,14 @@ def claims_table(
 
     Raises:
         ValueError: ``basis`` not hops, replicates or auto; an unknown convention; a non-empty ``hops``
-            without a ``design`` column; tables holding several profiles (hops, runs, stability) or
-            several sensor timings (hops, runs).
+            without a ``design`` column; tables holding several profiles (hops, runs, stability),
+            several sensor timings (hops, runs) or several replicate protocols (runs).
     """
     basis = parse_name(basis, _stats.BASES + ("auto",), "basis")
     hops = pd.DataFrame() if hops is None else hops
     profiles = _one_value((hops, runs, stability), "profile", "profiles")
     timing = _one_value((hops, runs), "sensor_timing", "sensor timings") or str(DEFAULT_SENSOR_TIMING)
+    protocol = _one_value((runs,), "replicate_protocol", "replicate protocols") or DEFAULT_REPLICATE_PROTOCOL
     rows = []
     for conv in conventions:
         conv = check_convention(conv)
@@ -430,7 +432,14 @@ def claims_table(
         halves = window_halves(h) if check_window else None
         if halves is not None:
             halves = [_Context(conv, half, r, ctx.stability, basis, alpha, timestep_s, bad) for half in halves]
-        rows += [{**_claim_row(claim, ctx, fine, fine_label, halves), "sensor_timing": timing} for claim in CLAIMS]
+        rows += [
+            {
+                **_claim_row(claim, ctx, fine, fine_label, halves),
+                "sensor_timing": timing,
+                "replicate_protocol": protocol,
+            }
+            for claim in CLAIMS
+        ]
     out = pd.DataFrame(rows, columns=[*COLUMNS, "power_verdicts", "jerk_verdicts"])
     bad_controls = _stats.unusable_runs(control_runs, timestep_s) if control_runs is not None else None
     sweeps = hops[hops["experiment"] == "exp2"] if len(hops) and "experiment" in hops.columns else None

@@ -30,6 +30,11 @@ CLAIM_DESIGNS = ("PVC", "Al", "Ti", "SS", "rho-inc", "rho-dec")
 BASELINES = ("MD", "SS")
 BEHAVIOURS = ("static", "forward", "ramp", "circle")
 NO_CONTROL = "none"
+# Control kinds whose comparisons no paired test reads: the inertia-matched leg
+# enters no verdict (the claims read the rigid twin and the mass-matched leg),
+# only an interval shown beside them; it runs the profile's figure_replicates,
+# seeds 0..n-1 of the others'.
+FIGURE_KINDS = ("inertia",)
 
 
 def _replicates(profile, replicates):
@@ -49,7 +54,9 @@ def control_tasks(
         designs: design names (:func:`mat_hopper.core.materials.parse_design`).
         behaviours: behaviour names.
         kinds: control kinds (``rigid``, ``mass``, ``inertia``; any case).
-        replicates: seeds per run (default: the profile's; >= 2).
+        replicates: seeds per run (default: the profile's; >= 2); the
+            kinds of :data:`FIGURE_KINDS` take at most the profile's
+            ``figure_replicates`` of them.
         baselines: designs run without controls (the claims' baselines).
 
     Returns:
@@ -75,9 +82,10 @@ def control_tasks(
             runs.append((control(d, k, profile.segment_mass), name, k))
     out = []
     for design, of, kind in runs:
+        seeds = min(n, profile.figure_replicates) if kind in FIGURE_KINDS else n
         for bname in behaviours:
             beh = get_behaviour(bname)
-            for rep in range(n):
+            for rep in range(seeds):
                 pert = profile.replicate(rep)
                 labels = {
                     "experiment": "controls",

@@ -158,7 +158,10 @@ CHAPTERS: tuple[Chapter, ...] = (
     ),
     Chapter(
         "08b-gradients-stress",
-        (lambda p: stress_pair_tasks(p, one_step=False),),
+        (
+            lambda p: stress_pair_tasks(p, ("paper",)),
+            lambda p: stress_pair_tasks(p, ("bending",), one_step=False, replicates=p.figure_replicates),
+        ),
         "not counted: RolloutRunner cells (uncached)",
     ),
     Chapter("09-optimizing-gradients", (), "", "the racing study and its validation"),

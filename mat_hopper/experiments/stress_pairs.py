@@ -30,7 +30,9 @@ CONVENTIONS = ("paper", "bending")
 LEGS = ("gradient", "mass-matched", "titanium")
 
 
-def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_CONTACT, one_step: bool = True) -> list:
+def stress_pair_tasks(
+    profile, conventions=CONVENTIONS, contact: str = DEFAULT_CONTACT, one_step: bool = True, replicates=None
+) -> list:
     """RunSpecs of every gradient, its mass-matched leg and titanium (module doc).
 
     Args:
@@ -44,15 +46,21 @@ def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_C
             mass-matched leg and titanium at one step (their pairs are
             compared); False: each leg at its own (only each leg's own
             outcome is read, e.g. whether it stayed up).
+        replicates: seeds 0..n-1 per leg (None: the profile's ``replicates``,
+            what a paired verdict needs; a share of runs that stayed up,
+            which no test reads, takes the profile's ``figure_replicates``).
 
     Returns:
         list of RunSpec, forward hopping; labels convention, contact,
         gradient, leg (:data:`LEGS`), design, replicate.
 
     Raises:
-        ValueError: an unknown profile, convention or contact.
+        ValueError: an unknown profile, convention or contact, or replicates < 1.
     """
     profile = get_profile(profile)
+    n = profile.replicates if replicates is None else int(replicates)
+    if n < 1:
+        raise ValueError(f"replicates must be >= 1, got {replicates!r}")
     designs, ti = paper_designs(), parse_design("Ti")
     tasks = []
     for conv in conventions:
@@ -64,7 +72,7 @@ def stress_pair_tasks(profile, conventions=CONVENTIONS, contact: str = DEFAULT_C
             shared = one_step and is_auto(prof.timestep_s)
             step = common_step(trio, conv, contact, prof.sensor_timing.name) if shared else None
             for role, leg in zip(LEGS, trio):
-                for seed in range(profile.replicates):
+                for seed in range(n):
                     labels = {
                         "convention": conv,
                         "contact": contact,

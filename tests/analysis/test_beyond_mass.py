@@ -190,3 +190,12 @@ def test_claims_rows_carry_their_designs_mass_properties():
     assert bm.mass_property_text("hop_height") == ""
     t = claims_table(None, conventions=("paper",)).set_index("claim_id")
     assert t.loc["headline_tracking", "mass_properties"] == text
+
+
+def test_headline_sentence_gives_the_seeds_of_a_control_run_on_fewer():
+    """The inertia-matched leg runs the figure seeds (3): its interval says so."""
+    h = _hops(rho_vs_mass=0.75, rho_springs=0.9)
+    h = h[(h["control"] != "inertia") | (h["replicate"] < 3)]
+    s = bm.headline_sentence(h)
+    assert "a leg of its mass and hip inertia" in s and "] (n = 3)" in s and "n = 6 paired seeds" in s
+    assert "(n = " not in bm.headline_sentence(_hops(rho_vs_mass=0.75, rho_springs=0.9))

@@ -60,9 +60,10 @@ def test_a_shared_run_is_counted_once_in_the_total(tmp_path):
 
 
 def test_a_run_in_the_cache_is_reported_cached(tmp_path):
-    task = experiments("1")(PROFILES["quick"])[0]
+    quick = replace(PROFILES["quick"], replicate_protocol="authors")  # runs that share no prefix: steps add up
+    task = experiments("1")(quick)[0]
     Cache(tmp_path).store(task.key(), pd.DataFrame({"x": [1.0]}), {"status": "ok"}, task.key_dict())
-    table = plan("quick", cache_dir=tmp_path, chapters=(Chapter("a", (experiments("1"),)),))
+    table = plan(quick, cache_dir=tmp_path, chapters=(Chapter("a", (experiments("1"),)),))
     row = table.iloc[0]
     assert row["cached"] == 1 and row["to_compute"] == row["runs"] - 1
     assert row["to_compute_steps"] == pytest.approx(row["physics_steps"] - task.settings.n_steps)
@@ -137,14 +138,17 @@ def test_format_plan_refuses_a_cost_that_is_no_number(tmp_path):
 
 def test_branch_replicates_count_their_shared_prefix_once(tmp_path):
     quick = PROFILES["quick"]  # 12 s runs, 4 s transient, 2 replicates: the unperturbed run and 2 seeds
+    assert quick.replicate_protocol == "branch-settled"  # the book's
     chapters = (Chapter("a", (experiments("1"),)),)
-    authors = plan(quick, cache_dir=tmp_path, chapters=chapters).iloc[0]
+    authors = plan(replace(quick, replicate_protocol="authors"), cache_dir=tmp_path, chapters=chapters).iloc[0]
     branch = plan(replace(quick, replicate_protocol="branch"), cache_dir=tmp_path, chapters=chapters).iloc[0]
+    settled = plan(quick, cache_dir=tmp_path, chapters=chapters).iloc[0]
     groups = authors["runs"] // 3  # 5 legs x 4 behaviours, 3 runs each
     assert authors["physics_steps"] == authors["runs"] * 120_000  # 12 s at 1e-4 s, by hand
-    # each group simulates 4 s (40000 steps) once instead of 3 times
+    # each group simulates 4 s (40000 steps) once instead of 3 times; branch-settled its first 2 s (20000)
     assert branch["physics_steps"] == authors["physics_steps"] - groups * 2 * 40_000
-    assert branch["runs"] == authors["runs"] and branch["simulated_s"] == authors["simulated_s"]
+    assert settled["physics_steps"] == authors["physics_steps"] - groups * 2 * 20_000
+    assert branch["runs"] == authors["runs"] == settled["runs"] and branch["simulated_s"] == authors["simulated_s"]
 
 
 def test_chapter_9c_counts_its_crossed_legs():

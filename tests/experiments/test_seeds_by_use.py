@@ -1,5 +1,6 @@
 """Seeds where a test needs them: the paired claims' grids run the
-profile's replicates, the attribution factorial (no paired test reads its
+profile's replicates, the attribution factorial, the inertia-matched
+controls and chapter 8b's bending shares (no paired test reads their
 seeds) at most FIGURE_REPLICATES (three), and codesign's tuning screens on
 short runs."""
 
@@ -30,7 +31,15 @@ def test_paired_grids_keep_the_profiles_seeds():
 def test_the_attribution_factorial_runs_three_seeds_and_the_controls_ten():
     paper = get_profile("paper")
     assert _seeds(controls.attribution_tasks(paper, behaviours=("ramp",))) == {0, 1, 2}
-    assert _seeds(controls.control_tasks(paper, behaviours=("ramp",))) == set(range(10))
+    tasks = controls.control_tasks(paper, behaviours=("ramp",))
+    # the rigid twins and mass-matched legs feed the claims' paired verdicts: 10 seeds
+    assert _seeds(t for t in tasks if t.labels["control"] != "inertia") == set(range(10))
+    # the inertia-matched legs feed none (an interval shown beside them): the figure seeds, 0-2 of the same
+    assert _seeds(t for t in tasks if t.labels["control"] == "inertia") == {0, 1, 2}
+    assert controls.FIGURE_KINDS == ("inertia",)
+    # asked for fewer seeds than the figure's, every kind takes them
+    few = controls.control_tasks(paper, behaviours=("ramp",), replicates=2)
+    assert _seeds(t for t in few if t.labels["control"] == "inertia") == {0, 1}
     assert _seeds(controls.attribution_tasks(paper, behaviours=("ramp",), replicates=5)) == set(range(5))
 
 

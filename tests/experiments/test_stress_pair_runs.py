@@ -68,3 +68,16 @@ def test_a_gradient_and_its_controls_share_one_step_where_the_step_is_auto():
     # one_step=False (chapter 8b, which reads only whether each bending leg stayed up): each leg's own step
     own = stress_pair_tasks("paper", ("bending",), one_step=False)
     assert {t.settings.timestep_s for t in own} == {auto_timestep(t.design, "bending")[1] for t in own}
+
+
+def test_the_bending_shares_take_the_figure_seeds_and_bad_counts_are_refused():
+    """The share that stayed up is read by no test: its runs take the
+    profile's figure_replicates (3 at paper), seeds 0-2 of the paired runs'."""
+    paper = get_profile("paper")
+    full = stress_pair_tasks(paper, ("bending",), one_step=False)
+    few = stress_pair_tasks(paper, ("bending",), one_step=False, replicates=paper.figure_replicates)
+    assert paper.figure_replicates == 3 and len(full) == 10 * len(few) // 3
+    assert {t.labels["replicate"] for t in few} == {0, 1, 2}
+    assert {t.key() for t in few} <= {t.key() for t in full}
+    with pytest.raises(ValueError, match="replicates"):
+        stress_pair_tasks(paper, ("bending",), replicates=0)
