@@ -178,10 +178,8 @@ class SimSettings:
         contact: ``"authors"`` (default: MuJoCo's solref 0.02 1), ``"stiff"`` (0.001 1) or ``"stiff-elliptic"`` (stiff, elliptic friction cones), any case (contact.CONTACTS).
         apex_reference: what the controller's hop height is measured from, ``"world"`` (default: world z, the
             authors') or ``"ground"`` (the terrain under the foot at lift-off); controller.APEX_REFERENCES.
-        replicate_protocol: when the perturbation acts, ``"authors"`` (default: from step 0), ``"branch"``
-            (from ``transient_s``, after an unperturbed prefix; its push must fall at or after
-            ``transient_s``) or ``"branch-settled"`` (from ``transient_s`` / 2); any case
-            (:mod:`mat_hopper.core.replicates`).
+        replicate_protocol: when the perturbation acts: ``"authors"`` (default, step 0), ``"branch"``
+            or ``"branch-settled"`` (after an unperturbed prefix); any case (:mod:`mat_hopper.core.replicates`).
 
     Raises:
         ValueError: on any invalid value, naming the field.
@@ -200,9 +198,7 @@ class SimSettings:
     damping: str = DEFAULT_DAMPING  # "authors" (1 N s/m) or "loss-factor" (damping.LOSS_FACTORS)
     contact: str = DEFAULT_CONTACT  # "authors" (solref 0.02 1), "stiff" (0.001 1), "stiff-elliptic" (contact.CONTACTS)
     apex_reference: str = DEFAULT_APEX_REFERENCE  # "world" or "ground" (controller.APEX_REFERENCES)
-    replicate_protocol: str = (
-        DEFAULT_REPLICATE_PROTOCOL  # "authors", "branch", "branch-settled" (replicates.REPLICATE_PROTOCOLS)
-    )
+    replicate_protocol: str = DEFAULT_REPLICATE_PROTOCOL  # "authors" and the two branching ones (replicates)
 
     def __post_init__(self):
         # One check per field (a new field adds its own line); then the checks across fields.
@@ -567,8 +563,7 @@ def simulate(
             (:mod:`mat_hopper.core.damping`).
         contact: ``"authors"`` or ``"stiff"``, any case (:mod:`mat_hopper.core.contact`).
         apex_reference: ``"world"`` or ``"ground"``, any case (:mod:`mat_hopper.core.controller`).
-        replicate_protocol: ``"authors"``, ``"branch"`` or ``"branch-settled"``, any case
-            (:mod:`mat_hopper.core.replicates`).
+        replicate_protocol: ``"authors"``, ``"branch"``, ``"branch-settled"`` (:mod:`mat_hopper.core.replicates`).
         record_qpos: also keep all joint positions (``Rollout.qpos``, (n, nq)) for rendering.
         settings: a SimSettings giving all of the settings at once; then no
             other setting may be given.

@@ -90,12 +90,21 @@ class Estimate:
         runs: how many runs, at most.
         settings: the SimSettings of each run.
         note: how the count is made, for the plan's notes.
+        physics_steps: the runs' physics steps where the runner shares
+            their prefixes (stand-in tasks counted by
+            :func:`~mat_hopper.experiments.groups.unit_steps`); None: every
+            run whole, ``runs x settings.n_steps``.
     """
 
     kind: str
     runs: int
     settings: object
     note: str
+    physics_steps: float | None = None
+
+    def steps(self) -> float:
+        """The runs' physics steps (see ``physics_steps``)."""
+        return float(self.runs * self.settings.n_steps if self.physics_steps is None else self.physics_steps)
 
 
 @dataclass(frozen=True)
@@ -273,7 +282,7 @@ def _task_row(chapter: str, kind: str, tasks: list, seen: set, cached: set) -> d
 def _estimate_row(chapter: str, e: Estimate) -> dict:
     """One plan row of an :class:`Estimate`: every run new and to compute."""
     seconds = e.runs * float(e.settings.duration_s)
-    steps = e.runs * float(e.settings.n_steps)
+    steps = e.steps()
     return {
         "chapter": chapter,
         "kind": e.kind,

@@ -32,6 +32,7 @@ from dataclasses import replace
 
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import MONO_NAMES, LegDesign, paper_designs, parse_design
+from ..experiments.groups import unit_steps
 from ..experiments.plan import CHAPTERS, Chapter, Estimate
 from . import codesign as cd
 from ._book_study import BOOK_GRADIENTS, BOOK_LEG_MASS, book_study
@@ -110,7 +111,10 @@ def validation_requests(profile) -> list:
         "the recorded paper build's had 8), their checks and controls"
     )
     notes = [note] + ["the same validation's runs at another physics step"] * (len(by_step) - 1)
-    return known + [Estimate("run", len(ts), ts[0].settings, n) for ts, n in zip(by_step.values(), notes)]
+    # the stand-ins' replicates share prefixes as the front's will (a branching protocol): counted as the runner runs them
+    return known + [
+        Estimate("run", len(ts), ts[0].settings, n, physics_steps=unit_steps(ts)) for ts, n in zip(by_step.values(), notes)
+    ]
 
 
 def codesign_requests(profile) -> list:

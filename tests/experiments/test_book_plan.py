@@ -123,6 +123,14 @@ def test_the_optimizer_chapters_are_counted_with_their_estimates(tmp_path):
     gradient = sum(t.labels["role"] != "paper" and t.labels["control_of"] in ("", "rho-inc") for t in known
                    if t.labels["design"].startswith("rho-inc"))  # fmt: skip
     assert one_new == gradient  # a new gradient is validated as the paper's rho-inc is
+    # their steps as the runner computes them: each design's replicates share the prefix of the book's protocol
+    from mat_hopper.experiments.groups import unit_steps
+
+    rho_runs = [t for t in known if t.labels["role"] != "paper" and t.labels["control_of"] in ("", "rho-inc")
+                and t.labels["design"].startswith("rho-inc")]  # fmt: skip
+    new_steps = sum(e.steps() for e in requests if isinstance(e, Estimate)) / EXPECTED_FRONT
+    assert new_steps == pytest.approx(unit_steps(rho_runs), rel=0.05)  # the stand-ins' densities differ by 1-8 %
+    assert new_steps < sum(e.runs * e.settings.n_steps for e in requests if isinstance(e, Estimate)) / EXPECTED_FRONT
     codesign = table[table["chapter"] == "09c-material-or-mass"]
     assert {"exact", "estimate"} <= set(codesign["counted"])
     assert not table["note"].str.contains("book_plan").any()  # nothing left to the optimizer layer
