@@ -113,7 +113,8 @@ def validation_requests(profile) -> list:
     notes = [note] + ["the same validation's runs at another physics step"] * (len(by_step) - 1)
     # the stand-ins' replicates share prefixes as the front's will (a branching protocol): counted as the runner runs them
     return known + [
-        Estimate("run", len(ts), ts[0].settings, n, physics_steps=unit_steps(ts)) for ts, n in zip(by_step.values(), notes)
+        Estimate("run", len(ts), ts[0].settings, n, physics_steps=unit_steps(ts))
+        for ts, n in zip(by_step.values(), notes)
     ]
 
 
