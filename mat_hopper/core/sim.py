@@ -408,17 +408,17 @@ class RolloutRunner:
         return twin
 
     def fork_as(self, settings: SimSettings) -> RolloutRunner:
-        """A fork that goes on as another ``branch`` replicate of this run, whose replicates share the
-        unperturbed prefix [0, transient_s): simulated once, forked for each (:mod:`.replicates`).
+        """A fork that goes on as another branching replicate of this run, whose replicates share the
+        unperturbed prefix up to the branch time: simulated once, forked for each (:mod:`.replicates`).
 
         Args:
-            settings: the replicate's SimSettings: this run's but for the perturbation, ``branch``.
+            settings: the replicate's SimSettings: this run's but for the perturbation, branching.
 
         Returns:
             A new :class:`RolloutRunner` at this step that ends bit-identical to one of `settings` run alone.
 
         Raises:
-            ValueError: not ``branch``, other settings, or a run past its prefix (:func:`check_branch_fork`).
+            ValueError: not branching, other settings, or a run past its prefix (:func:`check_branch_fork`).
         """
         pending = self.settings.perturbation is None or self._branch_at >= 0
         check_branch_fork(self.settings, settings, self.step, pending)

@@ -6,8 +6,9 @@ an earlier chapter already requested (the same cache key: computed once),
 how many are in the result cache now, and their simulated seconds,
 physics steps and time steps. Nothing is simulated: a task's key and its
 physics steps (:func:`mat_hopper.util.limits.task_steps`) are known before
-it runs. The ``branch`` replicates of one design, behaviour and settings
-share the unperturbed prefix [0, transient_s), which the runner computes
+it runs. The replicates of one design, behaviour and settings under a
+branching protocol (``branch``, ``branch-settled``) share the unperturbed
+prefix up to their branch time, which the runner computes
 once: the physics steps count it once per group and chapter
 (:func:`mat_hopper.experiments.groups.unit_steps`; a pool with fewer than
 two units of work per process halves groups, simulating a prefix again);

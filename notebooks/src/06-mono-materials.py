@@ -247,11 +247,7 @@ print(f"largest tracking error of any static hop cycle: {static['tracking_error_
 # accidental disturbances by small, documented, seeded ones: each leg
 # hops in place again in several *replicate* runs, each with its own
 # few millimetres of start offset, half a degree of tilt, one gentle push
-# of 5 N for 0.1 s, and sensor noise (`Perturbation.replicate`). The
-# book's replicates share their first 10 s with the unperturbed run and
-# take their disturbance there (the `branch-settled` protocol), 10 s
-# before scoring begins; the authors' protocol (disturbed from the first
-# step) gives the same verdicts (`docs/conventions.md`). Each run
+# of 5 N for 0.1 s, and sensor noise (`Perturbation.replicate`). Each run
 # is reduced to the mean over its scored hop cycles, and the designs are
 # compared with MD on these run means: a Mann-Whitney U test across
 # replicates (Holm-corrected over the four materials) and a bootstrap

@@ -108,7 +108,8 @@ res = control_runs.run_controls(b.profile, cache_dir=b.cache_dir)
 dropped = unusable_runs(res.summary)
 hops = drop_unusable(res.tables, dropped)
 print(
-    f"{res.n_tasks} runs ({res.n_unique} distinct), {b.profile.replicates} seeds per design and behaviour; "
+    f"{res.n_tasks} runs ({res.n_unique} distinct), {b.profile.replicates} seeds per design and behaviour "
+    f"(the inertia-matched legs {b.profile.figure_replicates}: no test reads them, their intervals are wide); "
     f"{res.n_cached} cached, {res.n_computed} computed; {len(dropped)} unusable runs dropped"
 )
 display(book.show(dropped[["design", "behaviour", "replicate", "why"]]))

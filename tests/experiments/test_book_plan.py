@@ -123,9 +123,12 @@ def test_the_optimizer_chapters_are_counted_with_their_estimates(tmp_path):
     gradient = sum(t.labels["role"] != "paper" and t.labels["control_of"] in ("", "rho-inc") for t in known
                    if t.labels["design"].startswith("rho-inc"))  # fmt: skip
     assert one_new == gradient  # a new gradient is validated as the paper's rho-inc is
-    # their steps as the runner computes them: each design's replicates share the prefix of the book's protocol
+    # their steps as the runner computes them: under a branching protocol each design's replicates share a prefix
     from mat_hopper.experiments.groups import unit_steps
 
+    settled = replace(PROFILES["quick"], replicate_protocol="branch-settled")
+    requests = validation_requests(settled)
+    known = [t for t in requests if not isinstance(t, Estimate)]
     rho_runs = [t for t in known if t.labels["role"] != "paper" and t.labels["control_of"] in ("", "rho-inc")
                 and t.labels["design"].startswith("rho-inc")]  # fmt: skip
     new_steps = sum(e.steps() for e in requests if isinstance(e, Estimate)) / EXPECTED_FRONT
@@ -146,11 +149,11 @@ def test_format_plan_refuses_a_cost_that_is_no_number(tmp_path):
 
 def test_branch_replicates_count_their_shared_prefix_once(tmp_path):
     quick = PROFILES["quick"]  # 12 s runs, 4 s transient, 2 replicates: the unperturbed run and 2 seeds
-    assert quick.replicate_protocol == "branch-settled"  # the book's
+    assert quick.replicate_protocol == "authors"  # the book's
     chapters = (Chapter("a", (experiments("1"),)),)
-    authors = plan(replace(quick, replicate_protocol="authors"), cache_dir=tmp_path, chapters=chapters).iloc[0]
+    authors = plan(quick, cache_dir=tmp_path, chapters=chapters).iloc[0]
     branch = plan(replace(quick, replicate_protocol="branch"), cache_dir=tmp_path, chapters=chapters).iloc[0]
-    settled = plan(quick, cache_dir=tmp_path, chapters=chapters).iloc[0]
+    settled = plan(replace(quick, replicate_protocol="branch-settled"), cache_dir=tmp_path, chapters=chapters).iloc[0]
     groups = authors["runs"] // 3  # 5 legs x 4 behaviours, 3 runs each
     assert authors["physics_steps"] == authors["runs"] * 120_000  # 12 s at 1e-4 s, by hand
     # each group simulates 4 s (40000 steps) once instead of 3 times; branch-settled its first 2 s (20000)

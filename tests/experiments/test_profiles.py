@@ -42,7 +42,6 @@ PAPER_KEY = {
     "segment_mass": "leg",
     "push_scale": 1.0,
     "substep_studies": True,
-    "replicate_protocol": "branch-settled",  # the book's (profiles.BOOK_REPLICATE_PROTOCOL), not the default
 }
 QUICK_KEY = {
     **PAPER_KEY,
@@ -61,7 +60,7 @@ PAPER, QUICK = PROFILES["paper"], PROFILES["quick"]
 def test_key_dicts_are_todays_in_their_order():
     for profile, want in ((PAPER, PAPER_KEY), (QUICK, QUICK_KEY)):
         got = profile.key_dict()
-        assert got == want and list(got) == list(want) == [*PROFILE_KEYS, "replicate_protocol"]
+        assert got == want and list(got) == list(want) == list(PROFILE_KEYS)
         assert [type(v) for v in got.values()] == [type(v) for v in want.values()]  # 60.0 stays a float
 
 

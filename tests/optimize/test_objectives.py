@@ -102,7 +102,6 @@ DEFAULT_KEY = {
         "segment_mass": "leg",
         "push_scale": 1.0,
         "substep_studies": True,
-        "replicate_protocol": "branch-settled",
     },
     "convention": "paper",
     "hop_height_target_m": 1.0,
