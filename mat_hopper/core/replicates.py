@@ -80,7 +80,7 @@ __all__ = [
     "branch_step",
     "branch_time_s",
     "check_branch_fork",
-    "check_branch_push",
+    "check_push",
     "check_replicate_protocol",
     "is_branching",
     "kick_base",
@@ -190,25 +190,38 @@ def branch_kick(start_xy_m, tilt_rad) -> tuple[float, float, float, float]:
     return dvx, dvy, droll, dpitch
 
 
-def check_branch_push(settings) -> None:
-    """Check that a branching replicate's push falls after its unperturbed
-    prefix: a push drawn before the branch time would be lost.
+def check_push(settings) -> None:
+    """Check that a perturbation's push can act: its window lies inside the
+    run, and under a branching protocol after the unperturbed prefix (a push
+    drawn outside either would be lost without a word).
 
     Args:
         settings: the :class:`~mat_hopper.core.sim.SimSettings`.
 
     Raises:
-        ValueError: ``branch`` or ``branch-settled`` with a push whose window
-            starts before the branch time (:func:`branch_time_s`), naming both.
+        ValueError: a push whose window ends after ``duration_s``, or under
+            ``branch`` or ``branch-settled`` starts before the branch time
+            (:func:`branch_time_s`), naming both and the scored window to
+            draw it from.
     """
     p = settings.perturbation
-    if is_branching(settings.replicate_protocol) and p is not None and p.push_force_n > 0:
-        start = branch_time_s(settings)
-        if p.push_window_s[0] < start:
-            raise ValueError(
-                f"replicate_protocol {settings.replicate_protocol!r} perturbs only from {start:g} s: the push "
-                f"window {p.push_window_s!r} s must start there or later (Perturbation.replicate's scored_window_s)"
-            )
+    if p is None or p.push_force_n <= 0:
+        return
+    a, b = p.push_window_s
+    fix = (
+        f"draw the replicate from this run's scored window, Perturbation.replicate(seed, "
+        f"({settings.transient_s:g}, {settings.duration_s:g}))"
+    )
+    if b > settings.duration_s:
+        raise ValueError(
+            f"the push window ({a:g}, {b:g}) s ends after the run ({settings.duration_s:g} s), so the push may never "
+            f"act: {fix}"
+        )
+    if is_branching(settings.replicate_protocol) and a < branch_time_s(settings):
+        raise ValueError(
+            f"replicate_protocol {settings.replicate_protocol!r} perturbs only from {branch_time_s(settings):g} s: "
+            f"the push window ({a:g}, {b:g}) s must start there or later: {fix}"
+        )
 
 
 class Draws(NamedTuple):

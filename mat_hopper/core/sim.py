@@ -72,7 +72,7 @@ from .perturbations import Perturbation
 from .replicates import (
     DEFAULT_REPLICATE_PROTOCOL,
     check_branch_fork,
-    check_branch_push,
+    check_push,
     check_replicate_protocol,
     kick_base,
     replicate_draws,
@@ -227,7 +227,7 @@ class SimSettings:
         if self.perturbation is not None and not isinstance(self.perturbation, Perturbation):
             raise ValueError("perturbation must be a Perturbation or None")
         self._check_run_size()
-        check_branch_push(self)
+        check_push(self)
 
     def _check_run_size(self) -> None:
         if not self.duration_s > self.transient_s:

@@ -10,14 +10,14 @@ paper's grids; every number comes from :mod:`mat_hopper.core.reference`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..core import reference as ref
 from ..core.behaviours import BEHAVIOUR_NAMES
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import LegDesign, Material, paper_designs
 from ..physics.porosity import DEFAULT_POROSITY_MODEL, check_porosity_model, porous_modulus
-from .profiles import Profile, check_replicates, get_profile
+from .profiles import FIGURE_REPLICATES, Profile, check_replicates, get_profile
 from .runner import RunSpec
 
 UNPERTURBED = -1
@@ -47,13 +47,17 @@ class DesignPoint:
 
 @dataclass(frozen=True)
 class Experiment:
-    """Designs x behaviours: the runs of one experiment."""
+    """Designs x behaviours: the runs of one experiment. ``figure_only``: no
+    paired test reads its replicates (a figure of means), so it runs at most
+    :data:`~mat_hopper.experiments.profiles.FIGURE_REPLICATES` of the seeds
+    asked for, the first ones."""
 
     name: str
     title: str
     points: tuple[DesignPoint, ...]
     behaviours: tuple[str, ...]
     baselines: tuple[str, ...] = ()
+    figure_only: bool = False
 
     def __post_init__(self):
         if not self.points or not self.behaviours:
@@ -72,6 +76,8 @@ class Experiment:
         :meth:`Perturbation.replicate`."""
         profile = get_profile(profile)
         replicates = check_replicates(replicates)
+        if self.figure_only:
+            replicates = min(replicates, FIGURE_REPLICATES)
         out = []
         for point in self.points:
             for bname in self.behaviours:
@@ -231,7 +237,10 @@ def experiment_2_gibson_ashby() -> Experiment:
     base material's is that solid made porous (Gibson-Ashby, E = E_s
     (rho / rho_s)^2; :func:`experiment_2`).
 
+    Only a figure and its means read it (chapter 7), so it runs the figure's
+    seeds (``figure_only``).
+
     Returns:
         The :class:`Experiment` ``exp2-gibson-ashby``.
     """
-    return experiment_2("gibson-ashby")
+    return replace(experiment_2("gibson-ashby"), figure_only=True)

@@ -232,10 +232,9 @@ def _run_settings(legs, profile, replicates: int, timestep_s, **common) -> tuple
         steps = [(sim_settings(leg.design, timestep_s=AUTO, **common).timestep_s, i) for i, leg in enumerate(legs)]
         step_of = legs[min(steps)[1]].design  # the finest; the first such leg on a tie
         finest = step_of.name
-    out = [
-        sim_settings(step_of, timestep_s=timestep_s, perturbation=profile.replicate(seed), **common)
-        for seed in range(replicates)
-    ]
+    window = (common["transient_s"], common["duration_s"])  # this run's scored window, not the profile's
+    pert = [profile.replicate(seed, window) for seed in range(replicates)]
+    out = [sim_settings(step_of, timestep_s=timestep_s, perturbation=p, **common) for p in pert]
     return out, finest
 
 
@@ -293,6 +292,7 @@ def plan_compare(
         "record_rate_hz": profile.record_rate_hz,
         "sensor_timing": profile.sensor_timing if sensor_timing is None else sensor_timing,
         "segment_mass": segment_mass,
+        "replicate_protocol": profile.replicate_protocol,
     }
     for name, value in (("damping", damping), ("contact", contact)):
         if value is not None:  # else the model's default

@@ -22,7 +22,7 @@ from dataclasses import replace
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.control_legs import CONTROLS, check_control, control
 from ..core.materials import parse_design
-from .profiles import get_profile, resolve_profile
+from .profiles import FIGURE_REPLICATES, check_replicates, get_profile, resolve_profile
 from .runner import RunSpec, run_grid
 
 # The designs of the paper's material and gradient claims, and their baselines.
@@ -38,14 +38,20 @@ FIGURE_KINDS = ("inertia",)
 
 
 def _replicates(profile, replicates):
-    n = profile.replicates if replicates is None else int(replicates)
+    n = profile.replicates if replicates is None else check_replicates(replicates)
     if n < 2:
         raise ValueError(f"paired comparisons need replicates >= 2, got {n}")
     return n
 
 
 def control_tasks(
-    profile=None, designs=CLAIM_DESIGNS, behaviours=BEHAVIOURS, kinds=CONTROLS, replicates=None, baselines=BASELINES
+    profile=None,
+    designs=CLAIM_DESIGNS,
+    behaviours=BEHAVIOURS,
+    kinds=CONTROLS,
+    replicates=None,
+    baselines=BASELINES,
+    figure_seeds: bool = True,
 ) -> list[RunSpec]:
     """RunSpecs of designs, their controls and the baselines on shared seeds.
 
@@ -54,9 +60,10 @@ def control_tasks(
         designs: design names (:func:`mat_hopper.core.materials.parse_design`).
         behaviours: behaviour names.
         kinds: control kinds (``rigid``, ``mass``, ``inertia``; any case).
-        replicates: seeds per run (default: the profile's; >= 2); the
-            kinds of :data:`FIGURE_KINDS` take at most the profile's
-            ``figure_replicates`` of them.
+        replicates: seeds per run (an integer >= 2; default: the profile's).
+        figure_seeds: the kinds of :data:`FIGURE_KINDS` run at most
+            :data:`~mat_hopper.experiments.profiles.FIGURE_REPLICATES` of
+            those seeds (the first); False: every kind all of them.
         baselines: designs run without controls (the claims' baselines).
 
     Returns:
@@ -82,7 +89,7 @@ def control_tasks(
             runs.append((control(d, k, profile.segment_mass), name, k))
     out = []
     for design, of, kind in runs:
-        seeds = min(n, profile.figure_replicates) if kind in FIGURE_KINDS else n
+        seeds = min(n, FIGURE_REPLICATES) if figure_seeds and kind in FIGURE_KINDS else n
         for bname in behaviours:
             beh = get_behaviour(bname)
             for rep in range(seeds):

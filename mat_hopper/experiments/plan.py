@@ -247,12 +247,12 @@ def _steps_text(task) -> str:
 
 
 def _timesteps(tokens) -> str:
-    """Distinct time steps (s), e.g. ``"0.0001"`` or ``"3: 1.9e-06-0.0001"``."""
+    """Distinct time steps (s), e.g. ``"0.0001"`` or ``"3 from 1.9e-06 to 0.0001"``."""
     tokens = sorted(set(tokens), key=lambda t: (t.startswith("search"), float(t) if t[0].isdigit() else 0.0))
     numbers = [t for t in tokens if not t.startswith("search")]
     searches = [t for t in tokens if t.startswith("search")]
     if len(numbers) > 2:
-        numbers = [f"{len(numbers)}: {numbers[0]}-{numbers[-1]}"]
+        numbers = [f"{len(numbers)} from {numbers[0]} to {numbers[-1]}"]
     return ", ".join(numbers + searches)
 
 
@@ -437,5 +437,9 @@ def format_plan(table: pd.DataFrame, us_per_step: float = US_PER_STEP) -> str:
     )
     lines.append(f"not in the cache: {todo} runs, {todo_steps:.3g} physics steps, {todo_h:.3g} core-hours (estimated)")
     hours = core_hours(steps, seconds, us_per_step)
+    lines.append(
+        "the totals: each cache key once (runs less shared); exact counts, upper bounds and estimates added as "
+        "the counted column says; core-hours divided by the cores give the wall time at best"
+    )
     lines.append(f"total: {total} runs, {steps:.3g} physics steps, {hours:.3g} core-hours (estimated)")
     return "\n".join(lines)

@@ -301,18 +301,21 @@ class Profile:
         pushes are drawn inside it (:meth:`Perturbation.replicate`)."""
         return (self.transient_s, self.duration_s)
 
-    def replicate(self, seed: int) -> Perturbation:
+    def replicate(self, seed: int, scored_window_s: tuple[float, float] | None = None) -> Perturbation:
         """Replicate `seed`'s perturbation under this profile.
 
         Args:
             seed: the replicate's seed (>= 0; shared across designs, so
                 comparisons on it are paired).
+            scored_window_s: (transient end, run end) in s of a run whose
+                length is not the profile's (None: the profile's window).
 
         Returns:
             The :class:`~mat_hopper.core.perturbations.Perturbation`: its push
             drawn inside the scored window, push_scale x the book's 5 N.
         """
-        return Perturbation.replicate(seed, self.scored_window_s, push_scale=self.push_scale)
+        window = self.scored_window_s if scored_window_s is None else scored_window_s
+        return Perturbation.replicate(seed, window, push_scale=self.push_scale)
 
     def key_dict(self) -> dict:
         """Every setting as a cache or study key records it, in the order of

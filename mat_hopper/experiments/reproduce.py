@@ -36,7 +36,7 @@ from ..core.materials import CONVENTIONS, check_convention
 from ..util.atomic import write_csv
 from ..util.limits import check_total_steps, task_steps
 from .paper import get_experiment, parse_experiments
-from .profiles import check_replicates, get_profile, resolve_profile
+from .profiles import FIGURE_REPLICATES, check_replicates, get_profile, resolve_profile
 from .runner import Runner, check_workers
 
 
@@ -336,9 +336,10 @@ def _figures_and_claims(rep: Reproduction, log) -> list:
 def planned_steps(profile, names, conventions, replicates: int) -> float:
     """Physics steps a reproduction would take at most (every task run,
     nothing cached), without building its whole task list: the tasks grow
-    linearly with the replicates from 2 on (the controls run at least 2,
-    and the profile's number when given 0), so the plans at 2 and 3
-    replicates give the rest. Used to refuse,
+    linearly with the replicates from 3 on (the controls run at least 2,
+    and the profile's number when given 0; the grids no test reads stop at
+    their figure seeds, :data:`~mat_hopper.experiments.profiles.FIGURE_REPLICATES`,
+    3), so the plans at 3 and 4 replicates give the rest. Used to refuse,
     before any work, runs beyond :data:`mat_hopper.util.limits.MAX_TOTAL_STEPS`.
 
     Args:
@@ -350,8 +351,8 @@ def planned_steps(profile, names, conventions, replicates: int) -> float:
 
     Returns:
         The physics steps (:func:`mat_hopper.util.limits.task_steps` summed over
-        every task): exact for replicates <= 3, extrapolated linearly from 2
-        and 3 replicates above.
+        every task): exact for replicates <= 4, extrapolated linearly from 3
+        and 4 replicates above.
 
     Raises:
         ValueError: an unknown profile, experiment or convention, or (for an
@@ -362,10 +363,10 @@ def planned_steps(profile, names, conventions, replicates: int) -> float:
     def exact(r: int) -> float:
         return sum(task_steps(t) for ts in _tasks(prof, names, conventions, r).values() for t in ts)
 
-    if replicates <= 3:  # 0 means "the profile's" to the controls: count it as it runs
+    if replicates <= FIGURE_REPLICATES + 1:  # 0 means "the profile's" to the controls: count it as it runs
         return exact(replicates)
-    at = [exact(2), exact(3)]
-    return at[0] + (replicates - 2) * (at[1] - at[0])
+    at = [exact(FIGURE_REPLICATES), exact(FIGURE_REPLICATES + 1)]
+    return at[0] + (replicates - FIGURE_REPLICATES) * (at[1] - at[0])
 
 
 def check_conventions(conventions) -> tuple:

@@ -22,7 +22,7 @@ from ..core.control_legs import mass_matched
 from ..core.materials import paper_designs, parse_design
 from ..core.timestep import is_auto
 from .common_step import at_common_step, common_step
-from .profiles import get_profile
+from .profiles import check_replicates, get_profile
 from .runner import RunSpec
 
 GRADIENTS = ("rho-inc", "rho-dec", "PVC-Ti-SS", "SS-Ti-PVC")
@@ -58,9 +58,12 @@ def stress_pair_tasks(
         ValueError: an unknown profile, convention or contact, or replicates < 1.
     """
     profile = get_profile(profile)
-    n = profile.replicates if replicates is None else int(replicates)
+    n = profile.replicates if replicates is None else check_replicates(replicates)
     if n < 1:
         raise ValueError(f"replicates must be >= 1, got {replicates!r}")
+    conventions = (conventions,) if isinstance(conventions, str) else tuple(conventions)
+    if not conventions:
+        raise ValueError("conventions must name at least one stiffness convention")
     designs, ti = paper_designs(), parse_design("Ti")
     tasks = []
     for conv in conventions:

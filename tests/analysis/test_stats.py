@@ -122,7 +122,7 @@ def test_static_hopping_needs_replicates():
     still = metrics.hop_table(simulate("SS", "static", duration_s=4, transient_s=1))
     assert len(still) >= 2 and (still["tracking_error_m"] == 0.0).all()
     moved = metrics.hop_table(
-        simulate("SS", "static", duration_s=4, transient_s=1, perturbation=Perturbation.replicate(0))
+        simulate("SS", "static", duration_s=4, transient_s=1, perturbation=Perturbation.replicate(0, (1.0, 4.0)))
     )
     assert len(moved) >= 2 and (moved["tracking_error_m"] > 1e-4).all()
 

@@ -90,6 +90,23 @@ def test_the_branch_kick_is_the_start_disturbance_over_half_a_second(runs):
     assert np.array_equal(branch.data[0], plain.data[0])  # no start offset nor tilt
 
 
+@pytest.mark.parametrize("protocol", ["authors", "branch", "branch-settled"])
+def test_a_push_window_outside_the_run_is_refused(protocol):
+    """A push drawn after the run ends never acts: refused under every
+    protocol, naming the scored window to draw it from."""
+    with pytest.raises(ValueError, match=r"ends after the run .*Perturbation.replicate\(seed, \(1, 3\)\)"):
+        SimSettings(
+            duration_s=3.0, transient_s=1.0, perturbation=Perturbation.replicate(0, None), replicate_protocol=protocol
+        )
+    with pytest.raises(ValueError, match="ends after the run"):
+        SimSettings(duration_s=3.0, transient_s=1.0, perturbation=Perturbation.replicate(0, (20.0, 60.0)))
+    SimSettings(
+        duration_s=3.0, transient_s=1.0, perturbation=Perturbation.replicate(0, (1.0, 3.0)), replicate_protocol=protocol
+    )
+    # no push: nothing to check
+    SimSettings(duration_s=3.0, transient_s=1.0, perturbation=Perturbation.replicate(0, None, push_scale=0))
+
+
 def test_the_branch_push_lies_in_the_scored_window():
     early = Perturbation.replicate(SEED, None)  # the historical 5-15 s window
     with pytest.raises(ValueError, match="push window"):

@@ -188,7 +188,7 @@ def test_chunked_runner_with_substeps_records_the_held_targets():
 def test_chunked_runner_with_sensor_noise_from_the_first_step():
     """A first chunk shorter than one noise row (5 of 10 steps) still
     reads the first noise row, as the single-call run does."""
-    s = SimSettings(duration_s=0.3, transient_s=0.0, perturbation=Perturbation.replicate(3))
+    s = SimSettings(duration_s=0.3, transient_s=0.0, perturbation=Perturbation.replicate(3, (0.0, 0.3)))
     one = simulate("SS", "forward", settings=s)
     run = RolloutRunner("SS", "forward", s).advance(5).advance()
     assert np.array_equal(run.result().data, one.data)
@@ -220,10 +220,10 @@ def test_divergence_is_a_result_not_a_crash():
 
 
 def test_perturbed_replicates_are_seeded():
-    p = Perturbation.replicate(3)
+    p = Perturbation.replicate(3, (0.0, 3.0))  # the push inside the 3 s run
     a = simulate("MD", "static", duration_s=3.0, transient_s=0.0, perturbation=p)
     b = simulate("MD", "static", duration_s=3.0, transient_s=0.0, perturbation=p)
-    c = simulate("MD", "static", duration_s=3.0, transient_s=0.0, perturbation=Perturbation.replicate(4))
+    c = simulate("MD", "static", duration_s=3.0, transient_s=0.0, perturbation=Perturbation.replicate(4, (0.0, 3.0)))
     plain = simulate("MD", "static", duration_s=3.0, transient_s=0.0)
     assert np.array_equal(a.data, b.data)
     assert not np.array_equal(a.data, c.data)

@@ -54,8 +54,12 @@ def test_cache_key_changes_with_every_setting(monkeypatch):
         "record rate": spec(settings=dataclasses.replace(SHORT, record_rate_hz=500.0)),
         "convention": spec(settings=dataclasses.replace(SHORT, convention="axial")),
         "gain": spec(settings=dataclasses.replace(SHORT, controller=ControllerSettings(flight_kp=11.0))),
-        "perturbation": spec(settings=dataclasses.replace(SHORT, perturbation=Perturbation.replicate(0))),
-        "seed": spec(settings=dataclasses.replace(SHORT, perturbation=Perturbation.replicate(1))),
+        "perturbation": spec(
+            settings=dataclasses.replace(
+                SHORT, perturbation=Perturbation.replicate(0, (SHORT.transient_s, SHORT.duration_s))
+            )
+        ),
+        "seed": spec(settings=dataclasses.replace(SHORT, perturbation=Perturbation.replicate(1, (0.5, 2.5)))),
         "replicate protocol": spec(settings=dataclasses.replace(SHORT, replicate_protocol="branch")),
     }
     keys = {name: t.key() for name, t in variants.items()}

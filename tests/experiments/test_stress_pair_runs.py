@@ -79,5 +79,12 @@ def test_the_bending_shares_take_the_figure_seeds_and_bad_counts_are_refused():
     assert paper.figure_replicates == 3 and len(full) == 10 * len(few) // 3
     assert {t.labels["replicate"] for t in few} == {0, 1, 2}
     assert {t.key() for t in few} <= {t.key() for t in full}
-    with pytest.raises(ValueError, match="replicates"):
-        stress_pair_tasks(paper, ("bending",), replicates=0)
+    for bad in (0, -1, 2.5, "3", True, float("nan")):
+        with pytest.raises(ValueError, match="replicates"):
+            stress_pair_tasks(paper, ("bending",), replicates=bad)
+    # one convention named as a string is that convention, not its letters; none is refused
+    assert [t.key() for t in stress_pair_tasks("quick", "bending")] == [
+        t.key() for t in stress_pair_tasks("quick", ("bending",))
+    ]
+    with pytest.raises(ValueError, match="conventions"):
+        stress_pair_tasks("quick", ())
