@@ -35,6 +35,7 @@ RECORD_FILES = {
     "crossed_bending": "crossed-legs-bending-stiff-paper.csv",
     "robustness_contact": "robustness-paper.csv",
     "modulus_bending": "modulus-sweeps-bending-stiff-paper.csv",
+    "claims_reseeded": "claims-seeds-10-19-paper.csv",  # the same claims on seeds 10-19
 }
 EFFECT_COLUMNS = ("pct_change", "ci_low", "ci_high")
 REQUIRED_COLUMNS = {
@@ -46,6 +47,7 @@ REQUIRED_COLUMNS = {
     "crossed_bending": ("contrast", "metric", *EFFECT_COLUMNS, "conclusion"),
     "robustness_contact": ("variant", "quantity_id", "value_pct", "default_pct", "class"),
     "modulus_bending": ("base", "modulus_gpa", "against_gpa", "metric", *EFFECT_COLUMNS, "beyond_margin"),
+    "claims_reseeded": ("claim_id", "claim", "verdict", "stationarity", "beyond_mass"),
 }
 # The claims table's column for "stable over the scoring window"; the
 # records do not carry it yet, and the page says so rather than guess.
@@ -102,6 +104,53 @@ def read_records(folder) -> dict[str, pd.DataFrame]:
             raise ValueError(f"record {name} lacks the columns {missing}")
         out[key] = table
     return out
+
+
+def verdict_changes(
+    first: pd.DataFrame,
+    second: pd.DataFrame,
+    key="claim_id",
+    columns=("verdict", "stationarity", "beyond_mass"),
+    labels=("stationarity",),
+) -> pd.DataFrame:
+    """Where two tables of the same rows disagree: e.g. the recorded claims
+    on seeds 0-9 and on seeds 10-19, to show which verdicts another draw of
+    the seeds changes.
+
+    Args:
+        first, second: the two tables (rows matched on `key`).
+        key: the column naming a row in both.
+        columns: the columns compared, as text.
+        labels: of them, those compared by their label only, the text before
+            its first " (" (a stationarity label, not the numbers behind it).
+
+    Returns:
+        DataFrame with columns key, ``column``, ``first``, ``second``: one row
+        per differing cell, in `first`'s row order; rows only one table has,
+        and cells "not run" in either, are left out.
+
+    Raises:
+        ValueError: `key` or a column missing from either table.
+    """
+    for name, t in (("first", first), ("second", second)):
+        missing = [c for c in (key, *columns) if c not in t.columns]
+        if missing:
+            raise ValueError(f"verdict_changes: the {name} table has no column {missing}")
+    other = second.set_index(key)
+
+    def text(value, column) -> str:
+        value = str(value)
+        return value.split(" (")[0] if column in labels else value
+
+    rows = []
+    for _, r in first.iterrows():
+        if r[key] not in other.index:
+            continue
+        for c in columns:
+            a, b = text(r[c], c), text(other.loc[r[key], c], c)
+            if a != b and "not run" not in (a, b):
+                rows.append({key: r[key], "column": c, "first": a, "second": b})
+    return pd.DataFrame(rows, columns=[key, "column", "first", "second"])
 
 
 def cell_text(value, empty: str) -> str:

@@ -49,6 +49,7 @@ from ._records import (
     paired_effects,
     read_records,
     rigid_twin_summary,
+    verdict_changes,
 )
 from .style import STYLE
 
@@ -71,6 +72,7 @@ __all__ = [
     "paired_effects",
     "read_records",
     "rigid_twin_summary",
+    "verdict_changes",
 ]
 
 

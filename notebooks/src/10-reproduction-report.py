@@ -100,6 +100,16 @@ print(
 book.show(claims.query("convention == 'paper'")[["claim", "verdict", "timestep_check", "stationarity"]])
 
 # %% [markdown]
+# How much the verdicts owe to the seeds themselves: the recorded paper
+# profile's claims on seeds 0-9 beside the same claims on seeds 10-19,
+# nothing else changed (`book/records/claims-seeds-10-19-paper.csv`; its
+# README says how it was made). Every cell that differs:
+
+# %%
+changes = findings.verdict_changes(recorded, findings.read_records(b.root / "book" / "records")["claims_reseeded"])
+book.show(changes.rename(columns={"first": "seeds 0-9", "second": "seeds 10-19"}))
+
+# %% [markdown]
 # The same table, with the details each verdict rests on, is written to
 # `results/<profile>/claims.md` and `claims.csv` by `mat-hopper reproduce`.
 # The rules, from `mat_hopper/analysis/claims.py` (percent changes are of

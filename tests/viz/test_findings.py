@@ -222,3 +222,33 @@ def test_the_modulus_sweeps_under_bending_follow_their_record(copied, records):
     sweeps.to_csv(copied / "modulus-sweeps-bending-stiff-paper.csv", index=False)
     changed = findings.design_answer(findings.read_records(copied))
     assert f"0 of {n} contrasts (a leg and a metric) move tracking error or hip power beyond ±10 %." in changed
+
+
+def test_verdict_changes_names_each_differing_cell_once():
+    """Labels compared without the numbers behind them; "not run" and rows
+    one table lacks left out; by hand, then on the recorded reseed."""
+    a = pd.DataFrame(
+        {
+            "claim_id": ["x", "y", "z", "w"],
+            "verdict": ["holds", "partly", "holds", "holds"],
+            "stationarity": ["stationary (holds | holds)", "window-dependent (a)", "stationary (x)", "stationary"],
+            "beyond_mass": ["no (1 yes)", "no (2 yes)", "", ""],
+        }
+    )
+    b = a.assign(
+        verdict=["holds", "holds", "not run", "holds"],
+        stationarity=["stationary (partly | partly)", "stationary (b)", "stationary (x)", "stationary"],
+        beyond_mass=["no (2 yes)", "no (2 yes)", "", ""],
+    ).iloc[:3]
+    got = findings.verdict_changes(a, b)
+    assert got.values.tolist() == [
+        ["x", "beyond_mass", "no (1 yes)", "no (2 yes)"],
+        ["y", "verdict", "partly", "holds"],
+        ["y", "stationarity", "window-dependent", "stationary"],
+    ]
+    with pytest.raises(ValueError, match="second table has no column"):
+        findings.verdict_changes(a, b.drop(columns="verdict"))
+    recorded = findings.read_records(RECORDS)
+    reseed = findings.verdict_changes(recorded["claims"], recorded["claims_reseeded"]).set_index(["claim_id", "column"])
+    assert reseed.loc[("power_ss_max", "verdict")].tolist() == ["holds", "partly"]
+    assert reseed.loc[("ramp_ss_power", "stationarity")].tolist() == ["stationary", "window-dependent"]
