@@ -103,7 +103,9 @@ book.show(claims.query("convention == 'paper'")[["claim", "verdict", "timestep_c
 # How much the verdicts owe to the seeds themselves: the recorded paper
 # profile's claims on seeds 0-9 beside the same claims on seeds 10-19,
 # nothing else changed (`book/records/claims-seeds-10-19-paper.csv`; its
-# README says how it was made). Every cell that differs:
+# README says how it was made). Every claim-level cell that differs
+# (verdicts, stationarity labels, beyond-mass texts; the control
+# comparisons' words and the numbers are in that README):
 
 # %%
 changes = findings.verdict_changes(recorded, findings.read_records(b.root / "book" / "records")["claims_reseeded"])
