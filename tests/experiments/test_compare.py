@@ -170,3 +170,26 @@ def test_a_diverged_seed_of_the_design_drops_from_every_pair():
     assert (out["n_pairs"] == 3).all() and (out["seeds"] == "0 2 3").all()
     (left,) = out.attrs["left_out"]
     assert left["leg"] == "rho-inc" and left["role"] == "design" and left["seeds"] == [1] and not left["all"]
+
+
+def test_a_shortened_run_draws_its_push_from_its_own_window():
+    """`--duration 6 --transient 1` on the paper profile: the push falls in
+    this run's scored window (1.5-3.5 s), not in the profile's (24-40 s),
+    where it would never act; and the runs take the profile's protocol."""
+    from dataclasses import replace
+
+    from mat_hopper.core.perturbations import push_window_s
+    from mat_hopper.experiments.profiles import get_profile
+
+    paper = get_profile("paper")
+    plan = plan_compare(
+        "rho-inc", baselines="SS", controls="none", profile=paper, replicates=2, duration_s=6.0, transient_s=1.0
+    )
+    for s in plan.settings:
+        assert s.perturbation.push_window_s == push_window_s(1.0, 6.0) == (1.5, 3.5)
+        assert s.replicate_protocol == paper.replicate_protocol
+    settled = replace(paper, replicate_protocol="branch-settled")
+    plan = plan_compare(
+        "rho-inc", baselines="SS", controls="none", profile=settled, replicates=2, duration_s=6.0, transient_s=1.0
+    )
+    assert {s.replicate_protocol for s in plan.settings} == {"branch-settled"}
