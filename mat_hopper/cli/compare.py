@@ -75,7 +75,12 @@ def _header(plan, auto: bool) -> str:
         f"{plan.design.name} on {plan.behaviour.name} ({plan.profile.name} profile, {s.duration_s:g} s runs, "
         f"{s.transient_s:g} s transient): {n} paired seeds (0-{n - 1}) per leg, every leg at {step}, convention "
         f"{s.convention}, sensor timing {s.sensor_timing}, segment mass {s.segment_mass}, damping {s.damping}, "
-        f"contact {s.contact}"
+        f"contact {s.contact}; replicate protocol {s.replicate_protocol}"
+        + (
+            f", each seed's push drawn in {p.push_window_s[0]:g}-{p.push_window_s[1]:g} s"
+            if (p := s.perturbation)
+            else ""
+        )
     )
 
 

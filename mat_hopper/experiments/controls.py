@@ -38,7 +38,7 @@ FIGURE_KINDS = ("inertia",)
 
 
 def _replicates(profile, replicates):
-    n = profile.replicates if replicates is None else check_replicates(replicates)
+    n = profile.replicates if replicates is None else check_replicates(replicates, minimum=2)
     if n < 2:
         raise ValueError(f"paired comparisons need replicates >= 2, got {n}")
     return n
@@ -61,9 +61,11 @@ def control_tasks(
         behaviours: behaviour names.
         kinds: control kinds (``rigid``, ``mass``, ``inertia``; any case).
         replicates: seeds per run (an integer >= 2; default: the profile's).
-        figure_seeds: the kinds of :data:`FIGURE_KINDS` run at most
-            :data:`~mat_hopper.experiments.profiles.FIGURE_REPLICATES` of
-            those seeds (the first); False: every kind all of them.
+        figure_seeds: the kinds of :data:`FIGURE_KINDS` (the inertia-matched
+            leg) run at most
+            :data:`~mat_hopper.experiments.profiles.FIGURE_REPLICATES` (3) of
+            those seeds, the first ones, whatever `replicates` says; False:
+            every kind all of them.
         baselines: designs run without controls (the claims' baselines).
 
     Returns:

@@ -37,21 +37,24 @@ PROFILE_ENV = "MAT_HOPPER_PROFILE"
 FIGURE_REPLICATES = 3
 
 
-def check_replicates(replicates) -> int:
+def check_replicates(replicates, minimum: int = 0) -> int:
     """Check a replicate count.
 
     Args:
         replicates: perturbed replicate runs per design and behaviour.
+        minimum: the fewest the caller takes (2 for paired comparisons).
 
     Returns:
         `replicates` unchanged.
 
     Raises:
         ValueError: a bool, a value that is not an ``int`` (``3.0``, ``"3"``)
-            or one < 0.
+            or one below `minimum`.
     """
-    if isinstance(replicates, bool) or not isinstance(replicates, int) or replicates < 0:
-        raise ValueError(f"replicates must be an integer >= 0 (runs per design and behaviour), got {replicates!r}")
+    if isinstance(replicates, bool) or not isinstance(replicates, int) or replicates < minimum:
+        raise ValueError(
+            f"replicates must be an integer >= {minimum} (runs per design and behaviour), got {replicates!r}"
+        )
     return replicates
 
 

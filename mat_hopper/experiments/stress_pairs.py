@@ -58,7 +58,7 @@ def stress_pair_tasks(
         ValueError: an unknown profile, convention or contact, or replicates < 1.
     """
     profile = get_profile(profile)
-    n = profile.replicates if replicates is None else check_replicates(replicates)
+    n = profile.replicates if replicates is None else check_replicates(replicates, minimum=1)
     if n < 1:
         raise ValueError(f"replicates must be >= 1, got {replicates!r}")
     conventions = (conventions,) if isinstance(conventions, str) else tuple(conventions)

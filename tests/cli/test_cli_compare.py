@@ -38,6 +38,8 @@ def test_csv_writes_the_paired_table_and_two_seeds_are_untestable(tmp_path, caps
     assert main(argv) == 0
     printed = capsys.readouterr().out
     assert "every leg at dt=5e-05 s" in printed and f"wrote 1 rows to {out}" in printed
+    # the header names the replicates' protocol and where this run's push falls: inside its own scored window
+    assert "replicate protocol authors, each seed's push drawn in " in printed
     table = pd.read_csv(out)
     assert table["comparator"].tolist() == ["MD"] and table["n_pairs"].tolist() == [2]
     assert table["timestep_s"].tolist() == [5e-5] and table["seeds"].tolist() == ["0 1"]
