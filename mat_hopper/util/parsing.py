@@ -103,7 +103,7 @@ def parse_name(text, choices: Iterable[str], flag: str) -> str:
 
     Args:
         text: the name typed or passed (any object, read as str; None is
-            empty).
+            refused as not given).
         choices: the accepted names.
         flag: the option or argument named in errors (``--convention``).
 
@@ -112,12 +112,14 @@ def parse_name(text, choices: Iterable[str], flag: str) -> str:
         spelled in `choices`.
 
     Raises:
-        ValueError: empty, or not one of `choices` (the message lists them
+        ValueError: None, empty, or not one of `choices` (the message lists them
             and ends with :func:`did_you_mean`'s clause where a name is
             close).
     """
     choices = tuple(choices)
-    key = "" if text is None else str(text).strip().lower()
+    if text is None:  # not given where a name is needed: said as such, not as an empty name
+        raise ValueError(f"{flag} is not given (None); accepted: {', '.join(choices)}")
+    key = str(text).strip().lower()
     if not key:
         raise ValueError(f"{flag} is empty; accepted: {', '.join(choices)}")
     for c in choices:

@@ -77,3 +77,10 @@ def test_a_count_that_is_not_a_number_asks_for_a_whole_number():
         parse_number("abc", "--segments", integer=True)
     with pytest.raises(ValueError, match="must be a decimal number"):
         parse_number("abc", "--duration")
+
+
+def test_parse_name_says_none_is_not_given_and_blank_is_empty():
+    with pytest.raises(ValueError, match=r"convention is not given \(None\); accepted: "):
+        parse_name(None, CONVENTIONS, "convention")
+    with pytest.raises(ValueError, match="convention is empty; accepted: "):
+        parse_name("  ", CONVENTIONS, "convention")
