@@ -89,11 +89,13 @@ __all__ = [
 
 REPLICATE_PROTOCOLS = ("authors", "branch", "branch-settled")
 DEFAULT_REPLICATE_PROTOCOL = "authors"
-# the protocols whose replicates share an unperturbed prefix and are forked from it
-BRANCHING_PROTOCOLS = ("branch", "branch-settled")
 # branch-settled: the perturbations begin at this fraction of transient_s; the rest of the
 # transient lets the kick's response settle before scoring (module doc)
 BRANCH_SETTLE_FRACTION = 0.5
+# The protocols whose replicates share an unperturbed prefix and are forked from it, each
+# with the fraction of transient_s at which its perturbations begin: the one table.
+_BRANCH_AT_FRACTION = {"branch": 1.0, "branch-settled": BRANCH_SETTLE_FRACTION}
+BRANCHING_PROTOCOLS = tuple(_BRANCH_AT_FRACTION)
 # s: the branch protocol's kick carries the base through the start offset in this time (module doc).
 BRANCH_KICK_TIME_S = 0.5
 
@@ -141,11 +143,11 @@ def branch_time_s(settings) -> float:
         ValueError: a protocol that does not branch.
     """
     protocol = settings.replicate_protocol
-    if protocol == "branch":
-        return float(settings.transient_s)
-    if protocol == "branch-settled":
-        return BRANCH_SETTLE_FRACTION * float(settings.transient_s)
-    raise ValueError(f"replicate_protocol {protocol!r} does not branch (branching: {', '.join(BRANCHING_PROTOCOLS)})")
+    if protocol not in _BRANCH_AT_FRACTION:
+        raise ValueError(
+            f"replicate_protocol {protocol!r} does not branch (branching: {', '.join(BRANCHING_PROTOCOLS)})"
+        )
+    return _BRANCH_AT_FRACTION[protocol] * float(settings.transient_s)
 
 
 def branch_step(branch_s: float, timestep_s: float) -> int:

@@ -32,8 +32,8 @@ BEHAVIOURS = ("static", "forward", "ramp", "circle")
 NO_CONTROL = "none"
 # Control kinds whose comparisons no paired test reads: the inertia-matched leg
 # enters no verdict (the claims read the rigid twin and the mass-matched leg),
-# only an interval shown beside them; it runs the profile's figure_replicates,
-# seeds 0..n-1 of the others'.
+# only an interval shown beside them; it runs at most FIGURE_REPLICATES (3) of
+# the seeds the others run, the first ones.
 FIGURE_KINDS = ("inertia",)
 
 
