@@ -215,9 +215,9 @@ def check_push(settings) -> None:
         f"({settings.transient_s:g}, {settings.duration_s:g}))"
     )
     if b > settings.duration_s:
+        may = "will never act" if a >= settings.duration_s else "may fall after the run's end"
         raise ValueError(
-            f"the push window ({a:g}, {b:g}) s ends after the run ({settings.duration_s:g} s), so the push may never "
-            f"act: {fix}"
+            f"the push window ({a:g}, {b:g}) s ends after the run ({settings.duration_s:g} s), so the push {may}: {fix}"
         )
     if is_branching(settings.replicate_protocol) and a < branch_time_s(settings):
         raise ValueError(

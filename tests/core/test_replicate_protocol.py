@@ -94,12 +94,16 @@ def test_the_branch_kick_is_the_start_disturbance_over_half_a_second(runs):
 def test_a_push_window_outside_the_run_is_refused(protocol):
     """A push drawn after the run ends never acts: refused under every
     protocol, naming the scored window to draw it from."""
-    with pytest.raises(ValueError, match=r"ends after the run .*Perturbation.replicate\(seed, \(1, 3\)\)"):
+    with pytest.raises(
+        ValueError, match=r"ends after the run .*will never act.*Perturbation.replicate\(seed, \(1, 3\)\)"
+    ):
         SimSettings(
             duration_s=3.0, transient_s=1.0, perturbation=Perturbation.replicate(0, None), replicate_protocol=protocol
         )
     with pytest.raises(ValueError, match="ends after the run"):
         SimSettings(duration_s=3.0, transient_s=1.0, perturbation=Perturbation.replicate(0, (20.0, 60.0)))
+    with pytest.raises(ValueError, match="may fall after the run's end"):  # window 1.9-3.5 s in a 3 s run
+        SimSettings(duration_s=3.0, transient_s=1.0, perturbation=Perturbation.replicate(0, (1.5, 5.5)))
     SimSettings(
         duration_s=3.0, transient_s=1.0, perturbation=Perturbation.replicate(0, (1.0, 3.0)), replicate_protocol=protocol
     )
