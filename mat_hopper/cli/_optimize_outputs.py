@@ -269,16 +269,51 @@ def cmd_export(args) -> int:
     for path in res["mjcf"].values():
         print(f"wrote {path}")
     ob = res["config"].objective
-    print(
-        f"simulate it: mat-hopper simulate --design-csv {shlex.quote(res['csv'])} --behaviour {ob.behaviours[0]} "
-        f"--profile {ob.profile.name} --convention {ob.convention} --segment-mass {ob.segment_mass}"
-        + (
-            f" (the study scores {ob.replicates} perturbed replicates; simulate runs the unperturbed one)"
-            if ob.replicates
-            else ""
-        )
-    )
+    print(f"simulate it: {simulate_command(res['csv'], ob)}")
     return 0
+
+
+# simulate's option for each run setting a study may hold apart from its named profile's (written
+# after the command's name, so that the test of the messages' options reads them as simulate's)
+_SIMULATE_OPTION = dict(
+    zip(("duration_s", "transient_s", "timestep_s", "sensor_timing"),
+        "simulate --duration --transient --timestep --sensor-timing".split()[1:])
+)  # fmt: skip
+
+
+def _option_text(value) -> str:
+    """A run setting as simulate's option reads it: a sensor timing by its name, a number as repr gives it."""
+    named = getattr(value, "key_value", None)
+    return str(named() if callable(named) else value)
+
+
+def simulate_command(csv: str, objective) -> str:
+    """The ``mat-hopper simulate`` command that runs an exported trial's
+    design unperturbed under every setting of the study's objective: its
+    behaviour, profile (by name where it is one of the named profiles and
+    sets one of the run's length, transient and step), each run setting
+    the study holds apart from that profile's (run length, transient, time
+    step, sensor timing), its convention and segment mass; with a note
+    where the study's replicates or record rate are not what the command
+    runs."""
+    from ..experiments.profiles import PROFILES
+
+    prof = objective.profile
+    named = PROFILES.get(prof.name)
+    words = ["mat-hopper", *"simulate --design-csv".split(), csv, "--behaviour", objective.behaviours[0]]
+    apart = [f for f in _SIMULATE_OPTION if named is None or _option_text(prof.run[f]) != _option_text(named.run[f])]
+    if named is not None and not {"duration_s", "transient_s", "timestep_s"} <= set(apart):
+        words += ["--profile", prof.name]  # simulate refuses a profile whose three settings are all given
+    for field in apart:
+        words += [_SIMULATE_OPTION[field], _option_text(prof.run[field])]
+    words += ["--convention", objective.convention, "--segment-mass", objective.segment_mass]
+    notes = []
+    if objective.replicates:
+        notes.append(f"the study scores {objective.replicates} perturbed replicates; simulate runs the unperturbed one")
+    default_rate = (named or PROFILES["paper"]).run["record_rate_hz"]
+    if prof.run["record_rate_hz"] != default_rate:
+        notes.append(f"the study records at {prof.run['record_rate_hz']:g} Hz, simulate at {default_rate:g} Hz")
+    return shlex.join(words) + (f" ({'; '.join(notes)})" if notes else "")
 
 
 def done_text(res, trials: int) -> str:

@@ -58,7 +58,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from ..util.parsing import did_you_mean, parse_name
+from ..util.parsing import did_you_mean, is_real, parse_name
 from . import reference as ref
 
 FLIGHT, STANCE = 0, 1
@@ -151,7 +151,7 @@ class ControllerSettings:
 
     def __post_init__(self):
         for name, value in asdict(self).items():
-            if not isinstance(value, (int, float)) or not math.isfinite(value):
+            if not is_real(value) or not math.isfinite(value):
                 raise ValueError(f"controller setting {name} must be a finite number, got {value!r}")
         if self.leg_length_m <= 0:
             raise ValueError(f"leg_length_m must be > 0 m, got {self.leg_length_m!r}")

@@ -20,7 +20,7 @@ re-exported here, where callers import them:
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 from . import reference as ref
@@ -221,10 +221,11 @@ class LegDesign:
         or the word ``"rigid"`` = rigid, as on the command line; inf is
         refused in both). Raises ValueError for lists of different lengths
         (one value is used for every segment), values out of range, or a
-        string or None in place of a sequence."""
+        string, a bare number or None in place of a sequence."""
         for arg, what in ((densities_g_cm3, "densities_g_cm3"), (moduli_gpa, "moduli_gpa")):
-            if arg is None or isinstance(arg, (str, bytes)):  # a string would be read a character at a time
-                raise ValueError(f"{what} must be a sequence of numbers, one per segment; got {arg!r}")
+            # a string would be read a character at a time; a bare number is no sequence
+            if arg is None or isinstance(arg, (str, bytes)) or not isinstance(arg, Iterable):
+                raise ValueError(f"{what} must be a sequence of numbers, one per segment (e.g. [2.7]); got {arg!r}")
         dens = list(densities_g_cm3)
         mods = [None if isinstance(e, str) and e.strip().lower() == "rigid" else e for e in moduli_gpa]
         if len(mods) == 1 and len(dens) > 1:

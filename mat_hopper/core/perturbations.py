@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..util.parsing import is_real
+
 # The book's replicate (Perturbation.replicate). The push falls inside the
 # scored window of every profile: between PUSH_WINDOW_FRACTION of the way
 # from the transient's end to the run's end (quick, 4-12 s: 4.8-8 s; paper,
@@ -57,7 +59,7 @@ def check_push_scale(push_scale, flag: str = "push_scale") -> float:
         ValueError: a bool, a non-number, nan, inf, or a value outside
             [0, 100], naming `flag`.
     """
-    ok = not isinstance(push_scale, bool) and isinstance(push_scale, (int, float, np.integer, np.floating))
+    ok = is_real(push_scale)
     x = float(push_scale) if ok else math.nan
     if not (math.isfinite(x) and 0 <= x <= MAX_PUSH_SCALE):
         raise ValueError(
@@ -86,7 +88,7 @@ class Perturbation:
             raise ValueError(f"seed must be an integer >= 0, got {self.seed!r}")
         for name in ("start_offset_m", "start_tilt_rad", "push_force_n", "noise_pos_m", "noise_vel_m_s"):
             v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+            if not (is_real(v) and math.isfinite(v) and v >= 0):
                 raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
         if not self.push_duration_s > 0 or not self.noise_period_s > 0:
             raise ValueError("push_duration_s and noise_period_s must be > 0 s")

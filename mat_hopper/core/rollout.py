@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..util.parsing import is_real
 from . import reference as ref
 from ._loop import CHANNELS, C
 from .behaviours import Behaviour
@@ -372,7 +373,7 @@ def check_transient(transient_s) -> float | None:
     """
     if transient_s is None:
         return None
-    ok = not isinstance(transient_s, bool) and isinstance(transient_s, (int, float, np.integer, np.floating))
+    ok = is_real(transient_s)
     x = float(transient_s) if ok else float("nan")
     if not (np.isfinite(x) and x >= 0):
         raise ValueError(f"transient_s must be None (the run's) or a finite number >= 0 s, got {transient_s!r}")

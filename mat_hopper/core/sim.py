@@ -32,6 +32,7 @@ from dataclasses import dataclass, field, fields
 import mujoco
 import numpy as np
 
+from ..util.parsing import is_real
 from . import reference as ref
 from ._loop import (
     CHANNELS,
@@ -211,7 +212,7 @@ class SimSettings:
         object.__setattr__(self, "replicate_protocol", check_replicate_protocol(self.replicate_protocol))
         for name in ("duration_s", "timestep_s", "transient_s", "record_rate_hz"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            if not is_real(v) or not math.isfinite(v):
                 auto = (
                     " (or 'auto' through simulate() or sim_settings(), with the design)" if name == "timestep_s" else ""
                 )

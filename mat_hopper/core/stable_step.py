@@ -28,7 +28,7 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from ..util.parsing import check_positive
+from ..util.parsing import check_positive, is_real
 from . import reference as ref
 from .contact import DEFAULT_CONTACT, contact_max_timestep
 from .controller import DEFAULT_SENSOR_TIMING, SensorTiming
@@ -160,7 +160,7 @@ def delayed_damping_factor(latency_steps: int) -> float:
     """
     from ..core.controller import MAX_SENSOR_LATENCY_STEPS
 
-    ok = not isinstance(latency_steps, bool) and isinstance(latency_steps, (int, float, np.integer, np.floating))
+    ok = is_real(latency_steps)
     if not (
         ok
         and math.isfinite(latency_steps)

@@ -20,6 +20,7 @@ import math
 import numba
 import numpy as np
 
+from ..util.parsing import is_real
 from . import reference as ref
 
 __all__ = [
@@ -56,7 +57,7 @@ def check_ramp_grade(ramp_grade_deg) -> float | None:
     """
     if ramp_grade_deg is None:
         return None
-    ok = not isinstance(ramp_grade_deg, bool) and isinstance(ramp_grade_deg, (int, float, np.integer, np.floating))
+    ok = is_real(ramp_grade_deg)
     a = float(ramp_grade_deg) if ok else math.nan
     if not (math.isfinite(a) and -MAX_RAMP_GRADE_DEG < a < MAX_RAMP_GRADE_DEG):
         raise ValueError(

@@ -19,6 +19,7 @@ from ..core import reference as ref
 from ..core.behaviours import behaviour as get_behaviour
 from ..core.materials import REPRODUCTION_CONVENTIONS, LegDesign, parse_design
 from ..core.timestep import AUTO, is_auto
+from ..util.parsing import is_real
 from ._experiments import experiment_1
 from .profiles import Profile, get_profile, resolve_profile
 from .runner import FAILED, RunSpec, run_grid
@@ -264,7 +265,7 @@ def clock_tasks(
         if isinstance(design, str):
             design = parse_design(design)
         for r in factors:
-            if not (isinstance(r, (int, float)) and math.isfinite(r) and r > 0):
+            if not (is_real(r) and math.isfinite(r) and r > 0):
                 raise ValueError(f"clock factors must be finite numbers > 0, got {r!r}")
             beh = get_behaviour(behaviour, speed_m_s=ref.SPEED_M_S * float(r))
             labels = {

@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 
 from ..util.atomic import TEMP_PREFIX, atomic_path
-from ..util.keys import json_default
+from ..util.keys import hash_key, json_default
 from ..util.parsing import env_value
 
 DEFAULT_CACHE_DIR = os.path.join("results", "cache")
@@ -47,8 +47,9 @@ class Cache:
 
     def load(self, key: str) -> tuple[pd.DataFrame, dict] | None:
         """(table, summary) or None when absent, unreadable or damaged: a
-        file whose content checksum does not match (a flipped bit on disk)
-        is logged and recomputed, never loaded."""
+        file whose content checksum does not match (a flipped bit on disk),
+        or whose stored key does not hash to its name (a file moved or
+        copied under another key), is logged and recomputed, never loaded."""
         import pyarrow.parquet as pq
 
         path = self.path(key)
@@ -60,9 +61,14 @@ class Cache:
             stored = table.schema.metadata[_CHECKSUM_KEY].decode("ascii")
             ok = stored == content_checksum(table, payload)
             meta = json.loads(payload) if ok else None
-            frame = table.to_pandas() if ok else None
+            # a whole file moved or copied under another key is intact but not this key's result
+            moved = ok and key.rsplit("-", 1)[-1] != hash_key(meta["key"])
+            frame = table.to_pandas() if ok and not moved else None
         except Exception:  # unreadable (not ours, damaged, no checksum): recompute, never trust
-            ok = False
+            ok, moved = False, False
+        if moved:
+            _log.warning("cache file %s holds the result of another key (a file moved or copied): recomputing", path)
+            return None
         if not ok:
             _log.warning("cache file %s is damaged (content checksum mismatch or unreadable): recomputing", path)
             return None

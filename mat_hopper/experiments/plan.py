@@ -45,6 +45,7 @@ from dataclasses import dataclass, replace
 import pandas as pd
 
 from ..util.limits import task_steps
+from ..util.parsing import is_real
 from . import controls, convergence, crossed_legs
 from .groups import unit_steps
 from .paper import axial_check_tasks, clock_tasks, convention_tasks, in_place_tasks, parse_experiments
@@ -243,7 +244,7 @@ def _steps_text(task) -> str:
     settings = getattr(task, "settings", None)
     if settings is not None:
         return f"{settings.timestep_s:.3g}"
-    return f"search {task.dt_min:.3g}-{task.dt_max:.3g}"
+    return f"search {task.dt_min:.3g} to {task.dt_max:.3g}"
 
 
 def _timesteps(tokens) -> str:
@@ -417,7 +418,7 @@ def format_plan(table: pd.DataFrame, us_per_step: float = US_PER_STEP) -> str:
     Raises:
         ValueError: `us_per_step` not a finite number > 0.
     """
-    if not (isinstance(us_per_step, (int, float)) and math.isfinite(us_per_step) and us_per_step > 0):
+    if not (is_real(us_per_step) and math.isfinite(us_per_step) and us_per_step > 0):
         raise ValueError(f"us_per_step must be a finite number > 0 (microseconds), got {us_per_step!r}")
     shown = table[["chapter", "kind", "counted", "runs", "shared_with_earlier", "cached"]].copy()
     shown["simulated_s"] = table["simulated_s"].map(lambda v: f"{v:.4g}")
@@ -432,14 +433,15 @@ def format_plan(table: pd.DataFrame, us_per_step: float = US_PER_STEP) -> str:
     todo, todo_steps = table["to_compute"].sum(), table["to_compute_steps"].sum()
     todo_h = core_hours(todo_steps, table["to_compute_simulated_s"].sum(), us_per_step)
     lines.append(
-        f"estimate: {us_per_step:g} us per physics step on one core, "
-        f"plus {POSTPROCESS_S_PER_SIMULATED_S * 60:.1f} s per 60 s simulated"
+        f"estimate: {us_per_step:g} us per physics step on one core (measured on the project's 2-core VM, "
+        f"benchmarks/rollout.py), plus {POSTPROCESS_S_PER_SIMULATED_S * 60:.1f} s per 60 s simulated"
     )
     lines.append(f"not in the cache: {todo} runs, {todo_steps:.3g} physics steps, {todo_h:.3g} core-hours (estimated)")
     hours = core_hours(steps, seconds, us_per_step)
     lines.append(
         "the totals: each cache key once (runs less shared); exact counts, upper bounds and estimates added as "
-        "the counted column says; core-hours divided by the cores give the wall time at best"
+        "the counted column says, so a total is itself an estimate, neither exact nor a bound; core-hours divided "
+        "by the cores give the wall time at best, before the notebooks' own cells"
     )
     lines.append(f"total: {total} runs, {steps:.3g} physics steps, {hours:.3g} core-hours (estimated)")
     return "\n".join(lines)

@@ -83,7 +83,7 @@ from ..experiments.profiles import Profile, resolve_profile
 from ..physics.fatigue import fatigue_summary
 from ..physics.metrics import hop_table
 from ..physics.run_metrics import DEFAULT_OBJECTIVES, NO_DATA_VALUE, parse_objectives, run_values
-from ..util.parsing import parse_name
+from ..util.parsing import is_real, parse_name
 from . import _scoring
 
 OBJECTIVES = DEFAULT_OBJECTIVES  # the default objectives (tracking error m, hip power W)
@@ -186,7 +186,7 @@ class Objective:
             object.__setattr__(self, "segment_mass", check_segment_mass(self.segment_mass))
         for name in ("hop_height_target_m", "hop_height_tolerance_m"):
             v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+            if not is_real(v) or not math.isfinite(v) or v <= 0:
                 raise ValueError(f"{name} must be a finite number > 0 m, got {v!r}")
         for name, (lo, hi), low_open in (
             ("max_yield_fraction", (0.0, MAX_YIELD_FRACTION), True),

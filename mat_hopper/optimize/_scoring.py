@@ -52,7 +52,7 @@ import numpy as np
 
 from ..core.materials import LegDesign, paper_designs
 from ..core.perturbations import Perturbation
-from ..util.parsing import did_you_mean, is_decimal, parse_name, parse_number
+from ..util.parsing import did_you_mean, is_decimal, is_real, parse_name, parse_number
 
 RISKS = ("mean", "cvar")
 # K from the noise study (benchmarks/noise.py; its figures in docs/optimizer.md,
@@ -124,7 +124,7 @@ def cvar(values, alpha: float) -> float:
     v = np.sort(np.asarray(values, float).ravel())[::-1]  # worst first
     if len(v) == 0:
         raise ValueError("values: need at least one value")
-    if not (isinstance(alpha, (int, float)) and 0 <= alpha < 1):
+    if not (is_real(alpha) and 0 <= alpha < 1):
         raise ValueError(f"alpha must be in [0, 1), got {alpha!r}")
     tail = (1.0 - alpha) * len(v)  # samples in the tail, fractional
     whole = int(math.floor(tail + 1e-12))
@@ -219,7 +219,7 @@ def check_leg_mass(value):
                 f"number (e.g. 6.5), got {text!r}" + (f"; {hint}" if hint else "")
             )
         value = parse_number(text, "leg_mass", unit="kg")
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+    if not is_real(value) or not math.isfinite(value) or value <= 0:
         raise ValueError(f"leg_mass must be a paper design's name or a finite mass > 0 kg, got {value!r}")
     if value > MAX_LEG_MASS_KG:
         raise ValueError(

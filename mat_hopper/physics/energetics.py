@@ -41,6 +41,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import reference as ref
+from ..util.parsing import is_real
 
 HOP_COLUMNS = ("work_abs_j", "work_pos_j", "hip_work_abs_j", "power_total_w", "joule_hip_n2m2s", "joule_thrust_n2s")
 
@@ -106,7 +107,7 @@ def path_length_m(rollout, t0_s: float, t1_s: float) -> float:
             window, 0 m, silently).
     """
     for name, v in (("t0_s", t0_s), ("t1_s", t1_s)):
-        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
+        if not is_real(v) or not np.isfinite(v):
             raise ValueError(f"{name} must be a finite number of seconds, got {v!r}")
     t = rollout.time
     a, b = np.searchsorted(t, [t0_s, t1_s])

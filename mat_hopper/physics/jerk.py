@@ -42,6 +42,7 @@ import pandas as pd
 import scipy.signal
 
 from ..core.rollout import hop_cycles
+from ..util.parsing import is_real
 
 BODY_JERK_CUTOFF_HZ = 20.0  # Winter 2009, sec. 2.2.4.4-2.2.4.5 (body kinematics)
 BODY_JERK_ORDER = 4  # per pass; sosfiltfilt doubles it
@@ -57,10 +58,9 @@ def _check_filter(rollout, cutoff_hz, order) -> float:
     if len(t) < 2:
         raise ValueError("the rollout has fewer than 2 samples")
     fs = 1.0 / float(np.median(np.diff(t)))
-    number = lambda v: not isinstance(v, bool) and isinstance(v, (int, float, np.integer, np.floating))
-    if not (number(cutoff_hz) and 0 < cutoff_hz < fs / 2):
+    if not (is_real(cutoff_hz) and 0 < cutoff_hz < fs / 2):
         raise ValueError(f"cutoff_hz must be in (0, {fs / 2:g}) Hz (the record Nyquist), got {cutoff_hz!r}")
-    if not (number(order) and math.isfinite(order) and float(order).is_integer() and order >= 1):
+    if not (is_real(order) and math.isfinite(order) and float(order).is_integer() and order >= 1):
         raise ValueError(f"order must be an integer >= 1, got {order!r}")
     return fs
 

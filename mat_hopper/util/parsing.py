@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import numbers
 import os
 import re
 from collections.abc import Iterable
@@ -167,6 +168,21 @@ def env_value(name: str, hint: str = "") -> str | None:
     return text.strip()
 
 
+def is_real(value) -> bool:
+    """Whether `value` is a real number a caller passed: an int or float,
+    NumPy scalars included (``np.int64`` from ``np.arange``, ``np.float32``),
+    a bool not (True is an int to Python, not a setting's number).
+
+    Args:
+        value: any object.
+
+    Returns:
+        True for a real number other than a bool, else False (strings too:
+        :func:`parse_number` reads those).
+    """
+    return isinstance(value, numbers.Real) and not isinstance(value, bool) and type(value).__name__ != "bool_"
+
+
 def parse_number(
     text,
     flag: str,
@@ -195,9 +211,9 @@ def parse_number(
             ``0x10``, other scripts' digits), not whole, or out of range.
     """
     u = f" {unit}" if unit else ""
-    if isinstance(text, bool):
+    if isinstance(text, bool) or type(text).__name__ == "bool_":
         raise ValueError(f"{flag} must be a number{u}, got {text!r}")
-    if isinstance(text, int | float):
+    if is_real(text):
         x = float(text)
         if not math.isfinite(x):
             hint = f" (write {RIGID} for a rigid segment)" if rigid and x == math.inf else ""
@@ -277,11 +293,9 @@ def check_positive(value, name: str, unit: str = "", high: float | None = None) 
         ValueError: a bool, a non-number, nan, inf, 0, a negative value or
             one above `high`, naming `name` and the accepted range.
     """
-    import numbers
-
     u = f" {unit}" if unit else ""
     rng = f"in (0, {high:g}]{u}" if high is not None else f"a finite number > 0{u}"
-    ok = not isinstance(value, bool) and isinstance(value, numbers.Real)
+    ok = is_real(value)
     x = float(value) if ok else math.nan
     if not (math.isfinite(x) and x > 0 and (high is None or x <= high)):
         raise ValueError(f"{name} must be {rng}, got {value!r}")

@@ -12,6 +12,7 @@ import os
 import numpy as np
 
 from ..util.atomic import atomic_path
+from ..util.parsing import is_real
 
 VIDEO_EXTENSIONS = (".mp4", ".gif")
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".svg", ".pdf")  # a Figure (matplotlib's savefig)
@@ -56,7 +57,7 @@ def check_fps(fps) -> float:
     Raises:
         ValueError: not a finite number in (0, 240].
     """
-    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and 0 < fps <= 240):
+    if not (is_real(fps) and math.isfinite(fps) and 0 < fps <= 240):
         raise ValueError(f"fps must be in (0, 240] frames per second, got {fps!r}")
     return float(fps)
 

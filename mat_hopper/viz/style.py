@@ -8,7 +8,6 @@ backend: figures are ``matplotlib.figure.Figure`` objects.
 from __future__ import annotations
 
 import math
-import numbers
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +17,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from ..util.atomic import atomic_path
+from ..util.parsing import is_real
 
 # --- style -------------------------------------------------------------------
 
@@ -211,7 +211,7 @@ def save_figure(fig: Figure, path_stem, *, formats=("png", "svg"), dpi: int = DP
     bad = [f for f in formats if f not in ("png", "svg", "pdf")]
     if bad:
         raise ValueError(f"formats must be among png, svg, pdf; got {', '.join(map(repr, bad))}")
-    if isinstance(dpi, bool) or not isinstance(dpi, numbers.Real) or not (math.isfinite(dpi) and dpi > 0):
+    if not is_real(dpi) or not (math.isfinite(dpi) and dpi > 0):
         raise ValueError(f"dpi must be a finite number > 0, got {dpi!r}")
     stem = Path(path_stem)
     if stem.suffix.lower() in (".png", ".svg", ".pdf"):

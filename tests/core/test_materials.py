@@ -1,5 +1,6 @@
 import math
 
+import numpy as np
 import pytest
 
 from mat_hopper.core import reference as ref
@@ -235,11 +236,12 @@ def test_material_class_any_case_and_unknown_refused():
             Material("x", 3.9, 380.0, bad)
 
 
-def test_from_properties_refuses_a_string_for_a_sequence():
-    # "8" was read a character at a time: a 1-segment density against moduli 1, 9, 3 GPa
+def test_from_properties_refuses_a_string_or_a_bare_number_for_a_sequence():
+    # "8" was read a character at a time: a 1-segment density against moduli 1, 9, 3 GPa;
+    # a bare number raised Python's "'float' object is not iterable", naming no argument
     from mat_hopper.core.materials import LegDesign
 
-    for dens, mods in (("8", "193"), ([8.0], "193"), (None, None)):
+    for dens, mods in (("8", "193"), ([8.0], "193"), (None, None), (1.0, 70), ([1.0], 70.0), (np.float64(2.7), [70])):
         with pytest.raises(ValueError, match="must be a sequence of numbers"):
             LegDesign.from_properties(dens, mods)
 

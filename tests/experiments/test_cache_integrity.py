@@ -6,6 +6,7 @@ back exactly the stored table and summary."""
 from __future__ import annotations
 
 import logging
+import os
 import shutil
 
 import numpy as np
@@ -17,8 +18,11 @@ from mat_hopper.core.materials import parse_design
 from mat_hopper.core.sim import SimSettings
 from mat_hopper.experiments.cache import Cache, content_checksum
 from mat_hopper.experiments.runner import RunSpec, run_grid
+from mat_hopper.util.keys import hash_key
 
 SHORT = SimSettings(duration_s=2.5, timestep_s=1e-4, transient_s=0.5)
+SS_KEY = {"design": "SS"}
+K = f"run-{hash_key(SS_KEY)}"  # a file's name is its stored key's hash
 
 
 def _frame(rng, n=40):
@@ -40,11 +44,11 @@ def test_checksum_is_written_verified_and_independent_of_arrow_layout(tmp_path):
     rng = np.random.default_rng(1)
     frame = _frame(rng)
     cache = Cache(tmp_path)
-    cache.store("k", frame, {"n_hops": 40, "power_w": 1.5}, {"design": "SS"})
-    got, summary = cache.load("k")
+    cache.store(K, frame, {"n_hops": 40, "power_w": 1.5}, SS_KEY)
+    got, summary = cache.load(K)
     pd.testing.assert_frame_equal(got, frame)
     assert summary == {"n_hops": 40, "power_w": 1.5}
-    stored = pq.read_table(cache.path("k"))
+    stored = pq.read_table(cache.path(K))
     payload = stored.schema.metadata[b"mat_hopper"]
     assert stored.schema.metadata[b"mat_hopper_sha256"].decode() == content_checksum(stored, payload)
     # one value changed, the summary changed, a column renamed: another checksum
@@ -62,17 +66,17 @@ def test_random_bit_flips_never_load_changed_numbers(tmp_path, caplog):
     cache = Cache(tmp_path)
     frame = _frame(rng)
     summary = {"n_hops": 40, "power_w": 1.2345678901234567, "status": "ok"}
-    cache.store("k", frame, summary, {"design": "SS"})
-    clean = open(cache.path("k"), "rb").read()
+    cache.store(K, frame, summary, SS_KEY)
+    clean = open(cache.path(K), "rb").read()
     loaded = rejected = 0
     with caplog.at_level(logging.WARNING, logger="mat_hopper.cache"):
         for _ in range(400):
             damaged = bytearray(clean)
             pos = int(rng.integers(len(damaged)))
             damaged[pos] ^= 1 << int(rng.integers(8))
-            with open(cache.path("k"), "wb") as f:
+            with open(cache.path(K), "wb") as f:
                 f.write(bytes(damaged))
-            got = cache.load("k")
+            got = cache.load(K)
             if got is None:
                 rejected += 1
                 continue
@@ -82,12 +86,12 @@ def test_random_bit_flips_never_load_changed_numbers(tmp_path, caplog):
     assert rejected > 200 and loaded + rejected == 400
     assert "damaged" in caplog.text
     # truncated and foreign files too
-    with open(cache.path("k"), "wb") as f:
+    with open(cache.path(K), "wb") as f:
         f.write(clean[: len(clean) // 2])
-    assert cache.load("k") is None
-    with open(cache.path("k"), "wb") as f:
+    assert cache.load(K) is None
+    with open(cache.path(K), "wb") as f:
         f.write(b"PAR1 not ours")
-    assert cache.load("k") is None
+    assert cache.load(K) is None
 
 
 def test_a_damaged_result_is_recomputed_and_the_grid_is_as_clean(tmp_path):
@@ -118,12 +122,28 @@ def test_a_file_without_checksum_or_summary_is_recomputed(tmp_path, missing):
     import pyarrow.parquet as pq
 
     cache = Cache(tmp_path)
-    cache.store("k", _frame(np.random.default_rng(2)), {"n": 1}, {})
-    t = pq.read_table(cache.path("k"))
+    k = f"run-{hash_key({})}"
+    cache.store(k, _frame(np.random.default_rng(2)), {"n": 1}, {})
+    t = pq.read_table(cache.path(k))
     meta = {k: v for k, v in t.schema.metadata.items() if k != missing}
-    shutil.copy(cache.path("k"), tmp_path / "orig.parquet")
-    pq.write_table(t.replace_schema_metadata(meta), cache.path("k"))
-    assert cache.load("k") is None
+    shutil.copy(cache.path(k), tmp_path / "orig.parquet")
+    pq.write_table(t.replace_schema_metadata(meta), cache.path(k))
+    assert cache.load(k) is None
+
+
+def test_a_file_moved_under_another_key_is_recomputed_not_loaded(tmp_path, caplog):
+    # two intact files swapped by hand: each checksum holds, but neither is its name's result
+    cache = Cache(tmp_path)
+    other = {"design": "Ti"}
+    k2 = f"run-{hash_key(other)}"
+    cache.store(K, _frame(np.random.default_rng(3)), {"n": 1}, SS_KEY)
+    cache.store(k2, _frame(np.random.default_rng(4)), {"n": 2}, other)
+    os.replace(cache.path(K), tmp_path / "swap")
+    os.replace(cache.path(k2), cache.path(K))
+    os.replace(tmp_path / "swap", cache.path(k2))
+    with caplog.at_level(logging.WARNING, logger="mat_hopper.cache"):
+        assert cache.load(K) is None and cache.load(k2) is None
+    assert "holds the result of another key" in caplog.text
 
 
 def test_an_empty_cache_variable_is_an_error_naming_it(monkeypatch):

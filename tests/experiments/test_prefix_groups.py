@@ -100,8 +100,9 @@ def test_a_grid_stores_each_replicate_under_its_own_key_and_reuses_it(tmp_path, 
     cache = Cache(tmp_path)
     assert set(cache.keys()) == set(alone)
     single = Cache(tmp_path / "single")
+    by_key = {t.key(): t for t in tasks}
     for key, (k, table, summary, _) in alone.items():
-        single.store(k, table, summary, {"kind": "run"})
+        single.store(k, table, summary, by_key[k].key_dict())
         same_result(cache.load(key), single.load(key))  # through the stored form, bit for bit
     assert list(first.summary["replicate"]) == [-1, 0, 1, 2] and set(first.summary["status"]) == {"ok"}
     again = run_grid(tasks, tmp_path, workers=1, progress=False)

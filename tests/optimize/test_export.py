@@ -4,6 +4,9 @@ design as CSV and MJCF, and the round trip back to its metrics. Runs use a
 
 from __future__ import annotations
 
+import shlex
+from dataclasses import replace
+
 import mujoco
 import numpy as np
 import optuna
@@ -14,7 +17,7 @@ from mat_hopper.batch import designs_from_csv
 from mat_hopper.cli import main
 from mat_hopper.core.behaviours import behaviour
 from mat_hopper.core.model import build_model
-from mat_hopper.experiments.profiles import Profile
+from mat_hopper.experiments.profiles import Profile, get_profile
 from mat_hopper.optimize import (
     Objective,
     PoolEvaluator,
@@ -101,6 +104,40 @@ def test_export_cli_and_simulate_design_csv(tmp_path, capsys):
     h = pd.read_csv(hops)
     assert len(h) == row["n_hops"]
     assert float(h["tracking_error_m"].mean()) == trial.values[0]  # the CSV round trip of repr floats: exact
+    assert float(h["power_w"].mean()) == trial.values[1]
+
+
+@pytest.mark.parametrize(
+    "profile",
+    [TINY, replace(get_profile("quick"), timestep_s="auto")],
+    ids=["a profile of its own", "a named profile at the auto step"],
+)
+def test_the_printed_simulate_command_reproduces_the_trial(tmp_path, capsys, profile):
+    """The ``simulate it:`` line of ``optimize --export`` carries every run
+    setting the study holds apart from its named profile (a profile of its
+    own: every one, no --profile): run as printed, it gives the trial's
+    per-hop means exactly."""
+    studies = tmp_path / "studies"
+    config = StudyConfig("cmd", SearchSpace(), Objective(profile=profile, replicates=0))
+    studies.mkdir()
+    url = default_url("cmd", str(studies))
+    study = create_or_load(config, open_storage(url), sampler=optuna.samplers.RandomSampler(seed=1))
+    study.enqueue_trial({"seg1_density_g_cm3": 3.3, "seg1_modulus_gpa": 12.5, "seg2_density_g_cm3": 1.7,
+                         "seg2_modulus_gpa": 0.93, "seg3_density_g_cm3": 9.1, "seg3_modulus_gpa": 410.0})  # fmt: skip
+    with PoolEvaluator(str(studies / "cache"), workers=1) as evaluator:
+        run_loop(study, open_storage(url), config, evaluator, RunOptions(trials=1, progress=False))
+    out = tmp_path / "out"
+    assert main(["optimize", "--study", "cmd", "--studies-dir", str(studies), "--export", "0", "--out", str(out)]) == 0
+    (line,) = [x for x in capsys.readouterr().out.splitlines() if x.startswith("simulate it: ")]
+    argv = shlex.split(line.removeprefix("simulate it: "))
+    assert argv[:2] == ["mat-hopper", "simulate"]
+    assert ("--profile" in argv) == (profile.name == "quick")
+    hops = tmp_path / "hops.csv"
+    assert main([*argv[1:], "--csv", str(hops), "--no-progress"]) == 0
+    h = pd.read_csv(hops)
+    trial = study.trials[0]
+    assert len(h) == trial.user_attrs["result"]["per_behaviour"][0]["n_hops"] > 0
+    assert float(h["tracking_error_m"].mean()) == trial.values[0]
     assert float(h["power_w"].mean()) == trial.values[1]
 
 

@@ -84,3 +84,24 @@ def test_parse_name_says_none_is_not_given_and_blank_is_empty():
         parse_name(None, CONVENTIONS, "convention")
     with pytest.raises(ValueError, match="convention is empty; accepted: "):
         parse_name("  ", CONVENTIONS, "convention")
+
+
+@pytest.mark.parametrize("value", [np.int64(3), np.int32(3), np.float32(0.5), np.float64(0.5), np.uint8(3)])
+def test_numpy_scalars_are_numbers_everywhere_a_number_is_read(value):
+    # np.arange and np.linspace give NumPy scalars: parse_number refused np.int64 and np.float32
+    # ("must be a finite number, got np.int64(2)"), as did every isinstance(v, (int, float)) check
+    from mat_hopper.core.controller import ControllerSettings
+    from mat_hopper.core.perturbations import Perturbation
+    from mat_hopper.util.parsing import is_real, parse_number
+
+    assert is_real(value)
+    assert parse_number(value, "duration_s", low=0) == float(value)
+    assert Perturbation(start_offset_m=value).start_offset_m == value
+    assert ControllerSettings(stance_kd=value).stance_kd == value
+
+
+@pytest.mark.parametrize("value", [True, np.bool_(True), "2", None, [1.0]])
+def test_a_bool_or_a_non_number_is_not_a_real_number(value):
+    from mat_hopper.util.parsing import is_real
+
+    assert not is_real(value)
