@@ -273,14 +273,6 @@ def cmd_export(args) -> int:
     return 0
 
 
-# simulate's option for each run setting a study may hold apart from its named profile's (written
-# after the command's name, so that the test of the messages' options reads them as simulate's)
-_SIMULATE_OPTION = dict(
-    zip(("duration_s", "transient_s", "timestep_s", "sensor_timing"),
-        "simulate --duration --transient --timestep --sensor-timing".split()[1:])
-)  # fmt: skip
-
-
 def _option_text(value) -> str:
     """A run setting as simulate's option reads it: a sensor timing by its name, a number as repr gives it."""
     named = getattr(value, "key_value", None)
@@ -298,14 +290,17 @@ def simulate_command(csv: str, objective) -> str:
     runs."""
     from ..experiments.profiles import PROFILES
 
+    # simulate's option for each run setting a study may hold apart from its named profile's
+    options = {"duration_s": "--duration", "transient_s": "--transient", "timestep_s": "--timestep",
+               "sensor_timing": "--sensor-timing"}  # fmt: skip
     prof = objective.profile
     named = PROFILES.get(prof.name)
-    words = ["mat-hopper", *"simulate --design-csv".split(), csv, "--behaviour", objective.behaviours[0]]
-    apart = [f for f in _SIMULATE_OPTION if named is None or _option_text(prof.run[f]) != _option_text(named.run[f])]
+    words = ["mat-hopper", "simulate", "--design-csv", csv, "--behaviour", objective.behaviours[0]]
+    apart = [f for f in options if named is None or _option_text(prof.run[f]) != _option_text(named.run[f])]
     if named is not None and not {"duration_s", "transient_s", "timestep_s"} <= set(apart):
         words += ["--profile", prof.name]  # simulate refuses a profile whose three settings are all given
     for field in apart:
-        words += [_SIMULATE_OPTION[field], _option_text(prof.run[field])]
+        words += [options[field], _option_text(prof.run[field])]
     words += ["--convention", objective.convention, "--segment-mass", objective.segment_mass]
     notes = []
     if objective.replicates:

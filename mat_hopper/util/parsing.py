@@ -180,7 +180,7 @@ def is_real(value) -> bool:
         True for a real number other than a bool, else False (strings too:
         :func:`parse_number` reads those).
     """
-    return isinstance(value, numbers.Real) and not isinstance(value, bool) and type(value).__name__ != "bool_"
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)  # np.bool_ is no numbers.Real
 
 
 def parse_number(
@@ -211,7 +211,7 @@ def parse_number(
             ``0x10``, other scripts' digits), not whole, or out of range.
     """
     u = f" {unit}" if unit else ""
-    if isinstance(text, bool) or type(text).__name__ == "bool_":
+    if isinstance(text, bool):
         raise ValueError(f"{flag} must be a number{u}, got {text!r}")
     if is_real(text):
         x = float(text)
