@@ -223,8 +223,9 @@ class LegDesign:
         (one value is used for every segment), values out of range, or a
         string, a bare number or None in place of a sequence."""
         for arg, what in ((densities_g_cm3, "densities_g_cm3"), (moduli_gpa, "moduli_gpa")):
-            # a string would be read a character at a time; a bare number is no sequence
-            if arg is None or isinstance(arg, (str, bytes)) or not isinstance(arg, Iterable):
+            # a string would be read a character at a time; a bare number is no sequence; a set has no order
+            unordered = isinstance(arg, (set, frozenset, dict))
+            if arg is None or isinstance(arg, (str, bytes)) or unordered or not isinstance(arg, Iterable):
                 raise ValueError(f"{what} must be a sequence of numbers, one per segment (e.g. [2.7]); got {arg!r}")
         dens = list(densities_g_cm3)
         mods = [None if isinstance(e, str) and e.strip().lower() == "rigid" else e for e in moduli_gpa]

@@ -241,7 +241,15 @@ def test_from_properties_refuses_a_string_or_a_bare_number_for_a_sequence():
     # a bare number raised Python's "'float' object is not iterable", naming no argument
     from mat_hopper.core.materials import LegDesign
 
-    for dens, mods in (("8", "193"), ([8.0], "193"), (None, None), (1.0, 70), ([1.0], 70.0), (np.float64(2.7), [70])):
+    for dens, mods in (
+        ("8", "193"),
+        ([8.0], "193"),
+        (None, None),
+        (1.0, 70),
+        ([1.0], 70.0),
+        (np.float64(2.7), [70]),
+        ({1.0, 2.0}, [70]),
+    ):
         with pytest.raises(ValueError, match="must be a sequence of numbers"):
             LegDesign.from_properties(dens, mods)
 
